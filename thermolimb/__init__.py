@@ -1,0 +1,6 @@
+"""thermolimb: thermal-aware control of multi-limbed robots in PyBullet."""
+
+from .paths import urdf_dir
+
+__version__ = "0.1.0"
+__all__ = ["__version__", "urdf_dir"]

@@ -1,0 +1,62 @@
+"""Direct least squares on the seed's regression (Eq. 7)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..metrics import ar1_variance_factor
+from .base import ThermalEstimator
+from .regression import build_regression, mean_ambient_C
+
+
+class LeastSquares(ThermalEstimator):
+    """Solve the regression of Eq. 7 in one step (``numpy.linalg.lstsq`` on scaled columns).
+
+    Parameters
+    ----------
+    model
+        Comma-separated terms or a sequence of them; every term must be linear
+        in its parameters.
+    cutoff_hz
+        Low-pass cutoff (zero phase) of the temperature; ``None`` for none.
+        The seed's 0.015 Hz by default.
+    filtering
+        ``"consistent"``: every regressor goes through the temperature's filter,
+        which keeps the filtered equation exact.  ``"seed"``: the seed's rows
+        exactly (effort filtered at ``effort_cutoff_hz`` before squaring,
+        ``y = T - T_amb``), to compare with :class:`SeedGradientDescent` on the
+        same problem.
+    ambient_C
+        With ``filtering="seed"``, the ambient when the log has no ``ambient`` column.
+    """
+
+    method = "least_squares"
+
+    def __init__(self, model="joule,effort_bias", cutoff_hz: float | None = 0.015,
+                 filtering: str = "consistent", effort_cutoff_hz: float = 1.0, ambient_C: float = 25.0):
+        super().__init__(model)
+        self.cutoff_hz = cutoff_hz
+        self.filtering = filtering
+        self.effort_cutoff_hz = effort_cutoff_hz
+        self.ambient_C = ambient_C
+
+    def _fit(self, series, terms):
+        if self.filtering not in ("consistent", "seed"):
+            raise ValueError(f"filtering must be 'consistent' or 'seed', got {self.filtering!r}")
+        seed = self.filtering == "seed"
+        reg = build_regression(series, terms, self.cutoff_hz, consistent=not seed,
+                               effort_cutoff_hz=self.effort_cutoff_hz,
+                               subtract_ambient_C=self.ambient_C if seed else None)
+        scale = np.linalg.norm(reg.X, axis=0)
+        scale[scale == 0] = 1.0
+        Xs = reg.X / scale
+        coef, *_ = np.linalg.lstsq(Xs, reg.y, rcond=None)
+        residual = reg.y - Xs @ coef
+        self.loss_ = 0.5 * float(np.mean(residual**2))
+        dof = max(reg.y.size - coef.size, 1)
+        sigma2 = float(residual @ residual) / dof * ar1_variance_factor(residual)
+        cov = sigma2 * np.linalg.pinv(Xs.T @ Xs) / np.outer(scale, scale)
+        values = coef / scale
+        if seed:
+            values[-1] += mean_ambient_C(series, self.ambient_C)
+        return values, cov

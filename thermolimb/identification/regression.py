@@ -1,0 +1,174 @@
+"""The regression form of the model (seed Eq. 7) built from logs, and its identifiability check.
+
+Rearranging the model ``RC dT/dt + T = T_offset + sum_k X_k theta_k`` gives one
+linear equation per sample in the unknowns ``[RC, theta..., T_offset]``:
+
+    T_i = [-dT/dt_i, X_i, 1] . [RC, theta, T_offset]
+
+Temperature is low-pass filtered and differentiated (the seed's low-pass
+derivative).  With ``consistent=True`` every regressor goes through the *same*
+zero-phase filter as the temperature, so the filtered signals satisfy the same
+linear ODE exactly and the filter introduces no bias; ``consistent=False``
+reproduces the seed, which filtered effort at 1 Hz and temperature at 0.015 Hz.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.signal import butter, sosfiltfilt
+
+from ..logs import ActuatorSeries
+from ..model.model import model_parameters
+from ..model.signals import Signals
+from ..model.terms import TERMS, Parameter
+
+
+class IdentifiabilityError(ValueError):
+    """The data cannot determine a parameter (e.g. effort held constant)."""
+
+
+@dataclass(frozen=True)
+class Regression:
+    """Stacked regression ``y ~ X theta`` with ``theta`` in the model's parameter order."""
+
+    X: np.ndarray
+    y: np.ndarray
+    parameters: tuple[Parameter, ...]
+    effort: np.ndarray  # the (unfiltered) efforts of the rows, to describe poor excitation
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+
+def _uniform(series: ActuatorSeries) -> ActuatorSeries:
+    """Resample onto a uniform grid at the median interval when sampling jitters by more than 1 %."""
+    dt = np.diff(series.time_s)
+    step = float(np.median(dt))
+    if np.max(np.abs(dt - step)) <= 0.01 * step:
+        return series
+    t = np.arange(series.time_s[0], series.time_s[-1] + 0.5 * step, step)
+    t = t[t <= series.time_s[-1]]
+    s = series.signals
+
+    def at(x):
+        if x is None:
+            return None
+        if x.ndim == 1:
+            return np.interp(t, s.time_s, x)
+        return np.column_stack([np.interp(t, s.time_s, c) for c in x.T])
+
+    sig = Signals(t, at(s.effort), at(s.velocity), at(s.current_A), at(s.ambient_C),
+                  at(s.neighbor_temperature_C), s.neighbor_names)
+    return ActuatorSeries(series.actuator, sig, at(series.temperature_C))
+
+
+def lowpass(x: np.ndarray, cutoff_hz: float | None, dt_s: float, axis: int = 0) -> np.ndarray:
+    """Zero-phase second-order Butterworth low-pass; no filtering when the cutoff is None or above Nyquist."""
+    nyquist = 0.5 / dt_s
+    if cutoff_hz is None or cutoff_hz >= nyquist:
+        return np.asarray(x, dtype=float)
+    sos = butter(2, cutoff_hz / nyquist, output="sos")
+    return sosfiltfilt(sos, x, axis=axis)
+
+
+def lowpass_derivative(x: np.ndarray, cutoff_hz: float | None, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """Filtered signal and its time derivative (central differences of the filtered signal)."""
+    xf = lowpass(x, cutoff_hz, dt_s)
+    return xf, np.gradient(xf, dt_s)
+
+
+def term_features(terms: Sequence[str], s: Signals, temperature_C: np.ndarray) -> np.ndarray:
+    """The regressors of every term, side by side, in parameter order."""
+    blocks = []
+    for name in terms:
+        f = TERMS[name]().features(s, temperature_C)
+        if f is None:
+            raise IdentifiabilityError(
+                f"term '{name}' is not linear in its parameters; identify it by output error"
+            )
+        blocks.append(f)
+    return np.hstack(blocks) if blocks else np.zeros((s.n, 0))
+
+
+def build_regression(
+    series: Sequence[ActuatorSeries],
+    terms: tuple[str, ...],
+    cutoff_hz: float | None,
+    consistent: bool = True,
+    effort_cutoff_hz: float | None = 1.0,
+    subtract_ambient_C: float | None = None,
+) -> Regression:
+    """Stack the regression rows of several series of one actuator.
+
+    ``subtract_ambient_C``: the seed's form ``y = T - T_amb`` (use the
+    log's ambient column when it has one, else this constant); ``None`` keeps
+    ``y = T`` with the ambient inside ``T_offset``.
+    """
+    Xs, ys, efforts = [], [], []
+    for raw in series:
+        ser = _uniform(raw)
+        dt = float(ser.time_s[1] - ser.time_s[0])
+        T, dT = lowpass_derivative(ser.temperature_C, cutoff_hz, dt)
+        if consistent:
+            feats = lowpass(term_features(terms, ser.signals, ser.temperature_C), cutoff_hz, dt)
+        else:
+            s = ser.signals
+            smooth = Signals(s.time_s, lowpass(s.effort, effort_cutoff_hz, dt),
+                             None if s.velocity is None else lowpass(s.velocity, effort_cutoff_hz, dt),
+                             None if s.current_A is None else lowpass(s.current_A, effort_cutoff_hz, dt),
+                             s.ambient_C, s.neighbor_temperature_C, s.neighbor_names)
+            feats = term_features(terms, smooth, T)
+        y = T.copy()
+        if subtract_ambient_C is not None:
+            amb = ser.signals.ambient_C
+            y -= lowpass(amb, cutoff_hz, dt) if amb is not None else subtract_ambient_C
+        X = np.column_stack([-dT, feats, np.ones(ser.n)])
+        trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
+        keep = slice(trim, ser.n - trim)
+        Xs.append(X[keep])
+        ys.append(y[keep])
+        efforts.append(ser.signals.effort[keep])
+    params = model_parameters(terms)
+    reg = Regression(np.vstack(Xs), np.concatenate(ys), params, np.concatenate(efforts))
+    check_identifiable(reg, series[0].actuator)
+    return reg
+
+
+def mean_ambient_C(series: Sequence[ActuatorSeries], default_C: float) -> float:
+    """Mean logged ambient over the series, or ``default_C`` when a series has no ambient column."""
+    amb = [s.signals.ambient_C for s in series]
+    if all(a is not None for a in amb):
+        return float(np.mean(np.concatenate(amb)))
+    return float(default_C)
+
+
+# A regressor whose part independent of the others is below this fraction of
+# its own variation cannot be told apart from them.
+IDENTIFIABLE_FRACTION = 1e-3
+
+
+def check_identifiable(reg: Regression, actuator: str) -> None:
+    """Raise :class:`IdentifiabilityError` for the first parameter the rows cannot determine."""
+    X = reg.X
+    for j, p in enumerate(reg.parameters):
+        col = X[:, j]
+        others = np.delete(X, j, axis=1)
+        is_intercept = np.allclose(col, 1.0)
+        scale = np.linalg.norm(col) if is_intercept else np.linalg.norm(col - col.mean())
+        if scale == 0 or not np.isfinite(scale):
+            fraction = 0.0
+        else:
+            coef, *_ = np.linalg.lstsq(others, col, rcond=None)
+            fraction = np.linalg.norm(col - others @ coef) / scale
+        if fraction < IDENTIFIABLE_FRACTION:
+            levels = np.unique(np.round(reg.effort, 3)).size
+            what = "constant" if scale == 0 else f"almost a combination of the other regressors ({fraction:.1e} independent)"
+            raise IdentifiabilityError(
+                f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
+                f"in the training data, where effort takes {levels} distinct level(s) "
+                f"between {reg.effort.min():.3g} and {reg.effort.max():.3g}; a log needs {p.excitation}"
+            )

@@ -1,0 +1,37 @@
+"""Error measures between measured and simulated temperatures."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def fit_percent(measured: np.ndarray, predicted: np.ndarray) -> float:
+    """100 (1 - ||y - y_hat|| / ||y - mean(y)||): 100 is perfect, 0 is no better than the mean."""
+    spread = np.linalg.norm(measured - np.mean(measured))
+    if spread == 0:
+        return float("nan")
+    return float(100.0 * (1.0 - np.linalg.norm(measured - predicted) / spread))
+
+
+def fit_metrics(measured: np.ndarray, predicted: np.ndarray) -> dict[str, float]:
+    """``{"rmse_K", "max_abs_K", "fit_percent"}`` of a simulation against measurements."""
+    err = np.asarray(predicted) - np.asarray(measured)
+    return {
+        "rmse_K": float(np.sqrt(np.mean(err**2))),
+        "max_abs_K": float(np.max(np.abs(err))),
+        "fit_percent": fit_percent(np.asarray(measured), np.asarray(predicted)),
+    }
+
+
+def ar1_variance_factor(residuals: np.ndarray) -> float:
+    """Variance inflation for serially correlated residuals, (1 + rho) / (1 - rho) with rho the lag-1 autocorrelation.
+
+    Least-squares standard errors assume independent residuals; thermal
+    residuals are smooth, so their effective sample count is smaller.
+    """
+    r = np.asarray(residuals) - np.mean(residuals)
+    denom = float(np.dot(r, r))
+    if denom == 0 or r.size < 3:
+        return 1.0
+    rho = float(np.clip(np.dot(r[1:], r[:-1]) / denom, 0.0, 0.999))
+    return (1.0 + rho) / (1.0 - rho)

@@ -1,0 +1,131 @@
+"""The effort-based first-order thermal model of one actuator (seed Eqs. 5, 6, 17).
+
+    RC * dT/dt + T = T_offset + sum_k ( rise_k(t) + gain_k(t) * T )
+
+With the default terms ``joule`` and ``effort_bias`` this is exactly Eq. 5:
+``RC dT/dt + T = beta*R*F^2 - beta_bias*R*F + T_offset``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping
+
+import numpy as np
+
+from .scan import first_order_scan
+from .signals import Signals
+from .terms import TERMS, Parameter, parse_model
+
+TIME_CONSTANT = Parameter("RC_s", "s", 1e-3, np.inf, 100.0, "thermal time constant RC",
+                          "temperature that changes: heating and cooling transients")
+OFFSET = Parameter("T_offset_C", "degC", -100.0, 400.0, 25.0,
+                   "temperature offset: ambient plus the constant bias heating, T_amb + P_bias*R",
+                   "periods at low effort, so that heating can be told from the offset")
+BASE_PARAMETERS = (TIME_CONSTANT, OFFSET)
+
+# A term may not cancel the restoring -T of the model; closer than this to
+# thermal runaway the gain is clipped (see ThermalModel.forcing).
+_MIN_RESTORING = 1e-6
+
+
+def model_parameters(terms: tuple[str, ...]) -> tuple[Parameter, ...]:
+    """All parameters of a model in the order of the regression (Eq. 7): RC, each term's, T_offset."""
+    return (TIME_CONSTANT,) + tuple(p for name in terms for p in TERMS[name].parameters) + (OFFSET,)
+
+
+@dataclass(frozen=True)
+class ThermalModel:
+    """A model structure (its terms) with parameter values."""
+
+    terms: tuple[str, ...]
+    params: Mapping[str, float] = field(default_factory=dict)
+
+    def __post_init__(self):
+        terms = parse_model(self.terms)
+        object.__setattr__(self, "terms", terms)
+        expected = [p.name for p in model_parameters(terms)]
+        missing = [n for n in expected if n not in self.params]
+        extra = [n for n in self.params if n not in expected]
+        if missing or extra:
+            raise ValueError(f"parameters of model {','.join(terms)}: missing {missing}, unexpected {extra}")
+        if not self.params["RC_s"] > 0:
+            raise ValueError(f"RC_s must be positive, got {self.params['RC_s']}")
+        object.__setattr__(self, "params", MappingProxyType({n: float(self.params[n]) for n in expected}))
+
+    @property
+    def parameters(self) -> tuple[Parameter, ...]:
+        return model_parameters(self.terms)
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The log columns this model needs as inputs."""
+        cols: list[str] = []
+        for name in self.terms:
+            cols += [c for c in TERMS[name].columns if c not in cols]
+        return tuple(cols)
+
+    def with_params(self, values) -> "ThermalModel":
+        """The same structure with new values (a mapping, or a vector in parameter order)."""
+        if not isinstance(values, Mapping):
+            values = dict(zip([p.name for p in self.parameters], np.asarray(values, dtype=float)))
+        return ThermalModel(self.terms, values)
+
+    def vector(self) -> np.ndarray:
+        return np.array([self.params[p.name] for p in self.parameters])
+
+    def forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray]:
+        """``(u, lam)`` per sample: the model reads ``dT/dt = lam * (u - T)``.
+
+        ``u`` is the instantaneous equilibrium temperature (degC) and ``lam``
+        the instantaneous rate (1/s).  Where the terms' total gain would reach
+        1 (thermal runaway) it is clipped to ``1 - 1e-6``.
+        """
+        rise = np.zeros(s.n)
+        gain = np.zeros(s.n)
+        for name in self.terms:
+            r, g = TERMS[name]().contribution(self.params, s)
+            rise = rise + r
+            gain = gain + g
+        restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
+        u = (self.params["T_offset_C"] + rise) / restoring
+        lam = restoring / self.params["RC_s"]
+        return u, lam
+
+    def equilibrium_C(self, s: Signals) -> np.ndarray:
+        """Steady-state temperature if each sample's inputs were held forever (Eq. 5 with dT/dt = 0)."""
+        return self.forcing(s)[0]
+
+    def simulate(self, s: Signals, initial_temperature_C: float, method: str = "exact") -> np.ndarray:
+        """Free-run temperatures at every sample time, from ``initial_temperature_C``, inputs only.
+
+        ``method="exact"`` integrates each interval exactly for inputs held
+        constant over it (zero-order hold, Eq. 6 applied interval by
+        interval); ``method="euler"`` is forward Euler as the seed used.
+        """
+        u, lam = self.forcing(s)
+        dt = s.dt_s
+        if method == "exact":
+            a = np.exp(-lam[:-1] * dt)
+            return first_order_scan(a, (1.0 - a) * u[:-1], initial_temperature_C)
+        if method == "euler":
+            a = 1.0 - lam[:-1] * dt
+            b = lam[:-1] * dt * u[:-1]
+            if np.all(a >= 0.0):
+                return first_order_scan(a, b, initial_temperature_C)
+            out = np.empty(s.n)
+            out[0] = initial_temperature_C
+            for k in range(s.n - 1):
+                out[k + 1] = a[k] * out[k] + b[k]
+            return out
+        raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
+
+    def one_step(self, s: Signals, measured_C: np.ndarray) -> np.ndarray:
+        """Prediction of each sample from the measured temperature one sample before (exact)."""
+        u, lam = self.forcing(s)
+        a = np.exp(-lam[:-1] * s.dt_s)
+        out = np.empty(s.n)
+        out[0] = measured_C[0]
+        out[1:] = a * measured_C[:-1] + (1.0 - a) * u[:-1]
+        return out

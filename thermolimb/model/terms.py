@@ -1,0 +1,146 @@
+"""Composable terms of the effort-based thermal model, and their registry.
+
+The model of one actuator is the seed's Eq. 5 written with extra terms:
+
+    RC * dT/dt + T = T_offset + sum_k ( rise_k(t) + gain_k(t) * T )
+
+Each term contributes a *rise* in kelvin (a steady-state temperature rise it
+would cause on its own) and optionally a *gain* (dimensionless) multiplying the
+temperature itself, which is how temperature-dependent effects (copper
+resistance, cooling that depends on motion) enter while the model stays a
+first-order linear ODE in T at every instant.
+
+A new effect is a subclass of :class:`Term` with a ``name``, its
+``parameters`` (with units and bounds), the log ``columns`` it needs, and a
+``contribution`` method; decorate it with :func:`register_term` and every
+estimator, ``thermolimb fit`` and ``thermolimb diagnose`` can use it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar, Mapping
+
+import numpy as np
+
+from .signals import Signals
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One model parameter: its name (unit in the name), unit, bounds and typical size."""
+
+    name: str
+    unit: str
+    lower: float
+    upper: float
+    typical: float  # order of magnitude, used for scaling and as a starting value
+    description: str
+    excitation: str = "inputs that vary independently of the other terms'"  # what a log needs to identify it
+
+
+class Term:
+    """Base class of a model term (see the module docstring)."""
+
+    name: ClassVar[str]
+    description: ClassVar[str]
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    columns: ClassVar[tuple[str, ...]] = ("effort",)
+    is_heat_source: ClassVar[bool] = False
+
+    def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray, np.ndarray | float]:
+        """Return ``(rise_K, gain)`` per sample for parameter values ``p``."""
+        raise NotImplementedError  # abstract
+
+    def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
+        """Regressors ``X`` with ``rise + gain*T == X @ [p[name] for name in parameters]``.
+
+        Terms linear in their parameters return them (used by the regression
+        estimators); others return ``None`` and are identified by output error.
+        ``temperature_C`` is the measured (filtered) temperature, for terms
+        whose contribution depends on it.
+        """
+        return None
+
+
+TERMS: dict[str, type[Term]] = {}
+
+
+def register_term(cls: type[Term]) -> type[Term]:
+    """Class decorator: add a term to the catalog under ``cls.name``."""
+    if not getattr(cls, "name", None):
+        raise ValueError(f"{cls.__name__} needs a 'name' to be registered")
+    clashes = {p.name for p in cls.parameters} & ({"RC_s", "T_offset_C"} | _parameter_names_except(cls.name))
+    if clashes:
+        raise ValueError(f"term '{cls.name}' reuses parameter names {sorted(clashes)} of another term")
+    TERMS[cls.name] = cls
+    return cls
+
+
+def _parameter_names_except(name: str) -> set[str]:
+    return {p.name for key, t in TERMS.items() if key != name for p in t.parameters}
+
+
+@register_term
+class Joule(Term):
+    """Effort-squared heating: the seed's ``beta*R*F^2`` (Eq. 5)."""
+
+    name = "joule"
+    description = "Joule heating from effort squared (the base heat source)"
+    parameters = (
+        Parameter("betaR_K_per_effort2", "K/(N m)^2", 0.0, np.inf, 0.1,
+                  "steady-state rise per squared effort, beta*R of Eq. 5",
+                  "effort held at three or more distinct levels"),
+    )
+    is_heat_source = True
+
+    def contribution(self, p, s):
+        return p["betaR_K_per_effort2"] * s.effort**2, 0.0
+
+    def features(self, s, temperature_C):
+        return (s.effort**2)[:, None]
+
+
+@register_term
+class EffortBias(Term):
+    """Linear effort term from a series-elastic effort bias: ``-beta_bias*R*F`` (Eq. 5)."""
+
+    name = "effort_bias"
+    description = "linear effort term (series-elastic bias of the torque-current map)"
+    parameters = (
+        Parameter("beta_biasR_K_per_effort", "K/(N m)", -np.inf, np.inf, 0.1,
+                  "beta_bias*R of Eq. 5; positive when the bias lowers heating at positive effort",
+                  "effort held at three or more distinct levels, ideally of both signs"),
+    )
+
+    def contribution(self, p, s):
+        return -p["beta_biasR_K_per_effort"] * s.effort, 0.0
+
+    def features(self, s, temperature_C):
+        return (-s.effort)[:, None]
+
+
+DEFAULT_MODEL = ("joule", "effort_bias")
+
+
+class ModelSpecError(ValueError):
+    """A model description names an unknown term or cannot be run on the data."""
+
+
+def parse_model(spec: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
+    """Validate a comma-separated model description, e.g. ``"joule,effort_bias"``."""
+    names = [n.strip() for n in spec.split(",")] if isinstance(spec, str) else [str(n).strip() for n in spec]
+    names = [n for n in names if n]
+    if not names:
+        raise ModelSpecError(f"empty model; expected comma-separated terms from: {', '.join(TERMS)}")
+    unknown = [n for n in names if n not in TERMS]
+    if unknown:
+        raise ModelSpecError(
+            f"unknown model term(s) {', '.join(repr(u) for u in unknown)}; known terms: {', '.join(TERMS)}"
+        )
+    if len(set(names)) != len(names):
+        raise ModelSpecError(f"model lists a term twice: {','.join(names)}")
+    if not any(TERMS[n].is_heat_source for n in names):
+        sources = [n for n, t in TERMS.items() if t.is_heat_source]
+        raise ModelSpecError(f"model {','.join(names)} has no heat source; add one of: {', '.join(sources)}")
+    return tuple(names)

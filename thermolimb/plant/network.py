@@ -1,0 +1,116 @@
+"""Thermal networks and actuator electrical data for the plant.
+
+Numbers are from ``shared/reference/facts.md`` (HEBI X-series vendor model);
+where a number is chosen here rather than read, its line says so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ThermalNetwork:
+    """A chain of thermal masses: node 0 is the winding, the last node loses heat to ambient.
+
+    ``resistance_K_per_W[i]`` joins node ``i`` to node ``i + 1``; the last one
+    joins the last node to ambient.
+    """
+
+    node_names: tuple[str, ...]
+    capacity_J_per_K: tuple[float, ...]
+    resistance_K_per_W: tuple[float, ...]
+
+    def __post_init__(self):
+        n = len(self.node_names)
+        if n == 0 or len(self.capacity_J_per_K) != n or len(self.resistance_K_per_W) != n:
+            raise ValueError(
+                f"ThermalNetwork needs one capacity and one resistance per node; got {n} names, "
+                f"{len(self.capacity_J_per_K)} capacities, {len(self.resistance_K_per_W)} resistances"
+            )
+        bad = [v for v in (*self.capacity_J_per_K, *self.resistance_K_per_W) if not (np.isfinite(v) and v > 0)]
+        if bad:
+            raise ValueError(f"thermal capacities and resistances must be positive and finite, got {bad}")
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.node_names)
+
+    @property
+    def total_resistance_K_per_W(self) -> float:
+        """Winding to ambient: the steady-state rise per watt of winding heat."""
+        return float(sum(self.resistance_K_per_W))
+
+    def system_matrix(self) -> np.ndarray:
+        """``A`` of ``C dT/dt = A_G T + ...`` divided by C, for the chain alone (1/s)."""
+        n = self.n_nodes
+        G = 1.0 / np.asarray(self.resistance_K_per_W)
+        C = np.asarray(self.capacity_J_per_K)
+        A = np.zeros((n, n))
+        for i in range(n):
+            A[i, i] -= G[i]
+            if i + 1 < n:
+                A[i, i + 1] += G[i]
+                A[i + 1, i] += G[i]
+                A[i + 1, i + 1] -= G[i]
+        return A / C[:, None]
+
+    @property
+    def time_constants_s(self) -> np.ndarray:
+        """Time constants of the chain, fastest first."""
+        return np.sort(-1.0 / np.linalg.eigvals(self.system_matrix()).real)
+
+
+# HEBI X8 vendor model: winding -> housing -> body -> environment.
+X8_NETWORK = ThermalNetwork(("winding", "housing", "body"), (0.638, 24.1, 2500.0), (2.256, 1.0, 4.0))
+X5_NETWORK = ThermalNetwork(("winding", "housing", "body"), (0.367, 16.6, 1250.0), (4.626, 1.0, 8.0))
+# Chosen here: the X8 winding and housing merged into one mass that loses heat
+# through the housing-to-body path to a body held at ambient (tau = 24.7 * 3.256 = 80 s).
+FIRST_ORDER_NETWORK = ThermalNetwork(("winding",), (0.638 + 24.1,), (2.256 + 1.0,))
+# Chosen here: the same merged winding on a small, slower frame mass (tau about 35 s and 1200 s).
+SECOND_ORDER_NETWORK = ThermalNetwork(("winding", "frame"), (24.7, 300.0), (1.3, 4.0))
+
+NETWORKS = {"x8": X8_NETWORK, "x5": X5_NETWORK, "first_order": FIRST_ORDER_NETWORK,
+            "second_order": SECOND_ORDER_NETWORK}
+
+
+@dataclass(frozen=True)
+class DriverSpec:
+    """The motor driver (H-bridge) board: the same current heats it (seed Fig. 2).
+
+    The values are chosen here (the vendor model has no driver node): a bridge
+    with 1 ohm effective loss resistance on a 20 J/K board, 4 K/W to ambient (tau = 80 s).
+    """
+
+    loss_resistance_ohm: float = 1.0
+    capacity_J_per_K: float = 20.0
+    resistance_K_per_W: float = 4.0
+
+
+@dataclass(frozen=True)
+class ActuatorSpec:
+    """Electrical and thermal data of one actuator model."""
+
+    model: str
+    effort_per_amp: float  # N m/A at the output (torque constant x gear ratio), or N/A for linear
+    winding_resistance_ohm: float  # terminal resistance at 25 degC
+    effort_limit: float  # N m or N
+    continuous_effort: float  # N m or N, what the actuator can hold indefinitely
+    velocity_limit: float  # rad/s or m/s
+    network: ThermalNetwork = X8_NETWORK
+    winding_limit_C: float = 155.0
+    driver: DriverSpec | None = DriverSpec()
+
+    def __post_init__(self):
+        for name in ("effort_per_amp", "winding_resistance_ohm", "effort_limit", "continuous_effort", "velocity_limit"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
+
+
+_X8_TORQUE_CONSTANT_NM_PER_A = 9.32e-3
+X8_9 = ActuatorSpec("X8-9", _X8_TORQUE_CONSTANT_NM_PER_A * 762.22, 3.19, 20.0, 8.0, 3.14)
+X8_16 = ActuatorSpec("X8-16", _X8_TORQUE_CONSTANT_NM_PER_A * 1462.22, 3.19, 38.0, 16.0, 1.57)
+ACTUATORS = {"X8-9": X8_9, "X8-16": X8_16}

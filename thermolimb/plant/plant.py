@@ -1,0 +1,293 @@
+"""The thermal plant: the rig's "hardware" that heats every simulated actuator.
+
+Each actuator is a chain of thermal masses (winding, housing, body by default,
+HEBI X8 numbers) heated by the motor current, optionally with a driver board
+node and a thermistor node.  The whole plant is one linear network
+
+    dx/dt = A x + B q + b_amb T_amb
+
+integrated *exactly* for inputs held over each control interval (zero-order
+hold through the matrix exponential), so it is stable at any control rate.
+Effects whose heat depends on the state (copper resistance, motion cooling)
+enter through ``q`` evaluated at the start of each interval.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.linalg import expm
+
+from .effects import PlantEffects
+from .network import ActuatorSpec
+
+
+@dataclass(frozen=True)
+class ThermalProtection:
+    """Derating near the winding limit, as HEBI firmware caps output power.
+
+    The allowed effort fraction falls linearly from 1 at ``start_C`` to
+    ``min_fraction`` at ``limit_C`` (measured winding temperature).
+    """
+
+    start_C: float = 140.0
+    limit_C: float = 155.0
+    min_fraction: float = 0.0
+
+    def __post_init__(self):
+        if not self.limit_C > self.start_C:
+            raise ValueError(f"ThermalProtection needs limit_C > start_C, got {self.limit_C} <= {self.start_C}")
+
+    def fraction(self, temperature_C: np.ndarray) -> np.ndarray:
+        """Allowed fraction of the commanded effort, per actuator."""
+        frac = (self.limit_C - np.asarray(temperature_C)) / (self.limit_C - self.start_C)
+        return np.clip(frac, self.min_fraction, 1.0)
+
+    def apply(self, effort: np.ndarray, temperature_C: np.ndarray) -> np.ndarray:
+        return np.asarray(effort) * self.fraction(temperature_C)
+
+
+class ThermalPlant:
+    """Thermal state of named actuators, advanced one control interval at a time.
+
+    Parameters
+    ----------
+    names, specs
+        One name and one :class:`ActuatorSpec` per actuator; neighbours (for
+        neighbour conduction) are consecutive names.
+    effects
+        Which effects are on (:class:`PlantEffects`).
+    ambient_C
+        Ambient temperature at time 0 (degC).
+    initial_C
+        Initial temperature of every node (degC); ambient if ``None``.
+    rng
+        Generator for sensor noise; required when noise is on.
+    """
+
+    def __init__(
+        self,
+        names: Sequence[str],
+        specs: Sequence[ActuatorSpec],
+        effects: PlantEffects = PlantEffects(),
+        ambient_C: float = 25.0,
+        initial_C: float | None = None,
+        rng: np.random.Generator | None = None,
+        protection: ThermalProtection = ThermalProtection(),
+    ):
+        if len(names) != len(specs) or len(names) == 0:
+            raise ValueError(f"ThermalPlant needs one spec per actuator name, got {len(names)} names and {len(specs)} specs")
+        if len(set(names)) != len(names):
+            raise ValueError(f"actuator names must be unique, got {list(names)}")
+        if effects.sensor_noise is not None and rng is None:
+            raise ValueError("sensor noise is on: pass rng=np.random.default_rng(seed)")
+        self.names = tuple(names)
+        self.specs = tuple(specs)
+        self.effects = effects
+        self.ambient0_C = float(ambient_C)
+        self.protection = protection
+        self._rng = rng
+        self._build_network()
+        self.time_s = 0.0
+        start = self.ambient0_C if initial_C is None else float(initial_C)
+        self._x = np.full(self._n_states, start)
+        self._discretised: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+        self.current_A = np.zeros(self.n)
+        self._measure()
+
+    # ----------------------------------------------------------------- layout
+    @property
+    def n(self) -> int:
+        return len(self.names)
+
+    def _build_network(self):
+        idx = 0
+        winding, housing, outer, sensor, driver = [], [], [], [], []
+        blocks = []
+        for spec in self.specs:
+            net = spec.network
+            winding.append(idx)
+            housing.append(idx + 1 if net.n_nodes > 1 else idx)
+            outer.append(idx + net.n_nodes - 1)
+            blocks.append((idx, spec))
+            idx += net.n_nodes
+        for i in range(self.n):
+            if self.effects.sensor_lag is not None:
+                sensor.append(idx)
+                idx += 1
+            else:
+                sensor.append(winding[i])
+        for spec in self.specs:
+            if spec.driver is not None:
+                driver.append(idx)
+                idx += 1
+            else:
+                driver.append(-1)
+        n_states = idx
+        A = np.zeros((n_states, n_states))
+        inv_capacity = np.zeros(n_states)  # heat input (W) -> dT/dt; zero for massless sensor nodes
+        b_amb = np.zeros(n_states)
+        outer_conductance = np.zeros(self.n)
+        for i, (start, spec) in enumerate(blocks):
+            net = spec.network
+            m = net.n_nodes
+            A[start : start + m, start : start + m] = net.system_matrix()
+            C = np.asarray(net.capacity_J_per_K)
+            inv_capacity[start : start + m] = 1.0 / C
+            outer_conductance[i] = 1.0 / net.resistance_K_per_W[-1]
+            b_amb[outer[i]] += outer_conductance[i] / C[-1]
+            if spec.driver is not None:
+                d = driver[i]
+                g = 1.0 / spec.driver.resistance_K_per_W
+                A[d, d] = -g / spec.driver.capacity_J_per_K
+                b_amb[d] = g / spec.driver.capacity_J_per_K
+                inv_capacity[d] = 1.0 / spec.driver.capacity_J_per_K
+        if self.effects.sensor_lag is not None:
+            rate = 1.0 / self.effects.sensor_lag.time_constant_s
+            for i in range(self.n):
+                A[sensor[i], sensor[i]] = -rate
+                A[sensor[i], winding[i]] = rate
+        if self.effects.neighbor_coupling is not None and self.n > 1:
+            g = self.effects.neighbor_coupling.conductance_W_per_K
+            for i in range(self.n - 1):
+                a, b = outer[i], outer[i + 1]
+                for p, q in ((a, b), (b, a)):
+                    A[p, p] -= g * inv_capacity[p]
+                    A[p, q] += g * inv_capacity[p]
+        self._A, self._inv_capacity, self._b_amb = A, inv_capacity, b_amb
+        self._n_states = n_states
+        self._winding = np.array(winding)
+        self._housing = np.array(housing)
+        self._outer = np.array(outer)
+        self._sensor = np.array(sensor)
+        self._driver = np.array(driver)
+        self._outer_conductance = outer_conductance
+        self._effort_per_amp = np.array([s.effort_per_amp for s in self.specs])
+        self._resistance_ohm = np.array([s.winding_resistance_ohm for s in self.specs])
+        self._driver_ohm = np.array([s.driver.loss_resistance_ohm if s.driver else 0.0 for s in self.specs])
+        self._has_driver = self._driver >= 0
+
+    def _discretisation(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Exact ZOH matrices ``(Phi, Gamma)`` with ``x+ = Phi x + Gamma [q; T_amb]``."""
+        key = round(dt_s, 12)
+        if key not in self._discretised:
+            N = self._n_states
+            M = np.zeros((2 * N + 1, 2 * N + 1))
+            M[:N, :N] = self._A
+            M[:N, N : 2 * N] = np.diag(self._inv_capacity)
+            M[:N, 2 * N] = self._b_amb
+            E = expm(M * dt_s)
+            self._discretised[key] = (E[:N, :N].copy(), E[:N, N:].copy())
+        return self._discretised[key]
+
+    # ----------------------------------------------------------------- inputs
+    def ambient_at(self, time_s: float) -> float:
+        """Ambient temperature (degC) at ``time_s``."""
+        var = self.effects.ambient_variation
+        if var is None:
+            return self.ambient0_C
+        return float(
+            self.ambient0_C
+            + var.drift_K_per_h * time_s / 3600.0
+            + var.amplitude_K * np.sin(2.0 * np.pi * time_s / var.period_s)
+        )
+
+    def heat_W(self, effort: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        """Heat into every state node (W) for efforts and velocities held over the next interval.
+
+        Also updates :attr:`current_A`, the motor current magnitude.
+        """
+        fx = self.effects
+        effort = np.asarray(effort, dtype=float)
+        speed = np.abs(np.asarray(velocity, dtype=float))
+        torque_effort = effort - fx.effort_bias.bias_effort if fx.effort_bias else effort
+        i_q = torque_effort / self._effort_per_amp
+        i_d = 0.0
+        if fx.field_weakening is not None:
+            fw = fx.field_weakening
+            i_d = fw.current_A_per_rad_s * np.maximum(speed - fw.base_speed_rad_s, 0.0)
+        current_sq = i_q**2 + i_d**2
+        self.current_A = np.sqrt(current_sq)
+        resistance = self._resistance_ohm
+        if fx.winding_tempco is not None:
+            tc = fx.winding_tempco
+            resistance = resistance * (1.0 + tc.alpha_per_K * (self._x[self._winding] - tc.reference_C))
+        q = np.zeros(self._n_states)
+        q[self._winding] += current_sq * resistance
+        if fx.speed_losses is not None:
+            sl = fx.speed_losses
+            q[self._winding] += sl.iron_W_per_rad2_s2 * speed**2
+            q[self._housing] += sl.friction_W_per_rad_s * speed
+        if fx.motion_cooling is not None:
+            extra_g = self._outer_conductance * fx.motion_cooling.gain_per_rad_s * speed
+            q[self._outer] -= extra_g * (self._x[self._outer] - self.ambient_at(self.time_s))
+        q[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
+        return q
+
+    # ------------------------------------------------------------------ steps
+    def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:
+        """Advance by ``dt_s`` seconds with efforts (N m or N) and velocities held."""
+        if not dt_s > 0:
+            raise ValueError(f"dt_s must be positive, got {dt_s}")
+        velocity = np.zeros(self.n) if velocity is None else velocity
+        q = self.heat_W(effort, velocity)
+        Phi, Gamma = self._discretisation(dt_s)
+        self._x = Phi @ self._x + Gamma @ np.append(q, self.ambient_at(self.time_s))
+        self.time_s += dt_s
+        self._measure()
+
+    def _measure(self):
+        fx = self.effects
+        readings = np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]])
+        if fx.sensor_noise is not None:
+            readings = readings + self._rng.normal(0.0, fx.sensor_noise.std_K, readings.shape)
+        if fx.quantisation is not None:
+            step = fx.quantisation.step_K
+            readings = np.round(readings / step) * step
+        self._measured_core = readings[: self.n]
+        self._measured_driver = readings[self.n :]
+
+    # ---------------------------------------------------------------- outputs
+    @property
+    def winding_C(self) -> np.ndarray:
+        """True winding temperatures (degC)."""
+        return self._x[self._winding].copy()
+
+    def node_C(self, node: str) -> np.ndarray:
+        """True temperature of a named network node (e.g. ``"housing"``) of every actuator."""
+        out = []
+        for i, spec in enumerate(self.specs):
+            names = spec.network.node_names
+            if node not in names:
+                raise KeyError(f"actuator {self.names[i]} ({spec.model}) has no node {node!r}; it has {names}")
+            out.append(self._x[self._winding[i] + names.index(node)])
+        return np.array(out)
+
+    @property
+    def measured_C(self) -> np.ndarray:
+        """What the core thermistors report (lagged, noisy, quantised as switched on), degC."""
+        return self._measured_core.copy()
+
+    @property
+    def driver_names(self) -> tuple[str, ...]:
+        """Thermal channels of the driver boards, named ``<actuator>/driver``."""
+        return tuple(f"{n}/driver" for n, has in zip(self.names, self._has_driver) if has)
+
+    @property
+    def measured_driver_C(self) -> np.ndarray:
+        """What the driver-board thermistors report, for actuators that have one (degC)."""
+        return self._measured_driver.copy()
+
+    @property
+    def ambient_C(self) -> float:
+        return self.ambient_at(self.time_s)
+
+    def derate(self, effort: np.ndarray) -> np.ndarray:
+        """Efforts after thermal protection, from the measured winding temperatures."""
+        return self.protection.apply(effort, self._measured_core)
+
+    def steady_state_rise_K(self, heat_W: float, actuator: int = 0) -> float:
+        """Winding rise above ambient for constant winding heat, from the network alone."""
+        return heat_W * self.specs[actuator].network.total_resistance_K_per_W
