@@ -9,6 +9,27 @@ from .base import ThermalEstimator
 from .regression import build_regression, mean_ambient_C
 
 
+def solve_least_squares(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+    """Minimise ``|X theta - y|^2``: returns ``(theta, loss, covariance)``, ``loss = mean(r^2) / 2`` (Eq. 9).
+
+    Normal equations on unit-norm columns (a p x p solve after one pass over
+    the rows), which is accurate here because the regressors are few and the
+    check for identifiability has already refused near-collinear ones.
+    The covariance is inflated for serially correlated residuals.
+    """
+    scale = np.linalg.norm(X, axis=0)
+    scale[scale == 0] = 1.0
+    Xs = X / scale
+    gram = Xs.T @ Xs
+    coef = np.linalg.solve(gram, Xs.T @ y)
+    residual = y - Xs @ coef
+    loss = 0.5 * float(np.mean(residual**2))
+    dof = max(y.size - coef.size, 1)
+    sigma2 = float(residual @ residual) / dof * ar1_variance_factor(residual)
+    cov = sigma2 * np.linalg.inv(gram) / np.outer(scale, scale)
+    return coef / scale, loss, cov
+
+
 class LeastSquares(ThermalEstimator):
     """Solve the regression of Eq. 7 in one step (``numpy.linalg.lstsq`` on scaled columns).
 
@@ -47,16 +68,7 @@ class LeastSquares(ThermalEstimator):
         reg = build_regression(series, terms, self.cutoff_hz, consistent=not seed,
                                effort_cutoff_hz=self.effort_cutoff_hz,
                                subtract_ambient_C=self.ambient_C if seed else None)
-        scale = np.linalg.norm(reg.X, axis=0)
-        scale[scale == 0] = 1.0
-        Xs = reg.X / scale
-        coef, *_ = np.linalg.lstsq(Xs, reg.y, rcond=None)
-        residual = reg.y - Xs @ coef
-        self.loss_ = 0.5 * float(np.mean(residual**2))
-        dof = max(reg.y.size - coef.size, 1)
-        sigma2 = float(residual @ residual) / dof * ar1_variance_factor(residual)
-        cov = sigma2 * np.linalg.pinv(Xs.T @ Xs) / np.outer(scale, scale)
-        values = coef / scale
+        values, self.loss_, cov = solve_least_squares(reg.X, reg.y)
         if seed:
             values[-1] += mean_ambient_C(series, self.ambient_C)
         return values, cov

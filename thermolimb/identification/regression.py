@@ -151,22 +151,39 @@ def mean_ambient_C(series: Sequence[ActuatorSeries], default_C: float) -> float:
 IDENTIFIABLE_FRACTION = 1e-3
 
 
+def independent_fractions(X: np.ndarray) -> np.ndarray:
+    """For each column, the fraction of its variation not explained by the other columns.
+
+    Computed from the column-scaled Gram matrix: the residual of column ``j``
+    regressed on the others has squared norm ``1 / inv(G)[j, j]``.  Columns
+    other than the intercept (all ones) are measured against their centred norm.
+    """
+    norms = np.linalg.norm(X, axis=0)
+    safe = np.where(norms > 0, norms, 1.0)
+    Xs = X / safe
+    G = Xs.T @ Xs
+    w, V = np.linalg.eigh(G)
+    w_inv = np.where(w > w.max() * 1e-15, 1.0 / np.maximum(w, 1e-300), np.inf)
+    diag_inv = np.einsum("ij,j,ij->i", V, w_inv, V)
+    residual = np.sqrt(1.0 / diag_inv)  # in units of each column's norm
+    means = X.mean(axis=0)
+    centred = np.sqrt(np.maximum(norms**2 - X.shape[0] * means**2, 0.0)) / safe
+    is_intercept = np.all(X == 1.0, axis=0)
+    spread = np.where(is_intercept, 1.0, centred)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = np.where((norms > 0) & (spread > 0), residual / spread, 0.0)
+    return np.nan_to_num(fraction)
+
+
 def check_identifiable(reg: Regression, actuator: str) -> None:
     """Raise :class:`IdentifiabilityError` for the first parameter the rows cannot determine."""
-    X = reg.X
+    fractions = independent_fractions(reg.X)
     for j, p in enumerate(reg.parameters):
-        col = X[:, j]
-        others = np.delete(X, j, axis=1)
-        is_intercept = np.allclose(col, 1.0)
-        scale = np.linalg.norm(col) if is_intercept else np.linalg.norm(col - col.mean())
-        if scale == 0 or not np.isfinite(scale):
-            fraction = 0.0
-        else:
-            coef, *_ = np.linalg.lstsq(others, col, rcond=None)
-            fraction = np.linalg.norm(col - others @ coef) / scale
-        if fraction < IDENTIFIABLE_FRACTION:
+        if fractions[j] < IDENTIFIABLE_FRACTION:
+            col = reg.X[:, j]
             levels = np.unique(np.round(reg.effort, 3)).size
-            what = "constant" if scale == 0 else f"almost a combination of the other regressors ({fraction:.1e} independent)"
+            what = "constant" if np.ptp(col) == 0 else (
+                f"almost a combination of the other regressors ({fractions[j]:.1e} independent)")
             raise IdentifiabilityError(
                 f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
                 f"in the training data, where effort takes {levels} distinct level(s) "

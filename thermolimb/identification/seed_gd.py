@@ -50,35 +50,47 @@ class SeedGradientDescent(ThermalEstimator):
     def _fit(self, series, terms):
         reg = build_regression(series, terms, self.temperature_cutoff_hz, consistent=False,
                                effort_cutoff_hz=self.effort_cutoff_hz, subtract_ambient_C=self.ambient_C)
-        X, y = reg.X[:, :-1], reg.y  # the last column is the bias, handled apart (Eq. 13)
-        x_mean, x_std = X.mean(axis=0), X.std(axis=0)
-        x_std[x_std == 0] = 1.0
-        y_mean, y_std = y.mean(), y.std() or 1.0
-        Z = np.column_stack([(X - x_mean) / x_std, np.ones(y.size)])
-        zy = (y - y_mean) / y_std
-        m = y.size
-        theta = np.zeros(Z.shape[1])
-        # The target loss is given in unscaled units: L_z = L / sigma_y^2.
-        target = None if self.target_loss is None else self.target_loss / y_std**2
-        previous = np.inf
-        for iteration in range(1, self.max_iter + 1):
-            residual = Z @ theta - zy
-            loss = 0.5 * float(residual @ residual) / m
-            if target is not None and loss <= target:
-                break
-            if previous - loss < self.tol * loss:
-                break
-            previous = loss
-            theta -= self.learning_rate * (Z.T @ residual) / m
-        self.n_iter_ = iteration
-        self.loss_ = loss * y_std**2
-        slopes = y_std / x_std * theta[:-1]  # Eq. 16
-        bias_heating = y_mean - slopes @ x_mean + y_std * theta[-1]  # P_bias R of Eq. 15
-        values = np.append(slopes, bias_heating + mean_ambient_C(series, self.ambient_C))  # T_offset = T_amb + P_bias R
-        residual = reg.X @ np.append(slopes, bias_heating) - reg.y
+        coef, self.loss_, self.n_iter_ = zscore_gradient_descent(
+            reg.X, reg.y, self.learning_rate, self.max_iter, self.tol, self.target_loss)
+        residual = reg.X @ coef - reg.y
         scale = np.linalg.norm(reg.X, axis=0)
         scale[scale == 0] = 1.0
         Xs = reg.X / scale
-        sigma2 = float(residual @ residual) / max(m - Xs.shape[1], 1) * ar1_variance_factor(residual)
+        sigma2 = float(residual @ residual) / max(reg.y.size - Xs.shape[1], 1) * ar1_variance_factor(residual)
         cov = sigma2 * np.linalg.pinv(Xs.T @ Xs) / np.outer(scale, scale)
+        values = coef.copy()
+        values[-1] += mean_ambient_C(series, self.ambient_C)  # T_offset = T_amb + P_bias R
         return values, cov
+
+
+def zscore_gradient_descent(X: np.ndarray, y: np.ndarray, learning_rate: float, max_iter: int,
+                            tol: float, target_loss: float | None) -> tuple[np.ndarray, float, int]:
+    """Eqs. 9-16: batch gradient descent on z-scored regressors (the last column of ``X`` is the bias).
+
+    Returns the unscaled coefficients, the final loss (Eq. 9, unscaled) and
+    the number of iterations.
+    """
+    F = X[:, :-1]
+    x_mean, x_std = F.mean(axis=0), F.std(axis=0)
+    x_std[x_std == 0] = 1.0
+    y_mean, y_std = y.mean(), y.std() or 1.0
+    Z = np.column_stack([(F - x_mean) / x_std, np.ones(y.size)])  # Eq. 12; the bias is not scaled
+    zy = (y - y_mean) / y_std
+    m = y.size
+    theta = np.zeros(Z.shape[1])  # zero initial guess
+    target = None if target_loss is None else target_loss / y_std**2  # L_z = L / sigma_y^2
+    previous = np.inf
+    loss = np.inf
+    iteration = 0
+    for iteration in range(1, max_iter + 1):
+        residual = Z @ theta - zy
+        loss = 0.5 * float(residual @ residual) / m  # Eq. 9
+        if target is not None and loss <= target:
+            break
+        if previous - loss < tol * loss:
+            break
+        previous = loss
+        theta -= learning_rate * (Z.T @ residual) / m  # Eqs. 10-11
+    slopes = y_std / x_std * theta[:-1]  # Eq. 16
+    bias = y_mean - slopes @ x_mean + y_std * theta[-1]  # Eq. 15 (P_bias R)
+    return np.append(slopes, bias), loss * y_std**2, iteration

@@ -1,0 +1,1 @@
+"""Demos of the suite; each module registers itself with thermolimb.demo_registry."""

@@ -1,0 +1,93 @@
+"""The command line, run in-process through its main(argv), and once as the installed script."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.cli.main import main
+
+FIT_KEYS = {"actuator", "model", "method", "params", "train", "validation"}
+METRIC_KEYS = {"rmse_K", "max_abs_K", "fit_percent"}
+
+
+@pytest.fixture(scope="module")
+def sim_log(tmp_path_factory):
+    path = tmp_path_factory.mktemp("sim") / "log.csv"
+    code = main(["simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
+                 "--effects", "effort_bias,sensor_noise,quantisation", "--seed", "3", "--out", str(path), "--quiet"])
+    assert code == 0
+    return path
+
+
+def test_simulate_writes_every_actuator(sim_log):
+    frame = pd.read_csv(sim_log)
+    assert set(frame["actuator"]) == {"knee", "hip", "ankle"}
+    assert {"time", "effort", "temperature", "velocity", "current", "ambient"} <= set(frame.columns)
+
+
+def test_fit_json_schema(sim_log, capsys, tmp_path):
+    code = main(["fit", str(sim_log), "--actuator", "knee", "--json", "--plot", str(tmp_path), "--quiet"])
+    assert code == 0
+    record = json.loads(capsys.readouterr().out)
+    assert set(record) == FIT_KEYS
+    assert record["actuator"] == "knee"
+    assert record["model"] == ["joule", "effort_bias"]
+    assert set(record["params"]) == {"RC_s", "betaR_K_per_effort2", "beta_biasR_K_per_effort", "T_offset_C"}
+    for entry in record["params"].values():
+        assert set(entry) == {"value", "stderr", "unit"}
+    assert set(record["train"]) == METRIC_KEYS and set(record["validation"]) == METRIC_KEYS
+    # a first-order plant fitted by the first-order model: validation error near the sensor noise
+    assert record["validation"]["rmse_K"] < 0.15
+    assert (tmp_path / "fit_knee.png").stat().st_size > 10_000
+
+
+def test_fit_every_actuator_prints_a_list(sim_log, capsys):
+    assert main(["fit", str(sim_log), "--json", "--method", "least_squares"]) == 0
+    records = json.loads(capsys.readouterr().out)
+    assert [r["actuator"] for r in records] == ["knee", "hip", "ankle"]
+
+
+def test_fit_text_output_has_units(sim_log, capsys):
+    assert main(["fit", str(sim_log), "--actuator", "hip", "--model", "joule"]) == 0
+    out = capsys.readouterr().out
+    assert "validation  RMSE" in out and "K/(N m)^2" in out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["fit", "{log}", "--actuator", "elbow"], "no actuator 'elbow'; the log has knee, hip, ankle"),
+    (["fit", "{log}", "--model", "joule,copper"], "unknown model term(s) 'copper'"),
+    (["fit", "{missing}"], "no such file"),
+    (["fit", "{log}", "--map", "effort=torque"], "--map effort=torque names column 'torque'"),
+    (["simulate", "--effects", "magic", "--out", "{tmp}"], "unknown plant effect(s) ['magic']"),
+    (["simulate", "--actuators", "knee:X9", "--out", "{tmp}"], "must be NAME:MODEL"),
+])
+def test_bad_input_is_one_clear_line(argv, message, sim_log, tmp_path, capsys):
+    argv = [a.format(log=sim_log, missing=tmp_path / "none.csv", tmp=tmp_path / "x.csv") for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_fit_constant_effort_reports_what_is_missing(tmp_path, capsys):
+    n = 600
+    t = np.arange(n, dtype=float)
+    pd.DataFrame({"time": t, "actuator": "a", "effort": 5.0,
+                  "temperature": 25 + 8 * (1 - np.exp(-t / 60))}).to_csv(tmp_path / "c.csv", index=False)
+    assert main(["fit", str(tmp_path / "c.csv")]) == 2
+    assert "cannot identify" in capsys.readouterr().err
+
+
+def test_installed_script_help_lists_commands_with_units():
+    exe = Path(sys.executable).parent / "thermolimb"
+    assert exe.is_file(), "the console script is installed beside the interpreter"
+    out = subprocess.run([exe, "--help"], capture_output=True, text=True, check=True).stdout
+    for command in ("simulate", "fit", "demo", "report"):
+        assert command in out
+    fit_help = subprocess.run([exe, "fit", "--help"], capture_output=True, text=True, check=True).stdout
+    assert "RMSE (K)" in fit_help and "degC" in fit_help

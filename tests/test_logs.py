@@ -1,0 +1,103 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.logs import LogError, from_frame, parse_mapping, read_log
+
+
+def canonical(n=50):
+    t = np.arange(n) * 0.5
+    return pd.DataFrame({"time": t, "actuator": "knee", "effort": np.sin(t), "temperature": 25 + 0.01 * t})
+
+
+def write(tmp_path, frame, name="log.csv"):
+    path = tmp_path / name
+    frame.to_csv(path, index=False)
+    return path
+
+
+def test_roundtrip_csv_and_parquet(tmp_path, plant_log):
+    for name in ("a.csv", "a.parquet"):
+        path = plant_log.write(tmp_path / name)
+        again = read_log(path)
+        assert again.actuators == plant_log.actuators
+        pd.testing.assert_frame_equal(again.frame, plant_log.frame, check_dtype=False)
+
+
+def test_missing_column(tmp_path):
+    path = write(tmp_path, canonical().drop(columns="effort"))
+    with pytest.raises(LogError, match=r"log.csv: missing column\(s\) effort .*--map"):
+        read_log(path)
+
+
+def test_nan(tmp_path):
+    frame = canonical()
+    frame.loc[7, "temperature"] = np.nan
+    with pytest.raises(LogError, match=r"column 'temperature' has 1 missing .* first at row 7"):
+        read_log(write(tmp_path, frame))
+
+
+def test_not_numeric(tmp_path):
+    frame = canonical().astype({"effort": object})
+    frame.loc[3, "effort"] = "high"
+    with pytest.raises(LogError, match=r"column 'effort' is not numeric at row 3"):
+        read_log(write(tmp_path, frame))
+
+
+def test_time_not_increasing(tmp_path):
+    frame = canonical()
+    frame.loc[10, "time"] = frame.loc[9, "time"]
+    with pytest.raises(LogError, match=r"time does not increase for actuator 'knee' at row 10"):
+        read_log(write(tmp_path, frame))
+
+
+def test_too_short(tmp_path):
+    with pytest.raises(LogError, match=r"'knee' has 5 samples; at least 20"):
+        read_log(write(tmp_path, canonical(5)))
+
+
+def test_unknown_actuator(tmp_path):
+    log = read_log(write(tmp_path, canonical()))
+    with pytest.raises(LogError, match=r"no actuator 'hip'; the log has knee"):
+        log.series("hip")
+
+
+def test_unknown_format_and_missing_file(tmp_path):
+    with pytest.raises(LogError, match=r"unknown log format '.txt'"):
+        read_log(tmp_path / "log.txt")
+    with pytest.raises(LogError, match="no such file"):
+        read_log(tmp_path / "absent.csv")
+
+
+def test_wide_file_by_column_map(tmp_path):
+    n = 40
+    wide = pd.DataFrame({"t": np.arange(n) * 2.5, "torque": np.linspace(0, 60, n), "stator_winding": 20 + np.arange(n) * 0.1,
+                         "motor_speed": np.full(n, 600.0), "coolant": 19.5, "current": 3.0})
+    path = write(tmp_path, wide, "profile.csv")
+    mapping = parse_mapping("time=t,effort=torque,velocity=motor_speed,temperature=stator_winding,"
+                            "ambient=coolant,current=current")
+    log = read_log(path, mapping=mapping, velocity_unit="rpm")
+    assert log.actuators == ("profile",)
+    series = log.series("profile")
+    np.testing.assert_allclose(series.signals.velocity, 600.0 * 2 * np.pi / 60)
+    np.testing.assert_allclose(series.signals.ambient_C, 19.5)
+    with pytest.raises(LogError, match=r"--map effort=torq names column 'torq', which the file does not have"):
+        read_log(path, mapping={**mapping, "effort": "torq"})
+    with pytest.raises(LogError, match=r"--map names 'torque', which is not a log column"):
+        parse_mapping("torque=torque")
+
+
+def test_split_keeps_the_split_sample_in_both_parts():
+    log = from_frame(canonical(100))
+    train, valid = log.series("knee").split(0.7)
+    assert train.time_s[-1] == valid.time_s[0]
+    assert train.time_s[-1] == pytest.approx(0.7 * 49.5, abs=0.5)
+
+
+def test_neighbours_are_the_other_actuators(plant_log):
+    frame = plant_log.frame.copy()
+    other = frame.assign(actuator="hip", temperature=frame["temperature"] + 5.0)
+    log = from_frame(pd.concat([frame, other]))
+    s = log.series("knee").signals
+    assert s.neighbor_names == ("hip",)
+    np.testing.assert_allclose(s.neighbor_temperature_C[:, 0], log.series("hip").temperature_C)

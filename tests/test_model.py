@@ -1,0 +1,80 @@
+import numpy as np
+import pytest
+
+from thermolimb.model import FirstOrderBank, ModelSpecError, Signals, ThermalModel, first_order_scan, parse_model
+
+PARAMS = {"RC_s": 40.0, "betaR_K_per_effort2": 0.02, "beta_biasR_K_per_effort": 0.1, "T_offset_C": 26.0}
+
+
+def piecewise_effort(n_steps, dt, rng):
+    t = np.arange(n_steps + 1) * dt
+    effort = np.repeat(rng.uniform(-20, 30, n_steps // 10 + 1), 10)[: n_steps + 1]
+    return Signals(t, effort)
+
+
+def test_scan_equals_loop():
+    rng = np.random.default_rng(0)
+    a = rng.uniform(0.0, 1.0, 5000)
+    a[::7] = 1.0  # no decay
+    a[::11] = 0.0  # full reset
+    b = rng.normal(size=5000)
+    expected = [2.0]
+    for k in range(5000):
+        expected.append(a[k] * expected[-1] + b[k])
+    np.testing.assert_allclose(first_order_scan(a, b, 2.0), expected, rtol=0, atol=1e-10)
+
+
+def test_exact_prediction_equals_fine_euler():
+    """Zero-order-hold exact steps of 2 s equal forward Euler at 1 ms within Euler's O(dt) error."""
+    rng = np.random.default_rng(1)
+    s = piecewise_effort(300, 2.0, rng)
+    model = ThermalModel(("joule", "effort_bias"), PARAMS)
+    exact = model.simulate(s, 30.0, method="exact")
+    fine_dt = 0.001
+    T = 30.0
+    fine = [T]
+    u = model.equilibrium_C(s)
+    for k in range(s.n - 1):
+        for _ in range(int(round(2.0 / fine_dt))):
+            T += fine_dt / PARAMS["RC_s"] * (u[k] - T)
+        fine.append(T)
+    # Euler's global error is about dt/(2 RC) of the excursion (~ 1e-5 relative): 2e-3 K is generous.
+    np.testing.assert_allclose(exact, fine, atol=2e-3)
+
+
+def test_constant_effort_follows_closed_form_eq6():
+    t = np.linspace(0, 200, 201)
+    s = Signals(t, np.full(t.size, 15.0))
+    model = ThermalModel(("joule", "effort_bias"), PARAMS)
+    steady = 15.0**2 * 0.02 - 15.0 * 0.1 + 26.0
+    closed = 30.0 * np.exp(-t / 40.0) + steady * (1 - np.exp(-t / 40.0))
+    np.testing.assert_allclose(model.simulate(s, 30.0), closed, rtol=1e-12)
+
+
+def test_bank_ahead_matches_model_and_gradient():
+    models = [ThermalModel(("joule", "effort_bias"), dict(PARAMS, RC_s=rc)) for rc in (10.0, 40.0, 90.0)]
+    bank = FirstOrderBank.from_models(models)
+    T0 = np.array([30.0, 70.0, 50.0])
+    F = np.array([5.0, -12.0, 20.0])
+    ahead = bank.ahead(T0, F, 20.0)
+    for i, m in enumerate(models):
+        s = Signals(np.array([0.0, 20.0]), np.full(2, F[i]))
+        assert ahead[i] == pytest.approx(m.simulate(s, T0[i])[-1], rel=1e-12)
+    h = 1e-6
+    numeric = (bank.ahead(T0, F + h, 20.0) - bank.ahead(T0, F - h, 20.0)) / (2 * h)
+    np.testing.assert_allclose(bank.ahead_gradient(F, 20.0), numeric, rtol=1e-6)
+    batch = bank.ahead(T0, np.stack([F, 2 * F]), 20.0)  # leading batch dimension
+    assert batch.shape == (2, 3)
+    euler = bank.step(T0, F, 0.01, method="euler")
+    np.testing.assert_allclose(euler, bank.step(T0, F, 0.01), atol=1e-4)
+
+
+def test_model_spec_errors():
+    with pytest.raises(ModelSpecError, match="unknown model term.*'joul'.*known terms: joule"):
+        parse_model("joul,effort_bias")
+    with pytest.raises(ModelSpecError, match="no heat source"):
+        parse_model("effort_bias")
+    with pytest.raises(ModelSpecError, match="twice"):
+        parse_model("joule,joule")
+    with pytest.raises(ValueError, match="RC_s must be positive"):
+        ThermalModel(("joule",), {"RC_s": 0.0, "betaR_K_per_effort2": 0.1, "T_offset_C": 25.0})

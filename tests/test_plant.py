@@ -1,0 +1,104 @@
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from thermolimb.plant import (FIRST_ORDER_NETWORK, X8_9, X8_16, X8_NETWORK, PlantEffects, ThermalPlant,
+                              ThermalProtection, simulate_profile)
+
+
+def hold(plant, effort, velocity, seconds, dt):
+    for _ in range(int(round(seconds / dt))):
+        plant.step(np.asarray(effort, float), np.asarray(velocity, float), dt)
+
+
+def test_steady_state_is_heat_times_total_resistance():
+    plant = ThermalPlant(["a"], [replace(X8_9, driver=None)])
+    effort = 12.0
+    heat = (effort / X8_9.effort_per_amp) ** 2 * X8_9.winding_resistance_ohm
+    hold(plant, [effort], [0.0], 400_000.0, 500.0)  # 40 body time constants: exp(-40) is negligible
+    expected = 25.0 + heat * X8_NETWORK.total_resistance_K_per_W
+    assert plant.winding_C[0] == pytest.approx(expected, rel=1e-9)
+    assert plant.steady_state_rise_K(heat) == pytest.approx(expected - 25.0)
+
+
+def test_x8_time_constants_match_reference():
+    # facts.md: X8 network time constants about 1.4 s, 25 s and 10 100 s
+    np.testing.assert_allclose(X8_NETWORK.time_constants_s, [1.4, 25.0, 10100.0], rtol=0.05)
+
+
+def test_exact_integration_is_independent_of_the_control_rate():
+    """Zero-order hold is exact: 60 s steps (40x the winding time constant) land on the 0.01 s trajectory."""
+    coarse = ThermalPlant(["a"], [X8_9])
+    fine = ThermalPlant(["a"], [X8_9])
+    hold(coarse, [15.0], [0.0], 600.0, 60.0)
+    hold(fine, [15.0], [0.0], 600.0, 0.01)
+    np.testing.assert_allclose(coarse.winding_C, fine.winding_C, rtol=1e-8)
+
+
+@pytest.mark.parametrize("effect, direction", [
+    ("winding_tempco", +1), ("speed_losses", +1), ("field_weakening", +1), ("motion_cooling", -1),
+    ("effort_bias", -1),  # positive effort minus a positive bias: less current
+])
+def test_each_effect_moves_the_winding_temperature_the_expected_way(effect, direction):
+    base = ThermalPlant(["a"], [X8_9])
+    other = ThermalPlant(["a"], [X8_9], PlantEffects.from_names([effect]))
+    for plant in (base, other):
+        hold(plant, [15.0], [2.0], 1800.0, 0.5)
+    assert np.sign(other.winding_C[0] - base.winding_C[0]) == direction
+    assert abs(other.winding_C[0] - base.winding_C[0]) > 0.5
+
+
+def test_neighbor_coupling_warms_the_idle_neighbour():
+    names, specs = ["hot", "idle"], [X8_9, X8_9]
+    base = ThermalPlant(names, specs)
+    coupled = ThermalPlant(names, specs, PlantEffects.from_names("neighbor_coupling"))
+    for plant in (base, coupled):
+        hold(plant, [18.0, 0.0], [0.0, 0.0], 3600.0, 1.0)
+    assert coupled.winding_C[1] > base.winding_C[1] + 1.0
+    assert coupled.winding_C[0] < base.winding_C[0]
+
+
+def test_sensor_lag_noise_and_quantisation():
+    rng = np.random.default_rng(3)
+    plant = ThermalPlant(["a"], [replace(X8_9, network=FIRST_ORDER_NETWORK)],
+                         PlantEffects.from_names("sensor_lag,sensor_noise,quantisation"), rng=rng)
+    lags = []
+    for _ in range(200):
+        plant.step(np.array([18.0]), None, 0.1)
+        lags.append(plant.winding_C[0] - plant.measured_C[0])
+        assert np.allclose(plant.measured_C / 0.1, np.round(plant.measured_C / 0.1))
+    assert np.mean(lags) > 0.3  # while heating, the lagged thermistor reads low
+
+
+def test_ambient_variation_follows_its_law():
+    plant = ThermalPlant(["a"], [X8_9], PlantEffects.from_names("ambient_variation"), ambient_C=20.0)
+    var = plant.effects.ambient_variation
+    t = 1000.0
+    expected = 20.0 + var.drift_K_per_h * t / 3600 + var.amplitude_K * np.sin(2 * np.pi * t / var.period_s)
+    assert plant.ambient_at(t) == pytest.approx(expected)
+
+
+def test_thermal_protection_derates_near_the_limit():
+    protection = ThermalProtection(start_C=140.0, limit_C=155.0)
+    np.testing.assert_allclose(protection.fraction([100.0, 147.5, 160.0]), [1.0, 0.5, 0.0])
+    plant = ThermalPlant(["a"], [X8_9], initial_C=150.0)
+    assert plant.derate(np.array([10.0]))[0] == pytest.approx(10.0 / 3.0)
+
+
+def test_same_seed_same_log_and_other_seed_differs():
+    args = ("random", 600.0, 0.5, ["a", "b"], [X8_9, X8_16], PlantEffects.realistic_sensor())
+    one = simulate_profile(*args, seed=7).log.frame
+    two = simulate_profile(*args, seed=7).log.frame
+    three = simulate_profile(*args, seed=8).log.frame
+    assert one.equals(two)
+    assert not one.equals(three)
+
+
+def test_bad_plant_parameters_are_refused():
+    with pytest.raises(ValueError, match="positive and finite"):
+        replace(X8_9, winding_resistance_ohm=-1.0)
+    with pytest.raises(ValueError, match="sensor noise is on"):
+        ThermalPlant(["a"], [X8_9], PlantEffects.from_names("sensor_noise"))
+    with pytest.raises(ValueError, match="unknown plant effect"):
+        PlantEffects.from_names("copper")

@@ -1,0 +1,1 @@
+"""The ``thermolimb`` command line."""

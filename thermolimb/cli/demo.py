@@ -1,0 +1,50 @@
+"""``thermolimb demo`` and ``thermolimb report``."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..demo_registry import load_demos, run_demo
+from ..report import build_report
+from .options import print_json
+
+
+def add_parser(sub):
+    p = sub.add_parser("demo", help="run a demo (or all) and write its plots and summary.json",
+                       description="Run a registered demo into OUT/NAME/: PNG plots and summary.json.")
+    p.add_argument("name", nargs="?", default=None, help="demo name, or 'all'; omit to list them")
+    p.add_argument("--quick", action="store_true", help="short mode (what make demo and the tests run)")
+    p.add_argument("--out", default="out", help="output folder (default out)")
+    p.add_argument("--json", action="store_true", help="print the summary record(s)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=run)
+
+    r = sub.add_parser("report", help="build OUT/index.html from the demos' results",
+                       description="Write a static page showing every demo's plots and summary tables.")
+    r.add_argument("out", nargs="?", default="out", help="folder holding the demos' results (default out)")
+    r.set_defaults(func=run_report)
+
+
+def run(args) -> int:
+    demos = load_demos()
+    if args.name is None:
+        for name in sorted(demos):
+            print(f"{name:22s} {demos[name].description}")
+        return 0
+    names = sorted(demos) if args.name == "all" else [args.name]
+    summaries = {}
+    for name in names:
+        start = time.perf_counter()
+        summaries[name] = run_demo(name, Path(args.out), quick=args.quick, quiet=args.quiet)
+        if not args.json:
+            print(f"demo {name}: wrote {Path(args.out) / name} in {time.perf_counter() - start:.1f} s")
+    if args.json:
+        print_json(summaries if len(names) > 1 else summaries[names[0]])
+    return 0
+
+
+def run_report(args) -> int:
+    index = build_report(Path(args.out))
+    print(f"wrote {index}")
+    return 0

@@ -1,0 +1,42 @@
+"""``thermolimb``: the command line.  Each subcommand lives in its own module."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..identification import IdentifiabilityError
+from ..logs import LogError
+from ..model.terms import ModelSpecError
+from . import demo, fit, simulate
+
+COMMANDS = (simulate, fit, demo)
+# Errors a user can act on: one sentence, no traceback, exit status 2.
+USER_ERRORS = (LogError, ModelSpecError, IdentifiabilityError, ValueError, KeyError, FileNotFoundError)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="thermolimb",
+        description="Thermal models of robot actuators: simulate a thermal plant, identify models from "
+        "logs, validate them, and run the demos.  Units: SI, temperatures in degC.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMANDS:
+        module.add_parser(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except USER_ERRORS as exc:
+        message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+        print(f"thermolimb {args.command}: error: {message}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

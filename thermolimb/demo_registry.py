@@ -1,0 +1,73 @@
+"""Demos register themselves here; ``thermolimb demo NAME`` runs them.
+
+A demo is a function ``run(out: Path, quick: bool, quiet: bool) -> dict``
+that writes its PNG plots into ``out`` and returns its summary, which the
+registry writes as ``out/summary.json``.  Decorate it with
+:func:`register_demo`; modules in the top-level ``demos`` package are
+imported by :func:`load_demos`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import pkgutil
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from .jsonutil import to_jsonable
+
+
+@dataclass(frozen=True)
+class Demo:
+    name: str
+    description: str
+    run: Callable[..., dict]
+
+
+DEMOS: dict[str, Demo] = {}
+
+
+def register_demo(name: str, description: str):
+    """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``."""
+
+    def wrap(func):
+        DEMOS[name] = Demo(name, description, func)
+        return func
+
+    return wrap
+
+
+def load_demos() -> dict[str, Demo]:
+    """Import every module of the ``demos`` package so that they register."""
+    import demos
+
+    for info in pkgutil.iter_modules(demos.__path__):
+        importlib.import_module(f"demos.{info.name}")
+    return DEMOS
+
+
+def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> dict:
+    """Run one demo into ``out/<name>/`` and write its ``summary.json``."""
+    demos = load_demos()
+    if name not in demos:
+        raise KeyError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
+    folder = Path(out) / name
+    folder.mkdir(parents=True, exist_ok=True)
+    summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
+    tmp = folder / "summary.json.partial"
+    tmp.write_text(json.dumps(summary, indent=2))
+    tmp.replace(folder / "summary.json")
+    return summary
+
+
+def demo_main(name: str, argv=None) -> dict:
+    """``main(argv)`` of a demo module: ``--quick``, ``--out DIR``, ``--quiet``."""
+    parser = argparse.ArgumentParser(prog=f"demo {name}", description=DEMOS[name].description)
+    parser.add_argument("--quick", action="store_true", help="short run (used by the tests and make demo)")
+    parser.add_argument("--out", default="out", help="output folder (default: out)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    args = parser.parse_args(argv)
+    return run_demo(name, Path(args.out), quick=args.quick, quiet=args.quiet)
