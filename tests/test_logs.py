@@ -83,6 +83,8 @@ def test_wide_file_by_column_map(tmp_path):
     np.testing.assert_allclose(series.signals.ambient_C, 19.5)
     with pytest.raises(LogError, match=r"--map effort=torq names column 'torq', which the file does not have"):
         read_log(path, mapping={**mapping, "effort": "torq"})
+    with pytest.raises(LogError, match=r"--map does not name the column\(s\) for time, temperature; add time=COLUMN"):
+        read_log(path, mapping={"effort": "torque"})
     with pytest.raises(LogError, match=r"--map names 'torque', which is not a log column"):
         parse_mapping("torque=torque")
 

@@ -206,6 +206,12 @@ def from_frame(
                 f"{source}: --map {k}={v} names column {v!r}, which the file does not have; "
                 f"its columns are {', '.join(map(str, frame.columns))}"
             )
+        unmapped = [c for c in REQUIRED if c != "actuator" and c not in mapping]
+        if unmapped:
+            raise LogError(
+                f"{source}: --map does not name the column(s) for {', '.join(unmapped)}; add "
+                f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {', '.join(map(str, frame.columns))}"
+            )
         frame = pd.DataFrame({k: frame[v] for k, v in mapping.items()})
         if "actuator" not in frame.columns:
             frame["actuator"] = actuator_name
