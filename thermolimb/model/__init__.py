@@ -1,5 +1,6 @@
 """The effort-based thermal model of the seed (Eqs. 5, 6, 17, 25), composable terms."""
 
+from . import catalog  # noqa: F401  (registers the built-in terms)
 from .bank import FirstOrderBank
 from .model import BASE_PARAMETERS, ThermalModel, model_parameters
 from .scan import first_order_scan

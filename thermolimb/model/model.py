@@ -84,14 +84,17 @@ class ThermalModel:
         """
         rise = np.zeros(s.n)
         gain = np.zeros(s.n)
-        for name in self.terms:
-            r, g = TERMS[name]().contribution(self.params, s)
+        for term in self._terms():
+            r, g = term.contribution(self.params, s)
             rise = rise + r
             gain = gain + g
         restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
         u = (self.params["T_offset_C"] + rise) / restoring
         lam = restoring / self.params["RC_s"]
         return u, lam
+
+    def _terms(self):
+        return [TERMS[name]() for name in self.terms]
 
     def equilibrium_C(self, s: Signals) -> np.ndarray:
         """Steady-state temperature if each sample's inputs were held forever (Eq. 5 with dT/dt = 0)."""
@@ -103,27 +106,43 @@ class ThermalModel:
         ``method="exact"`` integrates each interval exactly for inputs held
         constant over it (zero-order hold, Eq. 6 applied interval by
         interval); ``method="euler"`` is forward Euler as the seed used.
+        Terms with states of their own (a second mass, a lagging sensor) shape
+        the equilibrium and the output around the winding's recursion.
         """
-        u, lam = self.forcing(s)
+        if method not in ("exact", "euler"):
+            raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
+        terms = self._terms()
+        u, lam = self._shaped_forcing(s, terms, initial_temperature_C)
         dt = s.dt_s
         if method == "exact":
             a = np.exp(-lam[:-1] * dt)
-            return first_order_scan(a, (1.0 - a) * u[:-1], initial_temperature_C)
-        if method == "euler":
+            winding = first_order_scan(a, (1.0 - a) * u[:-1], initial_temperature_C)
+        else:
             a = 1.0 - lam[:-1] * dt
             b = lam[:-1] * dt * u[:-1]
             if np.all(a >= 0.0):
-                return first_order_scan(a, b, initial_temperature_C)
-            out = np.empty(s.n)
-            out[0] = initial_temperature_C
-            for k in range(s.n - 1):
-                out[k + 1] = a[k] * out[k] + b[k]
-            return out
-        raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
+                winding = first_order_scan(a, b, initial_temperature_C)
+            else:
+                winding = np.empty(s.n)
+                winding[0] = initial_temperature_C
+                for k in range(s.n - 1):
+                    winding[k + 1] = a[k] * winding[k] + b[k]
+        for term in terms:
+            winding = term.shape_output(self.params, s, winding)
+        return winding
+
+    def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:
+        u, lam = self.forcing(s)
+        for term in terms:
+            u = term.shape_equilibrium(self.params, s, u, initial_C)
+        return u, lam
 
     def one_step(self, s: Signals, measured_C: np.ndarray) -> np.ndarray:
-        """Prediction of each sample from the measured temperature one sample before (exact)."""
-        u, lam = self.forcing(s)
+        """Prediction of each sample from the measured temperature one sample before (exact).
+
+        Hidden states (a second mass) are taken from the free run; a sensor lag is ignored.
+        """
+        u, lam = self._shaped_forcing(s, self._terms(), measured_C[0])
         a = np.exp(-lam[:-1] * s.dt_s)
         out = np.empty(s.n)
         out[0] = measured_C[0]

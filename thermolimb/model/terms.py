@@ -37,6 +37,7 @@ class Parameter:
     typical: float  # order of magnitude, used for scaling and as a starting value
     description: str
     excitation: str = "inputs that vary independently of the other terms'"  # what a log needs to identify it
+    null: float = 0.0  # the value at which the effect is absent (for score tests)
 
 
 class Term:
@@ -48,9 +49,21 @@ class Term:
     columns: ClassVar[tuple[str, ...]] = ("effort",)
     is_heat_source: ClassVar[bool] = False
 
-    def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray, np.ndarray | float]:
-        """Return ``(rise_K, gain)`` per sample for parameter values ``p``."""
-        raise NotImplementedError  # abstract
+    def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
+        """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""
+        return 0.0, 0.0
+
+    def shape_equilibrium(self, p: Mapping[str, float], s: Signals, equilibrium_C: np.ndarray,
+                          initial_C: float) -> np.ndarray:
+        """Terms that add thermal states may reshape the winding's equilibrium; default: unchanged.
+
+        ``initial_C`` is the temperature the simulation starts from.
+        """
+        return equilibrium_C
+
+    def shape_output(self, p: Mapping[str, float], s: Signals, winding_C: np.ndarray) -> np.ndarray:
+        """Terms that change what the sensor reports (e.g. its lag); default: the winding temperature."""
+        return winding_C
 
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
         """Regressors ``X`` with ``rise + gain*T == X @ [p[name] for name in parameters]``.
@@ -79,45 +92,6 @@ def register_term(cls: type[Term]) -> type[Term]:
 
 def _parameter_names_except(name: str) -> set[str]:
     return {p.name for key, t in TERMS.items() if key != name for p in t.parameters}
-
-
-@register_term
-class Joule(Term):
-    """Effort-squared heating: the seed's ``beta*R*F^2`` (Eq. 5)."""
-
-    name = "joule"
-    description = "Joule heating from effort squared (the base heat source)"
-    parameters = (
-        Parameter("betaR_K_per_effort2", "K/(N m)^2", 0.0, np.inf, 0.1,
-                  "steady-state rise per squared effort, beta*R of Eq. 5",
-                  "effort held at three or more distinct levels"),
-    )
-    is_heat_source = True
-
-    def contribution(self, p, s):
-        return p["betaR_K_per_effort2"] * s.effort**2, 0.0
-
-    def features(self, s, temperature_C):
-        return (s.effort**2)[:, None]
-
-
-@register_term
-class EffortBias(Term):
-    """Linear effort term from a series-elastic effort bias: ``-beta_bias*R*F`` (Eq. 5)."""
-
-    name = "effort_bias"
-    description = "linear effort term (series-elastic bias of the torque-current map)"
-    parameters = (
-        Parameter("beta_biasR_K_per_effort", "K/(N m)", -np.inf, np.inf, 0.1,
-                  "beta_bias*R of Eq. 5; positive when the bias lowers heating at positive effort",
-                  "effort held at three or more distinct levels, ideally of both signs"),
-    )
-
-    def contribution(self, p, s):
-        return -p["beta_biasR_K_per_effort"] * s.effort, 0.0
-
-    def features(self, s, temperature_C):
-        return (-s.effort)[:, None]
 
 
 DEFAULT_MODEL = ("joule", "effort_bias")

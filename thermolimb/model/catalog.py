@@ -1,0 +1,238 @@
+"""The built-in catalog of model terms (the names ``--model`` accepts).
+
+Each term states the physics it stands for, its parameters with units and
+bounds, and the log columns it needs.  The plant (``thermolimb.plant``) has a
+physical counterpart for each, so that logs with a hidden effect exist to test
+the diagnosis.  Parameters are expressed as steady-state temperature rises,
+like the seed's ``beta*R``: ``rise = R * heat``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .scan import first_order_scan
+from .signals import Signals
+from .terms import Parameter, Term, register_term
+
+TEMPCO_REFERENCE_C = 25.0  # copper resistance is quoted at this temperature
+AMBIENT_REFERENCE_C = 25.0  # T_offset is the offset at this logged ambient when ambient_variation is on
+
+
+def _speed(s: Signals) -> np.ndarray:
+    return np.abs(s.channel("velocity"))
+
+
+@register_term
+class Joule(Term):
+    """Effort-squared heating: the seed's ``beta*R*F^2`` (Eq. 5)."""
+
+    name = "joule"
+    description = "Joule heating from effort squared (the base heat source)"
+    parameters = (
+        Parameter("betaR_K_per_effort2", "K/(N m)^2", 0.0, np.inf, 0.1,
+                  "steady-state rise per squared effort, beta*R of Eq. 5",
+                  "effort held at three or more distinct levels"),
+    )
+    is_heat_source = True
+
+    def contribution(self, p, s):
+        return p["betaR_K_per_effort2"] * s.effort**2, 0.0
+
+    def features(self, s, temperature_C):
+        return (s.effort**2)[:, None]
+
+
+@register_term
+class EffortBias(Term):
+    """Linear effort term from a series-elastic effort bias: ``-beta_bias*R*F`` (Eq. 5)."""
+
+    name = "effort_bias"
+    description = "linear effort term (series-elastic bias of the torque-current map)"
+    parameters = (
+        Parameter("beta_biasR_K_per_effort", "K/(N m)", -np.inf, np.inf, 0.1,
+                  "beta_bias*R of Eq. 5; positive when the bias lowers heating at positive effort",
+                  "effort held at three or more distinct levels, ideally of both signs"),
+    )
+
+    def contribution(self, p, s):
+        return -p["beta_biasR_K_per_effort"] * s.effort, 0.0
+
+    def features(self, s, temperature_C):
+        return (-s.effort)[:, None]
+
+
+@register_term
+class CurrentHeating(Term):
+    """Joule heat from the measured current, which also sees current that makes no torque."""
+
+    name = "current_heating"
+    description = "Joule heating from measured current squared"
+    parameters = (
+        Parameter("currentR_K_per_A2", "K/A^2", 0.0, np.inf, 0.01,
+                  "steady-state rise per squared ampere (R_e * R_thermal)",
+                  "current at three or more distinct levels"),
+    )
+    columns = ("current",)
+    is_heat_source = True
+
+    def contribution(self, p, s):
+        return p["currentR_K_per_A2"] * s.channel("current") ** 2, 0.0
+
+    def features(self, s, temperature_C):
+        return (s.channel("current") ** 2)[:, None]
+
+
+@register_term
+class WindingTempco(Term):
+    """Copper resistance rising with temperature: the Joule terms times ``1 + alpha (T - 25 degC)``."""
+
+    name = "winding_tempco"
+    description = "copper resistance rising with winding temperature"
+    parameters = (
+        Parameter("alpha_per_K", "1/K", -0.01, 0.02, 0.004,
+                  "temperature coefficient of the winding resistance (copper: about 0.0039/K)",
+                  "hot and cool phases at the same effort"),
+    )
+
+    def contribution(self, p, s):
+        joule = 0.0
+        if "betaR_K_per_effort2" in p:
+            joule = joule + p["betaR_K_per_effort2"] * s.effort**2
+        if "currentR_K_per_A2" in p and s.current_A is not None:
+            joule = joule + p["currentR_K_per_A2"] * s.current_A**2
+        alpha = p["alpha_per_K"]
+        return -alpha * TEMPCO_REFERENCE_C * joule, alpha * joule
+
+
+@register_term
+class SpeedLosses(Term):
+    """Friction and iron losses that grow with speed: ``k1 |v| + k2 v^2``."""
+
+    name = "speed_losses"
+    description = "friction and iron losses growing with speed"
+    parameters = (
+        Parameter("speed_K_per_rad_s", "K/(rad/s)", 0.0, np.inf, 1.0,
+                  "rise per unit speed (friction)", "motion at several speeds"),
+        Parameter("speed2_K_per_rad2_s2", "K/(rad/s)^2", 0.0, np.inf, 0.5,
+                  "rise per squared speed (iron losses)", "motion at several speeds"),
+    )
+    columns = ("velocity",)
+
+    def contribution(self, p, s):
+        v = _speed(s)
+        return p["speed_K_per_rad_s"] * v + p["speed2_K_per_rad2_s2"] * v**2, 0.0
+
+    def features(self, s, temperature_C):
+        v = _speed(s)
+        return np.column_stack([v, v**2])
+
+
+@register_term
+class NeighborCoupling(Term):
+    """Heat conducted from the other actuators of the log: ``k (mean T_neighbours - T)``."""
+
+    name = "neighbor_coupling"
+    description = "conduction from the other actuators, from their measured temperatures"
+    parameters = (
+        Parameter("neighbor_ratio", "1", 0.0, 10.0, 0.1,
+                  "neighbour conductance over the conductance to ambient",
+                  "neighbours whose temperature differs from this actuator's"),
+    )
+    columns = ("neighbors",)
+
+    def contribution(self, p, s):
+        k = p["neighbor_ratio"]
+        return k * s.channel("neighbors").mean(axis=1), -k
+
+    def features(self, s, temperature_C):
+        return (s.channel("neighbors").mean(axis=1) - temperature_C)[:, None]
+
+
+@register_term
+class AmbientVariation(Term):
+    """The offset follows the logged ambient (the base model keeps it constant)."""
+
+    name = "ambient_variation"
+    description = "offset follows the logged ambient temperature"
+    parameters = (
+        Parameter("ambient_gain", "1", -1.0, 3.0, 1.0,
+                  "kelvin of offset per kelvin of logged ambient (1 for a perfect ambient sensor)",
+                  "ambient that changes during the log"),
+    )
+    columns = ("ambient",)
+
+    def contribution(self, p, s):
+        return p["ambient_gain"] * (s.channel("ambient") - AMBIENT_REFERENCE_C), 0.0
+
+    def features(self, s, temperature_C):
+        return (s.channel("ambient") - AMBIENT_REFERENCE_C)[:, None]
+
+
+@register_term
+class MotionCooling(Term):
+    """Cooling improves with speed: the loss to ambient times ``1 + h |v|``."""
+
+    name = "motion_cooling"
+    description = "cooling that improves with speed (airflow)"
+    parameters = (
+        Parameter("cooling_per_rad_s", "1/(rad/s)", 0.0, 20.0, 0.3,
+                  "relative increase of the conductance to ambient per unit speed",
+                  "motion at several speeds while warm"),
+    )
+    columns = ("velocity",)
+
+    def contribution(self, p, s):
+        h = p["cooling_per_rad_s"] * _speed(s)
+        return h * p["T_offset_C"], -h
+
+
+@register_term
+class SecondNode(Term):
+    """A second, slower thermal mass between the winding and ambient.
+
+    The slow node settles to ``T_offset + phi (u - T_offset)`` with time
+    constant ``tau2`` (``u``: the equilibrium the other terms give); the
+    winding settles to that node plus the remaining ``(1 - phi)`` of the rise
+    (a cascade: the steady state is unchanged).
+    """
+
+    name = "second_node"
+    description = "a second, slower thermal mass"
+    parameters = (
+        Parameter("frame_fraction", "1", 0.0, 0.98, 0.5,
+                  "share of the steady-state rise that builds up across the slow mass",
+                  "long heating or cooling phases (several slow time constants)"),
+        Parameter("frame_tau_s", "s", 1.0, 1e6, 2000.0, "time constant of the slow mass",
+                  "long heating or cooling phases (several slow time constants)", null=2000.0),
+    )
+
+    def shape_equilibrium(self, p, s, equilibrium_C, initial_C):
+        phi = p["frame_fraction"]
+        if phi == 0.0:
+            return equilibrium_C
+        offset = p["T_offset_C"]
+        target = offset + phi * (equilibrium_C - offset)
+        a = np.exp(-s.dt_s / p["frame_tau_s"])
+        # the slow mass starts in proportion, as if the initial temperature were a steady state
+        frame = first_order_scan(a, (1.0 - a) * target[:-1], offset + phi * (initial_C - offset))
+        return frame + (1.0 - phi) * (equilibrium_C - offset)
+
+
+@register_term
+class SensorLag(Term):
+    """The thermistor lags the winding: ``tau_s dT_s/dt = T - T_s``."""
+
+    name = "sensor_lag"
+    description = "the thermistor lags the winding"
+    parameters = (
+        Parameter("sensor_tau_s", "s", 0.0, 600.0, 10.0, "time constant of the thermistor",
+                  "fast temperature changes (short heating bursts)"),
+    )
+
+    def shape_output(self, p, s, winding_C):
+        tau = p["sensor_tau_s"]
+        if tau <= 0.0:
+            return winding_C
+        a = np.exp(-s.dt_s / tau)
+        return first_order_scan(a, (1.0 - a) * winding_C[:-1], winding_C[0])
