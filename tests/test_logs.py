@@ -96,10 +96,12 @@ def test_split_keeps_the_split_sample_in_both_parts():
     assert train.time_s[-1] == pytest.approx(0.7 * 49.5, abs=0.5)
 
 
-def test_neighbours_are_the_other_actuators(plant_log):
+def test_neighbours_are_the_adjacent_actuators_in_log_order(plant_log):
     frame = plant_log.frame.copy()
-    other = frame.assign(actuator="hip", temperature=frame["temperature"] + 5.0)
-    log = from_frame(pd.concat([frame, other]))
-    s = log.series("knee").signals
-    assert s.neighbor_names == ("hip",)
-    np.testing.assert_allclose(s.neighbor_temperature_C[:, 0], log.series("hip").temperature_C)
+    parts = [frame.assign(actuator=name, temperature=frame["temperature"] + i)
+             for i, name in enumerate(("hip", "knee", "ankle"))]
+    log = from_frame(pd.concat(parts))
+    assert log.series("hip").signals.neighbor_names == ("knee",)
+    assert log.series("knee").signals.neighbor_names == ("hip", "ankle")
+    s = log.series("ankle").signals
+    np.testing.assert_allclose(s.neighbor_temperature_C[:, 0], log.series("knee").temperature_C)

@@ -96,7 +96,7 @@ class ThermalLog:
         return tuple(c for c in REQUIRED + OPTIONAL if c in self.frame.columns)
 
     def series(self, actuator: str) -> ActuatorSeries:
-        """The channel of one actuator, with the other actuators' temperatures as neighbours."""
+        """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
         if actuator not in self.actuators:
             raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
         groups = {name: g for name, g in self.frame.groupby("actuator", sort=False)}
@@ -106,7 +106,9 @@ class ThermalLog:
         def col(name):
             return g[name].to_numpy(float) if name in g.columns else None
 
-        others = [a for a in self.actuators if a != actuator]
+        order = self.actuators
+        i = order.index(actuator)
+        others = [order[j] for j in (i - 1, i + 1) if 0 <= j < len(order)]
         neighbors = None
         if others:
             neighbors = np.column_stack([

@@ -130,7 +130,11 @@ class SpeedLosses(Term):
 
 @register_term
 class NeighborCoupling(Term):
-    """Heat conducted from the other actuators of the log: ``k (mean T_neighbours - T)``."""
+    """Heat conducted from neighbouring actuators: ``k (mean T_neighbours - T)``.
+
+    Neighbours are the actuators next to this one in the log's order (a limb
+    logged joint by joint), as :meth:`thermolimb.logs.ThermalLog.series` gives them.
+    """
 
     name = "neighbor_coupling"
     description = "conduction from the other actuators, from their measured temperatures"
@@ -234,5 +238,9 @@ class SensorLag(Term):
         tau = p["sensor_tau_s"]
         if tau <= 0.0:
             return winding_C
-        a = np.exp(-s.dt_s / tau)
-        return first_order_scan(a, (1.0 - a) * winding_C[:-1], winding_C[0])
+        dt = s.dt_s
+        a = np.exp(-dt / tau)
+        # first-order hold: exact when the winding temperature moves linearly between samples
+        ramp = 1.0 - tau / dt * (1.0 - a)
+        b = (1.0 - a) * winding_C[:-1] + ramp * np.diff(winding_C)
+        return first_order_scan(a, b, winding_C[0])
