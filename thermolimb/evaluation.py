@@ -58,8 +58,8 @@ class FitReport:
         }
 
 
-def _segment(model: ThermalModel, series: ActuatorSeries) -> Segment:
-    sim = model.simulate(series.signals, series.temperature_C[0])
+def _segment(model: ThermalModel, series: ActuatorSeries, rate_K_per_s: float) -> Segment:
+    sim = model.simulate(series.signals, series.temperature_C[0], initial_rate_K_per_s=rate_K_per_s)
     return Segment(series.time_s, series.temperature_C, sim, series.signals.effort)
 
 
@@ -86,8 +86,9 @@ def fit_and_validate(
     train = [p[0] for p in parts]
     valid = [p[1] for p in parts]
     est = (estimator or make_estimator(method, model)).fit(train)
-    train_segments = tuple(_segment(est.model_, s) for s in train)
-    valid_segments = tuple(_segment(est.model_, s) for s in valid)
+    train_segments = tuple(_segment(est.model_, s, s.rate_K_per_s()) for s in train)
+    # the trend at the split comes from the training data before it
+    valid_segments = tuple(_segment(est.model_, v, t.rate_K_per_s(at_end=True)) for t, v in zip(train, valid))
     return FitReport(
         actuator=series[0].actuator,
         method=est.method,

@@ -59,6 +59,14 @@ class ActuatorSeries:
     def n(self) -> int:
         return self.signals.n
 
+    def rate_K_per_s(self, at_end: bool = False, window_s: float = 60.0) -> float:
+        """Slope of the measured temperature over the first (or last) ``window_s`` seconds (least squares)."""
+        t = self.time_s
+        sel = t >= t[-1] - window_s if at_end else t <= t[0] + window_s
+        if sel.sum() < 3:
+            return 0.0
+        return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
+
     def slice(self, start: int, stop: int) -> "ActuatorSeries":
         return ActuatorSeries(self.actuator, self.signals.slice(start, stop), self.temperature_C[start:stop])
 

@@ -79,11 +79,16 @@ class ThermalEstimator:
 
     # ------------------------------------------------------------------ using
     def simulate(self, series: ActuatorSeries, initial_temperature_C: float | None = None,
-                 method: str = "exact") -> np.ndarray:
-        """Free-run temperatures from the inputs alone, starting at the first measured temperature."""
+                 method: str = "exact", initial_rate_K_per_s: float | None = None) -> np.ndarray:
+        """Free-run temperatures from the inputs alone, starting at the first measured temperature.
+
+        The starting trend (for hidden states) is the measured slope over the
+        first minute unless given.
+        """
         self._check_fitted()
         start = series.temperature_C[0] if initial_temperature_C is None else initial_temperature_C
-        return self.model_.simulate(series.signals, start, method=method)
+        rate = series.rate_K_per_s() if initial_rate_K_per_s is None else initial_rate_K_per_s
+        return self.model_.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate)
 
     def predict(self, series: ActuatorSeries) -> np.ndarray:
         """One-step-ahead predictions from the previous measured temperature."""

@@ -72,10 +72,12 @@ class OutputError(ThermalEstimator):
         upper = np.array([p.upper for p in params])
         x0 = self._start(series, terms)
         measured = np.concatenate([s.temperature_C for s in series])
+        rates = [s.rate_K_per_s() for s in series]
 
         def residual(x):
             model = ThermalModel(terms, dict(zip(names, x)))
-            return np.concatenate([model.simulate(s.signals, s.temperature_C[0]) for s in series]) - measured
+            return np.concatenate([model.simulate(s.signals, s.temperature_C[0], initial_rate_K_per_s=r)
+                                   for s, r in zip(series, rates)]) - measured
 
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
         result = least_squares(residual, x0, bounds=(lower, upper), x_scale=scale, method="trf",

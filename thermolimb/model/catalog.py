@@ -234,7 +234,10 @@ class SensorLag(Term):
                   "fast temperature changes (short heating bursts)"),
     )
 
-    def shape_output(self, p, s, winding_C):
+    def initial_winding(self, p, measured_C, rate_K_per_s):
+        return measured_C + p["sensor_tau_s"] * rate_K_per_s  # the lagged reading trails the winding
+
+    def shape_output(self, p, s, winding_C, measured_initial_C):
         tau = p["sensor_tau_s"]
         if tau <= 0.0:
             return winding_C
@@ -243,4 +246,4 @@ class SensorLag(Term):
         # first-order hold: exact when the winding temperature moves linearly between samples
         ramp = 1.0 - tau / dt * (1.0 - a)
         b = (1.0 - a) * winding_C[:-1] + ramp * np.diff(winding_C)
-        return first_order_scan(a, b, winding_C[0])
+        return first_order_scan(a, b, measured_initial_C)

@@ -100,8 +100,13 @@ class ThermalModel:
         """Steady-state temperature if each sample's inputs were held forever (Eq. 5 with dT/dt = 0)."""
         return self.forcing(s)[0]
 
-    def simulate(self, s: Signals, initial_temperature_C: float, method: str = "exact") -> np.ndarray:
+    def simulate(self, s: Signals, initial_temperature_C: float, method: str = "exact",
+                 initial_rate_K_per_s: float = 0.0) -> np.ndarray:
         """Free-run temperatures at every sample time, from ``initial_temperature_C``, inputs only.
+
+        ``initial_rate_K_per_s`` is how fast the measured temperature was
+        moving at the start; terms with hidden states (a lagging sensor) use
+        it to place the winding behind the first reading.
 
         ``method="exact"`` integrates each interval exactly for inputs held
         constant over it (zero-order hold, Eq. 6 applied interval by
@@ -112,23 +117,26 @@ class ThermalModel:
         if method not in ("exact", "euler"):
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
         terms = self._terms()
-        u, lam = self._shaped_forcing(s, terms, initial_temperature_C)
+        start = initial_temperature_C
+        for term in terms:
+            start = term.initial_winding(self.params, start, initial_rate_K_per_s)
+        u, lam = self._shaped_forcing(s, terms, start)
         dt = s.dt_s
         if method == "exact":
             a = np.exp(-lam[:-1] * dt)
-            winding = first_order_scan(a, (1.0 - a) * u[:-1], initial_temperature_C)
+            winding = first_order_scan(a, (1.0 - a) * u[:-1], start)
         else:
             a = 1.0 - lam[:-1] * dt
             b = lam[:-1] * dt * u[:-1]
             if np.all(a >= 0.0):
-                winding = first_order_scan(a, b, initial_temperature_C)
+                winding = first_order_scan(a, b, start)
             else:
                 winding = np.empty(s.n)
-                winding[0] = initial_temperature_C
+                winding[0] = start
                 for k in range(s.n - 1):
                     winding[k + 1] = a[k] * winding[k] + b[k]
         for term in terms:
-            winding = term.shape_output(self.params, s, winding)
+            winding = term.shape_output(self.params, s, winding, initial_temperature_C)
         return winding
 
     def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:

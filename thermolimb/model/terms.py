@@ -61,9 +61,14 @@ class Term:
         """
         return equilibrium_C
 
-    def shape_output(self, p: Mapping[str, float], s: Signals, winding_C: np.ndarray) -> np.ndarray:
+    def shape_output(self, p: Mapping[str, float], s: Signals, winding_C: np.ndarray,
+                     measured_initial_C: float) -> np.ndarray:
         """Terms that change what the sensor reports (e.g. its lag); default: the winding temperature."""
         return winding_C
+
+    def initial_winding(self, p: Mapping[str, float], measured_C: float, rate_K_per_s: float) -> float:
+        """The winding temperature behind a reading ``measured_C`` that is moving at ``rate_K_per_s``."""
+        return measured_C
 
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
         """Regressors ``X`` with ``rise + gain*T == X @ [p[name] for name in parameters]``.
