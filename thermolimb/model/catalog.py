@@ -92,7 +92,7 @@ class WindingTempco(Term):
     parameters = (
         Parameter("alpha_per_K", "1/K", -0.01, 0.02, 0.004,
                   "temperature coefficient of the winding resistance (copper: about 0.0039/K)",
-                  "hot and cool phases at the same effort"),
+                  "hot and cool phases at the same effort", plausible=(0.002, 0.006)),
     )
 
     def contribution(self, p, s):
@@ -141,7 +141,7 @@ class NeighborCoupling(Term):
     parameters = (
         Parameter("neighbor_ratio", "1", 0.0, 10.0, 0.1,
                   "neighbour conductance over the conductance to ambient",
-                  "neighbours whose temperature differs from this actuator's"),
+                  "neighbours whose temperature differs from this actuator's", plausible=(0.0, 5.0)),
     )
     columns = ("neighbors",)
 
@@ -162,7 +162,7 @@ class AmbientVariation(Term):
     parameters = (
         Parameter("ambient_gain", "1", -1.0, 3.0, 1.0,
                   "kelvin of offset per kelvin of logged ambient (1 for a perfect ambient sensor)",
-                  "ambient that changes during the log"),
+                  "ambient that changes during the log", plausible=(0.5, 1.5)),
     )
     columns = ("ambient",)
 
@@ -182,7 +182,7 @@ class MotionCooling(Term):
     parameters = (
         Parameter("cooling_per_rad_s", "1/(rad/s)", 0.0, 20.0, 0.3,
                   "relative increase of the conductance to ambient per unit speed",
-                  "motion at several speeds while warm"),
+                  "motion at several speeds while warm", plausible=(0.0, 5.0)),
     )
     columns = ("velocity",)
 
@@ -206,9 +206,9 @@ class SecondNode(Term):
     parameters = (
         Parameter("frame_fraction", "1", 0.0, 0.98, 0.5,
                   "share of the steady-state rise that builds up across the slow mass",
-                  "long heating or cooling phases (several slow time constants)"),
+                  "long heating or cooling phases (several slow time constants)", plausible=(0.05, 0.95)),
         Parameter("frame_tau_s", "s", 1.0, 1e6, 2000.0, "time constant of the slow mass",
-                  "long heating or cooling phases (several slow time constants)", null=2000.0),
+                  "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True),
     )
 
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C):
@@ -231,7 +231,7 @@ class SensorLag(Term):
     description = "the thermistor lags the winding"
     parameters = (
         Parameter("sensor_tau_s", "s", 0.0, 600.0, 10.0, "time constant of the thermistor",
-                  "fast temperature changes (short heating bursts)"),
+                  "fast temperature changes (short heating bursts)", plausible=(0.2, 120.0)),
     )
 
     def initial_winding(self, p, measured_C, rate_K_per_s):

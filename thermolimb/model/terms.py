@@ -38,6 +38,8 @@ class Parameter:
     description: str
     excitation: str = "inputs that vary independently of the other terms'"  # what a log needs to identify it
     null: float = 0.0  # the value at which the effect is absent (for score tests)
+    nuisance: bool = False  # only meaningful once the effect is present (e.g. a second mass's time constant)
+    plausible: tuple[float, float] | None = None  # the physically expected range, for a plausibility check
 
 
 class Term:
