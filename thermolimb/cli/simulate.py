@@ -26,6 +26,8 @@ def add_parser(sub):
     p.add_argument("--effects", default="sensor_noise,quantisation", metavar="NAME,...",
                    help=f"plant effects to switch on, or 'none' (default sensor_noise,quantisation); "
                         f"known: {', '.join(EFFECT_TYPES)}")
+    p.add_argument("--load-scale", type=float, default=1.0,
+                   help="multiply every effort (a heavier payload), before the effort limits (default 1)")
     p.add_argument("--ambient", type=float, default=25.0, help="ambient temperature at t = 0 in degC (default 25)")
     p.add_argument("--drivers", action="store_true", help="also log each driver board as '<actuator>/driver'")
     p.add_argument("--seed", type=int, default=0, help="seed of the profile and the sensor noise (default 0)")
@@ -51,7 +53,8 @@ def run(args) -> int:
     effects = PlantEffects.from_names(args.effects)
     result = simulate_profile(args.profile, args.duration, args.dt, names, specs, effects, seed=args.seed,
                               ambient_C=args.ambient, network=NETWORKS[args.network],
-                              include_drivers=args.drivers, quiet=args.quiet)
+                              include_drivers=args.drivers, quiet=args.quiet,
+                              load_scale=args.load_scale)
     path = result.log.write(args.out)
     record = {
         "out": str(path), "profile": args.profile, "duration_s": args.duration, "dt_s": args.dt,

@@ -32,7 +32,7 @@ from ..model.terms import TERMS
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # a recommendation must cut validation RMSE by at least 10 %
-MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence)
+MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence on the training part)
 
 
 @dataclass
@@ -157,10 +157,13 @@ def _score_at(cand, term, base, train, jacobian, residual, fixed):
 
 
 def bic(residual: np.ndarray, n_params: int) -> float:
-    """BIC of a Gaussian fit with the effective sample size of a serially correlated residual."""
+    """BIC of a Gaussian fit, ``n ln(RSS / n) + k ln(n)``, on the training residual.
+
+    Serially correlated residuals make it overstate evidence, which is why a
+    recommendation also needs a held-out improvement.
+    """
     n = residual.size
-    n_eff = n / ar1_variance_factor(residual)
-    return float(n_eff * np.log(np.mean(residual**2)) + n_params * np.log(n_eff))
+    return float(n * np.log(np.mean(residual**2)) + n_params * np.log(n))
 
 
 def judge(cand: Candidate, report, base_rmse: float, base_bic: float, train_residual: np.ndarray) -> None:

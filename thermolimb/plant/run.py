@@ -84,16 +84,22 @@ def simulate_profile(
     network: ThermalNetwork | None = None,
     include_drivers: bool = False,
     quiet: bool = True,
+    load_scale: float = 1.0,
 ) -> PlantRun:
     """One call from a profile name to a log: what ``thermolimb simulate`` does.
 
-    ``seed`` drives both the profile's randomness and the sensor noise.
+    ``seed`` drives both the profile's randomness and the sensor noise;
+    ``load_scale`` multiplies every effort (a heavier payload), before the
+    actuators' effort limits clip it.
     """
+    if not load_scale > 0:
+        raise ValueError(f"load_scale must be positive, got {load_scale}")
     if profile not in PROFILES:
         raise ValueError(f"unknown profile {profile!r}; built-in profiles: {', '.join(PROFILES)}")
     rng = np.random.default_rng(seed)
     if network is not None:
         specs = [replace(s, network=network) for s in specs]
     prof = PROFILES[profile](duration_s, dt_s, len(names), rng)
+    prof = replace(prof, load=prof.load * load_scale)
     plant = ThermalPlant(names, specs, effects=effects, ambient_C=ambient_C, rng=rng)
     return run_profile(plant, prof, include_drivers=include_drivers, quiet=quiet)
