@@ -80,8 +80,8 @@ def test_diagnose_json_schema(tmp_path, capsys):
     for c in d["candidates"]:
         assert {"effect", "rmse_K", "fit_percent", "improvement", "delta_bic", "params", "identifiable",
                 "evidence"} <= set(c)
-    refitted = [c for c in d["candidates"] if c["rmse_K"] is not None]
-    assert [c["rmse_K"] for c in refitted] == sorted(c["rmse_K"] for c in refitted)  # best first
+    refitted = [c for c in d["candidates"] if c["rmse_K"] is not None and c["plausible"]]
+    assert [c["rmse_K"] for c in refitted] == sorted(c["rmse_K"] for c in refitted)  # best plausible first
     assert d["recommended"] == "speed_losses"
     assert d["auto"][0]["model"] == ["joule", "effort_bias"] and len(d["auto"]) == 2
     assert {p.name for p in tmp_path.glob("*.png")} >= {"residuals_knee.png", "candidates_knee.png",

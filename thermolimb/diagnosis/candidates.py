@@ -52,6 +52,7 @@ class Candidate:
     params: dict = field(default_factory=dict)
     identifiable: bool | None = None
     plausible: bool | None = None
+    implausible_because: str | None = None
     evidence: str = ""
     report: object = field(default=None, repr=False)
     start: dict = field(default_factory=dict, repr=False)  # where the refit starts
@@ -174,7 +175,8 @@ def judge(cand: Candidate, report, base_rmse: float, base_bic: float, train_resi
     cand.improvement = 1.0 - cand.rmse_K / base_rmse if base_rmse > 0 else 0.0
     cand.delta_bic = bic(train_residual, len(report.model.params)) - base_bic
     term = TERMS[cand.effect]
-    identifiable, plausible = True, True
+    identifiable = True
+    cand.implausible_because = term().implausible(report.model.params)
     for p in term.parameters:
         value, se = report.model.params[p.name], report.stderr[p.name]
         cand.params[p.name] = {"value": value, "stderr": float(se), "unit": p.unit}
@@ -182,10 +184,8 @@ def judge(cand: Candidate, report, base_rmse: float, base_bic: float, train_resi
         at_bound = min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span
         if not np.isfinite(se) or (not p.nuisance and (abs(value) < 2 * se)) or (at_bound and not p.nuisance):
             identifiable = False
-        if p.plausible and not (p.plausible[0] <= value <= p.plausible[1]):
-            plausible = False
     cand.identifiable = identifiable
-    cand.plausible = plausible
+    cand.plausible = cand.implausible_because is None
 
 
 def model_parameter_count(model: tuple[str, ...]) -> int:

@@ -101,8 +101,10 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
 
 
 def _rank(c: Candidate):
-    """Refitted candidates by validation RMSE, then the rest by score."""
-    return (0, c.rmse_K, 0.0) if c.rmse_K is not None else (1, 0.0, -c.score)
+    """Plausible refitted candidates by validation RMSE, then implausible ones, then the rest by score."""
+    if c.rmse_K is None:
+        return (2, 0.0, -c.score)
+    return (0 if c.plausible else 1, c.rmse_K, 0.0)
 
 
 def _helps(c: Candidate) -> bool:

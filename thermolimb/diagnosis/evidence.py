@@ -50,7 +50,7 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     if c.rmse_K is not None:
         parts.append(f"with it validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
         if c.plausible is False:
-            parts.append("but its fitted value is outside the physically plausible range")
+            parts.append(f"but the fit is physically implausible ({c.implausible_because})")
         if c.identifiable is False:
             parts.append("but this log does not pin its value down")
     return "; ".join(parts) + "."

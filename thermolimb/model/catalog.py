@@ -211,6 +211,11 @@ class SecondNode(Term):
                   "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True),
     )
 
+    def implausible(self, p):
+        if p["frame_tau_s"] <= p["RC_s"]:
+            return f"frame_tau_s = {p['frame_tau_s']:.3g} s is not slower than RC_s = {p['RC_s']:.3g} s"
+        return super().implausible(p)
+
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C):
         phi = p["frame_fraction"]
         if phi == 0.0:

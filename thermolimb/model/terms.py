@@ -72,6 +72,13 @@ class Term:
         """The winding temperature behind a reading ``measured_C`` that is moving at ``rate_K_per_s``."""
         return measured_C
 
+    def implausible(self, p: Mapping[str, float]) -> str | None:
+        """Why fitted values are physically implausible, or ``None``; default: each parameter's range."""
+        for par in self.parameters:
+            if par.plausible and not (par.plausible[0] <= p[par.name] <= par.plausible[1]):
+                return f"{par.name} = {p[par.name]:.3g} {par.unit} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
+        return None
+
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
         """Regressors ``X`` with ``rise + gain*T == X @ [p[name] for name in parameters]``.
 
