@@ -78,3 +78,15 @@ def test_model_spec_errors():
         parse_model("joule,joule")
     with pytest.raises(ValueError, match="RC_s must be positive"):
         ThermalModel(("joule",), {"RC_s": 0.0, "betaR_K_per_effort2": 0.1, "T_offset_C": 25.0})
+
+
+@pytest.mark.parametrize("low, high", [(0.999, 1.0), (0.0, 0.2)])
+def test_both_scan_paths_equal_the_loop(low, high):
+    """Slow decay takes the chunked cumulative sums, fast decay the associative scan."""
+    rng = np.random.default_rng(5)
+    a = rng.uniform(low, high, 20000)
+    b = rng.normal(size=20000)
+    expected = [0.5]
+    for k in range(a.size):
+        expected.append(a[k] * expected[-1] + b[k])
+    np.testing.assert_allclose(first_order_scan(a, b, 0.5), expected, rtol=0, atol=1e-9)

@@ -51,8 +51,11 @@ class Diagnosis:
         return out
 
 
+REFIT_EVALUATIONS = 12  # simulations per parameter for a candidate's refit; good fits need fewer than 10
+
+
 def _fit(series: Sequence[ActuatorSeries], model, split: float, initial=None) -> tuple[FitReport, OutputError]:
-    est = OutputError(model=model, initial=initial or None)
+    est = OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
     return fit_and_validate(series, model, split=split, estimator=est), est
 
 

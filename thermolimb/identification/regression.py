@@ -154,18 +154,37 @@ IDENTIFIABLE_FRACTION = 1e-3
 def independent_fractions(X: np.ndarray) -> np.ndarray:
     """For each column, the fraction of its variation not explained by the other columns.
 
-    Computed from the column-scaled Gram matrix: the residual of column ``j``
-    regressed on the others has squared norm ``1 / inv(G)[j, j]``.  Columns
-    other than the intercept (all ones) are measured against their centred norm.
+    From the column-scaled Gram matrix ``G``: the residual of column ``j``
+    regressed on the others has squared norm ``G_jj - g_j' pinv(G_-j) g_j``
+    (exact, and well defined when the *other* columns are collinear among
+    themselves).  Columns other than the intercept (all ones) are measured
+    against their centred norm.
     """
     norms = np.linalg.norm(X, axis=0)
     safe = np.where(norms > 0, norms, 1.0)
-    Xs = X / safe
-    G = Xs.T @ Xs
-    w, V = np.linalg.eigh(G)
-    w_inv = np.where(w > w.max() * 1e-15, 1.0 / np.maximum(w, 1e-300), np.inf)
-    diag_inv = np.einsum("ij,j,ij->i", V, w_inv, V)
-    residual = np.sqrt(1.0 / diag_inv)  # in units of each column's norm
+    G = (X / safe).T @ (X / safe)
+    p = G.shape[0]
+    residual = np.empty(p)
+    for j in range(p):
+        others = [k for k in range(p) if k != j]
+        g = G[others, j]
+        residual[j] = np.sqrt(max(G[j, j] - g @ np.linalg.pinv(G[np.ix_(others, others)], rcond=1e-12) @ g, 0.0))
+    return _relative(X, norms, safe, residual)
+
+
+def collinear_partners(X: np.ndarray, j: int) -> list[int]:
+    """Columns that carry most of column ``j``'s explained part (scaled regression weights > 0.2 of the largest)."""
+    norms = np.linalg.norm(X, axis=0)
+    safe = np.where(norms > 0, norms, 1.0)
+    G = (X / safe).T @ (X / safe)
+    others = [k for k in range(G.shape[0]) if k != j]
+    weights = np.abs(np.linalg.pinv(G[np.ix_(others, others)], rcond=1e-12) @ G[others, j])
+    if not weights.size or weights.max() == 0:
+        return []
+    return [others[i] for i in np.flatnonzero(weights > 0.2 * weights.max())]
+
+
+def _relative(X, norms, safe, residual):
     means = X.mean(axis=0)
     centred = np.sqrt(np.maximum(norms**2 - X.shape[0] * means**2, 0.0)) / safe
     is_intercept = np.all(X == 1.0, axis=0)
@@ -182,8 +201,9 @@ def check_identifiable(reg: Regression, actuator: str) -> None:
         if fractions[j] < IDENTIFIABLE_FRACTION:
             col = reg.X[:, j]
             levels = np.unique(np.round(reg.effort, 3)).size
+            partners = ", ".join(reg.parameters[k].name for k in collinear_partners(reg.X, j))
             what = "constant" if np.ptp(col) == 0 else (
-                f"almost a combination of the other regressors ({fractions[j]:.1e} independent)")
+                f"almost a combination of the regressors of {partners} ({fractions[j]:.1e} independent)")
             raise IdentifiabilityError(
                 f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
                 f"in the training data, where effort takes {levels} distinct level(s) "

@@ -12,6 +12,12 @@ Method: with ``L[k] = sum_{j<k} log a[j]`` the solution is
 which is a pair of cumulative sums.  To keep ``exp(-L)`` inside floating-point
 range the series is cut into chunks whose total decay is at most
 ``MAX_DECAY_PER_CHUNK`` (e-folds), carrying the state across chunk boundaries.
+
+When the series decays so fast that it would need many chunks (a time
+constant of a few samples), an associative scan is used instead: the pairs
+``(a, b)`` compose as ``(a2, b2) o (a1, b1) = (a2 a1, a2 b1 + b2)``, so
+``log2(n)`` vectorised passes give every prefix (Hillis-Steele).  It only
+multiplies factors <= 1, so it cannot overflow.
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ import numpy as np
 
 MAX_DECAY_PER_CHUNK = 30.0  # e-folds: exp(30) ~ 1e13 keeps ~3 significant digits of headroom
 _MIN_LOG_A = -MAX_DECAY_PER_CHUNK  # one step may decay at most this much (a >= 9e-14)
+MAX_CHUNKS = 64  # beyond this many chunks the associative scan is faster
 
 
 def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
@@ -42,6 +49,9 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
         return out
     log_a = np.maximum(np.log(np.maximum(a, 1e-300)), _MIN_LOG_A)
     cum_decay = -np.cumsum(log_a)  # decay after step k, increasing
+    if cum_decay[-1] / MAX_DECAY_PER_CHUNK > MAX_CHUNKS:
+        out[1:] = _associative_scan(a, b, float(x0))
+        return out
     start = 0
     state = float(x0)
     while start < n:
@@ -55,3 +65,19 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
         state = out[stop]
         start = stop
     return out
+
+
+def _associative_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
+    """``x[1:]`` of the recursion by prefix composition of ``(a, b)`` pairs, in log2(n) passes."""
+    A = a.copy()
+    B = b.copy()
+    B[0] += a[0] * x0  # fold the initial state into the first step
+    A[0] = 0.0
+    shift = 1
+    n = A.size
+    while shift < n:
+        # compose each element with the prefix ending `shift` places before it
+        B[shift:] = A[shift:] * B[:-shift] + B[shift:]
+        A[shift:] = A[shift:] * A[:-shift]
+        shift *= 2
+    return B
