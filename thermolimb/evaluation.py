@@ -14,7 +14,7 @@ from typing import Sequence
 import numpy as np
 
 from .identification import ESTIMATORS, ThermalEstimator
-from .logs import ActuatorSeries
+from .logs import MIN_SAMPLES, ActuatorSeries, LogError
 from .metrics import fit_metrics
 from .model.model import ThermalModel
 
@@ -98,4 +98,50 @@ def fit_and_validate(
         validation=_metrics(valid_segments),
         train_segments=train_segments,
         validation_segments=valid_segments,
+    )
+
+
+def cross_validate(
+    series: Sequence[ActuatorSeries],
+    model: str | Sequence[str],
+    folds: int,
+    method: str = "output_error",
+    make: "callable | None" = None,
+) -> FitReport:
+    """Blocked cross-validation: ``folds`` contiguous blocks of each series.
+
+    Each block is validated by free-run simulation from its measured start,
+    with a model fitted jointly on the pieces before and after it.  The
+    report's parameters come from a fit on everything; its ``validation``
+    pools the errors of every block.  ``make()`` returns a fresh estimator
+    (default: ``method``'s).
+    """
+    if folds < 2:
+        raise ValueError(f"--cv needs at least 2 folds, got {folds}")
+    make = make or (lambda: make_estimator(method, model))
+    segments, train_segments = [], []
+    for s in series:
+        edges = np.linspace(0, s.n, folds + 1).astype(int)
+        if np.min(np.diff(edges)) < MIN_SAMPLES:
+            raise LogError(f"actuator {s.actuator}: {s.n} samples are too few for {folds} folds "
+                           f"(each needs at least {MIN_SAMPLES})")
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            pieces = [p for p in (s.slice(0, lo), s.slice(hi, s.n)) if p.n >= MIN_SAMPLES]
+            pieces += [o for o in series if o is not s]
+            est = make().fit(pieces)
+            block = s.slice(lo, hi)
+            # the trend at the block's start comes from the data before it (the first block: its own start)
+            rate = s.slice(0, lo + 1).rate_K_per_s(at_end=True) if lo > 0 else block.rate_K_per_s()
+            segments.append(_segment(est.model_, block, rate))
+    full = make().fit(list(series))
+    train_segments = tuple(_segment(full.model_, s, s.rate_K_per_s()) for s in series)
+    return FitReport(
+        actuator=series[0].actuator,
+        method=full.method,
+        model=full.model_,
+        stderr=full.stderr_,
+        train=_metrics(train_segments),
+        validation=_metrics(segments),
+        train_segments=train_segments,
+        validation_segments=tuple(segments),
     )

@@ -21,6 +21,9 @@ def add_parser(sub):
     p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
                    help=f"model to diagnose (default {','.join(DEFAULT_MODEL)}); known terms: {', '.join(TERMS)}")
     p.add_argument("--split", type=float, default=0.7, help="fraction of the time span used to fit (default 0.7)")
+    p.add_argument("--cv", type=int, default=None, metavar="K",
+                   help="blocked cross-validation: K contiguous folds, each validated by free run from its "
+                        "measured start, instead of the single split")
     p.add_argument("--auto", action="store_true",
                    help="add recommended effects one at a time while each helps, and draw the waterfall")
     p.add_argument("--refit", choices=("strong", "all"), default="strong",
@@ -39,9 +42,9 @@ def run(args) -> int:
     for name in names:
         series = [log.series(name) for log in logs]
         if args.auto:
-            d, _ = auto_diagnose(series, args.model, split=args.split, quiet=args.quiet)
+            d, _ = auto_diagnose(series, args.model, split=args.split, quiet=args.quiet, cv=args.cv)
         else:
-            d = diagnose(series, args.model, split=args.split, refit=args.refit, quiet=args.quiet)
+            d = diagnose(series, args.model, split=args.split, refit=args.refit, quiet=args.quiet, cv=args.cv)
         records.append(d.to_json())
         if args.plot:
             from ..diagnosis.plots import plot_candidates, plot_residuals, plot_waterfall

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..evaluation import fit_and_validate
+from ..evaluation import cross_validate, fit_and_validate
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
 from .options import add_log_input, add_quiet, print_json, read_logs
@@ -25,6 +25,8 @@ def add_parser(sub):
                    help="output_error (default): free-run error, started from least squares; least_squares: "
                         "the seed's regression solved directly; seed_gd: the seed's z-scored gradient descent")
     p.add_argument("--split", type=float, default=0.7, help="fraction of each log's time span used to fit (default 0.7)")
+    p.add_argument("--cv", type=int, default=None, metavar="K",
+                   help="blocked cross-validation over K contiguous folds instead of the single split")
     p.add_argument("--json", action="store_true",
                    help="print one JSON object per actuator (a list when several actuators are fitted)")
     p.add_argument("--plot", default=None, metavar="DIR", help="write fit_<actuator>.png plots into DIR")
@@ -39,7 +41,10 @@ def run(args) -> int:
     records = []
     for name in names:
         series = [log.series(name) for log in logs]
-        report = fit_and_validate(series, args.model, split=args.split, method=args.method)
+        if args.cv:
+            report = cross_validate(series, args.model, args.cv, method=args.method)
+        else:
+            report = fit_and_validate(series, args.model, split=args.split, method=args.method)
         records.append(report.to_json())
         if args.plot:
             from ..plots import plot_fit

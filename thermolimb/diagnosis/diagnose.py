@@ -13,7 +13,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..evaluation import FitReport, fit_and_validate
+from ..evaluation import FitReport, cross_validate, fit_and_validate
 from ..identification import IdentifiabilityError, OutputError
 from ..logs import ActuatorSeries
 from ..model.terms import parse_model
@@ -54,22 +54,32 @@ class Diagnosis:
 REFIT_EVALUATIONS = 12  # simulations per parameter for a candidate's refit; good fits need fewer than 10
 
 
-def _fit(series: Sequence[ActuatorSeries], model, split: float, initial=None) -> tuple[FitReport, OutputError]:
-    est = OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
+def _fit(series: Sequence[ActuatorSeries], model, split: float, initial=None,
+         cv: int | None = None) -> tuple[FitReport, OutputError]:
+    """Fit and validate: single split, or blocked cross-validation over ``cv`` folds."""
+
+    def make():
+        return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
+
+    if cv:
+        return cross_validate(series, model, cv, make=make), make().fit(list(series))
+    est = make()
     return fit_and_validate(series, model, split=split, estimator=est), est
 
 
 def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-             refit: str = "strong", quiet: bool = True) -> Diagnosis:
+             refit: str = "strong", quiet: bool = True, cv: int | None = None) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the missing effects.
 
-    ``refit="strong"`` refits candidates whose score test has p < 0.01 and
+    Held-out errors come from the ``split`` rule, or with ``cv=K`` from
+    blocked cross-validation over K contiguous folds (the score tests then
+    use a fit on the whole log).  ``refit="strong"`` refits candidates whose score test has p < 0.01 and
     the three that explain most of the residual; ``"all"`` refits every candidate.
     """
     model = parse_model(model)
     series = list(series)
-    base, est = _fit(series, model, split)
-    train = [s.split(split)[0] for s in series]
+    base, est = _fit(series, model, split, cv=cv)
+    train = list(series) if cv else [s.split(split)[0] for s in series]
     measured = np.concatenate([s.temperature_C for s in train])
     base_sim = simulate_all(base.model, train)
     residual = measured - base_sim
@@ -87,7 +97,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     for cand in progress(to_refit, desc="refits", disable=quiet):
         try:
             # two starts, the score test's one step and least squares with typical values; the better fit wins
-            fits = [_fit(series, cand.model, split, initial=cand.start)[0], _fit(series, cand.model, split)[0]]
+            fits = [_fit(series, cand.model, split, initial=cand.start, cv=cv)[0],
+                    _fit(series, cand.model, split, cv=cv)[0]]
             report = min(fits, key=lambda r: r.train["rmse_K"])
         except IdentifiabilityError as exc:
             cand.identifiable = False
@@ -104,10 +115,13 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
 
 
 def _rank(c: Candidate):
-    """Plausible refitted candidates by validation RMSE, then implausible ones, then the rest by score."""
+    """Plausible refitted candidates by validation RMSE, then implausible ones, then the rest by score.
+
+    An unidentifiable candidate yields to an identifiable one within 1 % of its error.
+    """
     if c.rmse_K is None:
         return (2, 0.0, -c.score)
-    return (0 if c.plausible else 1, c.rmse_K, 0.0)
+    return (0 if c.plausible else 1, c.rmse_K * (1.0 if c.identifiable else 1.01), 0.0)
 
 
 def _helps(c: Candidate) -> bool:
@@ -116,11 +130,11 @@ def _helps(c: Candidate) -> bool:
 
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-                  max_steps: int = 5, quiet: bool = True) -> tuple[Diagnosis, list[Diagnosis]]:
+                  max_steps: int = 5, quiet: bool = True, cv: int | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
     """Add the recommended effect while one helps; returns the first diagnosis and every step's."""
-    steps = [diagnose(series, model, split, quiet=quiet)]
+    steps = [diagnose(series, model, split, quiet=quiet, cv=cv)]
     while steps[-1].recommended is not None and len(steps) <= max_steps:
-        steps.append(diagnose(series, steps[-1].recommended.model, split, quiet=quiet))
+        steps.append(diagnose(series, steps[-1].recommended.model, split, quiet=quiet, cv=cv))
     waterfall = [{"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
                   "fit_percent": d.base.validation["fit_percent"]} for d in steps]
     first = steps[0]
