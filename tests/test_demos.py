@@ -33,3 +33,29 @@ def test_thermal_fit_demo_predicts_the_squats(tmp_path):
 def test_report_without_results_says_what_to_run(tmp_path):
     with pytest.raises(FileNotFoundError, match="thermolimb demo all"):
         build_report(tmp_path)
+
+
+def test_diagnose_demo_finds_both_hidden_effects(tmp_path):
+    summary = run_demo("diagnose", tmp_path, quick=True, quiet=True)
+    assert summary["found"] == sorted(summary["hidden_effects"])
+    assert summary["diagnosis"]["auto"][-1]["rmse_K"] < 0.1
+
+
+def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(tmp_path):
+    from thermolimb.model import TERMS
+
+    summary = run_demo("custom-effect", tmp_path, quick=True, quiet=True)
+    assert summary["catalog_only"]["recommended"] != "field_weakening_speed"
+    after = summary["with_user_effect"]
+    assert after["recommended"] == "field_weakening_speed"
+    assert after["candidates"][0]["rmse_K"] < 0.5 * summary["catalog_only"]["candidates"][0]["rmse_K"]
+    assert "field_weakening_speed" not in TERMS
+
+
+def test_real_pmsm_data_points_to_current_heating(tmp_path):
+    summary = run_demo("pmsm-real-data", tmp_path, quick=True, quiet=True)
+    for name, entry in summary["profiles"].items():
+        waterfall = entry["split"]["waterfall"]
+        assert "current_heating" in waterfall[1]["model"], name
+        assert waterfall[-1]["rmse_K"] < 0.5 * waterfall[0]["rmse_K"], name
+    assert "current_heating" in summary["profiles"]["profile24"]["cv4"]["recommended_model"]

@@ -47,13 +47,9 @@ def run(args) -> int:
             d = diagnose(series, args.model, split=args.split, refit=args.refit, quiet=args.quiet, cv=args.cv)
         records.append(d.to_json())
         if args.plot:
-            from ..diagnosis.plots import plot_candidates, plot_residuals, plot_waterfall
+            from ..diagnosis.plots import plot_diagnosis
 
-            safe = name.replace("/", "_")
-            plot_residuals(d, Path(args.plot) / f"residuals_{safe}.png")
-            plot_candidates(d, Path(args.plot) / f"candidates_{safe}.png")
-            if d.auto:
-                plot_waterfall(d.auto, name, Path(args.plot) / f"waterfall_{safe}.png")
+            plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
         if not args.json:
             print(_describe(d))
     if args.json:

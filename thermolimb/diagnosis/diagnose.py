@@ -44,6 +44,7 @@ class Diagnosis:
             "base": {**self.base.validation, "bic": self.base_bic},
             "candidates": [c.to_json() for c in self.candidates],
             "recommended": None if self.recommended is None else self.recommended.effect,
+            "recommended_model": None if self.recommended is None else list(self.recommended.model),
             "residuals": self.residuals.to_json(),
         }
         if self.auto is not None:

@@ -57,11 +57,16 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
     return save(fig, path)
 
 
+def _step_label(prev: dict, step: dict) -> str:
+    added = sorted(set(step["model"]) - set(prev["model"]))
+    removed = sorted(set(prev["model"]) - set(step["model"]))
+    return "+ " + ",".join(added) + (f" (for {','.join(removed)})" if removed else "")
+
+
 def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.5))
     rmse = [s["rmse_K"] for s in steps]
-    labels = ["base: " + ",".join(steps[0]["model"])] + [
-        "+ " + ",".join(sorted(set(s["model"]) - set(prev["model"]))) for prev, s in zip(steps, steps[1:])]
+    labels = ["base: " + ",".join(steps[0]["model"])] + [_step_label(prev, s) for prev, s in zip(steps, steps[1:])]
     ax.bar(np.arange(len(rmse)), rmse, color="tab:blue")
     for i, v in enumerate(rmse):
         ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
@@ -69,3 +74,12 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     ax.set_ylabel("validation RMSE (K)")
     ax.set_title(f"{actuator}: validation error as effects are added")
     return save(fig, path)
+
+
+def plot_diagnosis(d: Diagnosis, folder: Path, stem: str) -> list[Path]:
+    """Every diagnosis plot of one actuator into ``folder``: residuals, candidates, and the waterfall if any."""
+    folder = Path(folder)
+    paths = [plot_residuals(d, folder / f"residuals_{stem}.png"), plot_candidates(d, folder / f"candidates_{stem}.png")]
+    if d.auto:
+        paths.append(plot_waterfall(d.auto, d.actuator, folder / f"waterfall_{stem}.png"))
+    return paths

@@ -104,6 +104,13 @@ def register_term(cls: type[Term]) -> type[Term]:
     return cls
 
 
+def unregister_term(name: str) -> None:
+    """Remove a term from the catalog (e.g. a user's experiment, when done with it)."""
+    if name not in TERMS:
+        raise KeyError(f"no registered term {name!r}")
+    del TERMS[name]
+
+
 def _parameter_names_except(name: str) -> set[str]:
     return {p.name for key, t in TERMS.items() if key != name for p in t.parameters}
 
