@@ -91,3 +91,23 @@ def test_installed_script_help_lists_commands_with_units():
         assert command in out
     fit_help = subprocess.run([exe, "fit", "--help"], capture_output=True, text=True, check=True).stdout
     assert "RMSE (K)" in fit_help and "degC" in fit_help
+
+
+def test_compare_json_and_plot(sim_log, capsys, tmp_path):
+    code = main(["compare", str(sim_log), "--actuator", "knee", "--model", "joule", "--model", "joule,effort_bias",
+                 "--json", "--plot", str(tmp_path)])
+    assert code == 0
+    record = json.loads(capsys.readouterr().out)
+    assert [m["model"] for m in record["models"]] == [["joule"], ["joule", "effort_bias"]]
+    for m in record["models"]:
+        assert {"aic", "bic", "params", "validation"} <= set(m)
+    # the simulated plant has an effort bias: the model with the bias term wins on held-out data
+    assert record["models"][1]["validation"]["rmse_K"] < record["models"][0]["validation"]["rmse_K"]
+    assert (tmp_path / "compare_knee.png").is_file()
+
+
+def test_cv_validates_every_fold(sim_log, capsys):
+    assert main(["fit", str(sim_log), "--actuator", "knee", "--cv", "4", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["validation"]["rmse_K"] < 0.15
+    assert main(["fit", str(sim_log), "--actuator", "knee", "--cv", "1"]) == 2

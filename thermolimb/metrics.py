@@ -35,3 +35,14 @@ def ar1_variance_factor(residuals: np.ndarray) -> float:
         return 1.0
     rho = float(np.clip(np.dot(r[1:], r[:-1]) / denom, 0.0, 0.999))
     return (1.0 + rho) / (1.0 - rho)
+
+
+def information_criteria(residual: np.ndarray, n_params: int) -> dict[str, float]:
+    """Gaussian ``{"aic", "bic"}`` of a fit: ``n ln(RSS/n) + 2k`` and ``n ln(RSS/n) + k ln n``.
+
+    Serially correlated residuals make both overstate evidence; compare them
+    between models on the same data, alongside held-out error.
+    """
+    n = residual.size
+    fit_term = n * np.log(np.mean(np.asarray(residual) ** 2))
+    return {"aic": float(fit_term + 2 * n_params), "bic": float(fit_term + n_params * np.log(n))}

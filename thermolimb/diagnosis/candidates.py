@@ -26,7 +26,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..logs import ActuatorSeries
-from ..metrics import ar1_variance_factor
+from ..metrics import ar1_variance_factor, information_criteria
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import TERMS
 
@@ -158,13 +158,9 @@ def _score_at(cand, term, base, train, jacobian, residual, fixed):
 
 
 def bic(residual: np.ndarray, n_params: int) -> float:
-    """BIC of a Gaussian fit, ``n ln(RSS / n) + k ln(n)``, on the training residual.
-
-    Serially correlated residuals make it overstate evidence, which is why a
-    recommendation also needs a held-out improvement.
-    """
-    n = residual.size
-    return float(n * np.log(np.mean(residual**2)) + n_params * np.log(n))
+    """BIC on the training residual; it overstates evidence for correlated residuals, which is why a
+    recommendation also needs a held-out improvement."""
+    return information_criteria(residual, n_params)["bic"]
 
 
 def judge(cand: Candidate, report, base_rmse: float, base_bic: float, train_residual: np.ndarray) -> None:

@@ -1,0 +1,83 @@
+"""``thermolimb compare``: several models side by side on one log."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..evaluation import FitReport, cross_validate, fit_and_validate
+from ..metrics import information_criteria
+from ..model.terms import TERMS, parse_model
+from .options import add_log_input, add_quiet, print_json, read_logs
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "compare", help="compare several models on one log: held-out error, AIC/BIC, parameters, overlay",
+        description="Fit each --model on the first --split of the log (or by --cv K folds) and validate by free "
+        "run: validation RMSE (K), max error (K), fit %, AIC and BIC on the training residual, parameters.",
+    )
+    add_log_input(p)
+    p.add_argument("--model", action="append", required=True, metavar="TERMS",
+                   help=f"a model to compare (repeat the option); terms: {', '.join(TERMS)}")
+    p.add_argument("--split", type=float, default=0.7, help="fraction of the time span used to fit (default 0.7)")
+    p.add_argument("--cv", type=int, default=None, metavar="K", help="blocked cross-validation over K folds")
+    p.add_argument("--json", action="store_true", help="print the comparison as one JSON object")
+    p.add_argument("--plot", default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
+    add_quiet(p)
+    p.set_defaults(func=run)
+
+
+def compare_models(series, models, split=0.7, cv=None) -> list[tuple[FitReport, dict]]:
+    """Fit and validate each model; returns each report with its AIC and BIC."""
+    out = []
+    for model in models:
+        report = cross_validate(series, model, cv) if cv else fit_and_validate(series, model, split=split)
+        residual = np.concatenate([s.measured_C - s.simulated_C for s in report.train_segments])
+        out.append((report, information_criteria(residual, len(report.model.params))))
+    return out
+
+
+def run(args) -> int:
+    models = [parse_model(m) for m in args.model]
+    logs = read_logs(args)
+    names = [args.actuator] if args.actuator else list(logs[0].actuators)
+    records = []
+    for name in names:
+        results = compare_models([log.series(name) for log in logs], models, args.split, args.cv)
+        record = {"actuator": name, "models": [{**r.to_json(), **ic} for r, ic in results]}
+        records.append(record)
+        if args.plot:
+            _plot(results, name, Path(args.plot) / f"compare_{name.replace('/', '_')}.png")
+        if not args.json:
+            print(f"{name}:")
+            print(f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}")
+            for r, ic in results:
+                v = r.validation
+                print(f"  {','.join(r.model.terms):40s} {v['rmse_K']:8.3f} {v['max_abs_K']:8.3f} "
+                      f"{v['fit_percent']:7.1f} {ic['aic']:11.1f} {ic['bic']:11.1f}")
+    if args.json:
+        print_json(records[0] if len(records) == 1 else records)
+    return 0
+
+
+def _plot(results, actuator, path):
+    from ..plots import plt, save
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 6), sharex=True, height_ratios=[2, 1])
+    first = results[0][0]
+    for seg in first.validation_segments:
+        top.plot(seg.time_s, seg.measured_C, color="k", lw=1)
+    for report, _ in results:
+        label = ",".join(report.model.terms)
+        for i, seg in enumerate(report.validation_segments):
+            line, = top.plot(seg.time_s, seg.simulated_C, lw=1, label=label if i == 0 else None)
+            bottom.plot(seg.time_s, seg.simulated_C - seg.measured_C, lw=0.8, color=line.get_color())
+    top.set_title(f"{actuator}: measured (black) and each model's free-run simulation on held-out data")
+    top.set_ylabel("temperature (°C)")
+    top.legend(fontsize=8)
+    bottom.axhline(0, color="k", lw=0.5)
+    bottom.set_ylabel("error (K)")
+    bottom.set_xlabel("time (s)")
+    save(fig, path)
