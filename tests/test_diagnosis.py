@@ -86,3 +86,26 @@ def test_diagnose_json_schema(tmp_path, capsys):
     assert d["auto"][0]["model"] == ["joule", "effort_bias"] and len(d["auto"]) == 2
     assert {p.name for p in tmp_path.glob("*.png")} >= {"residuals_knee.png", "candidates_knee.png",
                                                        "waterfall_knee.png"}
+
+
+VISIBLE_ON = {  # profile -> hidden effects that still leave a trace the base model cannot absorb
+    "walking": ["winding_tempco", "neighbor_coupling", "ambient_variation", "second_node", "sensor_lag"],
+    "squat": ["winding_tempco", "ambient_variation", "second_node", "sensor_lag"],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("profile, term", [(p, t) for p, terms in VISIBLE_ON.items() for t in terms])
+def test_hidden_effect_on_other_profiles(profile, term):
+    check_hidden(term, seed=3, actuator="hip", profile=profile)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("term", ["speed_losses", "current_heating", "motion_cooling"])
+def test_effects_that_move_with_effort_leave_nothing_to_find_on_squats(term):
+    """On squats speed rises with load, so the effort terms absorb these effects: the base model is already
+    at the sensor's noise floor and nothing is (rightly) recommended."""
+    effect, network, scale = HIDDEN[term]
+    d = diagnose([hidden_log([effect], network, scale, 3, "squat").series("hip")])
+    assert d.base.validation["rmse_K"] < 0.07
+    assert d.recommended is None

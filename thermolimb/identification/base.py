@@ -17,6 +17,7 @@ from ..logs import ActuatorSeries
 from ..metrics import fit_percent
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import DEFAULT_MODEL, TERMS, ModelSpecError, parse_model
+from .regression import IdentifiabilityError
 
 
 class ThermalEstimator:
@@ -63,6 +64,12 @@ class ThermalEstimator:
                         ) from None
         values, covariance = self._fit(series, terms)
         names = [p.name for p in model_parameters(terms)]
+        if not values[0] > 0:
+            raise IdentifiabilityError(
+                f"{self.method} gives RC_s = {values[0]:.3g} s for actuator {series[0].actuator}: this log does not "
+                f"determine the time constant of model {','.join(terms)}; a log needs "
+                f"{model_parameters(terms)[0].excitation}"
+            )
         self.model_ = ThermalModel(terms, dict(zip(names, values)))
         self.params_ = dict(self.model_.params)
         self.covariance_ = covariance

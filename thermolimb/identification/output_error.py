@@ -20,6 +20,10 @@ from ..model.model import ThermalModel, model_parameters
 from ..model.terms import TERMS
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
+from .regression import IdentifiabilityError, independent_fractions
+
+# Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
+DEGENERATE_FRACTION = 1e-5
 
 
 class OutputError(ThermalEstimator):
@@ -57,7 +61,14 @@ class OutputError(ThermalEstimator):
             first = series[0]
             linear = tuple(n for n in terms if TERMS[n]().features(first.signals, first.temperature_C) is not None)
             if any(TERMS[n].is_heat_source for n in linear):
-                start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
+                try:
+                    start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
+                except IdentifiabilityError:
+                    if len(linear) == len(terms):
+                        raise  # a linear model the regression cannot identify: its message is the most specific
+                    # nonlinear terms may still make it identifiable by output error: start from typical values
+        if "RC_s" not in given and start["RC_s"] == model_parameters(terms)[0].typical:
+            start["RC_s"] = _time_constant_guess(series)
         start.update(given)
         x0 = np.array([start[p.name] for p in params], dtype=float)
         lower = np.array([p.lower for p in params])
@@ -85,7 +96,21 @@ class OutputError(ThermalEstimator):
         self.optimizer_result_ = result
         r = result.fun
         J = result.jac
+        fractions = independent_fractions(J)
+        weak = int(np.argmin(fractions))
+        if fractions[weak] < DEGENERATE_FRACTION:
+            p = params[weak]
+            raise IdentifiabilityError(
+                f"cannot identify {p.name} ({p.description}) for actuator {series[0].actuator}: changing it changes "
+                f"the simulated temperature almost exactly as other parameters do ({fractions[weak]:.1e} independent); "
+                f"a log needs {p.excitation}"
+            )
         dof = max(r.size - len(names), 1)
         sigma2 = float(r @ r) / dof * ar1_variance_factor(r)
         cov = sigma2 * np.linalg.pinv(J.T @ J)
         return result.x, cov
+
+
+def _time_constant_guess(series) -> float:
+    """A tenth of the longest series' duration: a neutral start for RC when least squares has none."""
+    return max(float(s.time_s[-1] - s.time_s[0]) for s in series) / 10.0
