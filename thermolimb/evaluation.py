@@ -89,16 +89,13 @@ def fit_and_validate(
     train_segments = tuple(_segment(est.model_, s, s.rate_K_per_s()) for s in train)
     # the trend at the split comes from the training data before it
     valid_segments = tuple(_segment(est.model_, v, t.rate_K_per_s(at_end=True)) for t, v in zip(train, valid))
-    return FitReport(
-        actuator=series[0].actuator,
-        method=est.method,
-        model=est.model_,
-        stderr=est.stderr_,
-        train=_metrics(train_segments),
-        validation=_metrics(valid_segments),
-        train_segments=train_segments,
-        validation_segments=valid_segments,
-    )
+    return _report(series[0].actuator, est, train_segments, valid_segments)
+
+
+def _report(actuator: str, est: ThermalEstimator, train_segments, valid_segments) -> FitReport:
+    return FitReport(actuator=actuator, method=est.method, model=est.model_, stderr=est.stderr_,
+                     train=_metrics(train_segments), validation=_metrics(valid_segments),
+                     train_segments=tuple(train_segments), validation_segments=tuple(valid_segments))
 
 
 def cross_validate(
@@ -135,13 +132,4 @@ def cross_validate(
             segments.append(_segment(est.model_, block, rate))
     full = make().fit(list(series))
     train_segments = tuple(_segment(full.model_, s, s.rate_K_per_s()) for s in series)
-    return FitReport(
-        actuator=series[0].actuator,
-        method=full.method,
-        model=full.model_,
-        stderr=full.stderr_,
-        train=_metrics(train_segments),
-        validation=_metrics(segments),
-        train_segments=train_segments,
-        validation_segments=tuple(segments),
-    )
+    return _report(series[0].actuator, full, train_segments, segments)

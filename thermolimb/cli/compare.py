@@ -9,7 +9,7 @@ import numpy as np
 from ..evaluation import FitReport, cross_validate, fit_and_validate
 from ..metrics import information_criteria
 from ..model.terms import TERMS, parse_model
-from .options import add_log_input, add_quiet, print_json, read_logs
+from .options import add_log_input, add_quiet, for_each_actuator
 
 
 def add_parser(sub):
@@ -41,25 +41,19 @@ def compare_models(series, models, split=0.7, cv=None) -> list[tuple[FitReport, 
 
 def run(args) -> int:
     models = [parse_model(m) for m in args.model]
-    logs = read_logs(args)
-    names = [args.actuator] if args.actuator else list(logs[0].actuators)
-    records = []
-    for name in names:
-        results = compare_models([log.series(name) for log in logs], models, args.split, args.cv)
-        record = {"actuator": name, "models": [{**r.to_json(), **ic} for r, ic in results]}
-        records.append(record)
+
+    def analyse(name, series):
+        results = compare_models(series, models, args.split, args.cv)
         if args.plot:
             _plot(results, name, Path(args.plot) / f"compare_{name.replace('/', '_')}.png")
-        if not args.json:
-            print(f"{name}:")
-            print(f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}")
-            for r, ic in results:
-                v = r.validation
-                print(f"  {','.join(r.model.terms):40s} {v['rmse_K']:8.3f} {v['max_abs_K']:8.3f} "
-                      f"{v['fit_percent']:7.1f} {ic['aic']:11.1f} {ic['bic']:11.1f}")
-    if args.json:
-        print_json(records[0] if len(records) == 1 else records)
-    return 0
+        lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
+        for r, ic in results:
+            v = r.validation
+            lines.append(f"  {','.join(r.model.terms):40s} {v['rmse_K']:8.3f} {v['max_abs_K']:8.3f} "
+                         f"{v['fit_percent']:7.1f} {ic['aic']:11.1f} {ic['bic']:11.1f}")
+        return {"actuator": name, "models": [{**r.to_json(), **ic} for r, ic in results]}, "\n".join(lines)
+
+    return for_each_actuator(args, analyse)
 
 
 def _plot(results, actuator, path):

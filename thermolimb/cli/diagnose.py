@@ -6,7 +6,7 @@ from pathlib import Path
 
 from ..diagnosis import auto_diagnose, diagnose
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from .options import add_log_input, add_quiet, print_json, read_logs
+from .options import add_log_input, add_quiet, for_each_actuator
 
 
 def add_parser(sub):
@@ -36,25 +36,19 @@ def add_parser(sub):
 
 def run(args) -> int:
     parse_model(args.model)
-    logs = read_logs(args)
-    names = [args.actuator] if args.actuator else list(logs[0].actuators)
-    records = []
-    for name in names:
-        series = [log.series(name) for log in logs]
+
+    def analyse(name, series):
         if args.auto:
             d, _ = auto_diagnose(series, args.model, split=args.split, quiet=args.quiet, cv=args.cv)
         else:
             d = diagnose(series, args.model, split=args.split, refit=args.refit, quiet=args.quiet, cv=args.cv)
-        records.append(d.to_json())
         if args.plot:
             from ..diagnosis.plots import plot_diagnosis
 
             plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
-        if not args.json:
-            print(_describe(d))
-    if args.json:
-        print_json(records[0] if len(records) == 1 else records)
-    return 0
+        return d.to_json(), _describe(d)
+
+    return for_each_actuator(args, analyse)
 
 
 def _describe(d) -> str:

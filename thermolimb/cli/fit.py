@@ -7,7 +7,7 @@ from pathlib import Path
 from ..evaluation import cross_validate, fit_and_validate
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from .options import add_log_input, add_quiet, print_json, read_logs
+from .options import add_log_input, add_quiet, for_each_actuator
 
 
 def add_parser(sub):
@@ -36,26 +36,19 @@ def add_parser(sub):
 
 def run(args) -> int:
     parse_model(args.model)
-    logs = read_logs(args)
-    names = [args.actuator] if args.actuator else list(logs[0].actuators)
-    records = []
-    for name in names:
-        series = [log.series(name) for log in logs]
+
+    def analyse(name, series):
         if args.cv:
             report = cross_validate(series, args.model, args.cv, method=args.method)
         else:
             report = fit_and_validate(series, args.model, split=args.split, method=args.method)
-        records.append(report.to_json())
         if args.plot:
             from ..plots import plot_fit
 
-            safe = name.replace("/", "_")
-            plot_fit(report, Path(args.plot) / f"fit_{safe}.png")
-        if not args.json:
-            print(_describe(report))
-    if args.json:
-        print_json(records[0] if len(records) == 1 else records)
-    return 0
+            plot_fit(report, Path(args.plot) / f"fit_{name.replace('/', '_')}.png")
+        return report.to_json(), _describe(report)
+
+    return for_each_actuator(args, analyse)
 
 
 def _describe(report) -> str:

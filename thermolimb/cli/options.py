@@ -33,3 +33,21 @@ def read_logs(args) -> list[ThermalLog]:
 def print_json(obj) -> None:
     json.dump(to_jsonable(obj), sys.stdout, indent=2)
     sys.stdout.write("\n")
+
+
+def for_each_actuator(args, analyse) -> int:
+    """Run ``analyse(name, series) -> (record, text)`` for the chosen actuator or every one.
+
+    Prints each text, or with ``--json`` one record (a list when several actuators).
+    """
+    logs = read_logs(args)
+    names = [args.actuator] if args.actuator else list(logs[0].actuators)
+    records = []
+    for name in names:
+        record, text = analyse(name, [log.series(name) for log in logs])
+        records.append(record)
+        if not args.json:
+            print(text)
+    if args.json:
+        print_json(records[0] if len(records) == 1 else records)
+    return 0
