@@ -1,0 +1,89 @@
+"""Physical parameters of the Daisy-like hexapod (frozen; SI units in the names).
+
+Provenance of every number is in ``urdf/README.md``; in short: mounting angles,
+radial offsets, link lengths, actuator masses and limits are HEBI's published
+Daisy/X-series numbers (``shared/reference/facts.md``); the base-to-shoulder
+bracket, link-tube and bracket masses are chosen here so that the legs weigh
+135 N and the body 75 N, as in the seed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .constants import LEGS
+
+GRAVITY_M_S2 = 9.81
+
+
+@dataclass(frozen=True)
+class DaisyParams:
+    mount_yaw_deg: tuple[float, ...] = (30.0, -30.0, 90.0, -90.0, 150.0, -150.0)  # per leg, in LEGS order
+    mount_radius_m: tuple[float, ...] = (0.2375, 0.2375, 0.1875, 0.1875, 0.2375, 0.2375)
+    bracket_m: float = 0.05  # base-yaw axis to shoulder axis (chosen)
+    upper_link_m: float = 0.325
+    lower_link_m: float = 0.325
+    foot_radius_m: float = 0.025  # rounded "mushroom" foot
+    body_mass_kg: float = 75.0 / GRAVITY_M_S2
+    body_size_m: tuple[float, float, float] = (0.50, 0.32, 0.10)
+    x8_9_mass_kg: float = 0.480
+    x8_16_mass_kg: float = 0.500
+    foot_mass_kg: float = 0.060
+    bracket_mass_kg: float = 0.20  # chosen: bracket between base and shoulder actuators
+    upper_tube_mass_kg: float = 0.30  # chosen: link tube, shoulder to elbow
+    lower_tube_mass_kg: float = 0.2736  # chosen so that one leg weighs 135 N / 6
+    x8_9_effort_limit_Nm: float = 20.0
+    x8_16_effort_limit_Nm: float = 38.0
+    x8_9_velocity_limit_rad_s: float = 3.14
+    x8_16_velocity_limit_rad_s: float = 1.57
+    continuous_torque_Nm: tuple[float, float, float] = (8.0, 16.0, 8.0)  # base, shoulder, elbow (seed)
+    nominal_body_height_m: float = 0.16  # body centre above the ground when standing
+    nominal_foot_reach_m: float = 0.30  # horizontal distance shoulder axis -> foot when standing
+
+    def __post_init__(self):
+        if len(self.mount_yaw_deg) != len(LEGS) or len(self.mount_radius_m) != len(LEGS):
+            raise ValueError(f"DaisyParams needs one mount angle and radius per leg ({len(LEGS)})")
+        positive = ("bracket_m", "upper_link_m", "lower_link_m", "foot_radius_m", "body_mass_kg", "x8_9_mass_kg",
+                    "x8_16_mass_kg", "foot_mass_kg", "nominal_body_height_m", "nominal_foot_reach_m")
+        bad = [n for n in positive if not getattr(self, n) > 0]
+        if bad:
+            raise ValueError(f"DaisyParams: {', '.join(bad)} must be positive")
+        reach = np.hypot(self.nominal_foot_reach_m, self.nominal_body_height_m)
+        if reach >= self.upper_link_m + self.lower_link_m:
+            raise ValueError(f"DaisyParams: the nominal stance needs a reach of {reach:.3f} m, more than the leg's "
+                             f"{self.upper_link_m + self.lower_link_m:.3f} m")
+
+    @property
+    def leg_mass_kg(self) -> float:
+        return (self.x8_9_mass_kg * 2 + self.x8_16_mass_kg + self.foot_mass_kg + self.bracket_mass_kg
+                + self.upper_tube_mass_kg + self.lower_tube_mass_kg)
+
+    @property
+    def robot_mass_kg(self) -> float:
+        return self.body_mass_kg + len(LEGS) * self.leg_mass_kg
+
+    @property
+    def robot_weight_N(self) -> float:
+        return self.robot_mass_kg * GRAVITY_M_S2
+
+    def mount_position_m(self, leg: int) -> np.ndarray:
+        a = np.radians(self.mount_yaw_deg[leg])
+        r = self.mount_radius_m[leg]
+        return np.array([r * np.cos(a), r * np.sin(a), 0.0])
+
+    def mount_yaw_rad(self, leg: int) -> float:
+        return float(np.radians(self.mount_yaw_deg[leg]))
+
+    @property
+    def effort_limit_Nm(self) -> np.ndarray:
+        """Per joint in JOINTS order (base X8-9, shoulder X8-16, elbow X8-9 for every leg)."""
+        return np.tile([self.x8_9_effort_limit_Nm, self.x8_16_effort_limit_Nm, self.x8_9_effort_limit_Nm], len(LEGS))
+
+    @property
+    def continuous_torque_per_joint_Nm(self) -> np.ndarray:
+        return np.tile(self.continuous_torque_Nm, len(LEGS))
+
+
+DAISY = DaisyParams()
