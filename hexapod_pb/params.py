@@ -40,7 +40,7 @@ class DaisyParams:
     x8_16_velocity_limit_rad_s: float = 1.57
     continuous_torque_Nm: tuple[float, float, float] = (8.0, 16.0, 8.0)  # base, shoulder, elbow (seed)
     nominal_body_height_m: float = 0.16  # body centre above the ground when standing
-    nominal_foot_reach_m: float = 0.30  # horizontal distance shoulder axis -> foot when standing
+    nominal_foot_reach_m: float = 0.22  # horizontal distance shoulder axis -> foot (feet 0.46-0.51 m from the centre)
 
     def __post_init__(self):
         if len(self.mount_yaw_deg) != len(LEGS) or len(self.mount_radius_m) != len(LEGS):
@@ -59,6 +59,16 @@ class DaisyParams:
     def leg_mass_kg(self) -> float:
         return (self.x8_9_mass_kg * 2 + self.x8_16_mass_kg + self.foot_mass_kg + self.bracket_mass_kg
                 + self.upper_tube_mass_kg + self.lower_tube_mass_kg)
+
+    def segments(self) -> tuple[tuple[float, float, float], ...]:
+        """``(mass_kg, com_m, inertia_kg_m2)`` of the base bracket, upper and lower links.
+
+        Each is an actuator (a point mass at the joint, about a 10 cm body) plus
+        a uniform tube; ``com_m`` is measured from the segment's joint along it.
+        """
+        return (_segment(self.x8_9_mass_kg, self.bracket_mass_kg, self.bracket_m),
+                _segment(self.x8_16_mass_kg, self.upper_tube_mass_kg, self.upper_link_m),
+                _segment(self.x8_9_mass_kg, self.lower_tube_mass_kg, self.lower_link_m))
 
     @property
     def robot_mass_kg(self) -> float:
@@ -84,6 +94,14 @@ class DaisyParams:
     @property
     def continuous_torque_per_joint_Nm(self) -> np.ndarray:
         return np.tile(self.continuous_torque_Nm, len(LEGS))
+
+
+def _segment(actuator_kg: float, tube_kg: float, length_m: float) -> tuple[float, float, float]:
+    m = actuator_kg + tube_kg
+    com = tube_kg * length_m / 2.0 / m
+    inertia = tube_kg * length_m**2 / 12.0 + tube_kg * (length_m / 2.0 - com) ** 2
+    inertia += actuator_kg * com**2 + actuator_kg * 0.0025
+    return m, com, inertia
 
 
 DAISY = DaisyParams()

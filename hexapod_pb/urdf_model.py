@@ -28,15 +28,6 @@ def _inertial(mass: float, com_x: float, ixx: float, iyy: float, izz: float) -> 
             f'<inertia ixx="{_f(ixx)}" ixy="0" ixz="0" iyy="{_f(iyy)}" iyz="0" izz="{_f(izz)}"/></inertial>\n')
 
 
-def _rod(mass_point: float, mass_rod: float, length: float) -> tuple[float, float, float]:
-    """Total mass, centre of mass along x, and inertia about the centre of a point mass at 0 plus a rod to ``length``."""
-    m = mass_point + mass_rod
-    com = mass_rod * length / 2.0 / m
-    i_rod = mass_rod * length**2 / 12.0 + mass_rod * (length / 2.0 - com) ** 2
-    i_point = mass_point * com**2 + mass_point * 0.0025  # an actuator is about a 10 cm body
-    return m, com, i_rod + i_point
-
-
 def _box_inertia(m: float, sx: float, sy: float, sz: float) -> tuple[float, float, float]:
     return m * (sy**2 + sz**2) / 12, m * (sx**2 + sz**2) / 12, m * (sx**2 + sy**2) / 12
 
@@ -79,9 +70,7 @@ def generate(params: DaisyParams = DAISY) -> str:
     for i, leg in enumerate(LEGS):
         mount = p.mount_position_m(i)
         yaw = p.mount_yaw_rad(i)
-        m0, c0, i0 = _rod(p.x8_9_mass_kg, p.bracket_mass_kg, p.bracket_m)
-        m1, c1, i1 = _rod(p.x8_16_mass_kg, p.upper_tube_mass_kg, p.upper_link_m)
-        m2, c2, i2 = _rod(p.x8_9_mass_kg, p.lower_tube_mass_kg, p.lower_link_m)
+        (m0, c0, i0), (m1, c1, i1), (m2, c2, i2) = p.segments()
         small = 1e-4
         out += [
             _joint(joint_name(leg, "base"), BODY_LINK, f"{leg}_base_link", f"{_f(mount[0])} {_f(mount[1])} 0",

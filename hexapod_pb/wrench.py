@@ -1,0 +1,381 @@
+"""Stance-wrench distribution: which ground forces should the stance feet push with?
+
+Problem (the seed's minimax, generalised).  Stance feet ``i`` at body-frame
+positions ``p_i`` push with ground reaction forces ``f_i`` (force *on* the
+foot).  The joints of the stance legs must then hold
+
+    tau = T f + g          T = -blockdiag(J_i^T),  g: the legs' own gravity torques
+
+and the robot is in equilibrium when
+
+    sum_i f_i = F,   sum_i p_i x f_i = M        (E f = w)
+
+with ``(F, M)`` the wrench the ground must supply (the weight, plus any body
+posture correction).  The seed minimises the peak normalised torque
+
+    min_f  max_j |tau_j| / tau_cont_j    subject to  E f = w
+
+over the friction components of a tripod (normal forces fixed by statics),
+with ``scipy.optimize.minimize(method="trust-constr")``.  It is a linear
+program in epigraph form:
+
+    min z   subject to  E f = w,  -z s_j <= (T f + g)_j <= z s_j,
+                        |f_x|, |f_y| <= mu f_z (friction pyramid), f_z >= f_min (unilateral)
+
+solved exactly here by a dual active-set solver (``daqp``) or HiGHS, for any
+number of stance legs, with friction and unilateral constraints the seed
+lacks; a second stage picks, among the distributions sharing the optimal
+peak, the one of least squared normalised torque; a thermal variant
+minimises the peak *predicted temperature* instead.
+"""
+
+from __future__ import annotations
+
+import time
+from ctypes import c_int
+from dataclasses import dataclass, field
+
+import daqp
+import numpy as np
+from scipy.optimize import LinearConstraint, linprog, minimize
+
+from thermolimb.model import FirstOrderBank
+
+from .kinematics import foot_jacobian, foot_position
+from .legs import leg_gravity_torque
+from .params import DaisyParams
+
+_INF = 1e30
+_EQUALITY = 5  # daqp sense: active and immutable
+_ACTIVE = 1
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+
+@dataclass(frozen=True)
+class StanceProblem:
+    """Data of one stance-wrench problem (see the module docstring for the maths)."""
+
+    legs: tuple[int, ...]  # stance legs (indices into LEGS)
+    body_p_feet: np.ndarray  # (n, 3) m
+    torque_map: np.ndarray  # (3n, 3n): tau = T f + g, stance legs' joints only
+    gravity_Nm: np.ndarray  # (3n,) g
+    torque_scale_Nm: np.ndarray  # (3n,) normaliser (continuous torque)
+    wrench: np.ndarray  # (6,) required (F, M) from the ground, body frame
+    mu: float | None = None  # friction pyramid coefficient; None: no friction limit (the seed)
+    min_normal_N: float | None = None  # unilateral contact; None: no bound (the seed)
+
+    @property
+    def n(self) -> int:
+        return len(self.legs)
+
+    @property
+    def equilibrium(self) -> np.ndarray:
+        """``E`` (6 x 3n): net force and net moment about the body origin."""
+        return np.vstack([np.hstack([np.eye(3)] * self.n), np.hstack([skew(p) for p in self.body_p_feet])])
+
+    @classmethod
+    def from_configuration(cls, params: DaisyParams, q: np.ndarray, legs, payload_kg: float = 0.0,
+                           wrench: np.ndarray | None = None, include_leg_gravity: bool = True,
+                           mu: float | None = None, min_normal_N: float | None = None,
+                           world_R_body: np.ndarray | None = None) -> "StanceProblem":
+        """Build the problem for joint angles ``q`` (18,) and stance legs.
+
+        Default wrench: hold the whole robot and payload up (gravity in the
+        body frame, from ``world_R_body``), no net moment about the body
+        origin (the centre of mass).
+        """
+        legs = tuple(int(i) for i in legs)
+        if len(legs) < 3:
+            raise ValueError(f"a static stance needs at least 3 feet on the ground, got {len(legs)}")
+        R = np.eye(3) if world_R_body is None else world_R_body
+        if wrench is None:
+            weight = (params.robot_mass_kg + payload_kg) * 9.81
+            wrench = np.concatenate([R.T @ np.array([0.0, 0.0, weight]), np.zeros(3)])
+        feet, blocks, grav = [], [], []
+        for i in legs:
+            qi = q[3 * i : 3 * i + 3]
+            feet.append(foot_position(params, i, qi))
+            blocks.append(-foot_jacobian(params, i, qi).T)
+            grav.append(leg_gravity_torque(params, i, qi, R) if include_leg_gravity else np.zeros(3))
+        T = np.zeros((3 * len(legs), 3 * len(legs)))
+        for k, b in enumerate(blocks):
+            T[3 * k : 3 * k + 3, 3 * k : 3 * k + 3] = b
+        scale = np.tile(params.continuous_torque_Nm, len(legs))
+        return cls(legs, np.array(feet), T, np.concatenate(grav), scale, np.asarray(wrench, float), mu, min_normal_N)
+
+    def torques(self, f: np.ndarray) -> np.ndarray:
+        return self.torque_map @ np.ravel(f) + self.gravity_Nm
+
+    def normalised(self, f: np.ndarray) -> np.ndarray:
+        return np.abs(self.torques(f)) / self.torque_scale_Nm
+
+
+@dataclass
+class StanceSolution:
+    """A distribution of ground forces and what it costs; ``residuals`` certify it."""
+
+    problem: StanceProblem
+    forces_N: np.ndarray  # (n, 3) on each stance foot, body frame
+    solver: str
+    solve_time_s: float
+    iterations: int = 0
+    duals: np.ndarray | None = field(default=None, repr=False)
+    active: np.ndarray | None = field(default=None, repr=False)  # active set, for warm starts
+
+    @property
+    def torques_Nm(self) -> np.ndarray:
+        return self.problem.torques(self.forces_N)
+
+    @property
+    def peak(self) -> float:
+        """Peak normalised torque ``max_j |tau_j| / tau_cont_j``."""
+        return float(np.max(self.problem.normalised(self.forces_N)))
+
+    def residuals(self) -> dict[str, float]:
+        """Equilibrium error (N, N m), friction-cone and unilateral violations (N)."""
+        p = self.problem
+        f = self.forces_N
+        out = {"equilibrium": float(np.max(np.abs(p.equilibrium @ f.ravel() - p.wrench)))}
+        if p.mu is not None:
+            out["friction"] = float(max(0.0, np.max(np.abs(f[:, :2]) - p.mu * f[:, 2:3])))
+        if p.min_normal_N is not None:
+            out["unilateral"] = float(max(0.0, np.max(p.min_normal_N - f[:, 2])))
+        return out
+
+
+# ---------------------------------------------------------------- baseline
+
+
+def vertical_only(problem: StanceProblem) -> StanceSolution:
+    """HEBI's stock distribution: vertical forces only, sharing the load so that moments balance.
+
+    The least-norm vertical forces meeting the vertical force and the roll
+    and pitch moments (exact for a tripod; horizontal wrench is ignored).
+    """
+    start = time.perf_counter()
+    p = problem
+    A = np.vstack([np.ones(p.n), p.body_p_feet[:, 1], -p.body_p_feet[:, 0]])
+    b = np.array([p.wrench[2], p.wrench[3], p.wrench[4]])
+    normal = np.linalg.lstsq(A, b, rcond=None)[0]
+    f = np.zeros((p.n, 3))
+    f[:, 2] = normal
+    return StanceSolution(p, f, "vertical_only", time.perf_counter() - start)
+
+
+# ----------------------------------------------------------- the seed's way
+
+
+def seed_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.ndarray | None = None,
+                      maxiter: int = 500) -> StanceSolution:
+    """The seed: normal forces from statics, trust-constr over the friction components of a tripod.
+
+    The cost ``max_j |tau_j| / s_j`` is non-smooth, as in the seed; with
+    ``zero_hessian`` the Hessian is taken as zero (the seed's 45 ms variant).
+    Constraints: the seed's three friction equalities (x, y force and yaw moment).
+    """
+    p = problem
+    if p.n != 3:
+        raise ValueError(f"the seed's formulation is for a tripod; got {p.n} stance legs")
+    start = time.perf_counter()
+    normal = vertical_only(p).forces_N[:, 2]  # the seed's Eq. 9 (exact for three feet)
+    x, y = p.body_p_feet[:, 0], p.body_p_feet[:, 1]
+    A = np.vstack([np.r_[np.ones(3), np.zeros(3)], np.r_[np.zeros(3), np.ones(3)], np.r_[-y, x]])
+    b = np.array([p.wrench[0], p.wrench[1], p.wrench[5] - 0.0])
+
+    def forces(v):
+        f = np.zeros((3, 3))
+        f[:, 0], f[:, 1], f[:, 2] = v[:3], v[3:], normal
+        return f
+
+    def cost(v):
+        return float(np.max(p.normalised(forces(v))))
+
+    hess = (lambda v: np.zeros((6, 6))) if zero_hessian else None
+    kwargs = {"hess": hess} if hess else {}
+    result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
+                      constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)
+    return StanceSolution(p, forces(result.x), "trust-constr", time.perf_counter() - start, int(result.nit))
+
+
+# ------------------------------------------------------------ exact minimax
+
+
+def _epigraph(problem: StanceProblem):
+    """LP data ``min c'x, bl <= A x <= bu`` over ``x = (f, z)``; the first 6 rows are equalities."""
+    p = problem
+    nf = 3 * p.n
+    E = p.equilibrium
+    s = p.torque_scale_Nm
+    rows = [np.hstack([E, np.zeros((6, 1))]),
+            np.hstack([p.torque_map, -s[:, None]]),  # T f + g - z s <= 0
+            np.hstack([p.torque_map, s[:, None]])]  # T f + g + z s >= 0
+    bu = [p.wrench, -p.gravity_Nm, np.full(nf, _INF)]
+    bl = [p.wrench, np.full(nf, -_INF), -p.gravity_Nm]
+    contact_A, contact_bu, contact_bl = _contact_rows(p)
+    rows.append(contact_A)
+    bu.append(contact_bu)
+    bl.append(contact_bl)
+    A = np.vstack(rows)
+    c = np.zeros(nf + 1)
+    c[-1] = 1.0
+    return c, A, np.concatenate(bu), np.concatenate(bl)
+
+
+def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution | None = None) -> StanceSolution:
+    """The exact minimax of the peak normalised torque (an LP), by ``daqp`` or ``highs``.
+
+    ``warm``: the previous control step's solution; its active set starts
+    the dual active-set solver (same problem structure required).
+    """
+    c, A, bu, bl = _epigraph(problem)
+    nf = 3 * problem.n
+    start = time.perf_counter()
+    if solver == "daqp":
+        sense = np.zeros(len(bu), dtype=c_int)
+        sense[:6] = _EQUALITY
+        if warm is not None and warm.active is not None and warm.active.shape == sense.shape:
+            sense[6:] = np.where(warm.active[6:], _ACTIVE, 0)
+        x, _, flag, info = daqp.solve(np.zeros((nf + 1, nf + 1)), c, A, bu, bl, sense, eps_prox=1e-6)
+        if flag < 1:
+            raise RuntimeError(f"daqp could not solve the stance problem (exit flag {flag})")
+        lam = np.asarray(info["lam"])
+        sol = StanceSolution(problem, x[:nf].reshape(-1, 3), "daqp", time.perf_counter() - start,
+                             int(info["iterations"]), duals=lam, active=np.abs(lam) > 0)
+        return sol
+    if solver == "highs":
+        eq = slice(0, 6)
+        ub_rows = np.isfinite(bu) & (bu < _INF / 2)
+        ub_rows[eq] = False
+        lb_rows = np.isfinite(bl) & (bl > -_INF / 2)
+        lb_rows[eq] = False
+        A_ub = np.vstack([A[ub_rows], -A[lb_rows]])
+        b_ub = np.concatenate([bu[ub_rows], -bl[lb_rows]])
+        res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A[eq], b_eq=bu[eq], bounds=[(None, None)] * (nf + 1),
+                      method="highs")
+        if res.status != 0:
+            raise RuntimeError(f"HiGHS could not solve the stance problem: {res.message}")
+        return StanceSolution(problem, res.x[:nf].reshape(-1, 3), "highs", time.perf_counter() - start, int(res.nit))
+    raise ValueError(f"unknown solver {solver!r}; expected 'daqp' or 'highs'")
+
+
+def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
+    """Second stage: least squared normalised torque among distributions within ``slack`` of the optimal peak.
+
+    A QP over the forces alone: ``min |W f + o|^2`` with ``W = diag(1/s) T``,
+    ``o = g / s``, subject to equilibrium, the contact constraints and
+    ``|T f + g| <= peak* (1 + slack) s``.
+    """
+    p = problem
+    first = minimax(p)
+    nf = 3 * p.n
+    start = time.perf_counter()
+    W = p.torque_map / p.torque_scale_Nm[:, None]
+    offset = p.gravity_Nm / p.torque_scale_Nm
+    H = 2.0 * W.T @ W + 1e-9 * np.eye(nf)
+    f = 2.0 * W.T @ offset
+    cap = first.peak * (1.0 + slack) * p.torque_scale_Nm
+    contact_A, contact_bu, contact_bl = _contact_rows(p)
+    A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
+    bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
+    bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
+    sense = np.zeros(len(bu), dtype=c_int)
+    sense[:6] = _EQUALITY
+    x, _, flag, info = daqp.solve(H, f, A, bu, bl, sense)
+    if flag < 1:
+        raise RuntimeError(f"daqp could not solve the second stage (exit flag {flag})")
+    return StanceSolution(p, x.reshape(-1, 3), "daqp-lex", first.solve_time_s + time.perf_counter() - start,
+                          int(info["iterations"]))
+
+
+# ------------------------------------------------------------ thermal-aware
+
+
+def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float,
+                    tol_K: float = 1e-3, max_cuts: int = 30) -> StanceSolution:
+    """Minimise the peak *predicted* temperature of the stance legs' actuators ``horizon_s`` ahead.
+
+    With Eq. 25 each predicted temperature is a convex quadratic of its
+    joint's torque, ``T_j = a_j + b_j tau_j + c_j tau_j^2``; the minimax of
+    these is solved by Kelley's cutting planes on the LP: each round adds the
+    tangent of every ``T_j`` at the current torques, until the model's peak is
+    within ``tol_K`` of the true one.  ``bank`` and ``temperature_C`` are the
+    stance joints' (3n) identified models and measured temperatures.
+    """
+    p = problem
+    nf = 3 * p.n
+    decay = np.exp(-horizon_s / bank.RC_s)
+    a = temperature_C * decay + bank.T_offset_C * (1 - decay)
+    b = -bank.beta_biasR_K_per_effort * (1 - decay)
+    cq = bank.betaR_K_per_effort2 * (1 - decay)
+    E = p.equilibrium
+    start = time.perf_counter()
+    sol = minimax(p)  # a good first point: the torque minimax
+    cuts_A, cuts_b = [], []
+    rounds = 0
+    for rounds in range(1, max_cuts + 1):
+        tau = p.torques(sol.forces_N)
+        predicted = a + b * tau + cq * tau**2
+        slope = b + 2 * cq * tau  # dT/dtau at tau
+        # T_j(tau') >= T_j(tau) + slope (tau' - tau), and tau' = T f' + g:  slope T f' - t <= ...
+        rows = np.hstack([slope[:, None] * p.torque_map, -np.ones((nf, 1))])
+        rhs = -(predicted - slope * tau) - slope * p.gravity_Nm
+        cuts_A.append(rows)
+        cuts_b.append(rhs)
+        A = np.vstack([np.hstack([E, np.zeros((6, 1))]), *cuts_A])
+        bu = np.concatenate([p.wrench, *cuts_b])
+        bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -_INF)])
+        extra_A, extra_bu, extra_bl = _contact_rows(p)
+        A = np.vstack([A, extra_A]) if len(extra_A) else A
+        bu = np.concatenate([bu, extra_bu])
+        bl = np.concatenate([bl, extra_bl])
+        # keep torques within their limits scaled by 3 (a trust region for the cuts)
+        lim = np.hstack([p.torque_map, np.zeros((nf, 1))])
+        A = np.vstack([A, lim])
+        bu = np.concatenate([bu, 3 * p.torque_scale_Nm - p.gravity_Nm])
+        bl = np.concatenate([bl, -3 * p.torque_scale_Nm - p.gravity_Nm])
+        c = np.zeros(nf + 1)
+        c[-1] = 1.0
+        sense = np.zeros(len(bu), dtype=c_int)
+        sense[:6] = _EQUALITY
+        x, model_peak, flag, _ = daqp.solve(np.zeros((nf + 1, nf + 1)), c, A, bu, bl, sense, eps_prox=1e-6)
+        if flag < 1:
+            raise RuntimeError(f"daqp failed in the thermal cutting planes (exit flag {flag})")
+        sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds)
+        tau = p.torques(sol.forces_N)
+        true_peak = float(np.max(a + b * tau + cq * tau**2))
+        if true_peak - x[-1] <= tol_K:
+            break
+    sol.solve_time_s = time.perf_counter() - start
+    sol.iterations = rounds
+    return sol
+
+
+def predicted_peak_C(problem: StanceProblem, sol: StanceSolution, bank: FirstOrderBank,
+                     temperature_C: np.ndarray, horizon_s: float) -> float:
+    return float(np.max(bank.ahead(temperature_C, sol.torques_Nm, horizon_s)))
+
+
+def _contact_rows(p: StanceProblem):
+    nf = 3 * p.n
+    rows, bu, bl = [], [], []
+    if p.mu is not None:
+        for k in range(p.n):
+            for axis in (0, 1):
+                for sign in (1.0, -1.0):
+                    r = np.zeros(nf + 1)
+                    r[3 * k + axis] = sign
+                    r[3 * k + 2] = -p.mu
+                    rows.append(r)
+                    bu.append(0.0)
+                    bl.append(-_INF)
+    if p.min_normal_N is not None:
+        for k in range(p.n):
+            r = np.zeros(nf + 1)
+            r[3 * k + 2] = 1.0
+            rows.append(r)
+            bu.append(_INF)
+            bl.append(p.min_normal_N)
+    return (np.array(rows) if rows else np.zeros((0, nf + 1))), np.array(bu), np.array(bl)
