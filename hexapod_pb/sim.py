@@ -179,9 +179,10 @@ class HexapodSim:
             if link not in self.foot_index:
                 continue
             leg = self.foot_index.index(link)
-            normal_on_b = np.array(point[7])  # contact normal, from A (ground) to B (robot)
-            f = point[9] * normal_on_b + point[10] * np.array(point[11]) + point[12] * np.array(point[13])
-            out[leg] += f
+            # PyBullet's normal on B points towards A: the ground pushes the foot along -n; the friction
+            # force on A is fn n - (f1 d1 + f2 d2), so on B it is the opposite
+            normal_on_b = np.array(point[7])
+            out[leg] += -point[9] * normal_on_b + point[10] * np.array(point[11]) + point[12] * np.array(point[13])
         return out
 
     def foot_positions_world(self) -> np.ndarray:

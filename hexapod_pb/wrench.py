@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import time
 from ctypes import c_int
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import daqp
 import numpy as np
@@ -150,10 +150,12 @@ class StanceSolution:
 
 
 def vertical_only(problem: StanceProblem) -> StanceSolution:
-    """HEBI's stock distribution: vertical forces only, sharing the load so that moments balance.
+    """HEBI's stock distribution: vertical forces sharing the load so that roll and pitch moments balance.
 
-    The least-norm vertical forces meeting the vertical force and the roll
-    and pitch moments (exact for a tripod; horizontal wrench is ignored).
+    The least-norm normal forces meeting the vertical force and the roll and
+    pitch moments (exact for a tripod).  Any horizontal force the body asks
+    for (propulsion, drift correction) is shared equally, so that this
+    baseline walks; the yaw moment is not controlled.
     """
     start = time.perf_counter()
     p = problem
@@ -162,6 +164,7 @@ def vertical_only(problem: StanceProblem) -> StanceSolution:
     normal = np.linalg.lstsq(A, b, rcond=None)[0]
     f = np.zeros((p.n, 3))
     f[:, 2] = normal
+    f[:, :2] = p.wrench[:2] / p.n
     return StanceSolution(p, f, "vertical_only", time.perf_counter() - start)
 
 
@@ -224,37 +227,104 @@ def _epigraph(problem: StanceProblem):
     return c, A, np.concatenate(bu), np.concatenate(bl)
 
 
-def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution | None = None) -> StanceSolution:
+def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq: int,
+             sense: np.ndarray | None = None) -> tuple[np.ndarray, str, int, np.ndarray | None]:
+    """``min c'x`` subject to ``bl <= A x <= bu`` (the first ``n_eq`` rows equalities).
+
+    By daqp (dual active set, about 10 us here); should it stall, by HiGHS.
+    Returns ``(x, solver, iterations, duals)``.
+    """
+    n = len(c)
+    if sense is None:
+        sense = np.zeros(len(bu), dtype=c_int)
+        sense[:n_eq] = _EQUALITY
+    x, _, flag, info = daqp.solve(np.zeros((n, n)), c, A, bu, bl, sense, eps_prox=1e-6)
+    if flag >= 1:
+        return x, "daqp", int(info["iterations"]), np.asarray(info["lam"])
+    rows = np.arange(len(bu)) >= n_eq
+    upper = rows & (bu < _INF / 2)
+    lower = rows & (bl > -_INF / 2)
+    res = linprog(c, A_ub=np.vstack([A[upper], -A[lower]]), b_ub=np.concatenate([bu[upper], -bl[lower]]),
+                  A_eq=A[:n_eq], b_eq=bu[:n_eq], bounds=[(None, None)] * n, method="highs")
+    if res.status != 0:
+        raise RuntimeError(f"the stance LP has no solution (daqp exit flag {flag}; HiGHS: {res.message})")
+    return res.x, "highs", int(res.nit), None
+
+
+MOMENT_ARM_M = 0.3  # weights moment errors against force errors in the closest achievable wrench
+
+
+def closest_achievable(problem: StanceProblem) -> StanceProblem:
+    """The same problem with its wrench replaced by the nearest one the contacts can supply.
+
+    Minimises ``|E f - w|_1`` (moments divided by a 0.3 m arm) subject to the
+    friction pyramid and unilateral constraints; returns ``problem`` itself
+    when its wrench is already achievable.
+    """
+    p = problem
+    nf = 3 * p.n
+    weights = np.r_[np.ones(3), np.full(3, 1.0 / MOMENT_ARM_M)]
+    # variables: f (nf), slack s (6) with -s <= E f - w <= s
+    contact_A, contact_bu, contact_bl = _contact_rows(p)
+    A = np.vstack([np.hstack([p.equilibrium, -np.eye(6)]), np.hstack([p.equilibrium, np.eye(6)]),
+                   np.hstack([contact_A[:, :nf], np.zeros((len(contact_A), 6))])])
+    bu = np.concatenate([p.wrench, np.full(6, _INF), contact_bu])
+    bl = np.concatenate([np.full(6, -_INF), p.wrench, contact_bl])
+    c = np.r_[np.zeros(nf), weights]
+    x, *_ = solve_lp(c, A, bu, bl, n_eq=0)
+    if np.max(x[nf:]) < 1e-6:
+        return p
+    return replace(p, wrench=p.equilibrium @ x[:nf])
+
+
+def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution | None = None,
+            smoothing_1_N2: float = 0.0, previous_N: np.ndarray | None = None) -> StanceSolution:
     """The exact minimax of the peak normalised torque (an LP), by ``daqp`` or ``highs``.
 
     ``warm``: the previous control step's solution; its active set starts
     the dual active-set solver (same problem structure required).
+
+    ``smoothing_1_N2 > 0`` adds ``smoothing/2 |f - previous|^2`` to the cost
+    (daqp only): many force distributions share nearly the optimal peak and
+    the LP's optimum jumps between them as the legs move, which, fed back
+    through the body, makes the forces alternate from one control step to the
+    next; the proximal term picks the near-optimal one closest to the last
+    step (the seed's one trust-region iteration per step plays that role).
     """
     c, A, bu, bl = _epigraph(problem)
     nf = 3 * problem.n
     start = time.perf_counter()
+    if smoothing_1_N2 > 0 and solver != "daqp":
+        raise ValueError("smoothing needs the daqp solver")
+    if solver == "daqp" and smoothing_1_N2 > 0:
+        prev = np.zeros(nf) if previous_N is None else np.ravel(previous_N)
+        H = np.zeros((nf + 1, nf + 1))
+        H[:nf, :nf] = smoothing_1_N2 * np.eye(nf)
+        H[nf, nf] = 1e-9
+        c = c.copy()
+        c[:nf] = -smoothing_1_N2 * prev
+        sense = np.zeros(len(bu), dtype=c_int)
+        sense[:6] = _EQUALITY
+        x, _, flag, info = daqp.solve(H, c, A, bu, bl, sense)
+        if flag < 1:
+            raise RuntimeError(f"daqp could not solve the smoothed stance problem (exit flag {flag})")
+        return StanceSolution(problem, x[:nf].reshape(-1, 3), "daqp-smoothed", time.perf_counter() - start,
+                              int(info["iterations"]))
     if solver == "daqp":
         sense = np.zeros(len(bu), dtype=c_int)
         sense[:6] = _EQUALITY
         if warm is not None and warm.active is not None and warm.active.shape == sense.shape:
             sense[6:] = np.where(warm.active[6:], _ACTIVE, 0)
-        x, _, flag, info = daqp.solve(np.zeros((nf + 1, nf + 1)), c, A, bu, bl, sense, eps_prox=1e-6)
-        if flag < 1:
-            raise RuntimeError(f"daqp could not solve the stance problem (exit flag {flag})")
-        lam = np.asarray(info["lam"])
-        sol = StanceSolution(problem, x[:nf].reshape(-1, 3), "daqp", time.perf_counter() - start,
-                             int(info["iterations"]), duals=lam, active=np.abs(lam) > 0)
-        return sol
+        x, used, iterations, lam = solve_lp(c, A, bu, bl, 6, sense)
+        return StanceSolution(problem, x[:nf].reshape(-1, 3), used, time.perf_counter() - start, iterations,
+                              duals=lam, active=None if lam is None else np.abs(lam) > 0)
     if solver == "highs":
-        eq = slice(0, 6)
-        ub_rows = np.isfinite(bu) & (bu < _INF / 2)
-        ub_rows[eq] = False
-        lb_rows = np.isfinite(bl) & (bl > -_INF / 2)
-        lb_rows[eq] = False
-        A_ub = np.vstack([A[ub_rows], -A[lb_rows]])
-        b_ub = np.concatenate([bu[ub_rows], -bl[lb_rows]])
-        res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A[eq], b_eq=bu[eq], bounds=[(None, None)] * (nf + 1),
-                      method="highs")
+        ub_rows = bu < _INF / 2
+        ub_rows[:6] = False
+        lb_rows = bl > -_INF / 2
+        lb_rows[:6] = False
+        res = linprog(c, A_ub=np.vstack([A[ub_rows], -A[lb_rows]]), b_ub=np.concatenate([bu[ub_rows], -bl[lb_rows]]),
+                      A_eq=A[:6], b_eq=bu[:6], bounds=[(None, None)] * (nf + 1), method="highs")
         if res.status != 0:
             raise RuntimeError(f"HiGHS could not solve the stance problem: {res.message}")
         return StanceSolution(problem, res.x[:nf].reshape(-1, 3), "highs", time.perf_counter() - start, int(res.nit))
@@ -338,11 +408,7 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
         bl = np.concatenate([bl, -3 * p.torque_scale_Nm - p.gravity_Nm])
         c = np.zeros(nf + 1)
         c[-1] = 1.0
-        sense = np.zeros(len(bu), dtype=c_int)
-        sense[:6] = _EQUALITY
-        x, model_peak, flag, _ = daqp.solve(np.zeros((nf + 1, nf + 1)), c, A, bu, bl, sense, eps_prox=1e-6)
-        if flag < 1:
-            raise RuntimeError(f"daqp failed in the thermal cutting planes (exit flag {flag})")
+        x, *_ = solve_lp(c, A, bu, bl, n_eq=6)
         sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds)
         tau = p.torques(sol.forces_N)
         true_peak = float(np.max(a + b * tau + cq * tau**2))

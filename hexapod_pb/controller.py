@@ -1,0 +1,173 @@
+"""Hybrid motion-force control of the hexapod (the seed's Eq. 6), as pure functions.
+
+Swing legs: joint-space PID through the leg's mass matrix, tracking the CPG's
+foot targets by inverse kinematics, plus gravity compensation.
+
+Stance legs (point contact with friction, ``P = diag(0, 0, 0, 1, 1, 1)``):
+
+    tau = J^T ( P Lambda (Kp e + Kd de + Ki int e) + (I - P) F_d ) + g,   Lambda = (J^T)^+ M
+
+with ``F_d = -f`` the wrench the foot must exert, ``f`` the stance force
+chosen by the distribution strategy for the net ground wrench the body needs:
+its weight, plus feedback on body height, attitude and horizontal velocity
+(the CPG gives the walking speed).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from thermolimb.model import FirstOrderBank
+
+from . import cpg
+from .constants import LEGS
+from .kinematics import foot_jacobian_6d, inverse_kinematics, nominal_foot
+from .legs import leg_gravity_torque, point_jacobian
+from .params import GRAVITY_M_S2, DaisyParams
+from .sim import Reading
+from .wrench import (StanceProblem, StanceSolution, closest_achievable, minimax, minimax_lex, thermal_minimax,
+                     vertical_only)
+
+STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")
+P_POINT_CONTACT = np.diag([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
+
+
+@dataclass(frozen=True)
+class Gains:
+    swing_kp_1_s2: float = 200.0  # joint-space PID of swing legs, as accelerations (scaled by the leg mass matrix)
+    swing_kd_1_s: float = 20.0
+    swing_ki_1_s3: float = 0.0
+    # the seed's motion term on stance legs acts through the whole body: at 50 Hz the swing gains make the
+    # body's yaw run away, these are stable (measured; see tests/test_hexapod_control.py)
+    stance_kp_1_s2: float = 60.0
+    stance_kd_1_s: float = 10.0
+    height_kp_1_s2: float = 60.0  # body height, as an acceleration per metre of error
+    height_kd_1_s: float = 12.0
+    velocity_kv_1_s: float = 3.0  # horizontal velocity tracking
+    attitude_kp_Nm_rad: float = 200.0
+    attitude_kd_Nm_s_rad: float = 5.0  # stiffer makes the body yaw oscillate at 50 Hz (measured)
+    stance_motion_scale: float = 1.0  # the seed's motion term on stance legs (Eq. 6); 0 turns it off
+    smoothing_1_N2: float = 1e-3  # proximal weight of the control-rate minimax (see wrench.minimax)
+    mu: float = 0.6  # friction pyramid the distribution respects (None: the seed's unconstrained friction)
+    min_normal_N: float = 2.0  # keep every stance foot loaded
+
+
+@dataclass(frozen=True)
+class ThermalContext:
+    """What the thermal-aware distribution needs: identified models of all 18 joints and a horizon."""
+
+    bank: FirstOrderBank
+    horizon_s: float = 20.0
+
+
+@dataclass
+class ControllerState:
+    cpg_state: np.ndarray
+    integral: np.ndarray = field(default_factory=lambda: np.zeros(18))
+    last: StanceSolution | None = None
+
+
+def body_wrench(params: DaisyParams, payload_kg: float, reading: Reading, gains: Gains, velocity_m_s: np.ndarray,
+                height_m: float) -> np.ndarray:
+    """Ground wrench ``(F, M)`` on the robot, body frame: weight plus posture and velocity feedback."""
+    R = reading.world_R_body
+    mass = params.robot_mass_kg + payload_kg
+    v_world = R @ reading.body_velocity_m_s
+    desired_v_world = R @ velocity_m_s
+    accel = np.zeros(3)
+    accel[:2] = gains.velocity_kv_1_s * (desired_v_world[:2] - v_world[:2])
+    accel[2] = gains.height_kp_1_s2 * (height_m - reading.body_position_m[2]) - gains.height_kd_1_s * v_world[2]
+    force_world = mass * (np.array([0.0, 0.0, GRAVITY_M_S2]) + accel)
+    roll = np.arctan2(R[2, 1], R[2, 2])
+    pitch = -np.arcsin(np.clip(R[2, 0], -1, 1))
+    yaw = np.arctan2(R[1, 0], R[0, 0])
+    attitude_error = np.array([-roll, -pitch, -yaw])  # level, heading along the world x axis
+    moment = gains.attitude_kp_Nm_rad * attitude_error - gains.attitude_kd_Nm_s_rad * reading.body_omega_rad_s
+    return np.concatenate([R.T @ force_world, moment])
+
+
+def leg_mass_matrix(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
+    """Approximate joint-space mass matrix (3 x 3) of one leg: segment masses as points plus link inertias."""
+    (m0, c0, i0), (m1, c1, i1), (m2, c2, i2) = params.segments()
+    b, L1, L2 = params.bracket_m, params.upper_link_m, params.lower_link_m
+    M = np.zeros((3, 3))
+    for mass, radial, upper, lower in ((m0, c0, 0.0, 0.0), (m1, b, c1, 0.0), (m2, b, L1, c2),
+                                       (params.foot_mass_kg, b, L1, L2)):
+        J = point_jacobian(params, leg, q, radial, upper, lower)
+        M += mass * J.T @ J
+    M[0, 0] += i0 + i1 + i2  # yaw inertia of the segments about their own centres
+    M[1:, 1:] += np.array([[i1 + i2, i2], [i2, i2]])  # pitch inertias of the upper and lower links
+    return M
+
+
+def control_step(reading: Reading, state: ControllerState, params: DaisyParams, gait: cpg.CPGParams,
+                 strategy: str, dt_s: float, payload_kg: float = 0.0, gains: Gains = Gains(),
+                 thermal: ThermalContext | None = None, walking: bool = True) -> tuple[np.ndarray, ControllerState, dict]:
+    """Torques (18,) for one control step, the next controller state, and what was decided."""
+    if strategy not in STRATEGIES:
+        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if strategy == "thermal_aware" and thermal is None:
+        raise ValueError("the thermal_aware strategy needs a ThermalContext (identified models)")
+    nominal = np.array([nominal_foot(params, i) for i in range(len(LEGS))])
+    cpg_state = cpg.step(state.cpg_state, gait, dt_s) if walking else state.cpg_state
+    planned_stance = cpg.stance(cpg_state, gait) if walking else np.ones(len(LEGS), bool)
+    targets = cpg.foot_targets(cpg_state, gait, nominal) if walking else nominal
+    q_des = np.concatenate([inverse_kinematics(params, i, targets[i]) for i in range(len(LEGS))])
+    q, qd = reading.q_rad, reading.qd_rad_s
+    error = q_des - q
+    integral = state.integral + error * dt_s
+    swing_pid = gains.swing_kp_1_s2 * error - gains.swing_kd_1_s * qd + gains.swing_ki_1_s3 * integral
+    stance_pd = gains.stance_kp_1_s2 * error - gains.stance_kd_1_s * qd
+
+    speed = gait.speed_m_s if walking else 0.0
+    velocity = speed * np.array([np.cos(gait.heading_rad), np.sin(gait.heading_rad), 0.0])
+    wrench = body_wrench(params, payload_kg, reading, gains, velocity, params.nominal_body_height_m)
+    legs = tuple(int(i) for i in np.flatnonzero(planned_stance))
+    problem = StanceProblem.from_configuration(params, q, legs, payload_kg=payload_kg, wrench=wrench,
+                                               mu=gains.mu, min_normal_N=gains.min_normal_N,
+                                               world_R_body=reading.world_R_body)
+    solution = distribute(problem, strategy, state.last, thermal, reading.temperature_C, gains.smoothing_1_N2)
+
+    torques = np.zeros(18)
+    forces = dict(zip(legs, solution.forces_N))
+    for i in range(len(LEGS)):
+        sl = slice(3 * i, 3 * i + 3)
+        qi = q[sl]
+        M = leg_mass_matrix(params, i, qi)
+        g = leg_gravity_torque(params, i, qi, reading.world_R_body)
+        if i in forces:
+            J = foot_jacobian_6d(params, i, qi)
+            Lam = np.linalg.pinv(J.T) @ M
+            F_d = np.concatenate([-forces[i], np.zeros(3)])
+            torques[sl] = J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl])
+                                 + (np.eye(6) - P_POINT_CONTACT) @ F_d) + g
+        else:
+            torques[sl] = M @ swing_pid[sl] + g
+    info = {"stance": planned_stance, "solution": solution, "wrench": wrench, "targets": targets}
+    return torques, replace(state, cpg_state=cpg_state, integral=integral, last=solution), info
+
+
+def distribute(problem: StanceProblem, strategy: str, warm: StanceSolution | None,
+               thermal: ThermalContext | None, temperature_C: np.ndarray, smoothing_1_N2: float = 0.0) -> StanceSolution:
+    """Stance forces by the chosen strategy, for the nearest wrench the contacts can supply."""
+    if strategy == "vertical_only":
+        return vertical_only(problem)
+    problem = closest_achievable(problem)
+    previous = np.zeros((problem.n, 3))
+    if warm is not None:
+        last = dict(zip(warm.problem.legs, warm.forces_N))
+        previous = np.array([last.get(i, np.zeros(3)) for i in problem.legs])
+    if strategy == "minimax":
+        try:
+            return minimax(problem, smoothing_1_N2=smoothing_1_N2, previous_N=previous)
+        except RuntimeError:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible problem
+            return minimax(problem, solver="highs")
+    if strategy == "minimax_lex":
+        return minimax_lex(problem)
+    joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in problem.legs])
+    b = thermal.bank
+    sub = FirstOrderBank(b.RC_s[joints], b.betaR_K_per_effort2[joints], b.beta_biasR_K_per_effort[joints],
+                         b.T_offset_C[joints])
+    return thermal_minimax(problem, sub, temperature_C[joints], thermal.horizon_s)

@@ -1,0 +1,38 @@
+"""Thermal models of the hexapod's 18 actuators, for the thermal-aware distribution.
+
+Two sources: :func:`datasheet_bank` (Eq. 5 from the actuator data: winding
+and housing lumped, the body as the slow "ambient"), and
+:func:`identified_bank`, fitted from the robot's own canonical log.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from thermolimb.evaluation import make_estimator
+from thermolimb.logs import ThermalLog
+from thermolimb.model import FirstOrderBank
+from thermolimb.plant import ACTUATORS
+
+from .constants import ACTUATOR_MODEL, JOINT_KINDS, JOINTS, LEGS
+
+
+def datasheet_bank(ambient_C: float = 25.0) -> FirstOrderBank:
+    """Eq. 5 parameters from the actuator data: RC = (C_w + C_h)(R_wh + R_hb), betaR = R_e (R_wh + R_hb) / k^2."""
+    rc, beta = [], []
+    for _ in LEGS:
+        for kind in JOINT_KINDS:
+            spec = ACTUATORS[ACTUATOR_MODEL[kind]]
+            net = spec.network
+            r_th = net.resistance_K_per_W[0] + (net.resistance_K_per_W[1] if net.n_nodes > 1 else 0.0)
+            c_th = net.capacity_J_per_K[0] + (net.capacity_J_per_K[1] if net.n_nodes > 1 else 0.0)
+            rc.append(r_th * c_th)
+            beta.append(spec.winding_resistance_ohm * r_th / spec.effort_per_amp**2)
+    n = len(JOINTS)
+    return FirstOrderBank(np.array(rc), np.array(beta), np.zeros(n), np.full(n, ambient_C))
+
+
+def identified_bank(log: ThermalLog, method: str = "output_error") -> FirstOrderBank:
+    """Fit Eq. 5 (``joule,effort_bias``) to every joint of a canonical log of the robot."""
+    models = [make_estimator(method, "joule,effort_bias").fit(log.series(name)).model_ for name in JOINTS]
+    return FirstOrderBank.from_models(models)
