@@ -32,8 +32,10 @@ minimises the peak *predicted temperature* instead.
 from __future__ import annotations
 
 import time
+import warnings
 from ctypes import c_int
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import daqp
 import numpy as np
@@ -71,10 +73,17 @@ class StanceProblem:
     def n(self) -> int:
         return len(self.legs)
 
-    @property
+    @cached_property
     def equilibrium(self) -> np.ndarray:
         """``E`` (6 x 3n): net force and net moment about the body origin."""
-        return np.vstack([np.hstack([np.eye(3)] * self.n), np.hstack([skew(p) for p in self.body_p_feet])])
+        E = np.zeros((6, 3 * self.n))
+        x, y, z = self.body_p_feet[:, 0], self.body_p_feet[:, 1], self.body_p_feet[:, 2]
+        E[0, 0::3] = E[1, 1::3] = E[2, 2::3] = 1.0
+        # rows of sum p x f: (y fz - z fy, z fx - x fz, x fy - y fx)
+        E[3, 2::3], E[3, 1::3] = y, -z
+        E[4, 0::3], E[4, 2::3] = z, -x
+        E[5, 1::3], E[5, 0::3] = x, -y
+        return E
 
     @classmethod
     def from_configuration(cls, params: DaisyParams, q: np.ndarray, legs, payload_kg: float = 0.0,
@@ -198,8 +207,11 @@ def seed_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
 
     hess = (lambda v: np.zeros((6, 6))) if zero_hessian else None
     kwargs = {"hess": hess} if hess else {}
-    result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
-                      constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)
+    with warnings.catch_warnings():
+        # the quasi-Newton update warns that the cost is piecewise linear: that is why the seed zeroed the Hessian
+        warnings.simplefilter("ignore", UserWarning)
+        result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
+                          constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)
     return StanceSolution(p, forces(result.x), "trust-constr", time.perf_counter() - start, int(result.nit))
 
 
@@ -210,21 +222,40 @@ def _epigraph(problem: StanceProblem):
     """LP data ``min c'x, bl <= A x <= bu`` over ``x = (f, z)``; the first 6 rows are equalities."""
     p = problem
     nf = 3 * p.n
-    E = p.equilibrium
     s = p.torque_scale_Nm
-    rows = [np.hstack([E, np.zeros((6, 1))]),
-            np.hstack([p.torque_map, -s[:, None]]),  # T f + g - z s <= 0
-            np.hstack([p.torque_map, s[:, None]])]  # T f + g + z s >= 0
-    bu = [p.wrench, -p.gravity_Nm, np.full(nf, _INF)]
-    bl = [p.wrench, np.full(nf, -_INF), -p.gravity_Nm]
-    contact_A, contact_bu, contact_bl = _contact_rows(p)
-    rows.append(contact_A)
-    bu.append(contact_bu)
-    bl.append(contact_bl)
-    A = np.vstack(rows)
+    contact = p.mu is not None or p.min_normal_N is not None
+    contact_A, contact_bu, contact_bl = _contact_rows(p) if contact else (None, None, None)
+    m = 6 + 2 * nf + (len(contact_A) if contact else 0)
+    A = np.zeros((m, nf + 1))
+    A[:6, :nf] = p.equilibrium
+    A[6 : 6 + nf, :nf] = p.torque_map  # T f + g - z s <= 0
+    A[6 : 6 + nf, nf] = -s
+    A[6 + nf : 6 + 2 * nf, :nf] = p.torque_map  # T f + g + z s >= 0
+    A[6 + nf : 6 + 2 * nf, nf] = s
+    bu = np.empty(m)
+    bl = np.empty(m)
+    bu[:6] = bl[:6] = p.wrench
+    bu[6 : 6 + nf] = -p.gravity_Nm
+    bl[6 : 6 + nf] = -_INF
+    bu[6 + nf : 6 + 2 * nf] = _INF
+    bl[6 + nf : 6 + 2 * nf] = -p.gravity_Nm
+    if contact:
+        A[6 + 2 * nf :] = contact_A
+        bu[6 + 2 * nf :] = contact_bu
+        bl[6 + 2 * nf :] = contact_bl
     c = np.zeros(nf + 1)
     c[-1] = 1.0
-    return c, A, np.concatenate(bu), np.concatenate(bl)
+    return c, A, bu, bl
+
+
+_ZERO_HESSIANS: dict[int, np.ndarray] = {}
+
+
+def _zero_hessian(n: int) -> np.ndarray:
+    """One zero matrix per size, reused: an LP's Hessian (daqp regularises it and does not write to it)."""
+    if n not in _ZERO_HESSIANS:
+        _ZERO_HESSIANS[n] = np.zeros((n, n))
+    return _ZERO_HESSIANS[n]
 
 
 def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq: int,
@@ -238,7 +269,7 @@ def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq:
     if sense is None:
         sense = np.zeros(len(bu), dtype=c_int)
         sense[:n_eq] = _EQUALITY
-    x, _, flag, info = daqp.solve(np.zeros((n, n)), c, A, bu, bl, sense, eps_prox=1e-6)
+    x, _, flag, info = daqp.solve(_zero_hessian(n), c, A, bu, bl, sense, eps_prox=1e-6)
     if flag >= 1:
         return x, "daqp", int(info["iterations"]), np.asarray(info["lam"])
     rows = np.arange(len(bu)) >= n_eq
@@ -425,23 +456,24 @@ def predicted_peak_C(problem: StanceProblem, sol: StanceSolution, bank: FirstOrd
 
 
 def _contact_rows(p: StanceProblem):
+    """Friction pyramid ``|f_x|, |f_y| <= mu f_z`` and unilateral ``f_z >= f_min`` rows over ``x = (f, z)``."""
     nf = 3 * p.n
-    rows, bu, bl = [], [], []
+    blocks, bu, bl = [], [], []
     if p.mu is not None:
-        for k in range(p.n):
-            for axis in (0, 1):
-                for sign in (1.0, -1.0):
-                    r = np.zeros(nf + 1)
-                    r[3 * k + axis] = sign
-                    r[3 * k + 2] = -p.mu
-                    rows.append(r)
-                    bu.append(0.0)
-                    bl.append(-_INF)
+        rows = np.zeros((4 * p.n, nf + 1))
+        k = np.repeat(np.arange(p.n), 4)
+        axis = np.tile([0, 0, 1, 1], p.n)
+        rows[np.arange(4 * p.n), 3 * k + axis] = np.tile([1.0, -1.0, 1.0, -1.0], p.n)
+        rows[np.arange(4 * p.n), 3 * k + 2] = -p.mu
+        blocks.append(rows)
+        bu.append(np.zeros(4 * p.n))
+        bl.append(np.full(4 * p.n, -_INF))
     if p.min_normal_N is not None:
-        for k in range(p.n):
-            r = np.zeros(nf + 1)
-            r[3 * k + 2] = 1.0
-            rows.append(r)
-            bu.append(_INF)
-            bl.append(p.min_normal_N)
-    return (np.array(rows) if rows else np.zeros((0, nf + 1))), np.array(bu), np.array(bl)
+        rows = np.zeros((p.n, nf + 1))
+        rows[np.arange(p.n), 3 * np.arange(p.n) + 2] = 1.0
+        blocks.append(rows)
+        bu.append(np.full(p.n, _INF))
+        bl.append(np.full(p.n, p.min_normal_N))
+    if not blocks:
+        return np.zeros((0, nf + 1)), np.zeros(0), np.zeros(0)
+    return np.vstack(blocks), np.concatenate(bu), np.concatenate(bl)
