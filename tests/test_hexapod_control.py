@@ -112,3 +112,18 @@ def test_two_fresh_worlds_with_the_same_seed_give_identical_trajectories():
     _, _, one = walk("minimax", seconds=2.0, seed=3)
     _, _, two = walk("minimax", seconds=2.0, seed=3)
     np.testing.assert_array_equal(one, two)
+
+
+def test_a_run_writes_a_canonical_log_that_fit_reads(tmp_path):
+    from hexapod_pb.constants import JOINTS
+    from hexapod_pb.scenarios import run_scenario
+    from thermolimb.logs import read_log
+
+    result = run_scenario("stand_5kg", "minimax", 4.0)
+    path = result.log.write(tmp_path / "hexapod.csv")
+    log = read_log(path)
+    assert log.actuators == JOINTS
+    shoulder = log.series("left_middle_shoulder")
+    # efforts are the torques applied after derating; readings are the plant's quantised temperatures
+    assert shoulder.signals.effort.std() > 0 and np.allclose(shoulder.temperature_C * 10, np.round(shoulder.temperature_C * 10))
+    assert shoulder.signals.velocity is not None and shoulder.signals.ambient_C is not None
