@@ -133,6 +133,7 @@ class StanceSolution:
     iterations: int = 0
     duals: np.ndarray | None = field(default=None, repr=False)
     active: np.ndarray | None = field(default=None, repr=False)  # active set, for warm starts
+    lp: tuple | None = field(default=None, repr=False)  # (c, A, bu, bl, n_eq, x) of an LP solve, for the certificate
 
     @property
     def torques_Nm(self) -> np.ndarray:
@@ -152,6 +153,15 @@ class StanceSolution:
             out["friction"] = float(max(0.0, np.max(np.abs(f[:, :2]) - p.mu * f[:, 2:3])))
         if p.min_normal_N is not None:
             out["unilateral"] = float(max(0.0, np.max(p.min_normal_N - f[:, 2])))
+        if self.lp is not None and self.duals is not None:
+            # optimality certificate of the LP (KKT): c + A'lam = 0, lam > 0 only on rows at their upper
+            # bound and lam < 0 only on rows at their lower bound
+            c, A, bu, bl, n_eq, x = self.lp
+            lam = self.duals
+            out["stationarity"] = float(np.max(np.abs(c + A.T @ lam)))
+            row = A @ x
+            bound = np.where(lam > 0, bu, bl)[n_eq:]
+            out["complementarity"] = float(np.max(np.abs(lam[n_eq:]) * np.abs(row[n_eq:] - bound), initial=0.0))
         return out
 
 
@@ -348,7 +358,7 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
             sense[6:] = np.where(warm.active[6:], _ACTIVE, 0)
         x, used, iterations, lam = solve_lp(c, A, bu, bl, 6, sense)
         return StanceSolution(problem, x[:nf].reshape(-1, 3), used, time.perf_counter() - start, iterations,
-                              duals=lam, active=None if lam is None else np.abs(lam) > 0)
+                              duals=lam, active=None if lam is None else np.abs(lam) > 0, lp=(c, A, bu, bl, 6, x))
     if solver == "highs":
         ub_rows = bu < _INF / 2
         ub_rows[:6] = False

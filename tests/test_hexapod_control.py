@@ -38,7 +38,9 @@ def test_exact_minimax_equals_trust_constr_and_balances(seed):
     exact = minimax(problem)
     seed_way = seed_trust_constr(problem)
     highs = minimax(problem, solver="highs")
-    assert exact.residuals()["equilibrium"] < 1e-8  # N and N m
+    certificate = exact.residuals()
+    assert certificate["equilibrium"] < 1e-8  # N and N m
+    assert certificate["stationarity"] < 1e-9 and certificate["complementarity"] < 1e-9  # KKT: optimal
     assert exact.peak <= seed_way.peak + 1e-6  # never worse than the seed's solver
     assert exact.peak == pytest.approx(highs.peak, abs=1e-7)  # two exact solvers agree
     # trust-constr on the non-smooth max sometimes stops short (benchmarks/wrench.py counts how often);
