@@ -1,16 +1,13 @@
 """Thermal models of the hexapod's 18 actuators, for the thermal-aware distribution.
 
-Two sources: :func:`datasheet_bank` (Eq. 5 from the actuator data: winding
-and housing lumped, the body as the slow "ambient"), and
-:func:`identified_bank`, fitted from the robot's own canonical log.
+:func:`datasheet_bank` gives Eq. 5 from the actuator data: winding and
+housing lumped, the body as the slow "ambient".
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from thermolimb.evaluation import make_estimator
-from thermolimb.logs import ThermalLog
 from thermolimb.model import FirstOrderBank
 from thermolimb.plant import ACTUATORS
 
@@ -30,9 +27,3 @@ def datasheet_bank(ambient_C: float = 25.0) -> FirstOrderBank:
             beta.append(spec.winding_resistance_ohm * r_th / spec.effort_per_amp**2)
     n = len(JOINTS)
     return FirstOrderBank(np.array(rc), np.array(beta), np.zeros(n), np.full(n, ambient_C))
-
-
-def identified_bank(log: ThermalLog, method: str = "output_error") -> FirstOrderBank:
-    """Fit Eq. 5 (``joule,effort_bias``) to every joint of a canonical log of the robot."""
-    models = [make_estimator(method, "joule,effort_bias").fit(log.series(name)).model_ for name in JOINTS]
-    return FirstOrderBank.from_models(models)
