@@ -1,0 +1,59 @@
+"""Every name of the Valkyrie-like humanoid, written once.
+
+Actuated joints: 6 per leg, 3 in the waist, 4 per arm (23).  Valkyrie's
+forearm, wrist and neck joints carry almost no load and are left out.
+"""
+
+from __future__ import annotations
+
+SIDES = ("left", "right")
+LEG_JOINTS = ("hip_yaw", "hip_roll", "hip_pitch", "knee", "ankle_pitch", "ankle_roll")
+ARM_JOINTS = ("shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow")
+WAIST_JOINTS = ("torso_yaw", "torso_pitch", "torso_roll")
+
+PELVIS = "pelvis"
+TORSO = "torso"
+
+
+def leg_joint(side: str, name: str) -> str:
+    return f"{side}_{name}"
+
+
+def foot_link(side: str) -> str:
+    return f"{side}_foot"
+
+
+JOINTS = (
+    tuple(leg_joint(s, j) for s in SIDES for j in LEG_JOINTS)
+    + WAIST_JOINTS
+    + tuple(f"{s}_{j}" for s in SIDES for j in ARM_JOINTS)
+)
+FEET = tuple(foot_link(s) for s in SIDES)
+
+# joint pairs driven by two linear push-rod actuators (the seed's Sec. III)
+ROD_PAIRS = {
+    "left_ankle": ("left_ankle_pitch", "left_ankle_roll"),
+    "right_ankle": ("right_ankle_pitch", "right_ankle_roll"),
+    "waist": ("torso_pitch", "torso_roll"),
+}
+# the thermal "actuators": rotary joints, and two rods for each rod pair
+ACTUATORS = tuple(
+    [j for j in JOINTS if not any(j in pair for pair in ROD_PAIRS.values())]
+    + [f"{pair}_rod_{k}" for pair in ROD_PAIRS for k in ("a", "b")]
+)
+
+CONTACT_MODES = ("double", "left", "right")  # double support, left single support, right single support
+
+
+def mode_feet(mode: str) -> tuple[str, ...]:
+    return {"double": FEET, "left": (FEET[0],), "right": (FEET[1],)}[mode]
+
+
+
+
+def leg_actuators(side: str) -> tuple[str, ...]:
+    """The thermal actuators of one leg: hip and knee motors and the two ankle rods."""
+    return tuple(a for a in ACTUATORS if a.startswith(f"{side}_") and not any(arm in a for arm in ARM_JOINTS))
+
+
+TORSO_ACTUATORS = tuple(a for a in ACTUATORS if a.startswith("torso") or a.startswith("waist"))

@@ -1,0 +1,112 @@
+"""Whole-body statics of the humanoid with Pinocchio: the seed's Eqs. 18-24.
+
+For a contact mode (double support, left or right single support) with 6-D
+contact Jacobian ``J_c`` of the soles:
+
+    Jbar_c = A^-1 J_c^T (J_c A^-1 J_c^T)^+          (dynamically consistent inverse)
+    N_c    = I - Jbar_c J_c                          (contact null space)
+    Gamma(q) = ( (S_a N_c)bar )^T N_c^T g(q)         (Eq. 23, the torques that hold q still)
+    F_r    = Jbar_c^T ( g - S_a^T Gamma )            (Eq. 21 at rest: contact wrenches)
+    F_act  = J_gamma(q) Gamma                        (Eq. 24: rods at the ankles and the waist)
+
+Pinocchio (package ``pin``) gives ``A = M(q)`` (CRBA), ``g(q)``, frame
+Jacobians and the derivatives of ``g``; PyBullet runs the same URDF.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from .constants import ACTUATORS, JOINTS, ROD_PAIRS, SIDES, mode_feet
+from .params import VALKYRIE, ValkyrieParams
+from .pushrods import RodPair
+from .urdf_model import urdf_path
+
+
+@dataclass(frozen=True)
+class Statics:
+    """Everything Eq. 23 gives for one configuration and contact mode."""
+
+    mode: str
+    torques_Nm: np.ndarray  # Gamma (23,) in JOINTS order
+    efforts: np.ndarray  # (23,) in ACTUATORS order: N m for motors, N for rods
+    contact_wrenches: np.ndarray  # (k, 6) per sole, sole frame: force (N), moment (N m)
+
+
+class WholeBody:
+    """The humanoid's rigid-body model (Pinocchio), with the seed's statics."""
+
+    def __init__(self, params: ValkyrieParams = VALKYRIE):
+        self.params = params
+        self.model = pin.buildModelFromUrdf(str(urdf_path()), pin.JointModelFreeFlyer())
+        self.data = self.model.createData()
+        self.nv = self.model.nv
+        self.v_index = np.array([self.model.joints[self.model.getJointId(j)].idx_v for j in JOINTS])
+        self.q_index = np.array([self.model.joints[self.model.getJointId(j)].idx_q for j in JOINTS])
+        self.sole_frame = {side: self.model.getFrameId(f"{side}_sole") for side in SIDES}
+        self.S_a = np.zeros((len(JOINTS), self.nv))
+        self.S_a[np.arange(len(JOINTS)), self.v_index] = 1.0
+        self.rods = {
+            "left_ankle": RodPair(params.ankle_rod_m, *params.ankle_rod_arm_m),
+            "right_ankle": RodPair(params.ankle_rod_m, *params.ankle_rod_arm_m),
+            "waist": RodPair(params.waist_rod_m, *params.waist_rod_arm_m),
+        }
+
+    # ------------------------------------------------------------ configuration
+    def configuration(self, base_position_m, base_quaternion_xyzw, joint_angles_rad) -> np.ndarray:
+        """Pinocchio ``q`` from a base pose and joint angles (23, JOINTS order)."""
+        q = pin.neutral(self.model)
+        q[:3] = base_position_m
+        q[3:7] = base_quaternion_xyzw
+        q[self.q_index] = joint_angles_rad
+        return q
+
+    def joint_angles(self, q: np.ndarray) -> np.ndarray:
+        return q[self.q_index]
+
+    def sole_poses(self, q: np.ndarray) -> dict[str, pin.SE3]:
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return {side: self.data.oMf[fid].copy() for side, fid in self.sole_frame.items()}
+
+    def com(self, q: np.ndarray) -> np.ndarray:
+        return pin.centerOfMass(self.model, self.data, q).copy()
+
+    def gravity(self, q: np.ndarray) -> np.ndarray:
+        return pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+
+    def contact_jacobian(self, q: np.ndarray, mode: str) -> np.ndarray:
+        """``J_c`` (6k x nv): sole twists in their own (LOCAL) frames."""
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        blocks = [pin.getFrameJacobian(self.model, self.data, self.sole_frame[f.split("_")[0]], pin.LOCAL)
+                  for f in mode_feet(mode)]
+        return np.vstack(blocks)
+
+    # ---------------------------------------------------------------- statics
+    def statics(self, q: np.ndarray, mode: str) -> Statics:
+        """Eqs. 21, 23 and 24 at configuration ``q`` in contact ``mode``."""
+        A = pin.crba(self.model, self.data, q)
+        A = np.triu(A) + np.triu(A, 1).T
+        A_inv = np.linalg.inv(A)
+        g = self.gravity(q)
+        Jc = self.contact_jacobian(q, mode)
+        Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)
+        Nc = np.eye(self.nv) - Jc_bar @ Jc
+        X = self.S_a @ Nc
+        X_bar = A_inv @ X.T @ np.linalg.pinv(X @ A_inv @ X.T)
+        gamma = X_bar.T @ Nc.T @ g
+        wrenches = (Jc_bar.T @ (g - self.S_a.T @ gamma)).reshape(-1, 6)
+        return Statics(mode, gamma, self.efforts(q, gamma), wrenches)
+
+    def efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
+        """Eq. 24: actuator efforts (ACTUATORS order) from joint torques; rods through their Jacobians."""
+        angles = dict(zip(JOINTS, self.joint_angles(q)))
+        tau = dict(zip(JOINTS, torques_Nm))
+        out = dict(tau)
+        for pair, (pitch, roll) in ROD_PAIRS.items():
+            forces = self.rods[pair].rod_forces_N(angles[pitch], angles[roll], np.array([tau[pitch], tau[roll]]))
+            out[f"{pair}_rod_a"], out[f"{pair}_rod_b"] = forces
+        return np.array([out[a] for a in ACTUATORS])

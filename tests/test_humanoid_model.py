@@ -1,0 +1,58 @@
+"""The Valkyrie-like humanoid: generated URDF, push rods, and the seed's statics (Eqs. 21-24) with Pinocchio."""
+
+import numpy as np
+import pytest
+
+from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS
+from humanoid_pb.params import VALKYRIE, ValkyrieParams
+from humanoid_pb.pushrods import RodPair
+from humanoid_pb.statics import WholeBody
+from humanoid_pb.urdf_model import generate, urdf_path
+
+
+@pytest.fixture(scope="module")
+def body():
+    return WholeBody()
+
+
+def crouch(body, depth=0.3):
+    angles = np.zeros(len(JOINTS))
+    for side in ("left", "right"):
+        angles[JOINTS.index(f"{side}_hip_pitch")] = -depth
+        angles[JOINTS.index(f"{side}_knee")] = 2 * depth
+        angles[JOINTS.index(f"{side}_ankle_pitch")] = -depth
+    return body.configuration([0, 0, 1.0], [0, 0, 0, 1], angles)
+
+
+def test_committed_urdf_matches_the_generator():
+    assert urdf_path().read_text() == generate(), "run: python -m humanoid_pb.urdf_model"
+
+
+def test_mass_is_valkyries(body):
+    # facts.md: about 129-134 kg with hands and head; this model has no hands
+    assert sum(i.mass for i in body.model.inertias) == pytest.approx(VALKYRIE.mass_kg, abs=0.01)  # + sole frames
+    assert 125.0 < VALKYRIE.mass_kg < 134.0
+
+
+def test_ankle_rods_reproduce_the_published_map():
+    rods = RodPair(VALKYRIE.ankle_rod_m, *VALKYRIE.ankle_rod_arm_m)
+    np.testing.assert_allclose(rods.torque_map(0.0, 0.0), [[-0.0367, -0.0367], [-0.0341, 0.0341]], atol=1e-4)
+    tau = np.array([120.0, -40.0])
+    np.testing.assert_allclose(rods.torque_map(0.2, -0.1) @ rods.rod_forces_N(0.2, -0.1, tau), tau, atol=1e-8)
+
+
+@pytest.mark.parametrize("mode", CONTACT_MODES)
+def test_statics_balance_gravity(body, mode):
+    q = crouch(body)
+    s = body.statics(q, mode)
+    Jc = body.contact_jacobian(q, mode)
+    # Eq. 18 at rest: S_a^T Gamma + J_c^T F_r = g (N and N m)
+    np.testing.assert_allclose(body.S_a.T @ s.torques_Nm + Jc.T @ s.contact_wrenches.ravel(), body.gravity(q), atol=1e-6)
+    total_mass = sum(i.mass for i in body.model.inertias)  # the params' mass plus 1 g per sole frame
+    assert s.contact_wrenches[:, 2].sum() == pytest.approx(total_mass * 9.81, rel=1e-9)
+    assert s.efforts.shape == (len(ACTUATORS),)
+
+
+def test_impossible_parameters_are_refused():
+    with pytest.raises(ValueError, match="mass must be positive"):
+        ValkyrieParams(torso_kg=0.0)

@@ -1,0 +1,203 @@
+"""A robot in PyBullet run like a hardware-in-the-loop rig: what every robot of the suite shares.
+
+One ``BulletClient`` per world (DIRECT by default, GUI on request); joint and
+link names mapped to indices once; default velocity motors disabled; the
+commanded torques, held between control steps like a fixed-rate controller's
+output, sent before every physics step.  Each control step also advances the
+thermal plant with the actuators' efforts (after thermal derating) and records
+a canonical thermal log.  Robots subclass :class:`BulletRig` to say how joint
+torques become actuator efforts (one-to-one by default; push rods otherwise).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import pybullet
+from pybullet_utils.bullet_client import BulletClient
+
+from .logs import ThermalLog, log_from_arrays
+from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
+
+GRAVITY_M_S2 = 9.81
+
+
+@contextlib.contextmanager
+def silenced_stdout():
+    """PyBullet prints to the C-level standard output on connect; keep it off ours (``--json`` output)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(devnull)
+        os.close(saved)
+
+
+@dataclass(frozen=True)
+class RigConfig:
+    physics_hz: float = 500.0
+    control_hz: float = 50.0
+    gui: bool = False
+    fixed_base: bool = False
+    foot_friction: float = 0.9
+    torque_noise_Nm: float = 0.05  # torque sensing noise (1 sigma)
+    ambient_C: float = 25.0
+
+    def __post_init__(self):
+        if not (self.physics_hz > 0 and self.control_hz > 0):
+            raise ValueError("physics_hz and control_hz must be positive")
+        ratio = self.physics_hz / self.control_hz
+        if abs(ratio - round(ratio)) > 1e-9 or ratio < 1:
+            raise ValueError(f"physics_hz ({self.physics_hz}) must be a whole multiple of control_hz ({self.control_hz})")
+
+    @property
+    def substeps(self) -> int:
+        return int(round(self.physics_hz / self.control_hz))
+
+    @property
+    def control_dt_s(self) -> float:
+        return 1.0 / self.control_hz
+
+
+class BulletRig:
+    """A world with one robot, its thermal plant and its log."""
+
+    def __init__(self, urdf: Path, joints: Sequence[str], feet: Sequence[str], actuators: Sequence[str],
+                 specs: Sequence[ActuatorSpec], effort_limit: np.ndarray, config: RigConfig,
+                 base_position_m: Sequence[float], base_quaternion_xyzw: Sequence[float] = (0, 0, 0, 1),
+                 plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
+                 protection: ThermalProtection = ThermalProtection()):
+        self.config = config
+        self.joints = tuple(joints)
+        self.actuators = tuple(actuators)
+        self.effort_limit = np.asarray(effort_limit, float)
+        self.rng = np.random.default_rng(seed)
+        with silenced_stdout():
+            self.client = BulletClient(connection_mode=pybullet.GUI if config.gui else pybullet.DIRECT)
+        c = self.client
+        c.setGravity(0, 0, -GRAVITY_M_S2)
+        c.setTimeStep(1.0 / config.physics_hz)
+        self.ground = c.createMultiBody(0, c.createCollisionShape(pybullet.GEOM_PLANE))
+        c.changeDynamics(self.ground, -1, lateralFriction=config.foot_friction)
+        self.robot = c.loadURDF(str(urdf), list(base_position_m), list(base_quaternion_xyzw),
+                                useFixedBase=config.fixed_base, flags=pybullet.URDF_USE_INERTIA_FROM_FILE)
+        by_joint, by_link = {}, {}
+        for j in range(c.getNumJoints(self.robot)):
+            info = c.getJointInfo(self.robot, j)
+            by_joint[info[1].decode()] = j
+            by_link[info[12].decode()] = j
+        missing = [n for n in self.joints if n not in by_joint] + [n for n in feet if n not in by_link]
+        if missing:
+            raise RuntimeError(f"{urdf.name} lacks {missing}; regenerate it from its parameters")
+        self.joint_index = [by_joint[n] for n in self.joints]
+        self.foot_index = [by_link[n] for n in feet]
+        self.link_index = by_link
+        for j in self.joint_index:
+            c.setJointMotorControl2(self.robot, j, pybullet.VELOCITY_CONTROL, force=0.0)
+        for j in self.foot_index:
+            c.changeDynamics(self.robot, j, lateralFriction=config.foot_friction)
+        self.plant = ThermalPlant(self.actuators, specs, effects=plant_effects, ambient_C=config.ambient_C,
+                                  rng=self.rng, protection=protection)
+        self.time_s = 0.0
+        self.applied_Nm = np.zeros(len(self.joints))
+        self._log: dict[str, list] = {"time": [], "effort": [], "velocity": [], "temperature": [], "ambient": []}
+
+    # ------------------------------------------------------------- robot hooks
+    def actuator_efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
+        """Actuator efforts for joint torques (one actuator per joint unless a robot says otherwise)."""
+        return torques_Nm
+
+    def actuator_velocities(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        return qd
+
+    def derated_torques(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
+        """Joint torques after thermal protection (one-to-one by default)."""
+        return self.plant.derate(torques_Nm)
+
+    # ----------------------------------------------------------------- sensing
+    def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
+        states = self.client.getJointStates(self.robot, self.joint_index)
+        return np.array([s[0] for s in states]), np.array([s[1] for s in states])
+
+    def set_joint_positions(self, q: np.ndarray) -> None:
+        for j, angle in zip(self.joint_index, q):
+            self.client.resetJointState(self.robot, j, float(angle), 0.0)
+
+    def base_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(position, world_R_base, linear velocity, angular velocity)``, world frame."""
+        pos, orn = self.client.getBasePositionAndOrientation(self.robot)
+        lin, ang = self.client.getBaseVelocity(self.robot)
+        R = np.array(self.client.getMatrixFromQuaternion(orn)).reshape(3, 3)
+        return np.array(pos), R, np.array(lin), np.array(ang)
+
+    def base_quaternion(self) -> np.ndarray:
+        return np.array(self.client.getBasePositionAndOrientation(self.robot)[1])
+
+    def contact_forces(self) -> np.ndarray:
+        """Ground force on each foot link (k x 3, world frame, N), rebuilt from the contact points."""
+        out = np.zeros((len(self.foot_index), 3))
+        for point in self.client.getContactPoints(bodyA=self.ground, bodyB=self.robot):
+            if point[4] not in self.foot_index:
+                continue
+            # PyBullet's normal on B points towards A: the ground pushes the foot along -n; the friction
+            # force on A is fn n - (f1 d1 + f2 d2), so on B it is the opposite
+            out[self.foot_index.index(point[4])] += (-point[9] * np.array(point[7]) + point[10] * np.array(point[11])
+                                                     + point[12] * np.array(point[13]))
+        return out
+
+    def link_positions(self, links: Sequence[int]) -> np.ndarray:
+        return np.array([s[4] for s in self.client.getLinkStates(self.robot, list(links))])
+
+    def sensed_torques(self) -> np.ndarray:
+        return self.applied_Nm + self.rng.normal(0.0, self.config.torque_noise_Nm, self.applied_Nm.shape)
+
+    # ---------------------------------------------------------------- stepping
+    def step_torques(self, torque_Nm: np.ndarray) -> None:
+        """Hold ``torque_Nm`` for one control period (clipped, thermally derated), then step the plant."""
+        q, _ = self.joint_states()
+        command = np.clip(np.asarray(torque_Nm, float), -self.effort_limit, self.effort_limit)
+        self.applied_Nm = self.derated_torques(q, command)
+        c = self.client
+        forces = self.applied_Nm.tolist()
+        for _ in range(self.config.substeps):
+            c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=forces)
+            c.stepSimulation()
+        q, qd = self.joint_states()
+        efforts = self.actuator_efforts(q, self.applied_Nm)
+        velocities = self.actuator_velocities(q, qd)
+        self._log["time"].append(self.time_s)
+        self._log["effort"].append(efforts)
+        self._log["velocity"].append(velocities)
+        self._log["temperature"].append(self.plant.measured_C)
+        self._log["ambient"].append(self.plant.ambient_C)
+        self.plant.step(efforts, velocities, self.config.control_dt_s)
+        self.time_s += self.config.control_dt_s
+
+    def thermal_log(self) -> ThermalLog:
+        """What the robot logged so far, in the canonical format (one row per actuator and control step)."""
+        if len(self._log["time"]) < 2:
+            raise ValueError("the simulation has not run long enough to make a log")
+        return log_from_arrays(np.array(self._log["time"]), self.actuators, np.array(self._log["effort"]),
+                               np.array(self._log["temperature"]), velocity=np.array(self._log["velocity"]),
+                               ambient_C=np.array(self._log["ambient"]), source=f"{type(self).__name__} simulation")
+
+    def close(self) -> None:
+        if self.client is not None:
+            self.client.disconnect()
+            self.client = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
