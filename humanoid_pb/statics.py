@@ -20,9 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .constants import ACTUATORS, JOINTS, ROD_PAIRS, SIDES, mode_feet
+from .actuators import efforts as actuator_efforts
+from .actuators import rod_pairs
+from .constants import JOINTS, SIDES, mode_feet
 from .params import VALKYRIE, ValkyrieParams
-from .pushrods import RodPair
 from .urdf_model import urdf_path
 
 
@@ -49,11 +50,7 @@ class WholeBody:
         self.sole_frame = {side: self.model.getFrameId(f"{side}_sole") for side in SIDES}
         self.S_a = np.zeros((len(JOINTS), self.nv))
         self.S_a[np.arange(len(JOINTS)), self.v_index] = 1.0
-        self.rods = {
-            "left_ankle": RodPair(params.ankle_rod_m, *params.ankle_rod_arm_m),
-            "right_ankle": RodPair(params.ankle_rod_m, *params.ankle_rod_arm_m),
-            "waist": RodPair(params.waist_rod_m, *params.waist_rod_arm_m),
-        }
+        self.rods = rod_pairs(params)
 
     # ------------------------------------------------------------ configuration
     def configuration(self, base_position_m, base_quaternion_xyzw, joint_angles_rad) -> np.ndarray:
@@ -103,10 +100,4 @@ class WholeBody:
 
     def efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
         """Eq. 24: actuator efforts (ACTUATORS order) from joint torques; rods through their Jacobians."""
-        angles = dict(zip(JOINTS, self.joint_angles(q)))
-        tau = dict(zip(JOINTS, torques_Nm))
-        out = dict(tau)
-        for pair, (pitch, roll) in ROD_PAIRS.items():
-            forces = self.rods[pair].rod_forces_N(angles[pitch], angles[roll], np.array([tau[pitch], tau[roll]]))
-            out[f"{pair}_rod_a"], out[f"{pair}_rod_b"] = forces
-        return np.array([out[a] for a in ACTUATORS])
+        return actuator_efforts(self.rods, self.joint_angles(q), torques_Nm)

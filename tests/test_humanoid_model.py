@@ -56,3 +56,35 @@ def test_statics_balance_gravity(body, mode):
 def test_impossible_parameters_are_refused():
     with pytest.raises(ValueError, match="mass must be positive"):
         ValkyrieParams(torso_kg=0.0)
+
+
+def crouch_angles(depth=0.3):
+    angles = np.zeros(len(JOINTS))
+    for side in ("left", "right"):
+        angles[JOINTS.index(f"{side}_hip_pitch")] = -depth
+        angles[JOINTS.index(f"{side}_knee")] = 2 * depth
+        angles[JOINTS.index(f"{side}_ankle_pitch")] = -depth
+    return angles
+
+
+def hold(torques_of, steps):
+    from humanoid_pb.sim import HumanoidSim
+
+    angles = crouch_angles()
+    with HumanoidSim(angles) as sim:
+        reading = sim.read()
+        torques = torques_of(sim, reading)
+        for _ in range(steps):
+            reading = sim.step(torques)
+        return np.abs(reading.q_rad - angles).max(), reading
+
+
+def test_gamma_holds_the_configuration_still_in_pybullet():
+    """Feed-forward Gamma(q) alone: the equilibrium is unstable (an inverted pendulum), so it holds for a
+    moment and then drifts; 0.2 s is long enough to tell it from anything else."""
+    drift, reading = hold(lambda sim, r: sim.body.statics(sim.pinocchio_q(r), "double").torques_Nm, 20)
+    assert drift < 2e-3  # rad after 0.2 s
+    # and the feet carry the weight as Eq. 21 says, half each in this symmetric crouch
+    np.testing.assert_allclose(reading.foot_force_N[:, 2], VALKYRIE.mass_kg * 9.81 / 2, rtol=0.02)
+    zero_drift, _ = hold(lambda sim, r: np.zeros(len(JOINTS)), 20)
+    assert zero_drift > 50 * drift

@@ -1,0 +1,89 @@
+"""The humanoid on the shared PyBullet rig (:mod:`thermolimb.rig`): the humanoid's only module that talks to PyBullet.
+
+Floating base on the ground.  Joint torques become actuator efforts through
+the push rods at the ankles and waist (Eq. 24), so the thermal plant heats
+rods there and motors elsewhere; thermal derating of a rod limits both joints
+it drives.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from thermolimb.plant import PlantEffects, ThermalProtection
+from thermolimb.rig import BulletRig, RigConfig
+
+from . import actuators
+from .constants import ACTUATORS, FEET, JOINTS
+from .params import VALKYRIE, ValkyrieParams
+from .statics import WholeBody
+from .urdf_model import urdf_path
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One control step's sensor data: encoders, torque sensing, measured temperatures, IMU, foot forces."""
+
+    time_s: float
+    q_rad: np.ndarray  # (23,) JOINTS order
+    qd_rad_s: np.ndarray
+    torque_Nm: np.ndarray  # sensed joint torques
+    temperature_C: np.ndarray  # (23,) ACTUATORS order, measured
+    base_position_m: np.ndarray  # pelvis, world (state estimate)
+    base_quaternion_xyzw: np.ndarray
+    base_velocity_m_s: np.ndarray  # world
+    base_omega_rad_s: np.ndarray  # world
+    foot_force_N: np.ndarray  # (2, 3) ground force on each foot, world
+
+
+class HumanoidSim(BulletRig):
+    """A world with the humanoid standing on the ground in ``joint_angles``, feet flat."""
+
+    def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
+                 config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=100.0),
+                 plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
+                 protection: ThermalProtection = ThermalProtection(start_C=135.0, limit_C=150.0),
+                 body: WholeBody | None = None):
+        self.params = params
+        self.body = body or WholeBody(params)
+        self.rods = actuators.rod_pairs(params)
+        angles = np.zeros(len(JOINTS)) if joint_angles is None else np.asarray(joint_angles, float)
+        base = self.standing_base(angles)
+        limits = np.array([params.effort_limit(j) for j in JOINTS])
+        super().__init__(urdf_path(), JOINTS, FEET, ACTUATORS, actuators.actuator_specs(params), limits, config,
+                         base, plant_effects=plant_effects, seed=seed, protection=protection)
+        self.set_joint_positions(angles)
+
+    def standing_base(self, angles: np.ndarray) -> np.ndarray:
+        """Pelvis position (level, at the origin) that puts the lower sole on the ground."""
+        q = self.body.configuration([0.0, 0.0, 0.0], [0, 0, 0, 1], angles)
+        soles = self.body.sole_poses(q)
+        return np.array([0.0, 0.0, -min(p.translation[2] for p in soles.values())])
+
+    # ------------------------------------------------------------- rig hooks
+    def actuator_efforts(self, q, torques_Nm):
+        return actuators.efforts(self.rods, q, torques_Nm)
+
+    def actuator_velocities(self, q, qd):
+        return actuators.velocities(self.rods, q, qd)
+
+    def derated_torques(self, q, torques_Nm):
+        fraction = self.plant.protection.fraction(self.plant.measured_C)
+        return torques_Nm * actuators.joint_fractions(fraction)
+
+    # --------------------------------------------------------------- sensing
+    def read(self) -> Reading:
+        q, qd = self.joint_states()
+        pos, _, lin, ang = self.base_state()
+        return Reading(self.time_s, q, qd, self.sensed_torques(), self.plant.measured_C, pos, self.base_quaternion(),
+                       lin, ang, self.contact_forces())
+
+    def pinocchio_q(self, reading: Reading) -> np.ndarray:
+        """The Pinocchio configuration of a reading."""
+        return self.body.configuration(reading.base_position_m, reading.base_quaternion_xyzw, reading.q_rad)
+
+    def step(self, torque_Nm: np.ndarray) -> Reading:
+        self.step_torques(torque_Nm)
+        return self.read()
