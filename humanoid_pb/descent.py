@@ -1,0 +1,96 @@
+"""Finding a thermally minimising configuration for a contact mode: the seed's descent, kept to compare.
+
+The seed's naive method (Eqs. 29-32): on a basis ``V`` of the directions
+that keep the contacts still (the null space of ``J_c``), a finite-difference
+directional gradient of the potential ``f(q)`` (Eq. 30); a step
+``dq = -k_p grad f`` with the gain chosen so that no coordinate moves more
+than ``delta_max`` (Eq. 31); ``q <- q + N_c dq`` (Eq. 32); stop at the
+iteration limit or when the next iterate would raise the cost.  Each
+evaluation of ``f`` runs the whole-body statics (Eq. 23) and Eqs. 24-26.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+
+from .constants import CONTACT_MODES, mode_feet
+from .potential import ThermalPotential
+from .statics import WholeBody
+
+
+@dataclass
+class DescentResult:
+    method: str
+    mode: str
+    q: np.ndarray
+    potential: float
+    iterations: int
+    wall_s: float
+    history: list[float] = field(default_factory=list)
+    contact_drift_m: float = 0.0  # largest sole displacement from the start (m)
+
+
+def potential_of(body: WholeBody, q: np.ndarray, mode: str, potential) -> float:
+    """The objective (a :class:`ThermalPotential` or :class:`MinimumEffort`) at ``q`` in ``mode``."""
+    return potential.value(body.statics(q, mode).efforts)
+
+
+def contact_drift(body: WholeBody, q0: np.ndarray, q: np.ndarray, mode: str) -> float:
+    start, end = body.sole_poses(q0), body.sole_poses(q)
+    sides = [f.split("_")[0] for f in mode_feet(mode)]
+    return float(max(np.linalg.norm(end[s].translation - start[s].translation) for s in sides))
+
+
+def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
+                  delta_max: float = 0.01, h: float = 1e-4, max_iter: int = 300) -> DescentResult:
+    """The seed's contact-consistent finite-difference descent (Eqs. 29-32)."""
+    start = time.perf_counter()
+    q = q0.copy()
+    f = potential_of(body, q, mode, potential)
+    history = [f]
+    iterations = 0
+    for iterations in range(1, max_iter + 1):
+        Jc = body.contact_jacobian(q, mode)
+        _, s, Vt = np.linalg.svd(Jc)
+        V = Vt[np.sum(s > 1e-9):].T  # directions that keep every contact still (nv x |V|)
+        grad = np.zeros(body.nv)
+        for v in V.T:  # Eq. 30
+            grad += v * (potential_of(body, pin.integrate(body.model, q, h * v), mode, potential) - f) / h
+        dq = -grad
+        scale = np.max(np.abs(dq))
+        if scale == 0:
+            break
+        dq *= delta_max / scale  # Eq. 31: the gain bounds the largest coordinate change by delta_max
+        A = pin.crba(body.model, body.data, q)
+        A = np.triu(A) + np.triu(A, 1).T
+        A_inv = np.linalg.inv(A)
+        Nc = np.eye(body.nv) - A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T) @ Jc
+        q_next = pin.integrate(body.model, q, Nc @ dq)  # Eq. 32
+        f_next = potential_of(body, q_next, mode, potential)
+        if f_next >= f:
+            break
+        q, f = q_next, f_next
+        history.append(f)
+    return DescentResult("naive", mode, q, f, iterations, time.perf_counter() - start, history,
+                         contact_drift(body, q0, q, mode))
+
+
+@dataclass
+class Choice:
+    """Eq. 33: the contact mode and configuration that minimise the objective, and every mode's result."""
+
+    mode: str
+    result: DescentResult
+    per_mode: dict[str, DescentResult]
+
+
+def choose_contact(body: WholeBody, q0: np.ndarray, potential, modes=CONTACT_MODES, method=None, **kwargs) -> Choice:
+    """Minimise over the contact modes of the minimum over configurations (the seed's Eq. 33)."""
+    method = method or naive_descent
+    per_mode = {m: method(body, q0, m, potential, **kwargs) for m in modes}
+    best = min(per_mode, key=lambda m: per_mode[m].potential)
+    return Choice(best, per_mode[best], per_mode)

@@ -1,0 +1,72 @@
+"""The thermal potential of a configuration: the seed's Eqs. 25-26.
+
+For actuator efforts ``F(q)`` (Eq. 24 of the statics) and measured
+temperatures ``T0``, each actuator's temperature a horizon ``dt`` ahead is
+
+    T_i = T0_i e^(-dt/RC_i) + (F_i^2 betaR_i - F_i beta_biasR_i + T_offset_i)(1 - e^(-dt/RC_i))   (Eq. 25)
+
+and the potential is ``f = T' Q T`` (Eq. 26) with ``Q`` diagonal: 1 by
+default, raised for actuators measured above 70 degC so that the hot ones
+dominate, as in the seed.  The horizon is half the learned time constant
+(the seed: ``dt = RC/2``, 20 s on Valkyrie).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from thermolimb.model import FirstOrderBank
+
+HOT_C = 70.0
+HOT_WEIGHT = 100.0
+
+
+@dataclass(frozen=True)
+class ThermalPotential:
+    bank: FirstOrderBank  # identified models, ACTUATORS order
+    temperature_C: np.ndarray  # measured now
+    horizon_s: float
+    weights: np.ndarray  # the diagonal of Q
+
+    @classmethod
+    def from_measurement(cls, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float | None = None,
+                         hot_C: float = HOT_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
+        """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over actuators)."""
+        temperature_C = np.asarray(temperature_C, float)
+        horizon = float(np.median(bank.RC_s)) / 2.0 if horizon_s is None else float(horizon_s)
+        weights = np.where(temperature_C > hot_C, hot_weight, 1.0)
+        return cls(bank, temperature_C, horizon, weights)
+
+    def predicted_C(self, efforts: np.ndarray) -> np.ndarray:
+        """Eq. 25 for efforts held over the horizon."""
+        return self.bank.ahead(self.temperature_C, efforts, self.horizon_s)
+
+    def value(self, efforts: np.ndarray) -> float:
+        """Eq. 26."""
+        T = self.predicted_C(efforts)
+        return float(T @ (self.weights * T))
+
+    def gradient(self, efforts: np.ndarray) -> np.ndarray:
+        """d f / d efforts (the Jacobian of Eq. 25 is diagonal)."""
+        T = self.predicted_C(efforts)
+        return 2.0 * self.weights * T * self.bank.ahead_gradient(efforts, self.horizon_s)
+
+
+@dataclass(frozen=True)
+class MinimumEffort:
+    """The baseline without thermal information: ``f = sum (F_i / F_max_i)^2`` (Eq. 23's efforts in Eq. 26).
+
+    Efforts are normalised by their limits so that rod forces (N) and motor
+    torques (N m) can be summed.
+    """
+
+    limits: np.ndarray  # ACTUATORS order
+
+    def value(self, efforts: np.ndarray) -> float:
+        e = efforts / self.limits
+        return float(e @ e)
+
+    def gradient(self, efforts: np.ndarray) -> np.ndarray:
+        return 2.0 * efforts / self.limits**2
