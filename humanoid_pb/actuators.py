@@ -77,3 +77,15 @@ def joint_fractions(actuator_fraction: np.ndarray) -> np.ndarray:
         for joint in joints:
             out[_J[joint]] = weakest
     return out
+
+
+def effort_matrix(rods: dict[str, RodPair], angles: np.ndarray) -> np.ndarray:
+    """``E`` (ACTUATORS x JOINTS) with ``efforts = E tau`` at joint angles ``angles`` (Eq. 24 as a matrix)."""
+    E = np.zeros((len(ACTUATORS), len(JOINTS)))
+    for a, j in _MOTORS:
+        E[_A[a], j] = 1.0
+    for pair, (pitch, roll) in ROD_PAIRS.items():
+        inv_t = np.linalg.inv(rods[pair].length_jacobian(angles[_J[pitch]], angles[_J[roll]]).T)
+        rows = [_A[f"{pair}_rod_a"], _A[f"{pair}_rod_b"]]
+        E[np.ix_(rows, [_J[pitch], _J[roll]])] = inv_t
+    return E

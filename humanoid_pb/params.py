@@ -50,6 +50,7 @@ class ValkyrieParams:
     waist_rod_m: float = 0.131
     waist_rod_anchor_m: float = 0.07
     waist_rod_arm_m: tuple[float, float] = (0.06, 0.065)  # chosen: about the 0.07 m anchors
+    knee_min_rad: float = 0.3  # working range of the IK: balance controllers keep away from the straight-knee singularity
     rod_force_limit_N: float = 2800.0  # ~205 N m / 0.0367 m * 0.5 (derived in facts.md)
 
     def __post_init__(self):

@@ -53,6 +53,13 @@ class ThermalPotential:
         T = self.predicted_C(efforts)
         return 2.0 * self.weights * T * self.bank.ahead_gradient(efforts, self.horizon_s)
 
+    def hessian_diag(self, efforts: np.ndarray) -> np.ndarray:
+        """d2 f / d efforts2 (diagonal, >= 0: T >= 0 and convex in the effort): 2 w (T'^2 + T T'')."""
+        T = self.predicted_C(efforts)
+        slope = self.bank.ahead_gradient(efforts, self.horizon_s)
+        curvature = 2.0 * self.bank.betaR_K_per_effort2 * (1.0 - np.exp(-self.horizon_s / self.bank.RC_s))
+        return 2.0 * self.weights * (slope**2 + T * curvature)
+
 
 @dataclass(frozen=True)
 class MinimumEffort:
@@ -70,3 +77,6 @@ class MinimumEffort:
 
     def gradient(self, efforts: np.ndarray) -> np.ndarray:
         return 2.0 * efforts / self.limits**2
+
+    def hessian_diag(self, efforts: np.ndarray) -> np.ndarray:
+        return 2.0 / self.limits**2

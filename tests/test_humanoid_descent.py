@@ -60,3 +60,28 @@ def test_thermal_aware_and_minimum_effort_agree_when_cool_and_differ_when_one_le
     assert cool.mode == effort.mode == "double"
     # ...and with a hot right leg it leans on the left leg
     assert hot.mode == "left"
+
+
+@pytest.mark.parametrize("mode", CONTACT_MODES)
+def test_fast_ik_keeps_contacts_exact_and_is_never_worse_than_the_seeds_descent(body, mode):
+    from humanoid_pb.fast_ik import FastThermalIK
+    from humanoid_pb.poses import crouch_angles, single_support, standing
+
+    q_double = standing(body, crouch_angles())
+    start = q_double if mode == "double" else single_support(body, q_double, mode)
+    pot = ThermalPotential.from_measurement(bank(), hot_right_leg())
+    naive = naive_descent(body, start, mode, pot, max_iter=300)
+    fast = FastThermalIK(body).solve(start, mode, pot)
+    assert fast.potential <= naive.potential * (1 + 1e-9)
+    assert fast.contact_drift_m < 1e-8  # m: the contacts are held exactly, not to first order
+    # the torques balance gravity with the wrenches found, which respect the contact constraints
+    Jc = body.contact_jacobian(fast.q, mode)
+    np.testing.assert_allclose(body.S_a.T @ fast.torques_Nm + Jc.T @ fast.contact_wrenches.ravel(),
+                               body.gravity(fast.q), atol=1e-5)
+    w = fast.contact_wrenches
+    lx, ly = np.array(VALKYRIE.sole_m) / 2
+    assert np.all(w[:, 2] > 0)  # unilateral
+    assert np.all(np.abs(w[:, 3]) <= ly * w[:, 2] + 1e-6) and np.all(np.abs(w[:, 4]) <= lx * w[:, 2] + 1e-6)  # CoP in the sole
+    angles = body.joint_angles(fast.q)
+    limits = np.array([VALKYRIE.limits(j) for j in JOINTS])
+    assert np.all(angles >= limits[:, 0] - 1e-6) and np.all(angles <= limits[:, 1] + 1e-6)
