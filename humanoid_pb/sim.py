@@ -87,3 +87,8 @@ class HumanoidSim(BulletRig):
     def step(self, torque_Nm: np.ndarray) -> Reading:
         self.step_torques(torque_Nm)
         return self.read()
+
+    def command(self, cmd) -> Reading:
+        """One control step with an :class:`~humanoid_pb.balance.ImpedanceCommand`."""
+        self.step_impedance(cmd.feedforward_Nm, cmd.q_des, cmd.kp_Nm_rad, cmd.kd_Nm_s_rad)
+        return self.read()

@@ -172,6 +172,32 @@ class BulletRig:
         for _ in range(self.config.substeps):
             c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=forces)
             c.stepSimulation()
+        self._after_control_period()
+
+    def step_impedance(self, feedforward_Nm: np.ndarray, q_des: np.ndarray, kp_Nm_rad: np.ndarray,
+                       kd_Nm_s_rad: np.ndarray) -> None:
+        """One control period with the actuators' own joint impedance loop run at the physics rate.
+
+        Every physics step applies ``tau = tau_ff + kp (q_des - q) - kd qd``
+        (clipped to the effort limits and derated as at the period's start),
+        as series-elastic actuators do with the targets a whole-body
+        controller sends them; the plant and the log see the period's mean.
+        """
+        q, _ = self.joint_states()
+        fraction = self.derated_torques(q, np.ones(len(self.joints)))
+        c = self.client
+        total = np.zeros(len(self.joints))
+        for _ in range(self.config.substeps):
+            q, qd = self.joint_states()
+            tau = np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd, -self.effort_limit,
+                          self.effort_limit) * fraction
+            c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
+            c.stepSimulation()
+            total += tau
+        self.applied_Nm = total / self.config.substeps
+        self._after_control_period()
+
+    def _after_control_period(self) -> None:
         q, qd = self.joint_states()
         efforts = self.actuator_efforts(q, self.applied_Nm)
         velocities = self.actuator_velocities(q, qd)
