@@ -21,14 +21,14 @@ VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 
 
 
 def actuator_specs(params: ValkyrieParams) -> list[ActuatorSpec]:
-    """One spec per actuator (ACTUATORS order): 0.5 ohm windings; about 60 W at the effort limit's 40 %."""
+    """One spec per actuator (ACTUATORS order): 0.5 ohm windings; 60 W of copper loss at 30 % of the effort limit."""
     specs = []
     for name in ACTUATORS:
         if "_rod_" in name:
             limit = params.rod_force_limit_N
         else:
             limit = params.effort_limit(name)
-        per_amp = 0.4 * limit / np.sqrt(60.0 / 0.5)  # 60 W of copper loss at 40 % of the limit (chosen)
+        per_amp = 0.3 * limit / np.sqrt(60.0 / 0.5)  # 60 W of copper loss at 30 % of the limit (chosen)
         specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
                                   winding_limit_C=150.0, driver=None))
     return specs

@@ -88,6 +88,15 @@ class HumanoidSim(BulletRig):
         self.step_torques(torque_Nm)
         return self.read()
 
+    def render(self, width: int = 480, height: int = 480, yaw_deg: float = 30.0) -> np.ndarray:
+        """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software renderer."""
+        c = self.client
+        pos, _, _, _ = self.base_state()
+        view = c.computeViewMatrixFromYawPitchRoll([pos[0], pos[1], 0.7], 3.0, yaw_deg, -15.0, 0.0, 2)
+        proj = c.computeProjectionMatrixFOV(40.0, width / height, 0.1, 10.0)
+        _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
+        return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
+
     def command(self, cmd) -> Reading:
         """One control step with an :class:`~humanoid_pb.balance.ImpedanceCommand`."""
         self.step_impedance(cmd.feedforward_Nm, cmd.q_des, cmd.kp_Nm_rad, cmd.kd_Nm_s_rad)
