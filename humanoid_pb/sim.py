@@ -42,7 +42,7 @@ class HumanoidSim(BulletRig):
     """A world with the humanoid standing on the ground in ``joint_angles``, feet flat."""
 
     def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
-                 config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=100.0),
+                 config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
                  protection: ThermalProtection = ThermalProtection(start_C=135.0, limit_C=150.0),
                  body: WholeBody | None = None):

@@ -67,14 +67,14 @@ def crouch_angles(depth=0.3):
     return angles
 
 
-def hold(torques_of, steps):
+def hold(torques_of, seconds):
     from humanoid_pb.sim import HumanoidSim
 
     angles = crouch_angles()
     with HumanoidSim(angles) as sim:
         reading = sim.read()
         torques = torques_of(sim, reading)
-        for _ in range(steps):
+        for _ in range(int(round(seconds / sim.config.control_dt_s))):
             reading = sim.step(torques)
         return np.abs(reading.q_rad - angles).max(), reading
 
@@ -82,9 +82,9 @@ def hold(torques_of, steps):
 def test_gamma_holds_the_configuration_still_in_pybullet():
     """Feed-forward Gamma(q) alone: the equilibrium is unstable (an inverted pendulum), so it holds for a
     moment and then drifts; 0.2 s is long enough to tell it from anything else."""
-    drift, reading = hold(lambda sim, r: sim.body.statics(sim.pinocchio_q(r), "double").torques_Nm, 20)
+    drift, reading = hold(lambda sim, r: sim.body.statics(sim.pinocchio_q(r), "double").torques_Nm, 0.2)
     assert drift < 2e-3  # rad after 0.2 s
     # and the feet carry the weight as Eq. 21 says, half each in this symmetric crouch
     np.testing.assert_allclose(reading.foot_force_N[:, 2], VALKYRIE.mass_kg * 9.81 / 2, rtol=0.02)
-    zero_drift, _ = hold(lambda sim, r: np.zeros(len(JOINTS)), 20)
+    zero_drift, _ = hold(lambda sim, r: np.zeros(len(JOINTS)), 0.2)
     assert zero_drift > 50 * drift

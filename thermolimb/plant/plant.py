@@ -226,6 +226,17 @@ class ThermalPlant:
         q[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
         return q
 
+    def set_temperatures(self, temperature_C: np.ndarray) -> None:
+        """Put every node of each actuator (winding, housing, body, sensor, driver) at the given temperature (degC)."""
+        temperature_C = np.broadcast_to(np.asarray(temperature_C, float), (self.n,))
+        for i in range(self.n):
+            nodes = self._winding[i] + np.arange(self.specs[i].network.n_nodes)
+            self._x[nodes] = temperature_C[i]
+            self._x[self._sensor[i]] = temperature_C[i]
+            if self._driver[i] >= 0:
+                self._x[self._driver[i]] = temperature_C[i]
+        self._measure()
+
     # ------------------------------------------------------------------ steps
     def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:
         """Advance by ``dt_s`` seconds with efforts (N m or N) and velocities held."""
