@@ -103,12 +103,18 @@ def leg_mass_matrix(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
 
 
 def control_step(reading: Reading, state: ControllerState, params: DaisyParams, gait: cpg.CPGParams,
-                 strategy: str, dt_s: float, payload_kg: float = 0.0, gains: Gains = Gains(),
+                 strategy: str | dict[str, float], dt_s: float, payload_kg: float = 0.0, gains: Gains = Gains(),
                  thermal: ThermalContext | None = None, walking: bool = True) -> tuple[np.ndarray, ControllerState, dict]:
-    """Torques (18,) for one control step, the next controller state, and what was decided."""
-    if strategy not in STRATEGIES:
-        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
-    if strategy == "thermal_aware" and thermal is None:
+    """Torques (18,) for one control step, the next controller state, and what was decided.
+
+    ``strategy`` is a name, or ``{name: weight}`` to blend the strategies' stance forces (a convex
+    combination of balanced distributions is balanced).
+    """
+    weights = {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    unknown = [k for k in weights if k not in STRATEGIES]
+    if unknown or not weights:
+        raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if "thermal_aware" in weights and thermal is None:
         raise ValueError("the thermal_aware strategy needs a ThermalContext (identified models)")
     nominal = np.array([nominal_foot(params, i) for i in range(len(LEGS))])
     cpg_state = cpg.step(state.cpg_state, gait, dt_s) if walking else state.cpg_state
@@ -128,7 +134,11 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
     problem = StanceProblem.from_configuration(params, q, legs, payload_kg=payload_kg, wrench=wrench,
                                                mu=gains.mu, min_normal_N=gains.min_normal_N,
                                                world_R_body=reading.world_R_body)
-    solution = distribute(problem, strategy, state.last, thermal, reading.temperature_C, gains.smoothing_1_N2)
+    total = sum(weights.values())
+    solutions = [(w / total, distribute(problem, k, state.last, thermal, reading.temperature_C, gains.smoothing_1_N2))
+                 for k, w in weights.items()]
+    solution = solutions[0][1] if len(solutions) == 1 else replace(
+        solutions[0][1], forces_N=sum(w * sol.forces_N for w, sol in solutions), solver="blend")
 
     torques = np.zeros(18)
     forces = dict(zip(legs, solution.forces_N))

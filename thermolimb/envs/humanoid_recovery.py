@@ -1,0 +1,188 @@
+"""``thermolimb/HumanoidThermalRecovery-v0``: recover a humanoid's hot actuators without falling.
+
+The humanoid starts standing in double support with one leg's actuators hot
+(which leg, how hot and the ambient are drawn at reset, around the seed's
+experiment).  Every decision step (1.5 s) the agent picks a contact mode --
+or, with ``action_type="configuration"``, a posture offset -- and the
+environment runs the balance controller and the thermal plant in between.
+Mode changes go through the nominal crouch, as in the seed.
+
+Action (``action_type="mode"``): ``Discrete(3)``: 0 double support, 1 left
+single support, 2 right single support.
+
+Action (``action_type="configuration"``): ``Box(-1, 1, (4,))`` scaled to
+offsets of the double-support crouch:
+
+=====  ==========================  =========  =====
+index  meaning                     unit       range
+=====  ==========================  =========  =====
+0      crouch depth (hip/knee)     rad        +-0.15
+1      lateral lean (hip/ankle roll)  rad     +-0.08
+2      torso pitch                 rad        +-0.15
+3      torso roll                  rad        +-0.1
+=====  ==========================  =========  =====
+
+Observation (``Box``, float32):
+
+=============  ====  ==========================================  ======
+slice          size  meaning                                     unit
+=============  ====  ==========================================  ======
+0:23           23    measured actuator temperatures              degC
+23:46          23    actuator efforts / effort limits            1
+46:49          3     contact mode, one-hot (double, left, right)  1
+49:52          3     pelvis height, roll, pitch                  m, rad
+52:58          6     pelvis linear and angular velocity          m/s, rad/s
+58:60          2     centre of mass minus the feet's midpoint, xy  m
+=============  ====  ==========================================  ======
+
+Reward (each term in ``info["reward_terms"]``, the reward is their sum):
+``cooling`` = the fall of the hottest actuator's temperature over the step
+(K); ``warning`` = -0.5 per actuator above 75 degC; ``fall`` = -100 once;
+``effort`` = -0.01 x the mean squared normalised effort.
+Terminated when every actuator is below 70 degC (recovered) or the robot
+falls; truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the
+world, so the same seed and actions give the same trajectory.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
+DECISION_S = 1.5
+WARNING_C, RECOVERED_C = 75.0, 70.0
+MODES = ("double", "left", "right")
+
+
+class HumanoidThermalRecoveryEnv(gym.Env):
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
+
+    def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None):
+        if action_type not in ("mode", "configuration"):
+            raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        from humanoid_pb.actuators import actuator_specs
+        from humanoid_pb.constants import ACTUATORS
+        from humanoid_pb.params import VALKYRIE
+
+        self.action_type = action_type
+        self.max_time_s = max_time_s
+        self.render_mode = render_mode
+        self.limits = np.array([s.effort_limit for s in actuator_specs(VALKYRIE)])
+        self.n_act = len(ACTUATORS)
+        self.action_space = spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
+        low = np.r_[np.full(23, -50.0), np.full(23, -10.0), np.zeros(3), 0.0, -np.pi, -np.pi, np.full(6, -50.0),
+                    np.full(2, -2.0)].astype(np.float32)
+        high = np.r_[np.full(23, 400.0), np.full(23, 10.0), np.ones(3), 3.0, np.pi, np.pi, np.full(6, 50.0),
+                     np.full(2, 2.0)].astype(np.float32)
+        self.observation_space = spaces.Box(low, high, dtype=np.float32)
+        self.sim = None
+
+    # ------------------------------------------------------------------ gym API
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        from humanoid_pb.constants import ACTUATORS, leg_actuators
+        from humanoid_pb.poses import crouch_angles
+        from humanoid_pb.recovery import Executor
+        from humanoid_pb.sim import HumanoidSim
+        from thermolimb.rig import RigConfig
+
+        self.close()
+        rng = self.np_random
+        ambient = float(rng.uniform(20.0, 30.0))
+        self.hot_side = ("left", "right")[int(rng.integers(2))]
+        temperatures = rng.uniform(35.0, 50.0, self.n_act)
+        for a in leg_actuators(self.hot_side):
+            temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
+        self.sim = HumanoidSim(crouch_angles(), config=RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient),
+                               seed=int(rng.integers(2**31)))
+        self.sim.plant.set_temperatures(temperatures)
+        self.executor = Executor(self.sim)
+        self.reading = self.sim.read()
+        self.fallen = False
+        return self._observation(), self._info({})
+
+    def step(self, action):
+        if self.sim is None:
+            raise RuntimeError("call reset() before step()")
+        before = self.reading.temperature_C.max()
+        self._apply(action)
+        steps = int(round(DECISION_S / self.sim.config.control_dt_s))
+        warning = 0.0
+        for _ in range(steps):
+            self.reading = self.executor.tick(self.reading)
+            warning += np.sum(self.reading.temperature_C > WARNING_C) / steps
+            if self.reading.base_position_m[2] < 0.6:
+                self.fallen = True
+                break
+        efforts = self.sim.actuator_efforts(self.reading.q_rad, self.sim.applied_Nm) / self.limits
+        terms = {
+            "cooling": float(before - self.reading.temperature_C.max()),
+            "warning": -0.5 * float(warning),
+            "fall": -100.0 if self.fallen else 0.0,
+            "effort": -0.01 * float(np.mean(efforts**2)),
+        }
+        recovered = bool(self.reading.temperature_C.max() < RECOVERED_C)
+        terminated = recovered or self.fallen
+        truncated = (not terminated) and self.sim.time_s >= self.max_time_s
+        return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms, recovered)
+
+    def render(self):
+        if self.render_mode == "rgb_array" and self.sim is not None:
+            return self.sim.render(240, 240)
+        return None
+
+    def close(self):
+        if self.sim is not None:
+            self.sim.close()
+            self.sim = None
+
+    # ------------------------------------------------------------------ helpers
+    def _apply(self, action):
+        ex = self.executor
+        if self.action_type == "mode":
+            mode = MODES[int(action)]
+            if mode != ex.mode and not ex.moving:
+                ex.go(mode)
+            return
+        from humanoid_pb.constants import JOINTS
+
+        if ex.mode != "double" and not ex.moving:
+            ex.go("double")
+        if ex.moving:
+            return
+        a = np.clip(np.asarray(action, float), -1.0, 1.0) * ACTION_SCALE
+        angles = ex.nominal_angles.copy()
+        for side in ("left", "right"):
+            angles[JOINTS.index(f"{side}_hip_pitch")] -= a[0]
+            angles[JOINTS.index(f"{side}_knee")] += 2 * a[0]
+            angles[JOINTS.index(f"{side}_ankle_pitch")] -= a[0]
+            angles[JOINTS.index(f"{side}_hip_roll")] += a[1]
+            angles[JOINTS.index(f"{side}_ankle_roll")] -= a[1]
+        angles[JOINTS.index("torso_pitch")] += a[2]
+        angles[JOINTS.index("torso_roll")] += a[3]
+        ex.go("double", angles)  # a smooth move to the new posture
+
+    def _observation(self) -> np.ndarray:
+        r = self.reading
+        sim = self.sim
+        efforts = sim.actuator_efforts(r.q_rad, sim.applied_Nm) / self.limits
+        mode = np.zeros(3)
+        mode[MODES.index(self.executor.mode)] = 1.0
+        R = np.array(sim.client.getMatrixFromQuaternion(r.base_quaternion_xyzw)).reshape(3, 3)
+        roll, pitch = np.arctan2(R[2, 1], R[2, 2]), -np.arcsin(np.clip(R[2, 0], -1, 1))
+        q = sim.pinocchio_q(r)
+        feet = sim.body.sole_poses(q)
+        mid = 0.5 * (feet["left"].translation + feet["right"].translation)
+        com = sim.body.com(q)
+        obs = np.concatenate([r.temperature_C, efforts, mode, [r.base_position_m[2], roll, pitch],
+                              r.base_velocity_m_s, r.base_omega_rad_s, com[:2] - mid[:2]])
+        return np.clip(obs, self.observation_space.low, self.observation_space.high).astype(np.float32)
+
+    def _info(self, terms: dict, recovered: bool = False) -> dict:
+        return {"reward_terms": terms, "time_s": self.sim.time_s, "mode": self.executor.mode,
+                "hot_side": self.hot_side, "max_temperature_C": float(self.reading.temperature_C.max()),
+                "recovered": recovered, "fell": self.fallen}
