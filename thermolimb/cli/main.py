@@ -8,9 +8,9 @@ import sys
 from ..identification import IdentifiabilityError
 from ..logs import LogError
 from ..model.terms import ModelSpecError
-from . import compare, demo, diagnose, fit, simulate
+from . import compare, demo, diagnose, fit, simulate, strategies
 
-COMMANDS = (simulate, fit, compare, diagnose, demo)
+COMMANDS = (simulate, fit, compare, diagnose, strategies, demo)
 # Errors a user can act on: one sentence, no traceback, exit status 2.
 USER_ERRORS = (LogError, ModelSpecError, IdentifiabilityError, ValueError, KeyError, FileNotFoundError)
 

@@ -1,0 +1,77 @@
+"""``thermolimb compare-strategies``: evaluate the environments' strategies over seeded episodes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..envs import HEXAPOD_ID, HUMANOID_ID
+from .options import add_quiet, print_json
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "compare-strategies", help="evaluate strategies of an environment over seeded episodes",
+        description="Run every strategy of the environment over --episodes seeds (the same seeds for each) and "
+        "print mean +- std of the return, the recovery time (s, humanoid) or distance (m, hexapod), the time "
+        "until an actuator reaches its limit (s) and the falls; write a plot.",
+    )
+    p.add_argument("--env", required=True, choices=[HUMANOID_ID, HEXAPOD_ID], help="environment id")
+    p.add_argument("--episodes", type=int, default=4, help="episodes per strategy (default 4)")
+    p.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    p.add_argument("--strategies", default=None, metavar="NAME,...", help="subset of strategies (default all)")
+    p.add_argument("--max-time", type=float, default=None, help="episode time limit in s (default the environment's)")
+    p.add_argument("--backend", choices=("process", "ray"), default="process",
+                   help="local process pool (default) or Ray tasks (optional extra 'ray')")
+    p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
+    p.add_argument("--workers", type=int, default=2, help="processes of the local pool (default 2)")
+    p.add_argument("--plot", default="out/strategies", metavar="DIR", help="folder for the plot (default out/strategies)")
+    p.add_argument("--json", action="store_true", help="print the table and every episode as JSON")
+    add_quiet(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..envs.evaluate import episodes_json, evaluate, table
+
+    if args.episodes < 1:
+        raise ValueError(f"--episodes must be at least 1, got {args.episodes}")
+    strategies = args.strategies.split(",") if args.strategies else None
+    episodes = evaluate(args.env, args.episodes, args.seed, strategies, backend=args.backend, workers=args.workers,
+                        address=args.address, max_time_s=args.max_time)
+    rows = table(episodes)
+    path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")
+    if args.json:
+        print_json({"env": args.env, "table": rows, "episodes": episodes_json(episodes), "plot": str(path)})
+        return 0
+    print(format_table(rows, args.env))
+    print(f"plot: {path}")
+    return 0
+
+
+def _cell(stat, fmt="{:.2f}"):
+    mean, std, n = stat
+    return "-" if mean is None else f"{fmt.format(mean)} ± {fmt.format(std)} ({n})"
+
+
+def format_table(rows, env_id) -> str:
+    outcome = "recovery_s" if env_id == HUMANOID_ID else "distance_m"
+    lines = [f"{'strategy':24s} {'return':>22s} {outcome:>22s} {'time_to_limit_s':>22s} {'falls':>6s}"]
+    for r in rows:
+        lines.append(f"{r['strategy']:24s} {_cell(r['return']):>22s} {_cell(r[outcome]):>22s} "
+                     f"{_cell(r['time_to_limit_s'], '{:.0f}'):>22s} {r['falls']:>6d}")
+    return "\n".join(lines)
+
+
+def plot_table(rows, env_id, path: Path) -> Path:
+    from ..plots import plt, save
+
+    outcome = "recovery_s" if env_id == HUMANOID_ID else "distance_m"
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    names = [r["strategy"] for r in rows]
+    for ax, key, title in ((axes[0], "return", "episode return"), (axes[1], outcome, outcome)):
+        means = [r[key][0] if r[key][0] is not None else 0.0 for r in rows]
+        stds = [r[key][1] if r[key][1] is not None else 0.0 for r in rows]
+        ax.bar(names, means, yerr=stds, capsize=4, color="tab:blue")
+        ax.set_title(f"{env_id}: {title} (mean ± std)", fontsize=9)
+        ax.tick_params(axis="x", labelsize=8, rotation=15)
+    return save(fig, path)
