@@ -87,3 +87,23 @@ def test_compare_strategies_json(tmp_path, capsys):
     assert [r["strategy"] for r in out["table"]] == ["vertical_only", "minimax"]
     assert all(e["distance_m"] > 0 for e in out["episodes"])
     assert (tmp_path / "HexapodLoadCarry-v0.png").is_file()
+
+
+def test_ray_backend_with_a_local_ray_instance():
+    pytest.importorskip("ray")
+    from thermolimb.envs.evaluate import evaluate
+
+    ray_eps = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="ray", max_time_s=2.0)
+    local = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="process", max_time_s=2.0)
+    assert [e.episode_return for e in ray_eps] == [e.episode_return for e in local]  # same seeds, same episodes
+
+
+@pytest.mark.slow
+def test_ppo_agent_trains_for_a_few_thousand_steps():
+    pytest.importorskip("stable_baselines3")
+    from demos.ppo_agent import evaluate_agent, train
+
+    model = train(2048, seed=0)
+    assert model.num_timesteps >= 2048
+    returns = evaluate_agent(model, 1)
+    assert np.isfinite(returns).all()

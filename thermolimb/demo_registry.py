@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import json
 import pkgutil
 from dataclasses import dataclass
@@ -25,16 +26,21 @@ class Demo:
     name: str
     description: str
     run: Callable[..., dict]
+    requires: tuple[str, ...] = ()  # optional packages (an extra) the demo imports
+
+    @property
+    def missing(self) -> tuple[str, ...]:
+        return tuple(m for m in self.requires if importlib.util.find_spec(m) is None)
 
 
 DEMOS: dict[str, Demo] = {}
 
 
-def register_demo(name: str, description: str):
+def register_demo(name: str, description: str, requires: tuple[str, ...] = ()):
     """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``."""
 
     def wrap(func):
-        DEMOS[name] = Demo(name, description, func)
+        DEMOS[name] = Demo(name, description, func, tuple(requires))
         return func
 
     return wrap
@@ -54,6 +60,8 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
     demos = load_demos()
     if name not in demos:
         raise KeyError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
+    if demos[name].missing:
+        raise KeyError(f"demo {name!r} needs {', '.join(demos[name].missing)}: pip install 'thermolimb[rl]'")
     folder = Path(out) / name
     folder.mkdir(parents=True, exist_ok=True)
     summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))

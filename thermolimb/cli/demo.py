@@ -33,6 +33,10 @@ def run(args) -> int:
             print(f"{name:22s} {demos[name].description}")
         return 0
     names = sorted(demos) if args.name == "all" else [args.name]
+    if args.name == "all":
+        for name in [n for n in names if demos[n].missing]:
+            print(f"demo {name}: skipped (needs {', '.join(demos[name].missing)})")
+        names = [n for n in names if not demos[n].missing]
     summaries = {}
     for name in names:
         start = time.perf_counter()

@@ -67,9 +67,14 @@ def evaluate(env_id: str, episodes: int, seed: int, strategies=None, backend: st
             import ray
         except ImportError:
             raise ValueError("the ray backend needs Ray: pip install 'thermolimb[ray]'") from None
+        started = not ray.is_initialized()
         ray.init(address=address, ignore_reinit_error=True, include_dashboard=False, log_to_driver=False)
-        remote = ray.remote(run_episode)
-        return ray.get([remote.remote(*job) for job in jobs])
+        try:
+            remote = ray.remote(run_episode)
+            return ray.get([remote.remote(*job) for job in jobs])
+        finally:
+            if started:
+                ray.shutdown()
     raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
 
 

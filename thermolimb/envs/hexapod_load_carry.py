@@ -1,6 +1,6 @@
 """``thermolimb/HexapodLoadCarry-v0``: carry a payload as far as possible without overheating.
 
-Every decision step (1 s) the agent chooses how to distribute the stance
+Every decision step (1 s by default, ``decision_s``) the agent chooses how to distribute the stance
 wrenches -- a blend of vertical-only, minimax and thermal-aware forces (a
 convex combination of balanced distributions is balanced) -- and how fast to
 walk, 0 pausing to cool.  The payload (0-5 kg), the actuators' starting
@@ -47,7 +47,10 @@ HOT_C, LIMIT_C = 120.0, 155.0
 class HexapodLoadCarryEnv(gym.Env):
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
 
-    def __init__(self, max_time_s: float = 60.0, render_mode: str | None = None):
+    def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None):
+        if not decision_s > 0:
+            raise ValueError(f"decision_s must be positive, got {decision_s}")
+        self.decision_s = decision_s
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.max_time_s = max_time_s
@@ -94,7 +97,7 @@ class HexapodLoadCarryEnv(gym.Env):
         gait = replace(self.gait, step_length_m=self.gait.step_length_m * speed)
         start_x = self.reading.body_position_m[0]
         blend = dict(zip(("vertical_only", "minimax", "thermal_aware"), weights))
-        for _ in range(int(round(DECISION_S / self.sim.config.control_dt_s))):
+        for _ in range(max(1, int(round(self.decision_s / self.sim.config.control_dt_s)))):
             torques, self.state, _ = control_step(self.reading, self.state, DAISY, gait, blend,
                                                   self.sim.config.control_dt_s, self.payload_kg, thermal=self.thermal,
                                                   walking=speed > 0.05)
