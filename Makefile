@@ -29,6 +29,9 @@ test-fast: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/identification.py
 	$(BIN)/python benchmarks/diagnose.py
+	$(BIN)/python benchmarks/wrench.py
+	$(BIN)/python benchmarks/thermal_ik.py
+	$(BIN)/python benchmarks/envs.py
 
 clean:
 	rm -rf $(VENV) $(OUT) *.egg-info
