@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from thermolimb.paths import urdf_dir
+from thermolimb.paths import urdf_dir, write_urdf
 
 from .constants import BODY_LINK, LEGS, PAYLOAD_LINK, foot_link, joint_name
 from .params import DAISY, DaisyParams
@@ -102,9 +102,7 @@ def urdf_path() -> Path:
 
 
 def main(argv=None) -> int:
-    path = urdf_path()
-    path.write_text(generate())
-    print(f"wrote {path}", file=sys.stderr)
+    print(f"wrote {write_urdf(URDF_NAME, generate())}", file=sys.stderr)
     return 0
 
 

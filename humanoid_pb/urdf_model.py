@@ -11,7 +11,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from thermolimb.paths import urdf_dir
+from thermolimb.paths import urdf_dir, write_urdf
 
 from .constants import ARM_JOINTS, LEG_JOINTS, PELVIS, SIDES, TORSO, foot_link
 from .params import VALKYRIE, ValkyrieParams
@@ -116,9 +116,7 @@ def urdf_path() -> Path:
 
 
 def main(argv=None) -> int:
-    path = urdf_path()
-    path.write_text(generate())
-    print(f"wrote {path}", file=sys.stderr)
+    print(f"wrote {write_urdf(URDF_NAME, generate())}", file=sys.stderr)
     return 0
 
 

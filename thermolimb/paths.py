@@ -28,3 +28,10 @@ def urdf_dir() -> Path:
         "thermolimb cannot find its urdf/ folder; looked in " + ", ".join(str(p) for p in candidates)
         + f"; set {_ENV} to the folder"
     )
+
+
+def write_urdf(name: str, text: str) -> Path:
+    """Write a generated URDF into :func:`urdf_dir` (what each robot's ``python -m <robot>.urdf_model`` does)."""
+    path = urdf_dir() / name
+    path.write_text(text)
+    return path

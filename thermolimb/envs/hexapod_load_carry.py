@@ -36,30 +36,26 @@ reaches its 155 degC winding limit or the robot falls; truncated after
 
 from __future__ import annotations
 
-import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+
+from .base import RigEnv
 
 DECISION_S = 1.0
 HOT_C, LIMIT_C = 120.0, 155.0
 
 
-class HexapodLoadCarryEnv(gym.Env):
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
-
+class HexapodLoadCarryEnv(RigEnv):
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None):
+        super().__init__(render_mode)
         if not decision_s > 0:
             raise ValueError(f"decision_s must be positive, got {decision_s}")
         self.decision_s = decision_s
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.max_time_s = max_time_s
-        self.render_mode = render_mode
         self.action_space = spaces.Box(0.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(18, -50.0), np.zeros(18), np.full(3, -10.0), 0.0].astype(np.float32)
         high = np.r_[np.full(18, 400.0), np.full(18, 10.0), np.full(3, 10.0), 50.0].astype(np.float32)
         self.observation_space = spaces.Box(low, high, dtype=np.float32)
-        self.sim = None
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
@@ -84,8 +80,7 @@ class HexapodLoadCarryEnv(gym.Env):
         return self._observation(), self._info({})
 
     def step(self, action):
-        if self.sim is None:
-            raise RuntimeError("call reset() before step()")
+        self._require_reset()
         from dataclasses import replace
 
         from hexapod_pb.controller import control_step
@@ -122,11 +117,6 @@ class HexapodLoadCarryEnv(gym.Env):
         proj = c.computeProjectionMatrixFOV(50.0, 1.0, 0.05, 10.0)
         _, _, rgba, _, _ = c.getCameraImage(240, 240, view, proj, renderer=c.ER_TINY_RENDERER)
         return np.asarray(rgba, dtype=np.uint8).reshape(240, 240, 4)[:, :, :3]
-
-    def close(self):
-        if self.sim is not None:
-            self.sim.close()
-            self.sim = None
 
     def _observation(self) -> np.ndarray:
         from hexapod_pb.params import DAISY

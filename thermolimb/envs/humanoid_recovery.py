@@ -46,9 +46,10 @@ world, so the same seed and actions give the same trajectory.
 
 from __future__ import annotations
 
-import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+
+from .base import RigEnv
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
 DECISION_S = 1.5
@@ -56,21 +57,17 @@ WARNING_C, RECOVERED_C = 75.0, 70.0
 MODES = ("double", "left", "right")
 
 
-class HumanoidThermalRecoveryEnv(gym.Env):
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
-
+class HumanoidThermalRecoveryEnv(RigEnv):
     def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None):
+        super().__init__(render_mode)
         if action_type not in ("mode", "configuration"):
             raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         from humanoid_pb.actuators import actuator_specs
         from humanoid_pb.constants import ACTUATORS
         from humanoid_pb.params import VALKYRIE
 
         self.action_type = action_type
         self.max_time_s = max_time_s
-        self.render_mode = render_mode
         self.limits = np.array([s.effort_limit for s in actuator_specs(VALKYRIE)])
         self.n_act = len(ACTUATORS)
         self.action_space = spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
@@ -79,7 +76,6 @@ class HumanoidThermalRecoveryEnv(gym.Env):
         high = np.r_[np.full(23, 400.0), np.full(23, 10.0), np.ones(3), 3.0, np.pi, np.pi, np.full(6, 50.0),
                      np.full(2, 2.0)].astype(np.float32)
         self.observation_space = spaces.Box(low, high, dtype=np.float32)
-        self.sim = None
 
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -106,8 +102,7 @@ class HumanoidThermalRecoveryEnv(gym.Env):
         return self._observation(), self._info({})
 
     def step(self, action):
-        if self.sim is None:
-            raise RuntimeError("call reset() before step()")
+        self._require_reset()
         before = self.reading.temperature_C.max()
         self._apply(action)
         steps = int(round(DECISION_S / self.sim.config.control_dt_s))
@@ -134,11 +129,6 @@ class HumanoidThermalRecoveryEnv(gym.Env):
         if self.render_mode == "rgb_array" and self.sim is not None:
             return self.sim.render(240, 240)
         return None
-
-    def close(self):
-        if self.sim is not None:
-            self.sim.close()
-            self.sim = None
 
     # ------------------------------------------------------------------ helpers
     def _apply(self, action):
