@@ -34,16 +34,6 @@ def foot_position(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
     return params.mount_position_m(leg) + np.array([r * np.cos(psi), r * np.sin(psi), z])
 
 
-def joint_positions(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
-    """Body-frame positions of the base, shoulder and elbow axes (3 x 3, rows), for the seed's Eq. 13-15."""
-    psi = params.mount_yaw_rad(leg) + q[0]
-    heading = np.array([np.cos(psi), np.sin(psi), 0.0])
-    mount = params.mount_position_m(leg)
-    shoulder = mount + params.bracket_m * heading
-    elbow = shoulder + params.upper_link_m * (np.cos(q[1]) * heading + np.array([0, 0, np.sin(q[1])]))
-    return np.vstack([mount, shoulder, elbow])
-
-
 def joint_axes(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
     """Body-frame unit axes of the base (+z), shoulder and elbow (the leg's -y): rows."""
     psi = params.mount_yaw_rad(leg) + q[0]

@@ -6,7 +6,6 @@ checks that the committed file equals this generator's output.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from thermolimb.paths import urdf_dir, write_urdf
@@ -101,10 +100,5 @@ def urdf_path() -> Path:
     return urdf_dir() / URDF_NAME
 
 
-def main(argv=None) -> int:
-    print(f"wrote {write_urdf(URDF_NAME, generate())}", file=sys.stderr)
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    write_urdf(URDF_NAME, generate())

@@ -52,10 +52,6 @@ _EQUALITY = 5  # daqp sense: active and immutable
 _ACTIVE = 1
 
 
-def skew(v: np.ndarray) -> np.ndarray:
-    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-
-
 @dataclass(frozen=True)
 class StanceProblem:
     """Data of one stance-wrench problem (see the module docstring for the maths)."""
@@ -458,11 +454,6 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
     sol.solve_time_s = time.perf_counter() - start
     sol.iterations = rounds
     return sol
-
-
-def predicted_peak_C(problem: StanceProblem, sol: StanceSolution, bank: FirstOrderBank,
-                     temperature_C: np.ndarray, horizon_s: float) -> float:
-    return float(np.max(bank.ahead(temperature_C, sol.torques_Nm, horizon_s)))
 
 
 def _contact_rows(p: StanceProblem):

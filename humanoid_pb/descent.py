@@ -18,7 +18,6 @@ import numpy as np
 import pinocchio as pin
 
 from .constants import CONTACT_MODES, mode_feet
-from .potential import ThermalPotential
 from .statics import WholeBody
 
 

@@ -8,7 +8,6 @@ sole: the contact frame of the statics.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from thermolimb.paths import urdf_dir, write_urdf
@@ -115,10 +114,5 @@ def urdf_path() -> Path:
     return urdf_dir() / URDF_NAME
 
 
-def main(argv=None) -> int:
-    print(f"wrote {write_urdf(URDF_NAME, generate())}", file=sys.stderr)
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    write_urdf(URDF_NAME, generate())

@@ -5,7 +5,7 @@ import pytest
 
 from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
-from hexapod_pb.controller import STRATEGIES, ControllerState, Gains, ThermalContext, control_step
+from hexapod_pb.controller import STRATEGIES, ControllerState, ThermalContext, control_step
 from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY
 from hexapod_pb.sim import HexapodSim, SimConfig

@@ -19,12 +19,9 @@ def body():
 
 @pytest.fixture(scope="module")
 def q0(body):
-    angles = np.zeros(len(JOINTS))
-    for side in ("left", "right"):
-        angles[JOINTS.index(f"{side}_hip_pitch")] = -0.3
-        angles[JOINTS.index(f"{side}_knee")] = 0.6
-        angles[JOINTS.index(f"{side}_ankle_pitch")] = -0.3
-    return body.configuration([0, 0, 1.0749], [0, 0, 0, 1], angles)
+    from humanoid_pb.poses import crouch_angles, standing
+
+    return standing(body, crouch_angles())
 
 
 def bank():

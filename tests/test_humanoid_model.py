@@ -5,6 +5,7 @@ import pytest
 
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS
 from humanoid_pb.params import VALKYRIE, ValkyrieParams
+from humanoid_pb.poses import crouch_angles, standing
 from humanoid_pb.pushrods import RodPair
 from humanoid_pb.statics import WholeBody
 from humanoid_pb.urdf_model import generate, urdf_path
@@ -13,15 +14,6 @@ from humanoid_pb.urdf_model import generate, urdf_path
 @pytest.fixture(scope="module")
 def body():
     return WholeBody()
-
-
-def crouch(body, depth=0.3):
-    angles = np.zeros(len(JOINTS))
-    for side in ("left", "right"):
-        angles[JOINTS.index(f"{side}_hip_pitch")] = -depth
-        angles[JOINTS.index(f"{side}_knee")] = 2 * depth
-        angles[JOINTS.index(f"{side}_ankle_pitch")] = -depth
-    return body.configuration([0, 0, 1.0], [0, 0, 0, 1], angles)
 
 
 def test_committed_urdf_matches_the_generator():
@@ -43,7 +35,7 @@ def test_ankle_rods_reproduce_the_published_map():
 
 @pytest.mark.parametrize("mode", CONTACT_MODES)
 def test_statics_balance_gravity(body, mode):
-    q = crouch(body)
+    q = standing(body, crouch_angles())
     s = body.statics(q, mode)
     Jc = body.contact_jacobian(q, mode)
     # Eq. 18 at rest: S_a^T Gamma + J_c^T F_r = g (N and N m)
@@ -56,15 +48,6 @@ def test_statics_balance_gravity(body, mode):
 def test_impossible_parameters_are_refused():
     with pytest.raises(ValueError, match="mass must be positive"):
         ValkyrieParams(torso_kg=0.0)
-
-
-def crouch_angles(depth=0.3):
-    angles = np.zeros(len(JOINTS))
-    for side in ("left", "right"):
-        angles[JOINTS.index(f"{side}_hip_pitch")] = -depth
-        angles[JOINTS.index(f"{side}_knee")] = 2 * depth
-        angles[JOINTS.index(f"{side}_ankle_pitch")] = -depth
-    return angles
 
 
 def hold(torques_of, seconds):

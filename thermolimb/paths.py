@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import sysconfig
 from pathlib import Path
 
@@ -34,4 +35,5 @@ def write_urdf(name: str, text: str) -> Path:
     """Write a generated URDF into :func:`urdf_dir` (what each robot's ``python -m <robot>.urdf_model`` does)."""
     path = urdf_dir() / name
     path.write_text(text)
+    print(f"wrote {path}", file=sys.stderr)
     return path

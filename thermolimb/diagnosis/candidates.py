@@ -182,7 +182,3 @@ def judge(cand: Candidate, report, base_rmse: float, base_bic: float, train_resi
             identifiable = False
     cand.identifiable = identifiable
     cand.plausible = cand.implausible_because is None
-
-
-def model_parameter_count(model: tuple[str, ...]) -> int:
-    return len(model_parameters(model))
