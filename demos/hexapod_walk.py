@@ -31,7 +31,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     _plot_bars(summary, out / "peak_and_mean_by_scenario.png")
     _plot_temperatures(results, out / "temperatures.png")
     walk = summary["walk_2kg"]
-    summary["findings"] = {
+    summary["details"] = {
         "walk_2kg_peak_reduction_minimax_vs_vertical": 1 - walk["minimax"]["peak_norm_torque"]
         / walk["vertical_only"]["peak_norm_torque"],
         "walk_2kg_mean_change_minimax_vs_vertical": walk["minimax"]["mean_norm_torque"]

@@ -44,7 +44,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     _plot_norms(runs, out / "temperature_norms.png")
     _plot_modes(runs, out / "contact_modes.png")
     _render(runs, out)
-    summary["identified_RC_s_median"] = float(np.median(bank.RC_s))
+    summary["details"] = {"identified_RC_s_median": float(np.median(bank.RC_s))}
     return summary
 
 

@@ -30,6 +30,17 @@ def test_thermal_fit_demo_predicts_the_squats(tmp_path):
                 <= methods["seed_gd"]["prediction"]["rmse_K"] + 1e-9), channel
 
 
+def test_specified_summaries_keep_their_shape(tmp_path):
+    """Issues 4 and 5 give summary.json's exact keys; anything else goes to details.json."""
+    walk = run_demo("hexapod-walk", tmp_path, quick=True, quiet=True)
+    assert set(walk) == {"walk_0kg", "walk_2kg", "stand_5kg"}
+    for scenario in walk.values():
+        assert set(scenario) == {"vertical_only", "minimax", "minimax_lex", "thermal_aware"}
+        for record in scenario.values():
+            assert {"peak_norm_torque", "mean_norm_torque", "max_temperature_C", "time_to_limit_s"} <= set(record)
+    assert json.loads((tmp_path / "hexapod-walk" / "details.json").read_text())["duration_s"] == 15.0
+
+
 def test_report_without_results_says_what_to_run(tmp_path):
     with pytest.raises(FileNotFoundError, match="thermolimb demo all"):
         build_report(tmp_path)

@@ -2,7 +2,9 @@
 
 A demo is a function ``run(out: Path, quick: bool, quiet: bool) -> dict``
 that writes its PNG plots into ``out`` and returns its summary, which the
-registry writes as ``out/summary.json``.  Decorate it with
+registry writes as ``out/summary.json``.  A top-level ``"details"`` entry, if
+any, goes to ``out/details.json`` instead, so that ``summary.json`` keeps the
+shape its issue specifies.  Decorate it with
 :func:`register_demo`; modules in the top-level ``demos`` package are
 imported by :func:`load_demos`.
 """
@@ -65,9 +67,12 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
     folder = Path(out) / name
     folder.mkdir(parents=True, exist_ok=True)
     summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
-    tmp = folder / "summary.json.partial"
-    tmp.write_text(json.dumps(summary, indent=2))
-    tmp.replace(folder / "summary.json")
+    details = summary.pop("details", None)
+    for filename, record in (("summary.json", summary), ("details.json", details)):
+        if record is not None:
+            tmp = folder / f"{filename}.partial"
+            tmp.write_text(json.dumps(record, indent=2))
+            tmp.replace(folder / filename)
     return summary
 
 

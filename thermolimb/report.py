@@ -42,6 +42,9 @@ def build_report(out: Path) -> Path:
         for png in sorted(folder.glob("*.png")):
             rel = png.relative_to(out).as_posix()
             parts.append(f"<div><img src='{html.escape(rel)}' alt='{html.escape(png.stem)}'></div>")
+        details = folder / "details.json"
+        if details.is_file():
+            summary = {**summary, "details": json.loads(details.read_text())}
         parts.append("<table>")
         for key, value in _rows(summary):
             parts.append(f"<tr><td>{html.escape(key)}</td><td>{html.escape(str(value))}</td></tr>")
