@@ -63,8 +63,8 @@ def test_unknown_actuator(tmp_path):
 
 
 def test_unknown_format_and_missing_file(tmp_path):
-    with pytest.raises(LogError, match=r"unknown log format '.txt'"):
-        read_log(tmp_path / "log.txt")
+    with pytest.raises(LogError, match=r"unknown log format '.xls'"):
+        read_log(tmp_path / "log.xls")
     with pytest.raises(LogError, match="no such file"):
         read_log(tmp_path / "absent.csv")
 

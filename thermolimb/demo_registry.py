@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from .errors import UsageError
 from .jsonutil import to_jsonable
 
 
@@ -61,9 +62,9 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
     """Run one demo into ``out/<name>/`` and write its ``summary.json``."""
     demos = load_demos()
     if name not in demos:
-        raise KeyError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
+        raise UsageError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
     if demos[name].missing:
-        raise KeyError(f"demo {name!r} needs {', '.join(demos[name].missing)}: pip install 'thermolimb[rl]'")
+        raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: pip install 'thermolimb[rl]'")
     folder = Path(out) / name
     folder.mkdir(parents=True, exist_ok=True)
     summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))

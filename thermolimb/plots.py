@@ -23,31 +23,58 @@ def save(fig, path: Path) -> Path:
     return path
 
 
+def _offsets(segments) -> dict[str, float]:
+    """Time shift per run, so that runs that each start at 0 s are drawn one after another."""
+    offsets, end = {}, None
+    for seg in segments:
+        if seg.run in offsets:
+            continue
+        start = float(seg.time_s[0])
+        shift = 0.0 if end is None or start > end else end - start + 0.02 * max(end, 1.0)
+        offsets[seg.run] = shift
+        end = max(end or -float("inf"), float(seg.time_s[-1]) + shift)
+    return offsets
+
+
+def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) -> None:
+    """Measured temperature and the model's free run, validation shaded; the error and effort beneath if given."""
+    segments = list(report.train_segments) + list(report.validation_segments)
+    shift = _offsets(sorted(segments, key=lambda s: (s.run, float(s.time_s[0]))))
+    for part, color, segs in (("training", "tab:blue", report.train_segments),
+                              ("validation", "tab:orange", report.validation_segments)):
+        for i, seg in enumerate(segs):
+            t = seg.time_s + shift[seg.run]
+            ax_temperature.plot(t, seg.measured_C, color="0.2", lw=1, label="measured" if part == "training" and i == 0
+                                else None)
+            ax_temperature.plot(t, seg.simulated_C, color=color, lw=1.2,
+                                label=f"model free run, {part}" if i == 0 else None)
+            if part == "validation":
+                for ax in (ax_temperature, ax_error, ax_effort):
+                    if ax is not None:
+                        ax.axvspan(t[0], t[-1], color="tab:orange", alpha=0.08, lw=0)
+            if ax_error is not None:
+                ax_error.plot(t, seg.measured_C - seg.simulated_C, color=color, lw=0.8)
+            if ax_effort is not None:
+                ax_effort.plot(t, seg.effort, color="0.4", lw=0.6)
+    ax_temperature.set_ylabel("temperature (°C)")
+    ax_temperature.legend(loc="best", fontsize=8)
+    if ax_error is not None:
+        ax_error.axhline(0, color="k", lw=0.5)
+        ax_error.set_ylabel("measured − model (K)")
+    if report.flags:
+        ax_temperature.text(0.01, 0.02, "\n".join("! " + f for f in report.flags), transform=ax_temperature.transAxes,
+                            fontsize=7, color="tab:red", va="bottom", wrap=True)
+
+
 def plot_fit(report: FitReport, path: Path) -> Path:
-    """Measured and simulated temperature over training and validation, their error, and effort."""
+    """Measured and simulated temperature over training and validation (shaded), their error, and effort."""
     fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True, height_ratios=[3, 1.4, 1.4])
-    for i, seg in enumerate(report.train_segments):
-        axes[0].plot(seg.time_s, seg.measured_C, color="0.3", lw=1, label="measured" if i == 0 else None)
-        axes[0].plot(seg.time_s, seg.simulated_C, color="tab:blue", lw=1.2,
-                     label="model, training (free run)" if i == 0 else None)
-        axes[1].plot(seg.time_s, seg.simulated_C - seg.measured_C, color="tab:blue", lw=0.8)
-        axes[2].plot(seg.time_s, seg.effort, color="0.4", lw=0.6)
-    for i, seg in enumerate(report.validation_segments):
-        axes[0].plot(seg.time_s, seg.measured_C, color="0.3", lw=1)
-        axes[0].plot(seg.time_s, seg.simulated_C, color="tab:orange", lw=1.2,
-                     label="model, validation (free run from the split)" if i == 0 else None)
-        axes[0].axvline(seg.time_s[0], color="k", ls=":", lw=0.8)
-        axes[1].plot(seg.time_s, seg.simulated_C - seg.measured_C, color="tab:orange", lw=0.8)
-        axes[2].plot(seg.time_s, seg.effort, color="0.4", lw=0.6)
+    overlay(report, axes[0], axes[1], axes[2])
     v = report.validation
     axes[0].set_title(
-        f"{report.actuator}: model {','.join(report.model.terms)} ({report.method}); validation "
-        f"RMSE {v['rmse_K']:.2f} K, max {v['max_abs_K']:.2f} K, fit {v['fit_percent']:.1f} %"
-    )
-    axes[0].set_ylabel("temperature (°C)")
-    axes[0].legend(loc="best", fontsize=8)
-    axes[1].axhline(0, color="k", lw=0.5)
-    axes[1].set_ylabel("error (K)")
+        f"{report.actuator}: model {','.join(report.model.terms)} ({report.method}); validation (shaded) "
+        f"RMSE {v['rmse_K']:.2f} K, max {v['max_abs_K']:.2f} K, fit {v['fit_percent']:.1f} %\n{report.scheme}",
+        fontsize=10)
     axes[2].set_ylabel("effort (N m)")
-    axes[2].set_xlabel("time (s)")
+    axes[2].set_xlabel("time (s; runs one after another)")
     return save(fig, path)

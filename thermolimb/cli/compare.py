@@ -4,13 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
-from ..evaluation import FitReport, cross_validate, fit_and_validate
+from ..evaluation import FitReport, Scheme, evaluate
 from ..metrics import information_criteria
 from ..model.terms import TERMS, parse_model
-from .options import add_log_input, add_quiet, for_each_actuator
-
+from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
 
 def add_parser(sub):
     p = sub.add_parser(
@@ -21,29 +18,26 @@ def add_parser(sub):
     add_log_input(p)
     p.add_argument("--model", action="append", required=True, metavar="TERMS",
                    help=f"a model to compare (repeat the option); terms: {', '.join(TERMS)}")
-    p.add_argument("--split", type=float, default=0.7, help="fraction of the time span used to fit (default 0.7)")
-    p.add_argument("--cv", type=int, default=None, metavar="K", help="blocked cross-validation over K folds")
+    add_validation(p)
     p.add_argument("--json", action="store_true", help="print the comparison as one JSON object")
     p.add_argument("--plot", default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
     add_quiet(p)
     p.set_defaults(func=run)
 
-
-def compare_models(series, models, split=0.7, cv=None) -> list[tuple[FitReport, dict]]:
+def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=()) -> list[tuple[FitReport, dict]]:
     """Fit and validate each model; returns each report with its AIC and BIC."""
     out = []
     for model in models:
-        report = cross_validate(series, model, cv) if cv else fit_and_validate(series, model, split=split)
-        residual = np.concatenate([s.measured_C - s.simulated_C for s in report.train_segments])
-        out.append((report, information_criteria(residual, len(report.model.params))))
+        report = evaluate(series, model, scheme, validate_on=validate_on)
+        out.append((report, information_criteria(report.train_residual_K, len(report.model.params))))
     return out
-
 
 def run(args) -> int:
     models = [parse_model(m) for m in args.model]
+    scheme = scheme_of(args)
 
-    def analyse(name, series):
-        results = compare_models(series, models, args.split, args.cv)
+    def analyse(name, series, held_out):
+        results = compare_models(series, models, scheme, held_out)
         if args.plot:
             _plot(results, name, Path(args.plot) / f"compare_{name.replace('/', '_')}.png")
         lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
@@ -51,10 +45,13 @@ def run(args) -> int:
             v = r.validation
             lines.append(f"  {','.join(r.model.terms):40s} {v['rmse_K']:8.3f} {v['max_abs_K']:8.3f} "
                          f"{v['fit_percent']:7.1f} {ic['aic']:11.1f} {ic['bic']:11.1f}")
+        lines.append(f"  validation: {results[0][0].scheme}")
+        for r, _ in results:
+            lines.append(f"  {','.join(r.model.terms)}:")
+            lines += format_params(r, indent="    ")
         return {"actuator": name, "models": [{**r.to_json(), **ic} for r, ic in results]}, "\n".join(lines)
 
     return for_each_actuator(args, analyse)
-
 
 def _plot(results, actuator, path):
     from ..plots import plt, save

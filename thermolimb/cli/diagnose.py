@@ -1,4 +1,4 @@
-"""``thermolimb diagnose``: where does the model fail, which effect is missing."""
+"""``thermolimb diagnose``: where does the model fail, and what should change."""
 
 from __future__ import annotations
 
@@ -6,28 +6,28 @@ from pathlib import Path
 
 from ..diagnosis import auto_diagnose, diagnose
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from .options import add_log_input, add_quiet, for_each_actuator
+from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
 
 
 def add_parser(sub):
     p = sub.add_parser(
         "diagnose", help="find where the thermal model fails and which physical effect is missing",
-        description="Fit the model (output error, first --split of the log), analyse its residual "
-        "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, ambient and the "
-        "neighbours' temperatures; RMSE by phase), score every catalog effect the model lacks, refit the "
-        "strong ones and recommend the one to add. Errors in K.",
+        description="Fit the model (output error, on the first --split of each run), analyse its residual "
+        "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, power, ambient, the housing "
+        "and the neighbours' temperatures; RMSE by phase), try every change worth trying (add an effect, drop a "
+        "term, swap the heat source), validate each on held-out data and recommend the one that helps most, if it "
+        "is plausible and identifiable. --auto takes recommended changes while one helps. Errors in K.",
     )
     add_log_input(p)
     p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
                    help=f"model to diagnose (default {','.join(DEFAULT_MODEL)}); known terms: {', '.join(TERMS)}")
-    p.add_argument("--split", type=float, default=0.7, help="fraction of the time span used to fit (default 0.7)")
-    p.add_argument("--cv", type=int, default=None, metavar="K",
-                   help="blocked cross-validation: K contiguous folds, each validated by free run from its "
-                        "measured start, instead of the single split")
+    add_validation(p)
     p.add_argument("--auto", action="store_true",
-                   help="add recommended effects one at a time while each helps, and draw the waterfall")
+                   help="take the recommended change (add, drop or swap) while one helps, never revisiting a model, "
+                        "and draw the waterfall")
     p.add_argument("--refit", choices=("strong", "all"), default="strong",
-                   help="refit only strong candidates (default) or all of them")
+                   help="refit only additions with a strong score test (default) or all of them; drops and swaps "
+                        "are always refitted")
     p.add_argument("--json", action="store_true", help="print the diagnosis as one JSON object")
     p.add_argument("--plot", default=None, metavar="DIR", help="write the diagnosis plots into DIR")
     add_quiet(p)
@@ -36,34 +36,42 @@ def add_parser(sub):
 
 def run(args) -> int:
     parse_model(args.model)
+    scheme = scheme_of(args)
 
-    def analyse(name, series):
+    def analyse(name, series, held_out):
         if args.auto:
-            d, _ = auto_diagnose(series, args.model, split=args.split, quiet=args.quiet, cv=args.cv)
+            d, _ = auto_diagnose(series, args.model, quiet=args.quiet, scheme=scheme, validate_on=held_out)
         else:
-            d = diagnose(series, args.model, split=args.split, refit=args.refit, quiet=args.quiet, cv=args.cv)
+            d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out)
         if args.plot:
             from ..diagnosis.plots import plot_diagnosis
 
             plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
-        return d.to_json(), _describe(d)
+        return d.to_json(), describe_diagnosis(d)
 
     return for_each_actuator(args, analyse)
 
 
-def _describe(d) -> str:
+def describe_diagnosis(d) -> str:
     b = d.base.validation
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
-             f"fit {b['fit_percent']:.1f} %"]
+             f"fit {b['fit_percent']:.1f} % ({d.base.scheme})"]
+    lines += format_params(d.base)
+    lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
     for c in d.candidates:
-        if c.rmse_K is None:
-            lines.append(f"  {c.effect:18s} not refitted (score test p = {c.p_value:.2g})")
+        if not c.refitted:
+            why = c.confounded or c.failure or f"score test p = {c.p_value:.2g}"
+            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s}  {c.status}: {why}")
             continue
-        name = c.effect + (f" for {c.replaces}" if c.replaces else "")
-        lines.append(f"  {name:18s} RMSE {c.rmse_K:.3f} K  improvement {100 * c.improvement:5.1f} %  "
-                     f"dBIC {c.delta_bic:9.1f}  identifiable {c.identifiable}")
+        lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f}  {c.status}")
+        for pname, v in c.params.items():
+            lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g} {v['unit']}")
         lines.append(f"      {c.evidence}")
-    lines.append(f"  recommended: {d.recommended.effect if d.recommended else 'none'}")
+    lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}")
     if d.auto:
-        lines.append("  waterfall: " + "  ->  ".join(f"{s['rmse_K']:.3f} K" for s in d.auto))
+        lines.append("  steps:")
+        for step in d.auto:
+            head = f"    {step.get('change', 'start'):28s} -> {','.join(step['model'])}: {step['rmse_K']:.3f} K"
+            lines.append(head + (f"  ({step['why']})" if "why" in step else ""))
+            lines += [f"      ! {flag}" for flag in step["flags"]]
     return "\n".join(lines)

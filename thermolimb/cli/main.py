@@ -5,14 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..identification import IdentifiabilityError
-from ..logs import LogError
-from ..model.terms import ModelSpecError
+from ..errors import ThermolimbError
 from . import compare, demo, diagnose, fit, simulate, strategies
 
 COMMANDS = (simulate, fit, compare, diagnose, strategies, demo)
-# Errors a user can act on: one sentence, no traceback, exit status 2.
-USER_ERRORS = (LogError, ModelSpecError, IdentifiabilityError, ValueError, KeyError, FileNotFoundError)
+# Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
+# suite and keeps its traceback.
+USER_ERRORS = (ThermolimbError,)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -33,8 +32,7 @@ def main(argv=None) -> int:
     try:
         return int(args.func(args) or 0)
     except USER_ERRORS as exc:
-        message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
-        print(f"thermolimb {args.command}: error: {message}", file=sys.stderr)
+        print(f"thermolimb {args.command}: error: {exc}", file=sys.stderr)
         return 2
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..errors import UsageError
 from ..plant import ACTUATORS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
 from .options import add_quiet, print_json
 
@@ -42,7 +43,7 @@ def parse_actuators(text: str):
     for item in text.split(","):
         name, _, model = item.strip().partition(":")
         if not name or model not in ACTUATORS:
-            raise ValueError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATORS)}")
+            raise UsageError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATORS)}")
         names.append(name)
         specs.append(ACTUATORS[model])
     return names, specs

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import UsageError
 from ..envs import HEXAPOD_ID, HUMANOID_ID
 from .options import add_quiet, print_json
 
@@ -34,7 +35,7 @@ def run(args) -> int:
     from ..envs.evaluate import episodes_json, evaluate, table
 
     if args.episodes < 1:
-        raise ValueError(f"--episodes must be at least 1, got {args.episodes}")
+        raise UsageError(f"--episodes must be at least 1, got {args.episodes}")
     strategies = args.strategies.split(",") if args.strategies else None
     episodes = evaluate(args.env, args.episodes, args.seed, strategies, backend=args.backend, workers=args.workers,
                         address=args.address, max_time_s=args.max_time)

@@ -1,9 +1,17 @@
-"""Diagnose a model against a log: residual analysis, ranked candidate effects, a recommendation.
+"""Diagnose a model against a log: residual analysis, ranked changes, a recommendation.
 
-``diagnose(series, model)`` fits the model (output error, the ``fit`` split
-rule), analyses its residual, scores every catalog effect the model lacks,
-refits the strong ones and recommends the effect to add, or none.
-``auto_diagnose`` adds recommended effects one at a time until none helps.
+``diagnose(series, model)`` fits the model once (output error, validated by
+the chosen :class:`~thermolimb.evaluation.Scheme`), analyses its residual,
+scores every catalog effect the model lacks, refits the changes worth trying
+-- added effects, dropped terms, swapped heat sources -- and recommends the
+one that helps most on held-out data, or none.  A change is recommended only
+if it is plausible, identifiable, not confounded and its refit did not fail;
+candidates are listed best held-out gain first, eligible ones before the rest,
+so the first row is the recommendation when there is one.
+
+``auto_diagnose`` walks from the start model: at each step it takes the
+recommended change (add, drop or swap), never returning to a model it has
+already visited, until nothing helps.
 """
 
 from __future__ import annotations
@@ -11,19 +19,18 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Sequence
 
-import numpy as np
-
-from ..evaluation import FitReport, cross_validate, fit_and_validate
+from ..evaluation import FitReport, Scheme, evaluate
 from ..identification import IdentifiabilityError, OutputError
 from ..logs import ActuatorSeries
+from ..model.model import model_parameters
 from ..model.terms import parse_model
 from ..progress import progress
-from .candidates import (MAX_DELTA_BIC, MIN_IMPROVEMENT, SCORE_P_VALUE, Candidate, bic, candidate_models, judge,
-                         score_candidate, simulate_all)
+from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
 from .evidence import describe
-
-ALWAYS_REFIT = 3
 from .residuals import ResidualAnalysis, analyse_residuals
+
+ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
+REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
 
 
 @dataclass
@@ -41,9 +48,13 @@ class Diagnosis:
         out = {
             "actuator": self.actuator,
             "model": list(self.model),
+            "validation_scheme": self.base.scheme,
             "base": {**self.base.validation, "bic": self.base_bic},
+            "base_params": self.base.to_json()["params"],
+            "flags": list(self.base.flags),
             "candidates": [c.to_json() for c in self.candidates],
             "recommended": None if self.recommended is None else self.recommended.effect,
+            "recommended_change": None if self.recommended is None else self.recommended.label,
             "recommended_model": None if self.recommended is None else list(self.recommended.model),
             "residuals": self.residuals.to_json(),
         }
@@ -52,92 +63,114 @@ class Diagnosis:
         return out
 
 
-REFIT_EVALUATIONS = 12  # simulations per parameter for a candidate's refit; good fits need fewer than 10
-
-
-def _fit(series: Sequence[ActuatorSeries], model, split: float, initial=None,
-         cv: int | None = None) -> tuple[FitReport, OutputError]:
-    """Fit and validate: single split, or blocked cross-validation over ``cv`` folds."""
-
+def _evaluate(series, model, scheme, validate_on, initial=None) -> FitReport:
     def make():
         return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
 
-    if cv:
-        return cross_validate(series, model, cv, make=make), make().fit(list(series))
-    est = make()
-    return fit_and_validate(series, model, split=split, estimator=est), est
+    return evaluate(series, model, scheme, make=make, validate_on=validate_on)
 
 
 def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-             refit: str = "strong", quiet: bool = True, cv: int | None = None) -> Diagnosis:
-    """Fit ``model``, analyse its residual, rank the missing effects.
+             refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
+             validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
+             skip: frozenset[str] = frozenset()) -> Diagnosis:
+    """Fit ``model``, analyse its residual, rank the changes worth making.
 
-    Held-out errors come from the ``split`` rule, or with ``cv=K`` from
-    blocked cross-validation over K contiguous folds (the score tests then
-    use a fit on the whole log).  ``refit="strong"`` refits candidates whose score test has p < 0.01 and
-    the three that explain most of the residual; ``"all"`` refits every candidate.
+    Held-out errors come from ``scheme`` (default: the ``split`` rule, or
+    with ``cv=K`` blocked cross-validation), or from the runs ``validate_on``.
+    ``refit="strong"`` refits additions whose score test has p < 0.01 and the
+    three that explain most of the residual, and every drop and swap;
+    ``"all"`` refits every candidate.  ``initial`` starts the base fit;
+    candidates whose label is in ``skip`` (confounded before) are not tried.
     """
     model = parse_model(model)
     series = list(series)
-    base, est = _fit(series, model, split, cv=cv)
-    train = list(series) if cv else [s.split(split)[0] for s in series]
-    measured = np.concatenate([s.temperature_C for s in train])
-    base_sim = simulate_all(base.model, train)
-    residual = measured - base_sim
-    jacobian = est.optimizer_result_.jac  # d simulated / d parameters on the training data
+    scheme = scheme or Scheme(split=split, folds=cv)
+    base = _evaluate(series, model, scheme, validate_on, initial)
+    train = list(base.train_series)
+    residual = base.train_residual_K
     base_bic = bic(residual, len(base.model.params))
-    analysis = analyse_residuals(train[0], base_sim[: train[0].n])
+    first = base.train_segments[0]
+    analysis = analyse_residuals(train[0], first.simulated_C)
 
-    candidates = candidate_models(model, series[0])
+    candidates = [c for c in candidate_models(model, series[0]) if c.label not in skip]
     for cand in candidates:
-        score_candidate(cand, base.model, train, jacobian, residual)
-    # strong: significant by the score test, or among the best scores (the test is only a first
-    # look, weak where a nuisance parameter hides the effect); validation decides
-    top = set(id(c) for c in sorted(candidates, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT])
-    to_refit = [c for c in candidates if refit == "all" or c.p_value < SCORE_P_VALUE or id(c) in top]
+        score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
+    adds = [c for c in candidates if c.kind == "add" and c.confounded is None]
+    top = {id(c) for c in sorted(adds, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
+    to_refit = [c for c in candidates if c.confounded is None and
+                (refit == "all" or c.kind != "add" or c.p_value < SCORE_P_VALUE or id(c) in top)]
     for cand in progress(to_refit, desc="refits", disable=quiet):
-        try:
-            # two starts, the score test's one step and least squares with typical values; the better fit wins
-            fits = [_fit(series, cand.model, split, initial=cand.start, cv=cv)[0],
-                    _fit(series, cand.model, split, cv=cv)[0]]
-            report = min(fits, key=lambda r: r.train["rmse_K"])
-        except IdentifiabilityError as exc:
-            cand.identifiable = False
-            cand.evidence = f"not identifiable from this log: {exc}"
-            continue
-        cand_train_residual = measured - simulate_all(report.model, train)
-        judge(cand, report, base.validation["rmse_K"], base_bic, cand_train_residual)
+        _refit(cand, series, scheme, validate_on, base, base_bic)
     for cand in candidates:
         if not cand.evidence:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
-    recommended = next((c for c in candidates if _helps(c)), None)
+    recommended = candidates[0] if candidates and candidates[0].eligible else None
     return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended)
 
 
+def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
+    """Refit from each start; the best training fit is judged on held-out data."""
+    keep = {p.name for p in model_parameters(cand.model)}
+    reports, errors = [], []
+    for start in cand.starts or [{}]:
+        try:
+            reports.append(_evaluate(series, cand.model, scheme, validate_on,
+                                     {k: v for k, v in start.items() if k in keep}))
+        except IdentifiabilityError as exc:
+            errors.append(str(exc))
+    if not reports:
+        cand.identifiable = False
+        cand.failure = f"not identifiable from this log: {errors[0]}"
+        return
+    best = min(reports, key=lambda r: r.train["rmse_K"])
+    judge(cand, best, base.validation["rmse_K"], base_bic)
+
+
 def _rank(c: Candidate):
-    """Plausible refitted candidates by validation RMSE, then implausible ones, then the rest by score.
-
-    An unidentifiable candidate yields to an identifiable one within 1 % of its error.
-    """
-    if c.rmse_K is None:
-        return (2, 0.0, -c.score)
-    return (0 if c.plausible else 1, c.rmse_K * (1.0 if c.identifiable else 1.01), 0.0)
-
-
-def _helps(c: Candidate) -> bool:
-    return (c.improvement is not None and c.improvement >= MIN_IMPROVEMENT
-            and c.delta_bic is not None and c.delta_bic <= MAX_DELTA_BIC)
+    """Eligible changes by held-out gain, then the other refitted ones by gain, confounded, then the rest by score."""
+    if c.refitted:
+        return (0 if c.eligible else 1, -c.improvement, 0.0)
+    return (2 if c.confounded is None else 3, 0.0, -c.score)
 
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-                  max_steps: int = 5, quiet: bool = True, cv: int | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
-    """Add the recommended effect while one helps; returns the first diagnosis and every step's."""
-    steps = [diagnose(series, model, split, quiet=quiet, cv=cv)]
-    while steps[-1].recommended is not None and len(steps) <= max_steps:
-        steps.append(diagnose(series, steps[-1].recommended.model, split, quiet=quiet, cv=cv))
-    waterfall = [{"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
-                  "fit_percent": d.base.validation["fit_percent"]} for d in steps]
+                  max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
+                  validate_on: Sequence[ActuatorSeries] = ()) -> tuple[Diagnosis, list[Diagnosis]]:
+    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
+
+    The first diagnosis carries the walk in ``auto``: per step the model, its
+    validation error, and the change that led to it with the reason.
+    """
+    scheme = scheme or Scheme(split=split, folds=cv)
+    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on)]
+    visited = {frozenset(steps[0].model)}
+    confounded: set[str] = set()
+    moves: list[Candidate] = []
+    while len(steps) <= max_steps:
+        d = steps[-1]
+        confounded |= {c.label for c in d.candidates if c.confounded}
+        move = next((c for c in d.candidates if c.eligible and frozenset(c.model) not in visited), None)
+        if move is None:
+            break
+        visited.add(frozenset(move.model))
+        moves.append(move)
+        steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
+                              initial=dict(move.report.model.params), skip=frozenset(confounded)))
+    waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
+                 for k, d in enumerate(steps)]
     first = steps[0]
     first.auto = waterfall
     return first, steps
+
+
+def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:
+    out = {"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
+           "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags)}
+    if move is not None:
+        b = before.base.validation["rmse_K"]
+        out["change"] = move.label
+        out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
+                      f"BIC {move.delta_bic:+.1f}")
+    return out

@@ -8,8 +8,10 @@ from .residuals import ResidualAnalysis
 
 # Which residual cross-correlation speaks for which effect; user effects use their first column.
 CHANNEL = {"joule": "effort^2", "effort_bias": "effort", "speed_losses": "|velocity|",
-           "motion_cooling": "|velocity|", "current_heating": "current^2", "ambient_variation": "ambient"}
-COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "current^2", "ambient": "ambient"}
+           "motion_cooling": "|velocity|", "current_heating": "current^2", "ambient_variation": "ambient",
+           "power_heating": "power", "housing_boundary": "housing temperature"}
+COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "current^2", "ambient": "ambient",
+                  "power": "power", "housing": "housing temperature"}
 
 
 def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
@@ -24,8 +26,10 @@ def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
 
 
 def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
+    if c.confounded:
+        return f"confounded: {c.confounded}."
     parts = []
-    channel = _channel(c.effect, analysis)
+    channel = _channel(c.effect, analysis) if c.kind != "drop" else None
     if channel:
         corr = analysis.cross[channel]
         lag, value = corr.peak
@@ -37,20 +41,27 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
             parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
                          f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
     elif c.effect in ("second_node", "sensor_lag"):
-        lag, value = analysis.autocorrelation.peak
         ph = analysis.phase_rmse_K
         slow = analysis.autocorrelation.values[-1]
         what = "a slow drift" if c.effect == "second_node" else "errors at heating and cooling onsets"
         parts.append(f"looking for {what}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
                      f"RMSE {ph.get('heating', float('nan')):.2f} K heating vs {ph.get('cool', float('nan')):.2f} K cool")
-    if c.replaces:
+    if c.kind == "drop":
+        parts.append(f"without {c.effect}")
+    elif c.kind == "swap":
         parts.append(f"replacing {c.replaces} by {c.effect}")
     else:
         parts.append(f"score test p = {c.p_value:.2g}")
-    if c.rmse_K is not None:
-        parts.append(f"with it validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
+    if c.failure:
+        parts.append(f"refit failed: {c.failure}")
+    elif c.refitted:
+        parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
+        if c.kind == "drop" and c.helps:
+            parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.1
+                         else "the term extrapolated badly beyond the training data")
         if c.plausible is False:
-            parts.append(f"but the fit is physically implausible ({c.implausible_because})")
+            parts.append(f"it fits, but is physically implausible ({c.implausible_because}): it stands in for "
+                         f"something else")
         if c.identifiable is False:
             parts.append("but this log does not pin its value down")
     return "; ".join(parts) + "."

@@ -1,4 +1,4 @@
-"""Diagnosis plots: residual over time, its autocorrelation, cross-correlations, candidates, waterfall."""
+"""Diagnosis plots: where the model fails (overlay, residual, correlations), the changes tried, the walk."""
 
 from __future__ import annotations
 
@@ -6,73 +6,85 @@ from pathlib import Path
 
 import numpy as np
 
-from ..plots import plt, save
+from ..plots import overlay, plt, save
 from .diagnose import Diagnosis
+
+STATUS_COLOURS = {"helps": "tab:green", "does not help": "tab:blue", "implausible": "tab:red",
+                  "unidentifiable": "tab:purple", "refit failed": "0.5"}
 
 
 def plot_residuals(d: Diagnosis, path: Path) -> Path:
+    """Measured against the model's free run, the residual beneath, then its autocorrelation, phases and correlations."""
     a = d.residuals
     n_cross = len(a.cross)
-    fig, axes = plt.subplots(2 + (n_cross + 1) // 2, 2, figsize=(11, 3 + 2.2 * ((n_cross + 1) // 2 + 1)))
-    ax = plt.subplot2grid(axes.shape, (0, 0), colspan=2, fig=fig)
-    for extra in axes[0]:
-        extra.remove()
-    ax.plot(a.time_s, a.residual_K, lw=0.7)
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set_title(f"{d.actuator}: residual of {','.join(d.model)} on the training part (measured − simulated)")
-    ax.set_ylabel("residual (K)")
-    ax.set_xlabel("time (s)")
-    ac = axes[1, 0]
+    rows = 3 + (n_cross + 1) // 2
+    fig = plt.figure(figsize=(11, 3.2 + 2.2 * rows))
+    grid = fig.add_gridspec(rows, 2, height_ratios=[2.2, 1.2] + [1.0] * (rows - 2))
+    top = fig.add_subplot(grid[0, :])
+    err = fig.add_subplot(grid[1, :], sharex=top)
+    overlay(d.base, top, err)
+    v = d.base.validation
+    top.set_title(f"{d.actuator}: measured temperature and the free run of model {','.join(d.model)}\n"
+                  f"validation (shaded) RMSE {v['rmse_K']:.3f} K, fit {v['fit_percent']:.1f} %; {d.base.scheme}",
+                  fontsize=10)
+    err.set_title("residual: where the model fails", fontsize=9)
+    err.set_xlabel("time (s; runs one after another)")
+    ac = fig.add_subplot(grid[2, 0])
     ac.plot(a.autocorrelation.lags_s, a.autocorrelation.values)
     ac.axhspan(-a.autocorrelation.band, a.autocorrelation.band, color="0.85")
-    ac.set_title("autocorrelation (band: white residual)")
+    ac.set_title("autocorrelation of the training residual (grey: white noise)", fontsize=9)
     ac.set_xlabel("lag (s)")
-    ph = axes[1, 1]
+    ph = fig.add_subplot(grid[2, 1])
     names = list(a.phase_rmse_K)
     ph.barh(names, [a.phase_rmse_K[n] for n in names], color="tab:gray")
-    ph.set_title("where the fit is worst: RMSE by phase (K)")
+    ph.set_title("where the fit is worst: training RMSE by phase (K)", fontsize=9)
     for i, (name, c) in enumerate(a.cross.items()):
-        axc = axes[2 + i // 2, i % 2]
+        axc = fig.add_subplot(grid[3 + i // 2, i % 2])
         axc.plot(c.lags_s, c.values, color="tab:red" if c.significant else "tab:blue")
         axc.axhspan(-c.band, c.band, color="0.85")
-        axc.set_title(f"cross-correlation with {name} (band: Bartlett)", fontsize=9)
+        axc.set_title(f"residual vs {name}: cross-correlation (red: outside Bartlett's band)", fontsize=9)
         axc.set_xlabel("lag (s)")
-    for j in range(n_cross, 2 * ((n_cross + 1) // 2)):
-        axes[2 + j // 2, j % 2].axis("off")
     fig.tight_layout()
     return save(fig, path)
 
 
 def plot_candidates(d: Diagnosis, path: Path) -> Path:
-    refitted = [c for c in d.candidates if c.rmse_K is not None]
-    fig, ax = plt.subplots(figsize=(8, 0.5 * len(refitted) + 1.8))
-    labels = [c.effect + (f" (for {c.replaces})" if c.replaces else "") for c in refitted]
-    ax.barh(labels[::-1], [c.rmse_K for c in refitted][::-1],
-            color=["tab:green" if c is d.recommended else "tab:blue" for c in refitted][::-1])
-    ax.axvline(d.base.validation["rmse_K"], color="k", ls="--", label="current model")
-    ax.set_xlabel("validation RMSE (K)")
-    ax.set_title(f"{d.actuator}: candidate effects refitted; recommended: "
-                 f"{d.recommended.effect if d.recommended else 'none'}")
-    ax.legend(fontsize=8)
+    """Held-out gain of every refitted change, coloured by its status; the others listed with why."""
+    refitted = [c for c in d.candidates if c.refitted]
+    others = [c for c in d.candidates if not c.refitted]
+    fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
+    labels = [c.label for c in refitted][::-1]
+    gains = [100 * c.improvement for c in refitted][::-1]
+    colours = [STATUS_COLOURS.get(c.status, "tab:blue") for c in refitted][::-1]
+    ax.barh(labels, gains, color=colours)
+    for y, c in enumerate(refitted[::-1]):
+        mark = "  ← recommended" if c is d.recommended else ""
+        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}", va="center", fontsize=8)
+    ax.axvline(0, color="k", lw=0.8)
+    ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
+    ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
+    ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
+                 f"{d.recommended.label if d.recommended else 'none'}", fontsize=10)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
+    ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
+              fontsize=7, loc="lower right")
+    if others:
+        text = "\n".join(f"{c.label}: {c.status}" + (f" ({c.confounded.split(':')[0]})" if c.confounded else
+                                                     f" (score test p = {c.p_value:.2g})") for c in others)
+        fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
     return save(fig, path)
-
-
-def _step_label(prev: dict, step: dict) -> str:
-    added = sorted(set(step["model"]) - set(prev["model"]))
-    removed = sorted(set(prev["model"]) - set(step["model"]))
-    return "+ " + ",".join(added) + (f" (for {','.join(removed)})" if removed else "")
 
 
 def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.5))
     rmse = [s["rmse_K"] for s in steps]
-    labels = ["base: " + ",".join(steps[0]["model"])] + [_step_label(prev, s) for prev, s in zip(steps, steps[1:])]
-    ax.bar(np.arange(len(rmse)), rmse, color="tab:blue")
+    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") for s in steps[1:]]
+    ax.bar(np.arange(len(rmse)), rmse, color=["tab:red" if s["flags"] else "tab:blue" for s in steps])
     for i, v in enumerate(rmse):
         ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
     ax.set_xticks(np.arange(len(rmse)), labels, rotation=15, fontsize=8)
     ax.set_ylabel("validation RMSE (K)")
-    ax.set_title(f"{actuator}: validation error as effects are added")
+    ax.set_title(f"{actuator}: validation error at each step of the search (red: fitted values flagged)", fontsize=10)
     return save(fig, path)
 
 

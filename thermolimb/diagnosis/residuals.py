@@ -93,8 +93,12 @@ def candidate_inputs(series: ActuatorSeries) -> dict[str, np.ndarray]:
         inputs["|velocity|"] = np.abs(s.velocity)
     if s.current_A is not None:
         inputs["current^2"] = s.current_A**2
+    if s.power_W is not None:
+        inputs["power"] = s.power_W
     if s.ambient_C is not None and np.ptp(s.ambient_C) > 0:
         inputs["ambient"] = s.ambient_C
+    if s.housing_C is not None:
+        inputs["housing temperature"] = s.housing_C
     if s.neighbor_temperature_C is not None:
         for name, column in zip(s.neighbor_names, s.neighbor_temperature_C.T):
             inputs[f"temperature of {name}"] = column
@@ -104,8 +108,8 @@ def candidate_inputs(series: ActuatorSeries) -> dict[str, np.ndarray]:
 def analyse_residuals(series: ActuatorSeries, simulated_C: np.ndarray, max_lag_s: float = 600.0) -> ResidualAnalysis:
     """Analyse ``measured - simulated`` of one series (uniformly sampled or nearly so)."""
     e = series.temperature_C - simulated_C
-    dt = float(np.median(np.diff(series.time_s)))
-    max_lag = int(min(max_lag_s / dt, series.n // 4))
+    dt = series.median_dt_s
+    max_lag = max(int(min(max_lag_s / dt, series.n // 4)), 1)
     lags, acf = cross_correlation(e, e, max_lag)
     keep = lags >= 0
     auto = Correlation(lags[keep] * dt, acf[keep], Z95 / np.sqrt(e.size))
@@ -119,8 +123,8 @@ def analyse_residuals(series: ActuatorSeries, simulated_C: np.ndarray, max_lag_s
 def phase_rmse(series: ActuatorSeries, residual: np.ndarray) -> dict[str, float]:
     """RMSE while heating, cooling, moving fast and hot (top quartiles of rate, speed and temperature)."""
     T = series.temperature_C
-    dt = float(np.median(np.diff(series.time_s)))
-    window = max(int(60.0 / dt), 1)
+    # a one-minute moving average, never longer than a tenth of the log
+    window = int(np.clip(60.0 / series.median_dt_s, 1, max(series.n // 10, 1)))
     smooth = np.convolve(T, np.ones(window) / window, mode="same")
     rate = np.gradient(smooth, series.time_s)
     phases = {

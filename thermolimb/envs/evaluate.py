@@ -7,6 +7,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..errors import UsageError
 from . import HEXAPOD_ID, HUMANOID_ID
 from .strategies import STRATEGIES, make_policy
 
@@ -56,7 +57,7 @@ def evaluate(env_id: str, episodes: int, seed: int, strategies=None, backend: st
              address: str | None = None, max_time_s: float | None = None) -> list[Episode]:
     """Every strategy over ``episodes`` seeds (``seed``, ``seed + 1``, ...), the same seeds for each strategy."""
     if env_id not in (HUMANOID_ID, HEXAPOD_ID):
-        raise KeyError(f"unknown environment {env_id!r}; expected {HUMANOID_ID} or {HEXAPOD_ID}")
+        raise UsageError(f"unknown environment {env_id!r}; expected {HUMANOID_ID} or {HEXAPOD_ID}")
     strategies = list(strategies or STRATEGIES[env_id])
     jobs = [(env_id, s, seed + k, max_time_s) for s in strategies for k in range(episodes)]
     if backend == "process":
@@ -66,7 +67,7 @@ def evaluate(env_id: str, episodes: int, seed: int, strategies=None, backend: st
         try:
             import ray
         except ImportError:
-            raise ValueError("the ray backend needs Ray: pip install 'thermolimb[ray]'") from None
+            raise UsageError("the ray backend needs Ray: pip install 'thermolimb[ray]'") from None
         started = not ray.is_initialized()
         ray.init(address=address, ignore_reinit_error=True, include_dashboard=False, log_to_driver=False)
         try:
@@ -75,7 +76,7 @@ def evaluate(env_id: str, episodes: int, seed: int, strategies=None, backend: st
         finally:
             if started:
                 ray.shutdown()
-    raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
+    raise UsageError(f"backend must be 'process' or 'ray', got {backend!r}")
 
 
 def table(episodes: list[Episode]) -> list[dict]:

@@ -17,6 +17,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import UsageError
 from . import HEXAPOD_ID, HUMANOID_ID
 
 Policy = Callable[[object, np.ndarray], object]
@@ -98,7 +99,7 @@ def make_policy(env_id: str, name: str, seed: int = 0) -> Policy:
         if name in fixed:
             action = np.array(fixed[name], dtype=np.float32)
             return lambda env, obs: action
-    raise KeyError(f"no strategy {name!r} for {env_id}; available: {', '.join(STRATEGIES[env_id])}")
+    raise UsageError(f"no strategy {name!r} for {env_id}; available: {', '.join(STRATEGIES[env_id])}")
 
 
 STRATEGIES = {

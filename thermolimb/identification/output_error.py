@@ -94,6 +94,7 @@ class OutputError(ThermalEstimator):
         result = least_squares(residual, x0, bounds=(lower, upper), x_scale=scale, method="trf",
                                max_nfev=self.max_nfev * len(names))
         self.optimizer_result_ = result
+        self.jacobian_ = result.jac  # d simulated temperature / d parameters, every sample of every series
         r = result.fun
         J = result.jac
         fractions = independent_fractions(J)

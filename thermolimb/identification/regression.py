@@ -14,19 +14,20 @@ reproduces the seed, which filtered effort at 1 Hz and temperature at 0.015 Hz.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Sequence
 
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
 
+from ..errors import ThermolimbError
 from ..logs import ActuatorSeries
 from ..model.model import model_parameters
 from ..model.signals import Signals
 from ..model.terms import TERMS, Parameter
 
 
-class IdentifiabilityError(ValueError):
+class IdentifiabilityError(ThermolimbError):
     """The data cannot determine a parameter (e.g. effort held constant)."""
 
 
@@ -61,8 +62,7 @@ def _uniform(series: ActuatorSeries) -> ActuatorSeries:
             return np.interp(t, s.time_s, x)
         return np.column_stack([np.interp(t, s.time_s, c) for c in x.T])
 
-    sig = Signals(t, at(s.effort), at(s.velocity), at(s.current_A), at(s.ambient_C),
-                  at(s.neighbor_temperature_C), s.neighbor_names)
+    sig = replace(s.map_arrays(at), time_s=t)
     return ActuatorSeries(series.actuator, sig, at(series.temperature_C))
 
 
@@ -117,10 +117,9 @@ def build_regression(
             feats = lowpass(term_features(terms, ser.signals, ser.temperature_C), cutoff_hz, dt)
         else:
             s = ser.signals
-            smooth = Signals(s.time_s, lowpass(s.effort, effort_cutoff_hz, dt),
-                             None if s.velocity is None else lowpass(s.velocity, effort_cutoff_hz, dt),
-                             None if s.current_A is None else lowpass(s.current_A, effort_cutoff_hz, dt),
-                             s.ambient_C, s.neighbor_temperature_C, s.neighbor_names)
+            smooth = replace(s, **{name: lowpass(getattr(s, name), effort_cutoff_hz, dt)
+                                   for name in ("effort", "velocity", "current_A", "power_W")
+                                   if getattr(s, name) is not None})
             feats = term_features(terms, smooth, T)
         y = T.copy()
         if subtract_ambient_C is not None:

@@ -84,6 +84,52 @@ class CurrentHeating(Term):
 
 
 @register_term
+class PowerHeating(Term):
+    """Heat in proportion to measured electrical input power (benches that log power, not torque)."""
+
+    name = "power_heating"
+    description = "heating in proportion to electrical input power (its losses are a share of it)"
+    parameters = (
+        Parameter("powerR_K_per_W", "K/W", 0.0, np.inf, 0.1,
+                  "steady-state rise per watt of input power (loss share times thermal resistance)",
+                  "power at three or more distinct levels"),
+    )
+    columns = ("power",)
+    is_heat_source = True
+
+    def contribution(self, p, s):
+        return p["powerR_K_per_W"] * s.channel("power"), 0.0
+
+    def features(self, s, temperature_C):
+        return s.channel("power")[:, None]
+
+
+@register_term
+class HousingBoundary(Term):
+    """The winding loses heat to its measured housing: ``g T_housing`` replaces most of the constant offset.
+
+    With a second sensor on the housing (case, stator body, driver board) the
+    slow thermal masses need not be modelled: their temperature is measured.
+    ``T_offset`` then holds what the housing does not explain (``(1 - g)`` of ambient).
+    """
+
+    name = "housing_boundary"
+    description = "the winding's boundary is the measured housing temperature (a second sensor)"
+    parameters = (
+        Parameter("housing_gain", "1", 0.0, 1.5, 0.9,
+                  "kelvin of winding equilibrium per kelvin of housing (1: all heat leaves through the housing)",
+                  "a housing temperature that moves during the log", plausible=(0.3, 1.2)),
+    )
+    columns = ("housing",)
+
+    def contribution(self, p, s):
+        return p["housing_gain"] * s.channel("housing"), 0.0
+
+    def features(self, s, temperature_C):
+        return s.channel("housing")[:, None]
+
+
+@register_term
 class WindingTempco(Term):
     """Copper resistance rising with temperature: the Joule terms times ``1 + alpha (T - 25 degC)``."""
 

@@ -2,9 +2,20 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
+
+# log column -> Signals attribute (the optional input channels a term may need)
+CHANNELS = {
+    "effort": "effort",
+    "velocity": "velocity",
+    "current": "current_A",
+    "power": "power_W",
+    "ambient": "ambient_C",
+    "housing": "housing_C",
+    "neighbors": "neighbor_temperature_C",
+}
 
 
 @dataclass(frozen=True)
@@ -22,10 +33,12 @@ class Signals:
     ambient_C: np.ndarray | None = None
     neighbor_temperature_C: np.ndarray | None = None  # (n, m): the other actuators' measured temperatures
     neighbor_names: tuple[str, ...] = field(default=())
+    housing_C: np.ndarray | None = None  # a second measured temperature: housing, case or driver board
+    power_W: np.ndarray | None = None  # electrical input power
 
     def __post_init__(self):
         n = self.time_s.shape[0]
-        for name in ("effort", "velocity", "current_A", "ambient_C", "neighbor_temperature_C"):
+        for name in CHANNELS.values():
             value = getattr(self, name)
             if value is not None and value.shape[0] != n:
                 raise ValueError(f"Signals.{name} has {value.shape[0]} samples, time_s has {n}")
@@ -39,30 +52,22 @@ class Signals:
         """Interval lengths, ``n - 1`` of them."""
         return np.diff(self.time_s)
 
+    def has(self, name: str) -> bool:
+        """Whether the log column ``name`` is present."""
+        return getattr(self, CHANNELS[name]) is not None
+
     def channel(self, name: str) -> np.ndarray:
         """A channel by its log column name, with an error naming what is missing."""
-        attr = {
-            "effort": "effort",
-            "velocity": "velocity",
-            "current": "current_A",
-            "ambient": "ambient_C",
-            "neighbors": "neighbor_temperature_C",
-        }[name]
-        value = getattr(self, attr)
+        value = getattr(self, CHANNELS[name])
         if value is None:
             raise KeyError(f"this model needs the '{name}' column, which the log does not have")
         return value
 
-    def slice(self, start: int, stop: int) -> "Signals":
-        def cut(x):
-            return None if x is None else x[start:stop]
+    def map_arrays(self, fn) -> "Signals":
+        """The same signals with ``fn`` applied to the time axis and every channel present."""
+        changed = {f.name: fn(getattr(self, f.name)) for f in fields(self)
+                   if f.name != "neighbor_names" and getattr(self, f.name) is not None}
+        return replace(self, **changed)
 
-        return Signals(
-            time_s=self.time_s[start:stop],
-            effort=self.effort[start:stop],
-            velocity=cut(self.velocity),
-            current_A=cut(self.current_A),
-            ambient_C=cut(self.ambient_C),
-            neighbor_temperature_C=cut(self.neighbor_temperature_C),
-            neighbor_names=self.neighbor_names,
-        )
+    def slice(self, start: int, stop: int) -> "Signals":
+        return self.map_arrays(lambda x: x[start:stop])

@@ -23,6 +23,7 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
+from ..errors import ThermolimbError
 from .signals import Signals
 
 
@@ -118,7 +119,7 @@ def _parameter_names_except(name: str) -> set[str]:
 DEFAULT_MODEL = ("joule", "effort_bias")
 
 
-class ModelSpecError(ValueError):
+class ModelSpecError(ThermolimbError):
     """A model description names an unknown term or cannot be run on the data."""
 
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
+from ..errors import UsageError
+
 
 @dataclass(frozen=True)
 class EffortBias:
@@ -109,7 +111,7 @@ class PlantEffects:
         names = [n for n in names if n and n != "none"]
         unknown = [n for n in names if n not in EFFECT_TYPES]
         if unknown:
-            raise ValueError(f"unknown plant effect(s) {unknown}; known effects: {', '.join(EFFECT_TYPES)}")
+            raise UsageError(f"unknown plant effect(s) {unknown}; known effects: {', '.join(EFFECT_TYPES)}")
         return replace(cls(), **{n: EFFECT_TYPES[n]() for n in names})
 
     @classmethod

@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import UsageError
+
 
 @dataclass(frozen=True)
 class Profile:
@@ -23,7 +25,7 @@ class Profile:
 
 def _grid(duration_s: float, dt_s: float) -> np.ndarray:
     if not (duration_s > 0 and dt_s > 0 and duration_s >= 10 * dt_s):
-        raise ValueError(f"need duration_s >= 10 * dt_s > 0, got duration {duration_s} s and dt {dt_s} s")
+        raise UsageError(f"need duration_s >= 10 * dt_s > 0, got duration {duration_s} s and dt {dt_s} s")
     return np.arange(int(round(duration_s / dt_s)) + 1) * dt_s
 
 

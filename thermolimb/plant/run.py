@@ -7,6 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..errors import UsageError
 from ..logs import ThermalLog, log_from_arrays
 from ..progress import progress
 from .effects import PlantEffects
@@ -93,9 +94,9 @@ def simulate_profile(
     actuators' effort limits clip it.
     """
     if not load_scale > 0:
-        raise ValueError(f"load_scale must be positive, got {load_scale}")
+        raise UsageError(f"load_scale must be positive, got {load_scale}")
     if profile not in PROFILES:
-        raise ValueError(f"unknown profile {profile!r}; built-in profiles: {', '.join(PROFILES)}")
+        raise UsageError(f"unknown profile {profile!r}; built-in profiles: {', '.join(PROFILES)}")
     rng = np.random.default_rng(seed)
     if network is not None:
         specs = [replace(s, network=network) for s in specs]

@@ -1,0 +1,360 @@
+"""The canonical thermal log, its validation, and one actuator's series and runs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+import pandas as pd
+
+from ..model.signals import Signals
+from .mapping import OPTIONAL, REQUIRED, UNITS, expand_joints, is_pattern
+from .table import LogError, kind_of, read_table, time_seconds
+
+VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
+MIN_SAMPLES = 20
+# A pause in logging longer than this many sampling intervals (and than GAP_MIN_S) splits a log into runs.
+GAP_FACTOR = 20.0
+GAP_MIN_S = 60.0
+
+
+@dataclass(frozen=True)
+class ActuatorSeries:
+    """One thermal channel of a log (or of one run of it): its inputs and its measured temperature."""
+
+    actuator: str
+    signals: Signals
+    temperature_C: np.ndarray
+    run: str = ""
+
+    @property
+    def time_s(self) -> np.ndarray:
+        return self.signals.time_s
+
+    @property
+    def n(self) -> int:
+        return self.signals.n
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.time_s[-1] - self.time_s[0])
+
+    @property
+    def median_dt_s(self) -> float:
+        return float(np.median(np.diff(self.time_s)))
+
+    def rate_K_per_s(self, at_end: bool = False, window_s: float = 60.0) -> float:
+        """Slope of the measured temperature over the first (or last) ``window_s`` seconds (least squares)."""
+        t = self.time_s
+        sel = t >= t[-1] - window_s if at_end else t <= t[0] + window_s
+        if sel.sum() < 3:
+            return 0.0
+        return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
+
+    def slice(self, start: int, stop: int) -> "ActuatorSeries":
+        return ActuatorSeries(self.actuator, self.signals.slice(start, stop), self.temperature_C[start:stop], self.run)
+
+    def split_index(self, fraction: float) -> int:
+        """First sample after the first ``fraction`` of the time span (training is ``[0, index)``)."""
+        if not 0.0 < fraction < 1.0:
+            raise LogError(f"the split fraction must be between 0 and 1 (exclusive), got {fraction}")
+        t = self.time_s
+        cut = int(np.searchsorted(t, t[0] + fraction * (t[-1] - t[0]), side="right"))
+        if cut < MIN_SAMPLES // 2 or self.n - cut < MIN_SAMPLES // 4:
+            raise LogError(
+                f"actuator {self.actuator}{self.run_label}: {self.n} samples are too few to split at {fraction:.2f} "
+                f"(need at least {MIN_SAMPLES // 2} for training and {MIN_SAMPLES // 4} for validation); use a longer "
+                f"log, several runs with --validate-on, or another --split"
+            )
+        return cut
+
+    def split(self, fraction: float) -> tuple["ActuatorSeries", "ActuatorSeries"]:
+        """Split by time span: training is the first ``fraction`` of it, validation the rest.
+
+        The validation part starts at the last training sample, so that a
+        free run restarted at the split starts from the measured temperature there.
+        """
+        cut = self.split_index(fraction)
+        return self.slice(0, cut), self.slice(cut - 1, self.n)
+
+    @property
+    def run_label(self) -> str:
+        return f" (run {self.run})" if self.run else ""
+
+
+@dataclass(frozen=True)
+class ThermalLog:
+    """A validated log in canonical long format (``frame`` sorted by actuator, then time).
+
+    ``notes`` says what reading changed: rows without a measurement dropped,
+    timestamps turned into seconds.
+    """
+
+    frame: pd.DataFrame
+    source: str = "<memory>"
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def actuators(self) -> tuple[str, ...]:
+        return tuple(pd.unique(self.frame["actuator"]))
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        return tuple(c for c in REQUIRED + OPTIONAL if c in self.frame.columns)
+
+    def series(self, actuator: str) -> ActuatorSeries:
+        """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
+        if actuator not in self.actuators:
+            raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
+        groups = {name: g for name, g in self.frame.groupby("actuator", sort=False)}
+        g = groups[actuator]
+        t = g["time"].to_numpy(float)
+
+        def col(name):
+            return g[name].to_numpy(float) if name in g.columns else None
+
+        order = self.actuators
+        i = order.index(actuator)
+        others = [order[j] for j in (i - 1, i + 1) if 0 <= j < len(order)]
+        neighbors = None
+        if others:
+            neighbors = np.column_stack([
+                np.interp(t, groups[o]["time"].to_numpy(float), groups[o]["temperature"].to_numpy(float))
+                for o in others
+            ])
+        signals = Signals(
+            time_s=t, effort=col("effort"), velocity=col("velocity"), current_A=col("current"),
+            ambient_C=col("ambient"), neighbor_temperature_C=neighbors, neighbor_names=tuple(others),
+            housing_C=col("housing"), power_W=col("power"),
+        )
+        return ActuatorSeries(actuator, signals, col("temperature"))
+
+    def runs(self, actuator: str) -> list[ActuatorSeries]:
+        """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own reading."""
+        whole = self.series(actuator)
+        cuts = gaps(whole.time_s)
+        if not cuts:
+            return [whole]
+        edges = [0] + cuts + [whole.n]
+        stem = Path(self.source).stem if self.source != "<memory>" else "log"
+        pieces = [whole.slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
+        return [ActuatorSeries(p.actuator, p.signals, p.temperature_C, f"{stem}#{k + 1}")
+                for k, p in enumerate(pieces) if p.n >= MIN_SAMPLES]
+
+    def describe_gaps(self, actuator: str) -> str | None:
+        """A sentence on the runs a log was cut into, or ``None``."""
+        whole = self.series(actuator)
+        cuts = gaps(whole.time_s)
+        if not cuts:
+            return None
+        lengths = np.diff([0] + cuts + [whole.n])
+        dropped = int(np.sum(lengths < MIN_SAMPLES))
+        pauses = ", ".join(f"{whole.time_s[c] - whole.time_s[c - 1]:.0f} s at t = {whole.time_s[c - 1]:.0f} s"
+                           for c in cuts)
+        tail = f"; {dropped} run(s) shorter than {MIN_SAMPLES} samples left out" if dropped else ""
+        return (f"{self.source}: actuator {actuator}: logging pauses ({pauses}) cut the log into {len(cuts) + 1} runs, "
+                f"each simulated from its own first reading{tail}")
+
+    def write(self, path: str | Path) -> Path:
+        """Write CSV or Parquet (by suffix), whole or not at all."""
+        path = Path(path)
+        kind = kind_of(path)
+        tmp = path.with_name(path.name + ".partial")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            if kind == "csv":
+                self.frame.to_csv(tmp, index=False)
+            else:
+                self.frame.to_parquet(tmp, index=False)
+            tmp.replace(path)
+        finally:
+            tmp.unlink(missing_ok=True)
+        return path
+
+
+def gaps(time_s: np.ndarray) -> list[int]:
+    """Indices where a run starts after a pause longer than ``GAP_FACTOR`` median intervals and ``GAP_MIN_S``."""
+    if time_s.size < 3:
+        return []
+    dt = np.diff(time_s)
+    limit = max(GAP_FACTOR * float(np.median(dt)), GAP_MIN_S)
+    return [int(k) + 1 for k in np.flatnonzero(dt > limit)]
+
+
+def read_log(
+    path: str | Path,
+    mapping: Mapping[str, str] | None = None,
+    velocity_unit: str = "rad/s",
+    actuator_name: str | None = None,
+    sep: str | None = None,
+    decimal: str | None = None,
+    drop_incomplete: bool = False,
+) -> ThermalLog:
+    """Read and validate a log.
+
+    Parameters
+    ----------
+    mapping
+        For wide files: canonical name -> column in the file, or a joint
+        pattern (see :mod:`thermolimb.logs.mapping`).  Without an ``actuator``
+        entry a wide file is one actuator named ``actuator_name`` (default:
+        the file's stem).
+    velocity_unit
+        Unit of the velocity column: ``rad/s``, ``m/s``, ``rpm`` or ``deg/s``;
+        converted to rad/s (m/s stays m/s).
+    sep, decimal
+        The CSV dialect; guessed from the file when not given.
+    drop_incomplete
+        Leave out samples with a missing value (said in ``notes``) instead of refusing the file.
+    """
+    path = Path(path)
+    frame = read_table(path, sep=sep, decimal=decimal)
+    return from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
+                      actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete)
+
+
+def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
+    if is_pattern(mapping):
+        parts = []
+        for name, cols in expand_joints(frame.columns, mapping, source):
+            part = pd.DataFrame({k: frame[v] for k, v in cols.items()})
+            part.insert(1, "actuator", name)
+            parts.append(part)
+        return pd.concat(parts, ignore_index=True)
+    absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
+    if absent:
+        k, v = next(iter(absent.items()))
+        raise LogError(
+            f"{source}: --map {k}={v} names column {v!r}, which the file does not have; "
+            f"its columns are {', '.join(map(str, frame.columns))}"
+        )
+    unmapped = [c for c in REQUIRED if c != "actuator" and c not in mapping]
+    if unmapped:
+        raise LogError(
+            f"{source}: --map does not name the column(s) for {', '.join(unmapped)}; add "
+            f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {', '.join(map(str, frame.columns))}"
+        )
+    out = pd.DataFrame({k: frame[v] for k, v in mapping.items()})
+    if "actuator" not in out.columns:
+        out["actuator"] = actuator_name
+    return out
+
+
+def from_frame(
+    frame: pd.DataFrame,
+    source: str = "<memory>",
+    mapping: Mapping[str, str] | None = None,
+    velocity_unit: str = "rad/s",
+    actuator_name: str = "actuator",
+    drop_incomplete: bool = False,
+) -> ThermalLog:
+    """Validate a data frame (canonical, or wide with ``mapping``) into a :class:`ThermalLog`.
+
+    Samples with only a time stamp are left out (they hold nothing); a sample
+    missing some values is an error unless ``drop_incomplete``.
+    """
+    mapping = dict(mapping or {})
+    if velocity_unit not in VELOCITY_UNITS:
+        raise LogError(f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}")
+    if mapping:
+        frame = _apply_mapping(frame, mapping, source, actuator_name)
+    missing = [c for c in REQUIRED if c not in frame.columns]
+    if missing:
+        hint = "" if mapping else "; name them with --map canonical=column"
+        raise LogError(
+            f"{source}: missing column(s) {', '.join(missing)} (expected {', '.join(REQUIRED)}); "
+            f"the file has {', '.join(map(str, frame.columns))}{hint}"
+        )
+    keep = [c for c in REQUIRED + OPTIONAL if c in frame.columns]
+    frame = frame[keep].reset_index(drop=True)
+    notes = []
+    measured = [c for c in keep if c not in ("time", "actuator")]
+    empty = frame[measured].isna().all(axis=1).to_numpy()
+    if empty.any():
+        notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
+        frame = frame.loc[~empty].reset_index(drop=True)
+    if drop_incomplete:
+        incomplete = frame[measured].isna().any(axis=1).to_numpy()
+        if incomplete.any():
+            notes.append(f"{source}: {int(incomplete.sum())} incomplete sample(s) left out (--drop-incomplete), first "
+                         f"at row {int(np.flatnonzero(incomplete)[0])}; the inputs before them are held")
+            frame = frame.loc[~incomplete].reset_index(drop=True)
+    if frame.empty:
+        raise LogError(f"{source}: the log has no rows with measurements")
+    blank = frame["actuator"].isna() | (frame["actuator"].astype(str).str.strip() == "")
+    if blank.any():
+        row = int(np.flatnonzero(blank.to_numpy())[0])
+        raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
+    out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"),
+                        "actuator": frame["actuator"].astype(str)})
+    if not pd.api.types.is_numeric_dtype(frame["time"]):
+        notes.append(f"{source}: time stamps turned into seconds from the first sample")
+    for c in keep:
+        if c in ("time", "actuator"):
+            continue
+        values = pd.to_numeric(frame[c], errors="coerce")
+        bad = values.isna() & frame[c].notna()
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
+                           f"expected {UNITS[c]}")
+        out[c] = values.astype(float)
+    for c in out.columns:
+        if c == "actuator":
+            continue
+        nan = ~np.isfinite(out[c].to_numpy())
+        if nan.any():
+            row = int(np.flatnonzero(nan)[0])
+            raise LogError(
+                f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), "
+                f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
+                f"with --drop-incomplete)"
+            )
+    if "velocity" in out.columns:
+        out["velocity"] *= VELOCITY_UNITS[velocity_unit]
+    parts = []
+    for name, g in out.groupby("actuator", sort=False):
+        t = g["time"].to_numpy()
+        steps = np.diff(t)
+        if np.any(steps <= 0):
+            k = int(np.flatnonzero(steps <= 0)[0])
+            raise LogError(
+                f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
+                f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
+            )
+        if len(g) < MIN_SAMPLES:
+            raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
+        parts.append(g)
+    return ThermalLog(pd.concat(parts, ignore_index=True), source, tuple(notes))
+
+
+def log_from_arrays(
+    time_s: np.ndarray,
+    names: tuple[str, ...],
+    effort: np.ndarray,
+    temperature_C: np.ndarray,
+    velocity: np.ndarray | None = None,
+    current_A: np.ndarray | None = None,
+    ambient_C: np.ndarray | None = None,
+    source: str = "<memory>",
+    housing_C: np.ndarray | None = None,
+) -> ThermalLog:
+    """Build a canonical log from ``(n_samples, n_actuators)`` arrays (``ambient_C``: ``(n_samples,)``)."""
+    n, m = effort.shape
+    data = {
+        "time": np.tile(time_s, m),
+        "actuator": np.repeat(np.asarray(names, dtype=object), n),
+        "effort": effort.T.ravel(),
+        "temperature": temperature_C.T.ravel(),
+    }
+    if velocity is not None:
+        data["velocity"] = velocity.T.ravel()
+    if current_A is not None:
+        data["current"] = current_A.T.ravel()
+    if ambient_C is not None:
+        data["ambient"] = np.tile(ambient_C, m)
+    if housing_C is not None:
+        data["housing"] = housing_C.T.ravel()
+    return from_frame(pd.DataFrame(data), source=source)

@@ -1,0 +1,97 @@
+"""Naming a file's columns: ``--map canonical=column,...``, with joint patterns for multi-joint files.
+
+A single-actuator wide file (a motor bench) maps each canonical channel to one
+column.  A multi-joint wide file (one row per time, columns per joint, e.g.
+``Current_J0 .. Current_J5``) maps with a pattern: ``{j}`` stands for the joint
+number and ``*`` for any text, so ``effort=Current_J{j},temperature=Temperature_*{j}``
+finds every joint that has both columns (``Temperature_T0`` and
+``Temperature_J1`` alike).  Joints are named by ``actuator=NAME{j}`` (default
+``J{j}``) and ordered by number, which makes consecutive joints neighbours.
+Columns without ``{j}`` (time, ambient) are shared by every joint.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Mapping
+
+from .table import LogError
+
+REQUIRED = ("time", "actuator", "effort", "temperature")
+OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
+UNITS = {"time": "s", "actuator": "name", "effort": "N m or N", "temperature": "degC",
+         "velocity": "rad/s or m/s", "current": "A", "power": "W", "ambient": "degC", "housing": "degC"}
+JOINT = "{j}"
+DEFAULT_JOINT_NAME = "J{j}"
+
+
+def parse_mapping(text: str | None) -> dict[str, str]:
+    """Parse ``"effort=torque,temperature=stator_winding"`` into ``{"effort": "torque", ...}``."""
+    if not text:
+        return {}
+    mapping: dict[str, str] = {}
+    for item in text.split(","):
+        if not item.strip():
+            continue
+        if "=" not in item:
+            raise LogError(f"--map item {item!r} is not of the form canonical=column, e.g. effort=torque")
+        key, value = (s.strip() for s in item.split("=", 1))
+        if key not in REQUIRED + OPTIONAL:
+            raise LogError(f"--map names {key!r}, which is not a log column; map any of: {', '.join(REQUIRED + OPTIONAL)}")
+        if key in mapping:
+            raise LogError(f"--map names {key!r} twice ({mapping[key]!r} and {value!r}); give each channel one column")
+        if not value:
+            raise LogError(f"--map {key}= names no column; expected {key}=COLUMN")
+        mapping[key] = value
+    return mapping
+
+
+def is_pattern(mapping: Mapping[str, str]) -> bool:
+    return any(JOINT in v for k, v in mapping.items() if k != "actuator")
+
+
+def _regex(template: str) -> re.Pattern:
+    parts = re.split(r"(\{j\}|\*)", template)
+    body = "".join("(?P<j>\\d+)" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
+    return re.compile(f"^{body}$")
+
+
+def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[str, dict[str, str]]]:
+    """``[(actuator name, {canonical: column})]`` for every joint of a pattern mapping, in joint order."""
+    columns = [str(c) for c in columns]
+    per_key: dict[str, dict[int, str]] = {}
+    for key, template in mapping.items():
+        if key == "actuator" or JOINT not in template:
+            continue
+        regex = _regex(template)
+        found: dict[int, str] = {}
+        for c in columns:
+            m = regex.match(c)
+            if m:
+                j = int(m.group("j"))
+                if j in found:
+                    raise LogError(f"{source}: --map {key}={template} matches both {found[j]!r} and {c!r} for joint "
+                                   f"{j}; make the pattern specific to one column per joint")
+                found[j] = c
+        if not found:
+            raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
+                           f"{', '.join(columns)}")
+        per_key[key] = found
+    joints = sorted(set.intersection(*(set(v) for v in per_key.values())))
+    if not joints:
+        raise LogError(f"{source}: no joint number has a column for every pattern of --map "
+                       + "; ".join(f"{k}: joints {sorted(v)}" for k, v in per_key.items()))
+    partial = {k: sorted(set(v) - set(joints)) for k, v in per_key.items() if set(v) - set(joints)}
+    if partial:
+        k, extra = next(iter(partial.items()))
+        missing = [key for key in per_key if not set(extra) <= set(per_key[key])]
+        raise LogError(f"{source}: joint(s) {extra} have a {k} column but no {', '.join(missing)} column; "
+                       f"map patterns that every joint has, or name the columns one by one")
+    name = mapping.get("actuator", DEFAULT_JOINT_NAME)
+    if JOINT not in name:
+        raise LogError(f"{source}: with joint patterns, --map actuator= is a name pattern with {{j}}, e.g. actuator=J{{j}}")
+    out = []
+    for j in joints:
+        cols = {k: (per_key[k][j] if k in per_key else v) for k, v in mapping.items() if k != "actuator"}
+        out.append((name.replace(JOINT, str(j)), cols))
+    return out

@@ -1,0 +1,152 @@
+"""Reading a log file into a table, as it is written in the wild.
+
+CSV files come with commas, semicolons or tabs, decimal points or decimal
+commas (``27,875`` in a ``;``-separated file), ``#`` comment lines, a byte-order
+mark, and sometimes a preamble of metadata lines before the header (data
+loggers write one).  :func:`read_table` finds the header and the dialect
+from the file itself; ``sep`` and ``decimal`` override the guess.  Time
+columns may hold numbers (s), ISO-8601 timestamps or datetimes, or clock-style
+elapsed times (``1:02.5``, ``0:01:02.5``): :func:`time_seconds` turns each
+into seconds from the first sample.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..errors import ThermolimbError
+
+SEPARATORS = (",", ";", "\t", "|")
+SNIFF_LINES = 200
+_DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
+_CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
+
+
+class LogError(ThermolimbError):
+    """A log cannot be used; the message says which file, which column and what is expected."""
+
+
+def kind_of(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix in (".csv", ".txt", ".tsv"):
+        return "csv"
+    if suffix in (".parquet", ".pq"):
+        return "parquet"
+    raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt or .parquet")
+
+
+def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -> pd.DataFrame:
+    """The file as a data frame of raw columns (nothing validated yet)."""
+    kind = kind_of(path)
+    if not path.is_file():
+        raise LogError(f"{path}: no such file")
+    if kind == "parquet":
+        try:
+            return pd.read_parquet(path)
+        except (ValueError, OSError) as exc:
+            raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+    head, comments = _scan(path)
+    content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
+    if not content:
+        raise LogError(f"{path}: the file has no header line and no data")
+    sep = sep or _guess_separator([line for _, line in content])
+    header_at = _header_line(content, sep)
+    data = [line for i, line in content if i > header_at]
+    decimal = decimal or ("," if sep != "," and any(_DECIMAL_COMMA.search(line) for line in data) else ".")
+    skip = comments | set(range(header_at))
+    try:
+        frame = pd.read_csv(path, sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace",
+                            skiprows=skip or None, skip_blank_lines=True, low_memory=False)
+    except (ValueError, OSError, pd.errors.ParserError) as exc:
+        raise LogError(f"{path}: cannot be read as a {_name(sep)}-separated CSV file: {exc}") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    return frame
+
+
+def _scan(path: Path) -> tuple[list[str], set[int]]:
+    """The first ``SNIFF_LINES`` lines, and the indices of every ``#`` comment line in the file."""
+    head, comments = [], set()
+    with open(path, encoding="utf-8-sig", errors="replace", newline="") as f:
+        for i, line in enumerate(f):
+            if i < SNIFF_LINES:
+                head.append(line.rstrip("\r\n"))
+            if line.lstrip().startswith("#"):
+                comments.add(i)
+    return head, comments
+
+
+def _guess_separator(lines: list[str]) -> str:
+    """The separator that splits the most lines into the same number (>1) of fields."""
+    best, best_score = ",", -1.0
+    for sep in SEPARATORS:
+        counts = [_split(line, sep) for line in lines]
+        modal = max(set(counts), key=counts.count)
+        if modal < 2:
+            continue
+        score = counts.count(modal) + 1e-3 * modal
+        if score > best_score:
+            best, best_score = sep, score
+    return best
+
+
+def _header_line(content: list[tuple[int, str]], sep: str) -> int:
+    """Index of the header: the first line with as many fields as most lines after it (skips a preamble)."""
+    counts = [_split(line, sep) for _, line in content]
+    tail = counts[len(counts) // 2:] or counts
+    modal = max(set(tail), key=tail.count)
+    for (i, _), c in zip(content, counts):
+        if c >= modal:
+            return i
+    return content[0][0]
+
+
+def _split(line: str, sep: str) -> int:
+    """Number of fields, ignoring separators inside double quotes."""
+    return len(re.sub(r'"[^"]*"', "", line).split(sep))
+
+
+def _name(sep: str) -> str:
+    return {",": "comma", ";": "semicolon", "\t": "tab", "|": "bar"}.get(sep, repr(sep))
+
+
+def time_seconds(values: pd.Series, source: str, column: str) -> np.ndarray:
+    """Seconds from the first sample, from numbers, datetimes, ISO timestamps or clock-style elapsed times."""
+    if pd.api.types.is_datetime64_any_dtype(values):
+        stamps = pd.to_datetime(values, utc=True)
+        return _from_stamps(stamps, source, column)
+    if pd.api.types.is_timedelta64_dtype(values):
+        return values.dt.total_seconds().to_numpy(float)
+    numeric = pd.to_numeric(values, errors="coerce")
+    if numeric.notna().sum() == values.notna().sum():
+        return numeric.to_numpy(float)
+    text = values.astype(str).str.strip()
+    present = values.notna()
+    clock = text[present].str.match(_CLOCK.pattern)
+    if clock.all():
+        parts = text[present].str.extract(_CLOCK.pattern).astype(float).fillna(0.0)
+        seconds = np.full(len(values), np.nan)
+        seconds[present.to_numpy()] = (parts[0] * 3600 + parts[1] * 60 + parts[2]).to_numpy()
+        return seconds
+    try:
+        stamps = pd.to_datetime(values, utc=True, format="ISO8601")
+    except (ValueError, TypeError):
+        row = int(np.flatnonzero((numeric.isna() & present).to_numpy())[0])
+        raise LogError(
+            f"{source}: time column {column!r} is not a number of seconds, a timestamp or an elapsed time at row "
+            f"{row} ({values.iloc[row]!r}); expected seconds, ISO-8601 timestamps (2022-10-26T08:17:21.8Z) "
+            f"or elapsed times (m:ss.s)"
+        ) from None
+    return _from_stamps(stamps, source, column)
+
+
+def _from_stamps(stamps: pd.Series, source: str, column: str) -> np.ndarray:
+    valid = stamps.notna()
+    if not valid.any():
+        raise LogError(f"{source}: time column {column!r} has no timestamp; expected seconds or timestamps")
+    first = stamps[valid].iloc[0]
+    seconds = (stamps - first).dt.total_seconds()
+    return seconds.to_numpy(float)
