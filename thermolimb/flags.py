@@ -18,7 +18,7 @@ from .model.model import ThermalModel
 
 OFFSET_MARGIN_K = 10.0  # an offset further than this (or half the logged range) from the reference is flagged
 LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many log durations is extrapolated
-SHORT_TIME_CONSTANT = 2.0  # ... or shorter than this many sampling intervals is not seen
+SHORT_TIME_CONSTANT = 0.5  # ... or shorter than this many sampling intervals is not seen
 # terms after which T_offset is no longer an ambient temperature
 OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")
 

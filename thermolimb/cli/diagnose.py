@@ -56,6 +56,7 @@ def describe_diagnosis(d) -> str:
     b = d.base.validation
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
              f"fit {b['fit_percent']:.1f} % ({d.base.scheme})"]
+    lines += [f"  note: {note}" for note in d.notes]
     lines += format_params(d.base)
     lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
     for c in d.candidates:

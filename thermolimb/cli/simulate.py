@@ -31,6 +31,8 @@ def add_parser(sub):
                    help="multiply every effort (a heavier payload), before the effort limits (default 1)")
     p.add_argument("--ambient", type=float, default=25.0, help="ambient temperature at t = 0 in degC (default 25)")
     p.add_argument("--drivers", action="store_true", help="also log each driver board as '<actuator>/driver'")
+    p.add_argument("--housing-sensor", action="store_true",
+                   help="log a second thermistor on each actuator's housing (column 'housing', degC)")
     p.add_argument("--seed", type=int, default=0, help="seed of the profile and the sensor noise (default 0)")
     p.add_argument("--out", required=True, help="log file to write (.csv or .parquet)")
     p.add_argument("--json", action="store_true", help="print a summary record")
@@ -54,7 +56,7 @@ def run(args) -> int:
     effects = PlantEffects.from_names(args.effects)
     result = simulate_profile(args.profile, args.duration, args.dt, names, specs, effects, seed=args.seed,
                               ambient_C=args.ambient, network=NETWORKS[args.network],
-                              include_drivers=args.drivers, quiet=args.quiet,
+                              include_drivers=args.drivers, housing_sensor=args.housing_sensor, quiet=args.quiet,
                               load_scale=args.load_scale)
     path = result.log.write(args.out)
     record = {

@@ -39,6 +39,8 @@ from ..model.terms import TERMS
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
+# a term goes when held-out data rejects it by this much, whatever the training fit says (it extrapolates badly)
+DROP_IMPROVEMENT = 0.05
 MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence on the training part)
 CONFOUNDED_FRACTION = 1e-3  # a signature with less than this share of its own is confounded
 COLLINEAR = 0.999  # heat sources whose regressors correlate at least this much cannot be told apart
@@ -96,7 +98,7 @@ class Candidate:
             return False
         if self.kind == "drop":
             # a term that extrapolates badly, or one the data does not need: simpler and no worse
-            return self.improvement >= MIN_IMPROVEMENT or (self.improvement >= 0.0 and self.delta_bic < 0.0)
+            return self.improvement >= DROP_IMPROVEMENT or (self.improvement >= 0.0 and self.delta_bic < 0.0)
         return self.improvement >= MIN_IMPROVEMENT and self.delta_bic <= MAX_DELTA_BIC
 
     @property

@@ -23,7 +23,7 @@ from ..evaluation import FitReport, Scheme, evaluate
 from ..identification import IdentifiabilityError, OutputError
 from ..logs import ActuatorSeries
 from ..model.model import model_parameters
-from ..model.terms import parse_model
+from ..model.terms import TERMS, parse_model
 from ..progress import progress
 from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
 from .evidence import describe
@@ -43,6 +43,7 @@ class Diagnosis:
     candidates: list[Candidate]
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
+    notes: tuple[str, ...] = ()
 
     def to_json(self) -> dict:
         out = {
@@ -57,6 +58,7 @@ class Diagnosis:
             "recommended_change": None if self.recommended is None else self.recommended.label,
             "recommended_model": None if self.recommended is None else list(self.recommended.model),
             "residuals": self.residuals.to_json(),
+            "notes": list(self.notes),
         }
         if self.auto is not None:
             out["auto"] = self.auto
@@ -86,7 +88,7 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     model = parse_model(model)
     series = list(series)
     scheme = scheme or Scheme(split=split, folds=cv)
-    base = _evaluate(series, model, scheme, validate_on, initial)
+    base, model, notes = _identifiable_base(series, model, scheme, validate_on, initial)
     train = list(base.train_series)
     residual = base.train_residual_K
     base_bic = bic(residual, len(base.model.params))
@@ -107,7 +109,25 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
     recommended = candidates[0] if candidates and candidates[0].eligible else None
-    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended)
+    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, notes=notes)
+
+
+def _identifiable_base(series, model, scheme, validate_on, initial):
+    """Fit ``model``; a term this log cannot identify is set aside (said in the notes) and the rest fitted.
+
+    Refuses (re-raises) when what cannot be identified is the time constant, the offset or the only heat source.
+    """
+    notes = []
+    while True:
+        try:
+            return _evaluate(series, model, scheme, validate_on, initial), model, tuple(notes)
+        except IdentifiabilityError as exc:
+            term = next((t for t in model if any(p.name == exc.parameter for p in TERMS[t].parameters)), None)
+            rest = tuple(t for t in model if t != term)
+            if term is None or not any(TERMS[t].is_heat_source for t in rest):
+                raise
+            notes.append(f"{term} set aside, this log cannot identify it: {exc}")
+            model = rest
 
 
 def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:

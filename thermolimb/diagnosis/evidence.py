@@ -57,7 +57,7 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     elif c.refitted:
         parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
         if c.kind == "drop" and c.helps:
-            parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.1
+            parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
                          else "the term extrapolated badly beyond the training data")
         if c.plausible is False:
             parts.append(f"it fits, but is physically implausible ({c.implausible_because}): it stands in for "

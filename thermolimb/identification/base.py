@@ -68,7 +68,8 @@ class ThermalEstimator:
             raise IdentifiabilityError(
                 f"{self.method} gives RC_s = {values[0]:.3g} s for actuator {series[0].actuator}: this log does not "
                 f"determine the time constant of model {','.join(terms)}; a log needs "
-                f"{model_parameters(terms)[0].excitation}"
+                f"{model_parameters(terms)[0].excitation}",
+                parameter="RC_s",
             )
         self.model_ = ThermalModel(terms, dict(zip(names, values)))
         self.params_ = dict(self.model_.params)

@@ -104,7 +104,8 @@ class OutputError(ThermalEstimator):
             raise IdentifiabilityError(
                 f"cannot identify {p.name} ({p.description}) for actuator {series[0].actuator}: changing it changes "
                 f"the simulated temperature almost exactly as other parameters do ({fractions[weak]:.1e} independent); "
-                f"a log needs {p.excitation}"
+                f"a log needs {p.excitation}",
+                parameter=p.name,
             )
         dof = max(r.size - len(names), 1)
         sigma2 = float(r @ r) / dof * ar1_variance_factor(r)

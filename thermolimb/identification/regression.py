@@ -28,7 +28,11 @@ from ..model.terms import TERMS, Parameter
 
 
 class IdentifiabilityError(ThermolimbError):
-    """The data cannot determine a parameter (e.g. effort held constant)."""
+    """The data cannot determine a parameter (e.g. effort held constant); ``parameter`` names it when known."""
+
+    def __init__(self, message: str, parameter: str | None = None):
+        super().__init__(message)
+        self.parameter = parameter
 
 
 @dataclass(frozen=True)
@@ -206,5 +210,6 @@ def check_identifiable(reg: Regression, actuator: str) -> None:
             raise IdentifiabilityError(
                 f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
                 f"in the training data, where effort takes {levels} distinct level(s) "
-                f"between {reg.effort.min():.3g} and {reg.effort.max():.3g}; a log needs {p.excitation}"
+                f"between {reg.effort.min():.3g} and {reg.effort.max():.3g}; a log needs {p.excitation}",
+                parameter=p.name,
             )

@@ -211,6 +211,7 @@ class AmbientVariation(Term):
                   "ambient that changes during the log", plausible=(0.5, 1.5)),
     )
     columns = ("ambient",)
+    boundary = True
 
     def contribution(self, p, s):
         return p["ambient_gain"] * (s.channel("ambient") - AMBIENT_REFERENCE_C), 0.0
@@ -237,41 +238,70 @@ class MotionCooling(Term):
         return h * p["T_offset_C"], -h
 
 
-@register_term
-class SecondNode(Term):
-    """A second, slower thermal mass between the winding and ambient.
+class SlowMass(Term):
+    """A slower thermal mass between the winding and ambient, as one cascade stage.
 
     The slow node settles to ``T_offset + phi (u - T_offset)`` with time
-    constant ``tau2`` (``u``: the equilibrium the other terms give); the
+    constant ``tau`` (``u``: the equilibrium the other terms give); the
     winding settles to that node plus the remaining ``(1 - phi)`` of the rise
-    (a cascade: the steady state is unchanged).
+    (a cascade: the steady state is unchanged).  Stages stack: a third mass
+    reshapes what the second leaves.
     """
 
-    name = "second_node"
-    description = "a second, slower thermal mass"
-    parameters = (
-        Parameter("frame_fraction", "1", 0.0, 0.98, 0.5,
-                  "share of the steady-state rise that builds up across the slow mass",
+    fraction: str
+    tau: str
+
+    def implausible(self, p):
+        if p[self.tau] <= p["RC_s"]:
+            return f"{self.tau} = {p[self.tau]:.3g} s is not slower than RC_s = {p['RC_s']:.3g} s"
+        return super().implausible(p)
+
+    def winding_share(self, p):
+        return 1.0 - p[self.fraction]
+
+    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C):
+        phi = p[self.fraction]
+        if phi == 0.0:
+            return equilibrium_C
+        # the heat's rise above the boundary builds up phi across this mass; the boundary itself (ambient)
+        # reaches the winding only through it
+        heat = equilibrium_C - boundary_C
+        target = boundary_C + phi * heat
+        a = np.exp(-s.dt_s / p[self.tau])
+        # the slow mass starts in proportion, as if the initial temperature were a steady state
+        start = boundary_C[0] + phi * (initial_C - boundary_C[0])
+        frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
+        return frame + (1.0 - phi) * heat
+
+
+def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Parameter, Parameter]:
+    return (
+        Parameter(fraction, "1", 0.0, 0.98, 0.5,
+                  f"share of the steady-state rise that builds up across the {which} mass",
                   "long heating or cooling phases (several slow time constants)", plausible=(0.05, 0.95)),
-        Parameter("frame_tau_s", "s", 1.0, 1e6, 2000.0, "time constant of the slow mass",
+        Parameter(tau, "s", 1.0, 1e6, 2000.0, f"time constant of the {which} mass",
                   "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True),
     )
 
-    def implausible(self, p):
-        if p["frame_tau_s"] <= p["RC_s"]:
-            return f"frame_tau_s = {p['frame_tau_s']:.3g} s is not slower than RC_s = {p['RC_s']:.3g} s"
-        return super().implausible(p)
 
-    def shape_equilibrium(self, p, s, equilibrium_C, initial_C):
-        phi = p["frame_fraction"]
-        if phi == 0.0:
-            return equilibrium_C
-        offset = p["T_offset_C"]
-        target = offset + phi * (equilibrium_C - offset)
-        a = np.exp(-s.dt_s / p["frame_tau_s"])
-        # the slow mass starts in proportion, as if the initial temperature were a steady state
-        frame = first_order_scan(a, (1.0 - a) * target[:-1], offset + phi * (initial_C - offset))
-        return frame + (1.0 - phi) * (equilibrium_C - offset)
+@register_term
+class SecondNode(SlowMass):
+    """A second, slower thermal mass (a housing or frame) between the winding and ambient."""
+
+    name = "second_node"
+    description = "a second, slower thermal mass"
+    fraction, tau = "frame_fraction", "frame_tau_s"
+    parameters = _slow_mass_parameters(fraction, tau, "slow")
+
+
+@register_term
+class ThirdNode(SlowMass):
+    """A third thermal mass: actuators whose housing and body both store heat (three time scales)."""
+
+    name = "third_node"
+    description = "a third thermal mass (housing and body both store heat)"
+    fraction, tau = "body_fraction", "body_tau_s"
+    parameters = _slow_mass_parameters(fraction, tau, "third")
 
 
 @register_term

@@ -28,6 +28,8 @@ BASE_PARAMETERS = (TIME_CONSTANT, OFFSET)
 # A term may not cancel the restoring -T of the model; closer than this to
 # thermal runaway the gain is clipped (see ThermalModel.forcing).
 _MIN_RESTORING = 1e-6
+# fixed-point passes of a temperature-dependent heat through slow masses (see ThermalModel._coupled)
+COUPLING_PASSES = 2
 
 
 def model_parameters(terms: tuple[str, ...]) -> tuple[Parameter, ...]:
@@ -82,16 +84,25 @@ class ThermalModel:
         the instantaneous rate (1/s).  Where the terms' total gain would reach
         1 (thermal runaway) it is clipped to ``1 - 1e-6``.
         """
+        u, lam, _ = self._forcing(s)
+        return u, lam
+
+    def _forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(u, lam, boundary)``: ``boundary`` is the temperature heat finally flows to (offset plus
+        boundary terms such as the ambient), which slow masses relax towards."""
         rise = np.zeros(s.n)
         gain = np.zeros(s.n)
+        boundary = np.full(s.n, self.params["T_offset_C"])
         for term in self._terms():
             r, g = term.contribution(self.params, s)
             rise = rise + r
             gain = gain + g
+            if term.boundary:
+                boundary = boundary + r
         restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
         u = (self.params["T_offset_C"] + rise) / restoring
         lam = restoring / self.params["RC_s"]
-        return u, lam
+        return u, lam, boundary
 
     def _terms(self):
         return [TERMS[name]() for name in self.terms]
@@ -120,30 +131,60 @@ class ThermalModel:
         start = initial_temperature_C
         for term in terms:
             start = term.initial_winding(self.params, start, initial_rate_K_per_s)
-        u, lam = self._shaped_forcing(s, terms, start)
-        dt = s.dt_s
-        if method == "exact":
-            a = np.exp(-lam[:-1] * dt)
-            winding = first_order_scan(a, (1.0 - a) * u[:-1], start)
-        else:
-            a = 1.0 - lam[:-1] * dt
-            b = lam[:-1] * dt * u[:-1]
-            if np.all(a >= 0.0):
-                winding = first_order_scan(a, b, start)
-            else:
-                winding = np.empty(s.n)
-                winding[0] = start
-                for k in range(s.n - 1):
-                    winding[k + 1] = a[k] * winding[k] + b[k]
+        u, lam, boundary = self._forcing(s)
+        shaped = self._shape(s, terms, u, start, boundary)
+        winding = self._winding(s, shaped, lam, start, method)
+        share = float(np.prod([term.winding_share(self.params) for term in terms]))
+        gain = (self.params["RC_s"] * lam - 1.0) * -1.0  # the terms' total gain on T, as _forcing clipped it
+        if share < 1.0 and np.any(gain != 0.0):
+            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method)
         for term in terms:
             winding = term.shape_output(self.params, s, winding, initial_temperature_C)
         return winding
 
-    def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:
-        u, lam = self.forcing(s)
+    def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray, start: float, method: str) -> np.ndarray:
+        dt = s.dt_s
+        if method == "exact":
+            a = np.exp(-lam[:-1] * dt)
+            return first_order_scan(a, (1.0 - a) * u[:-1], start)
+        a = 1.0 - lam[:-1] * dt
+        b = lam[:-1] * dt * u[:-1]
+        if np.all(a >= 0.0):
+            return first_order_scan(a, b, start)
+        winding = np.empty(s.n)
+        winding[0] = start
+        for k in range(s.n - 1):
+            winding[k + 1] = a[k] * winding[k] + b[k]
+        return winding
+
+    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method):
+        """Slow masses with a temperature-dependent heat (copper resistance, neighbours, airflow).
+
+        The first pass fed the masses the heat of a winding already at its
+        equilibrium, which overstates the feedback while it is still warming.
+        Here the masses get the heat at the simulated winding temperature
+        (a fixed point, ``COUPLING_PASSES`` passes), while the winding keeps
+        its own share ``share`` of the gain implicit, so that strong
+        couplings stay stable.
+        """
+        heat_at_rest = u * (1.0 - gain) - boundary  # T_offset + rises - boundary: the heat's rise with no feedback
+        rc = self.params["RC_s"]
+        for _ in range(COUPLING_PASSES):
+            heat = heat_at_rest + gain * winding
+            frames = self._shape(s, terms, boundary + heat, start, boundary) - boundary - share * heat
+            restoring = np.maximum(1.0 - share * gain, _MIN_RESTORING)
+            target = (boundary + frames + share * heat_at_rest) / restoring
+            winding = self._winding(s, target, restoring / rc, start, method)
+        return winding
+
+    def _shape(self, s: Signals, terms, u: np.ndarray, initial_C: float, boundary: np.ndarray) -> np.ndarray:
         for term in terms:
-            u = term.shape_equilibrium(self.params, s, u, initial_C)
-        return u, lam
+            u = term.shape_equilibrium(self.params, s, u, initial_C, boundary)
+        return u
+
+    def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:
+        u, lam, boundary = self._forcing(s)
+        return self._shape(s, terms, u, initial_C, boundary), lam
 
     def one_step(self, s: Signals, measured_C: np.ndarray) -> np.ndarray:
         """Prediction of each sample from the measured temperature one sample before (exact).

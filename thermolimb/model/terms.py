@@ -51,18 +51,26 @@ class Term:
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     columns: ClassVar[tuple[str, ...]] = ("effort",)
     is_heat_source: ClassVar[bool] = False
+    # a boundary term moves the temperature heat finally flows to (the ambient): it reaches the winding
+    # through every slow mass, where a heat term's rise builds up partly across each
+    boundary: ClassVar[bool] = False
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""
         return 0.0, 0.0
 
     def shape_equilibrium(self, p: Mapping[str, float], s: Signals, equilibrium_C: np.ndarray,
-                          initial_C: float) -> np.ndarray:
+                          initial_C: float, boundary_C: np.ndarray) -> np.ndarray:
         """Terms that add thermal states may reshape the winding's equilibrium; default: unchanged.
 
-        ``initial_C`` is the temperature the simulation starts from.
+        ``initial_C`` is the temperature the simulation starts from, ``boundary_C``
+        the temperature heat finally flows to (offset and boundary terms), per sample.
         """
         return equilibrium_C
+
+    def winding_share(self, p: Mapping[str, float]) -> float:
+        """Share of a heat's rise that builds up across the winding itself (a slow mass takes the rest); default 1."""
+        return 1.0
 
     def shape_output(self, p: Mapping[str, float], s: Signals, winding_C: np.ndarray,
                      measured_initial_C: float) -> np.ndarray:

@@ -250,15 +250,20 @@ class ThermalPlant:
         self._measure()
 
     def _measure(self):
+        readings = self.read(np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]]))
+        self._measured_core = readings[: self.n]
+        self._measured_driver = readings[self.n :]
+
+    def read(self, true_C: np.ndarray) -> np.ndarray:
+        """What a thermistor on these temperatures reports: the plant's sensor noise and quantisation, as switched on."""
         fx = self.effects
-        readings = np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]])
+        readings = np.asarray(true_C, float)
         if fx.sensor_noise is not None:
             readings = readings + self._rng.normal(0.0, fx.sensor_noise.std_K, readings.shape)
         if fx.quantisation is not None:
             step = fx.quantisation.step_K
             readings = np.round(readings / step) * step
-        self._measured_core = readings[: self.n]
-        self._measured_driver = readings[self.n :]
+        return readings
 
     # ---------------------------------------------------------------- outputs
     @property

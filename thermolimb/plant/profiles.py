@@ -115,9 +115,38 @@ def random_holds(duration_s: float, dt_s: float, n_actuators: int, rng: np.rando
     return Profile(t, load, velocity)
 
 
+def stairs(duration_s: float, dt_s: float, n_actuators: int, rng: np.random.Generator,
+           levels: tuple[float, ...] = (0.4, 0.9, 1.4, 0.0, 2.2, 0.6), stall_fraction: float = 0.5) -> Profile:
+    """A dynamometer run: stair-step loads (a rest step among them), some held at stall (no motion), the rest
+    turning at a load-dependent speed."""
+    t = _grid(duration_s, dt_s)
+    step = np.minimum((t / (t[-1] + dt_s) * len(levels)).astype(int), len(levels) - 1)
+    w = _limb_weights(n_actuators)
+    level = np.asarray(levels)[step]
+    load = level[:, None] * w + rng.normal(0.0, 0.01, (t.size, n_actuators))
+    stalled = rng.random(len(levels)) < stall_fraction
+    speed = np.where(stalled[step], 0.0, 0.5 + 0.8 * level)
+    return Profile(t, load, speed[:, None] * w)
+
+
+def pulses(duration_s: float, dt_s: float, n_actuators: int, rng: np.random.Generator, count: int = 3,
+           load: float = 2.5, on_fraction: float = 0.12) -> Profile:
+    """A bench step test: ``count`` load pulses, each followed by cooling, at rest otherwise."""
+    t = _grid(duration_s, dt_s)
+    period = (t[-1] + dt_s) / count
+    start = period * (0.15 + 0.1 * rng.random(count))
+    k = np.minimum((t // period).astype(int), count - 1)
+    on = (t - k * period >= start[k]) & (t - k * period < start[k] + on_fraction * period)
+    w = _limb_weights(n_actuators)
+    level = np.where(on, load, 0.02)[:, None] * w + rng.normal(0.0, 0.01, (t.size, n_actuators))
+    return Profile(t, level, np.zeros((t.size, n_actuators)))
+
+
 PROFILES: dict[str, Callable[..., Profile]] = {
     "squat": squat,
     "single_leg": single_leg,
     "walking": walking,
     "random": random_holds,
+    "stairs": stairs,
+    "pulses": pulses,
 }

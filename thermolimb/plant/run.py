@@ -28,11 +28,12 @@ class PlantRun:
 
 
 def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = False,
-                quiet: bool = True) -> PlantRun:
+                quiet: bool = True, housing_sensor: bool = False) -> PlantRun:
     """Apply a profile (scaled to each actuator's continuous effort) and log every sample.
 
     Efforts are clipped to each actuator's limit and derated by the plant's
-    thermal protection; the log records what was applied.
+    thermal protection; the log records what was applied.  ``housing_sensor``
+    logs a second thermistor on each actuator's housing node (column ``housing``).
     """
     m = plant.n
     if profile.load.shape[1] != m:
@@ -50,10 +51,13 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     n_drivers = len(plant.driver_names) if include_drivers else 0
     driver = np.empty((n, n_drivers))
     ambient = np.empty(n)
+    housing = np.empty((n, m)) if housing_sensor else None
     for k in progress(range(n), desc="plant", disable=quiet, unit="step"):
         effort[k] = plant.derate(np.clip(profile.load[k] * continuous, -limit, limit))
         winding[k] = plant.winding_C
         measured[k] = plant.measured_C
+        if housing_sensor:
+            housing[k] = plant.read(plant.node_C("housing"))
         if n_drivers:
             driver[k] = plant.measured_driver_C
         ambient[k] = plant.ambient_C
@@ -61,6 +65,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
             plant.step(effort[k], velocity[k], t[k + 1] - t[k])
         current[k] = plant.current_A
     names = plant.names
+    if n_drivers and housing_sensor:
+        raise UsageError("a log with driver channels cannot also carry housing sensors; choose one")
     if n_drivers:
         has = [i for i, s in enumerate(plant.specs) if s.driver is not None]
         names = names + plant.driver_names
@@ -69,7 +75,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
                               velocity=np.hstack([velocity, velocity[:, has]]),
                               current_A=np.hstack([current, current[:, has]]), ambient_C=ambient)
     else:
-        log = log_from_arrays(t, names, effort, measured, velocity=velocity, current_A=current, ambient_C=ambient)
+        log = log_from_arrays(t, names, effort, measured, velocity=velocity, current_A=current, ambient_C=ambient,
+                              housing_C=housing)
     return PlantRun(log, t, effort, winding, measured)
 
 
@@ -86,6 +93,7 @@ def simulate_profile(
     include_drivers: bool = False,
     quiet: bool = True,
     load_scale: float = 1.0,
+    housing_sensor: bool = False,
 ) -> PlantRun:
     """One call from a profile name to a log: what ``thermolimb simulate`` does.
 
@@ -103,4 +111,4 @@ def simulate_profile(
     prof = PROFILES[profile](duration_s, dt_s, len(names), rng)
     prof = replace(prof, load=prof.load * load_scale)
     plant = ThermalPlant(names, specs, effects=effects, ambient_C=ambient_C, rng=rng)
-    return run_profile(plant, prof, include_drivers=include_drivers, quiet=quiet)
+    return run_profile(plant, prof, include_drivers=include_drivers, quiet=quiet, housing_sensor=housing_sensor)
