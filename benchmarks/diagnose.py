@@ -2,8 +2,10 @@
 
 Times the base fit, the quick score tests of every candidate and the refits,
 and prints the ratio refits / quick scores (how much the score test saves
-per candidate).  The log hides speed losses; the hidden effect, once added,
-should bring validation RMSE to the sensor noise (about 0.06 K here).
+per candidate); then the whole diagnosis (every candidate refitted, and the
+default), and the stepwise search (``--auto``) from the default start.  The
+log hides speed losses; the hidden effect, once added, should bring
+validation RMSE to the sensor noise (about 0.06 K here).
 
     python benchmarks/diagnose.py [--json]
 """
@@ -14,10 +16,8 @@ import argparse
 import json
 import time
 
-import numpy as np
-
-from thermolimb.diagnosis import diagnose
-from thermolimb.diagnosis.candidates import candidate_models, score_candidate, simulate_all
+from thermolimb.diagnosis import auto_diagnose, diagnose
+from thermolimb.diagnosis.candidates import candidate_models, score_candidate
 from thermolimb.evaluation import fit_and_validate
 from thermolimb.identification import IdentifiabilityError, OutputError
 from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
@@ -36,16 +36,13 @@ def main(argv=None) -> dict:
     series = [log.series("knee")]
 
     start = time.perf_counter()
-    est = OutputError()
-    base = fit_and_validate(series, "joule,effort_bias", estimator=est)
+    base = fit_and_validate(series, "joule,effort_bias", estimator=OutputError())
     t_base = time.perf_counter() - start
-    train = [s.split(0.7)[0] for s in series]
-    measured = np.concatenate([s.temperature_C for s in train])
-    residual = measured - simulate_all(base.model, train)
-    candidates = candidate_models(base.model.terms, series[0])
+    train = list(base.train_series)
+    candidates = [c for c in candidate_models(base.model.terms, series[0]) if c.kind == "add"]
     start = time.perf_counter()
     for cand in candidates:
-        score_candidate(cand, base.model, train, est.optimizer_result_.jac, residual)
+        score_candidate(cand, base.model, train, base.estimator.jacobian_, base.train_residual_K)
     t_scores = time.perf_counter() - start
     start = time.perf_counter()
     for cand in candidates:
@@ -61,6 +58,9 @@ def main(argv=None) -> dict:
     start = time.perf_counter()
     d_strong = diagnose(series)
     t_strong = time.perf_counter() - start
+    start = time.perf_counter()
+    first, _ = auto_diagnose(series)
+    t_auto = time.perf_counter() - start
 
     print(f"base fit                         {t_base:7.2f} s")
     print(f"quick scores, {len(candidates)} candidates        {t_scores:7.2f} s")
@@ -68,11 +68,14 @@ def main(argv=None) -> dict:
           f"{t_refits / t_scores:5.1f} x")
     print(f"diagnose, every candidate refitted {t_all:6.2f} s   (target < 10 s)")
     print(f"diagnose, strong candidates only   {t_strong:6.2f} s")
+    walk = "  ->  ".join(f"{step.get('change', 'start')} {step['rmse_K']:.3f} K" for step in first.auto)
+    print(f"diagnose --auto from the default   {t_auto:6.2f} s   {walk}")
     print(f"recommended: {d.recommended.effect if d.recommended else None}; validation RMSE "
           f"{d.base.validation['rmse_K']:.3f} K -> {d.recommended.rmse_K:.3f} K (sensor noise 0.05 K, 0.1 degC steps)"
           if d.recommended else "recommended: none")
     record = {"samples": series[0].n, "base_s": t_base, "scores_s": t_scores, "refits_s": t_refits,
               "ratio": t_refits / t_scores, "diagnose_all_s": t_all, "diagnose_strong_s": t_strong,
+              "auto_s": t_auto, "auto_steps": [step.get("change", "start") for step in first.auto],
               "recommended": d_strong.recommended.effect if d_strong.recommended else None,
               "rmse_after_K": d.recommended.rmse_K if d.recommended else None}
     if args.json:

@@ -5,6 +5,7 @@ import json
 import pytest
 
 from thermolimb.demo_registry import load_demos, run_demo
+from thermolimb.errors import UsageError
 from thermolimb.report import build_report
 
 DEMOS = sorted(load_demos())
@@ -42,7 +43,7 @@ def test_specified_summaries_keep_their_shape(tmp_path):
 
 
 def test_report_without_results_says_what_to_run(tmp_path):
-    with pytest.raises(FileNotFoundError, match="thermolimb demo all"):
+    with pytest.raises(UsageError, match="thermolimb demo all"):
         build_report(tmp_path)
 
 
@@ -53,20 +54,25 @@ def test_diagnose_demo_finds_both_hidden_effects(tmp_path):
 
 
 def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(tmp_path):
+    """The user's power law is not the plant's law: it must beat the catalog's speed losses, and the physics
+    itself (current squared, once current is logged) must beat it."""
     from thermolimb.model import TERMS
 
     summary = run_demo("custom-effect", tmp_path, quick=True, quiet=True)
-    assert summary["catalog_only"]["recommended"] != "field_weakening_speed"
-    after = summary["with_user_effect"]
-    assert after["recommended"] == "field_weakening_speed"
-    assert after["candidates"][0]["rmse_K"] < 0.5 * summary["catalog_only"]["candidates"][0]["rmse_K"]
-    assert "field_weakening_speed" not in TERMS
+    user = summary["with_user_effect"]
+    assert any(step["change"] == "+ speed_power_heating" for step in user)
+    assert user[-1]["rmse_K"] < 0.5 * summary["catalog_only"][-1]["rmse_K"]
+    assert summary["with_current_logged"][-1]["rmse_K"] < user[-1]["rmse_K"]
+    assert "speed_power_heating" not in TERMS
 
 
 def test_real_pmsm_data_points_to_current_heating(tmp_path):
     summary = run_demo("pmsm-real-data", tmp_path, quick=True, quiet=True)
     for name, entry in summary["profiles"].items():
-        waterfall = entry["split"]["waterfall"]
-        assert "current_heating" in waterfall[1]["model"], name
+        waterfall = entry["split"]["waterfall"]  # from the default start
+        assert waterfall[0]["model"] == ["joule", "effort_bias"]
+        assert "current_heating" in waterfall[-1]["model"] and "joule" not in waterfall[-1]["model"], name
         assert waterfall[-1]["rmse_K"] < 0.5 * waterfall[0]["rmse_K"], name
-    assert "current_heating" in summary["profiles"]["profile24"]["cv4"]["recommended_model"]
+    assert "speed_losses" in summary["profiles"]["profile46"]["split"]["waterfall"][-1]["model"]
+    cv = summary["profiles"]["profile24"]["cv4"]["waterfall"]
+    assert "current_heating" in cv[-1]["model"] and cv[-1]["rmse_K"] < 0.5 * cv[0]["rmse_K"]

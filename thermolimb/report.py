@@ -6,6 +6,8 @@ import html
 import json
 from pathlib import Path
 
+from .errors import UsageError
+
 
 def _rows(value, prefix: str = ""):
     """Flatten nested summaries into (key, value) rows."""
@@ -26,7 +28,7 @@ def build_report(out: Path) -> Path:
     out = Path(out)
     folders = sorted(p.parent for p in out.glob("*/summary.json"))
     if not folders:
-        raise FileNotFoundError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
+        raise UsageError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
     parts = [
         "<!doctype html><html><head><meta charset='utf-8'><title>thermolimb report</title>",
         "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}"

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
+
+from ..errors import UsageError
 
 PMSM_MAP = "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
 
@@ -12,5 +15,44 @@ def pmsm_profile(number: int) -> Path:
     """Path of the bundled PMSM test-bench profile 24 or 46 (see data/pmsm/README.md)."""
     path = Path(str(files(__package__) / "pmsm" / f"profile{number}.csv"))
     if not path.is_file():
-        raise FileNotFoundError(f"no bundled PMSM profile {number}; there are profiles 24 and 46")
+        raise UsageError(f"no bundled PMSM profile {number}; there are profiles 24 and 46")
     return path
+
+
+REAL_DIR = Path(str(files(__package__) / "real"))
+
+
+@dataclass(frozen=True)
+class RealLog:
+    """A bundled real log: its files (runs of the same actuators) and the options that read it."""
+
+    name: str
+    files: tuple[str, ...]
+    mapping: str
+    actuator: str | None = None
+    drop_incomplete: bool = False
+    description: str = ""
+
+    @property
+    def paths(self) -> list[Path]:
+        return [REAL_DIR / f for f in self.files]
+
+    def read(self) -> list:
+        """The logs, read as ``thermolimb`` reads them with these options."""
+        from ..logs import parse_mapping, read_log
+
+        return [read_log(p, mapping=parse_mapping(self.mapping), actuator_name=self.actuator,
+                         drop_incomplete=self.drop_incomplete) for p in self.paths]
+
+
+REAL_LOGS = {log.name: log for log in (
+    RealLog("ur3", ("ur3-cobotops/dataset_02052023.csv",),
+            "time=Timestamp,effort=Current_J{j},temperature=Temperature_*{j},velocity=Speed_J{j}",
+            drop_incomplete=True, description="UR3 cobot, six joints, 1 Hz, two parts 5.2 h apart"),
+    RealLog("wx200", ("interbotix-wx200/wx200_ext_bearing.csv", "interbotix-wx200/wx200_home_bearing.csv"),
+            "time=States Time [s],effort=Effort [mA],temperature=Temp [C],velocity=Velocity [rad/s]",
+            actuator="waist", description="WidowX-200 waist servo, two 600 s runs, whole degrees"),
+    RealLog("bldc", ("tass-bldc-bench/Run2-Throttle100_unified.csv", "tass-bldc-bench/Run13-Throttle8_unified.csv"),
+            "time=Time (s),effort=Power (W),power=Power (W),temperature=Winding Temp (°C)",
+            actuator="bldc", description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz"),
+)}

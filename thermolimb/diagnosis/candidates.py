@@ -61,6 +61,7 @@ class Candidate:
     model: tuple[str, ...]
     kind: str = "add"
     replaces: str | None = None
+    also_drops: tuple[str, ...] = ()  # a swap that also removes the terms built on the old heat source
     score: float = 0.0
     p_value: float = 1.0
     partial_r2: float = 0.0
@@ -84,7 +85,7 @@ class Candidate:
         if self.kind == "drop":
             return f"- {self.effect}"
         if self.kind == "swap":
-            return f"{self.effect} for {self.replaces}"
+            return f"{self.effect} for {','.join((self.replaces,) + self.also_drops)}"
         return f"+ {self.effect}"
 
     @property
@@ -133,6 +134,7 @@ class Candidate:
         }
         if self.replaces:
             out["replaces"] = self.replaces
+            out["also_drops"] = list(self.also_drops)
         return out
 
 
@@ -144,17 +146,25 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
     out = []
     for name, term in TERMS.items():
-        if name not in model and _has_columns(term, series):
+        if name not in model and _has_columns(term, series) and all(r in model for r in term.requires):
             out.append(Candidate(name, model + (name,)))
     sources = [n for n in model if TERMS[n].is_heat_source]
     for name in model:
         rest = tuple(t for t in model if t != name)
-        if any(TERMS[t].is_heat_source for t in rest):
+        needed = any(name in TERMS[t].requires for t in rest)
+        if any(TERMS[t].is_heat_source for t in rest) and not needed:
             out.append(Candidate(name, rest, kind="drop"))
     for old in sources:
         for new, term in TERMS.items():
             if term.is_heat_source and new not in model and _has_columns(term, series):
-                out.append(Candidate(new, tuple(new if t == old else t for t in model), kind="swap", replaces=old))
+                swapped = tuple(new if t == old else t for t in model)
+                out.append(Candidate(new, swapped, kind="swap", replaces=old))
+                # the simplest form: also without the terms that only read effort, which the old source used
+                extra = tuple(t for t in model if t not in sources and "effort" in TERMS[t].columns
+                              and "effort" not in term.columns)
+                if extra:
+                    out.append(Candidate(new, tuple(t for t in swapped if t not in extra), kind="swap",
+                                         replaces=old, also_drops=extra))
     return out
 
 
@@ -210,16 +220,13 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     largest score is kept (a sup-score test); the best points start the refits.
     Drops and swaps are not scored: they are always refitted (a swap unless confounded).
     """
-    if cand.kind == "drop":
+    if cand.kind in ("drop", "swap"):
+        # from what the base fit left, and afresh (the base may sit where the old terms did the work)
         keep = {p.name for p in model_parameters(cand.model)}
-        cand.starts = [{k: v for k, v in base.params.items() if k in keep}]
+        cand.starts = [{k: v for k, v in base.params.items() if k in keep}, {}]
         cand.p_value = 0.0
-        return
-    if cand.kind == "swap":
-        keep = {p.name for p in model_parameters(cand.model)}
-        cand.starts = [{k: v for k, v in base.params.items() if k in keep}]
-        cand.p_value = 0.0
-        cand.confounded = confounded_swap(cand, train)
+        if cand.kind == "swap":
+            cand.confounded = confounded_swap(cand, train)
         return
     term = TERMS[cand.effect]
     scored = []
@@ -234,7 +241,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     cand.starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
     # times that are not nuisance (a sensor lag) start from the log's time scales too
     times = [p for p in term.parameters if p.unit == "s" and not p.nuisance]
-    for scale in time_scales_s(train)[1:4] if times else ():
+    for scale in time_scales_s(train)[1:4:2] if times else ():
         cand.starts.append({**dict(base.params), **{p.name: float(np.clip(scale, p.lower, p.upper)) for p in times}})
     if not np.isfinite(own_share) or scored[0][4] is None:
         cand.confounded = (f"{cand.effect} makes no difference on this log: it needs "

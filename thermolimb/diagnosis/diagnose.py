@@ -31,6 +31,7 @@ from .residuals import ResidualAnalysis, analyse_residuals
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
+SCREEN_EVALUATIONS = 2  # simulations per parameter to screen a refit's starts
 
 
 @dataclass
@@ -75,7 +76,7 @@ def _evaluate(series, model, scheme, validate_on, initial=None) -> FitReport:
 def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
              refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
              validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
-             skip: frozenset[str] = frozenset()) -> Diagnosis:
+             skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset()) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making.
 
     Held-out errors come from ``scheme`` (default: the ``split`` rule, or
@@ -95,7 +96,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     first = base.train_segments[0]
     analysis = analyse_residuals(train[0], first.simulated_C)
 
-    candidates = [c for c in candidate_models(model, series[0]) if c.label not in skip]
+    candidates = [c for c in candidate_models(model, series[0])
+                  if c.label not in skip and frozenset(c.model) not in visited]
     for cand in candidates:
         score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
     adds = [c for c in candidates if c.kind == "add" and c.confounded is None]
@@ -131,21 +133,30 @@ def _identifiable_base(series, model, scheme, validate_on, initial):
 
 
 def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
-    """Refit from each start; the best training fit is judged on held-out data."""
+    """Screen the starts by a short fit on the training data, refit from the best, judge it on held-out data."""
     keep = {p.name for p in model_parameters(cand.model)}
-    reports, errors = [], []
-    for start in cand.starts or [{}]:
-        try:
-            reports.append(_evaluate(series, cand.model, scheme, validate_on,
-                                     {k: v for k, v in start.items() if k in keep}))
-        except IdentifiabilityError as exc:
-            errors.append(str(exc))
-    if not reports:
+    starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
+    errors = []
+    if len(starts) > 1:
+        screened = []
+        for start in starts:
+            try:
+                est = OutputError(model=cand.model, initial=start, max_nfev=SCREEN_EVALUATIONS)
+                est.fit(list(base.train_series))
+                screened.append((float(est.optimizer_result_.cost), est.params_))
+            except IdentifiabilityError as exc:
+                errors.append(str(exc))
+        starts = [min(screened, key=lambda x: x[0])[1]] if screened else []
+    try:
+        report = _evaluate(series, cand.model, scheme, validate_on, starts[0]) if starts else None
+    except IdentifiabilityError as exc:
+        errors.append(str(exc))
+        report = None
+    if report is None:
         cand.identifiable = False
         cand.failure = f"not identifiable from this log: {errors[0]}"
         return
-    best = min(reports, key=lambda r: r.train["rmse_K"])
-    judge(cand, best, base.validation["rmse_K"], base_bic)
+    judge(cand, report, base.validation["rmse_K"], base_bic)
 
 
 def _rank(c: Candidate):
@@ -177,7 +188,8 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
         visited.add(frozenset(move.model))
         moves.append(move)
         steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
-                              initial=dict(move.report.model.params), skip=frozenset(confounded)))
+                              initial=dict(move.report.model.params), skip=frozenset(confounded),
+                              visited=frozenset(visited)))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]

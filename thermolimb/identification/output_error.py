@@ -63,10 +63,11 @@ class OutputError(ThermalEstimator):
             if any(TERMS[n].is_heat_source for n in linear):
                 try:
                     start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
-                except IdentifiabilityError:
-                    if len(linear) == len(terms):
-                        raise  # a linear model the regression cannot identify: its message is the most specific
-                    # nonlinear terms may still make it identifiable by output error: start from typical values
+                except IdentifiabilityError as exc:
+                    if len(linear) == len(terms) and exc.parameter != "RC_s":
+                        raise  # a regressor the data cannot separate: the regression's message is the most specific
+                    # a non-positive RC from the filtered regression, or nonlinear terms that may make the model
+                    # identifiable: output error starts from typical values and judges for itself
         if "RC_s" not in given and start["RC_s"] == model_parameters(terms)[0].typical:
             start["RC_s"] = _time_constant_guess(series)
         start.update(given)

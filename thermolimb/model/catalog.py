@@ -302,6 +302,7 @@ class ThirdNode(SlowMass):
     description = "a third thermal mass (housing and body both store heat)"
     fraction, tau = "body_fraction", "body_tau_s"
     parameters = _slow_mass_parameters(fraction, tau, "third")
+    requires = ("second_node",)
 
 
 @register_term

@@ -54,6 +54,7 @@ class Term:
     # a boundary term moves the temperature heat finally flows to (the ambient): it reaches the winding
     # through every slow mass, where a heat term's rise builds up partly across each
     boundary: ClassVar[bool] = False
+    requires: ClassVar[tuple[str, ...]] = ()  # terms this one builds on (a third mass needs a second)
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""
@@ -144,6 +145,11 @@ def parse_model(spec: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
         )
     if len(set(names)) != len(names):
         raise ModelSpecError(f"model lists a term twice: {','.join(names)}")
+    for n in names:
+        missing = [r for r in TERMS[n].requires if r not in names]
+        if missing:
+            raise ModelSpecError(f"model term '{n}' builds on {', '.join(missing)}; add it: "
+                                 f"{','.join(names[:names.index(n)] + missing + names[names.index(n):])}")
     if not any(TERMS[n].is_heat_source for n in names):
         sources = [n for n, t in TERMS.items() if t.is_heat_source]
         raise ModelSpecError(f"model {','.join(names)} has no heat source; add one of: {', '.join(sources)}")
