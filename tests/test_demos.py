@@ -11,19 +11,32 @@ from thermolimb.report import build_report
 DEMOS = sorted(load_demos())
 
 
+@pytest.fixture(scope="module")
+def quick_runs(tmp_path_factory):
+    """Each demo runs once in quick mode, into one folder; every test below reads that run."""
+    return tmp_path_factory.mktemp("demos"), {}
+
+
+def quick(quick_runs, name: str) -> dict:
+    out, done = quick_runs
+    if name not in done:
+        done[name] = run_demo(name, out, quick=True, quiet=True)
+    return done[name]
+
+
 @pytest.mark.parametrize("name", DEMOS)
-def test_demo_quick(name, tmp_path):
-    summary = run_demo(name, tmp_path, quick=True, quiet=True)
-    folder = tmp_path / name
+def test_demo_quick(name, quick_runs):
+    summary = quick(quick_runs, name)
+    out = quick_runs[0]
+    folder = out / name
     assert json.loads((folder / "summary.json").read_text()) == summary
     assert list(folder.glob("*.png"))
-    index = build_report(tmp_path)
-    page = index.read_text()
+    page = build_report(out).read_text()
     assert f"id='{name}'" in page and ".png" in page
 
 
-def test_thermal_fit_demo_predicts_the_squats(tmp_path):
-    summary = run_demo("thermal-fit", tmp_path, quick=True, quiet=True)
+def test_thermal_fit_demo_predicts_the_squats(quick_runs):
+    summary = quick(quick_runs, "thermal-fit")
     for channel, methods in summary["channels"].items():
         # output error predicts the 90-minute squat experiment from effort alone
         assert methods["output_error"]["prediction"]["fit_percent"] > 70.0, channel
@@ -31,15 +44,15 @@ def test_thermal_fit_demo_predicts_the_squats(tmp_path):
                 <= methods["seed_gd"]["prediction"]["rmse_K"] + 1e-9), channel
 
 
-def test_specified_summaries_keep_their_shape(tmp_path):
+def test_specified_summaries_keep_their_shape(quick_runs):
     """Issues 4 and 5 give summary.json's exact keys; anything else goes to details.json."""
-    walk = run_demo("hexapod-walk", tmp_path, quick=True, quiet=True)
+    walk = quick(quick_runs, "hexapod-walk")
     assert set(walk) == {"walk_0kg", "walk_2kg", "stand_5kg"}
     for scenario in walk.values():
         assert set(scenario) == {"vertical_only", "minimax", "minimax_lex", "thermal_aware"}
         for record in scenario.values():
             assert {"peak_norm_torque", "mean_norm_torque", "max_temperature_C", "time_to_limit_s"} <= set(record)
-    assert json.loads((tmp_path / "hexapod-walk" / "details.json").read_text())["duration_s"] == 15.0
+    assert json.loads((quick_runs[0] / "hexapod-walk" / "details.json").read_text())["duration_s"] == 15.0
 
 
 def test_report_without_results_says_what_to_run(tmp_path):
@@ -47,18 +60,18 @@ def test_report_without_results_says_what_to_run(tmp_path):
         build_report(tmp_path)
 
 
-def test_diagnose_demo_finds_both_hidden_effects(tmp_path):
-    summary = run_demo("diagnose", tmp_path, quick=True, quiet=True)
+def test_diagnose_demo_finds_both_hidden_effects(quick_runs):
+    summary = quick(quick_runs, "diagnose")
     assert summary["found"] == sorted(summary["hidden_effects"])
     assert summary["diagnosis"]["auto"][-1]["rmse_K"] < 0.1
 
 
-def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(tmp_path):
+def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(quick_runs):
     """The user's power law is not the plant's law: it must beat the catalog's speed losses, and the physics
     itself (current squared, once current is logged) must beat it."""
     from thermolimb.model import TERMS
 
-    summary = run_demo("custom-effect", tmp_path, quick=True, quiet=True)
+    summary = quick(quick_runs, "custom-effect")
     user = summary["with_user_effect"]
     assert any(step["change"] == "+ speed_power_heating" for step in user)
     assert user[-1]["rmse_K"] < 0.5 * summary["catalog_only"][-1]["rmse_K"]
@@ -66,8 +79,8 @@ def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(tmp_path):
     assert "speed_power_heating" not in TERMS
 
 
-def test_real_pmsm_data_points_to_current_heating(tmp_path):
-    summary = run_demo("pmsm-real-data", tmp_path, quick=True, quiet=True)
+def test_real_pmsm_data_points_to_current_heating(quick_runs):
+    summary = quick(quick_runs, "pmsm-real-data")
     for name, entry in summary["profiles"].items():
         waterfall = entry["split"]["waterfall"]  # from the default start
         assert waterfall[0]["model"] == ["joule", "effort_bias"]
@@ -76,3 +89,14 @@ def test_real_pmsm_data_points_to_current_heating(tmp_path):
     assert "speed_losses" in summary["profiles"]["profile46"]["split"]["waterfall"][-1]["model"]
     cv = summary["profiles"]["profile24"]["cv4"]["waterfall"]
     assert "current_heating" in cv[-1]["model"] and cv[-1]["rmse_K"] < 0.5 * cv[0]["rmse_K"]
+
+
+def test_real_logs_demo_runs_the_loop_on_every_bundled_log(quick_runs):
+    summary = quick(quick_runs, "real-logs")
+    assert set(summary) == {"ur3", "wx200", "bldc"}
+    for entry in summary.values():
+        for record in entry["actuators"].values():
+            walk = record["split"]
+            assert walk["steps"][0]["change"] == "start" and walk["after_K"] <= walk["before_K"]
+    j3 = summary["ur3"]["actuators"]["J3"]["split"]  # a wrist joint: heat from its neighbours
+    assert "neighbor_coupling" in j3["final_model"] and j3["after_K"] < 0.5 * j3["before_K"]

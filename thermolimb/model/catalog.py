@@ -23,8 +23,21 @@ def _speed(s: Signals) -> np.ndarray:
     return np.abs(s.channel("velocity"))
 
 
+class LinearTerm(Term):
+    """A term whose rise is its one parameter times a regressor built from the log (linear in that parameter)."""
+
+    def regressor(self, s: Signals) -> np.ndarray:
+        raise NotImplementedError  # abstract
+
+    def contribution(self, p, s):
+        return p[self.parameters[0].name] * self.regressor(s), 0.0
+
+    def features(self, s, temperature_C):
+        return self.regressor(s)[:, None]
+
+
 @register_term
-class Joule(Term):
+class Joule(LinearTerm):
     """Effort-squared heating: the seed's ``beta*R*F^2`` (Eq. 5)."""
 
     name = "joule"
@@ -36,15 +49,12 @@ class Joule(Term):
     )
     is_heat_source = True
 
-    def contribution(self, p, s):
-        return p["betaR_K_per_effort2"] * s.effort**2, 0.0
-
-    def features(self, s, temperature_C):
-        return (s.effort**2)[:, None]
+    def regressor(self, s):
+        return s.effort**2
 
 
 @register_term
-class EffortBias(Term):
+class EffortBias(LinearTerm):
     """Linear effort term from a series-elastic effort bias: ``-beta_bias*R*F`` (Eq. 5)."""
 
     name = "effort_bias"
@@ -55,15 +65,12 @@ class EffortBias(Term):
                   "effort held at three or more distinct levels, ideally of both signs"),
     )
 
-    def contribution(self, p, s):
-        return -p["beta_biasR_K_per_effort"] * s.effort, 0.0
-
-    def features(self, s, temperature_C):
-        return (-s.effort)[:, None]
+    def regressor(self, s):
+        return -s.effort
 
 
 @register_term
-class CurrentHeating(Term):
+class CurrentHeating(LinearTerm):
     """Joule heat from the measured current, which also sees current that makes no torque."""
 
     name = "current_heating"
@@ -76,15 +83,12 @@ class CurrentHeating(Term):
     columns = ("current",)
     is_heat_source = True
 
-    def contribution(self, p, s):
-        return p["currentR_K_per_A2"] * s.channel("current") ** 2, 0.0
-
-    def features(self, s, temperature_C):
-        return (s.channel("current") ** 2)[:, None]
+    def regressor(self, s):
+        return s.channel("current") ** 2
 
 
 @register_term
-class PowerHeating(Term):
+class PowerHeating(LinearTerm):
     """Heat in proportion to measured electrical input power (benches that log power, not torque)."""
 
     name = "power_heating"
@@ -97,15 +101,12 @@ class PowerHeating(Term):
     columns = ("power",)
     is_heat_source = True
 
-    def contribution(self, p, s):
-        return p["powerR_K_per_W"] * s.channel("power"), 0.0
-
-    def features(self, s, temperature_C):
-        return s.channel("power")[:, None]
+    def regressor(self, s):
+        return s.channel("power")
 
 
 @register_term
-class HousingBoundary(Term):
+class HousingBoundary(LinearTerm):
     """The winding loses heat to its measured housing: ``g T_housing`` replaces most of the constant offset.
 
     With a second sensor on the housing (case, stator body, driver board) the
@@ -122,11 +123,8 @@ class HousingBoundary(Term):
     )
     columns = ("housing",)
 
-    def contribution(self, p, s):
-        return p["housing_gain"] * s.channel("housing"), 0.0
-
-    def features(self, s, temperature_C):
-        return s.channel("housing")[:, None]
+    def regressor(self, s):
+        return s.channel("housing")
 
 
 @register_term
@@ -200,7 +198,7 @@ class NeighborCoupling(Term):
 
 
 @register_term
-class AmbientVariation(Term):
+class AmbientVariation(LinearTerm):
     """The offset follows the logged ambient (the base model keeps it constant)."""
 
     name = "ambient_variation"
@@ -213,11 +211,8 @@ class AmbientVariation(Term):
     columns = ("ambient",)
     boundary = True
 
-    def contribution(self, p, s):
-        return p["ambient_gain"] * (s.channel("ambient") - AMBIENT_REFERENCE_C), 0.0
-
-    def features(self, s, temperature_C):
-        return (s.channel("ambient") - AMBIENT_REFERENCE_C)[:, None]
+    def regressor(self, s):
+        return s.channel("ambient") - AMBIENT_REFERENCE_C
 
 
 @register_term
