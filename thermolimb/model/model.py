@@ -84,12 +84,13 @@ class ThermalModel:
         the instantaneous rate (1/s).  Where the terms' total gain would reach
         1 (thermal runaway) it is clipped to ``1 - 1e-6``.
         """
-        u, lam, _ = self._forcing(s)
+        u, lam, _, _ = self._forcing(s)
         return u, lam
 
-    def _forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(u, lam, boundary)``: ``boundary`` is the temperature heat finally flows to (offset plus
-        boundary terms such as the ambient), which slow masses relax towards."""
+    def _forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(u, lam, boundary, gain)``: ``boundary`` is the temperature heat finally flows to (offset plus
+        boundary terms such as the ambient), which slow masses relax towards; ``gain`` the terms' total
+        gain on T, clipped short of runaway."""
         rise = np.zeros(s.n)
         gain = np.zeros(s.n)
         boundary = np.full(s.n, self.params["T_offset_C"])
@@ -102,7 +103,7 @@ class ThermalModel:
         restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
         u = (self.params["T_offset_C"] + rise) / restoring
         lam = restoring / self.params["RC_s"]
-        return u, lam, boundary
+        return u, lam, boundary, 1.0 - restoring
 
     def _terms(self):
         return [TERMS[name]() for name in self.terms]
@@ -131,11 +132,10 @@ class ThermalModel:
         start = initial_temperature_C
         for term in terms:
             start = term.initial_winding(self.params, start, initial_rate_K_per_s)
-        u, lam, boundary = self._forcing(s)
+        u, lam, boundary, gain = self._forcing(s)
         shaped = self._shape(s, terms, u, start, boundary)
         winding = self._winding(s, shaped, lam, start, method)
         share = float(np.prod([term.winding_share(self.params) for term in terms]))
-        gain = (self.params["RC_s"] * lam - 1.0) * -1.0  # the terms' total gain on T, as _forcing clipped it
         if share < 1.0 and np.any(gain != 0.0):
             winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method)
         for term in terms:
@@ -183,7 +183,7 @@ class ThermalModel:
         return u
 
     def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:
-        u, lam, boundary = self._forcing(s)
+        u, lam, boundary, _ = self._forcing(s)
         return self._shape(s, terms, u, initial_C, boundary), lam
 
     def one_step(self, s: Signals, measured_C: np.ndarray) -> np.ndarray:
