@@ -107,11 +107,11 @@ def test_hidden_effect_on_other_profiles(profile, term):
 @pytest.mark.parametrize("term", ["speed_losses", "current_heating", "motion_cooling"])
 def test_effects_that_move_with_effort_leave_nothing_to_find_on_squats(term):
     """On squats speed rises with load, so the effort terms absorb these effects: the base model is already
-    at the sensor's noise floor and nothing is (rightly) recommended."""
+    at the sensor's noise floor and nothing is (rightly) added; dropping a term that does not help is allowed."""
     effect, network, scale = HIDDEN[term]
     d = diagnose([hidden_log([effect], network, scale, 3, "squat").series("hip")])
     assert d.base.validation["rmse_K"] < 0.07
-    assert d.recommended is None
+    assert d.recommended is None or d.recommended.kind == "drop"
 
 
 # ---------------------------------------------------------------- on the default three-node X8 network

@@ -75,7 +75,7 @@ def test_every_strategy_is_a_policy():
             assert env.action_space.contains(np.asarray(action, dtype=env.action_space.dtype)
                                              if env_id == HEXAPOD_ID else action)
         env.close()
-    with pytest.raises(KeyError, match="no strategy 'minimax'"):
+    with pytest.raises(ValueError, match="no strategy 'minimax'"):
         make_policy(HUMANOID_ID, "minimax")
 
 
