@@ -15,8 +15,8 @@ import time
 import gymnasium as gym
 import numpy as np
 
-import thermolimb  # noqa: F401  (registers the environments)
-from thermolimb.envs import HEXAPOD_ID, HUMANOID_ID
+from hexapod_pb import ENV_ID as HEXAPOD_ID  # importing the robot packages registers their environments
+from humanoid_pb import ENV_ID as HUMANOID_ID
 
 ACTIONS = {HEXAPOD_ID: np.array([0.0, 1.0, 0.0, 1.0], dtype=np.float32), HUMANOID_ID: 0}
 

@@ -11,9 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
+from hexapod_pb import ENV_ID as HEXAPOD_ID
 from thermolimb.demo_registry import demo_main, register_demo
-from thermolimb.envs import HEXAPOD_ID
-from thermolimb.envs.evaluate import evaluate, table
+from thermolimb.envs.evaluate import evaluate
+from thermolimb.envs.report import table
 
 NAME = "ppo-agent"
 DECISION_S = 0.2

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from thermolimb.cli.strategies import format_table, plot_table
+import hexapod_pb
+import humanoid_pb
 from thermolimb.demo_registry import demo_main, register_demo
-from thermolimb.envs import HEXAPOD_ID, HUMANOID_ID
-from thermolimb.envs.evaluate import evaluate, table
+from thermolimb.envs.evaluate import evaluate
+from thermolimb.envs.report import format_table, plot_table, table
 
 NAME = "strategies"
 
@@ -19,7 +20,7 @@ NAME = "strategies"
 @register_demo(NAME, "minimum-effort against thermal-aware (and baselines) in both Gymnasium environments")
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}
-    for env_id, max_time in ((HEXAPOD_ID, 10.0 if quick else 60.0), (HUMANOID_ID, 30.0 if quick else 90.0)):
+    for env_id, max_time in ((hexapod_pb.ENV_ID, 10.0 if quick else 60.0), (humanoid_pb.ENV_ID, 30.0 if quick else 90.0)):
         episodes = evaluate(env_id, 1 if quick else 5, seed=0, max_time_s=max_time)
         rows = table(episodes)
         plot_table(rows, env_id, out / f"{env_id.split('/')[-1]}.png")

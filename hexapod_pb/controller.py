@@ -26,7 +26,7 @@ from .constants import LEGS
 from .kinematics import foot_jacobian_6d, inverse_kinematics, nominal_foot
 from .legs import leg_gravity_torque, point_jacobian
 from .params import GRAVITY_M_S2, DaisyParams
-from .sim import Reading
+from .readings import Reading
 from .wrench import (StanceProblem, StanceSolution, closest_achievable, minimax, minimax_lex, thermal_minimax,
                      vertical_only)
 

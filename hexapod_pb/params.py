@@ -15,7 +15,9 @@ import numpy as np
 
 from .constants import LEGS
 
-GRAVITY_M_S2 = 9.81
+from thermolimb.constants import GRAVITY_M_S2
+
+FALLEN_BODY_HEIGHT_M = 0.08  # the body below this height: the robot has fallen
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from thermolimb.progress import progress
 
 from . import cpg
 from .controller import ControllerState, Gains, ThermalContext, control_step
-from .params import DAISY
+from .params import DAISY, FALLEN_BODY_HEIGHT_M
 from .sim import HexapodSim, SimConfig
 from .thermal import datasheet_bank
 
@@ -68,7 +68,6 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
     config = SimConfig(payload_kg=payload, ambient_C=ambient_C)
     gait = cpg.CPGParams()
     scale = DAISY.continuous_torque_per_joint_Nm
-    limit_C = 155.0
     with HexapodSim(config=config, plant_effects=effects, seed=seed) as sim:
         state = ControllerState(cpg.initial_state(None, gait))
         reading = sim.read()
@@ -90,9 +89,9 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
             sensed[k] = np.abs(reading.torque_Nm) / scale
             measured[k] = reading.temperature_C
             winding[k] = sim.plant.winding_C
-            if time_to_limit is None and measured[k].max() >= limit_C:
+            if time_to_limit is None and np.any(measured[k] >= sim.plant.winding_limits_C):
                 time_to_limit = float(reading.time_s)
-            if reading.body_position_m[2] < 0.08:
+            if reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
                 fell = True
                 t, cmd, sensed, measured, winding = t[: k + 1], cmd[: k + 1], sensed[: k + 1], measured[: k + 1], winding[: k + 1]
                 break

@@ -7,7 +7,7 @@ controller's output -- are sent before every physics step.  Each control step
 also advances the thermal plant of all 18 actuators with the torques actually
 applied (after thermal derating) and records a canonical thermal log.
 
-What the controller sees (:class:`Reading`) is what hardware gives it: joint
+What the controller sees (:class:`~hexapod_pb.readings.Reading`) is what hardware gives it: joint
 encoders, series-elastic torque sensing (applied torque plus noise), the
 plant's measured temperatures, an IMU (body orientation and angular rate) and
 a body-velocity estimate.
@@ -15,7 +15,7 @@ a body-velocity estimate.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -25,6 +25,7 @@ from thermolimb.rig import BulletRig, RigConfig
 from .constants import ACTUATOR_MODEL, FEET, JOINT_KINDS, JOINTS, LEGS, PAYLOAD_LINK
 from .kinematics import inverse_kinematics, nominal_foot
 from .params import DAISY, DaisyParams
+from .readings import Reading
 from .urdf_model import urdf_path
 
 
@@ -38,22 +39,6 @@ class SimConfig(RigConfig):
         super().__post_init__()
         if self.payload_kg < 0:
             raise ValueError(f"payload_kg must be >= 0, got {self.payload_kg}")
-
-
-@dataclass(frozen=True)
-class Reading:
-    """One control step's sensor data (arrays in JOINTS / LEGS order)."""
-
-    time_s: float
-    q_rad: np.ndarray  # (18,)
-    qd_rad_s: np.ndarray  # (18,)
-    torque_Nm: np.ndarray  # (18,) sensed
-    temperature_C: np.ndarray  # (18,) measured winding temperatures
-    world_R_body: np.ndarray  # (3, 3) IMU orientation
-    body_omega_rad_s: np.ndarray  # (3,) IMU angular rate, body frame
-    body_velocity_m_s: np.ndarray  # (3,) velocity estimate, body frame
-    body_position_m: np.ndarray  # (3,) position estimate, world frame (for logging and scenarios)
-    contact_force_N: np.ndarray = field(default=None)  # (6, 3) per foot, world frame, force on the foot
 
 
 class HexapodSim(BulletRig):
@@ -106,6 +91,11 @@ class HexapodSim(BulletRig):
         return lin[:, offset + 3 * leg : offset + 3 * leg + 3]
 
     # --------------------------------------------------------------- stepping
+    def render(self, width: int = 240, height: int = 240) -> np.ndarray:
+        """An offscreen RGB image of the robot, looking down at it from behind."""
+        pos, _, _, _ = self.base_state()
+        return super().render(pos, 1.5, 30.0, -25.0, width, height)
+
     def step(self, torque_Nm: np.ndarray) -> Reading:
         """Hold ``torque_Nm`` (18,) for one control period, derated by thermal protection; return the next reading."""
         self.step_torques(torque_Nm)

@@ -45,7 +45,7 @@ from thermolimb.model import FirstOrderBank
 
 from .kinematics import foot_jacobian, foot_position
 from .legs import leg_gravity_torque
-from .params import DaisyParams
+from .params import GRAVITY_M_S2, DaisyParams
 
 _INF = 1e30
 _EQUALITY = 5  # daqp sense: active and immutable
@@ -97,7 +97,7 @@ class StanceProblem:
             raise ValueError(f"a static stance needs at least 3 feet on the ground, got {len(legs)}")
         R = np.eye(3) if world_R_body is None else world_R_body
         if wrench is None:
-            weight = (params.robot_mass_kg + payload_kg) * 9.81
+            weight = (params.robot_mass_kg + payload_kg) * GRAVITY_M_S2
             wrench = np.concatenate([R.T @ np.array([0.0, 0.0, weight]), np.zeros(3)])
         feet, blocks, grav = [], [], []
         for i in legs:

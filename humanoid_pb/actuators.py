@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from thermolimb.model import FirstOrderBank
 from thermolimb.plant import ActuatorSpec, ThermalNetwork
 
 from .constants import ACTUATORS, JOINTS, ROD_PAIRS
@@ -18,6 +19,7 @@ from .pushrods import RodPair
 
 # winding (tau = 20 J/K * 2 K/W = 40 s) on a slow housing (2000 J/K, 1 K/W): chosen
 VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 1.0))
+WINDING_LIMIT_C = 150.0
 
 
 def actuator_specs(params: ValkyrieParams) -> list[ActuatorSpec]:
@@ -30,8 +32,27 @@ def actuator_specs(params: ValkyrieParams) -> list[ActuatorSpec]:
             limit = params.effort_limit(name)
         per_amp = 0.3 * limit / np.sqrt(60.0 / 0.5)  # 60 W of copper loss at 30 % of the limit (chosen)
         specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
-                                  winding_limit_C=150.0, driver=None))
+                                  winding_limit_C=WINDING_LIMIT_C, driver=None))
     return specs
+
+
+def datasheet_bank(params: ValkyrieParams, ambient_C: float = 25.0) -> FirstOrderBank:
+    """Eq. 5 of every actuator from its data, without identification: the winding node on a housing at ambient.
+
+    RC = C_w R_w (40 s) and betaR = R_e R_w / k^2: what a controller can plan
+    with before it has a log of its own.
+    """
+    specs = actuator_specs(params)
+    net = VALKYRIE_NETWORK
+    rc = net.capacity_J_per_K[0] * net.resistance_K_per_W[0]
+    beta = np.array([s.winding_resistance_ohm * net.resistance_K_per_W[0] / s.effort_per_amp**2 for s in specs])
+    n = len(specs)
+    return FirstOrderBank(np.full(n, rc), beta, np.zeros(n), np.full(n, ambient_C))
+
+
+def effort_limits(params: ValkyrieParams) -> np.ndarray:
+    """Each actuator's effort limit (ACTUATORS order; N m for motors, N for rods)."""
+    return np.array([s.effort_limit for s in actuator_specs(params)])
 
 
 def rod_pairs(params: ValkyrieParams) -> dict[str, RodPair]:

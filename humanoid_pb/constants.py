@@ -49,8 +49,6 @@ def mode_feet(mode: str) -> tuple[str, ...]:
     return {"double": FEET, "left": (FEET[0],), "right": (FEET[1],)}[mode]
 
 
-
-
 def leg_actuators(side: str) -> tuple[str, ...]:
     """The thermal actuators of one leg: hip and knee motors and the two ankle rods."""
     return tuple(a for a in ACTUATORS if a.startswith(f"{side}_") and not any(arm in a for arm in ARM_JOINTS))

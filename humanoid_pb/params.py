@@ -10,8 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from thermolimb.constants import GRAVITY_M_S2
+from thermolimb.frozen import FrozenMapping
 
-GRAVITY_M_S2 = 9.81
+# the seed's recovery experiment: actuators above WARNING_C are hot; recovered when all are below RECOVERED_C
+WARNING_C = 75.0
+RECOVERED_C = 70.0
+FALLEN_PELVIS_HEIGHT_M = 0.6  # the pelvis below this height: the robot has fallen
 
 
 @dataclass(frozen=True)
@@ -32,11 +37,11 @@ class ValkyrieParams:
     shoulder_m: tuple[float, float, float] = (-0.03, 0.25, 0.45)  # left shoulder in the torso frame (chosen)
     upper_arm_m: float = 0.30
     forearm_m: float = 0.28
-    effort_limit_Nm: dict = field(default_factory=lambda: {
+    effort_limit_Nm: FrozenMapping = field(default_factory=lambda: {
         "hip_yaw": 190.0, "hip_roll": 350.0, "hip_pitch": 350.0, "knee": 350.0, "ankle_pitch": 205.0,
         "ankle_roll": 205.0, "torso_yaw": 190.0, "torso_pitch": 150.0, "torso_roll": 150.0,
         "shoulder_pitch": 190.0, "shoulder_roll": 190.0, "shoulder_yaw": 65.0, "elbow": 65.0})
-    joint_limits_rad: dict = field(default_factory=lambda: {
+    joint_limits_rad: FrozenMapping = field(default_factory=lambda: {
         "hip_yaw": (-0.8, 0.8), "hip_roll": (-0.5, 0.5), "hip_pitch": (-2.4, 1.6), "knee": (0.0, 2.06),
         "ankle_pitch": (-0.93, 0.65), "ankle_roll": (-0.4, 0.4), "torso_yaw": (-1.3, 1.3),
         "torso_pitch": (-0.13, 0.67), "torso_roll": (-0.23, 0.23), "shoulder_pitch": (-2.8, 2.0),
@@ -53,6 +58,8 @@ class ValkyrieParams:
     rod_force_limit_N: float = 2800.0  # ~205 N m / 0.0367 m * 0.5 (derived in facts.md)
 
     def __post_init__(self):
+        for name in ("effort_limit_Nm", "joint_limits_rad"):  # read-only: a default must not change under anyone
+            object.__setattr__(self, name, FrozenMapping(getattr(self, name)))
         masses = (self.pelvis_kg, self.torso_kg, *self.waist_links_kg, *self.leg_links_kg, *self.arm_links_kg)
         if any(not m > 0 for m in masses):
             raise ValueError("ValkyrieParams: every link mass must be positive")

@@ -19,7 +19,9 @@ import numpy as np
 
 from thermolimb.model import FirstOrderBank
 
-HOT_C = 70.0
+from .params import RECOVERED_C
+
+HOT_C = RECOVERED_C  # an actuator still to recover weighs HOT_WEIGHT times more
 HOT_WEIGHT = 100.0
 
 

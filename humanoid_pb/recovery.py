@@ -22,16 +22,14 @@ from thermolimb.logs import ThermalLog
 from thermolimb.model import FirstOrderBank, ThermalModel
 from thermolimb.progress import progress
 
-from .actuators import actuator_specs
+from .actuators import effort_limits
 from .balance import Motion, balance_command
-from .constants import ACTUATORS, SIDES, leg_actuators
-from .fast_ik import FastThermalIK
+from .constants import ACTUATORS, leg_actuators
+from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, WARNING_C
+from .planner import ContactModePlanner
 from .poses import crouch_angles, single_support, standing
-from .potential import MinimumEffort, ThermalPotential
 from .sim import HumanoidSim
 
-WARNING_C = 75.0
-RECOVERED_C = 70.0
 SHIFT_S = 1.5  # weight shift, and foot lift or placement, each
 DWELL_S = 8.0  # minimum time in a mode before the next decision
 DECIDE_EVERY_S = 2.0
@@ -148,8 +146,7 @@ def calibrate(duration_s: float, seed: int = 0, quiet: bool = True) -> tuple[Fir
                 k += 1
             reading = ex.tick(reading)
         log = sim.thermal_log()
-    limits = np.array([spec.effort_limit for spec in actuator_specs(sim.params)])
-    return identify_bank(log, limits), log
+    return identify_bank(log, effort_limits(sim.params)), log
 
 
 @dataclass
@@ -181,8 +178,7 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
     hot_leg = [ACTUATORS.index(a) for a in leg_actuators(heat_side)]
     with HumanoidSim(crouch_angles(), seed=seed) as sim:
         ex = Executor(sim)
-        solver = FastThermalIK(sim.body)
-        limits = np.array([s.effort_limit for s in actuator_specs(sim.body.params)])
+        planner = ContactModePlanner(sim.body, "thermal" if strategy == "thermal_aware" else "effort")
         reading = sim.read()
         ex.go(heat_side)
         recovering = False
@@ -195,7 +191,7 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
             run.time_s.append(t)
             run.temperature_C.append(T.copy())
             run.modes.append(ex.mode)
-            if reading.base_position_m[2] < 0.6:
+            if reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 run.fell = True
                 break
             if not recovering:
@@ -210,12 +206,8 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
                 run.recovery_s = t - run.warning_at_s
                 break
             if t >= next_decision and not ex.moving and t - ex.settled_since >= (DWELL_S if run.decisions else 0.0):
-                objective = (ThermalPotential.from_measurement(bank, T) if strategy == "thermal_aware"
-                             else MinimumEffort(limits))
-                starts = {"double": ex.q_nominal,
-                          **{s: single_support(sim.body, ex.q_nominal, s) for s in SIDES}}
-                results = {m: solver.solve(starts[m], m, objective, max_iter=15) for m in starts}
-                mode = min(results, key=lambda m: results[m].potential)
+                plan = planner.plan(ex.q_nominal, bank, T)
+                mode, results = plan.mode, plan.results
                 if not run.decisions or mode != run.decisions[-1][1]:
                     angles = sim.body.joint_angles(results[mode].q)
                     run.configurations[mode] = angles

@@ -8,8 +8,6 @@ it drives.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from thermolimb.plant import PlantEffects, ThermalProtection
@@ -18,24 +16,9 @@ from thermolimb.rig import BulletRig, RigConfig
 from . import actuators
 from .constants import ACTUATORS, FEET, JOINTS
 from .params import VALKYRIE, ValkyrieParams
+from .readings import Reading
 from .statics import WholeBody
 from .urdf_model import urdf_path
-
-
-@dataclass(frozen=True)
-class Reading:
-    """One control step's sensor data: encoders, torque sensing, measured temperatures, IMU, foot forces."""
-
-    time_s: float
-    q_rad: np.ndarray  # (23,) JOINTS order
-    qd_rad_s: np.ndarray
-    torque_Nm: np.ndarray  # sensed joint torques
-    temperature_C: np.ndarray  # (23,) ACTUATORS order, measured
-    base_position_m: np.ndarray  # pelvis, world (state estimate)
-    base_quaternion_xyzw: np.ndarray
-    base_velocity_m_s: np.ndarray  # world
-    base_omega_rad_s: np.ndarray  # world
-    foot_force_N: np.ndarray  # (2, 3) ground force on each foot, world
 
 
 class HumanoidSim(BulletRig):
@@ -44,7 +27,7 @@ class HumanoidSim(BulletRig):
     def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
                  config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
-                 protection: ThermalProtection = ThermalProtection(start_C=135.0, limit_C=150.0),
+                 protection: ThermalProtection = ThermalProtection(),
                  body: WholeBody | None = None):
         self.params = params
         self.body = body or WholeBody(params)
@@ -70,7 +53,7 @@ class HumanoidSim(BulletRig):
         return actuators.velocities(self.rods, q, qd)
 
     def derated_torques(self, q, torques_Nm):
-        fraction = self.plant.protection.fraction(self.plant.measured_C)
+        fraction = self.plant.derating()
         return torques_Nm * actuators.joint_fractions(fraction)
 
     # --------------------------------------------------------------- sensing
@@ -90,12 +73,8 @@ class HumanoidSim(BulletRig):
 
     def render(self, width: int = 480, height: int = 480, yaw_deg: float = 30.0) -> np.ndarray:
         """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software renderer."""
-        c = self.client
         pos, _, _, _ = self.base_state()
-        view = c.computeViewMatrixFromYawPitchRoll([pos[0], pos[1], 0.7], 3.0, yaw_deg, -15.0, 0.0, 2)
-        proj = c.computeProjectionMatrixFOV(40.0, width / height, 0.1, 10.0)
-        _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
-        return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
+        return super().render([pos[0], pos[1], 0.7], 3.0, yaw_deg, -15.0, width, height, fov_deg=40.0)
 
     def command(self, cmd) -> Reading:
         """One control step with an :class:`~humanoid_pb.balance.ImpedanceCommand`."""

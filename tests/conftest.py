@@ -39,6 +39,12 @@ def truth():
 
 
 @pytest.fixture(scope="session")
+def two_short_logs():
+    """Two half-hour runs of the same first-order plant, other seeds."""
+    return [first_order_log(seed, duration_s=1800.0) for seed in (11, 12)]
+
+
+@pytest.fixture(scope="session")
 def plant_log():
     return first_order_log(seed=0)
 

@@ -1,82 +1,95 @@
 """The Gymnasium contract of both environments, strategies and their comparison."""
 
 import json
+from contextlib import closing
 
 import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import thermolimb  # noqa: F401  (registers the environments)
+from hexapod_pb import ENV_ID as HEXAPOD_ID  # importing the robot packages registers their environments
+from humanoid_pb import ENV_ID as HUMANOID_ID
 from thermolimb.cli.main import main
-from thermolimb.envs import HEXAPOD_ID, HUMANOID_ID
-from thermolimb.envs.strategies import STRATEGIES, make_policy
+from thermolimb.envs.policies import make_policy, strategies
 
 CASES = [(HEXAPOD_ID, {}), (HUMANOID_ID, {}), (HUMANOID_ID, {"action_type": "configuration"})]
 
 
 @pytest.mark.parametrize("env_id, kwargs", CASES)
 def test_passes_gymnasiums_checker(env_id, kwargs):
-    env = gym.make(env_id, **kwargs)
-    check_env(env.unwrapped, skip_render_check=True)
-    env.close()
+    with closing(gym.make(env_id, **kwargs)) as env:
+        check_env(env.unwrapped, skip_render_check=True)
 
 
-def rollout(env_id, kwargs, seed, steps=3):
-    env = gym.make(env_id, max_time_s=30.0, **kwargs)
-    env.action_space.seed(seed)
-    actions = [env.action_space.sample() for _ in range(steps)]
-    obs, _ = env.reset(seed=seed)
-    trace = [obs]
-    for action in actions:
-        obs, reward, terminated, truncated, info = env.step(action)
-        assert reward == pytest.approx(sum(info["reward_terms"].values()), abs=1e-12)  # reward is the sum of its terms
-        assert env.observation_space.contains(obs)
-        trace.append(obs)
-        if terminated or truncated:
-            break
-    env.close()
-    return np.array(trace)
+def rollout(env_id, kwargs, seed, steps=3, actions=None):
+    with closing(gym.make(env_id, max_time_s=30.0, **kwargs)) as env:
+        env.action_space.seed(seed)
+        actions = [env.action_space.sample() for _ in range(steps)] if actions is None else actions
+        obs, _ = env.reset(seed=seed)
+        trace, rewards = [obs], []
+        for action in actions:
+            obs, reward, terminated, truncated, info = env.step(action)
+            assert reward == pytest.approx(sum(info["reward_terms"].values()), abs=1e-12)  # the sum of its terms
+            assert env.observation_space.contains(obs)
+            trace.append(obs)
+            rewards.append(reward)
+            if terminated or truncated:
+                break
+    return np.array(trace), np.array(rewards)
 
 
 @pytest.mark.parametrize("env_id, kwargs", CASES[:2])
 def test_same_seed_and_actions_give_identical_trajectories(env_id, kwargs):
-    one, two = rollout(env_id, kwargs, seed=5), rollout(env_id, kwargs, seed=5)
+    one, two = rollout(env_id, kwargs, seed=5)[0], rollout(env_id, kwargs, seed=5)[0]
     np.testing.assert_array_equal(one, two)
-    other = rollout(env_id, kwargs, seed=6)
+    other = rollout(env_id, kwargs, seed=6)[0]
     assert not np.array_equal(one[0], other[0])  # reset draws a different start
 
 
 @pytest.mark.parametrize("env_id", [HEXAPOD_ID, HUMANOID_ID])
 def test_rgb_array_frames(env_id):
-    env = gym.make(env_id, render_mode="rgb_array")
-    env.reset(seed=0)
-    frame = env.render()
-    env.close()
+    with closing(gym.make(env_id, render_mode="rgb_array")) as env:
+        env.reset(seed=0)
+        frame = env.render()
     assert frame.shape == (240, 240, 3) and frame.dtype == np.uint8 and frame.std() > 0
 
 
 @pytest.mark.parametrize("vector", [gym.vector.SyncVectorEnv, gym.vector.AsyncVectorEnv])
-def test_vector_environments(vector):
-    envs = vector([lambda: gym.make(HEXAPOD_ID, max_time_s=3.0)] * 2)
-    obs, _ = envs.reset(seed=[1, 2])
-    assert obs.shape == (2, 40)
-    obs, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
-    assert rewards.shape == (2,) and obs.shape == (2, 40)
-    envs.close()
+def test_vector_environments_step_as_the_single_ones(vector):
+    """Each sub-environment of a vector environment gives what the same environment alone gives."""
+    actions = np.array([[0.0, 1.0, 0.0, 1.0], [1.0, 0.0, 0.0, 0.5]], dtype=np.float32)
+    with closing(vector([lambda: gym.make(HEXAPOD_ID, max_time_s=30.0)] * 2)) as envs:
+        first, _ = envs.reset(seed=[1, 2])
+        obs, rewards, _, _, _ = envs.step(actions)
+    for k, seed in enumerate((1, 2)):
+        trace, single_rewards = rollout(HEXAPOD_ID, {}, seed, actions=[actions[k]])
+        np.testing.assert_array_equal(first[k], trace[0])
+        np.testing.assert_array_equal(obs[k], trace[1])
+        assert rewards[k] == single_rewards[0]
 
 
 def test_every_strategy_is_a_policy():
-    for env_id, names in STRATEGIES.items():
-        env = gym.make(env_id, max_time_s=3.0)
-        obs, _ = env.reset(seed=0)
-        for name in names:
-            action = make_policy(env_id, name, seed=0)(env, obs)
-            assert env.action_space.contains(np.asarray(action, dtype=env.action_space.dtype)
-                                             if env_id == HEXAPOD_ID else action)
-        env.close()
+    for env_id in (HEXAPOD_ID, HUMANOID_ID):
+        with closing(gym.make(env_id, max_time_s=3.0)) as env:
+            obs, _ = env.reset(seed=0)
+            for name in strategies(env_id):
+                action = make_policy(env_id, name, seed=0)(env, obs)
+                assert env.action_space.contains(np.asarray(action, dtype=env.action_space.dtype)
+                                                 if env_id == HEXAPOD_ID else action)
     with pytest.raises(ValueError, match="no strategy 'minimax'"):
         make_policy(HUMANOID_ID, "minimax")
+
+
+def test_importing_the_core_registers_nothing_and_loads_no_gymnasium():
+    import subprocess
+    import sys
+
+    code = ("import sys, thermolimb, thermolimb.model, thermolimb.logs, thermolimb.evaluation, thermolimb.diagnosis; "
+            "print(sorted(m for m in ('gymnasium', 'pybullet', 'hexapod_pb', 'humanoid_pb', 'thermolimb_demos', "
+            "'demos') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
 
 
 def test_compare_strategies_json(tmp_path, capsys):
@@ -101,7 +114,7 @@ def test_ray_backend_with_a_local_ray_instance():
 @pytest.mark.slow
 def test_ppo_agent_trains_for_a_few_thousand_steps():
     pytest.importorskip("stable_baselines3")
-    from demos.ppo_agent import evaluate_agent, train
+    from thermolimb_demos.ppo_agent import evaluate_agent, train
 
     model = train(2048, seed=0)
     assert model.num_timesteps >= 2048

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from humanoid_pb.constants import ACTUATORS, leg_actuators
-from humanoid_pb.recovery import RECOVERED_C, WARNING_C, calibrate, run_recovery
+from humanoid_pb.params import RECOVERED_C, WARNING_C
+from humanoid_pb.recovery import calibrate, run_recovery
 
 
 @pytest.fixture(scope="module")

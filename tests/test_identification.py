@@ -5,7 +5,6 @@ import pytest
 from thermolimb.identification import IdentifiabilityError, LeastSquares, OutputError, SeedGradientDescent
 from thermolimb.logs import from_frame
 
-from conftest import first_order_log
 
 # Tolerances (relative error against the plant's physical parameters), measured over seeds 0-3:
 # output error lands within 0.1 %, so 1 % leaves room; consistent least squares within about 1.1 %
@@ -58,8 +57,8 @@ def test_standard_errors_are_positive_and_cover_the_truth(plant_log, truth):
         assert abs(est.params_[name] - truth[name]) < 4 * est.stderr_[name], name
 
 
-def test_several_logs_fitted_jointly(truth):
-    logs = [first_order_log(seed, duration_s=1800.0) for seed in (11, 12)]
+def test_several_logs_fitted_jointly(truth, two_short_logs):
+    logs = two_short_logs
     est = OutputError().fit([log.series("knee") for log in logs])
     assert est.n_samples_ == sum(log.series("knee").n for log in logs)
     assert max(rel_errors(est.params_, truth).values()) < TOLERANCE["output_error"]

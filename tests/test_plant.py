@@ -80,8 +80,8 @@ def test_ambient_variation_follows_its_law():
 
 
 def test_thermal_protection_derates_near_the_limit():
-    protection = ThermalProtection(start_C=140.0, limit_C=155.0)
-    np.testing.assert_allclose(protection.fraction([100.0, 147.5, 160.0]), [1.0, 0.5, 0.0])
+    protection = ThermalProtection(margin_K=15.0)
+    np.testing.assert_allclose(protection.fraction([100.0, 147.5, 160.0], X8_9.winding_limit_C), [1.0, 0.5, 0.0])
     plant = ThermalPlant(["a"], [X8_9], initial_C=150.0)
     assert plant.derate(np.array([10.0]))[0] == pytest.approx(10.0 / 3.0)
 

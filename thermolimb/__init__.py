@@ -1,9 +1,11 @@
-"""thermolimb: thermal-aware control of multi-limbed robots in PyBullet."""
+"""thermolimb: thermal-aware control of multi-limbed robots in PyBullet.
 
-from .envs import register_envs
+Importing the package loads nothing heavy: no Gymnasium, no PyBullet, no
+environments.  The robots' environments register when their package is
+imported (``import hexapod_pb``, ``import humanoid_pb``).
+"""
+
 from .paths import urdf_dir
-
-register_envs()
 
 __version__ = "0.1.0"
 __all__ = ["__version__", "urdf_dir"]

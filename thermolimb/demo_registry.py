@@ -5,8 +5,10 @@ that writes its PNG plots into ``out`` and returns its summary, which the
 registry writes as ``out/summary.json``.  A top-level ``"details"`` entry, if
 any, goes to ``out/details.json`` instead, so that ``summary.json`` keeps the
 shape its issue specifies.  Decorate it with
-:func:`register_demo`; modules in the top-level ``demos`` package are
-imported by :func:`load_demos`.
+:func:`register_demo`; :func:`load_demos` imports the modules named in the
+``thermolimb.demos`` entry-point group (the suite's own live in the
+``thermolimb_demos`` package, the repository's ``demos/`` folder), so other
+packages can add demos the same way.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import argparse
 import importlib
 import importlib.util
 import json
-import pkgutil
+from importlib.metadata import entry_points
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -49,12 +51,13 @@ def register_demo(name: str, description: str, requires: tuple[str, ...] = ()):
     return wrap
 
 
-def load_demos() -> dict[str, Demo]:
-    """Import every module of the ``demos`` package so that they register."""
-    import demos
+ENTRY_POINT_GROUP = "thermolimb.demos"
 
-    for info in pkgutil.iter_modules(demos.__path__):
-        importlib.import_module(f"demos.{info.name}")
+
+def load_demos() -> dict[str, Demo]:
+    """Import every demo module named in the ``thermolimb.demos`` entry-point group so that it registers."""
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        importlib.import_module(ep.value)
     return DEMOS
 
 

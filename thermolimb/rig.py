@@ -23,9 +23,9 @@ import pybullet
 from pybullet_utils.bullet_client import BulletClient
 
 from .logs import ThermalLog, log_from_arrays
+from .constants import GRAVITY_M_S2
 from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
 
-GRAVITY_M_S2 = 9.81
 
 
 @contextlib.contextmanager
@@ -139,6 +139,15 @@ class BulletRig:
         lin, ang = self.client.getBaseVelocity(self.robot)
         R = np.array(self.client.getMatrixFromQuaternion(orn)).reshape(3, 3)
         return np.array(pos), R, np.array(lin), np.array(ang)
+
+    def render(self, target_m, distance_m: float, yaw_deg: float, pitch_deg: float, width: int = 240,
+               height: int = 240, fov_deg: float = 50.0) -> np.ndarray:
+        """An offscreen RGB image (height x width x 3, uint8) from PyBullet's software renderer."""
+        c = self.client
+        view = c.computeViewMatrixFromYawPitchRoll([float(v) for v in target_m], distance_m, yaw_deg, pitch_deg, 0.0, 2)
+        proj = c.computeProjectionMatrixFOV(fov_deg, width / height, 0.05, 10.0)
+        _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
+        return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
 
     def base_quaternion(self) -> np.ndarray:
         return np.array(self.client.getBasePositionAndOrientation(self.robot)[1])

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import UsageError
-from ..envs import HEXAPOD_ID, HUMANOID_ID
 from .options import add_quiet, print_json
 
 
@@ -16,7 +15,9 @@ def add_parser(sub):
         "print mean +- std of the return, the recovery time (s, humanoid) or distance (m, hexapod), the time "
         "until an actuator reaches its limit (s) and the falls; write a plot.",
     )
-    p.add_argument("--env", required=True, choices=[HUMANOID_ID, HEXAPOD_ID], help="environment id")
+    p.add_argument("--env", required=True, metavar="ID",
+                   help="environment id: thermolimb/HumanoidThermalRecovery-v0, thermolimb/HexapodLoadCarry-v0 or one "
+                   "of another installed robot package")
     p.add_argument("--episodes", type=int, default=4, help="episodes per strategy (default 4)")
     p.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
     p.add_argument("--strategies", default=None, metavar="NAME,...", help="subset of strategies (default all)")
@@ -32,7 +33,8 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..envs.evaluate import episodes_json, evaluate, table
+    from ..envs.evaluate import evaluate
+    from ..envs.report import episodes_json, format_table, plot_table, table
 
     if args.episodes < 1:
         raise UsageError(f"--episodes must be at least 1, got {args.episodes}")
@@ -47,32 +49,3 @@ def run(args) -> int:
     print(format_table(rows, args.env))
     print(f"plot: {path}")
     return 0
-
-
-def _cell(stat, fmt="{:.2f}"):
-    mean, std, n = stat
-    return "-" if mean is None else f"{fmt.format(mean)} ± {fmt.format(std)} ({n})"
-
-
-def format_table(rows, env_id) -> str:
-    outcome = "recovery_s" if env_id == HUMANOID_ID else "distance_m"
-    lines = [f"{'strategy':24s} {'return':>22s} {outcome:>22s} {'time_to_limit_s':>22s} {'falls':>6s}"]
-    for r in rows:
-        lines.append(f"{r['strategy']:24s} {_cell(r['return']):>22s} {_cell(r[outcome]):>22s} "
-                     f"{_cell(r['time_to_limit_s'], '{:.0f}'):>22s} {r['falls']:>6d}")
-    return "\n".join(lines)
-
-
-def plot_table(rows, env_id, path: Path) -> Path:
-    from ..plots import plt, save
-
-    outcome = "recovery_s" if env_id == HUMANOID_ID else "distance_m"
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    names = [r["strategy"] for r in rows]
-    for ax, key, title in ((axes[0], "return", "episode return"), (axes[1], outcome, outcome)):
-        means = [r[key][0] if r[key][0] is not None else 0.0 for r in rows]
-        stds = [r[key][1] if r[key][1] is not None else 0.0 for r in rows]
-        ax.bar(names, means, yerr=stds, capsize=4, color="tab:blue")
-        ax.set_title(f"{env_id}: {title} (mean ± std)", fontsize=9)
-        ax.tick_params(axis="x", labelsize=8, rotation=15)
-    return save(fig, path)

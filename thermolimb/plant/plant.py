@@ -28,25 +28,24 @@ from .network import ActuatorSpec
 class ThermalProtection:
     """Derating near the winding limit, as HEBI firmware caps output power.
 
-    The allowed effort fraction falls linearly from 1 at ``start_C`` to
-    ``min_fraction`` at ``limit_C`` (measured winding temperature).
+    The allowed effort fraction falls linearly from 1 at ``margin_K`` below an
+    actuator's winding limit (``ActuatorSpec.winding_limit_C``) to
+    ``min_fraction`` at the limit (measured winding temperature).
     """
 
-    start_C: float = 140.0
-    limit_C: float = 155.0
+    margin_K: float = 15.0
     min_fraction: float = 0.0
 
     def __post_init__(self):
-        if not self.limit_C > self.start_C:
-            raise ValueError(f"ThermalProtection needs limit_C > start_C, got {self.limit_C} <= {self.start_C}")
+        if not self.margin_K > 0:
+            raise ValueError(f"ThermalProtection needs margin_K > 0, got {self.margin_K}")
+        if not 0.0 <= self.min_fraction <= 1.0:
+            raise ValueError(f"ThermalProtection needs 0 <= min_fraction <= 1, got {self.min_fraction}")
 
-    def fraction(self, temperature_C: np.ndarray) -> np.ndarray:
+    def fraction(self, temperature_C: np.ndarray, limit_C: np.ndarray) -> np.ndarray:
         """Allowed fraction of the commanded effort, per actuator."""
-        frac = (self.limit_C - np.asarray(temperature_C)) / (self.limit_C - self.start_C)
+        frac = (np.asarray(limit_C) - np.asarray(temperature_C)) / self.margin_K
         return np.clip(frac, self.min_fraction, 1.0)
-
-    def apply(self, effort: np.ndarray, temperature_C: np.ndarray) -> np.ndarray:
-        return np.asarray(effort) * self.fraction(temperature_C)
 
 
 class ThermalPlant:
@@ -88,6 +87,7 @@ class ThermalPlant:
         self.effects = effects
         self.ambient0_C = float(ambient_C)
         self.protection = protection
+        self.winding_limits_C = np.array([spec.winding_limit_C for spec in self.specs])
         self._rng = rng
         self._build_network()
         self.time_s = 0.0
@@ -300,9 +300,13 @@ class ThermalPlant:
     def ambient_C(self) -> float:
         return self.ambient_at(self.time_s)
 
+    def derating(self) -> np.ndarray:
+        """Fraction of the commanded effort thermal protection allows each actuator now."""
+        return self.protection.fraction(self._measured_core, self.winding_limits_C)
+
     def derate(self, effort: np.ndarray) -> np.ndarray:
         """Efforts after thermal protection, from the measured winding temperatures."""
-        return self.protection.apply(effort, self._measured_core)
+        return np.asarray(effort) * self.derating()
 
     def steady_state_rise_K(self, heat_W: float, actuator: int = 0) -> float:
         """Winding rise above ambient for constant winding heat, from the network alone."""

@@ -1,5 +1,7 @@
 """``thermolimb/HexapodLoadCarry-v0``: carry a payload as far as possible without overheating.
 
+Registered by ``import hexapod_pb``.
+
 Every decision step (1 s by default, ``decision_s``) the agent chooses how to distribute the stance
 wrenches -- a blend of vertical-only, minimax and thermal-aware forces (a
 convex combination of balanced distributions is balanced) -- and how fast to
@@ -30,22 +32,32 @@ slice    size  meaning                                  unit
 Reward (terms in ``info["reward_terms"]``): ``distance`` = metres made good
 along x over the step; ``overheat`` = -0.05 per kelvin of the hottest
 winding above 120 degC; ``fall`` = -100 once.  Terminated when an actuator
-reaches its 155 degC winding limit or the robot falls; truncated after
-``max_time_s``.
+reaches its winding limit (``ActuatorSpec.winding_limit_C``, 155 degC for the
+X8) or the robot falls; truncated after ``max_time_s``.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from gymnasium import spaces
 
-from .base import RigEnv
+from thermolimb.envs.base import RigEnv
+
+from . import cpg
+from .controller import ControllerState, ThermalContext, control_step
+from .params import DAISY, FALLEN_BODY_HEIGHT_M
+from .sim import HexapodSim, SimConfig
+from .thermal import datasheet_bank
 
 DECISION_S = 1.0
-HOT_C, LIMIT_C = 120.0, 155.0
+HOT_C = 120.0  # the overheat penalty starts here
 
 
 class HexapodLoadCarryEnv(RigEnv):
+    OUTCOME = "distance_m"
+
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None):
         super().__init__(render_mode)
         if not decision_s > 0:
@@ -59,11 +71,6 @@ class HexapodLoadCarryEnv(RigEnv):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        from hexapod_pb import cpg
-        from hexapod_pb.controller import ControllerState, ThermalContext
-        from hexapod_pb.sim import HexapodSim, SimConfig
-        from hexapod_pb.thermal import datasheet_bank
-
         self.close()
         rng = self.np_random
         self.payload_kg = float(rng.uniform(0.0, 5.0))
@@ -81,11 +88,6 @@ class HexapodLoadCarryEnv(RigEnv):
 
     def step(self, action):
         self._require_reset()
-        from dataclasses import replace
-
-        from hexapod_pb.controller import control_step
-        from hexapod_pb.params import DAISY
-
         a = np.clip(np.asarray(action, float), 0.0, 1.0)
         weights = a[:3] / a[:3].sum() if a[:3].sum() > 1e-9 else np.array([1.0, 0.0, 0.0])
         speed = float(a[3])
@@ -98,29 +100,29 @@ class HexapodLoadCarryEnv(RigEnv):
                                                   walking=speed > 0.05)
             self.reading = self.sim.step(torques)
             self.torque = torques
-            if self.reading.body_position_m[2] < 0.08:
+            if self.reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
                 self.fallen = True
                 break
         hottest = float(self.reading.temperature_C.max())
+        at_limit = bool(np.any(self.reading.temperature_C >= self.sim.plant.winding_limits_C))
         terms = {"distance": float(self.reading.body_position_m[0] - start_x),
                  "overheat": -0.05 * max(0.0, hottest - HOT_C), "fall": -100.0 if self.fallen else 0.0}
-        terminated = self.fallen or hottest >= LIMIT_C
+        terminated = self.fallen or at_limit
         truncated = (not terminated) and self.sim.time_s >= self.max_time_s
         return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms)
 
     def render(self):
         if self.render_mode != "rgb_array" or self.sim is None:
             return None
-        c = self.sim.client
-        pos, _, _, _ = self.sim.base_state()
-        view = c.computeViewMatrixFromYawPitchRoll(pos.tolist(), 1.5, 30.0, -25.0, 0.0, 2)
-        proj = c.computeProjectionMatrixFOV(50.0, 1.0, 0.05, 10.0)
-        _, _, rgba, _, _ = c.getCameraImage(240, 240, view, proj, renderer=c.ER_TINY_RENDERER)
-        return np.asarray(rgba, dtype=np.uint8).reshape(240, 240, 4)[:, :, :3]
+        return self.sim.render()
+
+    @staticmethod
+    def episode_outcome(info: dict, terminated: bool) -> dict:
+        """How far the payload went, and when an actuator reached its limit (if it did)."""
+        at_limit = terminated and not info["fell"]
+        return {"distance_m": info["distance_m"], "time_to_limit_s": info["time_s"] if at_limit else None}
 
     def _observation(self) -> np.ndarray:
-        from hexapod_pb.params import DAISY
-
         r = self.reading
         norm = self.torque / DAISY.continuous_torque_per_joint_Nm
         obs = np.concatenate([r.temperature_C, np.abs(norm), r.body_velocity_m_s, [self.payload_kg]])

@@ -1,5 +1,7 @@
 """``thermolimb/HumanoidThermalRecovery-v0``: recover a humanoid's hot actuators without falling.
 
+Registered by ``import humanoid_pb``.
+
 The humanoid starts standing in double support with one leg's actuators hot
 (which leg, how hot and the ambient are drawn at reset, around the seed's
 experiment).  Every decision step (1.5 s) the agent picks a contact mode --
@@ -37,9 +39,9 @@ slice          size  meaning                                     unit
 
 Reward (each term in ``info["reward_terms"]``, the reward is their sum):
 ``cooling`` = the fall of the hottest actuator's temperature over the step
-(K); ``warning`` = -0.5 per actuator above 75 degC; ``fall`` = -100 once;
-``effort`` = -0.01 x the mean squared normalised effort.
-Terminated when every actuator is below 70 degC (recovered) or the robot
+(K); ``warning`` = -0.5 per actuator above ``WARNING_C`` (75 degC); ``fall``
+= -100 once; ``effort`` = -0.01 x the mean squared normalised effort.
+Terminated when every actuator is below ``RECOVERED_C`` (70 degC) or the robot
 falls; truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the
 world, so the same seed and actions give the same trajectory.
 """
@@ -49,26 +51,31 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from .base import RigEnv
+from thermolimb.envs.base import RigEnv
+from thermolimb.rig import RigConfig
+
+from .actuators import effort_limits
+from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, leg_joint
+from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
+from .poses import crouch_angles
+from .readings import roll_pitch_rad
+from .recovery import Executor
+from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
 DECISION_S = 1.5
-WARNING_C, RECOVERED_C = 75.0, 70.0
-MODES = ("double", "left", "right")
 
 
 class HumanoidThermalRecoveryEnv(RigEnv):
+    OUTCOME = "recovery_s"
+
     def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None):
         super().__init__(render_mode)
         if action_type not in ("mode", "configuration"):
             raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
-        from humanoid_pb.actuators import actuator_specs
-        from humanoid_pb.constants import ACTUATORS
-        from humanoid_pb.params import VALKYRIE
-
         self.action_type = action_type
         self.max_time_s = max_time_s
-        self.limits = np.array([s.effort_limit for s in actuator_specs(VALKYRIE)])
+        self.limits = effort_limits(VALKYRIE)
         self.n_act = len(ACTUATORS)
         self.action_space = spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(23, -50.0), np.full(23, -10.0), np.zeros(3), 0.0, -np.pi, -np.pi, np.full(6, -50.0),
@@ -80,16 +87,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        from humanoid_pb.constants import ACTUATORS, leg_actuators
-        from humanoid_pb.poses import crouch_angles
-        from humanoid_pb.recovery import Executor
-        from humanoid_pb.sim import HumanoidSim
-        from thermolimb.rig import RigConfig
-
         self.close()
         rng = self.np_random
         ambient = float(rng.uniform(20.0, 30.0))
-        self.hot_side = ("left", "right")[int(rng.integers(2))]
+        self.hot_side = SIDES[int(rng.integers(len(SIDES)))]
         temperatures = rng.uniform(35.0, 50.0, self.n_act)
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
@@ -110,7 +111,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for _ in range(steps):
             self.reading = self.executor.tick(self.reading)
             warning += np.sum(self.reading.temperature_C > WARNING_C) / steps
-            if self.reading.base_position_m[2] < 0.6:
+            if self.reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 self.fallen = True
                 break
         efforts = self.sim.actuator_efforts(self.reading.q_rad, self.sim.applied_Nm) / self.limits
@@ -130,28 +131,29 @@ class HumanoidThermalRecoveryEnv(RigEnv):
             return self.sim.render(240, 240)
         return None
 
+    @staticmethod
+    def episode_outcome(info: dict, terminated: bool) -> dict:
+        """Whether the hot actuators recovered, and how long it took."""
+        return {"recovered": info["recovered"], "recovery_s": info["time_s"] if info["recovered"] else None}
+
     # ------------------------------------------------------------------ helpers
     def _apply(self, action):
         ex = self.executor
         if self.action_type == "mode":
-            mode = MODES[int(action)]
+            mode = CONTACT_MODES[int(action)]
             if mode != ex.mode and not ex.moving:
                 ex.go(mode)
             return
-        from humanoid_pb.constants import JOINTS
-
         if ex.mode != "double" and not ex.moving:
             ex.go("double")
         if ex.moving:
             return
         a = np.clip(np.asarray(action, float), -1.0, 1.0) * ACTION_SCALE
         angles = ex.nominal_angles.copy()
-        for side in ("left", "right"):
-            angles[JOINTS.index(f"{side}_hip_pitch")] -= a[0]
-            angles[JOINTS.index(f"{side}_knee")] += 2 * a[0]
-            angles[JOINTS.index(f"{side}_ankle_pitch")] -= a[0]
-            angles[JOINTS.index(f"{side}_hip_roll")] += a[1]
-            angles[JOINTS.index(f"{side}_ankle_roll")] -= a[1]
+        for side in SIDES:
+            for joint, gain in (("hip_pitch", -a[0]), ("knee", 2 * a[0]), ("ankle_pitch", -a[0]),
+                                ("hip_roll", a[1]), ("ankle_roll", -a[1])):
+                angles[JOINTS.index(leg_joint(side, joint))] += gain
         angles[JOINTS.index("torso_pitch")] += a[2]
         angles[JOINTS.index("torso_roll")] += a[3]
         ex.go("double", angles)  # a smooth move to the new posture
@@ -161,9 +163,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         sim = self.sim
         efforts = sim.actuator_efforts(r.q_rad, sim.applied_Nm) / self.limits
         mode = np.zeros(3)
-        mode[MODES.index(self.executor.mode)] = 1.0
-        R = np.array(sim.client.getMatrixFromQuaternion(r.base_quaternion_xyzw)).reshape(3, 3)
-        roll, pitch = np.arctan2(R[2, 1], R[2, 2]), -np.arcsin(np.clip(R[2, 0], -1, 1))
+        mode[CONTACT_MODES.index(self.executor.mode)] = 1.0
+        roll, pitch = roll_pitch_rad(r.base_quaternion_xyzw)
         q = sim.pinocchio_q(r)
         feet = sim.body.sole_poses(q)
         mid = 0.5 * (feet["left"].translation + feet["right"].translation)

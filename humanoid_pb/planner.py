@@ -1,0 +1,52 @@
+"""The contact-mode planner of the seed's Eq. 33, shared by the recovery experiment and the environment's policies.
+
+For each contact mode (double support, left, right) the fast thermal IK
+finds the configuration that minimises the objective from that mode's
+start; the mode whose best configuration scores lowest is chosen.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from thermolimb.model import FirstOrderBank
+
+from .actuators import effort_limits
+from .constants import CONTACT_MODES, SIDES
+from .fast_ik import FastThermalIK
+from .poses import single_support
+from .potential import MinimumEffort, ThermalPotential
+
+OBJECTIVES = ("thermal", "effort")
+
+
+@dataclass(frozen=True)
+class Plan:
+    mode: str
+    results: dict  # mode -> the IK's result from that mode's start
+
+
+class ContactModePlanner:
+    """Eq. 33 over the contact modes with an objective: ``"thermal"`` (Eq. 25's potential) or ``"effort"``."""
+
+    def __init__(self, body, objective: str, max_iter: int = 15):
+        if objective not in OBJECTIVES:
+            raise ValueError(f"objective must be 'thermal' or 'effort', got {objective!r}")
+        self.body = body
+        self.objective = objective
+        self.max_iter = max_iter
+        self.solver = FastThermalIK(body)
+        self.limits = effort_limits(body.params)
+
+    def cost(self, bank: FirstOrderBank | None, temperature_C: np.ndarray):
+        if self.objective == "thermal":
+            return ThermalPotential.from_measurement(bank, temperature_C)
+        return MinimumEffort(self.limits)
+
+    def plan(self, q_nominal: np.ndarray, bank: FirstOrderBank | None, temperature_C: np.ndarray) -> Plan:
+        cost = self.cost(bank, temperature_C)
+        starts = {"double": q_nominal, **{s: single_support(self.body, q_nominal, s) for s in SIDES}}
+        results = {m: self.solver.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
+        return Plan(min(results, key=lambda m: results[m].potential), results)

@@ -1,0 +1,47 @@
+"""The humanoid's strategies as policies of ``thermolimb/HumanoidThermalRecovery-v0``.
+
+``thermal_aware`` (the seed's Eq. 33: the contact mode whose thermally best
+configuration has the lowest potential, planned with the actuators'
+datasheet models), ``minimum_effort`` (the mode of least normalised effort)
+and ``always_double_support`` (``random`` comes from the core).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from thermolimb.envs.policies import constant_policy
+
+from .actuators import datasheet_bank
+from .constants import CONTACT_MODES
+from .planner import ContactModePlanner
+
+
+class HumanoidModePolicy:
+    """Re-plans the contact mode every ``replan_s`` of simulated time with a :class:`ContactModePlanner`."""
+
+    def __init__(self, objective: str, replan_s: float = 6.0):
+        self.objective = objective
+        self.replan_s = replan_s
+        self._planner = None
+        self._last = (None, -np.inf)
+
+    def __call__(self, env, observation):
+        e = env.unwrapped
+        mode, when = self._last
+        if mode is not None and e.sim.time_s - when < self.replan_s:
+            return CONTACT_MODES.index(mode)
+        body = e.sim.body
+        if self._planner is None or self._planner.body is not body:
+            self._planner = ContactModePlanner(body, self.objective, max_iter=10)
+        bank = datasheet_bank(body.params, e.sim.plant.ambient_C) if self.objective == "thermal" else None
+        mode = self._planner.plan(e.executor.q_nominal, bank, e.reading.temperature_C).mode
+        self._last = (mode, e.sim.time_s)
+        return CONTACT_MODES.index(mode)
+
+
+POLICIES = {
+    "thermal_aware": lambda seed=0: HumanoidModePolicy("thermal"),
+    "minimum_effort": lambda seed=0: HumanoidModePolicy("effort"),
+    "always_double_support": constant_policy(CONTACT_MODES.index("double")),
+}
