@@ -15,7 +15,7 @@ import json
 
 import numpy as np
 
-from humanoid_pb.actuators import VALKYRIE_NETWORK, actuator_specs
+from humanoid_pb.actuators import datasheet_bank
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
 from humanoid_pb.descent import naive_descent
 from humanoid_pb.fast_ik import FastThermalIK
@@ -23,15 +23,6 @@ from humanoid_pb.params import VALKYRIE
 from humanoid_pb.poses import crouch_angles, single_support, standing
 from humanoid_pb.potential import ThermalPotential
 from humanoid_pb.statics import WholeBody
-from thermolimb.model import FirstOrderBank
-
-
-def plant_like_bank() -> FirstOrderBank:
-    specs = actuator_specs(VALKYRIE)
-    beta = np.array([s.winding_resistance_ohm * VALKYRIE_NETWORK.total_resistance_K_per_W / s.effort_per_amp**2
-                     for s in specs])
-    n = len(ACTUATORS)
-    return FirstOrderBank(np.full(n, 40.0), beta, np.zeros(n), np.full(n, 25.0))
 
 
 def violations(body: WholeBody, q0, result, mode) -> dict[str, float]:
@@ -58,7 +49,7 @@ def main(argv=None) -> dict:
     T = np.full(len(ACTUATORS), 40.0)
     for a in leg_actuators("right"):
         T[ACTUATORS.index(a)] = 78.0
-    potential = ThermalPotential.from_measurement(plant_like_bank(), T)
+    potential = ThermalPotential.from_measurement(datasheet_bank(VALKYRIE), T)
     fast_solver = FastThermalIK(body)
     record = {"modes": {}}
     for mode in CONTACT_MODES:

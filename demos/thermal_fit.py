@@ -16,7 +16,7 @@ from thermolimb.demo_registry import demo_main, register_demo
 from thermolimb.evaluation import make_estimator
 from thermolimb.identification.regression import lowpass, lowpass_derivative
 from thermolimb.metrics import fit_metrics
-from thermolimb.plant import X8_16, EffortBias, PlantEffects, Quantisation, SensorNoise, simulate_profile
+from thermolimb.plant import X8_16, SeriesElasticBias, PlantEffects, Quantisation, SensorNoise, simulate_profile
 from thermolimb.plots import plt, save
 
 NAME = "thermal-fit"
@@ -28,7 +28,7 @@ CHANNELS = ("knee", "knee/driver")
 
 def _effects() -> PlantEffects:
     # A series-elastic actuator with a real sensor: effort bias, 0.05 K noise, 0.1 degC steps.
-    return PlantEffects(effort_bias=EffortBias(), sensor_noise=SensorNoise(), quantisation=Quantisation())
+    return PlantEffects(effort_bias=SeriesElasticBias(), sensor_noise=SensorNoise(), quantisation=Quantisation())
 
 
 @register_demo(NAME, "the seed's Fig. 5: identify from plant data, predict a long squat experiment from effort only")

@@ -23,8 +23,8 @@ from thermolimb.model import FirstOrderBank
 
 from . import cpg
 from .constants import LEGS
-from .kinematics import foot_jacobian_6d, inverse_kinematics, nominal_foot
-from .legs import leg_gravity_torque, point_jacobian
+from .kinematics import inverse_kinematics, joint_axes, nominal_foot
+from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 from .readings import Reading
 from .wrench import (StanceProblem, StanceSolution, closest_achievable, minimax, minimax_lex, thermal_minimax,
@@ -50,7 +50,7 @@ class Gains:
     attitude_kd_Nm_s_rad: float = 5.0  # stiffer makes the body yaw oscillate at 50 Hz (measured)
     stance_motion_scale: float = 1.0  # the seed's motion term on stance legs (Eq. 6); 0 turns it off
     smoothing_1_N2: float = 1e-3  # proximal weight of the control-rate minimax (see wrench.minimax)
-    mu: float = 0.6  # friction pyramid the distribution respects (None: the seed's unconstrained friction)
+    friction: float = 0.6  # friction pyramid the distribution respects (None: the seed's unconstrained friction)
     min_normal_N: float = 2.0  # keep every stance foot loaded
 
 
@@ -88,20 +88,6 @@ def body_wrench(params: DaisyParams, payload_kg: float, reading: Reading, gains:
     return np.concatenate([R.T @ force_world, moment])
 
 
-def leg_mass_matrix(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
-    """Approximate joint-space mass matrix (3 x 3) of one leg: segment masses as points plus link inertias."""
-    (m0, c0, i0), (m1, c1, i1), (m2, c2, i2) = params.segments()
-    b, L1, L2 = params.bracket_m, params.upper_link_m, params.lower_link_m
-    M = np.zeros((3, 3))
-    for mass, radial, upper, lower in ((m0, c0, 0.0, 0.0), (m1, b, c1, 0.0), (m2, b, L1, c2),
-                                       (params.foot_mass_kg, b, L1, L2)):
-        J = point_jacobian(params, leg, q, radial, upper, lower)
-        M += mass * J.T @ J
-    M[0, 0] += i0 + i1 + i2  # yaw inertia of the segments about their own centres
-    M[1:, 1:] += np.array([[i1 + i2, i2], [i2, i2]])  # pitch inertias of the upper and lower links
-    return M
-
-
 def control_step(reading: Reading, state: ControllerState, params: DaisyParams, gait: cpg.CPGParams,
                  strategy: str | dict[str, float], dt_s: float, payload_kg: float = 0.0, gains: Gains = Gains(),
                  thermal: ThermalContext | None = None, walking: bool = True) -> tuple[np.ndarray, ControllerState, dict]:
@@ -131,9 +117,10 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
     velocity = speed * np.array([np.cos(gait.heading_rad), np.sin(gait.heading_rad), 0.0])
     wrench = body_wrench(params, payload_kg, reading, gains, velocity, params.nominal_body_height_m)
     legs = tuple(int(i) for i in np.flatnonzero(planned_stance))
-    problem = StanceProblem.from_configuration(params, q, legs, payload_kg=payload_kg, wrench=wrench,
-                                               mu=gains.mu, min_normal_N=gains.min_normal_N,
-                                               world_R_body=reading.world_R_body)
+    statics = [leg_statics(params, i, q[3 * i : 3 * i + 3], reading.world_R_body) for i in range(len(LEGS))]
+    problem = StanceProblem.from_statics(params, {i: statics[i] for i in legs}, payload_kg=payload_kg, wrench=wrench,
+                                         friction=gains.friction, min_normal_N=gains.min_normal_N,
+                                         world_R_body=reading.world_R_body)
     total = sum(weights.values())
     solutions = [(w / total, distribute(problem, k, state.last, thermal, reading.temperature_C, gains.smoothing_1_N2))
                  for k, w in weights.items()]
@@ -144,11 +131,9 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
     forces = dict(zip(legs, solution.forces_N))
     for i in range(len(LEGS)):
         sl = slice(3 * i, 3 * i + 3)
-        qi = q[sl]
-        M = leg_mass_matrix(params, i, qi)
-        g = leg_gravity_torque(params, i, qi, reading.world_R_body)
+        M, g = statics[i].mass_matrix, statics[i].gravity_Nm
         if i in forces:
-            J = foot_jacobian_6d(params, i, qi)
+            J = np.vstack([statics[i].jacobian, joint_axes(params, i, q[sl]).T])
             Lam = np.linalg.pinv(J.T) @ M
             F_d = np.concatenate([-forces[i], np.zeros(3)])
             torques[sl] = J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl])

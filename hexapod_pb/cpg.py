@@ -2,9 +2,9 @@
 
 Each leg has an oscillator ``z_i = x_i + i y_i``:
 
-    dz_i/dt = (alpha (mu - |z_i|^2) + i omega) z_i + lam * sum_j K_ij z_j
+    dz_i/dt = (alpha (radius_sq - |z_i|^2) + i omega) z_i + lam * sum_j K_ij z_j
 
-``alpha`` forces the state onto the limit cycle of radius ``sqrt(mu)``,
+``alpha`` forces the state onto the limit cycle of radius ``sqrt(radius_sq)``,
 ``omega`` sets the frequency, and the coupling matrix ``K`` (+1 within a
 tripod, -1 across) with strength ``lam`` pulls legs of one tripod into
 phase and the two tripods into anti-phase, from any start.
@@ -36,7 +36,7 @@ def tripod_coupling() -> np.ndarray:
 @dataclass(frozen=True)
 class CPGParams:
     period_s: float = 1.4  # one stride: each tripod swings for about half of it (HEBI: 0.7 s steps)
-    mu: float = 1.0  # squared limit-cycle radius
+    radius_sq: float = 1.0  # squared limit-cycle radius (the CPG literature's mu)
     alpha: float = 10.0  # forcing to the limit cycle (1/s)
     coupling: float = 2.0  # lam (1/s)
     duty_factor: float = 0.55  # fraction of the stride a foot is on the ground (> 0.5: both tripods briefly)
@@ -45,8 +45,8 @@ class CPGParams:
     heading_rad: float = 0.0  # walking direction in the body frame
 
     def __post_init__(self):
-        if not (self.period_s > 0 and self.mu > 0 and self.alpha > 0 and self.coupling >= 0):
-            raise ValueError("CPG period, mu and alpha must be positive, coupling non-negative")
+        if not (self.period_s > 0 and self.radius_sq > 0 and self.alpha > 0 and self.coupling >= 0):
+            raise ValueError("CPG period, radius_sq and alpha must be positive, coupling non-negative")
         if not 0.5 <= self.duty_factor < 1.0:
             raise ValueError(f"duty_factor must be in [0.5, 1), got {self.duty_factor}")
 
@@ -71,7 +71,7 @@ def initial_state(rng: np.random.Generator | None = None, params: CPGParams = CP
         phase = np.array([0.0 if leg in TRIPODS[0] else np.pi for leg in LEGS]) + np.pi  # start in stance
     else:
         phase = rng.uniform(0, 2 * np.pi, len(LEGS))
-    r = np.sqrt(params.mu)
+    r = np.sqrt(params.radius_sq)
     return np.column_stack([r * np.cos(phase), r * np.sin(phase)])
 
 
@@ -81,7 +81,7 @@ def step(state: np.ndarray, params: CPGParams, dt_s: float, K: np.ndarray | None
     z = state[:, 0] + 1j * state[:, 1]
     h = dt_s / substeps
     for _ in range(substeps):
-        dz = (params.alpha * (params.mu - np.abs(z) ** 2) + 1j * params.omega_rad_s) * z + params.coupling * (K @ z)
+        dz = (params.alpha * (params.radius_sq - np.abs(z) ** 2) + 1j * params.omega_rad_s) * z + params.coupling * (K @ z)
         z = z + h * dz
     return np.column_stack([z.real, z.imag])
 

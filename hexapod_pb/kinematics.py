@@ -41,27 +41,28 @@ def joint_axes(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
     return np.vstack([[0.0, 0.0, 1.0], pitch, pitch])
 
 
-def foot_jacobian(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
-    """``J`` (3 x 3) with ``d body_p_foot = J dq`` (linear part)."""
-    L1, L2 = params.upper_link_m, params.lower_link_m
+def point_jacobian(params: DaisyParams, leg: int, q: np.ndarray, radial_m: float, along_upper_m: float,
+                   along_lower_m: float) -> np.ndarray:
+    """Body-frame linear Jacobian (3 x 3) of a point on the leg.
+
+    The point lies ``radial_m`` out from the base axis, then ``along_upper_m``
+    along the upper link and ``along_lower_m`` along the lower link (the foot:
+    bracket, L1, L2).
+    """
     qs, qe = q[1], q[2]
-    r, _ = leg_plane(params, q)
     psi = params.mount_yaw_rad(leg) + q[0]
     c, s = np.cos(psi), np.sin(psi)
-    dr_ds = -L1 * np.sin(qs) - L2 * np.sin(qs + qe)
-    dz_ds = L1 * np.cos(qs) + L2 * np.cos(qs + qe)
-    dr_de = -L2 * np.sin(qs + qe)
-    dz_de = L2 * np.cos(qs + qe)
-    return np.array([
-        [-r * s, dr_ds * c, dr_de * c],
-        [r * c, dr_ds * s, dr_de * s],
-        [0.0, dz_ds, dz_de],
-    ])
+    r = radial_m + along_upper_m * np.cos(qs) + along_lower_m * np.cos(qs + qe)
+    dr_ds = -along_upper_m * np.sin(qs) - along_lower_m * np.sin(qs + qe)
+    dz_ds = along_upper_m * np.cos(qs) + along_lower_m * np.cos(qs + qe)
+    dr_de = -along_lower_m * np.sin(qs + qe)
+    dz_de = along_lower_m * np.cos(qs + qe)
+    return np.array([[-r * s, dr_ds * c, dr_de * c], [r * c, dr_ds * s, dr_de * s], [0.0, dz_ds, dz_de]])
 
 
-def foot_jacobian_6d(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
-    """``J`` (6 x 3): linear rows, then the angular velocity of the lower link, in the body frame."""
-    return np.vstack([foot_jacobian(params, leg, q), joint_axes(params, leg, q).T])
+def foot_jacobian(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
+    """``J`` (3 x 3) with ``d body_p_foot = J dq`` (linear part)."""
+    return point_jacobian(params, leg, q, params.bracket_m, params.upper_link_m, params.lower_link_m)
 
 
 class UnreachableError(ValueError):

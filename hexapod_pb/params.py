@@ -17,6 +17,7 @@ from .constants import LEGS
 
 from thermolimb.constants import GRAVITY_M_S2
 
+LINK_AXIAL_INERTIA_KG_M2 = 1e-4  # each leg link about its own long axis (thin tubes)
 FALLEN_BODY_HEIGHT_M = 0.08  # the body below this height: the robot has fallen
 
 
@@ -71,6 +72,11 @@ class DaisyParams:
         return (_segment(self.x8_9_mass_kg, self.bracket_mass_kg, self.bracket_m),
                 _segment(self.x8_16_mass_kg, self.upper_tube_mass_kg, self.upper_link_m),
                 _segment(self.x8_9_mass_kg, self.lower_tube_mass_kg, self.lower_link_m))
+
+    @property
+    def foot_inertia_kg_m2(self) -> float:
+        """The foot, a solid sphere, about any axis through its centre."""
+        return 2.0 / 5.0 * self.foot_mass_kg * self.foot_radius_m**2
 
     @property
     def robot_mass_kg(self) -> float:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from thermolimb.plant import ACTUATORS, PlantEffects, ThermalProtection
+from thermolimb.plant import ACTUATOR_SPECS, PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
 
 from .constants import ACTUATOR_MODEL, FEET, JOINT_KINDS, JOINTS, LEGS, PAYLOAD_LINK
@@ -48,7 +48,7 @@ class HexapodSim(BulletRig):
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
                  protection: ThermalProtection = ThermalProtection()):
         self.params = params
-        specs = [ACTUATORS[ACTUATOR_MODEL[k]] for _ in LEGS for k in JOINT_KINDS]
+        specs = [ACTUATOR_SPECS[ACTUATOR_MODEL[k]] for _ in LEGS for k in JOINT_KINDS]
         height = params.nominal_body_height_m + (0.3 if config.fixed_base else 0.0)
         super().__init__(urdf_path(), JOINTS, FEET, JOINTS, specs, params.effort_limit_Nm, config, [0, 0, height],
                          plant_effects=plant_effects, seed=seed, protection=protection)

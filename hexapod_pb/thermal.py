@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from thermolimb.model import FirstOrderBank
-from thermolimb.plant import ACTUATORS
+from thermolimb.plant import ACTUATOR_SPECS
 
 from .constants import ACTUATOR_MODEL, JOINT_KINDS, JOINTS, LEGS
 
@@ -19,7 +19,7 @@ def datasheet_bank(ambient_C: float = 25.0) -> FirstOrderBank:
     rc, beta = [], []
     for _ in LEGS:
         for kind in JOINT_KINDS:
-            spec = ACTUATORS[ACTUATOR_MODEL[kind]]
+            spec = ACTUATOR_SPECS[ACTUATOR_MODEL[kind]]
             net = spec.network
             r_th = net.resistance_K_per_W[0] + (net.resistance_K_per_W[1] if net.n_nodes > 1 else 0.0)
             c_th = net.capacity_J_per_K[0] + (net.capacity_J_per_K[1] if net.n_nodes > 1 else 0.0)

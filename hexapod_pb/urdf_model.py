@@ -11,7 +11,7 @@ from pathlib import Path
 from thermolimb.paths import urdf_dir, write_urdf
 
 from .constants import BODY_LINK, LEGS, PAYLOAD_LINK, foot_link, joint_name
-from .params import DAISY, DaisyParams
+from .params import DAISY, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
 
 URDF_NAME = "daisy_like.urdf"
 PAYLOAD_SIZE_M = 0.12
@@ -70,7 +70,7 @@ def generate(params: DaisyParams = DAISY) -> str:
         mount = p.mount_position_m(i)
         yaw = p.mount_yaw_rad(i)
         (m0, c0, i0), (m1, c1, i1), (m2, c2, i2) = p.segments()
-        small = 1e-4
+        small = LINK_AXIAL_INERTIA_KG_M2
         out += [
             _joint(joint_name(leg, "base"), BODY_LINK, f"{leg}_base_link", f"{_f(mount[0])} {_f(mount[1])} 0",
                    f"0 0 {_f(yaw)}", "0 0 1", -1.2, 1.2, p.x8_9_effort_limit_Nm, p.x8_9_velocity_limit_rad_s),
@@ -87,7 +87,7 @@ def generate(params: DaisyParams = DAISY) -> str:
             f'  <joint name="{leg}_foot_mount" type="fixed"><parent link="{leg}_lower"/><child link="{foot_link(leg)}"/>'
             f'<origin xyz="{_f(p.lower_link_m)} 0 0"/></joint>\n',
             f'  <link name="{foot_link(leg)}">\n',
-            _inertial(p.foot_mass_kg, 0.0, *([2 / 5 * p.foot_mass_kg * p.foot_radius_m**2] * 3)),
+            _inertial(p.foot_mass_kg, 0.0, *([p.foot_inertia_kg_m2] * 3)),
             f'    <visual><geometry><sphere radius="{_f(p.foot_radius_m)}"/></geometry><material name="black"/></visual>\n',
             f'    <collision><geometry><sphere radius="{_f(p.foot_radius_m)}"/></geometry></collision>\n',
             "  </link>\n",

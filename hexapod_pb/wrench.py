@@ -20,7 +20,7 @@ with ``scipy.optimize.minimize(method="trust-constr")``.  It is a linear
 program in epigraph form:
 
     min z   subject to  E f = w,  -z s_j <= (T f + g)_j <= z s_j,
-                        |f_x|, |f_y| <= mu f_z (friction pyramid), f_z >= f_min (unilateral)
+                        |f_x|, |f_y| <= friction f_z (friction pyramid), f_z >= f_min (unilateral)
 
 solved exactly here by a dual active-set solver (``daqp``) or HiGHS, for any
 number of stance legs, with friction and unilateral constraints the seed
@@ -43,8 +43,7 @@ from scipy.optimize import LinearConstraint, linprog, minimize
 
 from thermolimb.model import FirstOrderBank
 
-from .kinematics import foot_jacobian, foot_position
-from .legs import leg_gravity_torque
+from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 
 _INF = 1e30
@@ -62,7 +61,7 @@ class StanceProblem:
     gravity_Nm: np.ndarray  # (3n,) g
     torque_scale_Nm: np.ndarray  # (3n,) normaliser (continuous torque)
     wrench: np.ndarray  # (6,) required (F, M) from the ground, body frame
-    mu: float | None = None  # friction pyramid coefficient; None: no friction limit (the seed)
+    friction: float | None = None  # friction coefficient of the pyramid; None: no friction limit (the seed)
     min_normal_N: float | None = None  # unilateral contact; None: no bound (the seed)
 
     @property
@@ -84,7 +83,7 @@ class StanceProblem:
     @classmethod
     def from_configuration(cls, params: DaisyParams, q: np.ndarray, legs, payload_kg: float = 0.0,
                            wrench: np.ndarray | None = None, include_leg_gravity: bool = True,
-                           mu: float | None = None, min_normal_N: float | None = None,
+                           friction: float | None = None, min_normal_N: float | None = None,
                            world_R_body: np.ndarray | None = None) -> "StanceProblem":
         """Build the problem for joint angles ``q`` (18,) and stance legs.
 
@@ -92,24 +91,30 @@ class StanceProblem:
         body frame, from ``world_R_body``), no net moment about the body
         origin (the centre of mass).
         """
-        legs = tuple(int(i) for i in legs)
+        statics = {int(i): leg_statics(params, int(i), q[3 * int(i) : 3 * int(i) + 3], world_R_body) for i in legs}
+        return cls.from_statics(params, statics, payload_kg, wrench, include_leg_gravity, friction, min_normal_N,
+                                world_R_body)
+
+    @classmethod
+    def from_statics(cls, params: DaisyParams, statics: dict, payload_kg: float = 0.0,
+                     wrench: np.ndarray | None = None, include_leg_gravity: bool = True,
+                     friction: float | None = None, min_normal_N: float | None = None,
+                     world_R_body: np.ndarray | None = None) -> "StanceProblem":
+        """The problem from each stance leg's :class:`~hexapod_pb.legs.LegStatics` (computed once per step)."""
+        legs = tuple(statics)
         if len(legs) < 3:
             raise ValueError(f"a static stance needs at least 3 feet on the ground, got {len(legs)}")
-        R = np.eye(3) if world_R_body is None else world_R_body
         if wrench is None:
+            R = np.eye(3) if world_R_body is None else world_R_body
             weight = (params.robot_mass_kg + payload_kg) * GRAVITY_M_S2
             wrench = np.concatenate([R.T @ np.array([0.0, 0.0, weight]), np.zeros(3)])
-        feet, blocks, grav = [], [], []
-        for i in legs:
-            qi = q[3 * i : 3 * i + 3]
-            feet.append(foot_position(params, i, qi))
-            blocks.append(-foot_jacobian(params, i, qi).T)
-            grav.append(leg_gravity_torque(params, i, qi, R) if include_leg_gravity else np.zeros(3))
         T = np.zeros((3 * len(legs), 3 * len(legs)))
-        for k, b in enumerate(blocks):
-            T[3 * k : 3 * k + 3, 3 * k : 3 * k + 3] = b
+        for k, i in enumerate(legs):
+            T[3 * k : 3 * k + 3, 3 * k : 3 * k + 3] = -statics[i].jacobian.T
+        grav = [statics[i].gravity_Nm if include_leg_gravity else np.zeros(3) for i in legs]
+        feet = np.array([statics[i].foot_m for i in legs])
         scale = np.tile(params.continuous_torque_Nm, len(legs))
-        return cls(legs, np.array(feet), T, np.concatenate(grav), scale, np.asarray(wrench, float), mu, min_normal_N)
+        return cls(legs, feet, T, np.concatenate(grav), scale, np.asarray(wrench, float), friction, min_normal_N)
 
     def torques(self, f: np.ndarray) -> np.ndarray:
         return self.torque_map @ np.ravel(f) + self.gravity_Nm
@@ -118,7 +123,7 @@ class StanceProblem:
         return np.abs(self.torques(f)) / self.torque_scale_Nm
 
 
-@dataclass
+@dataclass(frozen=True)
 class StanceSolution:
     """A distribution of ground forces and what it costs; ``residuals`` certify it."""
 
@@ -145,8 +150,8 @@ class StanceSolution:
         p = self.problem
         f = self.forces_N
         out = {"equilibrium": float(np.max(np.abs(p.equilibrium @ f.ravel() - p.wrench)))}
-        if p.mu is not None:
-            out["friction"] = float(max(0.0, np.max(np.abs(f[:, :2]) - p.mu * f[:, 2:3])))
+        if p.friction is not None:
+            out["friction"] = float(max(0.0, np.max(np.abs(f[:, :2]) - p.friction * f[:, 2:3])))
         if p.min_normal_N is not None:
             out["unilateral"] = float(max(0.0, np.max(p.min_normal_N - f[:, 2])))
         if self.lp is not None and self.duals is not None:
@@ -229,7 +234,7 @@ def _epigraph(problem: StanceProblem):
     p = problem
     nf = 3 * p.n
     s = p.torque_scale_Nm
-    contact = p.mu is not None or p.min_normal_N is not None
+    contact = p.friction is not None or p.min_normal_N is not None
     contact_A, contact_bu, contact_bl = _contact_rows(p) if contact else (None, None, None)
     m = 6 + 2 * nf + (len(contact_A) if contact else 0)
     A = np.zeros((m, nf + 1))
@@ -451,21 +456,19 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
         true_peak = float(np.max(a + b * tau + cq * tau**2))
         if true_peak - x[-1] <= tol_K:
             break
-    sol.solve_time_s = time.perf_counter() - start
-    sol.iterations = rounds
-    return sol
+    return replace(sol, solve_time_s=time.perf_counter() - start, iterations=rounds)
 
 
 def _contact_rows(p: StanceProblem):
-    """Friction pyramid ``|f_x|, |f_y| <= mu f_z`` and unilateral ``f_z >= f_min`` rows over ``x = (f, z)``."""
+    """Friction pyramid ``|f_x|, |f_y| <= friction f_z`` and unilateral ``f_z >= f_min`` rows over ``x = (f, z)``."""
     nf = 3 * p.n
     blocks, bu, bl = [], [], []
-    if p.mu is not None:
+    if p.friction is not None:
         rows = np.zeros((4 * p.n, nf + 1))
         k = np.repeat(np.arange(p.n), 4)
         axis = np.tile([0, 0, 1, 1], p.n)
         rows[np.arange(4 * p.n), 3 * k + axis] = np.tile([1.0, -1.0, 1.0, -1.0], p.n)
-        rows[np.arange(4 * p.n), 3 * k + 2] = -p.mu
+        rows[np.arange(4 * p.n), 3 * k + 2] = -p.friction
         blocks.append(rows)
         bu.append(np.zeros(4 * p.n))
         bl.append(np.full(4 * p.n, -_INF))

@@ -13,7 +13,7 @@ import numpy as np
 from thermolimb.model import FirstOrderBank
 from thermolimb.plant import ActuatorSpec, ThermalNetwork
 
-from .constants import ACTUATORS, JOINTS, ROD_PAIRS
+from .constants import ACTUATORS, JOINTS, ROD_PAIRS, rod_actuators
 from .params import ValkyrieParams
 from .pushrods import RodPair
 
@@ -73,7 +73,7 @@ def efforts(rods: dict[str, RodPair], angles: np.ndarray, torques_Nm: np.ndarray
         out[_A[a]] = torques_Nm[j]
     for pair, (pitch, roll) in ROD_PAIRS.items():
         tau = np.array([torques_Nm[_J[pitch]], torques_Nm[_J[roll]]])
-        out[[_A[f"{pair}_rod_a"], _A[f"{pair}_rod_b"]]] = rods[pair].rod_forces_N(angles[_J[pitch]], angles[_J[roll]], tau)
+        out[[_A[rod] for rod in rod_actuators(pair)]] = rods[pair].rod_forces_N(angles[_J[pitch]], angles[_J[roll]], tau)
     return out
 
 
@@ -84,7 +84,7 @@ def velocities(rods: dict[str, RodPair], angles: np.ndarray, qd: np.ndarray) -> 
         out[_A[a]] = qd[j]
     for pair, (pitch, roll) in ROD_PAIRS.items():
         J = rods[pair].length_jacobian(angles[_J[pitch]], angles[_J[roll]])
-        out[[_A[f"{pair}_rod_a"], _A[f"{pair}_rod_b"]]] = J @ np.array([qd[_J[pitch]], qd[_J[roll]]])
+        out[[_A[rod] for rod in rod_actuators(pair)]] = J @ np.array([qd[_J[pitch]], qd[_J[roll]]])
     return out
 
 
@@ -94,7 +94,7 @@ def joint_fractions(actuator_fraction: np.ndarray) -> np.ndarray:
     for a, j in _MOTORS:
         out[j] = actuator_fraction[_A[a]]
     for pair, joints in ROD_PAIRS.items():
-        weakest = min(actuator_fraction[_A[f"{pair}_rod_a"]], actuator_fraction[_A[f"{pair}_rod_b"]])
+        weakest = min(actuator_fraction[_A[rod]] for rod in rod_actuators(pair))
         for joint in joints:
             out[_J[joint]] = weakest
     return out
@@ -107,6 +107,6 @@ def effort_matrix(rods: dict[str, RodPair], angles: np.ndarray) -> np.ndarray:
         E[_A[a], j] = 1.0
     for pair, (pitch, roll) in ROD_PAIRS.items():
         inv_t = np.linalg.inv(rods[pair].length_jacobian(angles[_J[pitch]], angles[_J[roll]]).T)
-        rows = [_A[f"{pair}_rod_a"], _A[f"{pair}_rod_b"]]
+        rows = [_A[rod] for rod in rod_actuators(pair)]
         E[np.ix_(rows, [_J[pitch], _J[roll]])] = inv_t
     return E

@@ -19,16 +19,36 @@ def leg_joint(side: str, name: str) -> str:
     return f"{side}_{name}"
 
 
+arm_joint = leg_joint  # both are "<side>_<joint>"
+
+
+def joint_kind(joint: str) -> str:
+    """The joint without its side: ``left_knee`` -> ``knee`` (waist joints have no side)."""
+    side = next((s for s in SIDES if joint.startswith(f"{s}_")), None)
+    return joint if side is None else joint[len(side) + 1 :]
+
+
 def foot_link(side: str) -> str:
     return f"{side}_foot"
+
+
+def sole_frame(side: str) -> str:
+    """The frame at the centre of a foot's sole, on the ground."""
+    return f"{side}_sole"
+
+
+def rod_actuators(pair: str) -> tuple[str, str]:
+    """The two push rods of a rod pair."""
+    return f"{pair}_rod_a", f"{pair}_rod_b"
 
 
 JOINTS = (
     tuple(leg_joint(s, j) for s in SIDES for j in LEG_JOINTS)
     + WAIST_JOINTS
-    + tuple(f"{s}_{j}" for s in SIDES for j in ARM_JOINTS)
+    + tuple(arm_joint(s, j) for s in SIDES for j in ARM_JOINTS)
 )
 FEET = tuple(foot_link(s) for s in SIDES)
+FOOT_SIDE = {foot_link(s): s for s in SIDES}
 
 # joint pairs driven by two linear push-rod actuators (the seed's Sec. III)
 ROD_PAIRS = {
@@ -39,7 +59,7 @@ ROD_PAIRS = {
 # the thermal "actuators": rotary joints, and two rods for each rod pair
 ACTUATORS = tuple(
     [j for j in JOINTS if not any(j in pair for pair in ROD_PAIRS.values())]
-    + [f"{pair}_rod_{k}" for pair in ROD_PAIRS for k in ("a", "b")]
+    + [rod for pair in ROD_PAIRS for rod in rod_actuators(pair)]
 )
 
 CONTACT_MODES = ("double", "left", "right")  # double support, left single support, right single support

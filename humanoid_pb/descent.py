@@ -17,11 +17,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
-from .constants import CONTACT_MODES, mode_feet
+from .constants import CONTACT_MODES, FOOT_SIDE, mode_feet
 from .statics import WholeBody
 
 
-@dataclass
+@dataclass(frozen=True)
 class DescentResult:
     method: str
     mode: str
@@ -31,6 +31,8 @@ class DescentResult:
     wall_s: float
     history: list[float] = field(default_factory=list)
     contact_drift_m: float = 0.0  # largest sole displacement from the start (m)
+    torques_Nm: np.ndarray | None = None  # balancing joint torques at q (the fast IK's Gamma), when the method gives them
+    contact_wrenches: np.ndarray | None = None  # (feet, 6) at q, likewise
 
 
 def potential_of(body: WholeBody, q: np.ndarray, mode: str, potential) -> float:
@@ -40,7 +42,7 @@ def potential_of(body: WholeBody, q: np.ndarray, mode: str, potential) -> float:
 
 def contact_drift(body: WholeBody, q0: np.ndarray, q: np.ndarray, mode: str) -> float:
     start, end = body.sole_poses(q0), body.sole_poses(q)
-    sides = [f.split("_")[0] for f in mode_feet(mode)]
+    sides = [FOOT_SIDE[f] for f in mode_feet(mode)]
     return float(max(np.linalg.norm(end[s].translation - start[s].translation) for s in sides))
 
 

@@ -31,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 from .actuators import effort_matrix
-from .constants import JOINTS, SIDES, mode_feet
+from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
 from .descent import DescentResult, contact_drift
 from .statics import WholeBody
 
@@ -52,7 +52,7 @@ class FastThermalIK:
         p = body.params
         self.limits_q = np.array([body.params.limits(j) for j in JOINTS])
         for side in SIDES:  # the IK's working range: knees never straight (singular, and torque-free in a rigid model)
-            k = JOINTS.index(f"{side}_knee")
+            k = JOINTS.index(leg_joint(side, "knee"))
             self.limits_q[k, 0] = max(self.limits_q[k, 0], p.knee_min_rad)
         self.half_sole = np.array(p.sole_m) / 2.0 - COP_MARGIN_M
         self.actuator_limits = None
@@ -95,7 +95,7 @@ class FastThermalIK:
         model = self.body.model
         fext = [pin.Force.Zero() for _ in range(model.njoints)]
         for i, foot in enumerate(mode_feet(mode)):
-            frame = model.frames[self.body.sole_frame[foot.split("_")[0]]]
+            frame = model.frames[self.body.sole_frame[FOOT_SIDE[foot]]]
             fext[frame.parentJoint] += frame.placement.act(pin.Force(F[6 * i : 6 * i + 6]))
         return fext
 
@@ -224,8 +224,5 @@ class FastThermalIK:
                 delta /= 2
                 if delta < 1e-4:
                     break
-        result = DescentResult("fast", mode, q, f, iterations, time.perf_counter() - start, history,
-                               contact_drift(body, q0, q, mode))
-        result.torques_Nm = Gamma
-        result.contact_wrenches = F.reshape(-1, 6)
-        return result
+        return DescentResult("fast", mode, q, f, iterations, time.perf_counter() - start, history,
+                             contact_drift(body, q0, q, mode), torques_Nm=Gamma, contact_wrenches=F.reshape(-1, 6))

@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 from thermolimb.constants import GRAVITY_M_S2
 from thermolimb.frozen import FrozenMapping
 
+from .constants import joint_kind
+
 # the seed's recovery experiment: actuators above WARNING_C are hot; recovered when all are below RECOVERED_C
 WARNING_C = 75.0
 RECOVERED_C = 70.0
@@ -75,10 +77,10 @@ class ValkyrieParams:
                 + 2 * sum(self.arm_links_kg))
 
     def effort_limit(self, joint: str) -> float:
-        return self.effort_limit_Nm[joint.removeprefix("left_").removeprefix("right_")]
+        return self.effort_limit_Nm[joint_kind(joint)]
 
     def limits(self, joint: str) -> tuple[float, float]:
-        return self.joint_limits_rad[joint.removeprefix("left_").removeprefix("right_")]
+        return self.joint_limits_rad[joint_kind(joint)]
 
     @property
     def standing_height_m(self) -> float:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from .constants import JOINTS, SIDES
+from .constants import JOINTS, SIDES, leg_joint
 from .statics import WholeBody
 
 LIFT_M = 0.05
@@ -20,9 +20,9 @@ def crouch_angles(depth_rad: float = 0.3) -> np.ndarray:
     """Both knees bent by ``2 depth``, hips and ankles by ``-depth``: feet flat, trunk upright."""
     angles = np.zeros(len(JOINTS))
     for side in SIDES:
-        angles[JOINTS.index(f"{side}_hip_pitch")] = -depth_rad
-        angles[JOINTS.index(f"{side}_knee")] = 2 * depth_rad
-        angles[JOINTS.index(f"{side}_ankle_pitch")] = -depth_rad
+        angles[JOINTS.index(leg_joint(side, "hip_pitch"))] = -depth_rad
+        angles[JOINTS.index(leg_joint(side, "knee"))] = 2 * depth_rad
+        angles[JOINTS.index(leg_joint(side, "ankle_pitch"))] = -depth_rad
     return angles
 
 

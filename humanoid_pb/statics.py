@@ -22,7 +22,7 @@ import pinocchio as pin
 
 from .actuators import efforts as actuator_efforts
 from .actuators import rod_pairs
-from .constants import JOINTS, SIDES, mode_feet
+from .constants import FOOT_SIDE, JOINTS, SIDES, mode_feet, sole_frame
 from .params import VALKYRIE, ValkyrieParams
 from .urdf_model import urdf_path
 
@@ -47,7 +47,7 @@ class WholeBody:
         self.nv = self.model.nv
         self.v_index = np.array([self.model.joints[self.model.getJointId(j)].idx_v for j in JOINTS])
         self.q_index = np.array([self.model.joints[self.model.getJointId(j)].idx_q for j in JOINTS])
-        self.sole_frame = {side: self.model.getFrameId(f"{side}_sole") for side in SIDES}
+        self.sole_frame = {side: self.model.getFrameId(sole_frame(side)) for side in SIDES}
         self.S_a = np.zeros((len(JOINTS), self.nv))
         self.S_a[np.arange(len(JOINTS)), self.v_index] = 1.0
         self.rods = rod_pairs(params)
@@ -78,7 +78,7 @@ class WholeBody:
         """``J_c`` (6k x nv): sole twists in their own (LOCAL) frames."""
         pin.computeJointJacobians(self.model, self.data, q)
         pin.framesForwardKinematics(self.model, self.data, q)
-        blocks = [pin.getFrameJacobian(self.model, self.data, self.sole_frame[f.split("_")[0]], pin.LOCAL)
+        blocks = [pin.getFrameJacobian(self.model, self.data, self.sole_frame[FOOT_SIDE[f]], pin.LOCAL)
                   for f in mode_feet(mode)]
         return np.vstack(blocks)
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from thermolimb.paths import urdf_dir, write_urdf
 
-from .constants import ARM_JOINTS, LEG_JOINTS, PELVIS, SIDES, TORSO, foot_link
+from .constants import ARM_JOINTS, LEG_JOINTS, PELVIS, SIDES, TORSO, arm_joint, foot_link, leg_joint, sole_frame
 from .params import VALKYRIE, ValkyrieParams
 
 URDF_NAME = "valkyrie_like.urdf"
@@ -72,7 +72,7 @@ def generate(params: ValkyrieParams = VALKYRIE) -> str:
            _box_link(TORSO, p.torso_kg, (0.30, 0.40, 0.55), com=(0.0, 0.0, p.torso_com_m), color="dark")]
     sx, sy, sz = p.shoulder_m
     for side, sign in zip(SIDES, (1.0, -1.0)):
-        names = [f"{side}_{j}" for j in ARM_JOINTS]
+        names = [arm_joint(side, j) for j in ARM_JOINTS]
         m = p.arm_links_kg
         out += [
             _revolute(names[0], TORSO, f"{side}_shoulder_pitch_link", f"{_f(sx)} {_f(sign * sy)} {_f(sz)}", p),
@@ -86,7 +86,7 @@ def generate(params: ValkyrieParams = VALKYRIE) -> str:
         ]
     sole_x, sole_y = p.sole_m
     for side, sign in zip(SIDES, (1.0, -1.0)):
-        j = [f"{side}_{n}" for n in LEG_JOINTS]
+        j = [leg_joint(side, n) for n in LEG_JOINTS]
         m = p.leg_links_kg
         out += [
             _revolute(j[0], PELVIS, f"{side}_hip_yaw_link", f"0 {_f(sign * p.hip_lateral_m)} {_f(-p.hip_below_pelvis_m)}", p),
@@ -102,9 +102,9 @@ def generate(params: ValkyrieParams = VALKYRIE) -> str:
             _revolute(j[5], f"{side}_ankle_link", foot_link(side), "0 0 0", p),
             _box_link(foot_link(side), m[5], (sole_x, sole_y, 0.05),
                       com=(p.sole_forward_m, 0.0, -p.ankle_height_m + 0.025), collision=True, color="dark"),
-            _fixed(f"{side}_sole_joint", foot_link(side), f"{side}_sole",
+            _fixed(f"{side}_sole_joint", foot_link(side), sole_frame(side),
                    f"{_f(p.sole_forward_m)} 0 {_f(-p.ankle_height_m)}"),
-            _box_link(f"{side}_sole", 1e-3, (0.01, 0.01, 0.01), visual=False),
+            _box_link(sole_frame(side), 1e-3, (0.01, 0.01, 0.01), visual=False),
         ]
     out.append("</robot>\n")
     return "".join(out)

@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from thermolimb.plant import (FIRST_ORDER_NETWORK, X8_9, EffortBias, PlantEffects, Quantisation, SensorNoise,
+from thermolimb.plant import (FIRST_ORDER_NETWORK, X8_9, SeriesElasticBias, PlantEffects, Quantisation, SensorNoise,
                               ThermalPlant, run_profile)
 from thermolimb.plant.profiles import random_holds
 
@@ -28,7 +28,7 @@ def first_order_log(seed: int, duration_s=2 * 3600.0, dt_s=1.0, motion_probabili
     """A first-order plant with effort bias, 0.05 K noise and 0.1 degC quantisation, random holds and motions."""
     rng = np.random.default_rng(seed)
     profile = random_holds(duration_s, dt_s, 1, rng, motion_probability=motion_probability)
-    effects = PlantEffects(effort_bias=EffortBias(BIAS_EFFORT_NM), sensor_noise=SensorNoise(), quantisation=Quantisation())
+    effects = PlantEffects(effort_bias=SeriesElasticBias(BIAS_EFFORT_NM), sensor_noise=SensorNoise(), quantisation=Quantisation())
     plant = ThermalPlant(["knee"], [FIRST_ORDER_X8], effects, rng=rng)
     return run_profile(plant, profile).log
 

@@ -54,7 +54,7 @@ def test_exact_minimax_equals_trust_constr_and_balances(seed):
 def test_friction_cones_and_unilateral_normals_hold_for_any_stance(n_legs):
     legs = {3: TRIPOD, 4: (0, 1, 4, 5), 5: (0, 1, 2, 4, 5), 6: tuple(range(6))}[n_legs]  # around the centre of mass
     problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(n_legs)), legs,
-                                               payload_kg=5.0, mu=0.3, min_normal_N=5.0)
+                                               payload_kg=5.0, friction=0.3, min_normal_N=5.0)
     for sol in (minimax(problem), minimax_lex(problem)):
         r = sol.residuals()
         assert r["equilibrium"] < 1e-6 and r["friction"] < 1e-6 and r["unilateral"] < 1e-6

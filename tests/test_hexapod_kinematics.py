@@ -5,6 +5,7 @@ import pytest
 
 from hexapod_pb.constants import JOINTS, LEGS
 from hexapod_pb.kinematics import UnreachableError, foot_jacobian, foot_position, inverse_kinematics
+from hexapod_pb.legs import leg_gravity_torque, leg_mass_matrix
 from hexapod_pb.params import DAISY, DaisyParams
 from hexapod_pb.sim import HexapodSim, SimConfig
 from hexapod_pb.urdf_model import generate, urdf_path
@@ -39,6 +40,21 @@ def test_forward_kinematics_and_jacobian_match_pybullet(hung_sim, trial):
         np.testing.assert_allclose(body_pos + world_R_body @ foot_position(DAISY, leg, qi), feet[leg], atol=1e-5)
         np.testing.assert_allclose(world_R_body @ foot_jacobian(DAISY, leg, qi), hung_sim.foot_jacobian_world(leg),
                                    atol=1e-5)
+
+
+@pytest.mark.parametrize("trial", range(2))
+def test_leg_mass_matrix_and_gravity_torque_match_pybullet(hung_sim, trial):
+    """The controller's point-mass-plus-inertia leg model against PyBullet's dynamics of the URDF (legs hung)."""
+    rng = np.random.default_rng(10 + trial)
+    q = hung_sim.stance_angles() + rng.uniform(-0.3, 0.3, len(JOINTS))
+    hung_sim.reset_stance(q)
+    M, g = hung_sim.joint_space_dynamics()
+    _, world_R_body = hung_sim.body_pose()
+    for leg in range(len(LEGS)):
+        sl = slice(3 * leg, 3 * leg + 3)
+        np.testing.assert_allclose(leg_gravity_torque(DAISY, leg, q[sl], world_R_body), g[sl], atol=1e-4)
+        np.testing.assert_allclose(leg_mass_matrix(DAISY, leg, q[sl]), M[sl, sl], atol=1e-4)
+        assert np.abs(np.delete(M[sl], np.arange(3 * leg, 3 * leg + 3), axis=1)).max() < 1e-9  # legs are decoupled
 
 
 def test_inverse_kinematics_round_trip_and_finite_differences():

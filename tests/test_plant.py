@@ -71,12 +71,19 @@ def test_sensor_lag_noise_and_quantisation():
     assert np.mean(lags) > 0.3  # while heating, the lagged thermistor reads low
 
 
-def test_ambient_variation_follows_its_law():
+def test_with_no_heat_every_node_stays_within_the_ambient_it_has_seen_and_follows_its_drift():
+    """A passive network at rest cannot leave the range of its boundary temperature, and it warms as that drifts."""
     plant = ThermalPlant(["a"], [X8_9], PlantEffects.from_names("ambient_variation"), ambient_C=20.0)
-    var = plant.effects.ambient_variation
-    t = 1000.0
-    expected = 20.0 + var.drift_K_per_h * t / 3600 + var.amplitude_K * np.sin(2 * np.pi * t / var.period_s)
-    assert plant.ambient_at(t) == pytest.approx(expected)
+    assert plant.ambient_at(0.0) == pytest.approx(20.0)
+    ambient, nodes = [20.0], []
+    for _ in range(2000):  # 2000 x 10 s = 5.6 h: several oscillation periods and 11 K of drift
+        plant.step(np.zeros(1), None, 10.0)
+        ambient.append(plant.ambient_C)
+        nodes.append([plant.node_C(name)[0] for name in X8_9.network.node_names])
+    nodes = np.array(nodes)
+    assert min(ambient) - 1e-9 <= nodes.min() and nodes.max() <= max(ambient) + 1e-9
+    assert max(ambient) - min(ambient) > 8.0  # the drift really moved the boundary
+    assert nodes[-1].mean() > nodes[len(nodes) // 2].mean() + 2.0  # and the network followed it up
 
 
 def test_thermal_protection_derates_near_the_limit():

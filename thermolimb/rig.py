@@ -149,6 +149,19 @@ class BulletRig:
         _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
 
+    def joint_space_dynamics(self) -> tuple[np.ndarray, np.ndarray]:
+        """PyBullet's mass matrix and gravity torques ``(M, g)`` over the joints at the current configuration.
+
+        The floating base's rows and columns, if any, are left out (g then
+        holds the joints with the base held still).
+        """
+        q = [float(v) for v in self.joint_states()[0]]
+        zeros = [0.0] * len(q)
+        M = np.array(self.client.calculateMassMatrix(self.robot, q))
+        g = np.array(self.client.calculateInverseDynamics(self.robot, q, zeros, zeros))
+        offset = M.shape[0] - len(q)
+        return M[offset:, offset:], g[offset:]
+
     def base_quaternion(self) -> np.ndarray:
         return np.array(self.client.getBasePositionAndOrientation(self.robot)[1])
 

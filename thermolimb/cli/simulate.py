@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..errors import UsageError
-from ..plant import ACTUATORS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
+from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
 from .options import add_quiet, print_json
 
 DEFAULT_ACTUATORS = "knee:X8-9,hip:X8-16,ankle:X8-9"
@@ -21,7 +21,7 @@ def add_parser(sub):
     p.add_argument("--duration", type=float, default=3600.0, help="simulated time in s (default 3600)")
     p.add_argument("--dt", type=float, default=0.1, help="control and logging interval in s (default 0.1)")
     p.add_argument("--actuators", default=DEFAULT_ACTUATORS, metavar="NAME:MODEL,...",
-                   help=f"actuators and their models ({', '.join(ACTUATORS)}); default {DEFAULT_ACTUATORS}")
+                   help=f"actuators and their models ({', '.join(ACTUATOR_SPECS)}); default {DEFAULT_ACTUATORS}")
     p.add_argument("--network", default="x8", choices=sorted(NETWORKS),
                    help="thermal network of every actuator (default x8: winding/housing/body, HEBI numbers)")
     p.add_argument("--effects", default="sensor_noise,quantisation", metavar="NAME,...",
@@ -44,10 +44,10 @@ def parse_actuators(text: str):
     names, specs = [], []
     for item in text.split(","):
         name, _, model = item.strip().partition(":")
-        if not name or model not in ACTUATORS:
-            raise UsageError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATORS)}")
+        if not name or model not in ACTUATOR_SPECS:
+            raise UsageError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATOR_SPECS)}")
         names.append(name)
-        specs.append(ACTUATORS[model])
+        specs.append(ACTUATOR_SPECS[model])
     return names, specs
 
 

@@ -14,14 +14,14 @@ from ..errors import UsageError
 
 
 @dataclass(frozen=True)
-class EffortBias:
+class SeriesElasticBias:
     """Series-elastic bias: the motor current makes ``effort - bias_effort`` (seed Eq. 2)."""
 
     bias_effort: float = 2.0  # N m (or N)
 
 
 @dataclass(frozen=True)
-class WindingTempco:
+class CopperTempco:
     """Copper resistance rising with winding temperature: R = R25 (1 + alpha (T - 25 degC))."""
 
     alpha_per_K: float = 0.0039  # copper
@@ -29,7 +29,7 @@ class WindingTempco:
 
 
 @dataclass(frozen=True)
-class SpeedLosses:
+class FrictionIronLosses:
     """Losses growing with output speed: bearing/gear friction (into the housing) and iron losses (winding)."""
 
     friction_W_per_rad_s: float = 1.5  # W per rad/s of |velocity|
@@ -45,14 +45,14 @@ class FieldWeakening:
 
 
 @dataclass(frozen=True)
-class NeighborCoupling:
+class NeighborConduction:
     """Conduction between the outer nodes of neighbouring actuators (consecutive in the plant's order)."""
 
     conductance_W_per_K: float = 0.3
 
 
 @dataclass(frozen=True)
-class AmbientVariation:
+class AmbientDrift:
     """Ambient temperature drifting and oscillating: T_amb(t) = T0 + drift t + A sin(2 pi t / period)."""
 
     amplitude_K: float = 3.0
@@ -61,14 +61,14 @@ class AmbientVariation:
 
 
 @dataclass(frozen=True)
-class MotionCooling:
+class ConvectionBySpeed:
     """Airflow while moving: the outer node's conductance to ambient times (1 + gain |v|)."""
 
     gain_per_rad_s: float = 0.6
 
 
 @dataclass(frozen=True)
-class SensorLag:
+class ThermistorLag:
     """The thermistor follows the winding with a first-order lag."""
 
     time_constant_s: float = 15.0
@@ -92,14 +92,14 @@ class Quantisation:
 class PlantEffects:
     """Which effects are on (an instance) or off (``None``)."""
 
-    effort_bias: EffortBias | None = None
-    winding_tempco: WindingTempco | None = None
-    speed_losses: SpeedLosses | None = None
+    effort_bias: SeriesElasticBias | None = None
+    winding_tempco: CopperTempco | None = None
+    speed_losses: FrictionIronLosses | None = None
     field_weakening: FieldWeakening | None = None
-    neighbor_coupling: NeighborCoupling | None = None
-    ambient_variation: AmbientVariation | None = None
-    motion_cooling: MotionCooling | None = None
-    sensor_lag: SensorLag | None = None
+    neighbor_coupling: NeighborConduction | None = None
+    ambient_variation: AmbientDrift | None = None
+    motion_cooling: ConvectionBySpeed | None = None
+    sensor_lag: ThermistorLag | None = None
     sensor_noise: SensorNoise | None = None
     quantisation: Quantisation | None = None
 
@@ -125,14 +125,14 @@ class PlantEffects:
 
 
 EFFECT_TYPES = {
-    "effort_bias": EffortBias,
-    "winding_tempco": WindingTempco,
-    "speed_losses": SpeedLosses,
+    "effort_bias": SeriesElasticBias,
+    "winding_tempco": CopperTempco,
+    "speed_losses": FrictionIronLosses,
     "field_weakening": FieldWeakening,
-    "neighbor_coupling": NeighborCoupling,
-    "ambient_variation": AmbientVariation,
-    "motion_cooling": MotionCooling,
-    "sensor_lag": SensorLag,
+    "neighbor_coupling": NeighborConduction,
+    "ambient_variation": AmbientDrift,
+    "motion_cooling": ConvectionBySpeed,
+    "sensor_lag": ThermistorLag,
     "sensor_noise": SensorNoise,
     "quantisation": Quantisation,
 }
