@@ -30,7 +30,7 @@ import daqp
 import numpy as np
 import pinocchio as pin
 
-from .actuators import effort_matrix
+from .actuators import effort_limits, effort_matrix
 from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
 from .descent import DescentResult, contact_drift
 from .statics import WholeBody
@@ -191,10 +191,8 @@ class FastThermalIK:
         start = time.perf_counter()
         body = self.body
         if self.actuator_limits is None:
-            from .actuators import actuator_specs
-
-            self.actuator_limits = np.array([s.effort_limit for s in actuator_specs(body.params)])
-        targets = {s: p for s, p in body.sole_poses(q0).items() if any(f.startswith(s) for f in mode_feet(mode))}
+            self.actuator_limits = effort_limits(body.params)
+        targets = {s: p for s, p in body.sole_poses(q0).items() if s in {FOOT_SIDE[f] for f in mode_feet(mode)}}
         statics = body.statics(q0, mode)
         q = q0.copy()
         found = self.optimum_at(q, mode, objective, statics.torques_Nm, statics.contact_wrenches.ravel())

@@ -9,6 +9,7 @@ from humanoid_pb.poses import crouch_angles, standing
 from humanoid_pb.pushrods import RodPair
 from humanoid_pb.statics import WholeBody
 from humanoid_pb.urdf_model import generate, urdf_path
+from thermolimb.constants import GRAVITY_M_S2
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +42,7 @@ def test_statics_balance_gravity(body, mode):
     # Eq. 18 at rest: S_a^T Gamma + J_c^T F_r = g (N and N m)
     np.testing.assert_allclose(body.S_a.T @ s.torques_Nm + Jc.T @ s.contact_wrenches.ravel(), body.gravity(q), atol=1e-6)
     total_mass = sum(i.mass for i in body.model.inertias)  # the params' mass plus 1 g per sole frame
-    assert s.contact_wrenches[:, 2].sum() == pytest.approx(total_mass * 9.81, rel=1e-9)
+    assert s.contact_wrenches[:, 2].sum() == pytest.approx(total_mass * GRAVITY_M_S2, rel=1e-9)
     assert s.efforts.shape == (len(ACTUATORS),)
 
 
@@ -68,6 +69,13 @@ def test_gamma_holds_the_configuration_still_in_pybullet():
     drift, reading = hold(lambda sim, r: sim.body.statics(sim.pinocchio_q(r), "double").torques_Nm, 0.2)
     assert drift < 2e-3  # rad after 0.2 s
     # and the feet carry the weight as Eq. 21 says, half each in this symmetric crouch
-    np.testing.assert_allclose(reading.foot_force_N[:, 2], VALKYRIE.mass_kg * 9.81 / 2, rtol=0.02)
+    np.testing.assert_allclose(reading.foot_force_N[:, 2], VALKYRIE.mass_kg * GRAVITY_M_S2 / 2, rtol=0.02)
     zero_drift, _ = hold(lambda sim, r: np.zeros(len(JOINTS)), 0.2)
     assert zero_drift > 50 * drift
+
+
+def test_parameters_are_frozen_all_the_way_down():
+    with pytest.raises(TypeError):
+        VALKYRIE.effort_limit_Nm["knee"] = 1.0  # would change every user's default
+    assert VALKYRIE.effort_limit("left_knee") == 350.0
+    assert hash(VALKYRIE) == hash(ValkyrieParams())  # usable as a cache key
