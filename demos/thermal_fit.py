@@ -16,7 +16,7 @@ from thermolimb.demo_registry import demo_main, register_demo
 from thermolimb.evaluation import make_estimator
 from thermolimb.identification.regression import lowpass, lowpass_derivative
 from thermolimb.metrics import fit_metrics
-from thermolimb.plant import X8_16, SeriesElasticBias, PlantEffects, Quantisation, SensorNoise, simulate_profile
+from thermolimb.plant import X8_16, PlantEffects, Quantisation, SensorNoise, SeriesElasticBias, simulate_profile
 from thermolimb.plots import plt, save
 
 NAME = "thermal-fit"

@@ -27,8 +27,15 @@ from .kinematics import inverse_kinematics, joint_axes, nominal_foot
 from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 from .readings import Reading
-from .wrench import (StanceProblem, StanceSolution, closest_achievable, minimax, minimax_lex, thermal_minimax,
-                     vertical_only)
+from .wrench import (
+    StanceProblem,
+    StanceSolution,
+    closest_achievable,
+    minimax,
+    minimax_lex,
+    thermal_minimax,
+    vertical_only,
+)
 
 STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")
 P_POINT_CONTACT = np.diag([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])

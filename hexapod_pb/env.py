@@ -59,11 +59,7 @@ class HexapodLoadCarryEnv(RigEnv):
     OUTCOME = "distance_m"
 
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None):
-        super().__init__(render_mode)
-        if not decision_s > 0:
-            raise ValueError(f"decision_s must be positive, got {decision_s}")
-        self.decision_s = decision_s
-        self.max_time_s = max_time_s
+        super().__init__(max_time_s, decision_s, render_mode)
         self.action_space = spaces.Box(0.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(18, -50.0), np.zeros(18), np.full(3, -10.0), 0.0].astype(np.float32)
         high = np.r_[np.full(18, 400.0), np.full(18, 10.0), np.full(3, 10.0), 50.0].astype(np.float32)
@@ -71,11 +67,10 @@ class HexapodLoadCarryEnv(RigEnv):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        self.close()
         rng = self.np_random
         self.payload_kg = float(rng.uniform(0.0, 5.0))
         ambient = float(rng.uniform(20.0, 35.0))
-        self.sim = HexapodSim(config=SimConfig(payload_kg=self.payload_kg, ambient_C=ambient),
+        self.sim = HexapodSim(config=SimConfig(payload_kg=self.payload_kg, ambient_C=ambient, log_capacity=self.LOG_CAPACITY),
                               seed=int(rng.integers(2**31)))
         self.sim.plant.set_temperatures(rng.uniform(40.0, 110.0, 18))
         self.gait = cpg.CPGParams()
@@ -87,8 +82,7 @@ class HexapodLoadCarryEnv(RigEnv):
         return self._observation(), self._info({})
 
     def step(self, action):
-        self._require_reset()
-        a = np.clip(np.asarray(action, float), 0.0, 1.0)
+        a = np.clip(self._begin_step(action), 0.0, 1.0)
         weights = a[:3] / a[:3].sum() if a[:3].sum() > 1e-9 else np.array([1.0, 0.0, 0.0])
         speed = float(a[3])
         gait = replace(self.gait, step_length_m=self.gait.step_length_m * speed)
@@ -108,7 +102,7 @@ class HexapodLoadCarryEnv(RigEnv):
         terms = {"distance": float(self.reading.body_position_m[0] - start_x),
                  "overheat": -0.05 * max(0.0, hottest - HOT_C), "fall": -100.0 if self.fallen else 0.0}
         terminated = self.fallen or at_limit
-        truncated = (not terminated) and self.sim.time_s >= self.max_time_s
+        truncated = self._end_step(terminated)
         return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms)
 
     def render(self):

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import LEGS
-
 from thermolimb.constants import GRAVITY_M_S2
+
+from .constants import LEGS
 
 LINK_AXIAL_INERTIA_KG_M2 = 1e-4  # each leg link about its own long axis (thin tubes)
 FALLEN_BODY_HEIGHT_M = 0.08  # the body below this height: the robot has fallen

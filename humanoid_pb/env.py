@@ -70,11 +70,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     OUTCOME = "recovery_s"
 
     def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None):
-        super().__init__(render_mode)
+        super().__init__(max_time_s, DECISION_S, render_mode)
         if action_type not in ("mode", "configuration"):
             raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
         self.action_type = action_type
-        self.max_time_s = max_time_s
         self.limits = effort_limits(VALKYRIE)
         self.n_act = len(ACTUATORS)
         self.action_space = spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
@@ -87,15 +86,14 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        self.close()
         rng = self.np_random
         ambient = float(rng.uniform(20.0, 30.0))
         self.hot_side = SIDES[int(rng.integers(len(SIDES)))]
         temperatures = rng.uniform(35.0, 50.0, self.n_act)
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
-        self.sim = HumanoidSim(crouch_angles(), config=RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient),
-                               seed=int(rng.integers(2**31)))
+        config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
+        self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)))
         self.sim.plant.set_temperatures(temperatures)
         self.executor = Executor(self.sim)
         self.reading = self.sim.read()
@@ -103,10 +101,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         return self._observation(), self._info({})
 
     def step(self, action):
-        self._require_reset()
+        action = self._begin_step(action)
         before = self.reading.temperature_C.max()
         self._apply(action)
-        steps = int(round(DECISION_S / self.sim.config.control_dt_s))
+        steps = int(round(self.decision_s / self.sim.config.control_dt_s))
         warning = 0.0
         for _ in range(steps):
             self.reading = self.executor.tick(self.reading)
@@ -123,7 +121,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         }
         recovered = bool(self.reading.temperature_C.max() < RECOVERED_C)
         terminated = recovered or self.fallen
-        truncated = (not terminated) and self.sim.time_s >= self.max_time_s
+        truncated = self._end_step(terminated)
         return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms, recovered)
 
     def render(self):

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from thermolimb.constants import GRAVITY_M_S2
 from thermolimb.frozen import FrozenMapping
 
 from .constants import joint_kind

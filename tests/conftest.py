@@ -7,8 +7,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from thermolimb.plant import (FIRST_ORDER_NETWORK, X8_9, SeriesElasticBias, PlantEffects, Quantisation, SensorNoise,
-                              ThermalPlant, run_profile)
+from thermolimb.plant import (
+    FIRST_ORDER_NETWORK,
+    X8_9,
+    PlantEffects,
+    Quantisation,
+    SensorNoise,
+    SeriesElasticBias,
+    ThermalPlant,
+    run_profile,
+)
 from thermolimb.plant.profiles import random_holds
 
 BIAS_EFFORT_NM = 2.0

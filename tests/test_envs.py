@@ -120,3 +120,62 @@ def test_ppo_agent_trains_for_a_few_thousand_steps():
     assert model.num_timesteps >= 2048
     returns = evaluate_agent(model, 1)
     assert np.isfinite(returns).all()
+
+
+@pytest.mark.parametrize("env_id, kwargs, bad", [
+    (HEXAPOD_ID, {}, [np.nan, 0.0, 0.0, 1.0]),
+    (HEXAPOD_ID, {}, [np.inf, 0.0, 0.0, 1.0]),
+    (HUMANOID_ID, {"action_type": "configuration"}, [np.nan, 0.0, 0.0, 0.0]),
+    (HUMANOID_ID, {}, -1),
+    (HUMANOID_ID, {}, 3),
+    (HUMANOID_ID, {}, 1.5),
+])
+def test_actions_outside_the_space_are_refused_and_the_environment_stays_usable(env_id, kwargs, bad):
+    with closing(gym.make(env_id, max_time_s=30.0, **kwargs).unwrapped) as env:
+        env.reset(seed=0)
+        with pytest.raises(ValueError, match="action must"):
+            env.step(np.array(bad, dtype=np.float32) if isinstance(bad, list) else bad)
+        obs, reward, *_ = env.step(env.action_space.sample())
+        assert np.isfinite(obs).all() and np.isfinite(reward)
+
+
+@pytest.mark.parametrize("max_time_s", [np.nan, np.inf, 0.0, -1.0])
+def test_episode_length_must_be_positive_and_finite(max_time_s):
+    with pytest.raises(ValueError, match="max_time_s must be a positive, finite"):
+        gym.make(HEXAPOD_ID, max_time_s=max_time_s)
+
+
+def test_an_episode_has_max_time_over_decision_steps_and_then_refuses_to_step():
+    with closing(gym.make(HEXAPOD_ID, max_time_s=3.0).unwrapped) as env:
+        env.reset(seed=0)
+        action = np.array([1.0, 0.0, 0.0, 0.0], dtype=np.float32)  # standing still: nothing ends it early
+        ends = [env.step(action)[3] for _ in range(3)]
+        assert ends == [False, False, True]
+        with pytest.raises(RuntimeError, match="call reset"):
+            env.step(action)
+        env.reset(seed=1)
+        env.step(action)  # usable again after reset
+
+
+def test_a_ray_address_where_nothing_answers_is_refused_quickly():
+    pytest.importorskip("ray")
+    import time
+
+    from thermolimb.envs.evaluate import evaluate
+
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="no Ray cluster answers at 127.0.0.1:1"):
+        evaluate(HEXAPOD_ID, 1, seed=0, strategies=("minimax",), backend="ray", address="127.0.0.1:1")
+    assert time.perf_counter() - start < 15.0
+
+
+def test_the_rig_log_of_a_long_episode_stays_bounded():
+    with closing(gym.make(HEXAPOD_ID, max_time_s=1e6, decision_s=5.0).unwrapped) as env:
+        env.reset(seed=0)
+        action = np.array([1.0, 0.0, 0.0, 0.0], dtype=np.float32)
+        for _ in range(16):  # 80 s of control at 50 Hz: 4000 steps against a capacity of 3000
+            env.step(action)
+        log = env.sim.thermal_log()
+        steps = log.series(log.actuators[0]).n
+        assert steps == env.LOG_CAPACITY
+        assert log.series(log.actuators[0]).time_s[-1] == pytest.approx(env.sim.time_s - env.sim.config.control_dt_s)

@@ -5,7 +5,6 @@ import pytest
 from thermolimb.identification import IdentifiabilityError, LeastSquares, OutputError, SeedGradientDescent
 from thermolimb.logs import from_frame
 
-
 # Tolerances (relative error against the plant's physical parameters), measured over seeds 0-3:
 # output error lands within 0.1 %, so 1 % leaves room; consistent least squares within about 1.1 %
 # (quantisation noise in the filtered derivative), so 3 %; the seed's method is biased low by its

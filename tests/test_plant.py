@@ -3,8 +3,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from thermolimb.plant import (FIRST_ORDER_NETWORK, X8_9, X8_16, X8_NETWORK, PlantEffects, ThermalPlant,
-                              ThermalProtection, simulate_profile)
+from thermolimb.plant import (
+    FIRST_ORDER_NETWORK,
+    X8_9,
+    X8_16,
+    X8_NETWORK,
+    PlantEffects,
+    ThermalPlant,
+    ThermalProtection,
+    simulate_profile,
+)
 
 
 def hold(plant, effort, velocity, seconds, dt):

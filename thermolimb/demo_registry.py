@@ -17,11 +17,12 @@ import argparse
 import importlib
 import importlib.util
 import json
-from importlib.metadata import entry_points
 from dataclasses import dataclass
+from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Callable
 
+from .atomic import check_output_dir, write_text
 from .errors import UsageError
 from .jsonutil import to_jsonable
 
@@ -68,15 +69,13 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
         raise UsageError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
     if demos[name].missing:
         raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: pip install 'thermolimb[rl]'")
-    folder = Path(out) / name
+    folder = check_output_dir(Path(out) / name, "demo output folder")
     folder.mkdir(parents=True, exist_ok=True)
     summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
     details = summary.pop("details", None)
     for filename, record in (("summary.json", summary), ("details.json", details)):
         if record is not None:
-            tmp = folder / f"{filename}.partial"
-            tmp.write_text(json.dumps(record, indent=2))
-            tmp.replace(folder / filename)
+            write_text(folder / filename, json.dumps(record, indent=2))
     return summary
 
 

@@ -7,6 +7,8 @@ import sys
 import sysconfig
 from pathlib import Path
 
+from .atomic import write_text
+
 _ENV = "THERMOLIMB_URDF_DIR"
 
 
@@ -33,7 +35,6 @@ def urdf_dir() -> Path:
 
 def write_urdf(name: str, text: str) -> Path:
     """Write a generated URDF into :func:`urdf_dir` (what each robot's ``python -m <robot>.urdf_model`` does)."""
-    path = urdf_dir() / name
-    path.write_text(text)
+    path = write_text(urdf_dir() / name, text)
     print(f"wrote {path}", file=sys.stderr)
     return path

@@ -6,6 +6,7 @@ import html
 import json
 from pathlib import Path
 
+from .atomic import write_text
 from .errors import UsageError
 
 
@@ -21,6 +22,13 @@ def _rows(value, prefix: str = ""):
         if isinstance(value, float):
             value = f"{value:.4g}"
         yield prefix, value
+
+
+def _load(path: Path):
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise UsageError(f"{path} cannot be read as JSON ({exc}); run that demo again") from None
 
 
 def build_report(out: Path) -> Path:
@@ -39,21 +47,17 @@ def build_report(out: Path) -> Path:
         "<ul>" + "".join(f"<li><a href='#{f.name}'>{html.escape(f.name)}</a></li>" for f in folders) + "</ul>",
     ]
     for folder in folders:
-        summary = json.loads((folder / "summary.json").read_text())
+        summary = _load(folder / "summary.json")
         parts.append(f"<h2 id='{folder.name}'>{html.escape(folder.name)}</h2>")
         for png in sorted(folder.glob("*.png")):
             rel = png.relative_to(out).as_posix()
             parts.append(f"<div><img src='{html.escape(rel)}' alt='{html.escape(png.stem)}'></div>")
         details = folder / "details.json"
         if details.is_file():
-            summary = {**summary, "details": json.loads(details.read_text())}
+            summary = {**summary, "details": _load(details)}
         parts.append("<table>")
         for key, value in _rows(summary):
             parts.append(f"<tr><td>{html.escape(key)}</td><td>{html.escape(str(value))}</td></tr>")
         parts.append("</table>")
     parts.append("</body></html>")
-    index = out / "index.html"
-    tmp = out / "index.html.partial"
-    tmp.write_text("\n".join(parts))
-    tmp.replace(index)
-    return index
+    return write_text(out / "index.html", "\n".join(parts))

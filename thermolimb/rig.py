@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -22,10 +23,9 @@ import numpy as np
 import pybullet
 from pybullet_utils.bullet_client import BulletClient
 
-from .logs import ThermalLog, log_from_arrays
 from .constants import GRAVITY_M_S2
+from .logs import ThermalLog, log_from_arrays
 from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
-
 
 
 @contextlib.contextmanager
@@ -52,10 +52,13 @@ class RigConfig:
     foot_friction: float = 0.9
     torque_noise_Nm: float = 0.05  # torque sensing noise (1 sigma)
     ambient_C: float = 25.0
+    log_capacity: int | None = None  # control steps the in-memory log keeps (the latest); None: all of them
 
     def __post_init__(self):
         if not (self.physics_hz > 0 and self.control_hz > 0):
             raise ValueError("physics_hz and control_hz must be positive")
+        if self.log_capacity is not None and self.log_capacity < 2:
+            raise ValueError(f"log_capacity must be None or at least 2 control steps, got {self.log_capacity}")
         ratio = self.physics_hz / self.control_hz
         if abs(ratio - round(ratio)) > 1e-9 or ratio < 1:
             raise ValueError(f"physics_hz ({self.physics_hz}) must be a whole multiple of control_hz ({self.control_hz})")
@@ -110,7 +113,8 @@ class BulletRig:
                                   rng=self.rng, protection=protection)
         self.time_s = 0.0
         self.applied_Nm = np.zeros(len(self.joints))
-        self._log: dict[str, list] = {"time": [], "effort": [], "velocity": [], "temperature": [], "ambient": []}
+        self._log = {key: deque(maxlen=config.log_capacity)
+                     for key in ("time", "effort", "velocity", "temperature", "ambient")}
 
     # ------------------------------------------------------------- robot hooks
     def actuator_efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
@@ -232,7 +236,8 @@ class BulletRig:
         self.time_s += self.config.control_dt_s
 
     def thermal_log(self) -> ThermalLog:
-        """What the robot logged so far, in the canonical format (one row per actuator and control step)."""
+        """What the robot logged so far (the latest ``log_capacity`` control steps, if bounded), in the canonical
+        format (one row per actuator and control step)."""
         if len(self._log["time"]) < 2:
             raise ValueError("the simulation has not run long enough to make a log")
         return log_from_arrays(np.array(self._log["time"]), self.actuators, np.array(self._log["effort"]),

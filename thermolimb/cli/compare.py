@@ -9,6 +9,8 @@ from ..identification import IdentifiabilityError
 from ..metrics import information_criteria
 from ..model.terms import TERMS, parse_model
 from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .types import output_dir
+
 
 def add_parser(sub):
     p = sub.add_parser(
@@ -21,7 +23,7 @@ def add_parser(sub):
                    help=f"a model to compare (repeat the option); terms: {', '.join(TERMS)}")
     add_validation(p)
     p.add_argument("--json", action="store_true", help="print the comparison as one JSON object")
-    p.add_argument("--plot", default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
+    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
     add_quiet(p)
     p.set_defaults(func=run)
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from ..demo_registry import load_demos, run_demo
 from ..report import build_report
 from .options import print_json
+from .types import output_dir
 
 
 def add_parser(sub):
@@ -15,14 +16,15 @@ def add_parser(sub):
                        description="Run a registered demo into OUT/NAME/: PNG plots and summary.json.")
     p.add_argument("name", nargs="?", default=None, help="demo name, or 'all'; omit to list them")
     p.add_argument("--quick", action="store_true", help="short mode (what make demo and the tests run)")
-    p.add_argument("--out", default="out", help="output folder (default out)")
+    p.add_argument("--out", type=output_dir, default="out", help="output folder (default out)")
     p.add_argument("--json", action="store_true", help="print the summary record(s)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=run)
 
     r = sub.add_parser("report", help="build OUT/index.html from the demos' results",
                        description="Write a static page showing every demo's plots and summary tables.")
-    r.add_argument("out", nargs="?", default="out", help="folder holding the demos' results (default out)")
+    r.add_argument("out", nargs="?", type=output_dir, default="out",
+                   help="folder holding the demos' results (default out)")
     r.set_defaults(func=run_report)
 
 

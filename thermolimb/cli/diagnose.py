@@ -7,6 +7,7 @@ from pathlib import Path
 from ..diagnosis import auto_diagnose, diagnose
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
 from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .types import output_dir
 
 
 def add_parser(sub):
@@ -29,7 +30,7 @@ def add_parser(sub):
                    help="refit only additions with a strong score test (default) or all of them; drops and swaps "
                         "are always refitted")
     p.add_argument("--json", action="store_true", help="print the diagnosis as one JSON object")
-    p.add_argument("--plot", default=None, metavar="DIR", help="write the diagnosis plots into DIR")
+    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write the diagnosis plots into DIR")
     add_quiet(p)
     p.set_defaults(func=run)
 

@@ -8,6 +8,7 @@ from ..evaluation import evaluate
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
 from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .types import output_dir
 
 
 def add_parser(sub):
@@ -27,7 +28,7 @@ def add_parser(sub):
     add_validation(p)
     p.add_argument("--json", action="store_true",
                    help="print one JSON object per actuator (a list when several actuators are fitted)")
-    p.add_argument("--plot", default=None, metavar="DIR", help="write fit_<actuator>.png plots into DIR")
+    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write fit_<actuator>.png plots into DIR")
     add_quiet(p)
     p.set_defaults(func=run)
 

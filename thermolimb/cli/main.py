@@ -14,8 +14,15 @@ COMMANDS = (simulate, fit, compare, diagnose, strategies, demo)
 USER_ERRORS = (ThermolimbError,)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse, with a usage mistake said in one line (``--help`` shows the usage) and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="thermolimb",
         description="Thermal models of robot actuators: simulate a thermal plant, identify models from "
         "logs, validate them, and run the demos.  Units: SI, temperatures in degC.",
@@ -34,6 +41,9 @@ def main(argv=None) -> int:
     except USER_ERRORS as exc:
         print(f"thermolimb {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # files being written are removed by their writers; earlier outputs stay intact
+        print(f"thermolimb {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

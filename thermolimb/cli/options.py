@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 
@@ -10,34 +9,13 @@ from ..errors import UsageError
 from ..evaluation import Scheme
 from ..jsonutil import to_jsonable
 from ..logs import VELOCITY_UNITS, ActuatorSeries, ThermalLog, parse_mapping, read_log
+from .types import folds, fraction
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
 
 
 def add_quiet(p):
     p.add_argument("--quiet", action="store_true", help="no progress bars")
-
-
-def fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}") from None
-    if not 0.0 < value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1 (exclusive), got {text!r}")
-    return value
-
-
-def folds(text: str):
-    if text == "runs":
-        return "runs"
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more) or 'runs', got {text!r}") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs'), got {text!r}")
-    return value
 
 
 def add_log_input(p):

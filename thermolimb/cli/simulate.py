@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from ..errors import UsageError
+from ..logs.table import kind_of
 from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
 from .options import add_quiet, print_json
+from .types import AMBIENT_C, SEED, number, output_file
 
+MAX_ROWS = 30_000_000  # about 2 GB of log in memory
 DEFAULT_ACTUATORS = "knee:X8-9,hip:X8-16,ankle:X8-9"
 
 
@@ -18,8 +21,10 @@ def add_parser(sub):
     p.add_argument("--profile", default="squat", choices=sorted(PROFILES),
                    help="squat: the seed's Fig. 5 squat every 4.5 min; single_leg: balancing on one leg; "
                         "walking: walking bouts and rests; random: random holds and motions (default squat)")
-    p.add_argument("--duration", type=float, default=3600.0, help="simulated time in s (default 3600)")
-    p.add_argument("--dt", type=float, default=0.1, help="control and logging interval in s (default 0.1)")
+    p.add_argument("--duration", type=number(0.0, 1e8, low_open=True, unit="s"), default=3600.0,
+                   help="simulated time in s (default 3600)")
+    p.add_argument("--dt", type=number(0.0, 3600.0, low_open=True, unit="s"), default=0.1,
+                   help="control and logging interval in s (default 0.1)")
     p.add_argument("--actuators", default=DEFAULT_ACTUATORS, metavar="NAME:MODEL,...",
                    help=f"actuators and their models ({', '.join(ACTUATOR_SPECS)}); default {DEFAULT_ACTUATORS}")
     p.add_argument("--network", default="x8", choices=sorted(NETWORKS),
@@ -27,14 +32,15 @@ def add_parser(sub):
     p.add_argument("--effects", default="sensor_noise,quantisation", metavar="NAME,...",
                    help=f"plant effects to switch on, or 'none' (default sensor_noise,quantisation); "
                         f"known: {', '.join(EFFECT_TYPES)}")
-    p.add_argument("--load-scale", type=float, default=1.0,
+    p.add_argument("--load-scale", type=number(0.0, 100.0), default=1.0,
                    help="multiply every effort (a heavier payload), before the effort limits (default 1)")
-    p.add_argument("--ambient", type=float, default=25.0, help="ambient temperature at t = 0 in degC (default 25)")
+    p.add_argument("--ambient", type=AMBIENT_C, default=25.0,
+                   help="ambient temperature at t = 0 in degC, -60 to 150 (default 25)")
     p.add_argument("--drivers", action="store_true", help="also log each driver board as '<actuator>/driver'")
     p.add_argument("--housing-sensor", action="store_true",
                    help="log a second thermistor on each actuator's housing (column 'housing', degC)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the profile and the sensor noise (default 0)")
-    p.add_argument("--out", required=True, help="log file to write (.csv or .parquet)")
+    p.add_argument("--seed", type=SEED, default=0, help="seed of the profile and the sensor noise (default 0)")
+    p.add_argument("--out", type=output_file, required=True, help="log file to write (.csv or .parquet)")
     p.add_argument("--json", action="store_true", help="print a summary record")
     add_quiet(p)
     p.set_defaults(func=run)
@@ -53,6 +59,12 @@ def parse_actuators(text: str):
 
 def run(args) -> int:
     names, specs = parse_actuators(args.actuators)
+    samples = args.duration / args.dt
+    if samples * len(names) > MAX_ROWS:
+        raise UsageError(f"--duration {args.duration:g} s at --dt {args.dt:g} s is {samples:.3g} samples of "
+                         f"{len(names)} actuators; at most {MAX_ROWS:,} rows are written (a longer --dt or a "
+                         "shorter --duration)")
+    kind_of(args.out)
     effects = PlantEffects.from_names(args.effects)
     result = simulate_profile(args.profile, args.duration, args.dt, names, specs, effects, seed=args.seed,
                               ambient_C=args.ambient, network=NETWORKS[args.network],

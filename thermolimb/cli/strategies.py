@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import UsageError
 from .options import add_quiet, print_json
+from .types import SEED, integer, number, output_dir
 
 
 def add_parser(sub):
@@ -18,15 +18,16 @@ def add_parser(sub):
     p.add_argument("--env", required=True, metavar="ID",
                    help="environment id: thermolimb/HumanoidThermalRecovery-v0, thermolimb/HexapodLoadCarry-v0 or one "
                    "of another installed robot package")
-    p.add_argument("--episodes", type=int, default=4, help="episodes per strategy (default 4)")
-    p.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    p.add_argument("--episodes", type=integer(1, 10_000), default=4, help="episodes per strategy (default 4)")
+    p.add_argument("--seed", type=SEED, default=0, help="first seed (default 0)")
     p.add_argument("--strategies", default=None, metavar="NAME,...", help="subset of strategies (default all)")
-    p.add_argument("--max-time", type=float, default=None, help="episode time limit in s (default the environment's)")
+    p.add_argument("--max-time", type=number(0.0, 1e7, low_open=True, unit="s"), default=None,
+                   help="episode time limit in s (default the environment's)")
     p.add_argument("--backend", choices=("process", "ray"), default="process",
                    help="local process pool (default) or Ray tasks (optional extra 'ray')")
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
-    p.add_argument("--workers", type=int, default=2, help="processes of the local pool (default 2)")
-    p.add_argument("--plot", default="out/strategies", metavar="DIR", help="folder for the plot (default out/strategies)")
+    p.add_argument("--workers", type=integer(1, 256), default=2, help="processes of the local pool (default 2)")
+    p.add_argument("--plot", type=output_dir, default="out/strategies", metavar="DIR", help="folder for the plot (default out/strategies)")
     p.add_argument("--json", action="store_true", help="print the table and every episode as JSON")
     add_quiet(p)
     p.set_defaults(func=run)
@@ -36,8 +37,6 @@ def run(args) -> int:
     from ..envs.evaluate import evaluate
     from ..envs.report import episodes_json, format_table, plot_table, table
 
-    if args.episodes < 1:
-        raise UsageError(f"--episodes must be at least 1, got {args.episodes}")
     strategies = args.strategies.split(",") if args.strategies else None
     episodes = evaluate(args.env, args.episodes, args.seed, strategies, backend=args.backend, workers=args.workers,
                         address=args.address, max_time_s=args.max_time)

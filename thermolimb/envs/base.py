@@ -1,24 +1,76 @@
-"""What both environments share: a robot world rebuilt at every reset, rendered offscreen, closed once."""
+"""What every environment of the suite shares: a robot world rebuilt at every reset, decisions at a fixed
+rate, actions checked against the action space, episodes that end, rendering offscreen, closing once."""
 
 from __future__ import annotations
 
+import math
+
 import gymnasium as gym
+import numpy as np
 
 
 class RigEnv(gym.Env):
-    """Base of the suite's environments: ``self.sim`` is the current world (a :class:`thermolimb.rig.BulletRig`)."""
+    """Base of the suite's environments: ``self.sim`` is the current world (a :class:`thermolimb.rig.BulletRig`).
+
+    Subclasses call :meth:`_begin_step` first in ``step`` (it checks the
+    action and returns it as an array) and :meth:`_end_step` last (it
+    counts decision steps and says whether the episode is truncated).  An
+    episode of ``max_time_s`` has ``ceil(max_time_s / decision_s)`` decision
+    steps; stepping after it ended, or with an action the action space does
+    not contain (non-finite numbers, a mode out of range), raises a
+    ``ValueError`` or ``RuntimeError`` naming what is wrong, and the
+    environment stays usable.
+    """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
+    LOG_CAPACITY = 3000  # control steps of rig log kept in memory: an episode's memory stays flat however long
 
-    def __init__(self, render_mode: str | None = None):
+    def __init__(self, max_time_s: float, decision_s: float, render_mode: str | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        for name, value in (("max_time_s", max_time_s), ("decision_s", decision_s)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a positive, finite number of seconds, got {value!r}")
         self.render_mode = render_mode
+        self.max_time_s = float(max_time_s)
+        self.decision_s = float(decision_s)
+        self.max_steps = math.ceil(self.max_time_s / self.decision_s - 1e-9)
         self.sim = None
+        self.steps = 0
+        self._ended = False
 
-    def _require_reset(self) -> None:
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        self.close()
+        self.steps = 0
+        self._ended = False
+
+    def _begin_step(self, action) -> np.ndarray:
         if self.sim is None:
             raise RuntimeError("call reset() before step()")
+        if self._ended:
+            raise RuntimeError("the episode has ended (terminated or truncated); call reset() before step()")
+        space = self.action_space
+        if isinstance(space, gym.spaces.Discrete):
+            value = np.asarray(action)
+            if value.shape != () or not np.issubdtype(value.dtype, np.number) or not np.isfinite(value) \
+                    or value != np.round(value) or not space.contains(int(value)):
+                raise ValueError(f"action must be a whole number from {space.start} to {space.start + space.n - 1}, "
+                                 f"got {action!r}")
+            return np.asarray(int(value))
+        value = np.asarray(action, dtype=float)
+        if value.shape != space.shape:
+            raise ValueError(f"action must have shape {space.shape}, got {value.shape}")
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"action must be finite, got {value.tolist()}")
+        return value
+
+    def _end_step(self, terminated: bool) -> bool:
+        """Count the step; whether the episode is truncated (time is up and it did not terminate)."""
+        self.steps += 1
+        truncated = (not terminated) and self.steps >= self.max_steps
+        self._ended = terminated or truncated
+        return truncated
 
     def close(self):
         if self.sim is not None:

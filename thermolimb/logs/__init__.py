@@ -23,8 +23,18 @@ Every problem with a file raises :class:`LogError` with one sentence naming the
 file, the column and what is expected.
 """
 
-from .log import (GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES, VELOCITY_UNITS, ActuatorSeries, ThermalLog, from_frame, gaps,
-                  log_from_arrays, read_log)
+from .log import (
+                  GAP_FACTOR,
+                  GAP_MIN_S,
+                  MIN_SAMPLES,
+                  VELOCITY_UNITS,
+                  ActuatorSeries,
+                  ThermalLog,
+                  from_frame,
+                  gaps,
+                  log_from_arrays,
+                  read_log,
+)
 from .mapping import OPTIONAL, REQUIRED, UNITS, parse_mapping
 from .table import LogError
 

@@ -9,6 +9,7 @@ from typing import Mapping
 import numpy as np
 import pandas as pd
 
+from ..atomic import atomic_path
 from ..model.signals import Signals
 from .mapping import OPTIONAL, REQUIRED, UNITS, expand_joints, is_pattern
 from .table import LogError, kind_of, read_table, time_seconds
@@ -161,16 +162,11 @@ class ThermalLog:
         """Write CSV or Parquet (by suffix), whole or not at all."""
         path = Path(path)
         kind = kind_of(path)
-        tmp = path.with_name(path.name + ".partial")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        try:
+        with atomic_path(path) as tmp:
             if kind == "csv":
                 self.frame.to_csv(tmp, index=False)
             else:
                 self.frame.to_parquet(tmp, index=False)
-            tmp.replace(path)
-        finally:
-            tmp.unlink(missing_ok=True)
         return path
 
 

@@ -1,9 +1,32 @@
 """The thermal plant: the rig's "hardware" that heats every simulated actuator."""
 
-from .effects import (AmbientDrift, ConvectionBySpeed, CopperTempco, EFFECT_TYPES, FieldWeakening, FrictionIronLosses,
-                      NeighborConduction, PlantEffects, Quantisation, SensorNoise, SeriesElasticBias, ThermistorLag)
-from .network import (ACTUATOR_SPECS, FIRST_ORDER_NETWORK, NETWORKS, SECOND_ORDER_NETWORK, X5_NETWORK, X8_9,
-                      X8_16, X8_NETWORK, ActuatorSpec, DriverSpec, ThermalNetwork)
+from .effects import (
+                      EFFECT_TYPES,
+                      AmbientDrift,
+                      ConvectionBySpeed,
+                      CopperTempco,
+                      FieldWeakening,
+                      FrictionIronLosses,
+                      NeighborConduction,
+                      PlantEffects,
+                      Quantisation,
+                      SensorNoise,
+                      SeriesElasticBias,
+                      ThermistorLag,
+)
+from .network import (
+                      ACTUATOR_SPECS,
+                      FIRST_ORDER_NETWORK,
+                      NETWORKS,
+                      SECOND_ORDER_NETWORK,
+                      X5_NETWORK,
+                      X8_9,
+                      X8_16,
+                      X8_NETWORK,
+                      ActuatorSpec,
+                      DriverSpec,
+                      ThermalNetwork,
+)
 from .plant import ThermalPlant, ThermalProtection
 from .profiles import PROFILES, Profile
 from .run import PlantRun, run_profile, simulate_profile

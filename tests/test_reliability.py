@@ -1,0 +1,127 @@
+"""Careless input on every command: one sentence and exit 2, checked before any work, nothing half-written."""
+
+import json
+import os
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.logs import from_frame, read_log
+
+
+def run(argv, capsys) -> tuple[int, str]:
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:  # argparse: a mistake in the options
+        code = exc.code
+    err = capsys.readouterr().err
+    return code, err
+
+
+def one_sentence(err: str) -> bool:
+    return "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.fixture
+def small_log(tmp_path):
+    t = np.arange(200.0)
+    frame = pd.DataFrame({"time": t, "actuator": "knee", "effort": 5 + 3 * np.sin(t / 20),
+                          "temperature": 30 + 0.02 * t})
+    path = tmp_path / "small.csv"
+    from_frame(frame).write(path)
+    return path
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["simulate", "--duration", "inf", "--out", "{tmp}/a.csv"], "--duration"),
+    (["simulate", "--duration", "nan", "--out", "{tmp}/a.csv"], "--duration"),
+    (["simulate", "--ambient", "-500", "--out", "{tmp}/a.csv"], "--ambient"),
+    (["simulate", "--ambient", "nan", "--out", "{tmp}/a.csv"], "--ambient"),
+    (["simulate", "--dt", "0", "--out", "{tmp}/a.csv"], "--dt"),
+    (["simulate", "--seed", "-1", "--out", "{tmp}/a.csv"], "--seed"),
+    (["simulate", "--load-scale", "-2", "--out", "{tmp}/a.csv"], "--load-scale"),
+    (["simulate", "--out", "{tmp}"], "--out"),  # a directory
+    (["simulate", "--out", "{file}/a.csv"], "--out"),  # inside a file
+    (["compare-strategies", "--env", "x", "--seed", "-1"], "--seed"),
+    (["compare-strategies", "--env", "x", "--workers", "0"], "--workers"),
+    (["compare-strategies", "--env", "x", "--episodes", "0"], "--episodes"),
+    (["compare-strategies", "--env", "x", "--max-time", "nan"], "--max-time"),
+    (["fit", "{log}", "--cv", "0"], "--cv"),
+    (["fit", "{log}", "--split", "1.5"], "--split"),
+    (["fit", "{log}", "--plot", "{file}"], "--plot"),
+    (["diagnose", "{log}", "--plot", "{file}"], "--plot"),
+    (["demo", "diagnose", "--out", "{file}"], "--out"),
+    (["report", "{file}"], "out"),
+])
+def test_options_out_of_range_are_refused_at_parse_time(argv, option, tmp_path, small_log, capsys):
+    (tmp_path / "file").write_text("x")
+    argv = [a.format(tmp=tmp_path, file=tmp_path / "file", log=small_log) for a in argv]
+    code, err = run(argv, capsys)
+    assert code == 2
+    assert one_sentence(err) and option in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["file", "small.csv"])  # nothing written
+
+
+def test_a_simulation_too_long_to_hold_is_refused_before_it_starts(tmp_path, capsys):
+    code, err = run(["simulate", "--duration", "1e8", "--dt", "0.001", "--out", tmp_path / "a.csv"], capsys)
+    assert code == 2 and one_sentence(err) and "rows are written" in err
+    assert not list(tmp_path.iterdir())
+
+
+def test_corrupt_summary_is_named(tmp_path, capsys):
+    (tmp_path / "thermal-fit").mkdir()
+    (tmp_path / "thermal-fit" / "summary.json").write_text("{not json")
+    code, err = run(["report", tmp_path], capsys)
+    assert code == 2 and one_sentence(err) and "thermal-fit/summary.json" in err
+    assert not (tmp_path / "index.html").exists()
+
+
+def _no_temporaries(folder) -> bool:
+    return not [p for p in folder.rglob("*") if "partial" in p.name]
+
+
+def test_an_interrupted_write_leaves_the_previous_log_and_no_temporary(tmp_path, small_log, monkeypatch):
+    target = tmp_path / "out.csv"
+    target.write_text("previous\n")
+    log = read_log(small_log)
+
+    def interrupted(self, path, **kwargs):
+        with open(path, "w") as f:
+            f.write("half a log")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        log.write(target)
+    assert target.read_text() == "previous\n"
+    assert _no_temporaries(tmp_path)
+
+
+def test_a_failing_report_leaves_the_previous_index(tmp_path, capsys, monkeypatch):
+    (tmp_path / "demo").mkdir()
+    (tmp_path / "demo" / "summary.json").write_text(json.dumps({"a": 1.0}))
+    (tmp_path / "index.html").write_text("previous")
+
+    def broken(self, *args, **kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("pathlib.Path.write_text", broken)
+    with pytest.raises(OSError):
+        main(["report", str(tmp_path)])
+    monkeypatch.undo()
+    assert (tmp_path / "index.html").read_text() == "previous"
+    assert _no_temporaries(tmp_path)
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_a_read_only_output_folder_is_refused_before_any_work(tmp_path, small_log, capsys):
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        code, err = run(["fit", small_log, "--plot", locked / "plots"], capsys)
+    finally:
+        locked.chmod(0o700)
+    assert code == 2 and one_sentence(err) and "not writable" in err

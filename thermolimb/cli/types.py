@@ -1,0 +1,91 @@
+"""Argument types for the command line: each checks its range at parse time and names what it expects.
+
+argparse turns the ``ArgumentTypeError`` into one line naming the option,
+and exit status 2, before any work is done.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from ..atomic import check_output_dir, check_output_file
+from ..errors import UsageError
+
+
+def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False, unit: str = ""):
+    """A finite float in ``[low, high]`` (``(low, high]`` with ``low_open``)."""
+    what = f"a number {'>' if low_open else '>='} {low:g}" if math.isfinite(low) else "a finite number"
+    if math.isfinite(high):
+        what += f" and <= {high:g}"
+    what += f" {unit}".rstrip()
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
+        if not math.isfinite(value) or value > high or value < low or (low_open and value == low):
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
+        return value
+
+    return parse
+
+
+def integer(low: int = 0, high: int | None = None):
+    """A whole number in ``[low, high]``."""
+    what = f"a whole number >= {low}" + (f" and <= {high}" if high is not None else "")
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
+        if value < low or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
+        return value
+
+    return parse
+
+
+def fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}") from None
+    if not 0.0 < value < 1.0:
+        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1 (exclusive), got {text!r}")
+    return value
+
+
+def folds(text: str):
+    if text == "runs":
+        return "runs"
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more) or 'runs', got {text!r}") from None
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs'), got {text!r}")
+    return value
+
+
+def _checked(check, text: str):
+    try:
+        return check(text)
+    except UsageError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def output_file(text: str):
+    """A file to write: not a directory, in a folder that can be made and written."""
+    return _checked(lambda t: check_output_file(t, "file"), text)
+
+
+def output_dir(text: str):
+    """A folder to write into: not a file, and writable."""
+    return _checked(lambda t: check_output_dir(t, "folder"), text)
+
+
+SEED = integer(0, 2**32 - 1)
+AMBIENT_C = number(-60.0, 150.0, unit="degC")
