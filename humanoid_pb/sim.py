@@ -52,9 +52,11 @@ class HumanoidSim(BulletRig):
     def actuator_velocities(self, q, qd):
         return actuators.velocities(self.rods, q, qd)
 
+    def derating_fraction(self, q):
+        return actuators.joint_fractions(self.plant.derating())
+
     def derated_torques(self, q, torques_Nm):
-        fraction = self.plant.derating()
-        return torques_Nm * actuators.joint_fractions(fraction)
+        return torques_Nm * self.derating_fraction(q)
 
     # --------------------------------------------------------------- sensing
     def read(self) -> Reading:

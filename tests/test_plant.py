@@ -97,8 +97,10 @@ def test_with_no_heat_every_node_stays_within_the_ambient_it_has_seen_and_follow
 def test_thermal_protection_derates_near_the_limit():
     protection = ThermalProtection(margin_K=15.0)
     np.testing.assert_allclose(protection.fraction([100.0, 147.5, 160.0], X8_9.winding_limit_C), [1.0, 0.5, 0.0])
-    plant = ThermalPlant(["a"], [X8_9], initial_C=150.0)
+    plant = ThermalPlant(["a"], [X8_9], initial_C=150.0, protection=ThermalProtection(estimator="measured"))
     assert plant.derate(np.array([10.0]))[0] == pytest.approx(10.0 / 3.0)
+    observed = ThermalPlant(["a"], [X8_9], initial_C=150.0)  # the observer adds its uncertainty: derates more
+    assert observed.derate(np.array([10.0]))[0] < 10.0 / 3.0
 
 
 def test_same_seed_same_log_and_other_seed_differs():

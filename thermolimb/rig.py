@@ -124,6 +124,10 @@ class BulletRig:
     def actuator_velocities(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         return qd
 
+    def derating_fraction(self, q: np.ndarray) -> np.ndarray:
+        """Per joint, the share of torque thermal protection allows now (one actuator per joint by default)."""
+        return self.plant.derating()
+
     def derated_torques(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
         """Joint torques after thermal protection (one-to-one by default)."""
         return self.plant.derate(torques_Nm)
@@ -210,7 +214,7 @@ class BulletRig:
         controller sends them; the plant and the log see the period's mean.
         """
         q, _ = self.joint_states()
-        fraction = self.derated_torques(q, np.ones(len(self.joints)))
+        fraction = self.derating_fraction(q)
         c = self.client
         total = np.zeros(len(self.joints))
         for _ in range(self.config.substeps):

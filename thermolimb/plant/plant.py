@@ -20,6 +20,7 @@ from typing import Sequence
 import numpy as np
 from scipy.linalg import expm
 
+from ..observer import WindingObserver
 from .effects import PlantEffects
 from .network import ActuatorSpec
 
@@ -30,13 +31,25 @@ class ThermalProtection:
 
     The allowed effort fraction falls linearly from 1 at ``margin_K`` below an
     actuator's winding limit (``ActuatorSpec.winding_limit_C``) to
-    ``min_fraction`` at the limit (measured winding temperature).
+    ``min_fraction`` at the limit.  ``estimator`` says which temperature it
+    acts on: ``"observer"`` (default) the winding estimated by a
+    :class:`~thermolimb.observer.WindingObserver` from the measured current and
+    thermistor, plus ``sigmas`` of its uncertainty; ``"measured"`` the lagged
+    thermistor reading itself, which lets the true winding overshoot.  With
+    the observer the current is also capped so that the winding predicted at
+    the end of the next interval stays ``guard_K`` plus ``sigmas`` below
+    the limit (see :meth:`ThermalPlant.derate`).
     """
 
     margin_K: float = 15.0
     min_fraction: float = 0.0
+    estimator: str = "observer"
+    sigmas: float = 2.0
+    guard_K: float = 4.0  # what the observer's model may miss over one control period (measured: a few K)
 
     def __post_init__(self):
+        if self.estimator not in ("observer", "measured"):
+            raise ValueError(f"ThermalProtection estimator must be 'observer' or 'measured', got {self.estimator!r}")
         if not self.margin_K > 0:
             raise ValueError(f"ThermalProtection needs margin_K > 0, got {self.margin_K}")
         if not 0.0 <= self.min_fraction <= 1.0:
@@ -88,6 +101,8 @@ class ThermalPlant:
         self.ambient0_C = float(ambient_C)
         self.protection = protection
         self.winding_limits_C = np.array([spec.winding_limit_C for spec in self.specs])
+        self.observer = None
+        self._applied_fraction = np.ones(len(self.specs))  # the share of current protection allowed last
         self._rng = rng
         self._build_network()
         self.time_s = 0.0
@@ -96,6 +111,13 @@ class ThermalPlant:
         self._discretised: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.current_A = np.zeros(self.n)
         self._measure()
+        if protection.estimator == "observer":
+            lag = effects.sensor_lag.time_constant_s if effects.sensor_lag is not None else None
+            noise = effects.sensor_noise.std_K if effects.sensor_noise is not None else 0.0
+            step = effects.quantisation.step_K if effects.quantisation is not None else 0.0
+            alpha = effects.winding_tempco.alpha_per_K if effects.winding_tempco is not None else 0.0
+            self.observer = WindingObserver(self.specs, lag, start, np.sqrt(noise**2 + step**2 / 12 + 0.01**2),
+                                            copper_alpha_per_K=alpha)
 
     # ----------------------------------------------------------------- layout
     @property
@@ -194,21 +216,27 @@ class ThermalPlant:
             + var.amplitude_K * np.sin(2.0 * np.pi * time_s / var.period_s)
         )
 
+    def _current_sq(self, effort: np.ndarray, speed: np.ndarray, field_share) -> np.ndarray:
+        """Squared motor current (A^2): torque current from the effort (less a series-elastic bias) and
+        field-weakening current above the base speed, scaled by ``field_share`` (thermal protection caps the
+        whole current; the motor then falls short of that speed, which this kinematic plant does not model)."""
+        fx = self.effects
+        torque_effort = effort - fx.effort_bias.bias_effort if fx.effort_bias else effort
+        i_q = torque_effort / self._effort_per_amp
+        i_d = 0.0
+        if fx.field_weakening is not None:
+            fw = fx.field_weakening
+            i_d = fw.current_A_per_rad_s * np.maximum(speed - fw.base_speed_rad_s, 0.0) * field_share
+        return i_q**2 + i_d**2
+
     def heat_W(self, effort: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         """Heat into every state node (W) for efforts and velocities held over the next interval.
 
         Also updates :attr:`current_A`, the motor current magnitude.
         """
         fx = self.effects
-        effort = np.asarray(effort, dtype=float)
         speed = np.abs(np.asarray(velocity, dtype=float))
-        torque_effort = effort - fx.effort_bias.bias_effort if fx.effort_bias else effort
-        i_q = torque_effort / self._effort_per_amp
-        i_d = 0.0
-        if fx.field_weakening is not None:
-            fw = fx.field_weakening
-            i_d = fw.current_A_per_rad_s * np.maximum(speed - fw.base_speed_rad_s, 0.0)
-        current_sq = i_q**2 + i_d**2
+        current_sq = self._current_sq(np.asarray(effort, dtype=float), speed, self._applied_fraction)
         self.current_A = np.sqrt(current_sq)
         resistance = self._resistance_ohm
         if fx.winding_tempco is not None:
@@ -236,6 +264,8 @@ class ThermalPlant:
             if self._driver[i] >= 0:
                 self._x[self._driver[i]] = temperature_C[i]
         self._measure()
+        if self.observer is not None:
+            self.observer.reset(temperature_C)
 
     # ------------------------------------------------------------------ steps
     def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:
@@ -245,9 +275,12 @@ class ThermalPlant:
         velocity = np.zeros(self.n) if velocity is None else velocity
         q = self.heat_W(effort, velocity)
         Phi, Gamma = self._discretisation(dt_s)
-        self._x = Phi @ self._x + Gamma @ np.append(q, self.ambient_at(self.time_s))
+        ambient = self.ambient_at(self.time_s)
+        self._x = Phi @ self._x + Gamma @ np.append(q, ambient)
         self.time_s += dt_s
         self._measure()
+        if self.observer is not None:
+            self.observer.update(self.current_A, self._measured_core, ambient, dt_s, velocity)
 
     def _measure(self):
         readings = self.read(np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]]))
@@ -300,13 +333,39 @@ class ThermalPlant:
     def ambient_C(self) -> float:
         return self.ambient_at(self.time_s)
 
+    @property
+    def protected_C(self) -> np.ndarray:
+        """The winding temperature thermal protection acts on (degC): estimated plus its margin, or measured."""
+        if self.observer is None:
+            return self._measured_core.copy()
+        return self.observer.winding_C + self.protection.sigmas * self.observer.winding_std_K
+
     def derating(self) -> np.ndarray:
         """Fraction of the commanded effort thermal protection allows each actuator now."""
-        return self.protection.fraction(self._measured_core, self.winding_limits_C)
+        return self.protection.fraction(self.protected_C, self.winding_limits_C)
 
-    def derate(self, effort: np.ndarray) -> np.ndarray:
-        """Efforts after thermal protection, from the measured winding temperatures."""
-        return np.asarray(effort) * self.derating()
+    def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
+        """Efforts after thermal protection: the motor's share of each (all of it, less a series-elastic bias)
+        scaled by :meth:`derating`.
+
+        Given the interval ``dt_s`` it will be held for (and the speeds), the
+        observer also caps the current so that the winding it predicts at the
+        interval's end stays below the limit: a winding heats by tens of
+        kelvin a second at peak current, faster than a slow control period
+        can react to.  Field-weakening current is scaled by the same share.
+        """
+        effort = np.asarray(effort, dtype=float)
+        bias = self.effects.effort_bias.bias_effort if self.effects.effort_bias is not None else 0.0
+        fraction = self.derating()
+        if self.observer is not None and dt_s is not None:
+            speed = np.zeros(self.n) if velocity is None else np.abs(np.asarray(velocity, float))
+            current = np.sqrt(self._current_sq(effort, speed, 1.0))
+            margin = self.protection.guard_K + self.protection.sigmas * self.observer.winding_std_K
+            cap = self.observer.current_fraction_cap(current, self.winding_limits_C - margin,
+                                                     self.ambient_at(self.time_s), dt_s, speed)
+            fraction = np.minimum(fraction, cap)
+        self._applied_fraction = fraction
+        return bias + (effort - bias) * fraction
 
     def steady_state_rise_K(self, heat_W: float, actuator: int = 0) -> float:
         """Winding rise above ambient for constant winding heat, from the network alone."""

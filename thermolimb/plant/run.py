@@ -53,7 +53,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     ambient = np.empty(n)
     housing = np.empty((n, m)) if housing_sensor else None
     for k in progress(range(n), desc="plant", disable=quiet, unit="step"):
-        effort[k] = plant.derate(np.clip(profile.load[k] * continuous, -limit, limit))
+        dt = t[k + 1] - t[k] if k + 1 < n else None
+        effort[k] = plant.derate(np.clip(profile.load[k] * continuous, -limit, limit), velocity[k], dt)
         winding[k] = plant.winding_C
         measured[k] = plant.measured_C
         if housing_sensor:
