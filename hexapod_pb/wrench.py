@@ -418,10 +418,7 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
     """
     p = problem
     nf = 3 * p.n
-    decay = np.exp(-horizon_s / bank.RC_s)
-    a = temperature_C * decay + bank.T_offset_C * (1 - decay)
-    b = -bank.beta_biasR_K_per_effort * (1 - decay)
-    cq = bank.betaR_K_per_effort2 * (1 - decay)
+    a, b, cq = bank.ahead_coefficients(temperature_C, horizon_s)
     E = p.equilibrium
     start = time.perf_counter()
     sol = minimax(p)  # a good first point: the torque minimax

@@ -179,3 +179,28 @@ def test_the_rig_log_of_a_long_episode_stays_bounded():
         steps = log.series(log.actuators[0]).n
         assert steps == env.LOG_CAPACITY
         assert log.series(log.actuators[0]).time_s[-1] == pytest.approx(env.sim.time_s - env.sim.config.control_dt_s)
+
+
+def test_hexapod_reward_terms_mean_what_they_say():
+    with closing(gym.make(HEXAPOD_ID, max_time_s=30.0).unwrapped) as env:
+        env.reset(seed=0)
+        walk = np.array([0.0, 1.0, 0.0, 1.0], dtype=np.float32)
+        for _ in range(2):
+            *_, info = env.step(walk)
+        assert info["reward_terms"]["distance"] > 0.02  # walking forward earns metres
+        assert info["reward_terms"]["overheat"] == 0.0 and info["max_temperature_C"] < 120.0
+        env.sim.plant.set_temperatures(np.full(18, 130.0))
+        *_, info = env.step(np.array([1.0, 0.0, 0.0, 0.0], dtype=np.float32))  # standing
+        assert abs(info["reward_terms"]["distance"]) < 0.02
+        assert info["reward_terms"]["overheat"] < 0.0  # hot windings cost
+
+
+def test_humanoid_reward_terms_mean_what_they_say():
+    with closing(gym.make(HUMANOID_ID, max_time_s=30.0).unwrapped) as env:
+        _, info = env.reset(seed=0)  # one leg starts between 72 and 80 degC
+        before = info["max_temperature_C"]
+        *_, info = env.step(0)  # double support
+        terms = info["reward_terms"]
+        assert terms["cooling"] == pytest.approx(before - info["max_temperature_C"])  # positive when it cools
+        assert terms["warning"] < 0.0  # actuators above 75 degC
+        assert terms["effort"] < 0.0 and terms["fall"] == 0.0

@@ -36,6 +36,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     logs a second thermistor on each actuator's housing node (column ``housing``).
     """
     m = plant.n
+    if include_drivers and housing_sensor and plant.driver_names:
+        raise UsageError("a log with driver channels cannot also carry housing sensors; choose one")
     if profile.load.shape[1] != m:
         raise ValueError(f"profile has {profile.load.shape[1]} actuators, plant has {m}")
     continuous = np.array([s.continuous_effort for s in plant.specs])
@@ -66,8 +68,6 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
             plant.step(effort[k], velocity[k], t[k + 1] - t[k])
         current[k] = plant.current_A
     names = plant.names
-    if n_drivers and housing_sensor:
-        raise UsageError("a log with driver channels cannot also carry housing sensors; choose one")
     if n_drivers:
         has = [i for i, s in enumerate(plant.specs) if s.driver is not None]
         names = names + plant.driver_names
