@@ -7,8 +7,16 @@ import pytest
 
 from thermolimb.evaluation import make_estimator
 from thermolimb.observer import WindingObserver, observe_log
-from thermolimb.plant import (EFFECT_TYPES, FIRST_ORDER_NETWORK, X8_9, X8_16, PlantEffects, ThermalPlant,
-                              ThermalProtection, run_profile)
+from thermolimb.plant import (
+    EFFECT_TYPES,
+    FIRST_ORDER_NETWORK,
+    X8_9,
+    X8_16,
+    PlantEffects,
+    ThermalPlant,
+    ThermalProtection,
+    run_profile,
+)
 from thermolimb.plant.profiles import PROFILES
 
 
