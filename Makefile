@@ -32,6 +32,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/wrench.py
 	$(BIN)/python benchmarks/thermal_ik.py
 	$(BIN)/python benchmarks/envs.py
+	$(BIN)/python benchmarks/protection.py
+	$(BIN)/python benchmarks/hidden_effects.py
 
 clean:
 	rm -rf $(VENV) $(OUT) *.egg-info

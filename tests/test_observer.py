@@ -21,18 +21,9 @@ from thermolimb.plant.profiles import PROFILES
 
 
 def drive(plant, profile, scale=1.0):
-    """Run ``profile`` through ``plant`` with protection, recording true, measured and estimated windings."""
-    continuous = np.array([s.continuous_effort for s in plant.specs])
-    limit = np.array([s.effort_limit for s in plant.specs])
-    true, measured, estimate = [], [], []
-    for k in range(profile.time_s.size - 1):
-        effort = plant.derate(np.clip(scale * profile.load[k] * continuous, -limit, limit),
-                              profile.velocity_rad_s[k], 1.0)
-        plant.step(effort, profile.velocity_rad_s[k], 1.0)
-        true.append(plant.winding_C)
-        measured.append(plant.measured_C)
-        estimate.append(plant.observer.winding_C if plant.observer is not None else plant.measured_C)
-    return np.array(true), np.array(measured), np.array(estimate)
+    """Run ``profile`` through ``plant`` with its protection: true, measured and estimated windings."""
+    run = run_profile(plant, replace(profile, load=profile.load * scale))
+    return run.true_winding_C, run.measured_C, run.estimated_C
 
 
 def test_with_the_plants_own_model_the_estimate_is_exact():

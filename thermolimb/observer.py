@@ -87,6 +87,7 @@ class WindingObserver:
                 A[self.sensor, 0] = 1.0 / sensor_tau_s
                 A[self.sensor, self.sensor] = -1.0 / sensor_tau_s
         self._cache: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._last_speed = (None, None)
         self.reset(initial_C)
 
     def reset(self, temperature_C) -> None:
@@ -130,20 +131,23 @@ class WindingObserver:
         if speed_rad_s is None:
             return Phi
         v = np.abs(np.broadcast_to(np.asarray(speed_rad_s, float), (self.m,)))
-        Phi = Phi.copy()
-        g = Phi[:, : self.heat, self.heat]
-        Phi[:, : self.heat, self.speed] = g * v[:, None]
-        Phi[:, : self.heat, self.speed + 1] = g * (v**2)[:, None]
-        return Phi
+        key = (id(Phi), v.tobytes())
+        if self._last_speed[0] != key:  # the plant asks twice per interval (cap, then update)
+            out = Phi.copy()
+            g = Phi[:, : self.heat, self.heat]
+            out[:, : self.heat, self.speed] = g * v[:, None]
+            out[:, : self.heat, self.speed + 1] = g * (v**2)[:, None]
+            self._last_speed = (key, out)
+        return self._last_speed[1]
 
     def predict(self, current_A: np.ndarray, ambient_C: float, dt_s: float,
                 speed_rad_s: np.ndarray | None = None) -> np.ndarray:
         """Advance the estimate over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held."""
         Phi, Gam, Qd = self._discrete(float(dt_s))
         Phi = self._with_speed(Phi, speed_rad_s)
-        u = np.stack([self.known_heat_W(current_A), np.full(self.m, float(ambient_C))], axis=1)
-        self.x = np.einsum("mij,mj->mi", Phi, self.x) + np.einsum("mij,mj->mi", Gam, u)
-        self.P = Phi @ self.P @ np.transpose(Phi, (0, 2, 1)) + Qd
+        heat = self.known_heat_W(current_A)
+        self.x = (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat[:, None] + Gam[:, :, 1] * float(ambient_C)
+        self.P = Phi @ self.P @ Phi.transpose(0, 2, 1) + Qd
         return self.winding_C
 
     def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
@@ -152,11 +156,10 @@ class WindingObserver:
         the reading at its end."""
         self.predict(current_A, ambient_C, dt_s, speed_rad_s)
         s = self.sensor
-        innovation = np.asarray(measured_C, float) - self.x[:, s]
-        variance = self.P[:, s, s] + self.r_meas
-        gain = self.P[:, :, s] / variance[:, None]
-        self.x = self.x + gain * innovation[:, None]
-        self.P = self.P - gain[:, :, None] * self.P[:, s, :][:, None, :]
+        column = self.P[:, :, s]
+        gain = column / (column[:, s] + self.r_meas)[:, None]
+        self.x += gain * (np.asarray(measured_C, float) - self.x[:, s])[:, None]
+        self.P -= gain[:, :, None] * column[:, None, :]  # P is symmetric: its row s is its column s
         return self.winding_C
 
     def current_fraction_cap(self, current_A: np.ndarray, limit_C, ambient_C: float, dt_s: float,
@@ -165,12 +168,13 @@ class WindingObserver:
         at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no current overshoots."""
         Phi, Gam, _ = self._discrete(float(dt_s))
         Phi = self._with_speed(Phi, speed_rad_s)
-        free = np.einsum("mj,mj->m", Phi[:, 0, :], self.x) + Gam[:, 0, 1] * float(ambient_C)
+        free = (Phi[:, 0, :] * self.x).sum(axis=1) + Gam[:, 0, 1] * float(ambient_C)
         full = Gam[:, 0, 0] * self.known_heat_W(current_A)
-        room = np.broadcast_to(np.asarray(limit_C, float), (self.m,)) - free
-        with np.errstate(divide="ignore", invalid="ignore"):
-            share = np.where(full > 0, np.sqrt(np.clip(room / full, 0.0, None)), np.where(room >= 0, 1.0, 0.0))
-        return np.clip(share, 0.0, 1.0)
+        room = limit_C - free
+        share = (room >= 0.0).astype(float)
+        heating = full > 0.0
+        share[heating] = np.sqrt(np.clip(room[heating] / full[heating], 0.0, 1.0))
+        return share
 
     @property
     def winding_C(self) -> np.ndarray:

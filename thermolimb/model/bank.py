@@ -70,6 +70,12 @@ class FirstOrderBank:
         decay = np.exp(-np.asarray(horizon_s) / self.RC_s)
         return initial_C * decay + self.equilibrium_C(effort) * (1.0 - decay)
 
+    def ahead_coefficients(self, initial_C: np.ndarray, horizon_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(a, b, c)`` with :meth:`ahead` ``= a + b F + c F^2`` per actuator: Eq. 25 as a quadratic in effort."""
+        decay = np.exp(-np.asarray(horizon_s) / self.RC_s)
+        return (initial_C * decay + self.T_offset_C * (1.0 - decay), -self.beta_biasR_K_per_effort * (1.0 - decay),
+                self.betaR_K_per_effort2 * (1.0 - decay))
+
     def ahead_gradient(self, effort: np.ndarray, horizon_s: float | np.ndarray) -> np.ndarray:
         """d T_i(horizon) / d F_i (the Jacobian is diagonal), same shape as ``effort``."""
         decay = np.exp(-np.asarray(horizon_s) / self.RC_s)

@@ -25,6 +25,7 @@ class PlantRun:
     effort: np.ndarray  # (n, m) applied efforts
     true_winding_C: np.ndarray  # (n, m)
     measured_C: np.ndarray  # (n, m)
+    estimated_C: np.ndarray | None = None  # (n, m) the protection observer's winding estimate, if it runs one
 
 
 def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = False,
@@ -49,6 +50,7 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     velocity = np.clip(profile.velocity_rad_s, -vlimit, vlimit)
     winding = np.empty((n, m))
     measured = np.empty((n, m))
+    estimated = np.empty((n, m)) if plant.observer is not None else None
     current = np.empty((n, m))
     n_drivers = len(plant.driver_names) if include_drivers else 0
     driver = np.empty((n, n_drivers))
@@ -59,6 +61,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
         effort[k] = plant.derate(np.clip(profile.load[k] * continuous, -limit, limit), velocity[k], dt)
         winding[k] = plant.winding_C
         measured[k] = plant.measured_C
+        if estimated is not None:
+            estimated[k] = plant.observer.winding_C
         if housing_sensor:
             housing[k] = plant.read(plant.node_C("housing"))
         if n_drivers:
@@ -78,7 +82,7 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     else:
         log = log_from_arrays(t, names, effort, measured, velocity=velocity, current_A=current, ambient_C=ambient,
                               housing_C=housing)
-    return PlantRun(log, t, effort, winding, measured)
+    return PlantRun(log, t, effort, winding, measured, estimated)
 
 
 def simulate_profile(
