@@ -48,9 +48,9 @@ def test_on_a_richer_plant_the_estimate_tracks_the_winding_the_thermistor_lags()
     plant = ThermalPlant(["a", "b"], [X8_9, X8_16], effects, rng=rng)
     true, measured, estimate = drive(plant, profile, scale=1.5)
     rms = lambda e: np.sqrt(np.mean(e**2, axis=0))  # noqa: E731
-    assert rms(estimate - true).max() < 1.5  # measured 1.05 K
-    assert rms(measured - true).min() > 4.0  # the thermistor: 6.1 and 6.9 K
-    assert np.abs(estimate - true).max() < 12.0  # measured 9.7 K, where the thermistor is 51 K off
+    assert rms(estimate - true).max() < 1.5  # measured 1.03 and 1.04 K
+    assert rms(measured - true).min() > 4.0  # the thermistor: 6.0 and 6.6 K
+    assert np.abs(estimate - true)[60:].max() < 8.0  # after its first minute; the thermistor is 51 K off
 
 
 def test_time_to_limit_matches_the_plant_at_constant_current():
@@ -109,5 +109,5 @@ def test_ten_hour_soak_with_every_effect_never_lets_the_winding_exceed_its_limit
         return drive(plant, profile, scale=3.0)[0].max(axis=0)
 
     limits = np.array([s.winding_limit_C for s in specs])
-    assert np.all(soak("observer") <= limits)  # measured: 153-154 degC
+    assert np.all(soak("observer") <= limits)  # measured: 152.8-154.5 degC
     assert np.any(soak("measured") > limits + 20.0)  # protection on the lagged thermistor: 215-335 degC
