@@ -1,32 +1,42 @@
 # Fresh machine: `make demo` and `make test` create .venv/, install the project
-# (editable, with its test extra) and run.
+# (editable; `make test` with its test extra) and run.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+PIP := $(BIN)/python -m pip install --quiet
+DEMO_STAMP := $(VENV)/.installed-demo
+TEST_STAMP := $(VENV)/.installed-test
 OUT ?= out
 
 .PHONY: demo test test-fast bench install clean
 
-$(STAMP): setup.cfg pyproject.toml
+$(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[test]"
-	touch $(STAMP)
 
-install: $(STAMP)
+# the suite and what its demos need (no test tools; PyTorch, Ray and Stable-Baselines3 only with their extras)
+$(DEMO_STAMP): setup.cfg pyproject.toml | $(BIN)/python
+	$(PIP) -e .
+	touch $(DEMO_STAMP)
 
-demo: $(STAMP)
+# the suite with its test extra (pytest, hypothesis, and the optional backends the tests exercise)
+$(TEST_STAMP): setup.cfg pyproject.toml | $(BIN)/python
+	$(PIP) -e ".[test]"
+	touch $(TEST_STAMP) $(DEMO_STAMP)
+
+install: $(DEMO_STAMP)
+
+demo: $(DEMO_STAMP)
 	$(BIN)/thermolimb demo all --quick --out $(OUT)
 	$(BIN)/thermolimb report $(OUT)
 
-test: $(STAMP)
+test: $(TEST_STAMP)
 	$(BIN)/python -m pytest -q
 
-test-fast: $(STAMP)
+test-fast: $(TEST_STAMP)
 	$(BIN)/python -m pytest -q -m "not slow"
 
-bench: $(STAMP)
+bench: $(TEST_STAMP)
 	$(BIN)/python benchmarks/identification.py
 	$(BIN)/python benchmarks/diagnose.py
 	$(BIN)/python benchmarks/wrench.py

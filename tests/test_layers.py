@@ -72,6 +72,16 @@ def test_robots_do_not_import_each_other():
     assert "hexapod_pb" not in graph.get("humanoid_pb", set())
 
 
+def test_the_command_line_starts_without_the_heavy_libraries():
+    import subprocess
+
+    code = ("import sys, thermolimb.cli.main as m; m.build_parser(); "
+            "print(sorted(x for x in ('gymnasium', 'pybullet', 'pinocchio', 'matplotlib', 'pandas', 'scipy.signal', "
+            "'scipy.stats', 'scipy.optimize') if x in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
 if __name__ == "__main__":
     for part, targets in sorted(import_graph(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT).items()):
         print(f"{part:18s} -> {', '.join(sorted(targets))}")

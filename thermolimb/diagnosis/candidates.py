@@ -30,7 +30,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import chi2
 
 from ..logs import ActuatorSeries
 from ..metrics import ar1_variance_factor, information_criteria
@@ -286,13 +285,19 @@ def _score_at(cand, term, base, train, jacobian, residual, fixed):
     score = n_eff * r2
     # a Gauss-Newton step from the null, clipped into the bounds, starts the refit
     step = {p.name: float(np.clip(p.null + b, p.lower, p.upper)) for p, b in zip(primary, beta)}
-    return score, float(chi2.sf(score, S.shape[1])), r2, step, share, partner
+    return score, float(_chi2().sf(score, S.shape[1])), r2, step, share, partner
 
 
 def bic(residual: np.ndarray, n_params: int) -> float:
     """BIC on the training residual; it overstates evidence for correlated residuals, which is why a
     recommendation also needs a held-out improvement."""
     return information_criteria(residual, n_params)["bic"]
+
+
+def _chi2():
+    from scipy.stats import chi2  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
+
+    return chi2
 
 
 def judge(cand: Candidate, report, base_rmse: float, base_bic: float) -> None:
@@ -337,7 +342,7 @@ def term_identified(term, report) -> bool:
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False
     wald = float(theta @ np.linalg.pinv(cov) @ theta)
-    return wald > chi2.ppf(1.0 - WALD_LEVEL, len(primary))
+    return wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary))
 
 
 def refit_failure(term, params) -> str | None:

@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import correlate
 
 from ..logs import ActuatorSeries
 
@@ -70,6 +69,8 @@ def _normalised(x: np.ndarray) -> np.ndarray:
 
 def cross_correlation(x: np.ndarray, y: np.ndarray, max_lag: int) -> tuple[np.ndarray, np.ndarray]:
     """``r_xy(k) = mean(x_t y_{t+k})`` of the standardised series for ``k`` in ``[-max_lag, max_lag]``."""
+    from scipy.signal import correlate  # scipy.signal takes ~0.7 s to import: only when analysing
+
     xn, yn = _normalised(x), _normalised(y)
     n = xn.size
     full = correlate(yn, xn, mode="full", method="fft") / n  # index n-1 is lag 0

@@ -13,7 +13,6 @@ from __future__ import annotations
 from typing import Mapping
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from ..metrics import ar1_variance_factor
 from ..model.model import ThermalModel, model_parameters
@@ -90,6 +89,8 @@ class OutputError(ThermalEstimator):
             model = ThermalModel(terms, dict(zip(names, x)))
             return np.concatenate([model.simulate(s.signals, s.temperature_C[0], initial_rate_K_per_s=r)
                                    for s, r in zip(series, rates)]) - measured
+
+        from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
         result = least_squares(residual, x0, bounds=(lower, upper), x_scale=scale, method="trf",

@@ -7,9 +7,9 @@ from pathlib import Path
 from typing import Mapping
 
 import numpy as np
-import pandas as pd
 
 from ..atomic import atomic_path
+from ..lazy import pandas as pd
 from ..model.signals import Signals
 from .mapping import OPTIONAL, REQUIRED, UNITS, expand_joints, is_pattern
 from .table import LogError, kind_of, read_table, time_seconds

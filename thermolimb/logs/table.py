@@ -16,9 +16,9 @@ import re
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from ..errors import ThermolimbError
+from ..lazy import pandas as pd
 
 SEPARATORS = (",", ";", "\t", "|")
 SNIFF_LINES = 200
