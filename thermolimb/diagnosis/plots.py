@@ -40,9 +40,11 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
     ph.set_title("where the fit is worst: training RMSE by phase (K)", fontsize=9)
     for i, (name, c) in enumerate(a.cross.items()):
         axc = fig.add_subplot(grid[3 + i // 2, i % 2])
-        axc.plot(c.lags_s, c.values, color="tab:red" if c.significant else "tab:blue")
         axc.axhspan(-c.band, c.band, color="0.85")
-        axc.set_title(f"residual vs {name}: cross-correlation (red: outside Bartlett's band)", fontsize=9)
+        axc.plot(c.lags_s, c.values, color="tab:blue", lw=0.8)
+        outside = np.abs(np.asarray(c.values)) > c.band
+        axc.plot(np.asarray(c.lags_s)[outside], np.asarray(c.values)[outside], ".", color="tab:red", ms=2)
+        axc.set_title(f"residual vs {name}: cross-correlation (red: lags outside Bartlett's band)", fontsize=9)
         axc.set_xlabel("lag (s)")
     fig.tight_layout()
     return save(fig, path)
