@@ -1,11 +1,13 @@
 """Hexapod: CPG, stance-wrench optimisation, walking in PyBullet, determinism."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
-from hexapod_pb.controller import STRATEGIES, ControllerState, ThermalContext, control_step
+from hexapod_pb.controller import STRATEGIES, ControllerState, Gains, ThermalContext, control_step
 from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY
 from hexapod_pb.sim import HexapodSim, SimConfig
@@ -80,7 +82,7 @@ def test_thermal_minimax_lowers_the_hottest_prediction():
     assert np.max(bank.ahead(temperature, hot.torques_Nm, 20.0)) < np.max(bank.ahead(temperature, plain.torques_Nm, 20.0))
 
 
-def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0):
+def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0, gains=Gains()):
     cfg = SimConfig(payload_kg=payload_kg)
     thermal = ThermalContext(datasheet_bank()) if strategy == "thermal_aware" else None
     gait = cpg.CPGParams()
@@ -89,13 +91,13 @@ def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0):
         reading = sim.read()
         for _ in range(25):  # settle standing
             tau, state, _ = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg,
-                                         thermal=thermal, walking=False)
+                                         gains, thermal=thermal, walking=False)
             reading = sim.step(tau)
         start = reading.body_position_m.copy()
         heights, path = [], []
         for _ in range(int(seconds * cfg.control_hz)):
             tau, state, _ = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg,
-                                         thermal=thermal)
+                                         gains, thermal=thermal)
             reading = sim.step(tau)
             heights.append(reading.body_position_m[2])
             path.append(reading.body_position_m.copy())
@@ -108,6 +110,14 @@ def test_each_strategy_walks_forward_without_falling(strategy):
     # the CPG asks for 0.104 m/s; feet slip a little: at least 0.5 m in 10 s, straight, body never low
     assert moved[0] > 0.5 and abs(moved[1]) < 0.1
     assert heights.min() > 0.10
+
+
+def test_a_stiffer_attitude_damping_makes_the_body_yaw_run_away():
+    """Why Gains.attitude_kd_Nm_s_rad is 5: at 50 N m s/rad and 50 Hz the walk turns (measured 0.78 rad in 10 s)."""
+    _, _, straight = walk("minimax")
+    _, _, turned = walk("minimax", gains=replace(Gains(), attitude_kd_Nm_s_rad=50.0))
+    assert abs(straight[-1, 1]) < 0.05
+    assert abs(turned[-1, 1]) > 0.2  # sideways drift of the path that the yaw produces (measured 0.46 m)
 
 
 def test_two_fresh_worlds_with_the_same_seed_give_identical_trajectories():
