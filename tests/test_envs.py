@@ -81,17 +81,6 @@ def test_every_strategy_is_a_policy():
         make_policy(HUMANOID_ID, "minimax")
 
 
-def test_importing_the_core_registers_nothing_and_loads_no_gymnasium():
-    import subprocess
-    import sys
-
-    code = ("import sys, thermolimb, thermolimb.model, thermolimb.logs, thermolimb.evaluation, thermolimb.diagnosis; "
-            "print(sorted(m for m in ('gymnasium', 'pybullet', 'hexapod_pb', 'humanoid_pb', 'thermolimb_demos', "
-            "'demos') if m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    assert out.strip() == "[]"
-
-
 def test_compare_strategies_json(tmp_path, capsys):
     code = main(["compare-strategies", "--env", HEXAPOD_ID, "--episodes", "1", "--max-time", "3",
                  "--strategies", "vertical_only,minimax", "--plot", str(tmp_path), "--json"])

@@ -72,14 +72,25 @@ def test_robots_do_not_import_each_other():
     assert "hexapod_pb" not in graph.get("humanoid_pb", set())
 
 
-def test_the_command_line_starts_without_the_heavy_libraries():
+def loaded_by(statement: str, modules: tuple[str, ...]) -> list[str]:
+    """Which of ``modules`` a fresh interpreter has loaded after running ``statement``."""
     import subprocess
 
-    code = ("import sys, thermolimb.cli.main as m; m.build_parser(); "
-            "print(sorted(x for x in ('gymnasium', 'pybullet', 'pinocchio', 'matplotlib', 'pandas', 'scipy.signal', "
-            "'scipy.stats', 'scipy.optimize') if x in sys.modules))")
+    code = f"import sys; {statement}; print([m for m in {modules!r} if m in sys.modules])"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    assert out.strip() == "[]"
+    return ast.literal_eval(out)  # the list printed by the line above
+
+
+def test_importing_the_core_registers_nothing_and_loads_no_gymnasium():
+    statement = "import thermolimb, thermolimb.model, thermolimb.logs, thermolimb.evaluation, thermolimb.diagnosis"
+    assert loaded_by(statement, ("gymnasium", "pybullet", "hexapod_pb", "humanoid_pb", "thermolimb_demos",
+                                 "demos")) == []
+
+
+def test_the_command_line_starts_without_the_heavy_libraries():
+    statement = "import thermolimb.cli.main as m; m.build_parser()"
+    assert loaded_by(statement, ("gymnasium", "pybullet", "pinocchio", "matplotlib", "pandas", "scipy.signal",
+                                 "scipy.stats", "scipy.optimize")) == []
 
 
 if __name__ == "__main__":
