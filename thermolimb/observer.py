@@ -241,15 +241,19 @@ def observe_log(series, model, limit_C: float, measurement_std_K: float = 0.1,
     dt = s.dt_s
     estimate, std = np.empty(s.n), np.empty(s.n)
     estimate[0], std[0] = x[0], 1.0
+    transitions: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}  # (lam, dt) -> (Phi, response to u)
     for k in range(1, s.n):
-        A = np.array([[-lam[k - 1], 0.0], [1.0 / tau, -1.0 / tau]]) if lagged else np.array([[-lam[k - 1]]])
-        b = np.zeros(n)
-        b[0] = lam[k - 1] * u[k - 1]
-        M = np.zeros((n + 1, n + 1))
-        M[:n, :n], M[:n, n] = A, b
-        E = expm(M * dt[k - 1])
-        x = E[:n, :n] @ x + E[:n, n]
-        P = E[:n, :n] @ P @ E[:n, :n].T + np.diag([q * dt[k - 1]] + [0.0] * (n - 1))
+        key = (float(lam[k - 1]), float(dt[k - 1]))
+        if key not in transitions:  # lam and dt rarely change: one matrix exponential per distinct pair
+            M = np.zeros((n + 1, n + 1))
+            M[0, 0], M[0, n] = -key[0], key[0]
+            if lagged:
+                M[1, 0], M[1, 1] = 1.0 / tau, -1.0 / tau
+            E = expm(M * key[1])
+            transitions[key] = (E[:n, :n], E[:n, n])
+        Phi, response = transitions[key]
+        x = Phi @ x + response * u[k - 1]
+        P = Phi @ P @ Phi.T + np.diag([q * key[1]] + [0.0] * (n - 1))
         h = n - 1
         gain = P[:, h] / (P[h, h] + r)
         x = x + gain * (series.temperature_C[k] - x[h])

@@ -1,14 +1,10 @@
 """What the suite's Gymnasium environments share, independent of any robot.
 
 Environments live with their robots and register when the robot package is
-imported, as Gymnasium's third-party environments do::
-
-    import gymnasium as gym
-    import hexapod_pb                      # registers thermolimb/HexapodLoadCarry-v0
-    env = gym.make("thermolimb/HexapodLoadCarry-v0")
-
-(or ``gym.make("hexapod_pb:thermolimb/HexapodLoadCarry-v0")``, which imports
-the package itself).  ``import thermolimb`` neither imports Gymnasium nor
+imported, as Gymnasium's third-party environments do: after importing the
+``hexapod_pb`` package, ``gymnasium.make("thermolimb/HexapodLoadCarry-v0")``
+works (or ``gymnasium.make("hexapod_pb:thermolimb/HexapodLoadCarry-v0")``,
+which imports the package itself).  This package never imports a robot.  ``import thermolimb`` neither imports Gymnasium nor
 registers anything.  Here: the robot packages that provide environments
 (found through the ``thermolimb.envs`` entry-point group), registration with
 the policies each environment offers, the rig base environment
