@@ -64,12 +64,14 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
         ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}", va="center", fontsize=8)
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
+    lo, hi = ax.get_xlim()
+    ax.set_xlim(lo, hi + 0.4 * (hi - lo))  # room for the labels right of the bars
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
     ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
                  f"{d.recommended.label if d.recommended else 'none'}", fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
-              fontsize=7, loc="lower right")
+              fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     if others:
         text = "\n".join(f"{c.label}: {c.status}" + (f" ({c.confounded.split(':')[0]})" if c.confounded else
                                                      f" (score test p = {c.p_value:.2g})") for c in others)
