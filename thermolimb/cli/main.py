@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from ..errors import ThermolimbError
-from . import compare, demo, diagnose, fit, simulate, strategies
+from . import compare, demo, diagnose, fit, inspect, simulate, strategies
 
-COMMANDS = (simulate, fit, compare, diagnose, strategies, demo)
+COMMANDS = (inspect, simulate, fit, compare, diagnose, strategies, demo)
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.
 USER_ERRORS = (ThermolimbError,)

@@ -9,6 +9,7 @@ from ..errors import UsageError
 from ..evaluation import Scheme
 from ..jsonutil import to_jsonable
 from ..logs import VELOCITY_UNITS, ActuatorSeries, ThermalLog, parse_mapping, read_log
+from ..logs.bags import is_bag
 from .types import folds, fraction
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
@@ -20,12 +21,14 @@ def add_quiet(p):
 
 def add_log_input(p):
     p.add_argument("logs", nargs="+", metavar="LOG",
-                   help="log file(s), CSV or Parquet; several logs (runs) of the same actuators are fitted jointly, "
+                   help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several logs (runs) of the same actuators are fitted jointly, "
                         "each run simulated from its own first reading")
     p.add_argument("--map", default=None, metavar="CANONICAL=COLUMN,...",
                    help="read a wide file by naming its columns, e.g. effort=torque,temperature=stator_winding,"
                         "housing=case_temp (a second sensor); for one column per joint use {j} for the joint number "
-                        "and * for any text: effort=Current_J{j},temperature=Temperature_*{j}")
+                        "and * for any text: effort=Current_J{j},temperature=Temperature_*{j}; a column on a time base "
+                        "of its own as COLUMN@TIME_COLUMN; for a bag, /topic.field "
+                        "(effort=/joint_states.effort,temperature=/temperatures.temps; see thermolimb inspect)")
     p.add_argument("--velocity-unit", default="rad/s", choices=sorted(VELOCITY_UNITS),
                    help="unit of the velocity column (default rad/s); converted to rad/s")
     p.add_argument("--sep", default=None, choices=sorted(SEPARATORS),
@@ -62,7 +65,8 @@ def _read(paths, args) -> list[ThermalLog]:
     mapping = parse_mapping(args.map)
     sep = SEPARATORS[args.sep] if args.sep else None
     name = args.actuator if mapping and "actuator" not in mapping else None
-    return [read_log(path, mapping=mapping, velocity_unit=args.velocity_unit, actuator_name=name, sep=sep,
+    return [read_log(path, mapping=mapping, velocity_unit=args.velocity_unit,
+                     actuator_name=args.actuator if is_bag(path) else name, sep=sep,
                      decimal=args.decimal, drop_incomplete=args.drop_incomplete) for path in paths]
 
 

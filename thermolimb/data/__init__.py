@@ -56,3 +56,12 @@ REAL_LOGS = {log.name: log for log in (
             "time=Time (s),effort=Power (W),power=Power (W),temperature=Winding Temp (°C)",
             actuator="bldc", description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz"),
 )}
+
+# The same 106 s WidowX-200 run twice: the ROS 1 bag as recorded, and the package's CSV export of it
+# (three time bases, each from zero at its own first sample).
+WX200_BAG = RealLog("wx200-bag", ("interbotix-wx200/waist_diagnostics.bag",), "", actuator="waist",
+                    description="WidowX-200 waist, ROS 1 bag: joint states 100 Hz, temperatures every 5 s")
+WX200_EXPORT = RealLog("wx200-export", ("interbotix-wx200/waist_diagnostics.csv",),
+                       "temperature=Temp [C]@Temperature Time [s],effort=Effort [mA]@States Time [s],"
+                       "velocity=Velocity [rad/s]@States Time [s]", actuator="waist",
+                       description="the same run as the package's CSV export")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Mapping
 
@@ -11,8 +11,11 @@ import numpy as np
 from ..atomic import atomic_path
 from ..lazy import pandas as pd
 from ..model.signals import Signals
-from .mapping import OPTIONAL, REQUIRED, UNITS, expand_joints, is_pattern
-from .table import LogError, kind_of, read_table, time_seconds
+from .align import align, series_of
+from .bag_writer import write_mcap
+from .bags import is_bag, read_bag
+from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern
+from .table import LogError, first_stamp, kind_of, read_table, time_seconds
 
 VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
 MIN_SAMPLES = 20
@@ -159,8 +162,10 @@ class ThermalLog:
                 f"each simulated from its own first reading{tail}")
 
     def write(self, path: str | Path) -> Path:
-        """Write CSV or Parquet (by suffix), whole or not at all."""
+        """Write CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`), whole or not at all."""
         path = Path(path)
+        if path.suffix.lower() == ".mcap":
+            return write_mcap(self, path)
         kind = kind_of(path)
         with atomic_path(path) as tmp:
             if kind == "csv":
@@ -196,7 +201,12 @@ def read_log(
         For wide files: canonical name -> column in the file, or a joint
         pattern (see :mod:`thermolimb.logs.mapping`).  Without an ``actuator``
         entry a wide file is one actuator named ``actuator_name`` (default:
-        the file's stem).
+        the file's stem).  For a ROS bag (:mod:`thermolimb.logs.bags`):
+        canonical name -> ``/topic.field``, suggested from the bag when omitted.
+        A column read on its own time base is named ``column@time column``
+        (:mod:`thermolimb.logs.align`).
+    actuator_name
+        For a bag: the joint to read (default every joint in the mapped topics).
     velocity_unit
         Unit of the velocity column: ``rad/s``, ``m/s``, ``rpm`` or ``deg/s``;
         converted to rad/s (m/s stays m/s).
@@ -206,9 +216,15 @@ def read_log(
         Leave out samples with a missing value (said in ``notes``) instead of refusing the file.
     """
     path = Path(path)
+    if is_bag(path):
+        frames, notes = read_bag(path, mapping, actuator_name)
+        log = from_frame(pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path),
+                         velocity_unit=velocity_unit)
+        return replace(log, notes=tuple(notes) + log.notes)
     frame = read_table(path, sep=sep, decimal=decimal)
-    return from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
-                      actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete)
+    log = from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
+                     actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete)
+    return log
 
 
 def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
@@ -219,6 +235,8 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
             part.insert(1, "actuator", name)
             parts.append(part)
         return pd.concat(parts, ignore_index=True)
+    if any(TIME_OF in v for v in mapping.values()):
+        return _aligned(frame, mapping, source, actuator_name)
     absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
     if absent:
         k, v = next(iter(absent.items()))
@@ -238,6 +256,38 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
     return out
 
 
+def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
+    """A wide file whose channels have time columns of their own, put on the temperature's samples."""
+    if is_pattern(mapping):
+        raise LogError(f"{source}: --map cannot mix joint patterns ({{j}}) with per-channel time columns (@)")
+    if "temperature" not in mapping or ("time" not in mapping and TIME_OF not in mapping["temperature"]):
+        raise LogError(f"{source}: with per-channel time columns, --map names temperature=COLUMN@TIME_COLUMN "
+                       f"(or time=COLUMN for the channels without their own)")
+    columns = {}
+    targets = {key: value.partition(TIME_OF) for key, value in mapping.items() if key not in ("time", "actuator")}
+    stamps = [first_stamp(frame[t or mapping["time"]]) for _, _, t in targets.values()
+              if (t or mapping.get("time")) in frame.columns]
+    origin = min((s for s in stamps if s is not None), default=None)
+    for key, (column, _, time_column) in targets.items():
+        value = mapping[key]
+        time_column = time_column or mapping.get("time")
+        if time_column is None:
+            raise LogError(f"{source}: --map {key}={value} has no time column; write {key}={column}@TIME_COLUMN or "
+                           f"give time=COLUMN")
+        for c in (column, time_column):
+            if c not in frame.columns:
+                raise LogError(f"{source}: --map {key}={value} names column {c!r}, which the file does not have; "
+                               f"its columns are {', '.join(map(str, frame.columns))}")
+        columns[key] = series_of(time_seconds(frame[time_column].dropna(), source, time_column, origin),
+                                 pd.to_numeric(frame.loc[frame[time_column].notna(), column], errors="coerce"),
+                                 source, key)
+    aligned, notes = align(columns.pop("temperature"), columns, source)
+    out = pd.DataFrame(aligned)
+    out.insert(1, "actuator", actuator_name)
+    out.attrs["notes"] = notes
+    return out
+
+
 def from_frame(
     frame: pd.DataFrame,
     source: str = "<memory>",
@@ -254,8 +304,10 @@ def from_frame(
     mapping = dict(mapping or {})
     if velocity_unit not in VELOCITY_UNITS:
         raise LogError(f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}")
+    notes = []
     if mapping:
         frame = _apply_mapping(frame, mapping, source, actuator_name)
+        notes += frame.attrs.get("notes", [])
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
         hint = "" if mapping else "; name them with --map canonical=column"
@@ -265,7 +317,6 @@ def from_frame(
         )
     keep = [c for c in REQUIRED + OPTIONAL if c in frame.columns]
     frame = frame[keep].reset_index(drop=True)
-    notes = []
     measured = [c for c in keep if c not in ("time", "actuator")]
     empty = frame[measured].isna().all(axis=1).to_numpy()
     if empty.any():

@@ -8,6 +8,10 @@ finds every joint that has both columns (``Temperature_T0`` and
 ``Temperature_J1`` alike).  Joints are named by ``actuator=NAME{j}`` (default
 ``J{j}``) and ordered by number, which makes consecutive joints neighbours.
 Columns without ``{j}`` (time, ambient) are shared by every joint.
+
+A channel on a time base of its own names its time column after ``@``:
+``temperature=Temp [C]@Temperature Time [s],effort=Effort [mA]@States Time [s]``;
+channels are then aligned on the temperature's samples (:mod:`thermolimb.logs.align`).
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
 UNITS = {"time": "s", "actuator": "name", "effort": "N m or N", "temperature": "degC",
          "velocity": "rad/s or m/s", "current": "A", "power": "W", "ambient": "degC", "housing": "degC"}
 JOINT = "{j}"
+TIME_OF = "@"  # column@time_column: a channel sampled on a time base of its own
 DEFAULT_JOINT_NAME = "J{j}"
 
 

@@ -113,11 +113,15 @@ def _name(sep: str) -> str:
     return {",": "comma", ";": "semicolon", "\t": "tab", "|": "bar"}.get(sep, repr(sep))
 
 
-def time_seconds(values: pd.Series, source: str, column: str) -> np.ndarray:
-    """Seconds from the first sample, from numbers, datetimes, ISO timestamps or clock-style elapsed times."""
+def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np.ndarray:
+    """Seconds from the first sample, from numbers, datetimes, ISO timestamps or clock-style elapsed times.
+
+    ``origin`` (a UTC timestamp) replaces the first sample as the zero of timestamps, so
+    that several time columns share one clock.
+    """
     if pd.api.types.is_datetime64_any_dtype(values):
         stamps = pd.to_datetime(values, utc=True)
-        return _from_stamps(stamps, source, column)
+        return _from_stamps(stamps, source, column, origin)
     if pd.api.types.is_timedelta64_dtype(values):
         return values.dt.total_seconds().to_numpy(float)
     numeric = pd.to_numeric(values, errors="coerce")
@@ -140,13 +144,25 @@ def time_seconds(values: pd.Series, source: str, column: str) -> np.ndarray:
             f"{row} ({values.iloc[row]!r}); expected seconds, ISO-8601 timestamps (2022-10-26T08:17:21.8Z) "
             f"or elapsed times (m:ss.s)"
         ) from None
-    return _from_stamps(stamps, source, column)
+    return _from_stamps(stamps, source, column, origin)
 
 
-def _from_stamps(stamps: pd.Series, source: str, column: str) -> np.ndarray:
+def first_stamp(values: pd.Series):
+    """The first UTC timestamp of a time column, or ``None`` when it holds numbers or elapsed times."""
+    if pd.api.types.is_datetime64_any_dtype(values):
+        return pd.to_datetime(values, utc=True).dropna().min()
+    numeric = pd.to_numeric(values, errors="coerce")
+    text = values.dropna().astype(str).str.strip()
+    if numeric.notna().sum() == values.notna().sum() or text.str.match(_CLOCK.pattern).all():
+        return None
+    stamps = pd.to_datetime(values, utc=True, format="ISO8601", errors="coerce")
+    return stamps.dropna().min() if stamps.notna().any() else None
+
+
+def _from_stamps(stamps: pd.Series, source: str, column: str, origin=None) -> np.ndarray:
     valid = stamps.notna()
     if not valid.any():
         raise LogError(f"{source}: time column {column!r} has no timestamp; expected seconds or timestamps")
-    first = stamps[valid].iloc[0]
+    first = stamps[valid].iloc[0] if origin is None else origin
     seconds = (stamps - first).dt.total_seconds()
     return seconds.to_numpy(float)

@@ -1,0 +1,213 @@
+"""ROS bags in (ROS 1, ROS 2 SQLite and MCAP), MCAP out, and channels on several time bases aligned."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import Stores, get_typestore
+
+from thermolimb.cli.main import main
+from thermolimb.data import WX200_BAG, WX200_EXPORT
+from thermolimb.evaluation import Scheme, evaluate
+from thermolimb.logs import LogError, log_from_arrays, read_log
+from thermolimb.logs.align import align, interval_average
+from thermolimb.logs.bags import inspect_bag, suggest_mapping
+from thermolimb.plant import ThermalPlant, run_profile
+from thermolimb.plant.profiles import random_holds
+
+from conftest import FIRST_ORDER_X8
+
+BAG = WX200_BAG.paths[0]
+
+
+# --- the alignment rule ----------------------------------------------------------------------------------------
+
+def test_interval_average_keeps_the_heat_of_a_sinusoid():
+    """A 1 Hz sinusoid averaged over 5 s intervals: mean ~ 0, but its square is kept exactly (signed RMS)."""
+    t_in = np.arange(0.0, 60.0, 0.01)
+    x = 3.0 * np.sin(2 * np.pi * t_in)
+    t = np.arange(0.0, 60.0, 5.0)
+    rms = interval_average(t, t_in, x, root_mean_square=True)
+    mean = interval_average(t, t_in, x, root_mean_square=False)
+    assert np.allclose(rms[:-1] ** 2, 4.5, rtol=1e-3)
+    assert np.all(np.abs(mean) < 0.05)
+
+
+def test_interval_average_holds_through_empty_intervals_and_uses_the_interval_that_follows():
+    t = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    t_in = np.array([-0.5, 0.1, 0.5, 2.2, 2.5, 4.0])
+    x = np.array([9.0, 1.0, -3.0, 2.0, 2.0, 5.0])
+    assert interval_average(t, t_in, x, False).tolist() == [-1.0, -1.0, 2.0, 2.0, 2.0]
+    # nothing in [0, 1): the last value before 0 s is held
+    assert interval_average(t, np.array([-1.0, 1.5, 5.0]), np.array([7.0, 8.0, 9.0]), False).tolist() == \
+        [7.0, 8.0, 8.0, 8.0, 8.0]
+
+
+def test_align_keeps_the_temperature_samples_and_leaves_out_those_outside_the_inputs():
+    t_T = np.arange(0.0, 100.0, 5.0)
+    T = 30.0 + 0.1 * t_T
+    t_in = np.arange(12.0, 80.0, 0.1)
+    out, notes = align((t_T, T), {"effort": (t_in, np.ones_like(t_in))}, "log")
+    assert out["time"][0] == 15.0 and out["time"][-1] == 75.0
+    assert np.array_equal(out["temperature"], 30.0 + 0.1 * out["time"])  # measured values, not interpolated
+    assert "left out" in notes[0]
+    with pytest.raises(LogError, match="do not overlap in time"):
+        align((t_T, T), {"effort": (t_in + 500.0, t_in)}, "log")
+
+
+def test_wide_csv_with_its_own_time_column_per_channel(tmp_path):
+    t_in = np.arange(0.0, 300.0, 0.1)
+    effort = 2.0 * np.sin(2 * np.pi * t_in)
+    t_T = np.arange(3.0, 300.0, 5.0)
+    frame = pd.DataFrame({"ts": pd.Series(t_in), "tau": pd.Series(effort),
+                          "t_temp": pd.Series(t_T), "temp": pd.Series(40.0 + 0.01 * t_T)})
+    path = tmp_path / "wide.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, mapping={"effort": "tau@ts", "temperature": "temp@t_temp"}, actuator_name="m")
+    s = log.series("m")
+    assert np.array_equal(s.time_s, t_T[t_T <= t_in[-1]])
+    assert np.allclose(s.signals.effort[:-1] ** 2, 2.0, rtol=0.05)
+    with pytest.raises(LogError, match="'missing'"):
+        read_log(path, mapping={"effort": "tau@missing", "temperature": "temp@t_temp"})
+
+
+# --- the real ROS 1 bag and its CSV export -----------------------------------------------------------------------
+
+def test_real_ros1_bag_lists_its_topics_and_suggests_a_mapping():
+    infos = {i.topic: i for i in inspect_bag(BAG)}
+    assert infos["/wx200/joint_states"].count == 10598
+    assert infos["/wx200/temperatures/joint_group"].msgtype == "interbotix_xsarm_diagnostic_tool/msg/JointTemps"
+    assert 99.0 < infos["/wx200/joint_states"].rate_hz < 101.0
+    mapping, _ = suggest_mapping(list(infos.values()))
+    assert mapping == {"effort": "/wx200/joint_states.effort", "temperature": "/wx200/temperatures/joint_group.temps",
+                       "velocity": "/wx200/joint_states.velocity"}
+
+
+def test_real_bag_agrees_with_its_csv_export():
+    """Same temperatures, sample for sample; interval-mean-square effort within a few % (the export keeps 11 Hz of
+    the 100 Hz states, and shifts each time base to zero at its own first sample)."""
+    bag = WX200_BAG.read()[0].series("waist")
+    csv = WX200_EXPORT.read()[0].series("waist")
+    assert bag.n == csv.n == 21
+    assert np.array_equal(bag.temperature_C, csv.temperature_C)
+    heat_bag, heat_csv = np.mean(bag.signals.effort ** 2), np.mean(csv.signals.effort ** 2)
+    assert abs(heat_bag / heat_csv - 1.0) < 0.05
+    scheme = Scheme(split=0.7)
+    a, b = (evaluate([s], "joule", scheme) for s in (bag, csv))
+    assert abs(a.validation["rmse_K"] - b.validation["rmse_K"]) < 0.3
+    assert a.validation["rmse_K"] < 1.0
+
+
+def test_real_bag_diagnosed_end_to_end(capsys):
+    assert main(["diagnose", str(BAG), "--actuator", "waist", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["actuator"] == "waist"
+    assert out["base"]["rmse_K"] < 1.0
+
+
+# --- ROS 2 bags written here and read back ------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def plant_run():
+    rng = np.random.default_rng(3)
+    profile = random_holds(1200.0, 1.0, 2, rng)
+    plant = ThermalPlant(["hip", "knee"], [FIRST_ORDER_X8] * 2, rng=rng)
+    return run_profile(plant, profile).log
+
+
+def test_plant_run_round_trips_through_mcap(plant_run, tmp_path):
+    path = plant_run.write(tmp_path / "run.mcap")
+    back = read_log(path)
+    assert back.actuators == plant_run.actuators
+    assert any("mapping chosen" in n for n in back.notes)
+    for name in plant_run.actuators:
+        a, b = plant_run.series(name), back.series(name)
+        assert np.allclose(a.time_s - a.time_s[0], b.time_s - b.time_s[0], atol=1e-9)
+        assert np.array_equal(a.temperature_C, b.temperature_C)
+        assert np.array_equal(a.signals.effort[:-1], b.signals.effort[:-1])
+        assert np.array_equal(a.signals.current_A[:-1], b.signals.current_A[:-1])
+        assert np.allclose(a.signals.ambient_C[:-1], b.signals.ambient_C[:-1])
+    assert not list(tmp_path.glob(".*"))  # nothing temporary left beside it
+
+
+def _sqlite_bag(folder, t_states, t_temps, joint="knee"):
+    """A ROS 2 SQLite bag: JointState for two joints, and one scalar sensor_msgs/Temperature topic."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    JointState, Header, Time = (store.types[k] for k in
+                                ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
+    Temperature = store.types["sensor_msgs/msg/Temperature"]
+    with Writer(folder, version=8, storage_plugin=StoragePlugin.SQLITE3) as w:
+        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
+        temps = w.add_connection(f"/{joint}/temperature", Temperature.__msgtype__, typestore=store)
+        for t in t_states:
+            ns = int(t * 1e9) + 10**18
+            h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            msg = JointState(header=h, name=["hip", joint], position=np.zeros(2), velocity=np.zeros(2),
+                             effort=np.array([1.0, 3.0 + np.sin(np.pi * t)]))
+            w.write(states, ns, store.serialize_cdr(msg, JointState.__msgtype__))
+        for t in t_temps:
+            ns = int(t * 1e9) + 10**18
+            h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            msg = Temperature(header=h, temperature=30.0 + 0.01 * t, variance=0.0)
+            w.write(temps, ns, store.serialize_cdr(msg, Temperature.__msgtype__))
+    return folder
+
+
+def test_ros2_sqlite_bag_with_a_scalar_temperature_topic(tmp_path):
+    folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 200.0, 0.05), np.arange(1.0, 200.0, 2.0))
+    mapping = {"effort": "/joint_states.effort", "temperature": "/knee/temperature.temperature"}
+    log = read_log(folder, mapping=mapping, actuator_name="knee")
+    s = log.series("knee")
+    assert s.n == 100
+    assert np.all(np.abs(s.signals.effort - np.sqrt(9.5)) < 0.2)  # RMS of 3 + sin(pi t) over its 2 s period
+    assert read_log(next(folder.glob("*.db3")), mapping=mapping, actuator_name="knee").series("knee").n == 100
+    with pytest.raises(LogError, match="joint 'ankle' is not in /joint_states; its messages name hip, knee"):
+        read_log(folder, mapping=mapping, actuator_name="ankle")
+    with pytest.raises(LogError, match="one value per message"):
+        read_log(folder, mapping=mapping)
+
+
+@pytest.mark.parametrize("mapping, actuator, expected", [
+    ({"effort": "/joint_states.effort", "temperature": "/hip/temperature.temperature"}, "knee",
+     "names topic /hip/temperature, which the bag does not have; its topics are /joint_states"),
+    ({"effort": "/joint_states.effort", "temperature": "/knee/temperature.temp"}, "knee",
+     "(sensor_msgs/msg/Temperature) has no field 'temp'; its numeric fields are temperature, variance"),
+    ({"effort": "/knee/temperature.temperature", "temperature": "/joint_states.name"}, "knee",
+     "holds list values, not numbers"),
+    ({"effort": "joint_states", "temperature": "/knee/temperature.temperature"}, "knee",
+     "is not of the form /topic.field"),
+])
+def test_bad_bag_mappings_say_what_is_wrong(tmp_path, mapping, actuator, expected):
+    folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 50.0, 0.1), np.arange(1.0, 50.0, 2.0))
+    with pytest.raises(LogError) as err:
+        read_log(folder, mapping=mapping, actuator_name=actuator)
+    assert expected in str(err.value) and str(folder) in str(err.value)
+
+
+def test_bag_whose_time_bases_do_not_overlap(tmp_path):
+    folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 50.0, 0.1), np.arange(100.0, 150.0, 2.0))
+    with pytest.raises(LogError, match="do not overlap in time"):
+        read_log(folder, mapping={"effort": "/joint_states.effort", "temperature": "/knee/temperature.temperature"},
+                 actuator_name="knee")
+
+
+def test_truncated_or_missing_bags_exit_2_with_one_sentence(tmp_path, capsys):
+    truncated = tmp_path / "cut.bag"
+    truncated.write_bytes(BAG.read_bytes()[:100_000])
+    assert main(["fit", str(truncated)]) == 2
+    assert "cannot be read as a ROS bag" in capsys.readouterr().err
+    junk = tmp_path / "junk.mcap"
+    junk.write_bytes(b"not a bag at all" * 100)
+    assert main(["diagnose", str(junk)]) == 2
+    err = capsys.readouterr().err
+    assert "junk.mcap" in err and len(err.strip().splitlines()) == 1
+    assert main(["inspect", str(tmp_path / "none.bag")]) == 2
+    assert "no such file" in capsys.readouterr().err
+
+
+def test_inspect_prints_topics_and_the_suggested_map(capsys):
+    assert main(["inspect", str(BAG)]) == 0
+    out = capsys.readouterr().out
+    assert "/wx200/temperatures/joint_group" in out and "suggested: --map effort=/wx200/joint_states.effort" in out

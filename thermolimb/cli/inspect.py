@@ -1,0 +1,55 @@
+"""``thermolimb inspect``: what a log holds, and the ``--map`` that reads it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..logs.bags import inspect_bag, is_bag, suggest_mapping
+from ..logs.table import read_table
+from .options import print_json
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "inspect", help="list a log's topics (bags) or columns (CSV, Parquet) and suggest a --map",
+        description="For a ROS 1 or ROS 2 bag: every topic with its message type, message count, mean rate (Hz), "
+        "numeric fields and joint names, then a suggested --map for fit, compare and diagnose. For a CSV or "
+        "Parquet file: its columns, how many values each holds, and its first values.",
+    )
+    p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a ROS 2 bag folder), CSV or Parquet")
+    p.add_argument("--json", action="store_true", help="print the listing as JSON")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    path = Path(args.log)
+    if is_bag(path):
+        infos = inspect_bag(path)
+        mapping, reasons = suggest_mapping(infos)
+        if args.json:
+            print_json({"topics": [vars(i) for i in infos], "suggested_map": mapping, "ambiguous": reasons})
+            return 0
+        print(f"{path}: {len(infos)} topic(s)")
+        print(f"  {'topic':40s} {'type':46s} {'messages':>9s} {'rate Hz':>8s}")
+        for i in infos:
+            print(f"  {i.topic:40s} {i.msgtype:46s} {i.count:9d} {i.rate_hz:8.2f}")
+            if i.numeric_fields:
+                print(f"      numeric fields: {', '.join(i.numeric_fields)}")
+            if i.joint_names:
+                print(f"      joints: {', '.join(i.joint_names)}")
+        if mapping:
+            text = ",".join(f"{k}={v}" for k, v in mapping.items())
+            print(f"suggested: --map {text}  (add --actuator NAME for one joint)")
+        else:
+            print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with --map channel=/topic.field")
+        return 0
+    frame = read_table(path)
+    columns = [{"column": str(c), "values": int(frame[c].notna().sum()),
+                "first": str(frame[c].dropna().iloc[0]) if frame[c].notna().any() else ""} for c in frame.columns]
+    if args.json:
+        print_json({"rows": len(frame), "columns": columns})
+        return 0
+    print(f"{path}: {len(frame)} row(s), {len(columns)} column(s)")
+    for c in columns:
+        print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}")
+    return 0

@@ -1,0 +1,104 @@
+"""Channels on different time bases onto one: the temperature sensor's own samples.
+
+The rule, stated once and used for ROS bags and for wide CSVs with several
+time columns alike:
+
+* The aligned log's samples are the temperature sensor's own samples; no
+  temperature is interpolated, so no measurement is invented.
+* An input's value at temperature sample ``k`` is its average over the
+  interval that sample opens, ``[t_k, t_k+1)``: the interval over which the
+  model holds it (zero-order hold).  Effort, current and velocity are averaged
+  as signed root mean squares (the sign of their mean), so that their squares,
+  which the Joule and speed losses use, equal the interval's mean square
+  exactly; a sinusoidal effort does not average to zero heat.  Other inputs
+  (ambient, housing temperature, power) are plain means.
+* An interval holding no input sample keeps the input's last value before it
+  (a slow input stays held, as the model holds it).
+* Temperature samples before an input's first sample or after its last are
+  left out (the input is unknown there) and said in the notes; no overlap at
+  all is an error.  The last temperature sample keeps the previous interval's
+  inputs: the model never uses the inputs of a log's last sample.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from .table import LogError
+
+ROOT_MEAN_SQUARE = ("effort", "current", "velocity")
+
+
+def interval_average(time_s: np.ndarray, sample_time_s: np.ndarray, values: np.ndarray,
+                     root_mean_square: bool) -> np.ndarray:
+    """``values`` sampled at ``sample_time_s`` averaged over each ``[time_s[k], time_s[k+1])``.
+
+    ``time_s`` must lie within ``[sample_time_s[0], sample_time_s[-1]]``.
+    Returns one value per ``time_s``; the last repeats the one before.
+    """
+    n = time_s.size
+    slot = np.searchsorted(time_s, sample_time_s, side="right") - 1
+    inside = (slot >= 0) & (slot < n - 1)
+    count = np.bincount(slot[inside], minlength=n - 1).astype(float)
+    x = values[inside]
+    total = np.bincount(slot[inside], weights=x, minlength=n - 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = total / count
+        if root_mean_square:
+            square = np.bincount(slot[inside], weights=x * x, minlength=n - 1) / count
+            mean = np.where(mean < 0.0, -1.0, 1.0) * np.sqrt(square)
+    before = np.searchsorted(sample_time_s, time_s[0], side="right") - 1
+    filled = np.concatenate(([values[max(before, 0)]], mean))
+    last = np.maximum.accumulate(np.where(count > 0, np.arange(1, n), 0))
+    out = filled[last]
+    return np.append(out, out[-1])
+    return out
+
+
+def align(temperature: tuple[np.ndarray, np.ndarray], inputs: Mapping[str, tuple[np.ndarray, np.ndarray]],
+          source: str) -> tuple[dict[str, np.ndarray], list[str]]:
+    """Put ``inputs`` (channel -> (time s, values)) on the temperature's samples by the module's rule.
+
+    Returns ``({"time": ..., "temperature": ..., channel: ...}, notes)``.
+    Raises :class:`LogError` naming the channels when their time spans do not overlap.
+    """
+    t_T, T = (np.asarray(a, dtype=float) for a in temperature)
+    keep = np.ones(t_T.size, dtype=bool)
+    for name, (t, x) in inputs.items():
+        if len(t) == 0:
+            raise LogError(f"{source}: channel {name!r} has no samples; expected a time series of {name}")
+        inside = (t_T >= t[0]) & (t_T <= t[-1])
+        if not inside.any():
+            raise LogError(
+                f"{source}: the temperature ({t_T[0]:.6g} s to {t_T[-1]:.6g} s) and {name} ({t[0]:.6g} s to "
+                f"{t[-1]:.6g} s) do not overlap in time; expected channels recorded over the same period")
+        keep &= inside
+    if keep.sum() < 2:
+        raise LogError(f"{source}: only {int(keep.sum())} temperature sample(s) fall where every input channel has "
+                       f"data; expected at least two")
+    notes = []
+    if not keep.all():
+        notes.append(f"{source}: {int((~keep).sum())} temperature sample(s) outside the inputs' time span left out "
+                     f"(aligned on the temperature's own samples, inputs averaged over each interval)")
+    t = t_T[keep]
+    out = {"time": t, "temperature": T[keep]}
+    for name, (ti, x) in inputs.items():
+        out[name] = interval_average(t, np.asarray(ti, dtype=float), np.asarray(x, dtype=float),
+                                     name in ROOT_MEAN_SQUARE)
+    return out, notes
+
+
+def series_of(time_s, values, source: str, channel: str) -> tuple[np.ndarray, np.ndarray]:
+    """One channel's samples with missing entries dropped, checked for increasing time."""
+    t = np.asarray(time_s, dtype=float)
+    x = np.asarray(values, dtype=float)
+    ok = np.isfinite(t) & np.isfinite(x)
+    t, x = t[ok], x[ok]
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        k = int(np.flatnonzero(steps <= 0)[0])
+        raise LogError(f"{source}: the time of {channel} does not increase at its sample {k + 1} "
+                       f"({t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds")
+    return t, x

@@ -1,0 +1,89 @@
+"""Write a thermal log as a ROS 2 MCAP file that opens in Foxglove and reads back with :mod:`.bags`.
+
+Topics (receive time = the log's time stamps, from the Unix epoch 0 plus ``START_NS``):
+
+* ``/joint_states`` — ``sensor_msgs/msg/JointState``: ``name``, ``effort``, ``velocity`` (zeros when absent)
+* ``/thermal`` — ``thermolimb_msgs/msg/ActuatorThermal``, a custom message whose definition is stored in
+  the file: ``name``, ``temperature`` (degC) and, when the log has them, ``current`` (A), ``housing`` (degC)
+* ``/ambient`` — ``sensor_msgs/msg/Temperature`` (degC), when the log has an ambient channel
+
+Every actuator must share one time base (as the plant's logs do).
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..atomic import atomic_path
+from .table import LogError
+
+THERMAL_TYPE = "thermolimb_msgs/msg/ActuatorThermal"
+THERMAL_DEFINITION = """string[] name
+float64[] temperature
+float64[] current
+float64[] housing
+"""
+START_NS = 1_700_000_000 * 10**9
+MAPPING = ("effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature")
+
+
+def _matrix(log, column: str) -> np.ndarray | None:
+    if column not in log.frame.columns:
+        return None
+    return np.column_stack([g[column].to_numpy(float) for _, g in log.frame.groupby("actuator", sort=False)])
+
+
+def write_mcap(log, path: str | Path) -> Path:
+    """Write ``log`` to ``path`` (``.mcap``), whole or not at all."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    path = Path(path)
+    names = list(log.actuators)
+    groups = [g["time"].to_numpy(float) for _, g in log.frame.groupby("actuator", sort=False)]
+    if any(t.shape != groups[0].shape or not np.array_equal(t, groups[0]) for t in groups):
+        raise LogError(f"{path}: the actuators of {log.source} have different time stamps; an MCAP log holds "
+                       f"every actuator in one message per sample")
+    time_s = groups[0]
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    store.register(get_types_from_msg(THERMAL_DEFINITION, THERMAL_TYPE))
+    JointState = store.types["sensor_msgs/msg/JointState"]
+    Header = store.types["std_msgs/msg/Header"]
+    Time = store.types["builtin_interfaces/msg/Time"]
+    Thermal = store.types[THERMAL_TYPE]
+    TemperatureMsg = store.types["sensor_msgs/msg/Temperature"]
+    effort, temperature = _matrix(log, "effort"), _matrix(log, "temperature")
+    velocity, current, housing = _matrix(log, "velocity"), _matrix(log, "current"), _matrix(log, "housing")
+    ambient = _matrix(log, "ambient")
+    zeros = np.zeros(len(names))
+    empty = np.zeros(0)
+    with atomic_path(path) as tmp:
+        folder = Path(tempfile.mkdtemp(prefix=".bag-", dir=path.parent)) / "bag"
+        try:
+            with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
+                states = writer.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
+                thermal = writer.add_connection("/thermal", THERMAL_TYPE, typestore=store, msgdef=THERMAL_DEFINITION)
+                air = writer.add_connection("/ambient", TemperatureMsg.__msgtype__, typestore=store) \
+                    if ambient is not None else None
+                for k, t in enumerate(time_s):
+                    ns = START_NS + int(round(t * 1e9))
+                    header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+                    state = JointState(header=header, name=names, position=zeros.copy(),
+                                       velocity=velocity[k].copy() if velocity is not None else zeros.copy(),
+                                       effort=effort[k].copy())
+                    writer.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
+                    heat = Thermal(name=names, temperature=temperature[k].copy(),
+                                   current=current[k].copy() if current is not None else empty,
+                                   housing=housing[k].copy() if housing is not None else empty)
+                    writer.write(thermal, ns, store.serialize_cdr(heat, THERMAL_TYPE))
+                    if air is not None:
+                        msg = TemperatureMsg(header=header, temperature=float(ambient[k, 0]), variance=0.0)
+                        writer.write(air, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))
+            shutil.move(str(next(folder.glob("*.mcap"))), tmp)
+        finally:
+            shutil.rmtree(folder.parent, ignore_errors=True)
+    return path

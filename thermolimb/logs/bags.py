@@ -1,0 +1,304 @@
+"""ROS 1 bags and ROS 2 bags (SQLite or MCAP storage) read as thermal logs, with the pure-Python ``rosbags``.
+
+No ROS installation is needed.  Message definitions stored in the bag are
+used (ROS 1 connection headers, MCAP schemas), so custom messages read as
+well as ``sensor_msgs``; a ROS 2 SQLite bag without definitions falls back
+to the standard ROS 2 (Humble) types.
+
+Mapping (``--map``): each canonical channel names ``/topic.field``, e.g.::
+
+    effort=/wx200/joint_states.effort,temperature=/wx200/temperatures/joint_group.temps
+
+A field that is an array is indexed by joint name through the message's
+string array (``name``, ``names``, ``joint_names``): one actuator per joint
+found in every mapped array topic (``--actuator`` picks one).  A scalar
+field (``sensor_msgs/Temperature.temperature``) belongs to the actuator
+given by ``--actuator``, except the ambient, which every joint shares.  Time is each message's receive time in the bag (one
+clock for every topic), in seconds from the bag's start.  Channels are put on
+the temperature's own samples by :mod:`thermolimb.logs.align`.
+
+Without ``--map`` a mapping is suggested from the topics (see
+:func:`suggest_mapping`, ``thermolimb inspect``) and used when it is unique.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from .align import align, series_of
+from .table import LogError
+
+BAG_SUFFIXES = (".bag", ".mcap", ".db3")
+NAME_FIELDS = ("name", "names", "joint_names", "joint_name")
+NUMERIC_KINDS = "biuf"
+
+
+def is_bag(path: str | Path) -> bool:
+    path = Path(path)
+    return path.suffix.lower() in BAG_SUFFIXES or (path.is_dir() and (path / "metadata.yaml").exists())
+
+
+@dataclass(frozen=True)
+class TopicInfo:
+    """One topic of a bag: what ``thermolimb inspect`` prints."""
+
+    topic: str
+    msgtype: str
+    count: int
+    rate_hz: float
+    numeric_fields: tuple[str, ...]  # scalar or array fields holding numbers
+    joint_names: tuple[str, ...]  # names in the first message's name array, if any
+
+
+@contextmanager
+def _open(path: Path):
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    if not path.exists():
+        raise LogError(f"{path}: no such file or folder; expected a ROS 1 bag (.bag) or a ROS 2 bag (.mcap, .db3 "
+                       f"or its folder)")
+    bag = path.parent if path.suffix.lower() in (".mcap", ".db3") and (path.parent / "metadata.yaml").exists() \
+        else path
+    reader = AnyReader([bag], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+    try:
+        reader.open()
+    except Exception as err:  # rosbags raises its own errors, struct and OS errors for damaged files
+        raise LogError(f"{path}: cannot be read as a ROS bag ({type(err).__name__}: {err}); expected an intact "
+                       f"ROS 1 bag or ROS 2 bag (SQLite or MCAP)") from None
+    try:
+        yield reader
+    finally:
+        reader.close()
+
+
+def _messages(reader, path: Path, connections):
+    try:
+        for conn, stamp_ns, raw in reader.messages(connections=connections):
+            yield conn, stamp_ns, reader.deserialize(raw, conn.msgtype)
+    except LogError:
+        raise
+    except Exception as err:
+        raise LogError(f"{path}: a message could not be read ({type(err).__name__}: {err}); the bag looks "
+                       f"truncated or damaged") from None
+
+
+def _fields(msg) -> dict[str, object]:
+    return {k: getattr(msg, k) for k in getattr(msg, "__dataclass_fields__", {}) if k != "__msgtype__"}
+
+
+def _numeric(value) -> bool:
+    if isinstance(value, np.ndarray):
+        return value.size > 0 and value.dtype.kind in NUMERIC_KINDS
+    if isinstance(value, (list, tuple)):
+        return bool(value) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _numeric_fields(msg, prefix: str = "") -> list[str]:
+    out = []
+    for k, v in _fields(msg).items():
+        if hasattr(v, "__dataclass_fields__"):
+            if k not in ("header", "stamp"):
+                out += _numeric_fields(v, f"{prefix}{k}.")
+        elif _numeric(v):
+            out.append(prefix + k)
+    return out
+
+
+def _joint_names(msg) -> tuple[str, ...]:
+    for k in NAME_FIELDS:
+        v = getattr(msg, k, None)
+        if isinstance(v, (list, tuple)) and all(isinstance(s, str) for s in v):
+            return tuple(v)
+    return ()
+
+
+def inspect_bag(path: str | Path) -> list[TopicInfo]:
+    """Every topic with its type, message count, mean rate, numeric fields and joint names."""
+    path = Path(path)
+    with _open(path) as reader:
+        duration_s = max((reader.end_time - reader.start_time) / 1e9, 0.0)
+        first = {}
+        for conn, _, msg in _messages(reader, path, None):
+            if conn.topic not in first:
+                first[conn.topic] = msg
+            if len(first) == len(reader.topics):
+                break
+        infos = []
+        for conn in sorted(reader.connections, key=lambda c: c.topic):
+            msg = first.get(conn.topic)
+            count = conn.msgcount
+            infos.append(TopicInfo(conn.topic, conn.msgtype, count,
+                                   (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
+                                   tuple(_numeric_fields(msg)) if msg is not None else (),
+                                   _joint_names(msg) if msg is not None else ()))
+    return infos
+
+
+def _is_air(topic: str) -> bool:
+    return any(word in topic.lower() for word in ("ambient", "air", "room"))
+
+
+def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list[str]]:
+    """A mapping from the topics, and the reasons it is or is not unique.
+
+    Effort and velocity come from the one ``JointState`` topic.  The
+    temperature is the one numeric field naming a temperature in a topic with
+    joint names, or else the one ``Temperature`` topic not named for the air;
+    a ``Temperature`` topic named ambient, air or room is the ambient, and
+    fields named ``current`` or ``housing`` beside the temperature are mapped too.
+    """
+    reasons = []
+    states = [i for i in infos if i.msgtype.endswith("/JointState")]
+    temps = [(i, f) for i in infos if i.joint_names for f in i.numeric_fields if "temp" in f.lower()]
+    scalars = [i for i in infos if i.msgtype.endswith("/Temperature")]
+    if not temps:
+        temps = [(i, "temperature") for i in scalars if not _is_air(i.topic)]
+    if len(states) != 1:
+        reasons.append(f"{len(states)} sensor_msgs/JointState topics ({', '.join(i.topic for i in states) or 'none'})")
+    if len(temps) != 1:
+        reasons.append(f"{len(temps)} temperature fields ("
+                       f"{', '.join(f'{i.topic}.{f}' for i, f in temps) or 'none'})")
+    if reasons:
+        return None, reasons
+    state, (temp, field) = states[0], temps[0]
+    mapping = {"effort": f"{state.topic}.effort", "temperature": f"{temp.topic}.{field}"}
+    if "velocity" in state.numeric_fields:
+        mapping["velocity"] = f"{state.topic}.velocity"
+    for channel in ("current", "housing"):
+        if channel in temp.numeric_fields:
+            mapping[channel] = f"{temp.topic}.{channel}"
+    air = [i for i in scalars if _is_air(i.topic)]
+    if len(air) == 1:
+        mapping["ambient"] = f"{air[0].topic}.temperature"
+    return mapping, reasons
+
+
+def _split_target(key: str, target: str, path: Path) -> tuple[str, str]:
+    topic, _, field = target.partition(".")
+    if not topic.startswith("/") or not field:
+        raise LogError(f"{path}: --map {key}={target} is not of the form /topic.field for a bag, e.g. "
+                       f"{key}=/joint_states.{key}")
+    return topic, field
+
+
+def _value(msg, field: str, topic: str, path: Path):
+    value = msg
+    for part in field.split("."):
+        if not hasattr(value, "__dataclass_fields__") or part not in value.__dataclass_fields__:
+            have = ", ".join(_numeric_fields(msg)) or "no numeric field"
+            raise LogError(f"{path}: topic {topic} ({msg.__msgtype__}) has no field {field!r}; its numeric fields "
+                           f"are {have}")
+        value = getattr(value, part)
+    if not _numeric(value) and not (isinstance(value, (list, np.ndarray)) and len(value) == 0):
+        raise LogError(f"{path}: field {topic}.{field} holds {type(value).__name__} values, not numbers; expected "
+                       f"a number or an array of numbers per joint")
+    return value
+
+
+def _collect(reader, path: Path, mapping: Mapping[str, str]):
+    """channel -> (times s, per-message values or arrays, joint names per message or None)."""
+    wanted = {key: _split_target(key, target, path) for key, target in mapping.items() if key != "actuator"}
+    topics = {t for t, _ in wanted.values()}
+    have = {c.topic: c.msgtype for c in reader.connections}
+    for key, (topic, _) in wanted.items():
+        if topic not in have:
+            raise LogError(f"{path}: --map {key} names topic {topic}, which the bag does not have; its topics are "
+                           + ", ".join(f"{t} ({m})" for t, m in sorted(have.items())))
+    start = reader.start_time
+    data = {key: ([], [], []) for key in wanted}
+    connections = [c for c in reader.connections if c.topic in topics]
+    for conn, stamp_ns, msg in _messages(reader, path, connections):
+        for key, (topic, field) in wanted.items():
+            if conn.topic == topic:
+                times, values, names = data[key]
+                times.append((stamp_ns - start) / 1e9)
+                values.append(_value(msg, field, topic, path))
+                names.append(_joint_names(msg))
+    for key, (topic, _) in wanted.items():
+        if not data[key][0]:
+            raise LogError(f"{path}: topic {topic} (--map {key}) has no messages; expected a time series")
+    return wanted, data
+
+
+def _joint_series(key: str, topic: str, data, joint: str | None, path: Path) -> tuple[np.ndarray, np.ndarray]:
+    times, values, names = data
+    if np.ndim(values[0]) == 0:
+        return series_of(times, values, str(path), key)
+    if joint is None:
+        raise LogError(f"{path}: {topic} holds an array per message; name the joint with --actuator")
+    out = np.full(len(values), np.nan)
+    seen = False
+    for i, (v, n) in enumerate(zip(values, names)):
+        if joint in n:
+            j = n.index(joint)
+            if j < len(v):
+                out[i] = v[j]
+                seen = True
+    if not seen:
+        listed = ", ".join(names[0]) if names[0] else "no joint names (no name array)"
+        raise LogError(f"{path}: joint {joint!r} is not in {topic}; its messages name {listed}")
+    return series_of(times, out, str(path), key)
+
+
+def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuator: str | None = None):
+    """Canonical columns per actuator: ``(frames, notes)`` with ``frames`` a list of dicts of arrays.
+
+    ``actuator`` restricts a joint-array mapping to one joint, or names the
+    actuator of scalar topics.
+    """
+    path = Path(path)
+    notes = []
+    with _open(path) as reader:
+        if not mapping:
+            infos = inspect_bag(path)
+            mapping, reasons = suggest_mapping(infos)
+            if mapping is None:
+                raise LogError(f"{path}: no --map given and none can be chosen from the bag: "
+                               + "; ".join(reasons) + "; see `thermolimb inspect` and give --map channel=/topic.field")
+            notes.append(f"{path}: mapping chosen from the bag's topics: --map "
+                         + ",".join(f"{k}={v}" for k, v in mapping.items()))
+        missing = [k for k in ("effort", "temperature") if k not in mapping]
+        if missing:
+            raise LogError(f"{path}: --map does not name {', '.join(missing)}; expected e.g. "
+                           f"effort=/joint_states.effort,temperature=/temperatures.temperature")
+        wanted, data = _collect(reader, path, mapping)
+    joints = _joints(wanted, data, actuator, path)
+    frames = []
+    for joint in joints:
+        series = {key: _joint_series(key, wanted[key][0], data[key], joint, path) for key in wanted}
+        temperature = series.pop("temperature")
+        aligned, more = align(temperature, series, f"{path} ({joint or path.stem})")
+        aligned["actuator"] = joint or actuator or path.stem
+        frames.append(aligned)
+        notes += more
+    return frames, notes
+
+
+def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
+    arrays = {key: data[key][2][0] for key in wanted if np.ndim(data[key][1][0]) > 0}
+    if actuator is not None:
+        return [actuator]
+    if not arrays:
+        return [None]
+    scalars = [k for k in wanted if k not in arrays and k != "ambient"]  # the ambient is every joint's
+    if scalars:
+        scalar = wanted[scalars[0]][0]
+        raise LogError(f"{path}: {scalar} holds one value per message while other topics hold one per joint; name "
+                       f"the joint it belongs to with --actuator")
+    common = None
+    for key, names in arrays.items():
+        if not names:
+            raise LogError(f"{path}: {wanted[key][0]} holds an array without a name array; name the joint with "
+                           f"--actuator")
+        common = [n for n in names if common is None or n in common]
+    if not common:
+        raise LogError(f"{path}: no joint is named in every mapped array topic ("
+                       + "; ".join(f"{wanted[k][0]}: {', '.join(n)}" for k, n in arrays.items()) + ")")
+    return common
