@@ -5,19 +5,18 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import FIRST_ORDER_X8
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG, WX200_EXPORT
 from thermolimb.evaluation import Scheme, evaluate
-from thermolimb.logs import LogError, log_from_arrays, read_log
+from thermolimb.logs import LogError, read_log
 from thermolimb.logs.align import align, interval_average
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
-
-from conftest import FIRST_ORDER_X8
 
 BAG = WX200_BAG.paths[0]
 

@@ -8,7 +8,16 @@ from ..evaluation import FitReport, Scheme, evaluate
 from ..identification import IdentifiabilityError
 from ..metrics import information_criteria
 from ..model.terms import TERMS, parse_model
-from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .options import (
+    add_html,
+    add_log_input,
+    add_quiet,
+    add_validation,
+    for_each_actuator,
+    format_params,
+    html_page,
+    scheme_of,
+)
 from .types import output_dir
 
 
@@ -24,6 +33,7 @@ def add_parser(sub):
     add_validation(p)
     p.add_argument("--json", action="store_true", help="print the comparison as one JSON object")
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
+    add_html(p)
     add_quiet(p)
     p.set_defaults(func=run)
 
@@ -50,10 +60,18 @@ def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=()) ->
 def run(args) -> int:
     models = [parse_model(m) for m in args.model]
     scheme = scheme_of(args)
+    page = html_page(args, "thermolimb compare")
 
     def analyse(name, series, held_out):
         results = compare_models(series, models, scheme, held_out)
         fitted = [(r, ic) for r, ic in results if r is not None]
+        if page is not None:
+            from ..interactive import temperature_figure, thinning_note
+
+            page.add(f"{name}: measured against each model",
+                     temperature_figure([(",".join(r.model.terms), r) for r, _ in fitted], name),
+                     "Each model's free run, dotted where fitted and solid on held-out data (shaded); the panels "
+                     "share the time axis." + thinning_note(fitted[0][0]))
         if args.plot:
             _plot(fitted, name, Path(args.plot) / f"compare_{name.replace('/', '_')}.png")
         lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
@@ -71,7 +89,10 @@ def run(args) -> int:
         records = [ic if r is None else {**r.to_json(), **ic} for r, ic in results]
         return {"actuator": name, "models": records}, "\n".join(lines)
 
-    return for_each_actuator(args, analyse)
+    status = for_each_actuator(args, analyse)
+    if page is not None:
+        page.write(args.html)
+    return status
 
 
 def _plot(results, actuator, path):

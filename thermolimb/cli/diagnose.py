@@ -6,7 +6,18 @@ from pathlib import Path
 
 from ..diagnosis import auto_diagnose, diagnose
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .options import (
+    add_fleet,
+    add_html,
+    add_log_input,
+    add_quiet,
+    add_validation,
+    for_each_actuator,
+    format_params,
+    html_page,
+    run_fleet,
+    scheme_of,
+)
 from .types import output_dir
 
 
@@ -31,13 +42,18 @@ def add_parser(sub):
                         "are always refitted")
     p.add_argument("--json", action="store_true", help="print the diagnosis as one JSON object")
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write the diagnosis plots into DIR")
+    add_html(p)
+    add_fleet(p)
     add_quiet(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     parse_model(args.model)
+    if args.fleet:
+        return run_fleet(args, diagnose=True)
     scheme = scheme_of(args)
+    page = html_page(args, "thermolimb diagnose")
 
     def analyse(name, series, held_out):
         if args.auto:
@@ -48,9 +64,16 @@ def run(args) -> int:
             from ..diagnosis.plots import plot_diagnosis
 
             plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
+        if page is not None:
+            from ..interactive import add_diagnosis
+
+            add_diagnosis(page, d)
         return d.to_json(), describe_diagnosis(d)
 
-    return for_each_actuator(args, analyse)
+    status = for_each_actuator(args, analyse)
+    if page is not None:
+        page.write(args.html)
+    return status
 
 
 def describe_diagnosis(d) -> str:

@@ -7,7 +7,18 @@ from pathlib import Path
 from ..evaluation import evaluate
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from .options import add_log_input, add_quiet, add_validation, for_each_actuator, format_params, scheme_of
+from .options import (
+    add_fleet,
+    add_html,
+    add_log_input,
+    add_quiet,
+    add_validation,
+    for_each_actuator,
+    format_params,
+    html_page,
+    run_fleet,
+    scheme_of,
+)
 from .types import output_dir
 
 
@@ -29,13 +40,18 @@ def add_parser(sub):
     p.add_argument("--json", action="store_true",
                    help="print one JSON object per actuator (a list when several actuators are fitted)")
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write fit_<actuator>.png plots into DIR")
+    add_html(p)
+    add_fleet(p)
     add_quiet(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     parse_model(args.model)
+    if args.fleet:
+        return run_fleet(args, diagnose=False)
     scheme = scheme_of(args)
+    page = html_page(args, "thermolimb fit")
 
     def analyse(name, series, held_out):
         report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method)
@@ -43,9 +59,17 @@ def run(args) -> int:
             from ..plots import plot_fit
 
             plot_fit(report, Path(args.plot) / f"fit_{name.replace('/', '_')}.png")
+        if page is not None:
+            from ..interactive import temperature_figure, thinning_note
+
+            page.add(f"{name}: measured against the model", temperature_figure([(args.model, report)], name),
+                     f"{report.scheme}; validation RMSE {report.validation['rmse_K']:.3f} K." + thinning_note(report))
         return report.to_json(), _describe(report)
 
-    return for_each_actuator(args, analyse)
+    status = for_each_actuator(args, analyse)
+    if page is not None:
+        page.write(args.html)
+    return status
 
 
 def _describe(report) -> str:

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import json
 import sys
+from pathlib import Path
 
+from ..atomic import write_text
 from ..errors import UsageError
 from ..evaluation import Scheme
 from ..jsonutil import to_jsonable
 from ..logs import VELOCITY_UNITS, ActuatorSeries, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
-from .types import folds, fraction
+from ..parallel import BACKENDS
+from .types import folds, fraction, integer, output_file
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
 
@@ -61,13 +64,18 @@ def scheme_of(args) -> Scheme:
                   by_run=args.cv == "runs", restart_at_split=args.restart_at_split)
 
 
-def _read(paths, args) -> list[ThermalLog]:
+def read_options(args, path) -> dict:
+    """The keyword arguments of :func:`read_log` that the command line's options give for ``path``."""
     mapping = parse_mapping(args.map)
-    sep = SEPARATORS[args.sep] if args.sep else None
     name = args.actuator if mapping and "actuator" not in mapping else None
-    return [read_log(path, mapping=mapping, velocity_unit=args.velocity_unit,
-                     actuator_name=args.actuator if is_bag(path) else name, sep=sep,
-                     decimal=args.decimal, drop_incomplete=args.drop_incomplete) for path in paths]
+    return {"mapping": mapping, "velocity_unit": args.velocity_unit,
+            "actuator_name": args.actuator if is_bag(path) else name,
+            "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
+            "drop_incomplete": args.drop_incomplete}
+
+
+def _read(paths, args) -> list[ThermalLog]:
+    return [read_log(path, **read_options(args, path)) for path in paths]
 
 
 def read_logs(args) -> list[ThermalLog]:
@@ -124,3 +132,66 @@ def format_params(report, indent: str = "  ") -> list[str]:
              for p in report.model.parameters]
     lines += [f"{indent}! {flag}" for flag in report.flags]
     return lines
+
+
+def add_html(p):
+    p.add_argument("--html", type=output_file, default=None, metavar="FILE",
+                   help="write an interactive page (zoomable, panels linked in time; self-contained, works offline)")
+
+
+def html_page(args, title: str):
+    """The interactive page ``--html`` asks for, or ``None``."""
+    if not getattr(args, "html", None):
+        return None
+    from ..interactive import InteractivePage
+
+    return InteractivePage(title, f"thermolimb {args.command} on {', '.join(map(str, args.logs))}.")
+
+
+def add_fleet(p):
+    g = p.add_argument_group("a fleet at once")
+    g.add_argument("--fleet", action="store_true",
+                   help="fit every actuator and run of the LOGs on its own (LOG may be a folder or a quoted glob): "
+                        "one row per actuator and run, then each actuator's parameter drift across its runs")
+    g.add_argument("--backend", choices=BACKENDS, default="process",
+                   help="with --fleet: a local process pool (default), Ray tasks (extra 'ray'), or serial")
+    g.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
+    g.add_argument("--workers", type=integer(1, 1024), default=None,
+                   help="processes of the local pool (default: one per core)")
+    g.add_argument("--table", type=output_file, default=None, metavar="FILE",
+                   help="with --fleet: write the rows to FILE (.csv, or .json with the drift records)")
+
+
+def run_fleet(args, diagnose: bool) -> int:
+    """``--fleet``: rows for every actuator and run, the drift table, and the files asked for."""
+    from ..drift import drift, format_drift, plot_drift
+    from ..fleet import expand_paths, fit_fleet_files, format_rows, rows_table
+
+    if args.table and Path(args.table).suffix.lower() not in (".csv", ".json"):
+        raise UsageError(f"--table {args.table}: expected a .csv or .json file")
+    paths = expand_paths(args.logs)
+    if len({is_bag(p) for p in paths}) > 1:
+        raise UsageError("--fleet reads bags and tables with the same --map; give bags and tables in separate runs")
+    rows, notes = fit_fleet_files(paths, read_options(args, paths[0]), args.model, scheme_of(args),
+                                  method=getattr(args, "method", "output_error"), diagnose=diagnose,
+                                  backend=args.backend, workers=args.workers, address=args.address,
+                                  actuators=[args.actuator] if args.actuator and not args.map else None)
+    for note in notes:
+        print(f"note: {note}", file=sys.stderr)
+    records = drift(rows)
+    if args.plot:
+        plot_drift(records, Path(args.plot) / "drift.png")
+    if args.table:
+        if Path(args.table).suffix.lower() == ".json":
+            write_text(args.table, json.dumps(to_jsonable({"rows": rows, "drift": records}), indent=2))
+        else:
+            import pandas as pd
+
+            write_text(args.table, pd.DataFrame(rows_table(rows)).to_csv(index=False))
+    if args.json:
+        print_json({"rows": rows, "drift": records})
+        return 0
+    print(format_rows(rows))
+    print()
+    print(format_drift(records) if records else "drift: no actuator has two or more fitted runs")
+    return 0

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..errors import UsageError
 from ..logs.table import kind_of
 from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
@@ -40,7 +42,7 @@ def add_parser(sub):
     p.add_argument("--housing-sensor", action="store_true",
                    help="log a second thermistor on each actuator's housing (column 'housing', degC)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the profile and the sensor noise (default 0)")
-    p.add_argument("--out", type=output_file, required=True, help="log file to write (.csv or .parquet)")
+    p.add_argument("--out", type=output_file, required=True, help="log file to write: .csv, .parquet, or .mcap (a ROS 2 MCAP file that opens in Foxglove)")
     p.add_argument("--json", action="store_true", help="print a summary record")
     add_quiet(p)
     p.set_defaults(func=run)
@@ -64,7 +66,8 @@ def run(args) -> int:
         raise UsageError(f"--duration {args.duration:g} s at --dt {args.dt:g} s is {samples:.3g} samples of "
                          f"{len(names)} actuators; at most {MAX_ROWS:,} rows are written (a longer --dt or a "
                          "shorter --duration)")
-    kind_of(args.out)
+    if Path(args.out).suffix.lower() != ".mcap":
+        kind_of(args.out)
     effects = PlantEffects.from_names(args.effects)
     result = simulate_profile(args.profile, args.duration, args.dt, names, specs, effects, seed=args.seed,
                               ambient_C=args.ambient, network=NETWORKS[args.network],

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Mapping
 
@@ -100,9 +101,14 @@ class ThermalLog:
     source: str = "<memory>"
     notes: tuple[str, ...] = field(default=())
 
-    @property
+    @cached_property
     def actuators(self) -> tuple[str, ...]:
         return tuple(pd.unique(self.frame["actuator"]))
+
+    @cached_property
+    def _groups(self) -> dict:
+        """Each actuator's rows, split once (a log's frame is not changed after reading)."""
+        return {name: g for name, g in self.frame.groupby("actuator", sort=False)}
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -112,7 +118,7 @@ class ThermalLog:
         """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
         if actuator not in self.actuators:
             raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
-        groups = {name: g for name, g in self.frame.groupby("actuator", sort=False)}
+        groups = self._groups
         g = groups[actuator]
         t = g["time"].to_numpy(float)
 
