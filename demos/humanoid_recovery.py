@@ -19,7 +19,7 @@ from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
 from humanoid_pb.poses import crouch_angles
 from humanoid_pb.recovery import calibrate, run_recovery
 from humanoid_pb.sim import HumanoidSim
-from thermolimb.demo_registry import demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.identification.regression import lowpass
 from thermolimb.plots import plt, save
 
@@ -28,7 +28,37 @@ STRATEGIES = ("thermal_aware", "minimum_effort")
 GROUPS = {"left leg": leg_actuators("left"), "right leg": leg_actuators("right"), "torso": TORSO_ACTUATORS}
 
 
-@register_demo(NAME, "humanoid thermal recovery: thermal-aware contact switching against minimum effort")
+def _headline(summary: dict) -> list[tuple[str, str, str]]:
+    ta, me = summary["thermal_aware"], summary["minimum_effort"]
+
+    def seconds(v):
+        return "not reached" if v is None else f"{v:.1f} s"
+
+    ratio = (me["hot_leg_below_70_s"] / ta["hot_leg_below_70_s"]
+             if ta["hot_leg_below_70_s"] and me["hot_leg_below_70_s"] else None)
+    return [("hot leg below 70 °C, thermal-aware", seconds(ta["hot_leg_below_70_s"]),
+             f"minimum effort {seconds(me['hot_leg_below_70_s'])}"
+             + (f" ({ratio:.2f}× as long)" if ratio else "")),
+            ("hot leg's fastest cooling, thermal-aware", f"{ta['hot_leg_peak_cooling_rate_K_s']:.2f} K/s",
+             f"minimum effort {me['hot_leg_peak_cooling_rate_K_s']:.2f} K/s"),
+            ("contact modes chosen", ", ".join(ta["modes_chosen"]), "minimum effort: " + ", ".join(me["modes_chosen"])),
+            ("fell", f"thermal-aware {ta['fell']}, minimum effort {me['fell']}", "the robot must never fall")]
+
+
+PAGE = DemoPage(
+    about="The seed's recovery experiment on the humanoid: balancing heats the stance leg to the 75 °C warning, "
+          "then each strategy recovers until every actuator is below 70 °C, thermal-aware contact switching "
+          "against minimum effort. Look at the hot leg's time to 70 °C and cooling rate, and at the contact "
+          "modes each strategy chose.",
+    headline=_headline,
+    captions={"temperature_norms.png": "Norm of the hot leg's temperatures over time for both strategies; the "
+                                       "warning (75 °C) and the recovery threshold (70 °C) dashed.",
+              "contact_modes.png": "Contact mode chosen over time by each strategy.",
+              "configuration_": "The configuration the strategy holds in that contact mode."})
+
+
+@register_demo(NAME, "humanoid thermal recovery: thermal-aware contact switching against minimum effort",
+               page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     bank, _ = calibrate(90.0 if quick else 180.0, quiet=quiet)
     limit_s = 90.0 if quick else 240.0

@@ -13,29 +13,56 @@ from __future__ import annotations
 from pathlib import Path
 
 from thermolimb.data import PMSM_MAP, pmsm_profile
-from thermolimb.demo_registry import demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.diagnosis import auto_diagnose
 from thermolimb.diagnosis.plots import plot_diagnosis
+from thermolimb.interactive import InteractivePage, add_diagnosis
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import DEFAULT_MODEL
 
 NAME = "pmsm-real-data"
 
 
-@register_demo(NAME, "real PMSM test-bench data: what torque-squared heating misses, and what closes the gap")
+def _headline(summary: dict) -> list[tuple[str, str, str]]:
+    rows = []
+    for name, profile in summary["profiles"].items():
+        for scheme, label in (("split", "70/30 split"), ("cv4", "4-fold blocked CV")):
+            if scheme not in profile:
+                continue
+            steps = profile[scheme]["waterfall"]
+            rows.append((f"{name}, {label}: validation RMSE", kelvin(steps[-1]["rmse_K"]),
+                         f"from {kelvin(steps[0]['rmse_K'])} by "
+                         + (", ".join(s["change"] for s in steps[1:]) or "no change")))
+    return rows
+
+
+PAGE = DemoPage(
+    about="Real measurements of a permanent-magnet motor on a test bench (Paderborn University, CC BY-SA 4.0). "
+          "The seed's torque-squared model misses how the winding heats; the search swaps in the measured "
+          "current and adds what remains (speed losses, a second mass). Look at the waterfalls: the real data "
+          "is richer than any candidate, so this shows robustness, not selection.",
+    headline=_headline)
+
+
+@register_demo(NAME, "real PMSM test-bench data: what torque-squared heating misses, and what closes the gap",
+               page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {"source": "Paderborn University 'Electric Motor Temperature' data, CC BY-SA 4.0",
                "base_model": list(DEFAULT_MODEL), "profiles": {}}
+    page = InteractivePage("pmsm-real-data demo: a real motor on a test bench",
+                           "Profiles 24 and 46 of the Paderborn PMSM data: the seed's model and the search's last.")
     for number in (24, 46):
         log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
         series = [log.series(f"profile{number}")]
-        first, _ = auto_diagnose(series, quiet=quiet)
+        first, steps = auto_diagnose(series, quiet=quiet)
         plot_diagnosis(first, out, f"profile{number}")
+        add_diagnosis(page, first, steps[-1])
         entry = {"split": {"waterfall": first.auto, "recommended_model": first.to_json()["recommended_model"]}}
         if number == 24:
             cv, _ = auto_diagnose(series, cv=4, quiet=quiet)
             entry["cv4"] = {"waterfall": cv.auto}
         summary["profiles"][f"profile{number}"] = entry
+    page.write(out / "interactive.html")
     return summary
 
 

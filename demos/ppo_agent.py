@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from hexapod_pb import ENV_ID as HEXAPOD_ID
-from thermolimb.demo_registry import demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
 from thermolimb.envs.evaluate import evaluate
 from thermolimb.envs.report import table
 
@@ -49,8 +49,26 @@ def evaluate_agent(model, episodes: int, seed: int = 0) -> list[float]:
     return returns
 
 
+def _headline(summary: dict) -> list[tuple[str, str, str]]:
+    import numpy as np
+
+    returns = summary["ppo_returns"]
+    rows = [(f"PPO after {summary['timesteps']} steps: return",
+             f"{np.mean(returns):.3g} ± {np.std(returns):.2g} (n = {len(returns)})", "a briefly trained agent")]
+    rows += [(f"{row['strategy']}: return", mean_std(row["return"]), "fixed strategy") for row in summary["strategies"]]
+    return rows
+
+
+PAGE = DemoPage(
+    about="A PPO agent (Stable-Baselines3) trained briefly on the hexapod environment, against the fixed "
+          "strategies on the same seeds. It shows the environment works for learning agents; a short training "
+          "run is not expected to beat the model-based strategies.",
+    headline=_headline,
+    captions={"ppo_vs_strategies.png": "Episode return of the agent and of each fixed strategy."})
+
+
 @register_demo(NAME, "a briefly trained PPO agent on the hexapod against the fixed strategies (extra 'rl')",
-               requires=("stable_baselines3", "torch"))
+               requires=("stable_baselines3", "torch"), page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     timesteps = 512 if quick else 20_000
     model = train(timesteps)

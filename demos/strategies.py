@@ -10,14 +10,36 @@ from pathlib import Path
 
 import hexapod_pb
 import humanoid_pb
-from thermolimb.demo_registry import demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
 from thermolimb.envs.evaluate import evaluate
 from thermolimb.envs.report import format_table, plot_table, table
 
 NAME = "strategies"
 
 
-@register_demo(NAME, "minimum-effort against thermal-aware (and baselines) in both Gymnasium environments")
+def _headline(summary: dict) -> list[tuple[str, str, str]]:
+    rows = []
+    for env_id, record in summary.items():
+        for row in record["table"]:
+            outcome = (f"distance {mean_std(row['distance_m'], 'm')}" if row["distance_m"][2]
+                       else f"recovery {mean_std(row['recovery_s'], 's')}")
+            rows.append((f"{env_id.split('/')[-1]}: {row['strategy']}", f"return {mean_std(row['return'])}",
+                         f"{outcome}; falls {row['falls']}"))
+    return rows
+
+
+PAGE = DemoPage(
+    about="Every strategy of both Gymnasium environments over seeded episodes: the hexapod carrying a load and "
+          "the humanoid recovering from hot actuators, minimum effort against thermal-aware, with a random "
+          "policy as the floor. Look at the return and the outcome that matters (distance, recovery time) with "
+          "their spread over seeds.",
+    headline=_headline,
+    captions={"HexapodLoadCarry-v0.png": "Return and outcomes per strategy, hexapod (mean ± std over seeds).",
+              "HumanoidThermalRecovery-v0.png": "Return and outcomes per strategy, humanoid (mean ± std over seeds)."})
+
+
+@register_demo(NAME, "minimum-effort against thermal-aware (and baselines) in both Gymnasium environments",
+               page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}
     for env_id, max_time in ((hexapod_pb.ENV_ID, 10.0 if quick else 60.0), (humanoid_pb.ENV_ID, 30.0 if quick else 90.0)):

@@ -84,13 +84,13 @@ def loaded_by(statement: str, modules: tuple[str, ...]) -> list[str]:
 def test_importing_the_core_registers_nothing_and_loads_no_gymnasium():
     statement = "import thermolimb, thermolimb.model, thermolimb.logs, thermolimb.evaluation, thermolimb.diagnosis"
     assert loaded_by(statement, ("gymnasium", "pybullet", "hexapod_pb", "humanoid_pb", "thermolimb_demos",
-                                 "demos")) == []
+                                 "demos", "rosbags", "plotly")) == []
 
 
 def test_the_command_line_starts_without_the_heavy_libraries():
     statement = "import thermolimb.cli.main as m; m.build_parser()"
     assert loaded_by(statement, ("gymnasium", "pybullet", "pinocchio", "matplotlib", "pandas", "scipy.signal",
-                                 "scipy.stats", "scipy.optimize")) == []
+                                 "scipy.stats", "scipy.optimize", "rosbags", "plotly", "threadpoolctl", "ray")) == []
 
 
 if __name__ == "__main__":

@@ -17,14 +17,61 @@ import argparse
 import importlib
 import importlib.util
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Mapping
 
 from .atomic import check_output_dir, write_text
 from .errors import UsageError
 from .jsonutil import to_jsonable
+
+
+@dataclass(frozen=True)
+class DemoPage:
+    """How ``out/index.html`` presents a demo.
+
+    ``about``: one paragraph, what the demo shows and what to look at.
+    ``headline(summary)``: the few numbers that matter, as rows
+    ``(quantity, value with unit, what it is compared with)``.
+    ``captions``: figure file name -> caption.
+    """
+
+    about: str
+    headline: Callable[[dict], list[tuple[str, str, str]]]
+    captions: Mapping[str, str] = field(default_factory=dict)
+
+
+# Captions of the figures a diagnosis writes (``plot_diagnosis``), by file-name prefix.
+DIAGNOSIS_CAPTIONS = {
+    "residuals_": "The residual of the starting model (measured − model) over time, its autocorrelation, and its "
+                  "cross-correlation with each input at ± lags; bars beyond the band (95 % for white noise) point at "
+                  "the missing physics.",
+    "candidates_": "Every change the diagnosis tried, by how much it lowers the held-out error (an effect is "
+                   "recommended at ≥ 10 % if plausible and identifiable), and those it set aside and why.",
+    "waterfall_": "Validation RMSE after each step of the stepwise search (red: a fitted value is flagged).",
+}
+
+
+def caption(page: "DemoPage | None", filename: str) -> str:
+    """The caption a demo gives a figure: by exact name, else by the longest matching prefix."""
+    captions = {**DIAGNOSIS_CAPTIONS, **(page.captions if page else {})}
+    if filename in captions:
+        return captions[filename]
+    prefixes = [k for k in captions if filename.startswith(k)]
+    return captions[max(prefixes, key=len)] if prefixes else ""
+
+
+def kelvin(value) -> str:
+    return "—" if value is None else f"{value:.3f} K"
+
+
+def mean_std(triple, unit: str = "", digits: int = 3) -> str:
+    """``[mean, std, n]`` as ``mean ± std unit (n)``; ``—`` when nothing was measured."""
+    mean, std, n = triple
+    if mean is None or not n:
+        return "—"
+    return f"{mean:.{digits}g} ± {std:.2g}{(' ' + unit) if unit else ''} (n = {n})"
 
 
 @dataclass(frozen=True)
@@ -33,6 +80,8 @@ class Demo:
     description: str
     run: Callable[..., dict]
     requires: tuple[str, ...] = ()  # optional packages (an extra) the demo imports
+    page: DemoPage | None = None
+    extra: str = "rl"  # the extra that installs ``requires``
 
     @property
     def missing(self) -> tuple[str, ...]:
@@ -42,11 +91,12 @@ class Demo:
 DEMOS: dict[str, Demo] = {}
 
 
-def register_demo(name: str, description: str, requires: tuple[str, ...] = ()):
+def register_demo(name: str, description: str, requires: tuple[str, ...] = (), page: DemoPage | None = None,
+                  extra: str = "rl"):
     """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``."""
 
     def wrap(func):
-        DEMOS[name] = Demo(name, description, func, tuple(requires))
+        DEMOS[name] = Demo(name, description, func, tuple(requires), page, extra)
         return func
 
     return wrap
@@ -68,7 +118,8 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
     if name not in demos:
         raise UsageError(f"unknown demo {name!r}; available: {', '.join(sorted(demos))}")
     if demos[name].missing:
-        raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: pip install 'thermolimb[rl]'")
+        raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: "
+                         f"pip install 'thermolimb[{demos[name].extra}]'")
     folder = check_output_dir(Path(out) / name, "demo output folder")
     folder.mkdir(parents=True, exist_ok=True)
     summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))

@@ -113,6 +113,9 @@ def candidates_figure(d):
                            text=[f"{c.status}, {c.rmse_K:.3f} K" for c in refitted], textposition="outside",
                            marker_color=["#2ca02c" if c is d.recommended else "#1f77b4" for c in refitted]))
     fig.add_vline(x=10.0, line_dash="dot", line_color="green", annotation_text="10 % needed")
+    gains = [100 * c.improvement for c in refitted] or [0.0]
+    low, high = min(min(gains), 0.0), max(max(gains), 10.0)
+    fig.update_xaxes(range=[low - 0.1 * (high - low) - 5.0, high + 0.45 * (high - low)])  # room for the labels
     fig.update_layout(height=160 + 40 * len(refitted), title=f"{d.actuator}: changes tried on held-out data",
                       xaxis_title=f"fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)",
                       yaxis={"autorange": "reversed"}, margin={"l": 260, "r": 40, "t": 60, "b": 50})
@@ -137,10 +140,16 @@ def thinning_note(report) -> str:
     return f" Drawn at every {step}-th sample (runs of up to {n} samples)." if step > 1 else ""
 
 
-def add_diagnosis(page: InteractivePage, d) -> None:
-    """The base model against the measurement, the candidates, and the waterfall when the search ran."""
-    page.add(f"{d.actuator}: measured against the model", temperature_figure([(",".join(d.model), d.base)], d.actuator),
-             "Measured temperature (black) and the model's free run from each run's first reading; dotted where it "
+def add_diagnosis(page: InteractivePage, d, final=None) -> None:
+    """The model against the measurement, the candidates, and the waterfall when the search ran.
+
+    ``final``: the last step of a stepwise search (a diagnosis), drawn beside the starting model.
+    """
+    reports = [(",".join(d.model), d.base)]
+    if final is not None and tuple(final.model) != tuple(d.model):
+        reports.append((",".join(final.model), final.base))
+    page.add(f"{d.actuator}: measured against the model", temperature_figure(reports, d.actuator),
+             "Measured temperature (black) and each model's free run from each run's first reading; dotted where it "
              "was fitted, solid on held-out data (shaded). Zoom on any panel: the three share the time axis."
              + thinning_note(d.base))
     page.add(f"{d.actuator}: what the diagnosis tried", candidates_figure(d),

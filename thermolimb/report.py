@@ -1,4 +1,12 @@
-"""``out/index.html``: one static page with every demo's plots and summary tables."""
+"""``out/index.html``: one page a person reads, with every demo's story, headline numbers and figures.
+
+For each demo folder (``out/<demo>/summary.json``): what the demo shows and
+what to look at (its :class:`~thermolimb.demo_registry.DemoPage`), its
+headline numbers as a small table (quantity, value with unit, what it is
+compared with), its figures with captions, and links to the full JSON and,
+where the demo wrote one, its interactive page.  The page is written whole
+or not at all.
+"""
 
 from __future__ import annotations
 
@@ -7,21 +15,16 @@ import json
 from pathlib import Path
 
 from .atomic import write_text
+from .demo_registry import caption, load_demos
 from .errors import UsageError
 
-
-def _rows(value, prefix: str = ""):
-    """Flatten nested summaries into (key, value) rows."""
-    if isinstance(value, dict):
-        for k, v in value.items():
-            yield from _rows(v, f"{prefix}.{k}" if prefix else str(k))
-    elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-        for i, v in enumerate(value):
-            yield from _rows(v, f"{prefix}[{i}]")
-    else:
-        if isinstance(value, float):
-            value = f"{value:.4g}"
-        yield prefix, value
+STYLE = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:auto;padding:1em;line-height:1.45;color:#222}"
+         "h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
+         "table.headline{border-collapse:collapse;margin:0.6em 0 1em;font-size:14px}"
+         "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
+         "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
+         "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}"
+         "figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}")
 
 
 def _load(path: Path):
@@ -31,33 +34,58 @@ def _load(path: Path):
         raise UsageError(f"{path} cannot be read as JSON ({exc}); run that demo again") from None
 
 
+def _headline_table(demo, summary: dict, folder: Path) -> str:
+    try:
+        rows = demo.page.headline(summary)
+    except (KeyError, IndexError, TypeError) as exc:
+        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} does not have the shape this version "
+                f"of the demo writes (missing {html.escape(str(exc))}); run the demo again.</p>")
+    body = "".join(f"<tr><td>{html.escape(q)}</td><td class='value'>{html.escape(v)}</td><td>{html.escape(c)}</td></tr>"
+                   for q, v, c in rows)
+    return ("<table class='headline'><thead><tr><th>quantity</th><th>value</th><th>compared with</th></tr></thead>"
+            f"<tbody>{body}</tbody></table>")
+
+
+def _section(folder: Path, out: Path, demos: dict) -> list[str]:
+    summary = _load(folder / "summary.json")
+    demo = demos.get(folder.name)
+    parts = [f"<h2 id='{html.escape(folder.name)}'>{html.escape(folder.name)}</h2>"]
+    if demo is not None:
+        parts.append(f"<p><em>{html.escape(demo.description)}</em></p>")
+    if demo is not None and demo.page is not None:
+        parts.append(f"<p>{html.escape(demo.page.about)}</p>")
+        parts.append(_headline_table(demo, summary, folder))
+    page = demo.page if demo is not None else None
+    for png in sorted(folder.glob("*.png")):
+        rel = png.relative_to(out).as_posix()
+        text = caption(page, png.name)
+        parts.append(f"<figure><img src='{html.escape(rel)}' alt='{html.escape(text or png.stem)}'>"
+                     f"<figcaption>{html.escape(text or png.stem.replace('_', ' '))}</figcaption></figure>")
+    links = [f"<a href='{html.escape(p.relative_to(out).as_posix())}'>{label}</a>"
+             for p, label in ((folder / "summary.json", "summary.json (every number)"),
+                              (folder / "details.json", "details.json"),
+                              (folder / "interactive.html", "interactive figures (zoom)")) if p.is_file()]
+    parts.append(f"<p class='links'>{' · '.join(links)}</p>")
+    return parts
+
+
 def build_report(out: Path) -> Path:
-    """Write ``out/index.html`` from every ``out/<demo>/summary.json`` and PNG."""
+    """Write ``out/index.html`` from every ``out/<demo>/summary.json`` and its figures."""
     out = Path(out)
     folders = sorted(p.parent for p in out.glob("*/summary.json"))
     if not folders:
         raise UsageError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
-    parts = [
-        "<!doctype html><html><head><meta charset='utf-8'><title>thermolimb report</title>",
-        "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}"
-        "table{border-collapse:collapse;font-size:13px}td{border:1px solid #ccc;padding:2px 6px}"
-        "img{max-width:100%;border:1px solid #ddd;margin:6px 0}</style></head><body>",
-        "<h1>thermolimb report</h1>",
-        "<p>Each section is one demo: its plots, then its summary (the same numbers as its summary.json).</p>",
-        "<ul>" + "".join(f"<li><a href='#{f.name}'>{html.escape(f.name)}</a></li>" for f in folders) + "</ul>",
-    ]
+    demos = load_demos()
+    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>thermolimb report</title>"
+             f"<style>{STYLE}</style></head><body>",
+             "<h1>thermolimb report</h1>",
+             "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
+             "Temperatures in °C, temperature errors in K, times in s. Every number is in the demo's "
+             "summary.json, linked under its figures.</p>",
+             "<ul>" + "".join(f"<li><a href='#{html.escape(f.name)}'>{html.escape(f.name)}</a>"
+                              + (f" — {html.escape(demos[f.name].description)}" if f.name in demos else "") + "</li>"
+                              for f in folders) + "</ul>"]
     for folder in folders:
-        summary = _load(folder / "summary.json")
-        parts.append(f"<h2 id='{folder.name}'>{html.escape(folder.name)}</h2>")
-        for png in sorted(folder.glob("*.png")):
-            rel = png.relative_to(out).as_posix()
-            parts.append(f"<div><img src='{html.escape(rel)}' alt='{html.escape(png.stem)}'></div>")
-        details = folder / "details.json"
-        if details.is_file():
-            summary = {**summary, "details": _load(details)}
-        parts.append("<table>")
-        for key, value in _rows(summary):
-            parts.append(f"<tr><td>{html.escape(key)}</td><td>{html.escape(str(value))}</td></tr>")
-        parts.append("</table>")
+        parts += _section(folder, out, demos)
     parts.append("</body></html>")
     return write_text(out / "index.html", "\n".join(parts))

@@ -37,7 +37,8 @@ def run(args) -> int:
     names = sorted(demos) if args.name == "all" else [args.name]
     if args.name == "all":
         for name in [n for n in names if demos[n].missing]:
-            print(f"demo {name}: skipped (needs {', '.join(demos[name].missing)})")
+            print(f"demo {name}: skipped (needs {', '.join(demos[name].missing)}: "
+                  f"pip install 'thermolimb[{demos[name].extra}]')")
         names = [n for n in names if not demos[n].missing]
     summaries = {}
     for name in names:

@@ -1,0 +1,82 @@
+"""The report and a ``diagnose --html`` page in a real headless Chromium (Debian's chromium and chromium-driver).
+
+Skipped, with the reason, where no Chromium or ChromeDriver is installed
+(``.ci/run`` installs them).  Selenium is pointed at the system driver, so no
+browser or driver is ever downloaded.
+"""
+
+import shutil
+import tempfile
+
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.data import WX200_BAG
+from thermolimb.demo_registry import run_demo
+from thermolimb.report import build_report
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER),
+                                reason="no Chromium here: apt install chromium chromium-driver (as .ci/run does)")
+FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-dev-shm-usage")
+
+FIGURES = """return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => ({
+    id: g.id, traces: g.data.length, points: (g.calcdata || []).reduce((n, c) => n + c.length, 0)}));"""
+IMAGES = """return Array.from(document.images).map(i => ({src: i.getAttribute('src'), width: i.naturalWidth}));"""
+RESOURCES = "return performance.getEntriesByType('resource').map(e => e.name);"
+
+
+@pytest.fixture(scope="module")
+def browser():
+    webdriver = pytest.importorskip("selenium.webdriver")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for flag in FLAGS:
+        options.add_argument(flag)
+    profile = tempfile.mkdtemp(prefix="chromium-")
+    options.add_argument(f"--user-data-dir={profile}")
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    yield driver
+    driver.quit()
+    shutil.rmtree(profile, ignore_errors=True)
+
+
+def _open(browser, path):
+    browser.get(path.resolve().as_uri())
+    browser.get_log("browser")  # nothing from earlier pages
+    browser.refresh()
+    severe = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+    assert not severe, severe
+    external = [r for r in browser.execute_script(RESOURCES) if not r.startswith(("file:", "data:", "blob:"))]
+    assert not external, f"the page loads from the network: {external}"
+
+
+def test_diagnose_html_page_has_its_figures_with_data(browser, tmp_path):
+    page = tmp_path / "diagnose.html"
+    assert main(["diagnose", str(WX200_BAG.paths[0]), "--actuator", "waist", "--auto", "--html", str(page),
+                 "--quiet"]) == 0
+    _open(browser, page)
+    figures = browser.execute_script(FIGURES)
+    assert [f["id"] for f in figures] == ["figure-0", "figure-1", "figure-2"]  # temperature, candidates, waterfall
+    assert figures[0]["traces"] >= 4 and figures[0]["points"] >= 4 * 21  # 21 samples per trace
+    assert all(f["points"] > 0 for f in figures)
+    assert page.read_text().count("<script type=\"text/javascript\">/**") <= 1  # Plotly embedded once
+
+
+def test_report_opens_with_every_figure_drawn(browser, tmp_path):
+    for name in ("thermal-fit", "diagnose"):
+        run_demo(name, tmp_path, quick=True, quiet=True)
+    index = build_report(tmp_path)
+    _open(browser, index)
+    images = browser.execute_script(IMAGES)
+    assert len(images) >= 5 and all(i["width"] > 100 for i in images), images
+    text = browser.find_element("tag name", "body").text
+    assert "prediction RMSE, output error" in text and "recommended first" in text
+    assert "catalog_only[0]" not in text and "channels.knee" not in text  # no flattened JSON keys
+    _open(browser, tmp_path / "diagnose" / "interactive.html")
+    assert all(f["points"] > 0 for f in browser.execute_script(FIGURES))
