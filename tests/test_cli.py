@@ -113,3 +113,22 @@ def test_cv_validates_every_fold(sim_log, capsys):
     with pytest.raises(SystemExit) as refused:  # checked when the options are parsed
         main(["fit", str(sim_log), "--actuator", "knee", "--cv", "1"])
     assert refused.value.code == 2
+
+
+@pytest.mark.parametrize("command", ["fit", "compare", "diagnose"])
+def test_html_page_holds_plotly_once_and_a_figure_per_actuator(sim_log, tmp_path, command):
+    page = tmp_path / f"{command}.html"
+    extra = ["--model", "joule", "--model", "joule,effort_bias"] if command == "compare" else []
+    assert main([command, str(sim_log), "--actuator", "knee", "--html", str(page), "--quiet"] + extra) == 0
+    text = page.read_text()
+    assert text.count("Plotly.newPlot(") >= 1 and "<script src=" not in text  # plotly.js embedded, nothing fetched
+    assert "knee: measured" in text
+    assert not list(tmp_path.glob(".*partial*"))
+
+
+def test_html_target_that_is_a_folder_is_refused_before_any_work(sim_log, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["diagnose", str(sim_log), "--html", str(tmp_path)])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "--html" in err and "is a directory" in err

@@ -89,10 +89,7 @@ def run(args) -> int:
         records = [ic if r is None else {**r.to_json(), **ic} for r, ic in results]
         return {"actuator": name, "models": records}, "\n".join(lines)
 
-    status = for_each_actuator(args, analyse)
-    if page is not None:
-        page.write(args.html)
-    return status
+    return for_each_actuator(args, analyse, page)
 
 
 def _plot(results, actuator, path):

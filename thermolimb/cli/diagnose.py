@@ -70,10 +70,7 @@ def run(args) -> int:
             add_diagnosis(page, d)
         return d.to_json(), describe_diagnosis(d)
 
-    status = for_each_actuator(args, analyse)
-    if page is not None:
-        page.write(args.html)
-    return status
+    return for_each_actuator(args, analyse, page)
 
 
 def describe_diagnosis(d) -> str:

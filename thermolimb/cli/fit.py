@@ -66,10 +66,7 @@ def run(args) -> int:
                      f"{report.scheme}; validation RMSE {report.validation['rmse_K']:.3f} K." + thinning_note(report))
         return report.to_json(), _describe(report)
 
-    status = for_each_actuator(args, analyse)
-    if page is not None:
-        page.write(args.html)
-    return status
+    return for_each_actuator(args, analyse, page)
 
 
 def _describe(report) -> str:

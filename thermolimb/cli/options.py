@@ -94,11 +94,12 @@ def print_json(obj) -> None:
     sys.stdout.write("\n")
 
 
-def for_each_actuator(args, analyse) -> int:
+def for_each_actuator(args, analyse, page=None) -> int:
     """Run ``analyse(name, runs, held_out_runs) -> (record, text)`` for the chosen actuator or every one.
 
     Prints what reading changed on standard error, each text, or with
-    ``--json`` one record (a list when several actuators).
+    ``--json`` one record (a list when several actuators); writes ``page``
+    (the ``--html`` page the analyses filled) at the end.
     """
     logs = read_logs(args)
     held = _read(args.validate_on, args) if getattr(args, "validate_on", None) else []
@@ -123,6 +124,8 @@ def for_each_actuator(args, analyse) -> int:
             print(text)
     if args.json:
         print_json(records[0] if len(records) == 1 else records)
+    if page is not None:
+        page.write(args.html)
     return 0
 
 
