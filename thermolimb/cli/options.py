@@ -155,7 +155,8 @@ def add_fleet(p):
     g = p.add_argument_group("a fleet at once")
     g.add_argument("--fleet", action="store_true",
                    help="fit every actuator and run of the LOGs on its own (LOG may be a folder or a quoted glob): "
-                        "one row per actuator and run, then each actuator's parameter drift across its runs")
+                        "one row per actuator and run, then each actuator's parameter drift across its runs "
+                        "(--plot DIR writes DIR/drift.png)")
     g.add_argument("--backend", choices=BACKENDS, default="process",
                    help="with --fleet: a local process pool (default), Ray tasks (extra 'ray'), or serial")
     g.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
