@@ -6,7 +6,9 @@ objective (the fast configuration scored with Eq. 23's single Gamma(q), as the
 descent scores its own), apart from it what the fast method's free choice of
 balancing torques and force split reaches, and the constraint violations of
 the fast result (contacts, equilibrium, unilateral normals, centre of
-pressure, joint limits).  A hot right leg (78 degC) sets the potential's weights.
+pressure, joint limits).  Also the seed's final form: one descent step (Eqs.
+30-32, bounded by delta_max) per control step, timed alike, with the number of
+control steps the descent needs.  A hot right leg (78 degC) sets the potential's weights.
 
     python benchmarks/thermal_ik.py [--json]
 """
@@ -15,12 +17,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import time
 
 import numpy as np
 
 from humanoid_pb.actuators import datasheet_bank
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
-from humanoid_pb.descent import naive_descent, potential_of
+from humanoid_pb.descent import descent_step, naive_descent, potential_of
 from humanoid_pb.fast_ik import FastThermalIK
 from humanoid_pb.params import VALKYRIE
 from humanoid_pb.poses import crouch_angles, single_support, standing
@@ -32,6 +35,17 @@ def best_of(solve, repeats: int = 3):
     """The fastest of ``repeats`` solves after one warm-up (caches, first-call costs)."""
     solve()
     return min((solve() for _ in range(repeats)), key=lambda r: r.wall_s)
+
+
+def _step_time(body: WholeBody, q, mode, potential, repeats: int = 3) -> float:
+    """One descent step (Eqs. 30-32), timed like the solvers: a warm-up, then the best of ``repeats``."""
+    descent_step(body, q, mode, potential)
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        descent_step(body, q, mode, potential)
+        times.append(time.perf_counter() - start)
+    return min(times)
 
 
 def violations(body: WholeBody, q0, result, mode) -> dict[str, float]:
@@ -66,17 +80,22 @@ def main(argv=None) -> dict:
         # both methods timed alike: one warm-up solve, then the best of three
         naive = best_of(lambda: naive_descent(body, start, mode, potential, max_iter=300))
         fast = best_of(lambda: fast_solver.solve(start, mode, potential))
+        step_s = _step_time(body, start, mode, potential)
         v = violations(body, start, fast, mode)
         # like for like: the fast configuration scored as the descent scores it, with Eq. 23's single Gamma(q)
         same = potential_of(body, fast.q, mode, potential)
         record["modes"][mode] = {"naive_s": naive.wall_s, "fast_s": fast.wall_s, "speedup": naive.wall_s / fast.wall_s,
                                  "naive_potential": naive.potential, "fast_potential": same,
-                                 "fast_free_potential": fast.potential,
+                                 "fast_free_potential": fast.potential, "step_s": step_s,
+                                 "steps_to_converge": naive.iterations,
                                  "naive_contact_drift_m": naive.contact_drift_m, "fast_violations": v}
         print(f"{mode:7s} naive {naive.wall_s * 1e3:7.0f} ms ({naive.iterations} it) potential {naive.potential:10.0f} "
               f"| fast {fast.wall_s * 1e3:6.1f} ms ({fast.iterations} it) potential {same:10.0f} with Gamma(q), "
               f"{fast.potential:10.0f} with its own torques and forces "
               f"| speed-up {naive.wall_s / fast.wall_s:5.1f} x (target >= 40 x)")
+        print(f"        the seed's final form, one descent step per control step: {step_s * 1e3:.1f} ms per step "
+              f"({'fits' if step_s <= 0.01 else 'does not fit'} a 100 Hz loop), {naive.iterations} steps = "
+              f"{naive.iterations / 100:.2f} s of control at 100 Hz to reach the descent's end")
         print(f"        naive contact drift {naive.contact_drift_m * 1e3:.2f} mm; fast violations "
               + ", ".join(f"{k} {val:.1e}" for k, val in v.items()))
     if args.json:

@@ -46,35 +46,52 @@ def contact_drift(body: WholeBody, q0: np.ndarray, q: np.ndarray, mode: str) -> 
     return float(max(np.linalg.norm(end[s].translation - start[s].translation) for s in sides))
 
 
+def descent_step(body: WholeBody, q: np.ndarray, mode: str, potential, f: float | None = None,
+                 delta_max: float = 0.01, h: float = 1e-4) -> tuple[np.ndarray, float, bool]:
+    """One iteration of the seed's descent (Eqs. 30-32): ``(q_next, f_next, moved)``.
+
+    The step is bounded by ``delta_max`` in its largest coordinate (Eq. 31's
+    gain: a trust region) and projected into the contacts' dynamically
+    consistent null space (Eq. 32).  ``moved`` is false when the step would
+    not lower the potential (the descent's stopping rule); then ``q`` is
+    returned unchanged.  This is the unit the seed proposes to run inside a
+    whole-body controller, one per control step.
+    """
+    f = potential_of(body, q, mode, potential) if f is None else f
+    Jc = body.contact_jacobian(q, mode)
+    _, s, Vt = np.linalg.svd(Jc)
+    V = Vt[np.sum(s > 1e-9):].T  # directions that keep every contact still (nv x |V|)
+    grad = np.zeros(body.nv)
+    for v in V.T:  # Eq. 30
+        grad += v * (potential_of(body, pin.integrate(body.model, q, h * v), mode, potential) - f) / h
+    dq = -grad
+    scale = np.max(np.abs(dq))
+    if scale == 0:
+        return q, f, False
+    dq *= delta_max / scale  # Eq. 31: the gain bounds the largest coordinate change by delta_max
+    A = pin.crba(body.model, body.data, q)
+    A = np.triu(A) + np.triu(A, 1).T
+    A_inv = np.linalg.inv(A)
+    Nc = np.eye(body.nv) - A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T) @ Jc
+    q_next = pin.integrate(body.model, q, Nc @ dq)  # Eq. 32
+    f_next = potential_of(body, q_next, mode, potential)
+    if f_next >= f:
+        return q, f, False
+    return q_next, f_next, True
+
+
 def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
                   delta_max: float = 0.01, h: float = 1e-4, max_iter: int = 300) -> DescentResult:
-    """The seed's contact-consistent finite-difference descent (Eqs. 29-32)."""
+    """The seed's contact-consistent finite-difference descent (Eqs. 29-32), iterated to its stopping rule."""
     start = time.perf_counter()
     q = q0.copy()
     f = potential_of(body, q, mode, potential)
     history = [f]
     iterations = 0
     for iterations in range(1, max_iter + 1):
-        Jc = body.contact_jacobian(q, mode)
-        _, s, Vt = np.linalg.svd(Jc)
-        V = Vt[np.sum(s > 1e-9):].T  # directions that keep every contact still (nv x |V|)
-        grad = np.zeros(body.nv)
-        for v in V.T:  # Eq. 30
-            grad += v * (potential_of(body, pin.integrate(body.model, q, h * v), mode, potential) - f) / h
-        dq = -grad
-        scale = np.max(np.abs(dq))
-        if scale == 0:
+        q, f, moved = descent_step(body, q, mode, potential, f, delta_max, h)
+        if not moved:
             break
-        dq *= delta_max / scale  # Eq. 31: the gain bounds the largest coordinate change by delta_max
-        A = pin.crba(body.model, body.data, q)
-        A = np.triu(A) + np.triu(A, 1).T
-        A_inv = np.linalg.inv(A)
-        Nc = np.eye(body.nv) - A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T) @ Jc
-        q_next = pin.integrate(body.model, q, Nc @ dq)  # Eq. 32
-        f_next = potential_of(body, q_next, mode, potential)
-        if f_next >= f:
-            break
-        q, f = q_next, f_next
         history.append(f)
     return DescentResult("naive", mode, q, f, iterations, time.perf_counter() - start, history,
                          contact_drift(body, q0, q, mode))

@@ -80,3 +80,17 @@ def test_fast_ik_keeps_contacts_exact_and_is_never_worse_than_the_seeds_descent(
     angles = body.joint_angles(fast.q)
     limits = np.array([VALKYRIE.limits(j) for j in JOINTS])
     assert np.all(angles >= limits[:, 0] - 1e-6) and np.all(angles <= limits[:, 1] + 1e-6)
+
+
+def test_one_step_per_control_tick_retraces_the_descent(body, q0):
+    """The seed's final form runs one bounded step (Eqs. 30-32) per control step: iterated, it is the descent."""
+    from humanoid_pb.descent import descent_step
+
+    pot = ThermalPotential.from_measurement(bank(), hot_right_leg())
+    whole = naive_descent(body, q0, "left", pot, max_iter=12)
+    q, f = q0.copy(), potential_of(body, q0, "left", pot)
+    for _ in range(12):
+        q, f, moved = descent_step(body, q, "left", pot, f)
+        assert moved
+    np.testing.assert_array_equal(q, whole.q)
+    assert f == whole.potential < potential_of(body, q0, "left", pot)
