@@ -123,21 +123,20 @@ def inspect_bag(path: str | Path) -> list[TopicInfo]:
     """Every topic with its type, message count, mean rate, numeric fields and joint names."""
     path = Path(path)
     with _open(path) as reader:
-        duration_s = max((reader.end_time - reader.start_time) / 1e9, 0.0)
-        first = {}
-        for conn, _, msg in _messages(reader, path, None):
-            if conn.topic not in first:
-                first[conn.topic] = msg
-            if len(first) == len(reader.topics):
-                break
-        infos = []
-        for conn in sorted(reader.connections, key=lambda c: c.topic):
-            msg = first.get(conn.topic)
-            count = conn.msgcount
-            infos.append(TopicInfo(conn.topic, conn.msgtype, count,
-                                   (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
-                                   tuple(_numeric_fields(msg)) if msg is not None else (),
-                                   _joint_names(msg) if msg is not None else ()))
+        return _topic_infos(reader, path)
+
+
+def _topic_infos(reader, path: Path) -> list[TopicInfo]:
+    """The topics of an open bag, reading only each topic's first message."""
+    duration_s = max((reader.end_time - reader.start_time) / 1e9, 0.0)
+    infos = []
+    for conn in sorted(reader.connections, key=lambda c: c.topic):
+        msg = next((m for _, _, m in _messages(reader, path, [conn])), None)
+        count = conn.msgcount
+        infos.append(TopicInfo(conn.topic, conn.msgtype, count,
+                               (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
+                               tuple(_numeric_fields(msg)) if msg is not None else (),
+                               _joint_names(msg) if msg is not None else ()))
     return infos
 
 
@@ -257,8 +256,7 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
     notes = []
     with _open(path) as reader:
         if not mapping:
-            infos = inspect_bag(path)
-            mapping, reasons = suggest_mapping(infos)
+            mapping, reasons = suggest_mapping(_topic_infos(reader, path))
             if mapping is None:
                 raise LogError(f"{path}: no --map given and none can be chosen from the bag: "
                                + "; ".join(reasons) + "; see `thermolimb inspect` and give --map channel=/topic.field")
