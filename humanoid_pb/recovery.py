@@ -16,10 +16,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from thermolimb.evaluation import make_estimator
-from thermolimb.identification import IdentifiabilityError
+from thermolimb.identification.bank import identify_bank
 from thermolimb.logs import ThermalLog
-from thermolimb.model import FirstOrderBank, ThermalModel
+from thermolimb.model import FirstOrderBank
 from thermolimb.progress import progress
 
 from .actuators import effort_limits
@@ -96,42 +95,6 @@ class Executor:
         return self.sim.command(command)
 
 
-MIN_RC_S = 5.0  # an identified time constant below this is not physical for these windings: not identified
-
-
-def identify_bank(log: ThermalLog, limits: np.ndarray) -> FirstOrderBank:
-    """Fit Eq. 5 to every actuator of the robot's own log.
-
-    Actuators the log cannot identify (efforts that barely change, or a fit
-    with an implausible time constant) get a prior rather than "no heating",
-    which an optimiser would exploit: the identified actuators' median
-    ``betaR * limit^2`` over their own ``limit^2`` (current scales with the
-    effort limit here), the median time constant, and the mean measured
-    temperature as offset.
-    """
-    models: dict[str, ThermalModel | None] = {}
-    for name in ACTUATORS:
-        try:
-            m = make_estimator("output_error", "joule,effort_bias").fit(log.series(name)).model_
-            models[name] = m if m.params["RC_s"] >= MIN_RC_S and m.params["betaR_K_per_effort2"] > 0 else None
-        except (IdentifiabilityError, ValueError):
-            models[name] = None
-    known = [(m, limits[i]) for i, m in enumerate(models.values()) if m is not None]
-    if not known:
-        raise IdentifiabilityError("the calibration log identifies no actuator: it needs efforts that vary")
-    rc = float(np.median([m.params["RC_s"] for m, _ in known]))
-    heat = float(np.median([m.params["betaR_K_per_effort2"] * lim**2 for m, lim in known]))
-    filled = []
-    for i, name in enumerate(ACTUATORS):
-        m = models[name]
-        if m is None:
-            T = float(np.mean(log.series(name).temperature_C))
-            m = ThermalModel(("joule", "effort_bias"), {"RC_s": rc, "betaR_K_per_effort2": heat / limits[i] ** 2,
-                                                        "beta_biasR_K_per_effort": 0.0, "T_offset_C": T})
-        filled.append(m)
-    return FirstOrderBank.from_models(filled)
-
-
 def calibrate(duration_s: float, seed: int = 0, quiet: bool = True) -> tuple[FirstOrderBank, ThermalLog]:
     """A calibration run (double support, then each foot, in turn) and the models identified from its log."""
     with HumanoidSim(crouch_angles(), seed=seed) as sim:
@@ -146,7 +109,7 @@ def calibrate(duration_s: float, seed: int = 0, quiet: bool = True) -> tuple[Fir
                 k += 1
             reading = ex.tick(reading)
         log = sim.thermal_log()
-    return identify_bank(log, effort_limits(sim.params)), log
+    return identify_bank(log, ACTUATORS, effort_limits(sim.params)), log
 
 
 @dataclass

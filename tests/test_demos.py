@@ -100,3 +100,17 @@ def test_real_logs_demo_runs_the_loop_on_every_bundled_log(quick_runs):
             assert walk["steps"][0]["change"] == "start" and walk["after_K"] <= walk["before_K"]
     j3 = summary["ur3"]["actuators"]["J3"]["split"]  # a wrist joint: heat from its neighbours
     assert "neighbor_coupling" in j3["final_model"] and j3["after_K"] < 0.5 * j3["before_K"]
+
+
+def test_endurance_summary_has_the_cells_the_issue_names(quick_runs):
+    cells = quick(quick_runs, "hexapod-endurance")["cells"]
+    assert {c["mode"] for c in cells} == {"walk", "stand"}
+    for c in cells:
+        assert set(c) == {"payload_kg", "ambient_C", "mode", "strategy", "time_to_derate_s", "horizon_s",
+                          "distance_per_s_m"}
+        assert c["time_to_derate_s"] is None or 0 < c["time_to_derate_s"] <= c["horizon_s"]
+    stand = {c["strategy"]: c for c in cells if c["mode"] == "stand" and c["payload_kg"] == 80.0}
+    # standing with 80 kg at 40 degC vertical forces derate within the hour; the planned stance lasts twice as long
+    assert stand["vertical_only"]["time_to_derate_s"] < 3600.0
+    planned = stand["thermal_gait"]["time_to_derate_s"]
+    assert planned is None or planned >= 2 * stand["vertical_only"]["time_to_derate_s"]

@@ -234,25 +234,40 @@ class ThermalPlant:
 
         Also updates :attr:`current_A`, the motor current magnitude.
         """
+        constant, per_kelvin = self.heat_affine(effort, velocity)
+        return constant + per_kelvin * self._x
+
+    def heat_affine(self, effort: np.ndarray, velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The heat into every state node as ``constant + per_kelvin * x`` (W and W/K, per node) for the state ``x``.
+
+        Every effect whose heat depends on the state does so linearly and
+        node by node (copper resistance on the winding, motion cooling on the
+        outer node), which keeps the plant a linear network for held inputs.
+        Also updates :attr:`current_A`.
+        """
         fx = self.effects
         speed = np.abs(np.asarray(velocity, dtype=float))
         current_sq = self._current_sq(np.asarray(effort, dtype=float), speed, self._applied_fraction)
         self.current_A = np.sqrt(current_sq)
-        resistance = self._resistance_ohm
+        constant = np.zeros(self._n_states)
+        per_kelvin = np.zeros(self._n_states)
+        joule = current_sq * self._resistance_ohm
         if fx.winding_tempco is not None:
             tc = fx.winding_tempco
-            resistance = resistance * (1.0 + tc.alpha_per_K * (self._x[self._winding] - tc.reference_C))
-        q = np.zeros(self._n_states)
-        q[self._winding] += current_sq * resistance
+            constant[self._winding] += joule * (1.0 - tc.alpha_per_K * tc.reference_C)
+            per_kelvin[self._winding] += joule * tc.alpha_per_K
+        else:
+            constant[self._winding] += joule
         if fx.speed_losses is not None:
             sl = fx.speed_losses
-            q[self._winding] += sl.iron_W_per_rad2_s2 * speed**2
-            q[self._housing] += sl.friction_W_per_rad_s * speed
+            constant[self._winding] += sl.iron_W_per_rad2_s2 * speed**2
+            constant[self._housing] += sl.friction_W_per_rad_s * speed
         if fx.motion_cooling is not None:
             extra_g = self._outer_conductance * fx.motion_cooling.gain_per_rad_s * speed
-            q[self._outer] -= extra_g * (self._x[self._outer] - self.ambient_at(self.time_s))
-        q[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
-        return q
+            constant[self._outer] += extra_g * self.ambient_at(self.time_s)
+            per_kelvin[self._outer] -= extra_g
+        constant[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
+        return constant, per_kelvin
 
     def set_temperatures(self, temperature_C: np.ndarray) -> None:
         """Put every node of each actuator (winding, housing, body, sensor, driver) at the given temperature (degC)."""
@@ -266,6 +281,21 @@ class ThermalPlant:
         self._measure()
         if self.observer is not None:
             self.observer.reset(temperature_C)
+
+    @property
+    def state(self) -> np.ndarray:
+        """Every node's true temperature (degC): the state vector a :class:`~thermolimb.plant.periodic.CycleMap` maps."""
+        return self._x.copy()
+
+    def set_state(self, state: np.ndarray) -> None:
+        """Put the network in a state read from :attr:`state` (degC); sensors read it, the observer starts from it."""
+        state = np.asarray(state, float)
+        if state.shape != self._x.shape or not np.all(np.isfinite(state)):
+            raise ValueError(f"a plant state needs {self._x.shape[0]} finite temperatures, got shape {state.shape}")
+        self._x = state.copy()
+        self._measure()
+        if self.observer is not None:
+            self.observer.reset(self._x[self._winding])
 
     # ------------------------------------------------------------------ steps
     def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:

@@ -1,0 +1,48 @@
+"""Eq. 5 for every actuator of a robot, identified from the robot's own log (what its controllers plan with)."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from ..logs import ThermalLog
+from ..model import FirstOrderBank, ThermalModel
+from .output_error import OutputError
+from .regression import IdentifiabilityError
+
+MIN_RC_S = 5.0  # default: a time constant below this is not physical for a humanoid's windings: not identified
+
+
+def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
+                  min_rc_s: float = MIN_RC_S) -> FirstOrderBank:
+    """Fit Eq. 5 (output error, ``joule,effort_bias``) to every named actuator of ``log``, in that order.
+
+    Actuators the log cannot identify (efforts that barely change, or a fit
+    with a time constant below ``min_rc_s``, implausible for the winding) get a prior rather than "no heating",
+    which an optimiser would exploit: the identified actuators' median
+    ``betaR * limit^2`` over their own ``limit^2`` (``limits``, the effort
+    limits: current scales with them for actuators of one family), the median
+    time constant, and the mean measured temperature as offset.
+    """
+    models: dict[str, ThermalModel | None] = {}
+    for name in actuators:
+        try:
+            m = OutputError(model="joule,effort_bias").fit(log.series(name)).model_
+            models[name] = m if m.params["RC_s"] >= min_rc_s and m.params["betaR_K_per_effort2"] > 0 else None
+        except (IdentifiabilityError, ValueError):
+            models[name] = None
+    known = [(m, limits[i]) for i, m in enumerate(models.values()) if m is not None]
+    if not known:
+        raise IdentifiabilityError("the calibration log identifies no actuator: it needs efforts that vary")
+    rc = float(np.median([m.params["RC_s"] for m, _ in known]))
+    heat = float(np.median([m.params["betaR_K_per_effort2"] * lim**2 for m, lim in known]))
+    filled = []
+    for i, name in enumerate(actuators):
+        m = models[name]
+        if m is None:
+            T = float(np.mean(log.series(name).temperature_C))
+            m = ThermalModel(("joule", "effort_bias"), {"RC_s": rc, "betaR_K_per_effort2": heat / limits[i] ** 2,
+                                                        "beta_biasR_K_per_effort": 0.0, "T_offset_C": T})
+        filled.append(m)
+    return FirstOrderBank.from_models(filled)
