@@ -31,11 +31,12 @@ NAME = "hexapod-endurance"
 FULL = {"payloads_kg": (0.0, 10.0, 20.0, 30.0, 35.0, 40.0, 60.0, 80.0, 100.0), "ambients_C": (25.0, 40.0),
         "horizon_s": 8 * 3600.0, "window_s": 1800.0, "calibration_s": 1200.0, "check_s": 1200.0,
         "choices": GAIT_CHOICES}
-QUICK = {"payloads_kg": (30.0, 80.0), "ambients_C": (40.0,), "horizon_s": 4 * 3600.0, "window_s": 7200.0,
+QUICK = {"payloads_kg": (25.0, 80.0), "ambients_C": (40.0,), "horizon_s": 8 * 3600.0, "window_s": 4 * 3600.0,
          "calibration_s": 180.0, "check_s": 120.0,
          "choices": {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16,), "body_height_m": (0.13, 0.16)}}
 CHECK_CELL = {"payload_kg": 20.0, "ambient_C": 40.0, "mode": "walk", "strategy": "vertical_only"}
 BASELINE = "vertical_only"
+FLOOR_H = 1.0 / 60.0  # where the figure marks loads the robot cannot carry
 
 
 def best_gain(cells: list[dict]) -> dict | None:
@@ -153,13 +154,15 @@ def _plot_envelope(cells: list[dict], grid: dict, path: Path) -> None:
                 hours = [np.nan if c["fell"] else (c["time_to_derate_s"] or horizon) / 3600 for c in rows]
                 line, = ax.plot(x, hours, "o-", ms=4, lw=1.2, label=strategy.replace("_", " "))
                 fell = [xx for xx, c in zip(x, rows) if c["fell"]]
-                ax.plot(fell, [0.0] * len(fell), "x", color=line.get_color(), ms=7)
+                ax.plot(fell, [FLOOR_H] * len(fell), "x", color=line.get_color(), ms=7)
                 turning = [(xx, h) for xx, h, c in zip(x, hours, rows) if not c["fell"] and not c["holds_heading"]]
                 if turning:
                     ax.plot(*zip(*turning), "o", mfc="white", mec=line.get_color(), ms=7)
             ax.axhline(horizon / 3600, color="k", ls=":", lw=0.8)
             ax.axhline(1.0, color="0.6", ls="--", lw=0.8)
-            ax.set_title(f"{mode}, ambient {ambient:.0f} °C", fontsize=10)
+            ax.set_yscale("log")
+            ax.set_ylim(FLOOR_H / 1.5, horizon / 3600 * 1.5)
+            ax.set_title(f"{mode}, ambient {ambient:.0f} °C (x: cannot carry it)", fontsize=10)
             ax.set_ylabel("time to first derating (h)")
         axes[-1, 0].set_xlabel("payload (kg)")
     axes[0, 0].legend(fontsize=8, loc="upper right")

@@ -14,12 +14,15 @@ from .regression import IdentifiabilityError
 MIN_RC_S = 5.0  # default: a time constant below this is not physical for a humanoid's windings: not identified
 
 
-def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
-                  min_rc_s: float = MIN_RC_S) -> FirstOrderBank:
-    """Fit Eq. 5 (output error, ``joule,effort_bias``) to every named actuator of ``log``, in that order.
+def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray, min_rc_s: float = MIN_RC_S,
+                  model: str = "joule,effort_bias", min_rise_K: float = 0.0) -> FirstOrderBank:
+    """Fit Eq. 5 (output error, ``model``: ``joule`` with or without ``effort_bias``) to every named actuator of
+    ``log``, in that order.
 
-    Actuators the log cannot identify (efforts that barely change, or a fit
-    with a time constant below ``min_rc_s``, implausible for the winding) get a prior rather than "no heating",
+    Actuators the log cannot identify (efforts that barely change, a fit
+    with a time constant below ``min_rc_s``, implausible for the winding, or
+    efforts whose Joule heating the fit puts below ``min_rise_K`` on average,
+    i.e. within the sensor's resolution) get a prior rather than "no heating",
     which an optimiser would exploit: the identified actuators' median
     ``betaR * limit^2`` over their own ``limit^2`` (``limits``, the effort
     limits: current scales with them for actuators of one family), the median
@@ -28,8 +31,10 @@ def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
     models: dict[str, ThermalModel | None] = {}
     for name in actuators:
         try:
-            m = OutputError(model="joule,effort_bias").fit(log.series(name)).model_
-            models[name] = m if m.params["RC_s"] >= min_rc_s and m.params["betaR_K_per_effort2"] > 0 else None
+            series = log.series(name)
+            m = OutputError(model=model).fit(series).model_
+            rise = m.params["betaR_K_per_effort2"] * float(np.mean(np.asarray(series.signals.effort) ** 2))
+            models[name] = m if m.params["RC_s"] >= min_rc_s and rise >= min_rise_K else None
         except (IdentifiabilityError, ValueError):
             models[name] = None
     known = [(m, limits[i]) for i, m in enumerate(models.values()) if m is not None]
