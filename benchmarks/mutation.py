@@ -6,7 +6,10 @@
 What is mutated is set in ``setup.cfg``'s ``[mutmut]`` section: ``thermolimb/model``,
 ``identification``, ``diagnosis`` (not its plots), ``logs``, ``plant`` and
 ``hexapod_pb/wrench.py``.  mutmut runs, for each mutant, the tests that
-execute the mutated function (from its own coverage statistics).
+execute the mutated function (from its own coverage statistics), from the
+default (not slow) suite less the demo runs and the browser tests, which
+take minutes and call everything: a mutant a subset kills, the whole suite
+kills, so the score is a lower bound.
 
 The whole population is several thousand mutants, hours on two cores; the
 score is estimated on a seeded random sample, with a 95 % Wilson interval.
