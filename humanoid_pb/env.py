@@ -43,15 +43,20 @@ Reward (each term in ``info["reward_terms"]``, the reward is their sum):
 = -100 once; ``effort`` = -0.01 x the mean squared normalised effort.
 Terminated when every actuator is below ``RECOVERED_C`` (70 degC) or the robot
 falls; truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the
-world, so the same seed and actions give the same trajectory.
+world, so the same seed and actions give the same trajectory.  ``actuator_specs``
+builds the robot with actuators other than the datasheet's (a worn or different
+robot); :meth:`calibration_run` identifies models on it.
 """
 
 from __future__ import annotations
+
+from typing import Sequence
 
 import numpy as np
 from gymnasium import spaces
 
 from thermolimb.envs.base import RigEnv
+from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
 from .actuators import effort_limits
@@ -59,7 +64,7 @@ from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, l
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
 from .poses import crouch_angles
 from .readings import roll_pitch_rad
-from .recovery import Executor
+from .recovery import Executor, calibrate
 from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
@@ -69,8 +74,10 @@ DECISION_S = 1.5
 class HumanoidThermalRecoveryEnv(RigEnv):
     OUTCOME = "recovery_s"
 
-    def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None):
+    def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None,
+                 actuator_specs: Sequence[ActuatorSpec] | None = None):
         super().__init__(max_time_s, DECISION_S, render_mode)
+        self.actuator_specs = None if actuator_specs is None else tuple(actuator_specs)
         if action_type not in ("mode", "configuration"):
             raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
         self.action_type = action_type
@@ -83,6 +90,11 @@ class HumanoidThermalRecoveryEnv(RigEnv):
                      np.full(2, 2.0)].astype(np.float32)
         self.observation_space = spaces.Box(low, high, dtype=np.float32)
 
+    def calibration_run(self, duration_s: float, seed: int = 0):
+        """Models identified from a calibration run of this robot (its own actuators, whatever its datasheet
+        says): what a thermal-aware policy plans with.  Returns ``(bank, log)``."""
+        return calibrate(duration_s, seed, specs=self.actuator_specs)
+
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
@@ -93,7 +105,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
         config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
-        self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)))
+        self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs)
         self.sim.plant.set_temperatures(temperatures)
         self.executor = Executor(self.sim)
         self.reading = self.sim.read()

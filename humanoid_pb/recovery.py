@@ -13,12 +13,14 @@ weight over the stance foot, then lifting the other foot.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import Sequence
 
 import numpy as np
 
 from thermolimb.identification.bank import identify_bank
 from thermolimb.logs import ThermalLog
 from thermolimb.model import FirstOrderBank
+from thermolimb.plant import ActuatorSpec
 from thermolimb.progress import progress
 
 from .actuators import effort_limits
@@ -95,9 +97,14 @@ class Executor:
         return self.sim.command(command)
 
 
-def calibrate(duration_s: float, seed: int = 0, quiet: bool = True) -> tuple[FirstOrderBank, ThermalLog]:
-    """A calibration run (double support, then each foot, in turn) and the models identified from its log."""
-    with HumanoidSim(crouch_angles(), seed=seed) as sim:
+def calibrate(duration_s: float, seed: int = 0, quiet: bool = True,
+              specs: Sequence[ActuatorSpec] | None = None) -> tuple[FirstOrderBank, ThermalLog]:
+    """A calibration run (double support, then each foot, in turn) and the models identified from its log.
+
+    ``specs``: the robot's actuators if they are not the datasheet's (the
+    calibration runs on the robot; nothing reads the specs but its plant).
+    """
+    with HumanoidSim(crouch_angles(), seed=seed, specs=specs) as sim:
         ex = Executor(sim)
         reading = sim.read()
         schedule = ["right", "double", "left", "double"]

@@ -8,9 +8,11 @@ it drives.
 
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 
-from thermolimb.plant import PlantEffects, ThermalProtection
+from thermolimb.plant import ActuatorSpec, PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
 
 from . import actuators
@@ -28,14 +30,15 @@ class HumanoidSim(BulletRig):
                  config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
                  protection: ThermalProtection = ThermalProtection(),
-                 body: WholeBody | None = None):
+                 body: WholeBody | None = None, specs: Sequence[ActuatorSpec] | None = None):
         self.params = params
         self.body = body or WholeBody(params)
         self.rods = actuators.rod_pairs(params)
         angles = np.zeros(len(JOINTS)) if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
-        super().__init__(urdf_path(), JOINTS, FEET, ACTUATORS, actuators.actuator_specs(params), limits, config,
+        specs = actuators.actuator_specs(params) if specs is None else list(specs)
+        super().__init__(urdf_path(), JOINTS, FEET, ACTUATORS, specs, limits, config,
                          base, plant_effects=plant_effects, seed=seed, protection=protection)
         self.set_joint_positions(angles)
 
