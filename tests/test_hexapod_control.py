@@ -9,7 +9,7 @@ from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
 from hexapod_pb.controller import STRATEGIES, ControllerState, Gains, ThermalContext, control_step
 from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
-from hexapod_pb.params import DAISY
+from hexapod_pb.params import DAISY, GRAVITY_M_S2
 from hexapod_pb.sim import HexapodSim, SimConfig
 from hexapod_pb.thermal import datasheet_bank
 from hexapod_pb.wrench import StanceProblem, minimax, minimax_lex, seed_trust_constr, thermal_minimax, vertical_only
@@ -139,3 +139,34 @@ def test_a_run_writes_a_canonical_log_that_fit_reads(tmp_path):
     # efforts are the torques applied after derating; readings are the plant's quantised temperatures
     assert shoulder.signals.effort.std() > 0 and np.allclose(shoulder.temperature_C * 10, np.round(shoulder.temperature_C * 10))
     assert shoulder.signals.velocity is not None and shoulder.signals.ambient_C is not None
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_every_solver_balances_the_wrench_it_was_given(seed):
+    """Each solver's forces meet the net wrench (the seed's trust-constr its three equalities), and each reports
+    a positive solve time."""
+    problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(seed)), TRIPOD,
+                                               payload_kg=2.0, include_leg_gravity=False)
+    problem = replace(problem, wrench=problem.wrench + np.r_[4.0, -3.0, 0.0, 0.0, 0.0, 1.5])  # pushing and turning
+    seed_way = seed_trust_constr(problem)
+    # the seed's equalities are the horizontal forces and the yaw moment (its normals come from statics, which
+    # leave the horizontal forces' roll and pitch moments unbalanced: its approximation)
+    error = problem.equilibrium @ seed_way.forces_N.ravel() - problem.wrench
+    assert np.max(np.abs(error[[0, 1, 5]])) < 1e-6
+    for sol in (minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
+        assert sol.residuals()["equilibrium"] < 1e-6, sol.solver
+    for sol in (seed_way, minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
+        assert 0.0 < sol.solve_time_s < 5.0, sol.solver
+    assert minimax_lex(problem).solver == "daqp-lex" and minimax(problem, solver="highs").solver == "highs"
+
+
+def test_the_default_wrench_carries_robot_and_payload():
+    q = random_stance(np.random.default_rng(0))
+    light = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=0.0)
+    heavy = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=5.0)
+    assert light.wrench[2] == pytest.approx(DAISY.robot_weight_N)
+    assert heavy.wrench[2] - light.wrench[2] == pytest.approx(5.0 * GRAVITY_M_S2)
+    np.testing.assert_array_equal(heavy.wrench[[0, 1, 3, 4, 5]], 0.0)
+    assert heavy.wrench.dtype == float and vertical_only(heavy).forces_N[:, 2].sum() == pytest.approx(heavy.wrench[2])
+    with pytest.raises(ValueError, match="at least 3 feet on the ground, got 2"):
+        StanceProblem.from_configuration(DAISY, q, (0, 1), payload_kg=0.0)

@@ -1,0 +1,145 @@
+"""Behaviour a mutation run (benchmarks/mutation.py) found unpinned: each test names what a slip would change."""
+
+import numpy as np
+import pytest
+
+from thermolimb.diagnosis.residuals import analyse_residuals
+from thermolimb.identification import IdentifiabilityError
+from thermolimb.identification.bank import identify_bank
+from thermolimb.model import FirstOrderBank, ThermalModel
+from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, X8_16, PlantEffects, ThermalPlant, run_profile
+from thermolimb.plant.profiles import random_holds
+
+
+def _plant_log(seed=0, duration_s=1800.0, idle=True):
+    names = ["knee", "hip", "wrist"]
+    specs = [X8_9, X8_16, X8_9]
+    specs = [s.__class__(**{**s.__dict__, "network": FIRST_ORDER_NETWORK, "driver": None}) for s in specs]
+    plant = ThermalPlant(names, specs, effects=PlantEffects.realistic_sensor(), rng=np.random.default_rng(seed))
+    profile = random_holds(duration_s, 1.0, 3, np.random.default_rng(seed))
+    if idle:
+        profile.load[:, 2] *= 0.01  # the wrist barely works: its log cannot show its heating
+    return run_profile(plant, profile).log, specs
+
+
+def test_identify_bank_finds_each_actuator_and_gives_idle_ones_the_prior():
+    log, specs = _plant_log()
+    limits = np.array([s.effort_limit for s in specs])
+    bank = identify_bank(log, ["knee", "hip", "wrist"], limits, model="joule", min_rise_K=0.5)
+    net = FIRST_ORDER_NETWORK
+    truth = np.array([s.winding_resistance_ohm * net.total_resistance_K_per_W / s.effort_per_amp**2 for s in specs])
+    rc = net.capacity_J_per_K[0] * net.resistance_K_per_W[0]
+    np.testing.assert_allclose(bank.betaR_K_per_effort2[:2], truth[:2], rtol=0.05)
+    np.testing.assert_allclose(bank.RC_s[:2], rc, rtol=0.05)
+    # the wrist gets the prior: the identified ones' median heating per squared limit, on its own limit
+    prior = np.median(bank.betaR_K_per_effort2[:2] * limits[:2] ** 2) / limits[2] ** 2
+    assert bank.betaR_K_per_effort2[2] == pytest.approx(prior)
+    assert bank.RC_s[2] == pytest.approx(np.median(bank.RC_s[:2]))
+    assert bank.beta_biasR_K_per_effort[2] == 0.0
+    assert bank.T_offset_C[2] == pytest.approx(np.mean(log.series("wrist").temperature_C))
+    # the order asked for is the order returned
+    swapped = identify_bank(log, ["hip", "knee", "wrist"], limits[[1, 0, 2]], model="joule", min_rise_K=0.5)
+    np.testing.assert_allclose(swapped.betaR_K_per_effort2[:2], bank.betaR_K_per_effort2[[1, 0]])
+    # without the minimum rise the idle wrist's fit is believed
+    believed = identify_bank(log, ["knee", "hip", "wrist"], limits, model="joule")
+    assert believed.betaR_K_per_effort2[2] != pytest.approx(prior)
+
+
+def test_identify_bank_refuses_a_log_that_identifies_nothing():
+    log, specs = _plant_log(duration_s=600.0)
+    with pytest.raises(IdentifiabilityError, match="identifies no actuator: it needs efforts that vary"):
+        identify_bank(log, ["wrist"], np.array([20.0]), min_rise_K=0.5)
+    with pytest.raises(IdentifiabilityError, match="identifies no actuator"):
+        identify_bank(log, ["knee"], np.array([20.0]), min_rc_s=1e6)
+
+
+def test_bank_refuses_models_beyond_eq5_naming_the_terms():
+    model = ThermalModel(("joule", "winding_tempco"), {"RC_s": 50.0, "betaR_K_per_effort2": 0.1, "alpha_per_K": 0.004,
+                                               "T_offset_C": 25.0})
+    with pytest.raises(ValueError, match=r"holds Eq. 5 only; model has extra terms \['winding_tempco'\]"):
+        FirstOrderBank.from_models([model])
+
+
+def test_realistic_sensor_is_noise_and_steps():
+    fx = PlantEffects.realistic_sensor()
+    assert fx.names == ("sensor_noise", "quantisation")
+    assert fx.sensor_noise.std_K == 0.05 and fx.quantisation.step_K == 0.1
+
+
+def test_residual_analysis_json_names_each_cross_correlation():
+    log, _ = _plant_log(duration_s=900.0, idle=False)
+    series = log.series("knee")
+    report = analyse_residuals(series, series.temperature_C + 0.1 * np.sin(series.time_s / 50.0)).to_json()
+    assert set(report) == {"rmse_K", "autocorrelation_significant", "cross_correlation", "phase_rmse_K"}
+    assert report["rmse_K"] == pytest.approx(0.1 / np.sqrt(2), rel=0.05)
+    for entry in report["cross_correlation"].values():
+        assert set(entry) == {"peak_lag_s", "peak", "band", "significant"}
+        assert entry["band"] > 0 and isinstance(entry["significant"], bool)
+
+
+# ------------------------------------------------------------------ logs: what the reader says and reads
+def test_gap_sentence_counts_only_runs_too_short(tmp_path):
+    import pandas as pd
+
+    from thermolimb.logs import read_log
+    from thermolimb.logs.log import MIN_SAMPLES
+
+    t = np.concatenate([np.arange(MIN_SAMPLES), 5000.0 + np.arange(40.0), 9000.0 + np.arange(5.0)])
+    pd.DataFrame({"time": t, "actuator": "knee", "effort": 1.0, "temperature": 25.0}).to_csv(tmp_path / "g.csv",
+                                                                                           index=False)
+    sentence = read_log(tmp_path / "g.csv").describe_gaps("knee")
+    assert f"1 run(s) shorter than {MIN_SAMPLES} samples left out" in sentence  # the 5-sample run, not the first
+    assert f"{5000 - (MIN_SAMPLES - 1):.0f} s at t = {MIN_SAMPLES - 1:.0f} s" in sentence and "into 3 runs" in sentence
+
+
+def test_a_byte_order_mark_is_not_part_of_the_first_column(tmp_path):
+    from thermolimb.logs import read_log
+
+    rows = "\n".join(f"{k},knee,1.0,{25 + 0.01 * k}" for k in range(30))
+    (tmp_path / "bom.csv").write_text("time,actuator,effort,temperature\n" + rows + "\n", encoding="utf-8-sig")
+    log = read_log(tmp_path / "bom.csv")
+    assert log.series("knee").time_s[-1] == 29.0
+
+
+def test_per_channel_time_columns_need_the_temperatures(tmp_path):
+    import pandas as pd
+
+    from thermolimb.logs import LogError, parse_mapping, read_log
+
+    pd.DataFrame({"te": np.arange(30.0), "e": 1.0, "tt": np.arange(30.0), "T": 25.0}).to_csv(tmp_path / "w.csv",
+                                                                                          index=False)
+    with pytest.raises(LogError, match=r"w.csv: with per-channel time columns, --map names "
+                                       r"temperature=COLUMN@TIME_COLUMN \(or time=COLUMN"):
+        read_log(tmp_path / "w.csv", parse_mapping("effort=e@te,temperature=T"), actuator_name="hip")
+
+
+def test_joint_patterns_without_a_common_joint_list_each(tmp_path):
+    import pandas as pd
+
+    from thermolimb.logs import LogError, parse_mapping, read_log
+
+    pd.DataFrame({"t": np.arange(30.0), "temp_1": 25.0, "temp_2": 25.0, "eff_3": 1.0}).to_csv(tmp_path / "j.csv",
+                                                                                          index=False)
+    with pytest.raises(LogError, match=r"no joint number has a column for every pattern of --map "
+                                       r"(temperature: joints \[1, 2\]; effort: joints \[3\]|"
+                                       r"effort: joints \[3\]; temperature: joints \[1, 2\])"):
+        read_log(tmp_path / "j.csv", parse_mapping("time=t,temperature=temp_{j},effort=eff_{j}"))
+
+
+def test_a_csv_the_parser_cannot_read_is_named(tmp_path):
+    from thermolimb.logs import LogError, read_log
+
+    rows = "\n".join(f"{k},knee,1.0,{25 + 0.01 * k}" for k in range(30))
+    (tmp_path / "bad.csv").write_text("time,actuator,effort,temperature\n" + rows + "\n1,knee,1,2,3,4,5\n")
+    with pytest.raises(LogError, match=r"bad.csv: cannot be read as a comma-separated CSV file"):
+        read_log(tmp_path / "bad.csv")
+
+
+def test_timestamps_in_different_offsets_are_one_clock():
+    import pandas as pd
+
+    from thermolimb.logs.table import first_stamp
+
+    stamps = pd.Series(["2024-01-01T01:00:00+01:00", "2024-01-01T00:00:01+00:00", "2024-01-01T00:00:02Z"])
+    first = first_stamp(stamps)
+    assert first == pd.Timestamp("2024-01-01T00:00:00", tz="UTC")
