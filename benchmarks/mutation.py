@@ -7,8 +7,9 @@ What is mutated is set in ``setup.cfg``'s ``[mutmut]`` section: ``thermolimb/mod
 ``identification``, ``diagnosis`` (not its plots), ``logs``, ``plant`` and
 ``hexapod_pb/wrench.py``.  mutmut runs, for each mutant, the tests that
 execute the mutated function (from its own coverage statistics), from the
-default (not slow) suite less the demo runs and the browser tests, which
-take minutes and call everything: a mutant a subset kills, the whole suite
+default (not slow) suite less the tests that run whole robots, demos,
+fleets, browsers and command lines (listed in ``setup.cfg``; they take
+minutes and call everything): a mutant a subset kills, the whole suite
 kills, so the score is a lower bound.
 
 The whole population is several thousand mutants, hours on two cores; the

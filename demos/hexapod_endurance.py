@@ -28,8 +28,8 @@ from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.plots import plt, save
 
 NAME = "hexapod-endurance"
-FULL = {"payloads_kg": (0.0, 10.0, 20.0, 30.0, 35.0, 40.0, 60.0, 80.0, 100.0), "ambients_C": (25.0, 40.0),
-        "horizon_s": 8 * 3600.0, "window_s": 1800.0, "calibration_s": 1200.0, "check_s": 1200.0,
+FULL = {"payloads_kg": (0.0, 20.0, 25.0, 30.0, 40.0, 60.0, 80.0, 100.0), "ambients_C": (25.0, 40.0),
+        "horizon_s": 8 * 3600.0, "window_s": 3600.0, "calibration_s": 1200.0, "check_s": 1200.0,
         "choices": GAIT_CHOICES}
 QUICK = {"payloads_kg": (25.0, 80.0), "ambients_C": (40.0,), "horizon_s": 8 * 3600.0, "window_s": 4 * 3600.0,
          "calibration_s": 180.0, "check_s": 120.0,

@@ -87,7 +87,7 @@ class Gait:
 
 
 NOMINAL_GAIT = Gait()
-GAIT_CHOICES = {"duty_factor": (0.55, 0.65, 0.75), "foot_reach_m": (0.16, 0.19, 0.22), "body_height_m": (0.13, 0.16)}
+GAIT_CHOICES = {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16, 0.19, 0.22), "body_height_m": (0.13, 0.16)}
 
 
 @dataclass(frozen=True)
@@ -219,9 +219,9 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: FirstOrderBa
     """
     thermal = ThermalContext(bank)
     nominal = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed)
+    stock = measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed)
     # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if faster
-    reference = max(nominal.distance_per_s_m,
-                    measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed).distance_per_s_m)
+    reference = max(nominal.distance_per_s_m, stock.distance_per_s_m)
     duties = choices["duty_factor"] if mode == "walk" else (NOMINAL_GAIT.duty_factor,)
     best = (predicted_peak_C(bank, nominal) if not nominal.fell else np.inf, NOMINAL_GAIT, nominal)
     count = 1
