@@ -1,92 +1,10 @@
-"""The endurance envelope: the periodic shortcut is the plant stepped, cells agree computed two ways, and the
-propagation follows a whole PyBullet run."""
+"""The endurance envelope: cells agree computed two ways, strategies buy time where vertical forces derate, and
+the propagation follows a whole PyBullet run (the shortcut itself: tests/test_periodic.py)."""
 
 import numpy as np
 import pytest
 
 from hexapod_pb import endurance
-from thermolimb.plant import (
-    X8_9,
-    X8_16,
-    ConvectionBySpeed,
-    CopperTempco,
-    FrictionIronLosses,
-    NeighborConduction,
-    PlantEffects,
-    ThermalPlant,
-    ThermistorLag,
-)
-from thermolimb.plant.periodic import CycleMap
-
-# every effect that keeps the network linear in its state, the driver boards included
-LINEAR_EFFECTS = PlantEffects(winding_tempco=CopperTempco(), speed_losses=FrictionIronLosses(),
-                              neighbor_coupling=NeighborConduction(), motion_cooling=ConvectionBySpeed(),
-                              sensor_lag=ThermistorLag())
-
-
-def _cycle(steps=40, n=3, seed=0):
-    rng = np.random.default_rng(seed)
-    t = np.arange(steps) / steps
-    efforts = 12.0 * np.sin(2 * np.pi * t)[:, None] * rng.uniform(0.5, 1.5, n) + rng.normal(0, 1.0, (steps, n))
-    velocities = 1.5 * np.cos(2 * np.pi * t)[:, None] * np.ones(n)
-    return efforts, velocities
-
-
-def _plant(ambient_C=30.0):
-    return ThermalPlant(["a", "b", "c"], [X8_9, X8_16, X8_9], effects=LINEAR_EFFECTS, ambient_C=ambient_C)
-
-
-def test_cycle_map_is_the_plant_stepped():
-    efforts, velocities = _cycle()
-    plant = _plant()
-    cycle = CycleMap(plant, efforts, velocities, 0.02)
-    prop = cycle.propagate(plant.state, 300 * cycle.period_s)
-    windings = []
-    for _ in range(300):
-        windings.append(plant.winding_C)
-        for e, v in zip(efforts, velocities):
-            plant.step(e, v, 0.02)
-    np.testing.assert_allclose(prop.winding_C, np.array(windings), atol=1e-9)
-    np.testing.assert_allclose(prop.final_state, plant.state, atol=1e-9)
-
-
-def test_crossing_is_the_first_interval_over_the_threshold():
-    efforts, velocities = _cycle()
-    efforts = efforts * 2.5
-    plant = _plant()
-    cycle = CycleMap(plant, efforts, velocities, 0.02)
-    threshold = 80.0
-    prop = cycle.propagate(plant.state, 3600.0, threshold)
-    assert prop.crossing is not None
-    step = 0
-    while plant.winding_C.max() < threshold:
-        plant.step(efforts[step % len(efforts)], velocities[step % len(efforts)], 0.02)
-        step += 1
-    assert prop.crossing.time_s == pytest.approx(step * 0.02)
-    assert prop.crossing.actuator == int(np.argmax(plant.winding_C))
-
-
-def test_steady_state_is_a_fixed_point_and_decides_never():
-    efforts, velocities = _cycle()
-    plant = _plant()
-    cycle = CycleMap(plant, efforts, velocities, 0.02)
-    x = cycle.steady_state()
-    np.testing.assert_allclose(cycle.M @ x + cycle.c, x, atol=1e-9)
-    peak = cycle.steady_peak_C().max()
-    assert cycle.propagate(plant.state, 20 * 3600.0, peak + 0.5).crossing is None
-    assert cycle.propagate(plant.state, 20 * 3600.0, peak - 0.5).crossing is not None
-
-
-def test_cycle_map_refuses_what_is_not_periodic():
-    efforts, velocities = _cycle()
-    drifting = ThermalPlant(["a"], [X8_9], effects=PlantEffects.from_names("ambient_variation"))
-    with pytest.raises(ValueError, match="not periodic"):
-        CycleMap(drifting, efforts[:, :1], velocities[:, :1], 0.02)
-    with pytest.raises(ValueError, match="shape"):
-        CycleMap(_plant(), efforts[:, :2], velocities[:, :2], 0.02)
-    efforts[3, 1] = np.nan
-    with pytest.raises(ValueError, match="finite"):
-        CycleMap(_plant(), efforts, velocities, 0.02)
 
 
 def test_sharing_the_load_buys_time_where_vertical_forces_derate_within_the_hour():

@@ -143,3 +143,13 @@ def test_timestamps_in_different_offsets_are_one_clock():
     stamps = pd.Series(["2024-01-01T01:00:00+01:00", "2024-01-01T00:00:01+00:00", "2024-01-01T00:00:02Z"])
     first = first_stamp(stamps)
     assert first == pd.Timestamp("2024-01-01T00:00:00", tz="UTC")
+
+
+def test_a_folder_is_a_bag_only_with_its_metadata(tmp_path):
+    from thermolimb.logs.bags import is_bag
+
+    (tmp_path / "run.csv").write_text("time,temperature\n")
+    assert not is_bag(tmp_path) and not is_bag(tmp_path / "run.csv")
+    assert is_bag(tmp_path / "x.bag") and is_bag(tmp_path / "x.mcap") and is_bag(tmp_path / "x.db3")
+    (tmp_path / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    assert is_bag(tmp_path)

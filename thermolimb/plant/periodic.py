@@ -9,7 +9,7 @@ propagates the network over hours for the cost of one matrix-vector product
 per cycle, and the temperatures inside a cycle follow from its start state
 through the stacked interval maps.  Nothing is approximated: for the same
 efforts, velocities and ambient it is the plant stepped one interval at a
-time (:func:`tests.test_periodic` checks that to rounding).
+time (``tests/test_periodic.py`` checks that to rounding).
 
 What it leaves out is what makes the duty non-periodic: thermal protection
 (the propagation answers *when* it would start), a drifting ambient, and a
