@@ -110,13 +110,15 @@ def main() -> None:
     status = {name: STATUS.get(codes.get(name), "suspicious" if codes.get(name) is not None else "not checked")
               for name in drawn["sample"]}
     counts = Counter(status.values())
-    equivalent = equivalent_names() & {n for n, s in status.items() if s == "survived"}
+    equivalent = equivalent_names() & {n for n, s in status.items() if s in ("survived", "no tests")}
     killed = counts["killed"] + counts["timeout"]
-    tested = killed + counts["survived"]
+    tested = killed + counts["survived"] + counts["no tests"]  # a mutant no selected test runs is not killed
     print(f"population {drawn['population']} mutants, sample {len(drawn['sample'])} (seed {drawn['seed']}): "
           + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     lo, hi = wilson(killed, tested)
-    print(f"killed {killed} of {tested} tested: {killed / max(tested, 1):.1%} (95 % {lo:.1%}-{hi:.1%})")
+    print(f"killed {killed} of {tested} decided: {killed / max(tested, 1):.1%} (95 % {lo:.1%}-{hi:.1%})"
+          + (f"; {counts['not checked']} not reached (mutmut runs the quickly tested first: a partial run is "
+             "biased towards them)" if counts["not checked"] else ""))
     non_eq = tested - len(equivalent)
     lo, hi = wilson(killed, non_eq)
     print(f"judged equivalent {len(equivalent)}; killed {killed} of {non_eq} non-equivalent: "
@@ -126,7 +128,7 @@ def main() -> None:
         by_module[(name.rsplit(".x", 1)[0], s)] += 1
     for module in sorted({m for m, _ in by_module}):
         print(f"  {module}: " + ", ".join(f"{s} {c}" for (m, s), c in sorted(by_module.items()) if m == module))
-    survivors = sorted(n for n, s in status.items() if s == "survived" and n not in equivalent)
+    survivors = sorted(n for n, s in status.items() if s in ("survived", "no tests") and n not in equivalent)
     print(f"survivors not judged equivalent ({len(survivors)}):")
     for name in survivors:
         print("  " + name)

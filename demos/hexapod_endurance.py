@@ -33,7 +33,7 @@ FULL = {"payloads_kg": (0.0, 20.0, 25.0, 30.0, 40.0, 60.0, 80.0, 100.0), "ambien
         "choices": GAIT_CHOICES}
 QUICK = {"payloads_kg": (25.0, 80.0), "ambients_C": (40.0,), "horizon_s": 8 * 3600.0, "window_s": 4 * 3600.0,
          "calibration_s": 180.0, "check_s": 120.0,
-         "choices": {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16,), "body_height_m": (0.13, 0.16)}}
+         "choices": {"duty_factor": (0.55,), "foot_reach_m": (0.16,), "body_height_m": (0.13,)}}
 CHECK_CELL = {"payload_kg": 20.0, "ambient_C": 40.0, "mode": "walk", "strategy": "vertical_only"}
 BASELINE = "vertical_only"
 FLOOR_H = 1.0 / 60.0  # where the figure marks loads the robot cannot carry
@@ -60,7 +60,9 @@ def best_gain(cells: list[dict]) -> dict | None:
                "at_least_ratio": gain, "never_derates": never, "steady_hottest_C": c["steady_hottest_C"],
                "distance_share": (c["distance_per_s_m"] / base["distance_per_s_m"]
                                   if base["distance_per_s_m"] > 0 else None)}
-        if best is None or (never, gain) > (best["never_derates"], best["at_least_ratio"]):
+        # prefer a cell that never derates, then the longest time, then the coolest steady state
+        if best is None or (never, gain, -c["steady_hottest_C"]) > (best["never_derates"], best["at_least_ratio"],
+                                                                    -best["steady_hottest_C"]):
             best = row
     return best
 
