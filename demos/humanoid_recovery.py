@@ -15,10 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
+from humanoid_pb.actuators import datasheet_bank, effort_limits
 from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
-from humanoid_pb.poses import crouch_angles
-from humanoid_pb.recovery import calibrate, run_recovery
+from humanoid_pb.fast_ik import FastThermalIK
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.poses import crouch_angles, single_support, standing
+from humanoid_pb.potential import MinimumEffort
+from humanoid_pb.recovery import calibrate, cooling_bound, run_recovery, steady_needed_for_ratio
 from humanoid_pb.sim import HumanoidSim
+from humanoid_pb.statics import WholeBody
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.identification.regression import lowpass
 from thermolimb.plots import plt, save
@@ -42,7 +47,18 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
             ("hot leg's fastest cooling, thermal-aware", f"{ta['hot_leg_peak_cooling_rate_K_s']:.2f} K/s",
              f"minimum effort {me['hot_leg_peak_cooling_rate_K_s']:.2f} K/s"),
             ("contact modes chosen", ", ".join(ta["modes_chosen"]), "minimum effort: " + ", ".join(me["modes_chosen"])),
-            ("fell", f"thermal-aware {ta['fell']}, minimum effort {me['fell']}", "the robot must never fall")]
+            ("fell", f"thermal-aware {ta['fell']}, minimum effort {me['fell']}", "the robot must never fall")] + _bound_rows(summary)
+
+
+def _bound_rows(summary: dict) -> list[tuple[str, str, str]]:
+    bound = summary["details"]["first_order"]
+    hot = bound["hot_actuator"]
+    rows = [(f"{hot} held {name}: steady temperature, first-order 75 → 70 °C", f"{b['steady_C']:.1f} °C",
+             f"{b['warning_to_70_s']:.1f} s at {b['effort_fraction']:.1%} of its limit")
+            for name, b in bound["configurations"].items()]
+    rows.append(("double support would need, for the seed's 2×", f"{bound['double_steady_needed_for_2x_C']:.1f} °C",
+                 "steady temperature of the hot actuator, held in double support"))
+    return rows
 
 
 PAGE = DemoPage(
@@ -74,8 +90,27 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     _plot_norms(runs, out / "temperature_norms.png")
     _plot_modes(runs, out / "contact_modes.png")
     _render(runs, out)
-    summary["details"] = {"identified_RC_s_median": float(np.median(bank.RC_s))}
+    summary["details"] = {"identified_RC_s_median": float(np.median(bank.RC_s)),
+                          "first_order": _first_order(runs["thermal_aware"])}
     return summary
+
+
+def _first_order(run) -> dict:
+    """The physics behind the two times: where each recovery configuration holds the hottest actuator, by Eq. 23
+    and the plant's winding node (the datasheet models), and how fast a first-order winding cools there."""
+    body = WholeBody()
+    T = np.array(run.temperature_C)
+    at_warning = T[np.searchsorted(run.time_s, run.warning_at_s)] if run.warning_at_s is not None else T[-1]
+    hot = ACTUATORS[int(np.argmax(at_warning))]
+    q = standing(body, crouch_angles())
+    cost = MinimumEffort(effort_limits(VALKYRIE))
+    solver = FastThermalIK(body)
+    held = {"double support, minimum effort": ("double", solver.solve(q, "double", cost, max_iter=15).q),
+            "on the cool (left) foot": ("left", single_support(body, q, "left"))}
+    bound = cooling_bound(body, datasheet_bank(VALKYRIE), hot, held)
+    fastest = min(b["steady_C"] for b in bound.values())
+    return {"hot_actuator": hot, "configurations": bound,
+            "double_steady_needed_for_2x_C": steady_needed_for_ratio(2.0, fastest)}
 
 
 def _norm(run, group):

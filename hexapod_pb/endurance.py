@@ -106,6 +106,26 @@ def cycle_steps(gait: Gait, control_hz: float) -> int:
     return int(round(CYCLE_STRIDES * gait.cpg().period_s * control_hz))
 
 
+def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: float, config: SimConfig, walking: bool,
+              forces: str, thermal: ThermalContext | None, steps: int):
+    """Settle, warm up for a few strides, then run ``steps`` control steps; yield ``(k, reading)`` after each step.
+
+    ``k`` counts from the end of the warm-up: -1 is the last warm-up step,
+    0 the first recorded one.  A stance no solver can meet raises
+    ``RuntimeError`` (the legs cannot hold the load).
+    """
+    gait_params = gait.cpg()
+    control = ControllerState(cpg.initial_state(None, gait_params))
+    reading = sim.read()
+    settle = int(SETTLE_S * config.control_hz)
+    warmup = settle + cycle_steps(gait, config.control_hz) // CYCLE_STRIDES * WARMUP_STRIDES
+    for k in range(warmup + steps):
+        tau, control, _ = control_step(reading, control, params, gait_params, forces, config.control_dt_s,
+                                       payload_kg, Gains(), thermal, walking=walking and k >= settle)
+        reading = sim.step(tau)
+        yield k - warmup, reading
+
+
 def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, gait: Gait = NOMINAL_GAIT,
                   state: np.ndarray | None = None, thermal: ThermalContext | None = None, seed: int = 0) -> Cycle:
     """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at ambient)."""
@@ -113,39 +133,32 @@ def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, g
         raise ValueError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
     walking = mode == "walk"
     config = SimConfig(payload_kg=payload_kg, ambient_C=ambient_C)
-    params, gait_params = gait.params(), gait.cpg()
+    params = gait.params()
+    steps = cycle_steps(gait, config.control_hz)
+    efforts, velocities = np.zeros((steps, len(JOINTS))), np.zeros((steps, len(JOINTS)))
     with HexapodSim(params=params, config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
         if state is not None:
             sim.plant.set_state(state)
-        control = ControllerState(cpg.initial_state(None, gait_params))
-        reading = sim.read()
-        steps = cycle_steps(gait, config.control_hz)
-        warmup = int(SETTLE_S * config.control_hz) + steps // CYCLE_STRIDES * WARMUP_STRIDES
-        efforts, velocities = np.empty((steps, len(JOINTS))), np.empty((steps, len(JOINTS)))
-        start, start_yaw, fell = None, 0.0, False
-        for k in range(warmup + steps):
-            try:
-                tau, control, _ = control_step(reading, control, params, gait_params, forces, config.control_dt_s,
-                                               payload_kg, Gains(), thermal,
-                                               walking=walking and k >= SETTLE_S * config.control_hz)
-            except RuntimeError:  # a stance problem no solver can meet: the legs cannot hold this load
-                fell = True
-                break
-            if k == warmup:
-                start, start_yaw = reading.body_position_m.copy(), _yaw_deg(reading.world_R_body)
-            reading = sim.step(tau)
-            if reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
-                fell = True
-                break
-            if k >= warmup:
-                efforts[k - warmup], velocities[k - warmup] = sim.applied_Nm, reading.qd_rad_s
+        start, start_yaw, fell = sim.read().body_position_m.copy(), 0.0, False
+        reading = None
+        try:
+            for k, reading in _run_duty(sim, params, gait, payload_kg, config, walking, forces, thermal, steps):
+                if reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
+                    fell = True
+                    break
+                if k == -1:
+                    start, start_yaw = reading.body_position_m.copy(), _yaw_deg(reading.world_R_body)
+                elif k >= 0:
+                    efforts[k], velocities[k] = sim.applied_Nm, reading.qd_rad_s
+        except RuntimeError:  # a stance problem no solver can meet: the legs cannot hold this load
+            fell = True
         if fell:
             efforts[:], velocities[:] = 0.0, 0.0
         if fell or not walking:
             distance = 0.0  # standing goes nowhere by definition (the body's drift is not distance)
         else:
             distance = float(reading.body_position_m[0] - start[0])
-        drift = 0.0 if fell else abs(_yaw_deg(reading.world_R_body) - start_yaw)
+        drift = 0.0 if fell else abs(_wrapped_deg(_yaw_deg(reading.world_R_body) - start_yaw))
         cycle_map = CycleMap(sim.plant, efforts, velocities, config.control_dt_s)
     return Cycle(cycle_map, distance / cycle_map.period_s, fell, (efforts**2).mean(axis=0), efforts.mean(axis=0),
                  drift)
@@ -153,6 +166,11 @@ def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, g
 
 def _yaw_deg(world_R_body: np.ndarray) -> float:
     return float(np.degrees(np.arctan2(world_R_body[1, 0], world_R_body[0, 0])))
+
+
+def _wrapped_deg(angle_deg: float) -> float:
+    """An angle difference in [-180, 180) degrees: a heading crossing +-180 has not turned a full circle."""
+    return (angle_deg + 180.0) % 360.0 - 180.0
 
 
 # ------------------------------------------------------------------ models
@@ -369,26 +387,19 @@ def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str
         raise ValueError(f"the robot cannot {mode} with {payload_kg} kg under {strategy}: nothing to check")
     steps = cycle.map.steps
     config = SimConfig(payload_kg=payload_kg, ambient_C=ambient_C)
-    gait_params = NOMINAL_GAIT.cpg()
     cycles = int(np.ceil(duration_s / cycle.map.period_s))
     hottest = np.empty(cycles)
     start = None
     with HexapodSim(config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
-        control = ControllerState(cpg.initial_state(None, gait_params))
-        reading = sim.read()
-        settle = int(SETTLE_S * config.control_hz)
-        warmup = settle + steps // CYCLE_STRIDES * WARMUP_STRIDES
         total = np.zeros(len(JOINTS))
-        for k in range(warmup + cycles * steps):
-            tau, control, _ = control_step(reading, control, DAISY, gait_params, strategy, config.control_dt_s,
-                                           payload_kg, Gains(), None, walking=mode == "walk" and k >= settle)
-            reading = sim.step(tau)
-            if k == warmup - 1:
+        for k, _ in _run_duty(sim, DAISY, NOMINAL_GAIT, payload_kg, config, mode == "walk", strategy, None,
+                              cycles * steps):
+            if k == -1:
                 start = sim.plant.state
-            if k >= warmup:
+            elif k >= 0:
                 total += sim.plant.winding_C
-                if (k - warmup + 1) % steps == 0:
-                    hottest[(k - warmup) // steps] = total.max() / steps
+                if (k + 1) % steps == 0:
+                    hottest[k // steps] = total.max() / steps
                     total[:] = 0.0
     prop = cycle.map.propagate(start, cycles * cycle.map.period_s)
     return PeriodicCheck(cycles * cycle.map.period_s, prop.cycle_start_s, hottest, prop.mean_winding_C.max(axis=1))

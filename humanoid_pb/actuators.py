@@ -1,9 +1,33 @@
 """The humanoid's thermal actuators: rotary motors at most joints, push-rod pairs at the ankles and waist.
 
-Valkyrie's actuator thermal data is not public; these specs are chosen so
-that, like the seed's robot, the first-order time constant of a winding is
-about 40 s (the seed's horizon is 20 s = RC/2) and balancing on one leg
-heats the stance leg into the 75 degC warning zone within about two minutes.
+Valkyrie's actuator thermal data is not public; the specs are calibrated to
+what the seed reports on hardware, in three steps:
+
+1. Time constant.  The seed predicts 20 s ahead and sets that horizon to
+   half the learned RC, so a winding's RC is 40 s: 20 J/K on 2 K/W, on a
+   slow housing (2000 J/K, 1 K/W) that a two-minute experiment barely warms.
+2. Heat scale.  Balancing on one leg heats the stance leg from 25 degC into
+   the 75 degC warning zone "in less than two minutes".  Statics (Eq. 23 at
+   the nominal single support, :mod:`humanoid_pb.statics`) says which
+   actuator is: the stance ankle's push rods, at 24.7 % of the rod limit
+   (the centre of mass sits over the sole's centre, 4 cm ahead of the ankle
+   axis: the 125 kg above it * 9.81 m/s^2 * 0.04 m = 49 N m of pitch, 24 % of
+   205 N m, shared by two rods on 3.7 cm arms), then the knee at 24.3 %
+   (85 N m: bent 0.6 rad, it carries the body on a lever of about 7 cm),
+   then the hip roll at 20.9 % (73 N m: the pelvis and the free leg held
+   sideways over the stance hip); everything else is below 10 %.  Reaching
+   75 degC from 25 degC after ``TIME_TO_WARNING_S`` = 100 s on the winding's
+   RC needs a steady rise of 50 / (1 - e^(-100/40)) = 54.5 K, so the
+   hottest actuator's copper loss is 54.5 K / 2 K/W = 27.2 W at 24.7 % of
+   its limit, that is ``COPPER_LOSS_AT_30_PCT_W`` = 40 W at 30 % of the limit.
+   The same rule sizes every actuator (effort per amp from its limit), so
+   which actuator is hottest follows from the geometry, not from a choice.
+3. Limit.  Valkyrie's actuators "can operate up to 90 degC": protection
+   starts derating there, its margin below a winding limit of 105 degC.
+
+The seed's Fig. 5 (the knee over squats every 4.5 minutes) would fix the
+knee's own scale, but its temperatures are not in the seed's text; the knee
+is sized by the same rule as the rest (tests check the derivation).
 """
 
 from __future__ import annotations
@@ -11,26 +35,29 @@ from __future__ import annotations
 import numpy as np
 
 from thermolimb.model import FirstOrderBank
-from thermolimb.plant import ActuatorSpec, ThermalNetwork
+from thermolimb.plant import ActuatorSpec, ThermalNetwork, ThermalProtection
 
 from .constants import ACTUATORS, JOINTS, ROD_PAIRS, rod_actuators
 from .params import ValkyrieParams
 from .pushrods import RodPair
 
-# winding (tau = 20 J/K * 2 K/W = 40 s) on a slow housing (2000 J/K, 1 K/W): chosen
+# winding (tau = 20 J/K * 2 K/W = 40 s, the seed's RC) on a slow housing (2000 J/K, 1 K/W)
 VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 1.0))
-WINDING_LIMIT_C = 150.0
+TIME_TO_WARNING_S = 100.0  # single-leg balancing: 25 -> 75 degC at the hottest actuator's static effort
+COPPER_LOSS_AT_30_PCT_W = 40.0  # derived in the module docstring from TIME_TO_WARNING_S
+OPERATING_LIMIT_C = 90.0  # the seed: Valkyrie's actuators operate up to 90 degC; derating starts there
+WINDING_LIMIT_C = OPERATING_LIMIT_C + ThermalProtection().margin_K
 
 
 def actuator_specs(params: ValkyrieParams) -> list[ActuatorSpec]:
-    """One spec per actuator (ACTUATORS order): 0.5 ohm windings; 60 W of copper loss at 30 % of the effort limit."""
+    """One spec per actuator (ACTUATORS order): 0.5 ohm windings, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the limit."""
     specs = []
     for name in ACTUATORS:
         if "_rod_" in name:
             limit = params.rod_force_limit_N
         else:
             limit = params.effort_limit(name)
-        per_amp = 0.3 * limit / np.sqrt(60.0 / 0.5)  # 60 W of copper loss at 30 % of the limit (chosen)
+        per_amp = 0.3 * limit / np.sqrt(COPPER_LOSS_AT_30_PCT_W / 0.5)
         specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
                                   winding_limit_C=WINDING_LIMIT_C, driver=None))
     return specs

@@ -185,3 +185,35 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
                     run.decisions.append((t, mode))
                 next_decision = t + DECIDE_EVERY_S
     return run  # recovery_s stays None when the time ran out
+
+
+def first_order_to_C(start_C: float, end_C: float, steady_C: np.ndarray, rc_s: float) -> np.ndarray:
+    """Time (s) for a first-order winding to cool from ``start_C`` to ``end_C`` towards ``steady_C``; inf if it cannot."""
+    steady_C = np.asarray(steady_C, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = rc_s * np.log((start_C - steady_C) / (end_C - steady_C))
+    return np.where(steady_C < end_C, t, np.inf)
+
+
+def steady_needed_for_ratio(ratio: float, fastest_steady_C: float, start_C: float = WARNING_C,
+                            end_C: float = RECOVERED_C) -> float:
+    """The steady temperature (degC) a slower mode must hold for its cooling from ``start_C`` to ``end_C`` to take
+    ``ratio`` times as long as towards ``fastest_steady_C`` (same RC): solves ln(a'/b') = ratio ln(a/b)."""
+    x = ((start_C - fastest_steady_C) / (end_C - fastest_steady_C)) ** ratio
+    return (start_C - end_C * x) / (1.0 - x)
+
+
+def cooling_bound(body, bank: FirstOrderBank, hot_actuator: str, configurations: dict) -> dict:
+    """Why one recovery can or cannot cool ``hot_actuator`` faster than another: for each held configuration
+    (name -> (mode, q)), its efforts by Eq. 23, the hot actuator's steady temperature under ``bank`` and its
+    first-order time from the warning (75 degC) to 70 degC.  Transitions come on top (the leg is loaded while
+    the robot moves through the nominal crouch)."""
+    i = ACTUATORS.index(hot_actuator)
+    out = {}
+    for name, (mode, q) in configurations.items():
+        efforts = body.statics(q, mode).efforts
+        steady = bank.equilibrium_C(efforts)
+        out[name] = {"mode": mode, "effort_fraction": float(abs(efforts[i]) / effort_limits(body.params)[i]),
+                     "steady_C": float(steady[i]),
+                     "warning_to_70_s": float(first_order_to_C(WARNING_C, RECOVERED_C, steady[i], bank.RC_s[i]))}
+    return out

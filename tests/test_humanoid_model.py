@@ -79,3 +79,29 @@ def test_parameters_are_frozen_all_the_way_down():
         VALKYRIE.effort_limit_Nm["knee"] = 1.0  # would change every user's default
     assert VALKYRIE.effort_limit("left_knee") == 350.0
     assert hash(VALKYRIE) == hash(ValkyrieParams())  # usable as a cache key
+
+
+def test_calibration_to_the_seed_follows_from_statics(body):
+    """The derivation in humanoid_pb.actuators: on one leg the stance ankle's rods are the hottest (then the knee,
+    then the hip roll), and on the datasheet models they reach the 75 degC warning from 25 degC in about 100 s (the
+    seed: under two minutes), with a 40 s time constant (the seed's 20 s horizon is RC/2)."""
+    from humanoid_pb.actuators import OPERATING_LIMIT_C, TIME_TO_WARNING_S, actuator_specs, datasheet_bank
+    from humanoid_pb.constants import leg_actuators
+    from humanoid_pb.params import WARNING_C
+    from humanoid_pb.poses import single_support
+    from thermolimb.plant import ThermalProtection
+
+    q = single_support(body, standing(body, crouch_angles()), "right")
+    efforts = body.statics(q, "right").efforts
+    bank = datasheet_bank(VALKYRIE, ambient_C=25.0)
+    rise_K = bank.betaR_K_per_effort2 * efforts**2
+    order = [ACTUATORS[i] for i in np.argsort(-rise_K)]
+    assert set(order[:2]) == {"right_ankle_rod_a", "right_ankle_rod_b"}
+    assert order[2:4] == ["right_knee", "right_hip_roll"]
+    assert set(order[:4]) <= set(leg_actuators("right"))
+    hottest = rise_K.max()
+    time_to_warning_s = bank.RC_s[0] * np.log(hottest / (hottest - (WARNING_C - 25.0)))
+    assert time_to_warning_s == pytest.approx(TIME_TO_WARNING_S, rel=0.05)
+    assert np.all(bank.RC_s == 40.0)
+    limits = {s.winding_limit_C for s in actuator_specs(VALKYRIE)}
+    assert limits == {OPERATING_LIMIT_C + ThermalProtection().margin_K}  # derating starts at 90 degC
