@@ -4,7 +4,8 @@ Registered by ``import humanoid_pb``.
 
 The humanoid starts standing in double support with one leg's actuators hot
 (which leg, how hot and the ambient are drawn at reset, around the seed's
-experiment).  Every decision step (1.5 s) the agent picks a contact mode --
+experiment: the windings hot, their housings within 5 K of ambient, as
+after a minute or two of balancing on one leg).  Every decision step (1.5 s) the agent picks a contact mode --
 or, with ``action_type="configuration"``, a posture offset -- and the
 environment runs the balance controller and the thermal plant in between.
 Mode changes go through the nominal crouch, as in the seed.
@@ -69,6 +70,8 @@ from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
 DECISION_S = 1.5
+# windings heated by a minute or two of balancing sit on housings that have barely warmed (2000 s time constant)
+HOUSING_WARMING_K = 5.0
 
 
 class HumanoidThermalRecoveryEnv(RigEnv):
@@ -104,9 +107,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         temperatures = rng.uniform(35.0, 50.0, self.n_act)
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
+        housings = ambient + rng.uniform(0.0, HOUSING_WARMING_K, self.n_act)
         config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
         self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs)
-        self.sim.plant.set_temperatures(temperatures)
+        self.sim.plant.set_temperatures(temperatures, rest_C=housings)
         self.executor = Executor(self.sim)
         self.reading = self.sim.read()
         self.fallen = False

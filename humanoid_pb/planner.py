@@ -45,8 +45,21 @@ class ContactModePlanner:
             return ThermalPotential.from_measurement(bank, temperature_C)
         return MinimumEffort(self.limits)
 
+    def starts(self, q_nominal: np.ndarray) -> dict:
+        """Each mode's nominal configuration: the crouch, and the weight over either foot with the other lifted."""
+        return {"double": q_nominal, **{s: single_support(self.body, q_nominal, s) for s in SIDES}}
+
     def plan(self, q_nominal: np.ndarray, bank: FirstOrderBank | None, temperature_C: np.ndarray) -> Plan:
+        """The mode whose optimised configuration scores lowest (for a robot that then holds that configuration)."""
         cost = self.cost(bank, temperature_C)
-        starts = {"double": q_nominal, **{s: single_support(self.body, q_nominal, s) for s in SIDES}}
+        starts = self.starts(q_nominal)
         results = {m: self.solver.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
         return Plan(min(results, key=lambda m: results[m].potential), results)
+
+    def plan_nominal(self, q_nominal: np.ndarray, bank: FirstOrderBank | None,
+                     temperature_C: np.ndarray) -> str:
+        """The mode whose nominal configuration, held with Eq. 23's torques, scores lowest: for a robot that
+        switches modes but keeps their nominal postures (the environment's mode actions)."""
+        cost = self.cost(bank, temperature_C)
+        scores = {m: cost.value(self.body.statics(q, m).efforts) for m, q in self.starts(q_nominal).items()}
+        return min(scores, key=scores.get)

@@ -1,10 +1,11 @@
 """The humanoid's strategies as policies of ``thermolimb/HumanoidThermalRecovery-v0``.
 
-``thermal_aware`` (the seed's Eq. 33: the contact mode whose thermally best
-configuration has the lowest potential, planned with models identified from
-a calibration run of the robot itself -- never its plant's parameters or
-the true ambient), ``minimum_effort`` (the mode of least normalised effort)
-and ``always_double_support`` (``random`` comes from the core).
+``thermal_aware`` (the seed's Eq. 33 over the modes the environment's actions
+hold: the contact mode whose nominal posture, held with Eq. 23's torques, has
+the lowest potential, planned with models identified from a calibration run
+of the robot itself -- never its plant's parameters or the true ambient),
+``minimum_effort`` (the mode of least normalised effort, likewise) and
+``always_double_support`` (``random`` comes from the core).
 """
 
 from __future__ import annotations
@@ -51,7 +52,7 @@ class HumanoidModePolicy:
         if self._planner is None or self._planner.body is not body:
             self._planner = ContactModePlanner(body, self.objective, max_iter=10)
         bank = self.models(e) if self.objective == "thermal" else None
-        mode = self._planner.plan(e.executor.q_nominal, bank, e.reading.temperature_C).mode
+        mode = self._planner.plan_nominal(e.executor.q_nominal, bank, e.reading.temperature_C)
         self._last = (mode, e.sim.time_s)
         return CONTACT_MODES.index(mode)
 

@@ -119,3 +119,21 @@ def test_bad_plant_parameters_are_refused():
         ThermalPlant(["a"], [X8_9], PlantEffects.from_names("sensor_noise"))
     with pytest.raises(ValueError, match="unknown plant effect"):
         PlantEffects.from_names("copper")
+
+
+def test_set_temperatures_can_leave_the_housings_cool():
+    """A winding heated for a minute sits on a housing near ambient: it cools on its own time constant, not the
+    housing's (an actuator soaked through, the default, cannot)."""
+    from thermolimb.plant import ACTUATOR_SPECS, ThermalPlant
+
+    specs = [ACTUATOR_SPECS["X8-9"]]
+    soaked, fresh = (ThermalPlant(["j"], specs, ambient_C=25.0) for _ in range(2))
+    soaked.set_temperatures([80.0])
+    fresh.set_temperatures([80.0], rest_C=[25.0])
+    assert soaked.measured_C[0] == fresh.measured_C[0] == 80.0
+    for _ in range(60):
+        soaked.step(np.zeros(1), None, 1.0)
+        fresh.step(np.zeros(1), None, 1.0)
+    assert fresh.winding_C[0] < 60.0 < soaked.winding_C[0]
+    with pytest.raises(ValueError, match="finite"):
+        fresh.set_temperatures([np.nan])

@@ -269,15 +269,21 @@ class ThermalPlant:
         constant[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
         return constant, per_kelvin
 
-    def set_temperatures(self, temperature_C: np.ndarray) -> None:
-        """Put every node of each actuator (winding, housing, body, sensor, driver) at the given temperature (degC)."""
+    def set_temperatures(self, temperature_C: np.ndarray, rest_C: np.ndarray | None = None) -> None:
+        """Put each actuator's winding and sensor at ``temperature_C`` (degC) and its other nodes (housing, body,
+        driver) at ``rest_C`` (default the same: an actuator soaked through).  A winding heated for a minute or
+        two sits on a housing that has barely warmed: give ``rest_C`` near ambient for that."""
         temperature_C = np.broadcast_to(np.asarray(temperature_C, float), (self.n,))
+        rest_C = temperature_C if rest_C is None else np.broadcast_to(np.asarray(rest_C, float), (self.n,))
+        if not (np.all(np.isfinite(temperature_C)) and np.all(np.isfinite(rest_C))):
+            raise ValueError("set_temperatures needs finite temperatures (degC)")
         for i in range(self.n):
             nodes = self._winding[i] + np.arange(self.specs[i].network.n_nodes)
-            self._x[nodes] = temperature_C[i]
+            self._x[nodes] = rest_C[i]
+            self._x[self._winding[i]] = temperature_C[i]
             self._x[self._sensor[i]] = temperature_C[i]
             if self._driver[i] >= 0:
-                self._x[self._driver[i]] = temperature_C[i]
+                self._x[self._driver[i]] = rest_C[i]
         self._measure()
         if self.observer is not None:
             self.observer.reset(temperature_C)
