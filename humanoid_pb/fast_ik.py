@@ -56,10 +56,23 @@ class FastThermalIK:
             self.limits_q[k, 0] = max(self.limits_q[k, 0], p.knee_min_rad)
         self.half_sole = np.array(p.sole_m) / 2.0 - COP_MARGIN_M
         self.actuator_limits = None
+        self._E = (None, None)  # (q's bytes, its effort matrix): each configuration's is needed twice
+        self._wrench_cache = {}
+
+    def _effort_matrix(self, q: np.ndarray) -> np.ndarray:
+        key = q.tobytes()
+        if self._E[0] != key:
+            self._E = (key, effort_matrix(self.body.rods, self.body.joint_angles(q)))
+        return self._E[1]
 
     # ----------------------------------------------------------- linear algebra
     def _wrench_rows(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Rows over one sole wrench ``(fx, fy, fz, mx, my, mz)`` with bl <= R w <= bu."""
+        """Rows over ``k`` sole wrenches ``(fx, fy, fz, mx, my, mz)`` with bl <= R w <= bu (built once per k)."""
+        if k not in self._wrench_cache:
+            self._wrench_cache[k] = self._build_wrench_rows(k)
+        return self._wrench_cache[k]
+
+    def _build_wrench_rows(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         lx, ly = self.half_sole
         rows = [
             [0, 0, 1, 0, 0, 0],  # fz >= f_min
@@ -87,8 +100,8 @@ class FastThermalIK:
             e = self._contact_error(q, targets)
             if np.max(np.abs(e)) < 1e-10:
                 break
-            Jc = self.body.contact_jacobian(q, mode)
-            q = pin.integrate(self.body.model, q, -np.linalg.pinv(Jc) @ e)
+            Jc = self.body.contact_jacobian(q, mode)  # full row rank: the least-norm step through J J'
+            q = pin.integrate(self.body.model, q, -Jc.T @ np.linalg.solve(Jc @ Jc.T, e))
         return q
 
     def _external_forces(self, q: np.ndarray, mode: str, F: np.ndarray):
@@ -100,94 +113,107 @@ class FastThermalIK:
         return fext
 
     # -------------------------------------------------------------------- QPs
-    def _qp(self, q, mode, objective, Gamma, F, targets, delta, move: bool):
-        """One Gauss-Newton QP; ``move=False`` fixes the configuration (the exact inner problem)."""
+    @staticmethod
+    def _objective_model(E, objective, Gamma):
+        """Newton model of the objective in ``Gamma`` (its Hessian in the efforts is diagonal and >= 0), scaled."""
+        efforts = E @ Gamma
+        scale = 1.0 / max(objective.value(efforts), 1e-12)
+        H_gamma = E.T @ ((scale * objective.hessian_diag(efforts))[:, None] * E)
+        return H_gamma, E.T @ (scale * objective.gradient(efforts)) - H_gamma @ Gamma
+
+    def _static_rows(self, E, k: int, n_before: int):
+        """Rows over ``(..., Gamma, F)`` (``n_before`` leading variables): sole wrench cones and effort limits."""
+        na, nf = len(JOINTS), 6 * k
+        W, wbu, wbl = self._wrench_rows(k)
+        lim = self.actuator_limits
+        A = np.vstack([np.hstack([np.zeros((len(W), n_before + na)), W]),
+                       np.hstack([np.zeros((na, n_before)), E, np.zeros((na, nf))])])
+        return A, np.concatenate([wbu, lim]), np.concatenate([wbl, -lim])
+
+    def _solve_qp(self, H, f, blocks):
+        """daqp over ``blocks`` of ``(A, upper, lower, equality)``; None if infeasible."""
+        A = np.vstack([b[0] for b in blocks])
+        bu = np.concatenate([b[1] for b in blocks])
+        bl = np.concatenate([b[2] for b in blocks])
+        sense = np.concatenate([np.full(len(b[1]), _EQ if b[3] else 0, dtype=c_int) for b in blocks])
+        x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense)
+        return None if flag < 1 else x
+
+    def _inner_qp(self, q, E, mode, objective, Gamma):
+        """The exact problem at fixed ``q``: best ``(Gamma, F)`` of the Newton model, balanced, in the cones."""
+        body = self.body
+        na, k = len(JOINTS), len(mode_feet(mode))
+        nf = 6 * k
+        H = 1e-9 * np.eye(na + nf)
+        f = np.zeros(na + nf)
+        H_gamma, f[:na] = self._objective_model(E, objective, Gamma)
+        H[:na, :na] += H_gamma
+        g = body.gravity(q)
+        Jc = body.contact_jacobian(q, mode)
+        A, bu, bl = self._static_rows(E, k, 0)
+        x = self._solve_qp(H, f, [(np.hstack([body.S_a.T, Jc.T]), g, g, True), (A, bu, bl, False)])
+        return None if x is None else (x[:na], x[na:])
+
+    def _qp(self, q, E, mode, objective, Gamma, F, targets, delta):
+        """One Gauss-Newton QP over ``(dq, Gamma, F)`` at ``q`` (``E`` its effort matrix), linearised."""
         body = self.body
         model, data = body.model, body.data
         nv, na, k = body.nv, len(JOINTS), len(mode_feet(mode))
         nf = 6 * k
         angles = body.joint_angles(q)
-        E = effort_matrix(body.rods, angles)
-        efforts = E @ Gamma
-        # Newton model of the objective in the efforts (its Hessian is diagonal and >= 0), in Gamma
-        scale = 1.0 / max(objective.value(efforts), 1e-12)
-        grad = scale * objective.gradient(efforts)
-        hess = scale * objective.hessian_diag(efforts)
         n = nv + na + nf
-        H = np.zeros((n, n))
+        H = 1e-9 * np.eye(n)
         f = np.zeros(n)
-        reg = 1e-9
-        H[:nv, :nv] = (1e-6 if move else 1.0) * np.eye(nv)
-        H_gamma = E.T @ (hess[:, None] * E)
-        H[nv : nv + na, nv : nv + na] = H_gamma + reg * np.eye(na)
-        f[nv : nv + na] = E.T @ grad - H_gamma @ Gamma
-        H[nv + na :, nv + na :] = reg * np.eye(nf)
+        H[:nv, :nv] = 1e-6 * np.eye(nv)
+        H_gamma, f[nv : nv + na] = self._objective_model(E, objective, Gamma)
+        H[nv : nv + na, nv : nv + na] += H_gamma
         g = body.gravity(q)
         Jc = body.contact_jacobian(q, mode)
-        D = pin.computeStaticTorqueDerivatives(model, data, q, self._external_forces(q, mode, F)) if move else np.zeros((nv, nv))
-        rows, bu, bl, sense = [], [], [], []
-
-        def add(A, upper, lower, equality=False):
-            rows.append(A)
-            bu.append(upper)
-            bl.append(lower)
-            sense.append(np.full(len(upper), _EQ if equality else 0, dtype=c_int))
-
-        add(np.hstack([-D, body.S_a.T, Jc.T]), g, g, equality=True)  # equilibrium
-        if move:
-            e = self._contact_error(q, targets)
-            add(np.hstack([Jc, np.zeros((nf, na + nf))]), -e, -e, equality=True)
-        W, wbu, wbl = self._wrench_rows(k)
-        add(np.hstack([np.zeros((len(W), nv + na)), W]), wbu, wbl)
-        lim = self.actuator_limits
-        add(np.hstack([np.zeros((na, nv)), E, np.zeros((na, nf))]), lim, -lim)
+        D = pin.computeStaticTorqueDerivatives(model, data, q, self._external_forces(q, mode, F))
+        e = self._contact_error(q, targets)
+        A_static, bu_static, bl_static = self._static_rows(E, k, nv)
+        blocks = [(np.hstack([-D, body.S_a.T, Jc.T]), g, g, True),  # equilibrium, linearised in q
+                  (np.hstack([Jc, np.zeros((nf, na + nf))]), -e, -e, True),  # contacts held
+                  (A_static, bu_static, bl_static, False)]
         # joint limits and the trust region, as rows over dq
         A_dq = np.zeros((na, n))
         A_dq[np.arange(na), body.v_index] = 1.0
-        hi = self.limits_q[:, 1] - angles
-        lo = self.limits_q[:, 0] - angles
-        if move:
-            add(A_dq, np.minimum(hi, delta), np.maximum(lo, -delta))
-            A_base = np.zeros((6, n))
-            A_base[:, :6] = np.eye(6)
-            add(A_base, np.full(6, delta), np.full(6, -delta))
-            if mode != "double":
-                free = next(s for s in SIDES if s != mode)
-                pin.computeJointJacobians(model, data, q)
-                pin.framesForwardKinematics(model, data, q)
-                Jz = pin.getFrameJacobian(model, data, body.sole_frame[free], pin.LOCAL_WORLD_ALIGNED)[2]
-                z = data.oMf[body.sole_frame[free]].translation[2]
-                row = np.zeros((1, n))
-                row[0, :nv] = Jz
-                add(row, np.array([_INF]), np.array([SWING_CLEARANCE_M - z]))
-        else:
-            A_fix = np.zeros((nv, n))
-            A_fix[:, :nv] = np.eye(nv)
-            add(A_fix, np.zeros(nv), np.zeros(nv), equality=True)
-        A = np.vstack(rows)
-        x, _, flag, _ = daqp.solve(H, f, A, np.concatenate(bu), np.concatenate(bl), np.concatenate(sense))
-        if flag < 1:
-            return None
-        return x[:nv], x[nv : nv + na], x[nv + na :]
+        blocks.append((A_dq, np.minimum(self.limits_q[:, 1] - angles, delta),
+                       np.maximum(self.limits_q[:, 0] - angles, -delta), False))
+        A_base = np.zeros((6, n))
+        A_base[:, :6] = np.eye(6)
+        blocks.append((A_base, np.full(6, delta), np.full(6, -delta), False))
+        if mode != "double":
+            free = next(s for s in SIDES if s != mode)
+            pin.computeJointJacobians(model, data, q)
+            pin.framesForwardKinematics(model, data, q)
+            row = np.zeros((1, n))
+            row[0, :nv] = pin.getFrameJacobian(model, data, body.sole_frame[free], pin.LOCAL_WORLD_ALIGNED)[2]
+            z = data.oMf[body.sole_frame[free]].translation[2]
+            blocks.append((row, np.array([_INF]), np.array([SWING_CLEARANCE_M - z]), False))
+        x = self._solve_qp(H, f, blocks)
+        return None if x is None else x[:nv]
 
-    def optimum_at(self, q, mode, objective, Gamma, F, rounds: int = 8):
-        """The exact (convex) best ``(Gamma, F)`` at fixed ``q`` by Newton QPs; None if nothing is feasible."""
-        E = effort_matrix(self.body.rods, self.body.joint_angles(q))
+    def optimum_at(self, q, mode, objective, Gamma, F, rounds: int = 8, rtol: float = 1e-9):
+        """The exact (convex) best ``(Gamma, F)`` at fixed ``q`` by Newton QPs; None if nothing is feasible.
+
+        Stops when a round lowers the objective by less than ``rtol`` (relative)."""
+        E = self._effort_matrix(q)
         value = None
         for _ in range(rounds):
-            out = self._qp(q, mode, objective, Gamma, F, None, 0.0, move=False)
+            out = self._inner_qp(q, E, mode, objective, Gamma)
             if out is None:
                 return None if value is None else (value, Gamma, F)
-            _, G_new, F_new = out
+            G_new, F_new = out
             new = objective.value(E @ G_new)
-            if value is not None and new >= value * (1 - 1e-10):
-                break  # converged (the model is convex; a non-decrease means we are at its optimum)
+            if value is not None and new >= value * (1 - rtol):
+                break  # converged (the model is convex; no decrease means we are at its optimum)
             Gamma, F, value = G_new, F_new, new
         return value, Gamma, F
 
     # ----------------------------------------------------------------- solve
     def solve(self, q0: np.ndarray, mode: str, objective, delta: float = 0.1, max_iter: int = 50,
-              tol: float = 1e-7) -> DescentResult:
+              tol: float = 1e-4) -> DescentResult:
         start = time.perf_counter()
         body = self.body
         if self.actuator_limits is None:
@@ -202,13 +228,12 @@ class FastThermalIK:
         history = [f]
         iterations = 0
         for iterations in range(1, max_iter + 1):
-            out = self._qp(q, mode, objective, Gamma, F, targets, delta, move=True)
-            if out is None:
+            dq = self._qp(q, self._effort_matrix(q), mode, objective, Gamma, F, targets, delta)
+            if dq is None:
                 delta /= 2
                 if delta < 1e-4:
                     break
                 continue
-            dq, _, _ = out
             q_new = self._project_contacts(pin.integrate(body.model, q, dq), mode, targets)
             found = self.optimum_at(q_new, mode, objective, Gamma, F)
             if found is not None and found[0] < f:

@@ -16,6 +16,7 @@ ankle reproduces the published zero-pose map
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,11 +53,23 @@ class RodPair:
         return np.linalg.norm(self._anchors() - moved, axis=1)
 
     def length_jacobian(self, pitch: float, roll: float) -> np.ndarray:
-        """``J_l`` (2 rods x 2 joints) by central differences (exact to ~1e-10 here)."""
-        h = 1e-6
-        d_pitch = (self.lengths_m(pitch + h, roll) - self.lengths_m(pitch - h, roll)) / (2 * h)
-        d_roll = (self.lengths_m(pitch, roll + h) - self.lengths_m(pitch, roll - h)) / (2 * h)
-        return np.column_stack([d_pitch, d_roll])
+        """``J_l`` (2 rods x 2 joints), analytic: d|a - R b|/dq = -(a - R b) . (dR/dq b) / |a - R b|.
+
+        With ``R = R_y(pitch) R_x(roll)`` and an attachment ``b = (x, y, 0)``:
+        ``R b = (cp x + sp sr y, cr y, -sp x + cp sr y)``; written out in
+        scalars, as the solvers call it thousands of times per plan.
+        """
+        cp, sp, cr, sr = math.cos(pitch), math.sin(pitch), math.cos(roll), math.sin(roll)
+        x, h = self.arm_pitch_m, self.direction * self.rod_m
+        rows = []
+        for y in (-self.arm_roll_m, self.arm_roll_m):
+            rod = (x - (cp * x + sp * sr * y), y - cr * y, h - (-sp * x + cp * sr * y))  # anchor - R b
+            d_pitch = (-sp * x + cp * sr * y, 0.0, -cp * x - sp * sr * y)  # dR/dpitch b
+            d_roll = (sp * cr * y, -sr * y, cp * cr * y)  # dR/droll b
+            length = math.sqrt(rod[0] ** 2 + rod[1] ** 2 + rod[2] ** 2)
+            rows.append((-(rod[0] * d_pitch[0] + rod[2] * d_pitch[2]) / length,
+                         -(rod[0] * d_roll[0] + rod[1] * d_roll[1] + rod[2] * d_roll[2]) / length))
+        return np.array(rows)
 
     def rod_forces_N(self, pitch: float, roll: float, tau_Nm: np.ndarray) -> np.ndarray:
         """Rod forces (N, positive pushing) that make the joint torques ``(tau_pitch, tau_roll)``."""

@@ -105,3 +105,21 @@ def test_calibration_to_the_seed_follows_from_statics(body):
     assert np.all(bank.RC_s == 40.0)
     limits = {s.winding_limit_C for s in actuator_specs(VALKYRIE)}
     assert limits == {OPERATING_LIMIT_C + ThermalProtection().margin_K}  # derating starts at 90 degC
+
+
+def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
+    """The analytic rod-length Jacobian against central differences of the lengths, and Eq. 24 as a matrix
+    against the rod forces solved pair by pair, at random joint angles."""
+    from humanoid_pb.actuators import effort_matrix, efforts, rod_pairs
+
+    rods = rod_pairs(VALKYRIE)
+    rng = np.random.default_rng(0)
+    pair = rods["left_ankle"]
+    for pitch, roll in rng.uniform(-0.5, 0.5, (5, 2)):
+        h = 1e-6
+        numeric = np.column_stack([(pair.lengths_m(pitch + h, roll) - pair.lengths_m(pitch - h, roll)) / (2 * h),
+                                   (pair.lengths_m(pitch, roll + h) - pair.lengths_m(pitch, roll - h)) / (2 * h)])
+        np.testing.assert_allclose(pair.length_jacobian(pitch, roll), numeric, atol=1e-8)
+    for _ in range(5):
+        angles, tau = rng.uniform(-0.3, 0.3, len(JOINTS)), rng.normal(0.0, 50.0, len(JOINTS))
+        np.testing.assert_allclose(effort_matrix(rods, angles) @ tau, efforts(rods, angles, tau), rtol=1e-9, atol=1e-9)
