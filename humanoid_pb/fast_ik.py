@@ -235,7 +235,8 @@ class FastThermalIK:
                     break
                 continue
             q_new = self._project_contacts(pin.integrate(body.model, q, dq), mode, targets)
-            found = self.optimum_at(q_new, mode, objective, Gamma, F)
+            # one Newton round: a balanced (Gamma, F) inside the cones, so its potential is a true upper bound
+            found = self.optimum_at(q_new, mode, objective, Gamma, F, rounds=1)
             if found is not None and found[0] < f:
                 improvement = (f - found[0]) / f
                 q, (f, Gamma, F) = q_new, found
@@ -247,5 +248,9 @@ class FastThermalIK:
                 delta /= 2
                 if delta < 1e-4:
                     break
+        polished = self.optimum_at(q, mode, objective, Gamma, F)  # the exact optimum at the final configuration
+        if polished is not None and polished[0] < f:
+            f, Gamma, F = polished
+            history.append(f)
         return DescentResult("fast", mode, q, f, iterations, time.perf_counter() - start, history,
                              contact_drift(body, q0, q, mode), torques_Nm=Gamma, contact_wrenches=F.reshape(-1, 6))
