@@ -18,6 +18,9 @@ index  meaning                                 unit   range
 3      walking speed, fraction of the gait's   1      [0, 1]
 =====  ======================================  =====  ======
 
+Finite actions outside ``[0, 1]`` are clipped into it (as Gymnasium's
+``ClipAction`` would); a NaN or infinite action is refused.
+
 Observation (``Box``, float32):
 
 =======  ====  =======================================  ======

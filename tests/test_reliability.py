@@ -2,6 +2,8 @@
 
 import json
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pandas as pd
@@ -54,6 +56,10 @@ def small_log(tmp_path):
     (["diagnose", "{log}", "--plot", "{file}"], "--plot"),
     (["demo", "diagnose", "--out", "{file}"], "--out"),
     (["report", "{file}"], "out"),
+    (["simulate", "--out", "/proc/thermolimb/a.csv"], "--out"),  # read-only even for root
+    (["fit", "{log}", "--plot", "/proc/thermolimb"], "--plot"),
+    (["compare-strategies", "--env", "x", "--strategies", ""], "--strategies"),
+    (["compare-strategies", "--env", "x", "--strategies", "minimax,,vertical_only"], "--strategies"),
 ])
 def test_options_out_of_range_are_refused_at_parse_time(argv, option, tmp_path, small_log, capsys):
     (tmp_path / "file").write_text("x")
@@ -125,3 +131,28 @@ def test_a_read_only_output_folder_is_refused_before_any_work(tmp_path, small_lo
     finally:
         locked.chmod(0o700)
     assert code == 2 and one_sentence(err) and "not writable" in err
+
+
+def test_a_binary_file_named_csv_is_refused_in_one_printable_line(tmp_path, capsys):
+    path = tmp_path / "junk.csv"
+    path.write_bytes(bytes(range(256)) * 40)
+    code, err = run(["fit", path, "--quiet"], capsys)
+    assert code == 2 and one_sentence(err) and "not a text file" in err
+    assert err.rstrip("\n").isprintable(), err
+
+
+def test_temperatures_no_actuator_reads_are_refused(tmp_path, small_log, capsys):
+    frame = pd.read_csv(small_log)
+    for name, temperature in (("kelvin.csv", frame["temperature"] + 273.15 + 300), ("counts.csv", 10 * 4096.0)):
+        path = tmp_path / name
+        frame.assign(temperature=temperature).to_csv(path, index=False)
+        code, err = run(["fit", path, "--quiet"], capsys)
+        assert code == 2 and one_sentence(err) and "'temperature' reads" in err and "degC" in err, err
+
+
+def test_an_error_after_pybullet_is_imported_is_still_one_line(tmp_path):
+    """PyBullet prints its build time on the C-level standard error when imported; the suite keeps it off."""
+    done = subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "demo", "nope"], capture_output=True,
+                          text=True, cwd=tmp_path)
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert not list(tmp_path.iterdir())

@@ -78,3 +78,8 @@ def _check_folder(folder: Path, what: str, target: Path) -> None:
         raise UsageError(f"{what} {target}: {existing} is a file, so the folder cannot be made")
     if not os.access(existing, os.W_OK | os.X_OK):
         raise UsageError(f"{what} {target}: {existing} is not writable")
+    try:  # permissions do not bind root, and a read-only or special file system answers only to a real write
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{what} {target}: {existing} cannot be written ({exc.strerror or exc})") from None

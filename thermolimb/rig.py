@@ -20,8 +20,6 @@ from pathlib import Path
 from typing import Sequence
 
 import numpy as np
-import pybullet
-from pybullet_utils.bullet_client import BulletClient
 
 from .constants import GRAVITY_M_S2
 from .logs import ThermalLog, log_from_arrays
@@ -29,18 +27,26 @@ from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
 
 
 @contextlib.contextmanager
-def silenced_stdout():
-    """PyBullet prints to the C-level standard output on connect; keep it off ours (``--json`` output)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
+def silenced(fd: int = 1):
+    """Keep what C code prints on file descriptor ``fd`` off ours: PyBullet prints its build time on the standard
+    error when imported (a second line under a one-line error) and more on the standard output when it connects
+    (``--json`` output)."""
+    stream = sys.stdout if fd == 1 else sys.stderr
+    stream.flush()
+    saved = os.dup(fd)
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(devnull, 1)
+        os.dup2(devnull, fd)
         yield
     finally:
-        os.dup2(saved, 1)
+        os.dup2(saved, fd)
         os.close(devnull)
         os.close(saved)
+
+
+with silenced(2):
+    import pybullet
+    from pybullet_utils.bullet_client import BulletClient
 
 
 @dataclass(frozen=True)
@@ -85,7 +91,7 @@ class BulletRig:
         self.actuators = tuple(actuators)
         self.effort_limit = np.asarray(effort_limit, float)
         self.rng = np.random.default_rng(seed)
-        with silenced_stdout():
+        with silenced():
             self.client = BulletClient(connection_mode=pybullet.GUI if config.gui else pybullet.DIRECT)
         c = self.client
         c.setGravity(0, 0, -GRAVITY_M_S2)

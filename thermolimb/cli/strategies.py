@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .options import add_quiet, print_json
-from .types import SEED, integer, number, output_dir
+from .types import SEED, integer, names, number, output_dir
 
 
 def add_parser(sub):
@@ -20,7 +20,7 @@ def add_parser(sub):
                    "of another installed robot package")
     p.add_argument("--episodes", type=integer(1, 10_000), default=4, help="episodes per strategy (default 4)")
     p.add_argument("--seed", type=SEED, default=0, help="first seed (default 0)")
-    p.add_argument("--strategies", default=None, metavar="NAME,...", help="subset of strategies (default all)")
+    p.add_argument("--strategies", type=names, default=None, metavar="NAME,...", help="subset of strategies (default all)")
     p.add_argument("--max-time", type=number(0.0, 1e7, low_open=True, unit="s"), default=None,
                    help="episode time limit in s (default the environment's)")
     p.add_argument("--backend", choices=("process", "ray"), default="process",
@@ -37,8 +37,7 @@ def run(args) -> int:
     from ..envs.evaluate import evaluate
     from ..envs.report import episodes_json, format_table, plot_table, table
 
-    strategies = args.strategies.split(",") if args.strategies else None
-    episodes = evaluate(args.env, args.episodes, args.seed, strategies, backend=args.backend, workers=args.workers,
+    episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=args.workers,
                         address=args.address, max_time_s=args.max_time)
     rows = table(episodes)
     path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")

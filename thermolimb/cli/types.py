@@ -70,6 +70,14 @@ def folds(text: str):
     return value
 
 
+def names(text: str) -> list[str]:
+    """A comma-separated list of one or more names."""
+    items = [item.strip() for item in text.split(",")]
+    if not all(items):
+        raise argparse.ArgumentTypeError(f"expected one or more names separated by commas, got {text!r}")
+    return items
+
+
 def _checked(check, text: str):
     try:
         return check(text)

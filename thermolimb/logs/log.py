@@ -16,8 +16,10 @@ from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
 from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern
-from .table import LogError, first_stamp, kind_of, read_table, time_seconds
+from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
 
+# no working actuator's winding, housing or air reads outside this: readings beyond are not degC
+TEMPERATURE_RANGE_C = (-100.0, 500.0)
 VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
 MIN_SAMPLES = 20
 # A pause in logging longer than this many sampling intervals (and than GAP_MIN_S) splits a log into runs.
@@ -248,13 +250,13 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
         k, v = next(iter(absent.items()))
         raise LogError(
             f"{source}: --map {k}={v} names column {v!r}, which the file does not have; "
-            f"its columns are {', '.join(map(str, frame.columns))}"
+            f"its columns are {shown_names(frame.columns)}"
         )
     unmapped = [c for c in REQUIRED if c != "actuator" and c not in mapping]
     if unmapped:
         raise LogError(
             f"{source}: --map does not name the column(s) for {', '.join(unmapped)}; add "
-            f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {', '.join(map(str, frame.columns))}"
+            f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {shown_names(frame.columns)}"
         )
     out = pd.DataFrame({k: frame[v] for k, v in mapping.items()})
     if "actuator" not in out.columns:
@@ -283,7 +285,7 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
         for c in (column, time_column):
             if c not in frame.columns:
                 raise LogError(f"{source}: --map {key}={value} names column {c!r}, which the file does not have; "
-                               f"its columns are {', '.join(map(str, frame.columns))}")
+                               f"its columns are {shown_names(frame.columns)}")
         columns[key] = series_of(time_seconds(frame[time_column].dropna(), source, time_column, origin),
                                  pd.to_numeric(frame.loc[frame[time_column].notna(), column], errors="coerce"),
                                  source, key)
@@ -319,7 +321,7 @@ def from_frame(
         hint = "" if mapping else "; name them with --map canonical=column"
         raise LogError(
             f"{source}: missing column(s) {', '.join(missing)} (expected {', '.join(REQUIRED)}); "
-            f"the file has {', '.join(map(str, frame.columns))}{hint}"
+            f"the file has {shown_names(frame.columns)}{hint}"
         )
     keep = [c for c in REQUIRED + OPTIONAL if c in frame.columns]
     frame = frame[keep].reset_index(drop=True)
@@ -364,6 +366,16 @@ def from_frame(
                 f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), "
                 f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
                 f"with --drop-incomplete)"
+            )
+    for c in (c for c in out.columns if UNITS.get(c) == "degC"):
+        values = out[c].to_numpy()
+        outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
+        if outside.any():
+            row = int(np.flatnonzero(outside)[0])
+            raise LogError(
+                f"{source}: column {c!r} reads {values[row]:g} at row {row}; expected degC between "
+                f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} (a log in kelvin, in tenths of a degree "
+                f"or in raw counts needs converting first)"
             )
     if "velocity" in out.columns:
         out["velocity"] *= VELOCITY_UNITS[velocity_unit]

@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from typing import Mapping
 
-from .table import LogError
+from .table import LogError, shown_names
 
 REQUIRED = ("time", "actuator", "effort", "temperature")
 OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
@@ -80,7 +80,7 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
                 found[j] = c
         if not found:
             raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
-                           f"{', '.join(columns)}")
+                           f"{shown_names(columns)}")
         per_key[key] = found
     joints = sorted(set.intersection(*(set(v) for v in per_key.values())))
     if not joints:

@@ -49,6 +49,7 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -
             return pd.read_parquet(path)
         except (ValueError, OSError) as exc:
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+    _refuse_binary(path)
     head, comments = _scan(path)
     content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
     if not content:
@@ -65,6 +66,22 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -
         raise LogError(f"{path}: cannot be read as a {_name(sep)}-separated CSV file: {exc}") from None
     frame.columns = [str(c).strip() for c in frame.columns]
     return frame
+
+
+def shown_names(names, limit: int = 300) -> str:
+    """Column names for a one-line message: a name with unprintable characters quoted, the list cut at ``limit``."""
+    text = ", ".join(str(n) if str(n).isprintable() else repr(str(n)) for n in names)
+    return text if len(text) <= limit else text[:limit] + f"... ({len(names)} columns)"
+
+
+def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
+    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB is not a CSV log."""
+    with open(path, "rb") as f:
+        head = f.read(sniff_bytes)
+    control = sum(head.count(bytes([b])) for b in range(32) if b not in (9, 10, 12, 13))
+    if b"\x00" in head or control > max(16, 0.05 * len(head)):
+        raise LogError(f"{path}: not a text file ({control} control bytes in its first {len(head)}); expected a "
+                       "CSV log, or a .parquet, .bag or .mcap file named as such")
 
 
 def _scan(path: Path) -> tuple[list[str], set[int]]:
