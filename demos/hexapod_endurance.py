@@ -33,7 +33,8 @@ FULL = {"payloads_kg": (0.0, 20.0, 25.0, 30.0, 40.0, 60.0, 80.0, 100.0), "ambien
         "choices": GAIT_CHOICES}
 QUICK = {"payloads_kg": (25.0, 80.0), "ambients_C": (40.0,), "horizon_s": 8 * 3600.0, "window_s": 4 * 3600.0,
          "calibration_s": 180.0, "check_s": 120.0,
-         "choices": {"duty_factor": (0.55,), "foot_reach_m": (0.16,), "body_height_m": (0.13,)}}
+         "choices": {"duty_factor": (0.55,), "foot_reach_m": (0.16,), "body_height_m": (0.13,),
+                     "pause_share": (0.0, 0.1)}}
 CHECK_CELL = {"payload_kg": 20.0, "ambient_C": 40.0, "mode": "walk", "strategy": "vertical_only"}
 BASELINE = "vertical_only"
 FLOOR_H = 1.0 / 60.0  # where the figure marks loads the robot cannot carry
@@ -135,7 +136,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
                         "RC_s": bank.RC_s.tolist(), "betaR_K_per_Nm2": bank.betaR_K_per_effort2.tolist()},
         "gait_plans": [{"payload_kg": p, "ambient_C": a, "mode": m, "duty_factor": plan.gait.duty_factor,
                         "foot_reach_m": plan.gait.foot_reach_m, "body_height_m": plan.gait.body_height_m,
-                        "predicted_peak_C": plan.predicted_peak_C, "nominal_predicted_peak_C":
+                        "pause_share": plan.gait.pause_share, "predicted_peak_C": plan.predicted_peak_C, "nominal_predicted_peak_C":
                         plan.nominal_predicted_peak_C, "candidates": plan.candidates}
                        for (p, a, m), plan in plans.items()],
     }

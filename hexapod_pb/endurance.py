@@ -20,9 +20,14 @@ calibration log (:func:`calibrate`), never with the plant's network:
     the stance forces minimise the hottest predicted winding 20 s ahead (``wrench.thermal_minimax``);
 ``thermal_gait``
     the same forces, on a gait chosen before it starts: among duty factors,
-    foot reaches and body heights that keep at least 80 % of the nominal
-    speed, the one whose measured torques give the lowest hottest equilibrium
-    with the identified models.
+    foot reaches, body heights and pauses that keep at least 80 % of the
+    nominal speed, the one whose measured torques give the lowest hottest
+    equilibrium with the identified models.
+
+A pause is the gait's standing duty after every eight strides, measured in
+PyBullet from the state the strides leave and joined to their cycle
+(:meth:`~thermolimb.plant.periodic.CycleMap.followed_by`); the step between
+walking and standing (the swing tripod put down) is not simulated.
 """
 
 from __future__ import annotations
@@ -70,11 +75,17 @@ MIN_SPEED_SHARE = 0.8  # a planned gait keeps at least this share of the nominal
 
 @dataclass(frozen=True)
 class Gait:
-    """What the planner may change: duty factor, foot reach from the shoulder (m), body height (m)."""
+    """What the planner may change: duty factor, foot reach from the shoulder (m), body height (m), and the share
+    of the time spent standing still (a pause after every eight strides)."""
 
     duty_factor: float = cpg.CPGParams().duty_factor
     foot_reach_m: float = DAISY.nominal_foot_reach_m
     body_height_m: float = DAISY.nominal_body_height_m
+    pause_share: float = 0.0
+
+    def __post_init__(self):
+        if not 0.0 <= self.pause_share < 1.0:
+            raise ValueError(f"pause_share is a share of the time in [0, 1), got {self.pause_share}")
 
     def params(self, base: DaisyParams = DAISY) -> DaisyParams:
         return replace(base, nominal_foot_reach_m=self.foot_reach_m, nominal_body_height_m=self.body_height_m)
@@ -87,7 +98,8 @@ class Gait:
 
 
 NOMINAL_GAIT = Gait()
-GAIT_CHOICES = {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16, 0.19, 0.22), "body_height_m": (0.13, 0.16)}
+GAIT_CHOICES = {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16, 0.19, 0.22), "body_height_m": (0.13, 0.16),
+                "pause_share": (0.0, 0.1, 0.2)}
 
 
 @dataclass(frozen=True)
@@ -103,7 +115,13 @@ class Cycle:
 
 
 def cycle_steps(gait: Gait, control_hz: float) -> int:
+    """Control steps of a cycle's eight strides (its pause not counted)."""
     return int(round(CYCLE_STRIDES * gait.cpg().period_s * control_hz))
+
+
+def pause_steps(gait: Gait, control_hz: float) -> int:
+    """Control steps of the pause that makes ``pause_share`` of a cycle."""
+    return int(round(cycle_steps(gait, control_hz) * gait.pause_share / (1.0 - gait.pause_share)))
 
 
 def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: float, config: SimConfig, walking: bool,
@@ -128,13 +146,36 @@ def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: floa
 
 def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, gait: Gait = NOMINAL_GAIT,
                   state: np.ndarray | None = None, thermal: ThermalContext | None = None, seed: int = 0) -> Cycle:
-    """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at ambient)."""
+    """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at ambient).
+
+    Walking with a pause, the pause is measured standing from the state the
+    strides leave, and joined to their cycle.
+    """
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
-    walking = mode == "walk"
+    moving = replace(gait, pause_share=0.0)
+    hz = SimConfig().control_hz
+    strides = _record(payload_kg, mode == "walk", forces, ambient_C, moving, state, thermal, seed,
+                      cycle_steps(moving, hz))
+    if mode == "stand" or pause_steps(gait, hz) == 0 or strides.fell:
+        return strides
+    start = np.full(strides.map.M.shape[0], float(ambient_C)) if state is None else state
+    pause = _record(payload_kg, False, forces, ambient_C, moving, strides.map.M @ start + strides.map.c, thermal,
+                    seed, pause_steps(gait, hz))
+    if pause.fell:
+        return pause
+    share = pause.map.steps / (strides.map.steps + pause.map.steps)
+    joined = strides.map.followed_by(pause.map)
+    return Cycle(joined, strides.distance_per_s_m * strides.map.period_s / joined.period_s, False,
+                 (1 - share) * strides.mean_sq_effort + share * pause.mean_sq_effort,
+                 (1 - share) * strides.mean_effort + share * pause.mean_effort, strides.yaw_drift_deg)
+
+
+def _record(payload_kg: float, walking: bool, forces: str, ambient_C: float, gait: Gait, state: np.ndarray | None,
+            thermal: ThermalContext | None, seed: int, steps: int) -> Cycle:
+    """Settle and warm up, then record ``steps`` control steps of walking (or standing) as a cycle."""
     config = SimConfig(payload_kg=payload_kg, ambient_C=ambient_C)
     params = gait.params()
-    steps = cycle_steps(gait, config.control_hz)
     efforts, velocities = np.zeros((steps, len(JOINTS))), np.zeros((steps, len(JOINTS)))
     with HexapodSim(params=params, config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
         if state is not None:
@@ -213,10 +254,14 @@ def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:
     return replace(bank, T_offset_C=np.full(bank.n, float(ambient_C)))
 
 
-def predicted_peak_C(bank: FirstOrderBank, cycle: Cycle) -> float:
-    """The hottest equilibrium the identified models predict for a cycle's mean heating (degC)."""
-    return float(np.max(bank.betaR_K_per_effort2 * cycle.mean_sq_effort - bank.beta_biasR_K_per_effort * cycle.mean_effort
-                        + bank.T_offset_C))
+def predicted_peak_C(bank: FirstOrderBank, cycle: Cycle, pause: Cycle | None = None, pause_share: float = 0.0) -> float:
+    """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with ``pause_share``
+    of the time spent in the ``pause`` cycle."""
+    mean_sq, mean = cycle.mean_sq_effort, cycle.mean_effort
+    if pause is not None:
+        mean_sq = (1 - pause_share) * mean_sq + pause_share * pause.mean_sq_effort
+        mean = (1 - pause_share) * mean + pause_share * pause.mean_effort
+    return float(np.max(bank.betaR_K_per_effort2 * mean_sq - bank.beta_biasR_K_per_effort * mean + bank.T_offset_C))
 
 
 @dataclass(frozen=True)
@@ -233,29 +278,46 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: FirstOrderBa
               choices: dict[str, tuple[float, ...]] = GAIT_CHOICES) -> GaitPlan:
     """The gait whose measured torques the identified models say run coolest, at >= 80 % of the stock speed.
 
-    Standing, only the reach and height change (the duty factor does not exist).
+    Standing, only the reach and height change (the duty factor and pauses
+    do not exist).  A pause's standing duty is measured once per reach and
+    height and weighed in by its share of the time.
     """
     thermal = ThermalContext(bank)
     nominal = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed)
     stock = measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed)
     # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if faster
     reference = max(nominal.distance_per_s_m, stock.distance_per_s_m)
-    duties = choices["duty_factor"] if mode == "walk" else (NOMINAL_GAIT.duty_factor,)
-    best = (predicted_peak_C(bank, nominal) if not nominal.fell else np.inf, NOMINAL_GAIT, nominal)
-    count = 1
+    walking = mode == "walk"
+    duties = choices["duty_factor"] if walking else (NOMINAL_GAIT.duty_factor,)
+    pauses = choices.get("pause_share", (0.0,)) if walking else (0.0,)
+    best = (predicted_peak_C(bank, nominal) if not nominal.fell else np.inf, NOMINAL_GAIT, nominal.distance_per_s_m)
+    count, standing = 1, {}
     for duty, reach, height in product(duties, choices["foot_reach_m"], choices["body_height_m"]):
         gait = Gait(duty, reach, height)
         if gait == NOMINAL_GAIT:
+            cycle = nominal
+        else:
+            cycle = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed)
+            count += 1
+        if cycle.fell:
             continue
-        cycle = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed)
-        count += 1
-        if cycle.fell or cycle.distance_per_s_m < MIN_SPEED_SHARE * reference:
-            continue
-        peak = predicted_peak_C(bank, cycle)
-        if peak < best[0]:
-            best = (peak, gait, cycle)
-    return GaitPlan(best[1], float(best[0]), predicted_peak_C(bank, nominal), best[2].distance_per_s_m,
-                    reference, count)
+        for share in pauses:
+            distance = (1 - share) * cycle.distance_per_s_m
+            if (share == 0.0 and gait == NOMINAL_GAIT) or distance < MIN_SPEED_SHARE * reference:
+                continue
+            pause = None
+            if share > 0.0:
+                if (reach, height) not in standing:
+                    standing[reach, height] = measure_cycle(payload_kg, "stand", "thermal_aware", ambient_C, gait,
+                                                            thermal=thermal, seed=seed)
+                pause = standing[reach, height]
+                count += 1
+                if pause.fell:
+                    continue
+            peak = predicted_peak_C(bank, cycle, pause, share)
+            if peak < best[0]:
+                best = (peak, replace(gait, pause_share=share), distance)
+    return GaitPlan(best[1], float(best[0]), predicted_peak_C(bank, nominal), best[2], reference, count)
 
 
 # ------------------------------------------------------------------ cells
@@ -287,7 +349,8 @@ class CellResult:
                 "hottest_C": self.hottest_C, "steady_hottest_C": self.steady_hottest_C,
                 "yaw_drift_deg_per_min": self.yaw_drift_deg_per_min,
                 "holds_heading": self.holds_heading, "windows": self.windows, "duty_factor": self.gait.duty_factor,
-                "foot_reach_m": self.gait.foot_reach_m, "body_height_m": self.gait.body_height_m}
+                "foot_reach_m": self.gait.foot_reach_m, "body_height_m": self.gait.body_height_m,
+                "pause_share": self.gait.pause_share}
 
 
 def derating_threshold_C() -> np.ndarray:

@@ -48,3 +48,14 @@ def test_propagation_follows_twenty_minutes_of_pybullet():
     assert check.duration_s >= 1200.0
     rise = check.pybullet_hottest_C[-1] - 40.0
     assert abs(check.final_difference_K) < 0.1 * rise, check.summary()
+
+
+def test_a_pause_joins_standing_to_the_strides():
+    walk = endurance.measure_cycle(20.0, "walk", "vertical_only", 25.0)
+    paused = endurance.measure_cycle(20.0, "walk", "vertical_only", 25.0, endurance.Gait(pause_share=0.2))
+    assert paused.map.period_s == pytest.approx(walk.map.period_s / 0.8, rel=0.01)
+    assert paused.distance_per_s_m == pytest.approx(0.8 * walk.distance_per_s_m, rel=0.01)
+    # standing on six legs halves each stance leg's load: the pause cools the hottest winding
+    assert paused.map.steady_peak_C().max() < walk.map.steady_peak_C().max() - 1.0
+    with pytest.raises(ValueError, match="pause_share"):
+        endurance.Gait(pause_share=1.0)

@@ -48,6 +48,20 @@ def test_cycle_map_is_the_plant_stepped():
     np.testing.assert_allclose(prop.final_state, plant.state, atol=1e-9)
 
 
+def test_a_cycle_followed_by_a_pause_is_the_joined_cycle():
+    walking, walking_v = _cycle(steps=40, seed=1)
+    pause, pause_v = np.tile([[3.0, 8.0, 1.0]], (15, 1)), np.zeros((15, 3))
+    plant = _plant()
+    joined = CycleMap(plant, walking, walking_v, 0.02).followed_by(CycleMap(plant, pause, pause_v, 0.02))
+    whole = CycleMap(plant, np.vstack([walking, pause]), np.vstack([walking_v, pause_v]), 0.02)
+    assert joined.steps == 55 and joined.period_s == pytest.approx(1.1)
+    x0 = plant.state + np.linspace(0.0, 20.0, len(plant.state))
+    np.testing.assert_allclose(joined.within(x0), whole.within(x0), atol=1e-9)
+    np.testing.assert_allclose(joined.steady_state(), whole.steady_state(), atol=1e-9)
+    with pytest.raises(ValueError, match="same network"):
+        joined.followed_by(CycleMap(plant, pause, pause_v, 0.05))
+
+
 def test_crossing_is_the_first_interval_over_the_threshold():
     efforts, velocities = _cycle()
     efforts = efforts * 2.5

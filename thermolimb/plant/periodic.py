@@ -92,6 +92,20 @@ class CycleMap:
             self._within_d[k] = d[self.winding_index]
         self.M, self.c = P, d
 
+    def followed_by(self, other: CycleMap) -> CycleMap:
+        """This cycle then ``other`` (same network, ambient and interval) as one cycle: walking, then a pause."""
+        if (other.dt_s != self.dt_s or other.M.shape != self.M.shape or other.ambient_C != self.ambient_C
+                or not np.array_equal(other.winding_index, self.winding_index)):
+            raise ValueError("cycles join only on the same network, ambient and control interval")
+        joined = object.__new__(CycleMap)
+        joined.dt_s, joined.ambient_C, joined.winding_index = self.dt_s, self.ambient_C, self.winding_index
+        joined.steps = self.steps + other.steps
+        joined.period_s = joined.steps * joined.dt_s
+        joined._within_P = np.concatenate([self._within_P, other._within_P @ self.M])
+        joined._within_d = np.concatenate([self._within_d, other._within_P @ self.c + other._within_d])
+        joined.M, joined.c = other.M @ self.M, other.M @ self.c + other.c
+        return joined
+
     def within(self, x0: np.ndarray) -> np.ndarray:
         """Winding temperatures (steps, n) at the end of every interval of a cycle started at state ``x0``."""
         return self._within_P @ x0 + self._within_d
