@@ -221,7 +221,7 @@ class FastThermalIK:
         targets = {s: p for s, p in body.sole_poses(q0).items() if s in {FOOT_SIDE[f] for f in mode_feet(mode)}}
         statics = body.statics(q0, mode)
         q = q0.copy()
-        found = self.optimum_at(q, mode, objective, statics.torques_Nm, statics.contact_wrenches.ravel())
+        found = self.optimum_at(q, mode, objective, statics.torques_Nm, statics.contact_wrenches.ravel(), rounds=1)
         if found is None:
             raise ValueError(f"no balanced torques within the contact constraints at the start in mode {mode!r}")
         f, Gamma, F = found
