@@ -10,7 +10,11 @@ pressure, joint limits).  Also the seed's final form: one descent step (Eqs.
 30-32, bounded by delta_max) per control step, timed alike, with the number of
 control steps the descent needs.  A hot right leg (78 degC) sets the potential's weights.
 
-    python benchmarks/thermal_ik.py [--json]
+Then, so that the headline is not one start's luck, six seeded random
+temperature profiles (30-85 degC) in every mode, timed alike: the spread of
+the fast method's time, of the speed-up and of the potential ratio.
+
+    python benchmarks/thermal_ik.py [--json] [--profiles N]
 """
 
 from __future__ import annotations
@@ -66,6 +70,7 @@ def violations(body: WholeBody, q0, result, mode) -> dict[str, float]:
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    parser.add_argument("--profiles", type=int, default=6, help="random temperature profiles timed (default 6)")
     args = parser.parse_args(argv)
     body = WholeBody()
     q_double = standing(body, crouch_angles())
@@ -98,10 +103,39 @@ def main(argv=None) -> dict:
               f"{naive.iterations / 100:.2f} s of control at 100 Hz to reach the descent's end")
         print(f"        naive contact drift {naive.contact_drift_m * 1e3:.2f} mm; fast violations "
               + ", ".join(f"{k} {val:.1e}" for k, val in v.items()))
+    record["profiles"] = _profiles(body, q_double, fast_solver, args.profiles)
     if args.json:
         print(json.dumps({"modes": {m: {k: r[k] for k in ("naive_s", "fast_s", "speedup", "naive_potential",
-                                                           "fast_potential")} for m, r in record["modes"].items()}}))
+                                                           "fast_potential")} for m, r in record["modes"].items()},
+                          "profiles": record["profiles"]}))
     return record
+
+
+def _profiles(body: WholeBody, q_double, fast_solver: FastThermalIK, count: int, seed: int = 0) -> dict:
+    """Both methods on ``count`` random temperature profiles in every mode, timed alike."""
+    rng = np.random.default_rng(seed)
+    fast_s, speedups, ratios = [], [], []
+    for _ in range(count):
+        potential = ThermalPotential.from_measurement(datasheet_bank(VALKYRIE),
+                                                      rng.uniform(30.0, 85.0, len(ACTUATORS)))
+        for mode in CONTACT_MODES:
+            start = q_double if mode == "double" else single_support(body, q_double, mode)
+            naive = best_of(lambda: naive_descent(body, start, mode, potential, max_iter=300))
+            fast = best_of(lambda: fast_solver.solve(start, mode, potential))
+            fast_s.append(fast.wall_s)
+            speedups.append(naive.wall_s / fast.wall_s)
+            ratios.append(potential_of(body, fast.q, mode, potential) / naive.potential)
+    summary = {"solves": len(fast_s), "fast_s": _spread(fast_s), "speedup": _spread(speedups),
+               "potential_ratio_same_objective": _spread(ratios)}
+    t, x, r = summary["fast_s"], summary["speedup"], summary["potential_ratio_same_objective"]
+    print(f"{count} random temperature profiles x {len(CONTACT_MODES)} modes: fast {t['median'] * 1e3:.1f} ms median "
+          f"({t['max'] * 1e3:.1f} worst), speed-up {x['median']:.0f} x median ({x['min']:.0f}-{x['max']:.0f}), "
+          f"potential / the descent's with Gamma(q) {r['min']:.4f}-{r['max']:.4f}")
+    return summary
+
+
+def _spread(values: list[float]) -> dict:
+    return {"min": float(np.min(values)), "median": float(np.median(values)), "max": float(np.max(values))}
 
 
 if __name__ == "__main__":

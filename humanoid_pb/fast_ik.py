@@ -24,7 +24,6 @@ within its contact constraints, not only the dynamically consistent one.
 from __future__ import annotations
 
 import time
-from ctypes import c_int
 
 import daqp
 import numpy as np
@@ -40,6 +39,7 @@ MU_YAW_M = 0.05  # yaw friction moment per newton of normal force
 MIN_NORMAL_N = 20.0
 COP_MARGIN_M = 0.015
 SWING_CLEARANCE_M = 0.05
+MAX_STEP_RAD = 0.2  # trust region cap: at 0.3 a third of the steps on the benchmark's starts were rejected
 _EQ = 5  # daqp: active and immutable
 _INF = 1e30
 
@@ -116,10 +116,10 @@ class FastThermalIK:
     @staticmethod
     def _objective_model(E, objective, Gamma):
         """Newton model of the objective in ``Gamma`` (its Hessian in the efforts is diagonal and >= 0), scaled."""
-        efforts = E @ Gamma
-        scale = 1.0 / max(objective.value(efforts), 1e-12)
-        H_gamma = E.T @ ((scale * objective.hessian_diag(efforts))[:, None] * E)
-        return H_gamma, E.T @ (scale * objective.gradient(efforts)) - H_gamma @ Gamma
+        value, gradient, hessian = objective.newton(E @ Gamma)
+        scale = 1.0 / max(value, 1e-12)
+        H_gamma = E.T @ ((scale * hessian)[:, None] * E)
+        return H_gamma, E.T @ (scale * gradient) - H_gamma @ Gamma
 
     def _static_rows(self, E, k: int, n_before: int):
         """Rows over ``(..., Gamma, F)`` (``n_before`` leading variables): sole wrench cones and effort limits."""
@@ -130,12 +130,15 @@ class FastThermalIK:
                        np.hstack([np.zeros((na, n_before)), E, np.zeros((na, nf))])])
         return A, np.concatenate([wbu, lim]), np.concatenate([wbl, -lim])
 
-    def _solve_qp(self, H, f, blocks):
-        """daqp over ``blocks`` of ``(A, upper, lower, equality)``; None if infeasible."""
+    def _solve_qp(self, H, f, blocks, bounds=None):
+        """daqp over ``blocks`` of ``(A, upper, lower, equality)`` and simple ``bounds`` ``(upper, lower)`` on the
+        leading variables; None if infeasible."""
         A = np.vstack([b[0] for b in blocks])
-        bu = np.concatenate([b[1] for b in blocks])
-        bl = np.concatenate([b[2] for b in blocks])
-        sense = np.concatenate([np.full(len(b[1]), _EQ if b[3] else 0, dtype=c_int) for b in blocks])
+        upper, lower = bounds if bounds is not None else (np.empty(0), np.empty(0))
+        bu = np.concatenate([upper, *(b[1] for b in blocks)])
+        bl = np.concatenate([lower, *(b[2] for b in blocks)])
+        sense = np.concatenate([np.zeros(len(upper), dtype=np.intc),
+                                *(np.full(len(b[1]), _EQ if b[3] else 0, dtype=np.intc) for b in blocks)])
         x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense)
         return None if flag < 1 else x
 
@@ -175,14 +178,10 @@ class FastThermalIK:
         blocks = [(np.hstack([-D, body.S_a.T, Jc.T]), g, g, True),  # equilibrium, linearised in q
                   (np.hstack([Jc, np.zeros((nf, na + nf))]), -e, -e, True),  # contacts held
                   (A_static, bu_static, bl_static, False)]
-        # joint limits and the trust region, as rows over dq
-        A_dq = np.zeros((na, n))
-        A_dq[np.arange(na), body.v_index] = 1.0
-        blocks.append((A_dq, np.minimum(self.limits_q[:, 1] - angles, delta),
-                       np.maximum(self.limits_q[:, 0] - angles, -delta), False))
-        A_base = np.zeros((6, n))
-        A_base[:, :6] = np.eye(6)
-        blocks.append((A_base, np.full(6, delta), np.full(6, -delta), False))
+        # joint limits and the trust region: simple bounds on dq
+        upper, lower = np.full(nv, delta), np.full(nv, -delta)
+        upper[body.v_index] = np.minimum(self.limits_q[:, 1] - angles, delta)
+        lower[body.v_index] = np.maximum(self.limits_q[:, 0] - angles, -delta)
         if mode != "double":
             free = next(s for s in SIDES if s != mode)
             pin.computeJointJacobians(model, data, q)
@@ -191,7 +190,7 @@ class FastThermalIK:
             row[0, :nv] = pin.getFrameJacobian(model, data, body.sole_frame[free], pin.LOCAL_WORLD_ALIGNED)[2]
             z = data.oMf[body.sole_frame[free]].translation[2]
             blocks.append((row, np.array([_INF]), np.array([SWING_CLEARANCE_M - z]), False))
-        x = self._solve_qp(H, f, blocks)
+        x = self._solve_qp(H, f, blocks, (upper, lower))
         return None if x is None else x[:nv]
 
     def optimum_at(self, q, mode, objective, Gamma, F, rounds: int = 8, rtol: float = 1e-9):
@@ -219,9 +218,13 @@ class FastThermalIK:
         if self.actuator_limits is None:
             self.actuator_limits = effort_limits(body.params)
         targets = {s: p for s, p in body.sole_poses(q0).items() if s in {FOOT_SIDE[f] for f in mode_feet(mode)}}
-        statics = body.statics(q0, mode)
         q = q0.copy()
-        found = self.optimum_at(q, mode, objective, statics.torques_Nm, statics.contact_wrenches.ravel(), rounds=1)
+        # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which costs
+        # a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound
+        balance = np.linalg.lstsq(np.hstack([body.S_a.T, body.contact_jacobian(q, mode).T]), body.gravity(q),
+                                  rcond=None)[0]
+        na = len(JOINTS)
+        found = self.optimum_at(q, mode, objective, balance[:na], balance[na:], rounds=1)
         if found is None:
             raise ValueError(f"no balanced torques within the contact constraints at the start in mode {mode!r}")
         f, Gamma, F = found
@@ -241,7 +244,7 @@ class FastThermalIK:
                 improvement = (f - found[0]) / f
                 q, (f, Gamma, F) = q_new, found
                 history.append(f)
-                delta = min(delta * 1.5, 0.3)
+                delta = min(delta * 1.5, MAX_STEP_RAD)
                 if improvement < tol:
                     break
             else:

@@ -14,6 +14,7 @@ dominate, as in the seed.  The horizon is half the learned time constant
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -41,9 +42,15 @@ class ThermalPotential:
         weights = np.where(temperature_C > hot_C, hot_weight, 1.0)
         return cls(bank, temperature_C, horizon, weights)
 
+    @cached_property
+    def _quadratic(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Eq. 25 as ``T = a + b F + c F^2`` per actuator (the horizon's decay computed once)."""
+        return self.bank.ahead_coefficients(self.temperature_C, self.horizon_s)
+
     def predicted_C(self, efforts: np.ndarray) -> np.ndarray:
         """Eq. 25 for efforts held over the horizon."""
-        return self.bank.ahead(self.temperature_C, efforts, self.horizon_s)
+        a, b, c = self._quadratic
+        return a + efforts * (b + c * efforts)
 
     def value(self, efforts: np.ndarray) -> float:
         """Eq. 26."""
@@ -52,15 +59,19 @@ class ThermalPotential:
 
     def gradient(self, efforts: np.ndarray) -> np.ndarray:
         """d f / d efforts (the Jacobian of Eq. 25 is diagonal)."""
-        T = self.predicted_C(efforts)
-        return 2.0 * self.weights * T * self.bank.ahead_gradient(efforts, self.horizon_s)
+        return self.newton(efforts)[1]
 
     def hessian_diag(self, efforts: np.ndarray) -> np.ndarray:
         """d2 f / d efforts2 (diagonal, >= 0: T >= 0 and convex in the effort): 2 w (T'^2 + T T'')."""
-        T = self.predicted_C(efforts)
-        slope = self.bank.ahead_gradient(efforts, self.horizon_s)
-        curvature = 2.0 * self.bank.betaR_K_per_effort2 * (1.0 - np.exp(-self.horizon_s / self.bank.RC_s))
-        return 2.0 * self.weights * (slope**2 + T * curvature)
+        return self.newton(efforts)[2]
+
+    def newton(self, efforts: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Value, gradient and Hessian diagonal at once (one evaluation of Eq. 25)."""
+        a, b, c = self._quadratic
+        T = a + efforts * (b + c * efforts)
+        slope = b + 2.0 * c * efforts
+        wT = self.weights * T
+        return float(T @ wT), 2.0 * wT * slope, 2.0 * self.weights * (slope**2 + 2.0 * c * T)
 
 
 @dataclass(frozen=True)
@@ -81,4 +92,8 @@ class MinimumEffort:
         return 2.0 * efforts / self.limits**2
 
     def hessian_diag(self, efforts: np.ndarray) -> np.ndarray:
-        return 2.0 / self.limits**2
+        return np.broadcast_to(2.0 / self.limits**2, np.shape(efforts))
+
+    def newton(self, efforts: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Value, gradient and Hessian diagonal at once."""
+        return self.value(efforts), self.gradient(efforts), self.hessian_diag(efforts)

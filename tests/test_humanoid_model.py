@@ -123,3 +123,26 @@ def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
     for _ in range(5):
         angles, tau = rng.uniform(-0.3, 0.3, len(JOINTS)), rng.normal(0.0, 50.0, len(JOINTS))
         np.testing.assert_allclose(effort_matrix(rods, angles) @ tau, efforts(rods, angles, tau), rtol=1e-9, atol=1e-9)
+
+
+def test_potential_derivatives_are_eq_26s():
+    """The Newton model the fast IK uses: value, gradient and Hessian of Eq. 26 against central differences."""
+    from humanoid_pb.actuators import datasheet_bank
+    from humanoid_pb.potential import ThermalPotential
+
+    rng = np.random.default_rng(4)
+    T = rng.uniform(35.0, 85.0, len(ACTUATORS))
+    potential = ThermalPotential.from_measurement(datasheet_bank(VALKYRIE), T)
+    efforts = rng.uniform(-200.0, 200.0, len(ACTUATORS))
+    value, gradient, hessian = potential.newton(efforts)
+    assert value == pytest.approx(potential.value(efforts))
+    h = 0.01  # efforts of hundreds, a potential of millions: a smaller step drowns in rounding
+    for i in range(len(ACTUATORS)):
+        step = np.zeros(len(ACTUATORS))
+        step[i] = h
+        up, down = potential.value(efforts + step), potential.value(efforts - step)
+        assert gradient[i] == pytest.approx((up - down) / (2 * h), rel=1e-5, abs=1e-6)
+        slope = (potential.gradient(efforts + step)[i] - potential.gradient(efforts - step)[i]) / (2 * h)
+        assert hessian[i] == pytest.approx(slope, rel=1e-5)
+    np.testing.assert_allclose(potential.predicted_C(efforts),
+                               potential.bank.ahead(T, efforts, potential.horizon_s), rtol=1e-12)
