@@ -176,7 +176,7 @@ def test_ros2_sqlite_bag_with_a_scalar_temperature_topic(tmp_path):
     ({"effort": "/knee/temperature.temperature", "temperature": "/joint_states.name"}, "knee",
      "holds list values, not numbers"),
     ({"effort": "joint_states", "temperature": "/knee/temperature.temperature"}, "knee",
-     "is not of the form /topic.field"),
+     "--map effort=joint_states is not of the form /topic.field"),
 ])
 def test_bad_bag_mappings_say_what_is_wrong(tmp_path, mapping, actuator, expected):
     folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 50.0, 0.1), np.arange(1.0, 50.0, 2.0))

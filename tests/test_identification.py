@@ -98,3 +98,14 @@ def test_sklearn_parameter_protocol():
     assert est.model == "joule"
     with pytest.raises(ValueError, match="has no parameter 'alpha'"):
         est.set_params(alpha=1)
+
+
+@pytest.mark.parametrize("estimator", [OutputError(), LeastSquares()], ids=["output_error", "least_squares"])
+def test_where_the_clock_starts_changes_nothing(estimator, plant_log):
+    """A log stamped in Unix seconds (1.7e9 s) identifies as the same log stamped from zero."""
+    frame = plant_log.frame
+    shifted = from_frame(frame.assign(time=frame["time"] + 1.7e9))
+    a = type(estimator)().fit(plant_log.series("knee")).params_
+    b = type(estimator)().fit(shifted.series("knee")).params_
+    for name in a:
+        assert b[name] == pytest.approx(a[name], rel=1e-4), name

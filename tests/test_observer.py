@@ -17,7 +17,7 @@ from thermolimb.plant import (
     ThermalProtection,
     run_profile,
 )
-from thermolimb.plant.profiles import PROFILES
+from thermolimb.plant.profiles import PROFILES, Profile
 
 
 def drive(plant, profile, scale=1.0):
@@ -93,6 +93,18 @@ def test_observing_a_log_with_an_identified_model_sees_through_the_thermistor_la
     assert np.sqrt(np.mean((observed.winding_C - true) ** 2)) < 0.5 * np.sqrt(np.mean((series.temperature_C - true) ** 2))
     hot = np.argmax(observed.winding_C)
     assert observed.time_to_limit_s[hot] > 0
+
+
+@pytest.mark.parametrize("dt_s", [2.0, 10.0])
+def test_peak_current_at_a_slow_control_rate_stops_on_the_limit(dt_s):
+    """At its effort limit a winding gains kelvins per control period: the observer's cap over the interval the effort
+    will be held for, not the derating curve alone, keeps it at its limit."""
+    t = np.arange(0.0, 1200.0 + dt_s, dt_s)
+    profile = Profile(t, np.full((len(t), 1), 4.0), np.zeros((len(t), 1)))
+    plant = ThermalPlant(["a"], [X8_9], PlantEffects(), ambient_C=80.0, protection=ThermalProtection(estimator="observer"))
+    winding = run_profile(plant, profile).true_winding_C
+    assert winding.max() <= X8_9.winding_limit_C + 1e-6
+    assert winding.max() > X8_9.winding_limit_C - ThermalProtection().margin_K  # it did get there
 
 
 @pytest.mark.slow

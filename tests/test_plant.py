@@ -137,3 +137,14 @@ def test_set_temperatures_can_leave_the_housings_cool():
     assert fresh.winding_C[0] < 60.0 < soaked.winding_C[0]
     with pytest.raises(ValueError, match="finite"):
         fresh.set_temperatures([np.nan])
+
+
+def test_driver_boards_are_logged_as_their_own_channels():
+    """``--drivers``: each driver board is an actuator ``<name>/driver`` with the motor's effort, its own sensor."""
+    run = simulate_profile("squat", 600.0, 1.0, ["knee", "hip"], [X8_16, replace(X8_9, driver=None)],
+                           PlantEffects(), seed=0, include_drivers=True)
+    assert set(run.log.actuators) == {"knee", "hip", "knee/driver"}
+    motor, driver = run.log.series("knee"), run.log.series("knee/driver")
+    np.testing.assert_array_equal(driver.signals.effort, motor.signals.effort)
+    assert not np.allclose(driver.temperature_C, motor.temperature_C)  # the board has a thermal mass of its own
+    assert driver.temperature_C.max() > 25.0 + 0.5  # and heats with the current
