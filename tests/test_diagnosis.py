@@ -82,6 +82,7 @@ def test_diagnose_json_schema(tmp_path, capsys):
     for c in d["candidates"]:
         assert {"effect", "rmse_K", "fit_percent", "improvement", "delta_bic", "params", "identifiable",
                 "evidence"} <= set(c)
+        assert isinstance(c["evidence"], str) and c["evidence"].endswith(".") and len(c["evidence"]) > 20, c
     refitted = [c for c in d["candidates"] if c["rmse_K"] is not None and c["plausible"]]
     assert [c["rmse_K"] for c in refitted] == sorted(c["rmse_K"] for c in refitted)  # best plausible first
     assert d["recommended"] == "speed_losses"

@@ -153,3 +153,36 @@ def test_a_folder_is_a_bag_only_with_its_metadata(tmp_path):
     assert is_bag(tmp_path / "x.bag") and is_bag(tmp_path / "x.mcap") and is_bag(tmp_path / "x.db3")
     (tmp_path / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
     assert is_bag(tmp_path)
+
+
+def _analysis(phases: dict[str, float]):
+    from thermolimb.diagnosis.residuals import Correlation, ResidualAnalysis
+
+    lags = np.array([0.0, 30.0, 60.0])
+    effort = Correlation(lags, np.array([0.6, 0.3, 0.1]), 0.1)
+    return ResidualAnalysis(np.arange(3.0), np.zeros(3), Correlation(lags, np.array([1.0, 0.5, 0.25]), 0.1),
+                            {"effort": effort, "effort^2": effort}, phases)
+
+
+@pytest.mark.parametrize("hot, cool, verdict", [(0.5, 0.2, "worse"), (0.2, 0.5, "not worse")])
+def test_tempco_evidence_is_the_hot_and_cool_fits_not_the_effort(hot, cool, verdict):
+    """The tempco term scales the effort's heating, so its evidence is where the fit fails (hot), not a correlation
+    with the effort (which every heat term shares)."""
+    from thermolimb.diagnosis.candidates import Candidate
+    from thermolimb.diagnosis.evidence import describe
+
+    text = describe(Candidate("winding_tempco", ("joule", "winding_tempco"), p_value=0.003),
+                    _analysis({"hot": hot, "cool": cool}), 0.5)
+    assert text.startswith(f"the fit is {verdict} when hot (RMSE {hot:.2f} K hot vs {cool:.2f} K cool)")
+    assert "score test p = 0.003" in text and "correlate" not in text
+
+
+def test_slow_effects_are_looked_for_in_time_and_inputs_in_their_channel():
+    from thermolimb.diagnosis.candidates import Candidate
+    from thermolimb.diagnosis.evidence import describe
+
+    analysis = _analysis({"heating": 0.4, "cool": 0.1})
+    slow = describe(Candidate("second_node", ("joule", "second_node")), analysis, 0.5)
+    assert slow.startswith("looking for a slow drift: residual autocorrelation +0.25 at 60 s, RMSE 0.40 K heating")
+    joule = describe(Candidate("joule", ("joule",)), analysis, 0.5)
+    assert joule.startswith("the residual correlates with effort^2 (peak +0.60 at lag 0 s")

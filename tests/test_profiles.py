@@ -27,6 +27,13 @@ def test_grid_shape_and_seed(name):
 def test_grid_refuses_too_short_a_run():
     with pytest.raises(UsageError, match="duration_s >= 10 \\* dt_s"):
         squat(0.5, DT, 1, rng())
+    for dt_s in (0.0, -0.1):  # a zero or negative interval is refused, not divided by
+        with pytest.raises(UsageError, match="duration_s >= 10 \\* dt_s > 0"):
+            squat(60.0, dt_s, 1, rng())
+
+
+def test_a_run_shorter_than_a_second_is_fine_at_a_fast_rate():
+    assert len(squat(0.5, 0.01, 1, rng()).time_s) == 51
 
 
 def test_squat_every_four_and_a_half_minutes():

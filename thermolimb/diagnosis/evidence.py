@@ -10,6 +10,7 @@ from .residuals import ResidualAnalysis
 CHANNEL = {"joule": "effort^2", "effort_bias": "effort", "speed_losses": "|velocity|",
            "motion_cooling": "|velocity|", "current_heating": "current^2", "ambient_variation": "ambient",
            "power_heating": "power", "housing_boundary": "housing temperature"}
+PHASE_EFFECTS = ("winding_tempco", "second_node", "sensor_lag")
 COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "current^2", "ambient": "ambient",
                   "power": "power", "housing": "housing temperature"}
 
@@ -29,19 +30,19 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     if c.confounded:
         return f"confounded: {c.confounded}."
     parts = []
-    channel = _channel(c.effect, analysis) if c.kind != "drop" else None
+    ph = analysis.phase_rmse_K
+    # effects whose signature is in time or temperature, not in an input channel (their terms scale the effort,
+    # so the effort's correlation would say nothing about them)
+    channel = _channel(c.effect, analysis) if c.kind != "drop" and c.effect not in PHASE_EFFECTS else None
     if channel:
         corr = analysis.cross[channel]
         lag, value = corr.peak
         word = "correlates" if corr.significant else "does not correlate significantly"
         parts.append(f"the residual {word} with {channel} (peak {value:+.2f} at lag {lag:.0f} s, band ±{corr.band:.2f})")
-    elif c.effect == "winding_tempco":
-        ph = analysis.phase_rmse_K
-        if "hot" in ph and "cool" in ph:
-            parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
-                         f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
+    elif c.effect == "winding_tempco" and "hot" in ph and "cool" in ph:
+        parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
+                     f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
     elif c.effect in ("second_node", "sensor_lag"):
-        ph = analysis.phase_rmse_K
         slow = analysis.autocorrelation.values[-1]
         what = "a slow drift" if c.effect == "second_node" else "errors at heating and cooling onsets"
         parts.append(f"looking for {what}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
