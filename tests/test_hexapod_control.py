@@ -182,3 +182,21 @@ def test_friction_pyramid_holds_in_every_direction(push):
         f = sol.forces_N
         assert np.all(np.abs(f[:, :2]) <= 0.3 * f[:, 2:3] + 1e-6), sol.solver
         assert sol.residuals()["equilibrium"] < 1e-6
+
+
+def test_a_stalled_dual_active_set_falls_back_to_highs_with_the_same_optimum(monkeypatch):
+    """solve_lp's fallback, reached by making daqp report a stall: HiGHS meets the same equalities and the same
+    optimum (the LP's value; its minimiser need not be unique)."""
+    from hexapod_pb import wrench
+
+    problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(1)), TRIPOD,
+                                               payload_kg=2.0, include_leg_gravity=False)
+    c, A, bu, bl = wrench._epigraph(problem)
+    x_daqp, solver, _, _ = wrench.solve_lp(c, A, bu, bl, 6)
+    assert solver == "daqp"
+    monkeypatch.setattr(wrench.daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
+    x_highs, solver, _, duals = wrench.solve_lp(c, A, bu, bl, 6)
+    assert solver == "highs" and duals is None
+    assert c @ x_highs == pytest.approx(c @ x_daqp, rel=1e-6)
+    np.testing.assert_allclose(A[:6] @ x_highs, bu[:6], atol=1e-6)  # the wrench, balanced
+    assert np.all(A[6:] @ x_highs <= bu[6:] + 1e-6) and np.all(A[6:] @ x_highs >= bl[6:] - 1e-6)
