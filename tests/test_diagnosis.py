@@ -41,6 +41,9 @@ def check_hidden(term, seed, actuator, profile="random"):
     assert d.candidates[0].effect == term
     # adding the hidden effect at least halves the validation error
     assert d.recommended.improvement >= 0.5, d.recommended.improvement
+    # the share of the residual an added term explains (it ranks what is refitted) is a share
+    assert all(0.0 <= c.partial_r2 <= 1.0 for c in d.candidates if c.kind == "add"), [c.partial_r2 for c in d.candidates]
+    assert d.recommended.kind != "add" or d.recommended.partial_r2 > 0.0  # a swap is not scored
     return d
 
 

@@ -1,6 +1,7 @@
 """Behaviour a mutation run (benchmarks/mutation.py) found unpinned: each test names what a slip would change."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from thermolimb.diagnosis.residuals import analyse_residuals
@@ -186,3 +187,45 @@ def test_slow_effects_are_looked_for_in_time_and_inputs_in_their_channel():
     assert slow.startswith("looking for a slow drift: residual autocorrelation +0.25 at 60 s, RMSE 0.40 K heating")
     joule = describe(Candidate("joule", ("joule",)), analysis, 0.5)
     assert joule.startswith("the residual correlates with effort^2 (peak +0.60 at lag 0 s")
+
+
+def test_autocorrelation_band_and_lags_are_the_textbook_ones():
+    """The residual's autocorrelation: lags 0..max at the sampling interval, the white-noise band 1.96/sqrt(n);
+    a cross-correlation spans -max..+max."""
+    from thermolimb.diagnosis.residuals import Z95, cross_correlation
+
+    log, _ = _plant_log(duration_s=900.0, idle=False)
+    series = log.series("knee")
+    analysis = analyse_residuals(series, series.temperature_C + 0.1 * np.sin(series.time_s / 50.0))
+    assert analysis.autocorrelation.band == pytest.approx(Z95 / np.sqrt(series.n))
+    assert analysis.autocorrelation.significant  # a 314 s sine left in the residual
+    lags, r = cross_correlation(np.sin(np.arange(200.0)), np.cos(np.arange(200.0)), 7)
+    np.testing.assert_array_equal(lags, np.arange(-7, 8))
+    assert len(r) == 15
+
+
+def test_sensor_lag_is_exact_for_a_winding_that_moves_linearly():
+    """First-order hold: a ramp seen through tau dTs/dt = T - Ts is T(t) - r tau (1 - exp(-t/tau))."""
+    from types import SimpleNamespace
+
+    from thermolimb.model.catalog import SensorLag
+
+    t = np.arange(0.0, 300.0, 2.0)
+    winding = 30.0 + 0.05 * t
+    lagged = SensorLag().shape_output({"sensor_tau_s": 25.0}, SimpleNamespace(dt_s=np.diff(t)), winding, 30.0)
+    np.testing.assert_allclose(lagged, winding - 0.05 * 25.0 * (1.0 - np.exp(-t / 25.0)), atol=1e-9)
+
+
+def test_a_log_keeps_only_its_canonical_columns(tmp_path):
+    """Reading (and leaving out incomplete samples) re-indexes rows without adding an index column."""
+    from thermolimb.logs import read_log
+
+    t = np.arange(100.0)
+    frame = pd.DataFrame({"time": t, "actuator": "knee", "effort": 5 + np.sin(t / 9), "temperature": 30 + 0.01 * t,
+                          "velocity": np.cos(t / 9), "comment": "x"})
+    frame.loc[3, "velocity"] = np.nan
+    path = tmp_path / "log.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, drop_incomplete=True)
+    assert list(log.frame.columns) == ["time", "actuator", "effort", "temperature", "velocity"]
+    assert list(log.frame.index) == list(range(99))
