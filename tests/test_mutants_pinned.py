@@ -229,3 +229,28 @@ def test_a_log_keeps_only_its_canonical_columns(tmp_path):
     log = read_log(path, drop_incomplete=True)
     assert list(log.frame.columns) == ["time", "actuator", "effort", "temperature", "velocity"]
     assert list(log.frame.index) == list(range(99))
+
+
+def test_tempco_scales_the_current_heating_too():
+    """Copper's coefficient multiplies every Joule term the model has, the current's as well as the effort's."""
+    from types import SimpleNamespace
+
+    from thermolimb.model.catalog import TEMPCO_REFERENCE_C, WindingTempco
+
+    s = SimpleNamespace(effort=np.array([2.0, 4.0]), current_A=np.array([3.0, 1.0]))
+    p = {"betaR_K_per_effort2": 0.5, "currentR_K_per_A2": 0.2, "alpha_per_K": 0.0039}
+    joule = 0.5 * s.effort**2 + 0.2 * s.current_A**2
+    constant, per_kelvin = WindingTempco().contribution(p, s)
+    np.testing.assert_allclose(per_kelvin, 0.0039 * joule)
+    np.testing.assert_allclose(constant, -0.0039 * TEMPCO_REFERENCE_C * joule)
+
+
+def test_sensor_noise_is_drawn_per_actuator():
+    """Two actuators at the same temperature read differently: each thermistor has its own noise."""
+    from thermolimb.plant import SensorNoise
+
+    plant = ThermalPlant(["a", "b"], [X8_9, X8_9], effects=PlantEffects(sensor_noise=SensorNoise()),
+                         rng=np.random.default_rng(0))
+    readings = np.array([plant.read(plant.winding_C) for _ in range(50)])
+    assert not np.allclose(readings[:, 0], readings[:, 1])
+    assert readings.std(axis=0) == pytest.approx(np.full(2, SensorNoise().std_K), rel=0.3)
