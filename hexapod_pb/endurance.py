@@ -164,11 +164,18 @@ def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, g
                     seed, pause_steps(gait, hz))
     if pause.fell:
         return pause
-    share = pause.map.steps / (strides.map.steps + pause.map.steps)
     joined = strides.map.followed_by(pause.map)
-    return Cycle(joined, strides.distance_per_s_m * strides.map.period_s / joined.period_s, False,
-                 (1 - share) * strides.mean_sq_effort + share * pause.mean_sq_effort,
-                 (1 - share) * strides.mean_effort + share * pause.mean_effort, strides.yaw_drift_deg)
+    mean_sq, mean = _with_pause(strides, pause, pause.map.steps / joined.steps)
+    return Cycle(joined, strides.distance_per_s_m * strides.map.period_s / joined.period_s, False, mean_sq, mean,
+                 strides.yaw_drift_deg)
+
+
+def _with_pause(cycle: Cycle, pause: Cycle | None, share: float) -> tuple[np.ndarray, np.ndarray]:
+    """A cycle's mean squared and mean effort with ``share`` of the time spent in ``pause`` (if any)."""
+    if pause is None:
+        return cycle.mean_sq_effort, cycle.mean_effort
+    return ((1 - share) * cycle.mean_sq_effort + share * pause.mean_sq_effort,
+            (1 - share) * cycle.mean_effort + share * pause.mean_effort)
 
 
 def _record(payload_kg: float, walking: bool, forces: str, ambient_C: float, gait: Gait, state: np.ndarray | None,
@@ -257,10 +264,7 @@ def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:
 def predicted_peak_C(bank: FirstOrderBank, cycle: Cycle, pause: Cycle | None = None, pause_share: float = 0.0) -> float:
     """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with ``pause_share``
     of the time spent in the ``pause`` cycle."""
-    mean_sq, mean = cycle.mean_sq_effort, cycle.mean_effort
-    if pause is not None:
-        mean_sq = (1 - pause_share) * mean_sq + pause_share * pause.mean_sq_effort
-        mean = (1 - pause_share) * mean + pause_share * pause.mean_effort
+    mean_sq, mean = _with_pause(cycle, pause, pause_share)
     return float(np.max(bank.betaR_K_per_effort2 * mean_sq - bank.beta_biasR_K_per_effort * mean + bank.T_offset_C))
 
 

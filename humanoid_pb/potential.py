@@ -67,8 +67,8 @@ class ThermalPotential:
 
     def newton(self, efforts: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         """Value, gradient and Hessian diagonal at once (one evaluation of Eq. 25)."""
-        a, b, c = self._quadratic
-        T = a + efforts * (b + c * efforts)
+        _, b, c = self._quadratic
+        T = self.predicted_C(efforts)
         slope = b + 2.0 * c * efforts
         wT = self.weights * T
         return float(T @ wT), 2.0 * wT * slope, 2.0 * self.weights * (slope**2 + 2.0 * c * T)

@@ -79,7 +79,6 @@ def _check_folder(folder: Path, what: str, target: Path) -> None:
     if not os.access(existing, os.W_OK | os.X_OK):
         raise UsageError(f"{what} {target}: {existing} is not writable")
     try:  # permissions do not bind root, and a read-only or special file system answers only to a real write
-        with tempfile.TemporaryFile(dir=existing):
-            pass
+        tempfile.TemporaryFile(dir=existing).close()
     except OSError as exc:
         raise UsageError(f"{what} {target}: {existing} cannot be written ({exc.strerror or exc})") from None

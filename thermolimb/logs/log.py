@@ -359,7 +359,8 @@ def from_frame(
     for c in out.columns:
         if c == "actuator":
             continue
-        nan = ~np.isfinite(out[c].to_numpy())
+        values = out[c].to_numpy()
+        nan = ~np.isfinite(values)
         if nan.any():
             row = int(np.flatnonzero(nan)[0])
             raise LogError(
@@ -367,10 +368,8 @@ def from_frame(
                 f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
                 f"with --drop-incomplete)"
             )
-    for c in (c for c in out.columns if UNITS.get(c) == "degC"):
-        values = out[c].to_numpy()
         outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
-        if outside.any():
+        if UNITS.get(c) == "degC" and outside.any():
             row = int(np.flatnonzero(outside)[0])
             raise LogError(
                 f"{source}: column {c!r} reads {values[row]:g} at row {row}; expected degC between "
