@@ -3,7 +3,9 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-PIP := $(BIN)/python -m pip install --quiet
+# PYTHONWARNINGS: setuptools' advice on editable installs with a package_dir (demos/ installs as thermolimb_demos)
+# is for people who import from the checkout's parent folder; it is not a problem here, so installs print nothing
+PIP := PYTHONWARNINGS=ignore $(BIN)/python -m pip install --quiet
 DEMO_STAMP := $(VENV)/.installed-demo
 TEST_STAMP := $(VENV)/.installed-test
 OUT ?= out
@@ -30,11 +32,15 @@ demo: $(DEMO_STAMP)
 	$(BIN)/thermolimb demo all --quick --out $(OUT)
 	$(BIN)/thermolimb report $(OUT)
 
+# every core (pytest-xdist); a test file stays on one worker (--dist loadfile), so the demos' tests share each
+# demo's quick run
+PYTEST := $(BIN)/python -m pytest -q -n auto --dist loadfile
+
 test: $(TEST_STAMP)
-	$(BIN)/python -m pytest -q
+	$(PYTEST)
 
 test-fast: $(TEST_STAMP)
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(PYTEST) -m "not slow"
 
 bench: $(TEST_STAMP)
 	$(BIN)/python benchmarks/identification.py

@@ -21,6 +21,13 @@ variants.  An outcome is
     still running after the timeout (60 s; a Ray address that does not
     answer has its own 10 s limit).
 
+Faults from the machine and the shell (a full disk behind standard output or
+an output folder, a reader that closes the pipe, SIGTERM from ``timeout``)
+are ``clear`` when the command ends with their own status -- 1 with one
+sentence naming what could not be written, 141 and nothing said for a closed
+pipe, 143 for SIGTERM -- and leaves no file behind.  The full-disk cases
+mount a small tmpfs (root only; skipped, and said, elsewhere).
+
 Environments' bad actions (NaN, out of range, stepping after the end) are
 ``clear`` when the step raises an error of one line and the environment still
 steps after it (or after ``reset`` for stepping past the end), or when
@@ -204,6 +211,15 @@ ENV_SNIPPET = textwrap.dedent("""
     except Exception as exc:
         print(json.dumps({"raised": type(exc).__name__, "lines": len(str(exc).strip().splitlines()), "at": "make"}))
         sys.exit(0)
+    if after_end == "options":  # reset with options the environment does not take
+        try:
+            env.reset(seed=0, options=action)
+            print(json.dumps({"raised": None}))
+        except Exception as exc:
+            env.reset(seed=0)
+            env.step(env.action_space.sample())  # still usable
+            print(json.dumps({"raised": type(exc).__name__, "lines": len(str(exc).strip().splitlines())}))
+        sys.exit(0)
     env.reset(seed=0)
     if after_end == "yes":
         for _ in range(100000):
@@ -245,12 +261,116 @@ def env_cases() -> list[tuple[str, list[str]]]:
             cases.append((f"{short} max_time_s={value}", [env_id, json.dumps({"max_time_s": float(value)}),
                                                           "null", "no"]))
     cases.append(("humanoid action_type='torque'", [HUM, json.dumps({"action_type": "torque"}), "0", "no"]))
+    for env_id in (HEX, HUM):
+        short = env_id.split("/")[1]
+        for options in ({"payload_kg": 3.0}, "fast", [1, 2]):
+            cases.append((f"{short} reset(options={json.dumps(options)})", [env_id, "{}", json.dumps(options),
+                                                                            "options"]))
+        cases.append((f"{short} a reset range the wrong way round", [env_id, json.dumps(
+            {"ambient_range_C": [30.0, 20.0]}), "null", "no"]))
     return cases
+
+
+# ------------------------------------------------------------------ faults from the machine and the shell
+FULL = "full"  # a tmpfs of 64 KiB mounted in the scratch folder for the full-disk cases
+
+
+def fault_cases() -> list[tuple[str, list[str], str, int]]:
+    """(name, argv, how, expected exit status): ``how`` is full_stdout, closed_pipe, sigterm or full_disk."""
+    cases = []
+    for extra in ([], ["--json"]):
+        cases.append((f"fit {' '.join(extra)} > /dev/full".replace("  ", " "), ["fit", "good.csv", "--quiet", *extra],
+                      "full_stdout", 1))
+        cases.append((f"fit {' '.join(extra)} | a reader that closes at once".replace("  ", " "),
+                      ["fit", "good.csv", "--quiet", *extra], "closed_pipe", 141))
+    cases.append(("inspect good.csv > /dev/full", ["inspect", "good.csv"], "full_stdout", 1))
+    cases.append(("fit --fleet > /dev/full", ["fit", "good.csv", "--fleet", "--quiet"], "full_stdout", 1))
+    cases.append(("fit --fleet | a reader that closes at once", ["fit", "good.csv", "--fleet", "--quiet"],
+                  "closed_pipe", 141))
+    for out in ("run.csv", "run.parquet", "run.mcap"):
+        cases.append((f"simulate --out {FULL}/{out} on a full disk", ["simulate", "--duration", "3600", "--quiet",
+                                                                       "--out", f"{FULL}/{out}"], "full_disk", 1))
+    cases.append((f"fit --plot {FULL}/plots on a full disk", ["fit", "good.csv", "--quiet", "--plot", f"{FULL}/plots"],
+                  "full_disk", 1))
+    cases.append((f"fit --html {FULL}/page.html on a full disk", ["fit", "good.csv", "--quiet", "--html",
+                                                                   f"{FULL}/page.html"], "full_disk", 1))
+    cases.append((f"fit --fleet --table {FULL}/rows.csv on a full disk", ["fit", "good.csv", "--fleet", "--quiet",
+                                                                           "--table", f"{FULL}/rows.csv"], "full_disk", 1))
+    for seconds in ("1", "3"):
+        cases.append((f"simulate --out big.csv, SIGTERM after {seconds} s", ["simulate", "--duration", "100000",
+                                                                              "--dt", "0.5", "--quiet", "--out",
+                                                                              "big.csv", f"@{seconds}"], "sigterm", 143))
+    return cases
+
+
+def _mount_full(d: Path) -> bool:
+    (d / FULL).mkdir(exist_ok=True)
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(d / FULL)], capture_output=True)
+    return done.returncode == 0
+
+
+def run_fault(d: Path, name: str, argv: list[str], how: str, expected: int, can_fill: bool) -> dict:
+    if how == "full_disk" and not can_fill:
+        return {"input": name, "outcome": "skipped", "message": "no tmpfs here (needs root)"}
+    filler = d / FULL / ".filler"
+    if how == "full_disk":  # every block taken, so the command's first write meets a full disk
+        with open(filler, "wb", buffering=0) as f:
+            try:
+                while True:
+                    f.write(b"\0" * 4096)
+            except OSError:
+                pass
+    before = _listing(d)
+    command = [sys.executable, "-m", "thermolimb.cli.main", *[a for a in argv if not a.startswith("@")]]
+    try:
+        if how == "closed_pipe":
+            proc = subprocess.Popen(command, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            proc.stdout.close()
+            err = proc.stderr.read()
+            code = proc.wait(timeout=TIMEOUT_S)
+        elif how == "sigterm":
+            proc = subprocess.Popen(command, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            time.sleep(float(argv[-1][1:]))
+            proc.terminate()
+            _, err = proc.communicate(timeout=TIMEOUT_S)
+            code = proc.returncode
+        else:
+            with open("/dev/full" if how == "full_stdout" else os.devnull, "w") as out:
+                done = subprocess.run(command, cwd=d, stdout=out, stderr=subprocess.PIPE, text=True, timeout=TIMEOUT_S)
+            err, code = done.stderr, done.returncode
+    except subprocess.TimeoutExpired:
+        return {"input": name, "outcome": "hang"}
+    new = sorted(p for p in _listing(d) - before if not p.startswith(FULL + "/") or not (d / p).is_dir())
+    lines = err.strip().splitlines()
+    record = {"input": name, "exit": code, "message": lines[-1] if lines else ""}
+    # SIGTERM before the command has started (Python still importing) ends it by the signal itself, as any tool
+    if how == "sigterm" and code == -15:
+        code = expected
+    if "Traceback" in err or code != expected or len(lines) > 1 or (how == "closed_pipe" and lines):
+        outcome = "traceback"
+    elif new:
+        outcome = "left behind"
+        record["written"] = new
+    else:
+        outcome = "clear"
+    filler.unlink(missing_ok=True)
+    _remove(d, sorted(_listing(d) - before, reverse=True))
+    return {**record, "outcome": outcome}
 
 
 # ------------------------------------------------------------------ running
 def _listing(d: Path) -> set[str]:
     return {str(p.relative_to(d)) for p in d.rglob("*")}
+
+
+def _remove(d: Path, paths) -> None:
+    """What an input wrote, so that the next input starts clean."""
+    for path in paths:
+        target = d / path
+        if target.is_dir():
+            shutil.rmtree(target, ignore_errors=True)
+        elif target.exists():
+            target.unlink()
 
 
 def run_cli(d: Path, name: str, argv: list[str], expected: str, pattern: str | None) -> dict:
@@ -277,12 +397,7 @@ def run_cli(d: Path, name: str, argv: list[str], expected: str, pattern: str | N
         outcome = "clear"
     else:
         outcome = "silent"
-    for path in new:  # the next input starts clean
-        target = d / path
-        if target.is_dir():
-            shutil.rmtree(target, ignore_errors=True)
-        elif target.exists():
-            target.unlink()
+    _remove(d, new)
     return {**record, "outcome": outcome}
 
 
@@ -317,6 +432,14 @@ def main() -> None:
         for name, argv in env_cases():
             if args.only in name:
                 records.append(run_env(name, argv))
+        faults = [case for case in fault_cases() if args.only in case[0]]
+        can_fill = bool(faults) and _mount_full(d)
+        try:
+            for name, argv, how, expected in faults:
+                records.append(run_fault(d, name, argv, how, expected, can_fill))
+        finally:
+            if can_fill:
+                subprocess.run(["umount", str(d / FULL)], capture_output=True)
     counts = Counter(r["outcome"] for r in records)
     if args.json:
         print(json.dumps({"counts": counts, "inputs": records}, indent=1))
@@ -324,7 +447,8 @@ def main() -> None:
     for r in records:
         print(f"{r['outcome']:12s} {r['input'][:70]:70s} {r.get('message', '')[:110]}")
     print(f"{len(records)} bad inputs: " + ", ".join(f"{k} {counts[k]}" for k in
-                                                      ("clear", "traceback", "silent", "left behind", "hang")))
+                                                      ("clear", "traceback", "silent", "left behind", "hang",
+                                                       "skipped")))
 
 
 if __name__ == "__main__":

@@ -16,11 +16,12 @@ import argparse
 import json
 import time
 
-from thermolimb.diagnosis import auto_diagnose, diagnose
-from thermolimb.diagnosis.candidates import candidate_models, score_candidate
-from thermolimb.evaluation import fit_and_validate
 from thermolimb.identification import IdentifiabilityError, OutputError
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
+from thermolimb.workbench.diagnosis.candidates import candidate_models, score_candidate
+from thermolimb.workbench.validation import fit_and_validate
 
 
 def main(argv=None) -> dict:
@@ -30,7 +31,7 @@ def main(argv=None) -> dict:
 
     fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses")
     start = time.perf_counter()
-    log = simulate_profile("random", 2 * 3600.0, 0.1, ["knee", "hip", "ankle"], [X8_9, X8_16, X8_9], fx,
+    log = simulate_profile("random", 2 * 3600.0, 0.1, list(CASE_NAMES), list(CASE_SPECS), fx,
                            seed=0, network=NETWORKS["first_order"]).log
     print(f"plant log: 3 actuators x {log.series('knee').n} samples in {time.perf_counter() - start:.1f} s")
     series = [log.series("knee")]

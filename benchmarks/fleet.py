@@ -22,10 +22,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from thermolimb.evaluation import Scheme
-from thermolimb.fleet import analyse_file, expand_paths, fit_fleet_files
-from thermolimb.parallel import Runner
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
+from thermolimb.util.parallel import Runner
+from thermolimb.workbench.fleet import analyse_file, expand_paths, fit_fleet_files
+from thermolimb.workbench.validation import Scheme
 
 MODEL = "joule,effort_bias"
 NAME0 = "j00"

@@ -18,10 +18,10 @@ import argparse
 import json
 import time
 
-from thermolimb.diagnosis import auto_diagnose
-from thermolimb.evaluation import fit_and_validate
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
-from thermolimb.plant.cases import HIDDEN_CASES
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS, HIDDEN_CASES
+from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.validation import fit_and_validate
 
 
 def x8_cases(seed: int) -> list[dict]:
@@ -39,7 +39,7 @@ def x8_cases(seed: int) -> list[dict]:
 def step_tests(seeds) -> list[dict]:
     rows = []
     for seed in seeds:
-        log = simulate_profile("pulses", 480.0, 1.0, ["knee", "hip"], [X8_9, X8_16],
+        log = simulate_profile("pulses", 480.0, 1.0, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]),
                                PlantEffects.from_names("sensor_noise,quantisation"), seed=seed,
                                network=NETWORKS["second_order"]).log
         series = [log.series("knee")]

@@ -69,7 +69,7 @@ def walk(strategy: str, payload_kg: float, seconds: float):
         for _ in range(steps):
             tau, state, _ = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg)
             reading = sim.step(tau)
-            norm.append(np.abs(tau) / DAISY.continuous_torque_per_joint_Nm)
+            norm.append(np.abs(tau) / DAISY.continuous_effort_Nm)
         wall = time.perf_counter() - start
     norm = np.array(norm)
     stride = int(gait.period_s * cfg.control_hz)

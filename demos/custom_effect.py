@@ -18,11 +18,12 @@ from pathlib import Path
 import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
-from thermolimb.diagnosis import auto_diagnose
-from thermolimb.diagnosis.plots import plot_diagnosis
 from thermolimb.logs import from_frame
 from thermolimb.model import Parameter, Term, register_term, unregister_term
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.plotting.diagnosis import plot_diagnosis
+from thermolimb.workbench.diagnosis import auto_diagnose
 
 NAME = "custom-effect"
 
@@ -72,8 +73,8 @@ PAGE = DemoPage(
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     effects = PlantEffects.from_names("sensor_noise,quantisation,field_weakening")
-    log = simulate_profile("random", (1 if quick else 2) * 3600.0, 1.0, ["knee", "hip", "ankle"],
-                           [X8_9, X8_16, X8_9], effects, seed=2, network=NETWORKS["first_order"], quiet=quiet).log
+    log = simulate_profile("random", (1 if quick else 2) * 3600.0, 1.0, list(CASE_NAMES),
+                           list(CASE_SPECS), effects, seed=2, network=NETWORKS["first_order"], quiet=quiet).log
     no_current = [from_frame(log.frame.drop(columns="current")).series("knee")]
     catalog, _ = auto_diagnose(no_current, quiet=quiet)
     register_term(SpeedPowerHeating)

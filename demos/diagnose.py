@@ -12,10 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
-from thermolimb.diagnosis import auto_diagnose
-from thermolimb.diagnosis.plots import plot_diagnosis
-from thermolimb.interactive import InteractivePage, add_diagnosis
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.plotting.diagnosis import plot_diagnosis
+from thermolimb.plotting.interactive import InteractivePage, add_diagnosis
+from thermolimb.workbench.diagnosis import auto_diagnose
 
 NAME = "diagnose"
 HIDDEN = ("speed_losses", "neighbor_coupling")
@@ -49,7 +50,7 @@ PAGE = DemoPage(
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     dt_s = 1.0 if quick else 0.1
     effects = PlantEffects.from_names(["sensor_noise", "quantisation", *HIDDEN])
-    log = simulate_profile("random", 2 * 3600.0, dt_s, ["knee", "hip", "ankle"], [X8_9, X8_16, X8_9], effects,
+    log = simulate_profile("random", 2 * 3600.0, dt_s, list(CASE_NAMES), list(CASE_SPECS), effects,
                            seed=4, network=NETWORKS["first_order"], quiet=quiet).log
     first, steps = auto_diagnose([log.series("hip")], quiet=quiet)
     plot_diagnosis(first, out, "hip")

@@ -18,8 +18,6 @@ import numpy as np
 
 from thermolimb.data import REAL_LOGS
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
-from thermolimb.drift import drift, plot_drift
-from thermolimb.fleet import fit_fleet
 from thermolimb.plant import (
     FIRST_ORDER_NETWORK,
     X8_9,
@@ -30,6 +28,9 @@ from thermolimb.plant import (
     run_profile,
 )
 from thermolimb.plant.profiles import random_holds
+from thermolimb.plotting.drift import plot_drift
+from thermolimb.workbench.drift import drift
+from thermolimb.workbench.fleet import fit_fleet
 
 NAME = "fleet-drift"
 MODEL = "joule,effort_bias"

@@ -25,7 +25,7 @@ from hexapod_pb.endurance import (
     plan_gait,
 )
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
-from thermolimb.plots import plt, save
+from thermolimb.plotting.fits import plt, save
 
 NAME = "hexapod-endurance"
 FULL = {"payloads_kg": (0.0, 20.0, 25.0, 30.0, 40.0, 60.0, 80.0, 100.0), "ambients_C": (25.0, 40.0),

@@ -17,7 +17,7 @@ from hexapod_pb.constants import JOINT_KINDS, LEGS
 from hexapod_pb.controller import STRATEGIES
 from hexapod_pb.scenarios import SCENARIOS, run_scenario
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
-from thermolimb.plots import plt, save
+from thermolimb.plotting.fits import plt, save
 
 NAME = "hexapod-walk"
 

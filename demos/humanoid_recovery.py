@@ -16,17 +16,18 @@ from pathlib import Path
 import numpy as np
 
 from humanoid_pb.actuators import datasheet_bank, effort_limits
+from humanoid_pb.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
 from humanoid_pb.fast_ik import FastThermalIK
 from humanoid_pb.params import VALKYRIE
 from humanoid_pb.poses import crouch_angles, single_support, standing
 from humanoid_pb.potential import MinimumEffort
-from humanoid_pb.recovery import calibrate, cooling_bound, run_recovery, steady_needed_for_ratio
+from humanoid_pb.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
 from humanoid_pb.sim import HumanoidSim
 from humanoid_pb.statics import WholeBody
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.identification.regression import lowpass
-from thermolimb.plots import plt, save
+from thermolimb.plotting.fits import plt, save
 
 NAME = "humanoid-recovery"
 STRATEGIES = ("thermal_aware", "minimum_effort")
@@ -39,10 +40,10 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     def seconds(v):
         return "not reached" if v is None else f"{v:.1f} s"
 
-    ratio = (me["hot_leg_below_70_s"] / ta["hot_leg_below_70_s"]
-             if ta["hot_leg_below_70_s"] and me["hot_leg_below_70_s"] else None)
-    return [("hot leg below 70 °C, thermal-aware", seconds(ta["hot_leg_below_70_s"]),
-             f"minimum effort {seconds(me['hot_leg_below_70_s'])}"
+    ratio = (me["hot_leg_recovery_s"] / ta["hot_leg_recovery_s"]
+             if ta["hot_leg_recovery_s"] and me["hot_leg_recovery_s"] else None)
+    return [("hot leg below 70 °C, thermal-aware", seconds(ta["hot_leg_recovery_s"]),
+             f"minimum effort {seconds(me['hot_leg_recovery_s'])}"
              + (f" ({ratio:.2f}× as long)" if ratio else "")),
             ("hot leg's fastest cooling, thermal-aware", f"{ta['hot_leg_peak_cooling_rate_K_s']:.2f} K/s",
              f"minimum effort {me['hot_leg_peak_cooling_rate_K_s']:.2f} K/s"),
@@ -54,7 +55,7 @@ def _bound_rows(summary: dict) -> list[tuple[str, str, str]]:
     bound = summary["details"]["first_order"]
     hot = bound["hot_actuator"]
     rows = [(f"{hot} held {name}: steady temperature, first-order 75 → 70 °C", f"{b['steady_C']:.1f} °C",
-             f"{b['warning_to_70_s']:.1f} s at {b['effort_fraction']:.1%} of its limit")
+             f"{b['warning_to_recovered_s']:.1f} s at {b['effort_fraction']:.1%} of its limit")
             for name, b in bound["configurations"].items()]
     rows.append(("double support would need, for the seed's 2×", f"{bound['double_steady_needed_for_2x_C']:.1f} °C",
                  "steady temperature of the hot actuator, held in double support"))

@@ -14,11 +14,11 @@ from pathlib import Path
 
 from thermolimb.data import PMSM_MAP, pmsm_profile
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
-from thermolimb.diagnosis import auto_diagnose
-from thermolimb.diagnosis.plots import plot_diagnosis
-from thermolimb.interactive import InteractivePage, add_diagnosis
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import DEFAULT_MODEL
+from thermolimb.plotting.diagnosis import plot_diagnosis
+from thermolimb.plotting.interactive import InteractivePage, add_diagnosis
+from thermolimb.workbench.diagnosis import auto_diagnose
 
 NAME = "pmsm-real-data"
 

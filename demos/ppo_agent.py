@@ -13,8 +13,8 @@ import numpy as np
 
 from hexapod_pb import ENV_ID as HEXAPOD_ID
 from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
-from thermolimb.envs.evaluate import evaluate
-from thermolimb.envs.report import table
+from thermolimb.envs.episodes import evaluate
+from thermolimb.envs.tables import table
 
 NAME = "ppo-agent"
 DECISION_S = 0.2
@@ -76,7 +76,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     agent = evaluate_agent(model, episodes)
     baselines = table(evaluate(HEXAPOD_ID, episodes, seed=0, max_time_s=6.0,
                                strategies=("vertical_only", "minimax", "random")))
-    from thermolimb.plots import plt, save
+    from thermolimb.plotting.fits import plt, save
 
     fig, ax = plt.subplots(figsize=(6, 3.5))
     names = ["ppo"] + [r["strategy"] for r in baselines]

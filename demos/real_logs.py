@@ -17,10 +17,10 @@ from pathlib import Path
 
 from thermolimb.data import REAL_LOGS
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
-from thermolimb.diagnosis import auto_diagnose
-from thermolimb.diagnosis.plots import plot_diagnosis
-from thermolimb.evaluation import Scheme
 from thermolimb.identification import IdentifiabilityError
+from thermolimb.plotting.diagnosis import plot_diagnosis
+from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.validation import Scheme
 
 NAME = "real-logs"
 QUICK_JOINTS = {"ur3": ("J3",)}

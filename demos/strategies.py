@@ -11,8 +11,8 @@ from pathlib import Path
 import hexapod_pb
 import humanoid_pb
 from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
-from thermolimb.envs.evaluate import evaluate
-from thermolimb.envs.report import format_table, plot_table, table
+from thermolimb.envs.episodes import evaluate
+from thermolimb.envs.tables import format_table, plot_table, table
 
 NAME = "strategies"
 

@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
-from thermolimb.evaluation import make_estimator
+from thermolimb.identification.metrics import fit_metrics
 from thermolimb.identification.regression import lowpass, lowpass_derivative
-from thermolimb.metrics import fit_metrics
-from thermolimb.plant import X8_16, PlantEffects, Quantisation, SensorNoise, SeriesElasticBias, simulate_profile
-from thermolimb.plots import plt, save
+from thermolimb.plant import X8_16, EffortBias, PlantEffects, Quantisation, SensorNoise, simulate_profile
+from thermolimb.plotting.fits import plt, save
+from thermolimb.workbench.validation import make_estimator
 
 NAME = "thermal-fit"
 DT_S = 0.5
@@ -28,7 +28,7 @@ CHANNELS = ("knee", "knee/driver")
 
 def _effects() -> PlantEffects:
     # A series-elastic actuator with a real sensor: effort bias, 0.05 K noise, 0.1 degC steps.
-    return PlantEffects(effort_bias=SeriesElasticBias(), sensor_noise=SensorNoise(), quantisation=Quantisation())
+    return PlantEffects(effort_bias=EffortBias(), sensor_noise=SensorNoise(), quantisation=Quantisation())
 
 
 def _headline(summary: dict) -> list[tuple[str, str, str]]:

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 LEGS = ("left_front", "right_front", "left_middle", "right_middle", "left_rear", "right_rear")
 JOINT_KINDS = ("base", "shoulder", "elbow")
-ACTUATOR_MODEL = {"base": "X8-9", "shoulder": "X8-16", "elbow": "X8-9"}
 
 # the alternating tripods of HEBI's stock controller: {front-left, middle-right, rear-left} and the rest
 TRIPODS = (("left_front", "right_middle", "left_rear"), ("right_front", "left_middle", "right_rear"))

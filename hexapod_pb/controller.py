@@ -164,12 +164,10 @@ def distribute(problem: StanceProblem, strategy: str, warm: StanceSolution | Non
     if strategy == "minimax":
         try:
             return minimax(problem, smoothing_1_N2=smoothing_1_N2, previous_N=previous)
-        except RuntimeError:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible problem
-            return minimax(problem, solver="highs")
+        except RuntimeError as stalled:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible one
+            fallback = minimax(problem, solver="highs")
+            return replace(fallback, solver=f"highs (fallback: {stalled})")
     if strategy == "minimax_lex":
         return minimax_lex(problem)
     joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in problem.legs])
-    b = thermal.bank
-    sub = FirstOrderBank(b.RC_s[joints], b.betaR_K_per_effort2[joints], b.beta_biasR_K_per_effort[joints],
-                         b.T_offset_C[joints])
-    return thermal_minimax(problem, sub, temperature_C[joints], thermal.horizon_s)
+    return thermal_minimax(problem, thermal.bank.subset(joints), temperature_C[joints], thermal.horizon_s)

@@ -14,11 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from thermolimb.constants import GRAVITY_M_S2
+from thermolimb.plant import X8_9, X8_16, ActuatorSpec
 
-from .constants import LEGS
+from .constants import JOINT_KINDS, LEGS
 
 LINK_AXIAL_INERTIA_KG_M2 = 1e-4  # each leg link about its own long axis (thin tubes)
 FALLEN_BODY_HEIGHT_M = 0.08  # the body below this height: the robot has fallen
+SETTLE_S = 0.5  # standing still after a reset, before a run is measured
 
 
 @dataclass(frozen=True)
@@ -37,17 +39,17 @@ class DaisyParams:
     bracket_mass_kg: float = 0.20  # chosen: bracket between base and shoulder actuators
     upper_tube_mass_kg: float = 0.30  # chosen: link tube, shoulder to elbow
     lower_tube_mass_kg: float = 0.2736  # chosen so that one leg weighs 135 N / 6
-    x8_9_effort_limit_Nm: float = 20.0
-    x8_16_effort_limit_Nm: float = 38.0
-    x8_9_velocity_limit_rad_s: float = 3.14
-    x8_16_velocity_limit_rad_s: float = 1.57
-    continuous_torque_Nm: tuple[float, float, float] = (8.0, 16.0, 8.0)  # base, shoulder, elbow (seed)
+    # the actuator of each joint kind (JOINT_KINDS order: base, shoulder, elbow): HEBI's X8 datasheets, written once
+    # in thermolimb.plant; effort and velocity limits and continuous efforts (the seed's 8/16/8 N m) come from them
+    actuators: tuple[ActuatorSpec, ActuatorSpec, ActuatorSpec] = (X8_9, X8_16, X8_9)
     nominal_body_height_m: float = 0.16  # body centre above the ground when standing
     nominal_foot_reach_m: float = 0.22  # horizontal distance shoulder axis -> foot (feet 0.46-0.51 m from the centre)
 
     def __post_init__(self):
         if len(self.mount_yaw_deg) != len(LEGS) or len(self.mount_radius_m) != len(LEGS):
             raise ValueError(f"DaisyParams needs one mount angle and radius per leg ({len(LEGS)})")
+        if len(self.actuators) != len(JOINT_KINDS):
+            raise ValueError(f"DaisyParams needs one actuator per joint kind ({', '.join(JOINT_KINDS)})")
         positive = ("bracket_m", "upper_link_m", "lower_link_m", "foot_radius_m", "body_mass_kg", "x8_9_mass_kg",
                     "x8_16_mass_kg", "foot_mass_kg", "nominal_body_height_m", "nominal_foot_reach_m")
         bad = [n for n in positive if not getattr(self, n) > 0]
@@ -95,13 +97,19 @@ class DaisyParams:
         return float(np.radians(self.mount_yaw_deg[leg]))
 
     @property
-    def effort_limit_Nm(self) -> np.ndarray:
-        """Per joint in JOINTS order (base X8-9, shoulder X8-16, elbow X8-9 for every leg)."""
-        return np.tile([self.x8_9_effort_limit_Nm, self.x8_16_effort_limit_Nm, self.x8_9_effort_limit_Nm], len(LEGS))
+    def joint_actuators(self) -> tuple[ActuatorSpec, ...]:
+        """The actuator of every joint, in JOINTS order (18: base X8-9, shoulder X8-16, elbow X8-9 for every leg)."""
+        return tuple(self.actuators) * len(LEGS)
 
     @property
-    def continuous_torque_per_joint_Nm(self) -> np.ndarray:
-        return np.tile(self.continuous_torque_Nm, len(LEGS))
+    def effort_limit_Nm(self) -> np.ndarray:
+        """Peak effort per joint, in JOINTS order."""
+        return np.array([spec.effort_limit for spec in self.joint_actuators])
+
+    @property
+    def continuous_effort_Nm(self) -> np.ndarray:
+        """What each joint's actuator holds indefinitely, in JOINTS order (the seed's normalising torques)."""
+        return np.array([spec.continuous_effort for spec in self.joint_actuators])
 
 
 def _segment(actuator_kg: float, tube_kg: float, length_m: float) -> tuple[float, float, float]:

@@ -14,16 +14,16 @@ import numpy as np
 
 from thermolimb.logs import ThermalLog
 from thermolimb.plant import PlantEffects
-from thermolimb.progress import progress
+from thermolimb.util.progress import progress
 
 from . import cpg
-from .controller import ControllerState, Gains, ThermalContext, control_step
-from .params import DAISY, FALLEN_BODY_HEIGHT_M
+from .controller import Gains, ThermalContext
+from .loop import ControlLoop
+from .params import DAISY
 from .sim import HexapodSim, SimConfig
 from .thermal import datasheet_bank
 
 SCENARIOS = {"walk_0kg": (True, 0.0), "walk_2kg": (True, 2.0), "stand_5kg": (False, 5.0)}
-SETTLE_S = 0.5
 
 
 @dataclass(frozen=True)
@@ -67,23 +67,18 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
         thermal = ThermalContext(datasheet_bank(ambient_C))
     config = SimConfig(payload_kg=payload, ambient_C=ambient_C)
     gait = cpg.CPGParams()
-    scale = DAISY.continuous_torque_per_joint_Nm
+    scale = DAISY.continuous_effort_Nm
     with HexapodSim(config=config, plant_effects=effects, seed=seed) as sim:
-        state = ControllerState(cpg.initial_state(None, gait))
-        reading = sim.read()
-        for _ in range(int(SETTLE_S * config.control_hz)):
-            tau, state, _ = control_step(reading, state, DAISY, gait, strategy, config.control_dt_s, payload,
-                                         gains, thermal, walking=False)
-            reading = sim.step(tau)
+        loop = ControlLoop(sim, DAISY, gait, payload, gains, thermal)
+        reading = loop.settle(strategy)
         start = reading.body_position_m.copy()
         n = int(round(duration_s * config.control_hz))
         t, cmd, sensed, measured, winding = (np.empty(n), np.empty((n, 18)), np.empty((n, 18)), np.empty((n, 18)),
                                              np.empty((n, 18)))
         fell, time_to_limit = False, None
         for k in progress(range(n), desc=f"{scenario} {strategy}", disable=quiet, unit="step"):
-            tau, state, _ = control_step(reading, state, DAISY, gait, strategy, config.control_dt_s, payload,
-                                         gains, thermal, walking=walking)
-            reading = sim.step(tau)
+            reading = loop.step(strategy, walking)
+            tau = loop.torques_Nm
             t[k] = reading.time_s
             cmd[k] = np.abs(np.clip(tau, -DAISY.effort_limit_Nm, DAISY.effort_limit_Nm)) / scale
             sensed[k] = np.abs(reading.torque_Nm) / scale
@@ -91,7 +86,7 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
             winding[k] = sim.plant.winding_C
             if time_to_limit is None and np.any(measured[k] >= sim.plant.winding_limits_C):
                 time_to_limit = float(reading.time_s)
-            if reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
+            if loop.fallen:
                 fell = True
                 t, cmd, sensed, measured, winding = t[: k + 1], cmd[: k + 1], sensed[: k + 1], measured[: k + 1], winding[: k + 1]
                 break

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from thermolimb.plant import ACTUATOR_SPECS, PlantEffects, ThermalProtection
+from thermolimb.plant import PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
 
-from .constants import ACTUATOR_MODEL, FEET, JOINT_KINDS, JOINTS, LEGS, PAYLOAD_LINK
+from .constants import FEET, JOINTS, LEGS, PAYLOAD_LINK
 from .kinematics import inverse_kinematics, nominal_foot
 from .params import DAISY, DaisyParams
 from .readings import Reading
@@ -48,9 +48,8 @@ class HexapodSim(BulletRig):
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
                  protection: ThermalProtection = ThermalProtection()):
         self.params = params
-        specs = [ACTUATOR_SPECS[ACTUATOR_MODEL[k]] for _ in LEGS for k in JOINT_KINDS]
         height = params.nominal_body_height_m + (0.3 if config.fixed_base else 0.0)
-        super().__init__(urdf_path(), JOINTS, FEET, JOINTS, specs, params.effort_limit_Nm, config, [0, 0, height],
+        super().__init__(urdf_path(), JOINTS, FEET, JOINTS, params.joint_actuators, params.effort_limit_Nm, config, [0, 0, height],
                          plant_effects=plant_effects, seed=seed, protection=protection)
         self.client.changeDynamics(self.robot, self.link_index[PAYLOAD_LINK], mass=max(config.payload_kg, 1e-3))
         self.reset_stance()

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from thermolimb.paths import urdf_dir, write_urdf
+from thermolimb.util.paths import urdf_dir, write_urdf
 
 from .constants import BODY_LINK, LEGS, PAYLOAD_LINK, foot_link, joint_name
 from .params import DAISY, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
@@ -71,17 +71,18 @@ def generate(params: DaisyParams = DAISY) -> str:
         yaw = p.mount_yaw_rad(i)
         (m0, c0, i0), (m1, c1, i1), (m2, c2, i2) = p.segments()
         small = LINK_AXIAL_INERTIA_KG_M2
+        base, shoulder, elbow = p.actuators
         out += [
             _joint(joint_name(leg, "base"), BODY_LINK, f"{leg}_base_link", f"{_f(mount[0])} {_f(mount[1])} 0",
-                   f"0 0 {_f(yaw)}", "0 0 1", -1.2, 1.2, p.x8_9_effort_limit_Nm, p.x8_9_velocity_limit_rad_s),
+                   f"0 0 {_f(yaw)}", "0 0 1", -1.2, 1.2, base.effort_limit, base.velocity_limit),
             f'  <link name="{leg}_base_link">\n', _inertial(m0, c0, small, i0, i0),
             _cylinder_visual(p.bracket_m, 0.03, "black"), "  </link>\n",
             _joint(joint_name(leg, "shoulder"), f"{leg}_base_link", f"{leg}_upper", f"{_f(p.bracket_m)} 0 0",
-                   "0 0 0", "0 -1 0", -1.6, 1.6, p.x8_16_effort_limit_Nm, p.x8_16_velocity_limit_rad_s),
+                   "0 0 0", "0 -1 0", -1.6, 1.6, shoulder.effort_limit, shoulder.velocity_limit),
             f'  <link name="{leg}_upper">\n', _inertial(m1, c1, small, i1, i1),
             _cylinder_visual(p.upper_link_m, 0.02, "grey"), "  </link>\n",
             _joint(joint_name(leg, "elbow"), f"{leg}_upper", f"{leg}_lower", f"{_f(p.upper_link_m)} 0 0",
-                   "0 0 0", "0 -1 0", -2.8, 0.5, p.x8_9_effort_limit_Nm, p.x8_9_velocity_limit_rad_s),
+                   "0 0 0", "0 -1 0", -2.8, 0.5, elbow.effort_limit, elbow.velocity_limit),
             f'  <link name="{leg}_lower">\n', _inertial(m2, c2, small, i2, i2),
             _cylinder_visual(p.lower_link_m, 0.015, "grey"), "  </link>\n",
             f'  <joint name="{leg}_foot_mount" type="fixed"><parent link="{leg}_lower"/><child link="{foot_link(leg)}"/>'

@@ -80,6 +80,12 @@ class StanceProblem:
         E[5, 1::3], E[5, 0::3] = x, -y
         return E
 
+    @cached_property
+    def contact_rows(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Friction-pyramid and unilateral rows ``(A, bu, bl)`` over ``x = (f, z)``: built once per problem and
+        shared by every solve and cutting-plane round on it."""
+        return _contact_rows(self)
+
     @classmethod
     def from_configuration(cls, params: DaisyParams, q: np.ndarray, legs, payload_kg: float = 0.0,
                            wrench: np.ndarray | None = None, include_leg_gravity: bool = True,
@@ -113,7 +119,7 @@ class StanceProblem:
             T[3 * k : 3 * k + 3, 3 * k : 3 * k + 3] = -statics[i].jacobian.T
         grav = [statics[i].gravity_Nm if include_leg_gravity else np.zeros(3) for i in legs]
         feet = np.array([statics[i].foot_m for i in legs])
-        scale = np.tile(params.continuous_torque_Nm, len(legs))
+        scale = np.concatenate([params.continuous_effort_Nm[3 * i : 3 * i + 3] for i in legs])
         return cls(legs, feet, T, np.concatenate(grav), scale, np.asarray(wrench, float), friction, min_normal_N)
 
     def torques(self, f: np.ndarray) -> np.ndarray:
@@ -235,7 +241,7 @@ def _epigraph(problem: StanceProblem):
     nf = 3 * p.n
     s = p.torque_scale_Nm
     contact = p.friction is not None or p.min_normal_N is not None
-    contact_A, contact_bu, contact_bl = _contact_rows(p) if contact else (None, None, None)
+    contact_A, contact_bu, contact_bl = p.contact_rows if contact else (None, None, None)
     m = 6 + 2 * nf + (len(contact_A) if contact else 0)
     A = np.zeros((m, nf + 1))
     A[:6, :nf] = p.equilibrium
@@ -273,8 +279,9 @@ def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq:
              sense: np.ndarray | None = None) -> tuple[np.ndarray, str, int, np.ndarray | None]:
     """``min c'x`` subject to ``bl <= A x <= bu`` (the first ``n_eq`` rows equalities).
 
-    By daqp (dual active set, about 10 us here); should it stall, by HiGHS.
-    Returns ``(x, solver, iterations, duals)``.
+    By daqp (dual active set, about 10 us here); should it stall, by HiGHS,
+    and the solver label says so (``"highs (daqp stalled, exit flag -2)"``):
+    a fallback is never silent.  Returns ``(x, solver, iterations, duals)``.
     """
     n = len(c)
     if sense is None:
@@ -290,7 +297,7 @@ def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq:
                   A_eq=A[:n_eq], b_eq=bu[:n_eq], bounds=[(None, None)] * n, method="highs")
     if res.status != 0:
         raise RuntimeError(f"the stance LP has no solution (daqp exit flag {flag}; HiGHS: {res.message})")
-    return res.x, "highs", int(res.nit), None
+    return res.x, f"highs (daqp stalled, exit flag {flag})", int(res.nit), None
 
 
 MOMENT_ARM_M = 0.3  # weights moment errors against force errors in the closest achievable wrench
@@ -307,7 +314,7 @@ def closest_achievable(problem: StanceProblem) -> StanceProblem:
     nf = 3 * p.n
     weights = np.r_[np.ones(3), np.full(3, 1.0 / MOMENT_ARM_M)]
     # variables: f (nf), slack s (6) with -s <= E f - w <= s
-    contact_A, contact_bu, contact_bl = _contact_rows(p)
+    contact_A, contact_bu, contact_bl = p.contact_rows
     A = np.vstack([np.hstack([p.equilibrium, -np.eye(6)]), np.hstack([p.equilibrium, np.eye(6)]),
                    np.hstack([contact_A[:, :nf], np.zeros((len(contact_A), 6))])])
     bu = np.concatenate([p.wrench, np.full(6, _INF), contact_bu])
@@ -389,7 +396,7 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
     H = 2.0 * W.T @ W + 1e-9 * np.eye(nf)
     f = 2.0 * W.T @ offset
     cap = first.peak * (1.0 + slack) * p.torque_scale_Nm
-    contact_A, contact_bu, contact_bl = _contact_rows(p)
+    contact_A, contact_bu, contact_bl = p.contact_rows
     A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
     bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
     bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
@@ -423,6 +430,15 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
     start = time.perf_counter()
     sol = minimax(p)  # a good first point: the torque minimax
     cuts_A, cuts_b = [], []
+    # what every round shares: the wrench balance, the contact rows and the torques within 3x their scale (a trust
+    # region for the cuts)
+    extra_A, extra_bu, extra_bl = p.contact_rows
+    fixed_A = np.vstack([extra_A, np.hstack([p.torque_map, np.zeros((nf, 1))])])
+    fixed_bu = np.concatenate([extra_bu, 3 * p.torque_scale_Nm - p.gravity_Nm])
+    fixed_bl = np.concatenate([extra_bl, -3 * p.torque_scale_Nm - p.gravity_Nm])
+    balance = np.hstack([E, np.zeros((6, 1))])
+    c = np.zeros(nf + 1)
+    c[-1] = 1.0
     rounds = 0
     for rounds in range(1, max_cuts + 1):
         tau = p.torques(sol.forces_N)
@@ -433,20 +449,9 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
         rhs = -(predicted - slope * tau) - slope * p.gravity_Nm
         cuts_A.append(rows)
         cuts_b.append(rhs)
-        A = np.vstack([np.hstack([E, np.zeros((6, 1))]), *cuts_A])
-        bu = np.concatenate([p.wrench, *cuts_b])
-        bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -_INF)])
-        extra_A, extra_bu, extra_bl = _contact_rows(p)
-        A = np.vstack([A, extra_A]) if len(extra_A) else A
-        bu = np.concatenate([bu, extra_bu])
-        bl = np.concatenate([bl, extra_bl])
-        # keep torques within their limits scaled by 3 (a trust region for the cuts)
-        lim = np.hstack([p.torque_map, np.zeros((nf, 1))])
-        A = np.vstack([A, lim])
-        bu = np.concatenate([bu, 3 * p.torque_scale_Nm - p.gravity_Nm])
-        bl = np.concatenate([bl, -3 * p.torque_scale_Nm - p.gravity_Nm])
-        c = np.zeros(nf + 1)
-        c[-1] = 1.0
+        A = np.vstack([balance, *cuts_A, fixed_A])
+        bu = np.concatenate([p.wrench, *cuts_b, fixed_bu])
+        bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -_INF), fixed_bl])
         x, *_ = solve_lp(c, A, bu, bl, n_eq=6)
         sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds)
         tau = p.torques(sol.forces_N)

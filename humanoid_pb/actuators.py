@@ -69,12 +69,7 @@ def datasheet_bank(params: ValkyrieParams, ambient_C: float = 25.0) -> FirstOrde
     RC = C_w R_w (40 s) and betaR = R_e R_w / k^2: what a controller can plan
     with before it has a log of its own.
     """
-    specs = actuator_specs(params)
-    net = VALKYRIE_NETWORK
-    rc = net.capacity_J_per_K[0] * net.resistance_K_per_W[0]
-    beta = np.array([s.winding_resistance_ohm * net.resistance_K_per_W[0] / s.effort_per_amp**2 for s in specs])
-    n = len(specs)
-    return FirstOrderBank(np.full(n, rc), beta, np.zeros(n), np.full(n, ambient_C))
+    return FirstOrderBank.from_specs(actuator_specs(params), ambient_C, lumped_nodes=1)
 
 
 def effort_limits(params: ValkyrieParams) -> np.ndarray:

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
-from .constants import CONTACT_MODES, FOOT_SIDE, mode_feet
+from .constants import FOOT_SIDE, mode_feet
 from .statics import WholeBody
 
 
@@ -69,10 +69,7 @@ def descent_step(body: WholeBody, q: np.ndarray, mode: str, potential, f: float 
     if scale == 0:
         return q, f, False
     dq *= delta_max / scale  # Eq. 31: the gain bounds the largest coordinate change by delta_max
-    A = pin.crba(body.model, body.data, q)
-    A = np.triu(A) + np.triu(A, 1).T
-    A_inv = np.linalg.inv(A)
-    Nc = np.eye(body.nv) - A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T) @ Jc
+    _, _, Nc = body.contact_null_space(q, Jc)
     q_next = pin.integrate(body.model, q, Nc @ dq)  # Eq. 32
     f_next = potential_of(body, q_next, mode, potential)
     if f_next >= f:
@@ -95,20 +92,3 @@ def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
         history.append(f)
     return DescentResult("naive", mode, q, f, iterations, time.perf_counter() - start, history,
                          contact_drift(body, q0, q, mode))
-
-
-@dataclass
-class Choice:
-    """Eq. 33: the contact mode and configuration that minimise the objective, and every mode's result."""
-
-    mode: str
-    result: DescentResult
-    per_mode: dict[str, DescentResult]
-
-
-def choose_contact(body: WholeBody, q0: np.ndarray, potential, modes=CONTACT_MODES, method=None, **kwargs) -> Choice:
-    """Minimise over the contact modes of the minimum over configurations (the seed's Eq. 33)."""
-    method = method or naive_descent
-    per_mode = {m: method(body, q0, m, potential, **kwargs) for m in modes}
-    best = min(per_mode, key=lambda m: per_mode[m].potential)
-    return Choice(best, per_mode[best], per_mode)

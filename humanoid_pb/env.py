@@ -1,52 +1,7 @@
 """``thermolimb/HumanoidThermalRecovery-v0``: recover a humanoid's hot actuators without falling.
 
-Registered by ``import humanoid_pb``.
-
-The humanoid starts standing in double support with one leg's actuators hot
-(which leg, how hot and the ambient are drawn at reset, around the seed's
-experiment: the windings hot, their housings within 5 K of ambient, as
-after a minute or two of balancing on one leg).  Every decision step (1.5 s) the agent picks a contact mode --
-or, with ``action_type="configuration"``, a posture offset -- and the
-environment runs the balance controller and the thermal plant in between.
-Mode changes go through the nominal crouch, as in the seed.
-
-Action (``action_type="mode"``): ``Discrete(3)``: 0 double support, 1 left
-single support, 2 right single support.
-
-Action (``action_type="configuration"``): ``Box(-1, 1, (4,))`` scaled to
-offsets of the double-support crouch:
-
-=====  ==========================  =========  =====
-index  meaning                     unit       range
-=====  ==========================  =========  =====
-0      crouch depth (hip/knee)     rad        +-0.15
-1      lateral lean (hip/ankle roll)  rad     +-0.08
-2      torso pitch                 rad        +-0.15
-3      torso roll                  rad        +-0.1
-=====  ==========================  =========  =====
-
-Observation (``Box``, float32):
-
-=============  ====  ==========================================  ======
-slice          size  meaning                                     unit
-=============  ====  ==========================================  ======
-0:23           23    measured actuator temperatures              degC
-23:46          23    actuator efforts / effort limits            1
-46:49          3     contact mode, one-hot (double, left, right)  1
-49:52          3     pelvis height, roll, pitch                  m, rad
-52:58          6     pelvis linear and angular velocity          m/s, rad/s
-58:60          2     centre of mass minus the feet's midpoint, xy  m
-=============  ====  ==========================================  ======
-
-Reward (each term in ``info["reward_terms"]``, the reward is their sum):
-``cooling`` = the fall of the hottest actuator's temperature over the step
-(K); ``warning`` = -0.5 per actuator above ``WARNING_C`` (75 degC); ``fall``
-= -100 once; ``effort`` = -0.01 x the mean squared normalised effort.
-Terminated when every actuator is below ``RECOVERED_C`` (70 degC) or the robot
-falls; truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the
-world, so the same seed and actions give the same trajectory.  ``actuator_specs``
-builds the robot with actuators other than the datasheet's (a worn or different
-robot); :meth:`calibration_run` identifies models on it.
+Registered by ``import humanoid_pb``; spaces, units, reward and options are in
+:class:`HumanoidThermalRecoveryEnv`'s docstring (``help(env.unwrapped)``).
 """
 
 from __future__ import annotations
@@ -56,16 +11,17 @@ from typing import Sequence
 import numpy as np
 from gymnasium import spaces
 
-from thermolimb.envs.base import RigEnv
+from thermolimb.envs.base import RigEnv, checked_range
 from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
 from .actuators import effort_limits
+from .calibration import calibrate
 from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, leg_joint
+from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
 from .poses import crouch_angles
 from .readings import roll_pitch_rad
-from .recovery import Executor, calibrate
 from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
@@ -75,11 +31,94 @@ HOUSING_WARMING_K = 5.0
 
 
 class HumanoidThermalRecoveryEnv(RigEnv):
+    """Recover a humanoid's hot actuators without falling.
+
+    The humanoid starts standing in double support with one leg's actuators
+    hot (which leg, how hot and the ambient are drawn at reset from the
+    constructor's ranges, around the seed's experiment: the windings hot,
+    their housings within ``housing_warming_K`` of ambient, as after a minute
+    or two of balancing on one leg).  Every decision step (1.5 s) the agent
+    picks a contact mode -- or, with ``action_type="configuration"``, a
+    posture offset -- and the environment runs the balance controller and the
+    thermal plant in between.  Mode changes go through the nominal crouch, as
+    in the seed.
+
+    Action (``action_type="mode"``): ``Discrete(3)``: 0 double support, 1 left
+    single support, 2 right single support.
+
+    Action (``action_type="configuration"``): ``Box(-1, 1, (4,))`` scaled to
+    offsets of the double-support crouch:
+
+    =====  ==============================  =========  =====
+    index  meaning                         unit       range
+    =====  ==============================  =========  =====
+    0      crouch depth (hip/knee)         rad        +-0.15
+    1      lateral lean (hip/ankle roll)   rad        +-0.08
+    2      torso pitch                     rad        +-0.15
+    3      torso roll                      rad        +-0.1
+    =====  ==============================  =========  =====
+
+    Observation (``Box``, float32):
+
+    =============  ====  ============================================  ======
+    slice          size  meaning                                       unit
+    =============  ====  ============================================  ======
+    0:23           23    measured actuator temperatures                degC
+    23:46          23    actuator efforts / effort limits              1
+    46:49          3     contact mode, one-hot (double, left, right)   1
+    49:52          3     pelvis height, roll, pitch                    m, rad
+    52:58          6     pelvis linear and angular velocity            m/s, rad/s
+    58:60          2     centre of mass minus the feet's midpoint, xy  m
+    =============  ====  ============================================  ======
+
+    Reward (each term in ``info["reward_terms"]``, the reward is their sum):
+    ``cooling`` = ``cooling_weight_per_K`` x the fall of the hottest
+    actuator's temperature over the step (K); ``warning`` =
+    ``-warning_weight`` per actuator above ``WARNING_C`` (75 degC), averaged
+    over the step; ``fall`` = ``-fall_penalty`` once; ``effort`` =
+    ``-effort_weight`` x the mean squared normalised effort.  Terminated when
+    every actuator is below ``RECOVERED_C`` (70 degC) or the robot falls;
+    truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the world,
+    so the same seed and actions give the same trajectory; ``reset`` takes no
+    options (the ranges are the constructor's).
+
+    Parameters
+    ----------
+    action_type
+        ``"mode"`` or ``"configuration"`` (above).
+    max_time_s
+        Episode length (s).
+    actuator_specs
+        The robot's actuators if not the datasheet's (a worn or different
+        robot); :meth:`calibration_run` identifies models on it.
+    ambient_range_C, hot_range_C, cool_range_C
+        Uniform ranges of the ambient, the hot leg's windings and every other
+        winding at reset (degC).
+    housing_warming_K
+        Housings start up to this much above ambient (K).
+    cooling_weight_per_K, warning_weight, fall_penalty, effort_weight
+        The reward's weights (above).
+    """
+
     OUTCOME = "recovery_s"
 
     def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None,
-                 actuator_specs: Sequence[ActuatorSpec] | None = None):
+                 actuator_specs: Sequence[ActuatorSpec] | None = None,
+                 ambient_range_C: tuple[float, float] = (20.0, 30.0), hot_range_C: tuple[float, float] = (72.0, 80.0),
+                 cool_range_C: tuple[float, float] = (35.0, 50.0), housing_warming_K: float = HOUSING_WARMING_K,
+                 cooling_weight_per_K: float = 1.0, warning_weight: float = 0.5, fall_penalty: float = 100.0,
+                 effort_weight: float = 0.01):
         super().__init__(max_time_s, DECISION_S, render_mode)
+        self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
+        self.hot_range_C = checked_range("hot_range_C", hot_range_C, -40.0, 150.0)
+        self.cool_range_C = checked_range("cool_range_C", cool_range_C, -40.0, 150.0)
+        if not 0.0 <= housing_warming_K <= 100.0:
+            raise ValueError(f"housing_warming_K must be within 0..100 K, got {housing_warming_K!r}")
+        self.housing_warming_K = float(housing_warming_K)
+        self.cooling_weight_per_K = float(cooling_weight_per_K)
+        self.warning_weight = float(warning_weight)
+        self.fall_penalty = float(fall_penalty)
+        self.effort_weight = float(effort_weight)
         self.actuator_specs = None if actuator_specs is None else tuple(actuator_specs)
         if action_type not in ("mode", "configuration"):
             raise ValueError(f"action_type must be 'mode' or 'configuration', got {action_type!r}")
@@ -100,14 +139,14 @@ class HumanoidThermalRecoveryEnv(RigEnv):
 
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        super().reset(seed=seed)
+        super().reset(seed=seed, options=options)
         rng = self.np_random
-        ambient = float(rng.uniform(20.0, 30.0))
+        ambient = float(rng.uniform(*self.ambient_range_C))
         self.hot_side = SIDES[int(rng.integers(len(SIDES)))]
-        temperatures = rng.uniform(35.0, 50.0, self.n_act)
+        temperatures = rng.uniform(*self.cool_range_C, self.n_act)
         for a in leg_actuators(self.hot_side):
-            temperatures[ACTUATORS.index(a)] = rng.uniform(72.0, 80.0)
-        housings = ambient + rng.uniform(0.0, HOUSING_WARMING_K, self.n_act)
+            temperatures[ACTUATORS.index(a)] = rng.uniform(*self.hot_range_C)
+        housings = ambient + rng.uniform(0.0, self.housing_warming_K, self.n_act)
         config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
         self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs)
         self.sim.plant.set_temperatures(temperatures, rest_C=housings)
@@ -128,12 +167,12 @@ class HumanoidThermalRecoveryEnv(RigEnv):
             if self.reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 self.fallen = True
                 break
-        efforts = self.sim.actuator_efforts(self.reading.q_rad, self.sim.applied_Nm) / self.limits
+        efforts = self.sim.last_efforts / self.limits
         terms = {
-            "cooling": float(before - self.reading.temperature_C.max()),
-            "warning": -0.5 * float(warning),
-            "fall": -100.0 if self.fallen else 0.0,
-            "effort": -0.01 * float(np.mean(efforts**2)),
+            "cooling": self.cooling_weight_per_K * float(before - self.reading.temperature_C.max()),
+            "warning": -self.warning_weight * float(warning),
+            "fall": -self.fall_penalty if self.fallen else 0.0,
+            "effort": -self.effort_weight * float(np.mean(efforts**2)),
         }
         recovered = bool(self.reading.temperature_C.max() < RECOVERED_C)
         terminated = recovered or self.fallen
@@ -175,7 +214,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     def _observation(self) -> np.ndarray:
         r = self.reading
         sim = self.sim
-        efforts = sim.actuator_efforts(r.q_rad, sim.applied_Nm) / self.limits
+        efforts = sim.last_efforts / self.limits
         mode = np.zeros(3)
         mode[CONTACT_MODES.index(self.executor.mode)] = 1.0
         roll, pitch = roll_pitch_rad(r.base_quaternion_xyzw)

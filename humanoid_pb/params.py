@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from thermolimb.frozen import FrozenMapping
+from thermolimb.util.frozen import FrozenMapping
 
 from .constants import joint_kind
 

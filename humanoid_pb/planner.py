@@ -28,6 +28,12 @@ class Plan:
     results: dict  # mode -> the IK's result from that mode's start
 
 
+def best_mode(results: dict) -> str:
+    """The seed's Eq. 33: of each contact mode's best configuration (``{mode: result with .potential}``), the mode
+    whose result scores lowest.  The one place the choice is made, whatever found each mode's configuration."""
+    return min(results, key=lambda m: results[m].potential)
+
+
 class ContactModePlanner:
     """Eq. 33 over the contact modes with an objective: ``"thermal"`` (Eq. 25's potential) or ``"effort"``."""
 
@@ -54,7 +60,7 @@ class ContactModePlanner:
         cost = self.cost(bank, temperature_C)
         starts = self.starts(q_nominal)
         results = {m: self.solver.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
-        return Plan(min(results, key=lambda m: results[m].potential), results)
+        return Plan(best_mode(results), results)
 
     def plan_nominal(self, q_nominal: np.ndarray, bank: FirstOrderBank | None,
                      temperature_C: np.ndarray) -> str:

@@ -12,111 +12,23 @@ weight over the stance foot, then lifting the other foot.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
-from typing import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from thermolimb.identification.bank import identify_bank
-from thermolimb.logs import ThermalLog
 from thermolimb.model import FirstOrderBank
-from thermolimb.plant import ActuatorSpec
-from thermolimb.progress import progress
+from thermolimb.util.progress import progress
 
 from .actuators import effort_limits
-from .balance import Motion, balance_command
 from .constants import ACTUATORS, leg_actuators
+from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, WARNING_C
 from .planner import ContactModePlanner
-from .poses import crouch_angles, single_support, standing
+from .poses import crouch_angles
 from .sim import HumanoidSim
 
-SHIFT_S = 1.5  # weight shift, and foot lift or placement, each
 DWELL_S = 8.0  # minimum time in a mode before the next decision
 DECIDE_EVERY_S = 2.0
-
-
-class Executor:
-    """Drives the humanoid through contact modes and configurations, through the nominal crouch."""
-
-    def __init__(self, sim: HumanoidSim):
-        self.sim = sim
-        self.body = sim.body
-        self.nominal_angles = crouch_angles()
-        self.q_nominal = standing(self.body, self.nominal_angles)
-        self.mode = "double"
-        self.target = self.nominal_angles.copy()
-        self.queue: list[tuple[Motion, str]] = []
-        self.settled_since = 0.0
-        self.hold_torques: np.ndarray | None = None  # the IK's balancing torques at the goal, fed forward there
-
-    def support_angles(self, side: str, lift_m: float) -> np.ndarray:
-        return self.body.joint_angles(single_support(self.body, self.q_nominal, side, lift_m=lift_m))
-
-    def go(self, mode: str, goal_angles: np.ndarray | None = None, goal_torques: np.ndarray | None = None) -> None:
-        """Plan the motion to ``mode`` (through the nominal crouch) ending in ``goal_angles``.
-
-        ``goal_torques``: the balancing torques chosen with the goal (the IK's
-        ``Gamma``, which sets how the weight is shared between the feet); fed
-        forward once there, instead of Eq. 23's.
-        """
-        self.hold_torques = goal_torques
-        t = self.sim.time_s
-        here = self.target
-        plan = []
-        if self.mode != "double":  # place the lifted foot, then shift back to the middle
-            side = self.mode
-            plan.append((Motion(here, self.support_angles(side, 0.0), t, SHIFT_S), side))
-            plan.append((Motion(self.support_angles(side, 0.0), self.nominal_angles, t + SHIFT_S, SHIFT_S), "double"))
-            here, t = self.nominal_angles, t + 2 * SHIFT_S
-        if mode == "double":
-            goal = self.nominal_angles if goal_angles is None else goal_angles
-            plan.append((Motion(here, goal, t, SHIFT_S), "double"))
-        else:
-            shifted = self.support_angles(mode, 0.0)
-            lifted = self.support_angles(mode, 0.05) if goal_angles is None else goal_angles
-            plan.append((Motion(here, shifted, t, SHIFT_S), "double"))
-            plan.append((Motion(shifted, lifted, t + SHIFT_S, SHIFT_S), mode))
-        self.queue = plan
-
-    @property
-    def moving(self) -> bool:
-        return bool(self.queue) and not self.queue[-1][0].done(self.sim.time_s)
-
-    def tick(self, reading):
-        t = self.sim.time_s
-        for motion, mode in self.queue:
-            if t >= motion.t0_s:
-                self.target, self.mode = motion.at(t), mode
-        if self.queue and self.queue[-1][0].done(t):
-            self.queue = []
-            self.settled_since = t
-        command = balance_command(self.body, self.sim.pinocchio_q(reading), self.target, self.mode)
-        if not self.queue and self.hold_torques is not None:
-            command = replace(command, feedforward_Nm=self.hold_torques)
-        return self.sim.command(command)
-
-
-def calibrate(duration_s: float, seed: int = 0, quiet: bool = True,
-              specs: Sequence[ActuatorSpec] | None = None) -> tuple[FirstOrderBank, ThermalLog]:
-    """A calibration run (double support, then each foot, in turn) and the models identified from its log.
-
-    ``specs``: the robot's actuators if they are not the datasheet's (the
-    calibration runs on the robot; nothing reads the specs but its plant).
-    """
-    with HumanoidSim(crouch_angles(), seed=seed, specs=specs) as sim:
-        ex = Executor(sim)
-        reading = sim.read()
-        schedule = ["right", "double", "left", "double"]
-        phase_s = duration_s / len(schedule)
-        k = 0
-        for step in progress(range(int(duration_s / sim.config.control_dt_s)), desc="calibration", disable=quiet):
-            if sim.time_s >= k * phase_s and k < len(schedule) and not ex.moving:
-                ex.go(schedule[k])
-                k += 1
-            reading = ex.tick(reading)
-        log = sim.thermal_log()
-    return identify_bank(log, ACTUATORS, effort_limits(sim.params)), log
 
 
 @dataclass
@@ -128,12 +40,12 @@ class RecoveryRun:
     decisions: list = field(default_factory=list)  # (time, mode) chosen
     warning_at_s: float | None = None
     recovery_s: float | None = None
-    hot_leg_below_70_s: float | None = None
+    hot_leg_recovery_s: float | None = None
     fell: bool = False
     configurations: dict = field(default_factory=dict)  # mode -> joint angles chosen
 
     def summary(self) -> dict:
-        return {"recovery_s": self.recovery_s, "hot_leg_below_70_s": self.hot_leg_below_70_s, "fell": self.fell,
+        return {"recovery_s": self.recovery_s, "hot_leg_recovery_s": self.hot_leg_recovery_s, "fell": self.fell,
                 "warning_at_s": self.warning_at_s, "modes_chosen": [m for _, m in self.decisions]}
 
 
@@ -170,8 +82,8 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
                 elif t > max_heat_s:
                     break
                 continue
-            if run.hot_leg_below_70_s is None and T[hot_leg].max() < RECOVERED_C:
-                run.hot_leg_below_70_s = t - run.warning_at_s
+            if run.hot_leg_recovery_s is None and T[hot_leg].max() < RECOVERED_C:
+                run.hot_leg_recovery_s = t - run.warning_at_s
             if T.max() < RECOVERED_C:
                 run.recovery_s = t - run.warning_at_s
                 break
@@ -187,7 +99,7 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
     return run  # recovery_s stays None when the time ran out
 
 
-def first_order_to_C(start_C: float, end_C: float, steady_C: np.ndarray, rc_s: float) -> np.ndarray:
+def first_order_cooling_s(start_C: float, end_C: float, steady_C: np.ndarray, rc_s: float) -> np.ndarray:
     """Time (s) for a first-order winding to cool from ``start_C`` to ``end_C`` towards ``steady_C``; inf if it cannot."""
     steady_C = np.asarray(steady_C, float)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -215,5 +127,5 @@ def cooling_bound(body, bank: FirstOrderBank, hot_actuator: str, configurations:
         steady = bank.equilibrium_C(efforts)
         out[name] = {"mode": mode, "effort_fraction": float(abs(efforts[i]) / effort_limits(body.params)[i]),
                      "steady_C": float(steady[i]),
-                     "warning_to_70_s": float(first_order_to_C(WARNING_C, RECOVERED_C, steady[i], bank.RC_s[i]))}
+                     "warning_to_recovered_s": float(first_order_cooling_s(WARNING_C, RECOVERED_C, steady[i], bank.RC_s[i]))}
     return out

@@ -33,7 +33,7 @@ class HumanoidSim(BulletRig):
                  body: WholeBody | None = None, specs: Sequence[ActuatorSpec] | None = None):
         self.params = params
         self.body = body or WholeBody(params)
-        self.rods = actuators.rod_pairs(params)
+        self.rods = self.body.rods
         angles = np.zeros(len(JOINTS)) if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
@@ -55,11 +55,8 @@ class HumanoidSim(BulletRig):
     def actuator_velocities(self, q, qd):
         return actuators.velocities(self.rods, q, qd)
 
-    def derating_fraction(self, q):
-        return actuators.joint_fractions(self.plant.derating())
-
-    def derated_torques(self, q, torques_Nm):
-        return torques_Nm * self.derating_fraction(q)
+    def torques_at_fraction(self, torques_Nm, actuator_fraction):
+        return torques_Nm * actuators.joint_fractions(actuator_fraction)
 
     # --------------------------------------------------------------- sensing
     def read(self) -> Reading:

@@ -83,15 +83,19 @@ class WholeBody:
         return np.vstack(blocks)
 
     # ---------------------------------------------------------------- statics
+    def contact_null_space(self, q: np.ndarray, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(A^-1, Jc_bar, Nc)`` at ``q`` for the contact Jacobian ``Jc``: the inverse mass matrix (CRBA), the
+        dynamically consistent inverse ``A^-1 Jc' (Jc A^-1 Jc')^+`` and the null space ``I - Jc_bar Jc`` (Eq. 21),
+        what the statics and the seed's descent step (Eq. 32) both project through."""
+        A = pin.crba(self.model, self.data, q)
+        A_inv = np.linalg.inv(np.triu(A) + np.triu(A, 1).T)
+        Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)
+        return A_inv, Jc_bar, np.eye(self.nv) - Jc_bar @ Jc
+
     def statics(self, q: np.ndarray, mode: str) -> Statics:
         """Eqs. 21, 23 and 24 at configuration ``q`` in contact ``mode``."""
-        A = pin.crba(self.model, self.data, q)
-        A = np.triu(A) + np.triu(A, 1).T
-        A_inv = np.linalg.inv(A)
         g = self.gravity(q)
-        Jc = self.contact_jacobian(q, mode)
-        Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)
-        Nc = np.eye(self.nv) - Jc_bar @ Jc
+        A_inv, Jc_bar, Nc = self.contact_null_space(q, self.contact_jacobian(q, mode))
         X = self.S_a @ Nc
         X_bar = A_inv @ X.T @ np.linalg.pinv(X @ A_inv @ X.T)
         gamma = X_bar.T @ Nc.T @ g

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from thermolimb.paths import urdf_dir, write_urdf
+from thermolimb.util.paths import urdf_dir, write_urdf
 
 from .constants import ARM_JOINTS, LEG_JOINTS, PELVIS, SIDES, TORSO, arm_joint, foot_link, leg_joint, sole_frame
 from .params import VALKYRIE, ValkyrieParams

@@ -10,10 +10,10 @@ import pytest
 from thermolimb.plant import (
     FIRST_ORDER_NETWORK,
     X8_9,
+    EffortBias,
     PlantEffects,
     Quantisation,
     SensorNoise,
-    SeriesElasticBias,
     ThermalPlant,
     run_profile,
 )
@@ -25,18 +25,16 @@ FIRST_ORDER_X8 = replace(X8_9, network=FIRST_ORDER_NETWORK)
 
 def first_order_truth(spec=FIRST_ORDER_X8, bias=BIAS_EFFORT_NM, ambient_C=25.0) -> dict:
     """Eq. 5 parameters of a first-order plant, from its physical data (seed Eqs. 2-5)."""
-    R = spec.network.total_resistance_K_per_W
-    C = spec.network.capacity_J_per_K[0]
-    beta = spec.winding_resistance_ohm / spec.effort_per_amp**2
-    return {"RC_s": R * C, "betaR_K_per_effort2": beta * R, "beta_biasR_K_per_effort": 2 * bias * beta * R,
-            "T_offset_C": ambient_C + bias**2 * beta * R}
+    rc, beta_r = spec.first_order(lumped_nodes=1)
+    return {"RC_s": rc, "betaR_K_per_effort2": beta_r, "beta_biasR_K_per_effort": 2 * bias * beta_r,
+            "T_offset_C": ambient_C + bias**2 * beta_r}
 
 
 def first_order_log(seed: int, duration_s=2 * 3600.0, dt_s=1.0, motion_probability=0.4):
     """A first-order plant with effort bias, 0.05 K noise and 0.1 degC quantisation, random holds and motions."""
     rng = np.random.default_rng(seed)
     profile = random_holds(duration_s, dt_s, 1, rng, motion_probability=motion_probability)
-    effects = PlantEffects(effort_bias=SeriesElasticBias(BIAS_EFFORT_NM), sensor_noise=SensorNoise(), quantisation=Quantisation())
+    effects = PlantEffects(effort_bias=EffortBias(BIAS_EFFORT_NM), sensor_noise=SensorNoise(), quantisation=Quantisation())
     plant = ThermalPlant(["knee"], [FIRST_ORDER_X8], effects, rng=rng)
     return run_profile(plant, profile).log
 

@@ -11,12 +11,12 @@ from rosbags.typesys import Stores, get_typestore
 
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG, WX200_EXPORT
-from thermolimb.evaluation import Scheme, evaluate
 from thermolimb.logs import LogError, read_log
 from thermolimb.logs.align import align, interval_average
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
+from thermolimb.workbench.validation import Scheme, evaluate
 
 BAG = WX200_BAG.paths[0]
 

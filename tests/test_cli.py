@@ -11,7 +11,8 @@ import pytest
 
 from thermolimb.cli.main import main
 
-FIT_KEYS = {"actuator", "model", "method", "params", "train", "validation", "flags", "validation_scheme"}
+FIT_KEYS = {"actuator", "model", "method", "channel_units", "params", "train", "validation", "flags",
+            "validation_scheme"}
 METRIC_KEYS = {"rmse_K", "max_abs_K", "fit_percent"}
 
 

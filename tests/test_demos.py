@@ -1,12 +1,13 @@
 """Every registered demo runs in quick mode and writes plots and a summary; the report shows them."""
 
 import json
+import re
 
 import pytest
 
 from thermolimb.demo_registry import load_demos, run_demo
-from thermolimb.errors import UsageError
 from thermolimb.report import build_report
+from thermolimb.util.errors import UsageError
 
 DEMOS = sorted(load_demos())
 
@@ -33,6 +34,12 @@ def test_demo_quick(name, quick_runs):
     assert list(folder.glob("*.png"))
     page = build_report(out).read_text()
     assert f"id='{name}'" in page and ".png" in page
+    section = page.split(f"<h2 id='{name}'>")[1].split("<h2 id=")[0]
+    assert "class='missing'" not in section, section[:500]  # the headline was built from what the demo wrote
+    values = re.findall(r"<td class='value'>([^<]*)</td>", section)
+    assert values and all(v.strip() for v in values), values  # a headline table with rows, every value given
+    for src in re.findall(r"<img src='([^']+)'", section):
+        assert (out / src).is_file(), src  # every figure the section shows exists
 
 
 def test_thermal_fit_demo_predicts_the_squats(quick_runs):

@@ -11,9 +11,9 @@ import json
 import pytest
 
 from thermolimb.cli.main import main
-from thermolimb.diagnosis import auto_diagnose, diagnose
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
-from thermolimb.plant.cases import HIDDEN_CASES
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS, HIDDEN_CASES
+from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 
 SENSOR = ["sensor_noise", "quantisation"]
 HIDDEN = {  # model term -> (plant effect, network, load scale)
@@ -30,7 +30,7 @@ HIDDEN = {  # model term -> (plant effect, network, load scale)
 
 def hidden_log(effects, network="first_order", load_scale=1.0, seed=0, profile="random"):
     fx = PlantEffects.from_names(SENSOR + [e for e in effects if e])
-    return simulate_profile(profile, 2 * 3600.0, 1.0, ["knee", "hip", "ankle"], [X8_9, X8_16, X8_9], fx,
+    return simulate_profile(profile, 2 * 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx,
                             seed=seed, network=NETWORKS[network], load_scale=load_scale).log
 
 

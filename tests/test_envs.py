@@ -93,7 +93,7 @@ def test_compare_strategies_json(tmp_path, capsys):
 
 def test_ray_backend_with_a_local_ray_instance():
     pytest.importorskip("ray")
-    from thermolimb.envs.evaluate import evaluate
+    from thermolimb.envs.episodes import evaluate
 
     ray_eps = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="ray", max_time_s=2.0)
     local = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="process", max_time_s=2.0)
@@ -150,7 +150,7 @@ def test_a_ray_address_where_nothing_answers_is_refused_quickly():
     pytest.importorskip("ray")
     import time
 
-    from thermolimb.envs.evaluate import evaluate
+    from thermolimb.envs.episodes import evaluate
 
     start = time.perf_counter()
     with pytest.raises(ValueError, match="no Ray cluster answers at 127.0.0.1:1"):
@@ -193,3 +193,39 @@ def test_humanoid_reward_terms_mean_what_they_say():
         assert terms["cooling"] == pytest.approx(before - info["max_temperature_C"])  # positive when it cools
         assert terms["warning"] < 0.0  # actuators above 75 degC
         assert terms["effort"] < 0.0 and terms["fall"] == 0.0
+
+
+def test_reset_ranges_and_reward_weights_are_constructor_arguments():
+    with closing(gym.make(HEXAPOD_ID, payload_range_kg=(3.0, 3.0), ambient_range_C=(30.0, 30.0),
+                          initial_temperature_range_C=(130.0, 130.0), overheat_from_C=100.0,
+                          overheat_weight_per_K=1.0)) as env:
+        _, info = env.reset(seed=0)
+        assert info["payload_kg"] == 3.0
+        assert env.unwrapped.sim.plant.ambient_C == 30.0
+        _, _, _, _, info = env.step(np.array([1.0, 0.0, 0.0, 0.0], np.float32))
+        # windings start at 130 degC: the overheat term is minus one per kelvin of the hottest reading above 100 degC
+        assert info["reward_terms"]["overheat"] == pytest.approx(-(info["max_temperature_C"] - 100.0))
+    with closing(gym.make(HUMANOID_ID, hot_range_C=(78.0, 78.0), cool_range_C=(40.0, 40.0))) as env:
+        obs, info = env.reset(seed=0)
+        assert info["max_temperature_C"] == pytest.approx(78.0, abs=0.3)  # the hot leg, read through 0.05 K noise
+
+    from hexapod_pb.env import HexapodLoadCarryEnv
+    from humanoid_pb.env import HumanoidThermalRecoveryEnv
+
+    for env_class in (HexapodLoadCarryEnv, HumanoidThermalRecoveryEnv):  # what help(env.unwrapped) shows
+        assert all(word in env_class.__doc__ for word in ("Action", "Observation", "Reward", "unit", "Parameters"))
+
+
+@pytest.mark.parametrize("kwargs,message", [({"payload_range_kg": (5.0, 1.0)}, "payload_range_kg"),
+                                            ({"ambient_range_C": "hot"}, "ambient_range_C")])
+def test_bad_reset_ranges_are_refused_naming_them(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        gym.make(HEXAPOD_ID, **kwargs)
+
+
+@pytest.mark.parametrize("options", [{"payload_kg": 3.0}, "fast"])
+def test_reset_refuses_options_it_does_not_take(options):
+    with closing(gym.make(HEXAPOD_ID)) as env:
+        with pytest.raises(ValueError, match="option"):
+            env.reset(seed=0, options=options)
+        env.reset(seed=0)  # still usable

@@ -9,10 +9,10 @@ import pytest
 from conftest import FIRST_ORDER_X8
 
 from thermolimb.cli.main import main
-from thermolimb.drift import drift
-from thermolimb.fleet import expand_paths, fit_fleet
 from thermolimb.plant import PlantEffects, Quantisation, SensorNoise, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
+from thermolimb.workbench.drift import drift
+from thermolimb.workbench.fleet import expand_paths, fit_fleet
 
 NAMES = ("a0", "a1", "a2", "a3")
 FAN_FAILS = 2  # a2's thermal resistance to ambient rises by half from run 3 on (a failing fan)

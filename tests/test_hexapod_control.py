@@ -196,7 +196,7 @@ def test_a_stalled_dual_active_set_falls_back_to_highs_with_the_same_optimum(mon
     assert solver == "daqp"
     monkeypatch.setattr(wrench.daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
     x_highs, solver, _, duals = wrench.solve_lp(c, A, bu, bl, 6)
-    assert solver == "highs" and duals is None
+    assert solver == "highs (daqp stalled, exit flag -2)" and duals is None  # the fallback is said
     assert c @ x_highs == pytest.approx(c @ x_daqp, rel=1e-6)
     np.testing.assert_allclose(A[:6] @ x_highs, bu[:6], atol=1e-6)  # the wrench, balanced
     assert np.all(A[6:] @ x_highs <= bu[6:] + 1e-6) and np.all(A[6:] @ x_highs >= bl[6:] - 1e-6)

@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 from humanoid_pb.actuators import datasheet_bank
+from humanoid_pb.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, leg_actuators
 from humanoid_pb.params import RECOVERED_C, VALKYRIE, WARNING_C
-from humanoid_pb.recovery import calibrate, run_recovery
+from humanoid_pb.recovery import run_recovery
 
 
 @pytest.fixture(scope="module")
@@ -70,14 +71,14 @@ def test_env_policy_plans_with_models_of_the_robot_it_drives():
 
 
 def test_first_order_cooling_times_and_the_steady_state_a_ratio_needs():
-    from humanoid_pb.recovery import first_order_to_C, steady_needed_for_ratio
+    from humanoid_pb.recovery import first_order_cooling_s, steady_needed_for_ratio
 
-    fast = first_order_to_C(WARNING_C, RECOVERED_C, 25.0, 40.0)
+    fast = first_order_cooling_s(WARNING_C, RECOVERED_C, 25.0, 40.0)
     assert fast == pytest.approx(40.0 * np.log(50.0 / 45.0))
     needed = steady_needed_for_ratio(2.0, 25.0)
     assert 45.0 < needed < RECOVERED_C
-    assert first_order_to_C(WARNING_C, RECOVERED_C, needed, 40.0) == pytest.approx(2 * fast)
-    assert first_order_to_C(WARNING_C, RECOVERED_C, 71.0, 40.0) == np.inf  # held above 70 it never recovers
+    assert first_order_cooling_s(WARNING_C, RECOVERED_C, needed, 40.0) == pytest.approx(2 * fast)
+    assert first_order_cooling_s(WARNING_C, RECOVERED_C, 71.0, 40.0) == np.inf  # held above 70 it never recovers
 
 
 def test_double_support_unloads_the_hot_ankle_rods_as_fully_as_lifting_the_leg():
@@ -92,9 +93,9 @@ def test_double_support_unloads_the_hot_ankle_rods_as_fully_as_lifting_the_leg()
                           {"double": ("double", q), "left": ("left", single_support(body, q, "left")),
                            "right": ("right", single_support(body, q, "right"))})
     assert bound["double"]["effort_fraction"] < 0.02 and bound["left"]["effort_fraction"] < 0.02
-    assert bound["double"]["warning_to_70_s"] == pytest.approx(bound["left"]["warning_to_70_s"], rel=0.05)
+    assert bound["double"]["warning_to_recovered_s"] == pytest.approx(bound["left"]["warning_to_recovered_s"], rel=0.05)
     assert bound["right"]["effort_fraction"] > 0.2 and bound["right"]["steady_C"] > WARNING_C
-    assert bound["right"]["warning_to_70_s"] == np.inf  # on the hot foot it never cools
+    assert bound["right"]["warning_to_recovered_s"] == np.inf  # on the hot foot it never cools
 
 
 def test_the_environments_planner_steps_off_a_hot_leg_held_in_a_crouch():

@@ -1,7 +1,8 @@
 """The house is one-way: core -> robots -> environments -> demos, found from the source with ``ast``.
 
-``python tests/test_layers.py`` prints the import graph between the parts
-(core subpackages that matter for layering are shown on their own).
+Inside the core every subpackage and top-level module is a node of its own
+(``thermolimb.util``, ``thermolimb.model``, ...), and the core's graph has no
+cycle either.  ``python tests/test_layers.py`` prints the import graph.
 """
 
 from __future__ import annotations
@@ -14,16 +15,23 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PARTS = ("thermolimb", "hexapod_pb", "humanoid_pb", "demos")
 WATCHED = PARTS + ("thermolimb_demos", "gymnasium", "pybullet")
-SHOWN_APART = ("envs", "cli")  # core subpackages drawn as their own node
+CORE = "thermolimb"
 
 
 def _node(module: str) -> str:
+    """A robot or the demos as one node; in the core, each subpackage or top-level module (``__init__``: the core)."""
     parts = module.split(".")
     if parts[0] == "thermolimb_demos":
         return "demos"
-    if parts[0] == "thermolimb" and len(parts) > 1 and parts[1] in SHOWN_APART:
+    if parts[0] == CORE and len(parts) > 1:
         return ".".join(parts[:2])
     return parts[0]
+
+
+def _core(graph: dict[str, set[str]]) -> set[str]:
+    """Every node of the core (``thermolimb.*``) except the command line and the environments' shared part."""
+    nodes = set(graph) | set().union(*graph.values())
+    return {n for n in nodes if n.split(".")[0] == CORE and n not in ("thermolimb.cli", "thermolimb.envs")}
 
 
 def _imports(path: Path, module: str) -> list[str]:
@@ -52,7 +60,22 @@ def import_graph(root: Path = ROOT) -> dict[str, set[str]]:
 
 def test_the_core_imports_no_robot_no_gymnasium_and_no_demo():
     graph = import_graph()
-    assert not graph.get("thermolimb", set()) & {"hexapod_pb", "humanoid_pb", "demos", "gymnasium", "thermolimb.envs"}
+    for node in _core(graph):
+        assert not graph.get(node, set()) & {"hexapod_pb", "humanoid_pb", "demos", "gymnasium", "thermolimb.envs",
+                                             "thermolimb.cli"}, node
+
+
+def test_the_core_has_no_cycle_between_its_rooms():
+    """util, model, logs, plant, identification, workbench, plotting, ...: each imports only rooms below it."""
+    graph = import_graph()
+    core = _core(graph)
+    edges = {n: {t for t in graph.get(n, set()) if t in core and t != n} for n in core}
+    done, order = set(), []
+    while len(done) < len(core):
+        ready = sorted(n for n in core - done if edges[n] <= done)
+        assert ready, f"a cycle among {sorted(core - done)}: {({n: sorted(edges[n] - done) for n in core - done})}"
+        done |= set(ready)
+        order += ready
 
 
 def test_only_the_environments_import_gymnasium_and_nothing_imports_the_demos():
@@ -82,7 +105,7 @@ def loaded_by(statement: str, modules: tuple[str, ...]) -> list[str]:
 
 
 def test_importing_the_core_registers_nothing_and_loads_no_gymnasium():
-    statement = "import thermolimb, thermolimb.model, thermolimb.logs, thermolimb.evaluation, thermolimb.diagnosis"
+    statement = "import thermolimb, thermolimb.model, thermolimb.logs, thermolimb.workbench.validation, thermolimb.workbench.diagnosis"
     assert loaded_by(statement, ("gymnasium", "pybullet", "hexapod_pb", "humanoid_pb", "thermolimb_demos",
                                  "demos", "rosbags", "plotly")) == []
 

@@ -105,3 +105,22 @@ def test_neighbours_are_the_adjacent_actuators_in_log_order(plant_log):
     assert log.series("knee").signals.neighbor_names == ("hip", "ankle")
     s = log.series("ankle").signals
     np.testing.assert_allclose(s.neighbor_temperature_C[:, 0], log.series("knee").temperature_C)
+
+
+def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
+    from thermolimb.logs.mapping import suggest_table_mapping
+
+    ur3 = ("Num;Timestamp;Current_J0;Temperature_T0;Current_J1;Temperature_J1;Current_J2;Temperature_J2;Speed_J0;"
+           "Speed_J1;Speed_J2;Tool_current;Unnamed: 24").split(";")
+    values = {c: 0 if c.startswith("Unnamed") else 10 for c in ur3}
+    mapping, notes = suggest_table_mapping(ur3, values)
+    assert mapping == {"time": "Timestamp", "temperature": "Temperature_*{j}", "velocity": "Speed_J{j}",
+                       "effort": "Current_J{j}"}
+    assert notes == ["no torque or effort column: the motor current stands for effort"]
+    bench = ["time", "u_q", "coolant", "stator_winding", "motor_speed", "i_d", "ambient", "torque", "current"]
+    mapping, _ = suggest_table_mapping(bench, dict.fromkeys(bench, 5))
+    assert mapping["effort"] == "torque" and mapping["temperature"] == "stator_winding" and mapping["time"] == "time"
+    several = ["Temperature Time [s]", "States Time [s]", "Temp [C]", "Effort [mA]"]
+    mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))
+    assert "time" not in mapping and any("several columns" in n for n in notes)
+    assert mapping["temperature"] == "Temp [C]"  # a time column named after the temperature is not a temperature

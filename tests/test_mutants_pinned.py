@@ -4,12 +4,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.diagnosis.residuals import analyse_residuals
 from thermolimb.identification import IdentifiabilityError
 from thermolimb.identification.bank import identify_bank
 from thermolimb.model import FirstOrderBank, ThermalModel
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, X8_16, PlantEffects, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
+from thermolimb.workbench.diagnosis.residuals import analyse_residuals
 
 
 def _plant_log(seed=0, duration_s=1800.0, idle=True):
@@ -27,9 +27,8 @@ def test_identify_bank_finds_each_actuator_and_gives_idle_ones_the_prior():
     log, specs = _plant_log()
     limits = np.array([s.effort_limit for s in specs])
     bank = identify_bank(log, ["knee", "hip", "wrist"], limits, model="joule", min_rise_K=0.5)
-    net = FIRST_ORDER_NETWORK
-    truth = np.array([s.winding_resistance_ohm * net.total_resistance_K_per_W / s.effort_per_amp**2 for s in specs])
-    rc = net.capacity_J_per_K[0] * net.resistance_K_per_W[0]
+    truth = FirstOrderBank.from_specs(specs).betaR_K_per_effort2
+    rc = specs[0].first_order()[0]
     np.testing.assert_allclose(bank.betaR_K_per_effort2[:2], truth[:2], rtol=0.05)
     np.testing.assert_allclose(bank.RC_s[:2], rc, rtol=0.05)
     # the wrist gets the prior: the identified ones' median heating per squared limit, on its own limit
@@ -157,7 +156,7 @@ def test_a_folder_is_a_bag_only_with_its_metadata(tmp_path):
 
 
 def _analysis(phases: dict[str, float]):
-    from thermolimb.diagnosis.residuals import Correlation, ResidualAnalysis
+    from thermolimb.workbench.diagnosis.residuals import Correlation, ResidualAnalysis
 
     lags = np.array([0.0, 30.0, 60.0])
     effort = Correlation(lags, np.array([0.6, 0.3, 0.1]), 0.1)
@@ -169,8 +168,8 @@ def _analysis(phases: dict[str, float]):
 def test_tempco_evidence_is_the_hot_and_cool_fits_not_the_effort(hot, cool, verdict):
     """The tempco term scales the effort's heating, so its evidence is where the fit fails (hot), not a correlation
     with the effort (which every heat term shares)."""
-    from thermolimb.diagnosis.candidates import Candidate
-    from thermolimb.diagnosis.evidence import describe
+    from thermolimb.workbench.diagnosis.candidates import Candidate
+    from thermolimb.workbench.diagnosis.evidence import describe
 
     text = describe(Candidate("winding_tempco", ("joule", "winding_tempco"), p_value=0.003),
                     _analysis({"hot": hot, "cool": cool}), 0.5)
@@ -179,8 +178,8 @@ def test_tempco_evidence_is_the_hot_and_cool_fits_not_the_effort(hot, cool, verd
 
 
 def test_slow_effects_are_looked_for_in_time_and_inputs_in_their_channel():
-    from thermolimb.diagnosis.candidates import Candidate
-    from thermolimb.diagnosis.evidence import describe
+    from thermolimb.workbench.diagnosis.candidates import Candidate
+    from thermolimb.workbench.diagnosis.evidence import describe
 
     analysis = _analysis({"heating": 0.4, "cool": 0.1})
     slow = describe(Candidate("second_node", ("joule", "second_node")), analysis, 0.5)
@@ -192,7 +191,7 @@ def test_slow_effects_are_looked_for_in_time_and_inputs_in_their_channel():
 def test_autocorrelation_band_and_lags_are_the_textbook_ones():
     """The residual's autocorrelation: lags 0..max at the sampling interval, the white-noise band 1.96/sqrt(n);
     a cross-correlation spans -max..+max."""
-    from thermolimb.diagnosis.residuals import Z95, cross_correlation
+    from thermolimb.workbench.diagnosis.residuals import Z95, cross_correlation
 
     log, _ = _plant_log(duration_s=900.0, idle=False)
     series = log.series("knee")
@@ -235,14 +234,15 @@ def test_tempco_scales_the_current_heating_too():
     """Copper's coefficient multiplies every Joule term the model has, the current's as well as the effort's."""
     from types import SimpleNamespace
 
-    from thermolimb.model.catalog import TEMPCO_REFERENCE_C, WindingTempco
+    from thermolimb.constants import COPPER_REFERENCE_C
+    from thermolimb.model.catalog import WindingTempco
 
     s = SimpleNamespace(effort=np.array([2.0, 4.0]), current_A=np.array([3.0, 1.0]))
     p = {"betaR_K_per_effort2": 0.5, "currentR_K_per_A2": 0.2, "alpha_per_K": 0.0039}
     joule = 0.5 * s.effort**2 + 0.2 * s.current_A**2
     constant, per_kelvin = WindingTempco().contribution(p, s)
     np.testing.assert_allclose(per_kelvin, 0.0039 * joule)
-    np.testing.assert_allclose(constant, -0.0039 * TEMPCO_REFERENCE_C * joule)
+    np.testing.assert_allclose(constant, -0.0039 * COPPER_REFERENCE_C * joule)
 
 
 def test_sensor_noise_is_drawn_per_actuator():

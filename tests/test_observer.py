@@ -5,8 +5,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from thermolimb.evaluation import make_estimator
-from thermolimb.observer import WindingObserver, observe_log
 from thermolimb.plant import (
     EFFECT_TYPES,
     FIRST_ORDER_NETWORK,
@@ -17,7 +15,9 @@ from thermolimb.plant import (
     ThermalProtection,
     run_profile,
 )
+from thermolimb.plant.observer import WindingObserver, observe_log
 from thermolimb.plant.profiles import PROFILES, Profile
+from thermolimb.workbench.validation import make_estimator
 
 
 def drive(plant, profile, scale=1.0):

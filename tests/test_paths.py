@@ -29,7 +29,7 @@ def test_wheel_ships_urdf_demos_and_every_package(tmp_path):
     wheel = next(tmp_path.glob("thermolimb-*.whl"))
     names = zipfile.ZipFile(wheel).namelist()
     assert any(n.endswith(".data/data/share/thermolimb/urdf/README.md") for n in names)
-    assert "thermolimb/paths.py" in names and "thermolimb_demos/thermal_fit.py" in names
+    assert "thermolimb/util/paths.py" in names and "thermolimb_demos/thermal_fit.py" in names
     assert not any(n.startswith("demos/") for n in names)
     for package in ("thermolimb", "hexapod_pb", "humanoid_pb"):
         for init in (ROOT / package).rglob("__init__.py"):

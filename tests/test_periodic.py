@@ -6,20 +6,20 @@ import pytest
 from thermolimb.plant import (
     X8_9,
     X8_16,
-    ConvectionBySpeed,
-    CopperTempco,
-    FrictionIronLosses,
-    NeighborConduction,
+    MotionCooling,
+    NeighborCoupling,
     PlantEffects,
+    SensorLag,
+    SpeedLosses,
     ThermalPlant,
-    ThermistorLag,
+    WindingTempco,
 )
 from thermolimb.plant.periodic import CycleMap
 
 # every effect that keeps the network linear in its state, the driver boards included
-LINEAR_EFFECTS = PlantEffects(winding_tempco=CopperTempco(), speed_losses=FrictionIronLosses(),
-                              neighbor_coupling=NeighborConduction(), motion_cooling=ConvectionBySpeed(),
-                              sensor_lag=ThermistorLag())
+LINEAR_EFFECTS = PlantEffects(winding_tempco=WindingTempco(), speed_losses=SpeedLosses(),
+                              neighbor_coupling=NeighborCoupling(), motion_cooling=MotionCooling(),
+                              sensor_lag=SensorLag())
 
 
 def _cycle(steps=40, n=3, seed=0):

@@ -11,19 +11,17 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.diagnosis.candidates import Candidate
-from thermolimb.diagnosis.residuals import Z95, bartlett_band, cross_correlation
 from thermolimb.identification import LeastSquares, OutputError
 from thermolimb.identification.regression import lowpass, lowpass_derivative
 from thermolimb.logs import from_frame
 from thermolimb.model import FirstOrderBank
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, PlantEffects, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
+from thermolimb.workbench.diagnosis.candidates import Candidate
+from thermolimb.workbench.diagnosis.residuals import Z95, bartlett_band, cross_correlation
 
 FIRST_ORDER = replace(X8_9, network=FIRST_ORDER_NETWORK)
-R_TH = FIRST_ORDER_NETWORK.total_resistance_K_per_W
-RC = R_TH * FIRST_ORDER_NETWORK.capacity_J_per_K[0]
-BETA_R = FIRST_ORDER.winding_resistance_ohm / FIRST_ORDER.effort_per_amp**2 * R_TH
+RC, BETA_R = FIRST_ORDER.first_order(lumped_nodes=1)
 
 
 def plant_log(dt_s: float, effects: str = "", seed: int = 0, duration_s: float = 7200.0, scale: float = 1.0):

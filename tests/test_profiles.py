@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from thermolimb.errors import UsageError
 from thermolimb.plant.profiles import PROFILES, pulses, single_leg, squat, stairs, walking
+from thermolimb.util.errors import UsageError
 
 DT = 0.1
 WEIGHTS = np.array([1.0, 0.8, 0.6])  # knee, hip, ankle

@@ -7,7 +7,7 @@ and where the data cannot tell (and the suite says so rather than guessing).
 import pytest
 
 from thermolimb.data import REAL_LOGS
-from thermolimb.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis import auto_diagnose
 
 
 @pytest.fixture(scope="module")

@@ -156,3 +156,73 @@ def test_an_error_after_pybullet_is_imported_is_still_one_line(tmp_path):
                           text=True, cwd=tmp_path)
     assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.fixture(scope="module")
+def plant_run_csv(tmp_path_factory):
+    path = tmp_path_factory.mktemp("faults") / "run.csv"
+    assert main(["simulate", "--duration", "600", "--dt", "1", "--network", "first_order", "--out", str(path),
+                 "--quiet"]) == 0
+    return path
+
+
+def _cli(*argv: str) -> list[str]:
+    return [sys.executable, "-m", "thermolimb.cli.main", *argv]
+
+
+@pytest.mark.parametrize("extra", [[], ["--json"]])
+def test_standard_output_on_a_full_disk_is_one_sentence(plant_run_csv, extra):
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run(_cli("fit", str(plant_run_csv), "--actuator", "knee", "--quiet", *extra), stdout=full,
+                              stderr=subprocess.PIPE, text=True, timeout=120)
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == "thermolimb fit: error: could not write standard output: the disk is full"
+
+
+def test_a_closed_pipe_ends_the_command_quietly(plant_run_csv):
+    proc = subprocess.Popen(_cli("fit", str(plant_run_csv), "--json", "--quiet"), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader went away before the first byte, as `| true` does
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141 and err == ""
+
+
+def test_fitted_models_reports_and_estimators_pickle(plant_run_csv):
+    import pickle
+
+    from thermolimb.model import ThermalModel
+    from thermolimb.workbench.validation import Scheme, evaluate
+
+    report = evaluate([read_log(plant_run_csv).series("knee")], "joule,effort_bias", Scheme())
+    again = pickle.loads(pickle.dumps(report))
+    assert again.validation == report.validation and again.model == report.model
+    assert pickle.loads(pickle.dumps(report.estimator)).params_ == report.estimator.params_
+    with pytest.raises(ValueError, match="finite"):
+        ThermalModel(("joule",), {"RC_s": 40.0, "betaR_K_per_effort2": float("nan"), "T_offset_C": 25.0})
+
+
+def test_sigterm_while_writing_is_met_like_ctrl_c(tmp_path, monkeypatch):
+    """SIGTERM (timeout, systemd, CI) arrives while the log is half written: exit 143, no temporary, no output."""
+    import signal
+    from pathlib import Path
+
+    def terminated_midway(self, path, **kwargs):
+        Path(path).write_text("time,actuator\n0,knee\n")  # half a file in the temporary
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", terminated_midway)
+    before = signal.getsignal(signal.SIGTERM)
+    assert main(["simulate", "--duration", "60", "--out", str(tmp_path / "run.csv"), "--quiet"]) == 143
+    assert list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGTERM) is before  # the command puts the process's own handler back
+
+
+def test_a_fleet_counts_a_file_once_however_it_is_reached(tmp_path):
+    from thermolimb.workbench.fleet import expand_paths
+
+    log = tmp_path / "logs" / "a.csv"
+    log.parent.mkdir()
+    log.write_text("time,actuator,effort,temperature\n")
+    (tmp_path / "logs" / "loop").symlink_to(tmp_path / "logs")  # a folder that contains itself
+    paths = expand_paths([str(log), str(tmp_path / "logs" / "**" / "*.csv"), log.parent])
+    assert paths == [log]

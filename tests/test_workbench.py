@@ -12,20 +12,21 @@ import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
-from thermolimb.diagnosis import auto_diagnose, diagnose
-from thermolimb.diagnosis.candidates import Candidate, refit_failure
-from thermolimb.evaluation import Scheme, evaluate, fit_and_validate
-from thermolimb.flags import parameter_flags
 from thermolimb.model import ThermalModel
 from thermolimb.model.catalog import SecondNode
-from thermolimb.plant import NETWORKS, X8_9, X8_16, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
+from thermolimb.workbench.diagnosis.candidates import Candidate, refit_failure
+from thermolimb.workbench.flags import parameter_flags
+from thermolimb.workbench.validation import Scheme, evaluate, fit_and_validate
 
 SENSOR = ["sensor_noise", "quantisation"]
 
 
 def plant_log(profile, duration_s, dt_s, network="x8", seed=0, effects=(), **kw):
     fx = PlantEffects.from_names(SENSOR + list(effects))
-    return simulate_profile(profile, duration_s, dt_s, ["knee", "hip"], [X8_9, X8_16], fx, seed=seed,
+    return simulate_profile(profile, duration_s, dt_s, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]), fx, seed=seed,
                             network=NETWORKS[network], **kw).log
 
 
@@ -196,7 +197,7 @@ def test_wide_runs_of_one_actuator_fit_jointly(two_runs, tmp_path, capsys):
 
 def test_a_housing_sensor_is_the_winding_boundary():
     """X8 plant with a housing thermistor: the search uses the measured housing instead of modelling masses."""
-    log = simulate_profile("random", 3600.0, 1.0, ["knee", "hip"], [X8_9, X8_16], PlantEffects.from_names(SENSOR),
+    log = simulate_profile("random", 3600.0, 1.0, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]), PlantEffects.from_names(SENSOR),
                            seed=5, network=NETWORKS["x8"], housing_sensor=True).log
     first, steps = auto_diagnose([log.series("knee")])
     assert "housing_boundary" in steps[-1].model
@@ -210,3 +211,13 @@ def test_evaluate_with_held_out_runs_scores_only_those(step_test):
     report = evaluate([step_test], "joule,second_node", Scheme(), validate_on=[other])
     assert sum(s.measured_C.size for s in report.validation_segments) == other.n
     np.testing.assert_allclose(report.validation_segments[0].measured_C, other.temperature_C)
+
+
+def test_a_value_the_log_does_not_pin_down_is_flagged(step_test):
+    """RC = 25 ± 19 s passed silently: a standard error over half the value is flagged, with what would identify it."""
+    model = ThermalModel(("joule",), {"RC_s": 25.0, "betaR_K_per_effort2": 0.02, "T_offset_C": 25.0})
+    flags = " | ".join(parameter_flags(model, {"RC_s": 19.0, "betaR_K_per_effort2": 0.001, "T_offset_C": 30.0},
+                                       [step_test]))
+    assert "RC_s = 25 ± 19 s: its standard error is 76 % of it" in flags
+    assert "betaR_K_per_effort2" not in flags  # 5 %
+    assert "T_offset_C" not in flags or "± 30" not in flags  # a temperature's relative error means nothing

@@ -5,7 +5,7 @@ environments.  The robots' environments register when their package is
 imported (``import hexapod_pb``, ``import humanoid_pb``).
 """
 
-from .paths import urdf_dir
+from .util.paths import urdf_dir
 
 __version__ = "0.1.0"
 __all__ = ["__version__", "urdf_dir"]

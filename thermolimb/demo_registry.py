@@ -22,9 +22,9 @@ from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Callable, Mapping
 
-from .atomic import check_output_dir, write_text
-from .errors import UsageError
-from .jsonutil import to_jsonable
+from .util.atomic import check_output_dir, write_text
+from .util.errors import UsageError
+from .util.jsonutil import to_jsonable
 
 
 @dataclass(frozen=True)
@@ -103,6 +103,19 @@ def register_demo(name: str, description: str, requires: tuple[str, ...] = (), p
 
 
 ENTRY_POINT_GROUP = "thermolimb.demos"
+# the order a newcomer reads the suite's demos in (the report and `thermolimb demo` list them so); others follow by name
+TOUR = ("thermal-fit", "diagnose", "custom-effect", "real-logs", "pmsm-real-data", "fleet-drift", "hexapod-walk",
+        "strategies", "hexapod-endurance", "humanoid-recovery", "ppo-agent")
+
+
+def in_tour_order(names) -> list[str]:
+    """``names`` in :data:`TOUR`'s order, the rest after them alphabetically."""
+    return sorted(names, key=lambda n: (TOUR.index(n) if n in TOUR else len(TOUR), n))
+
+
+def demo_names() -> list[str]:
+    """The registered demos' names, from the entry points alone (nothing imported), in tour order."""
+    return in_tour_order({ep.name for ep in entry_points(group=ENTRY_POINT_GROUP)})
 
 
 def load_demos() -> dict[str, Demo]:

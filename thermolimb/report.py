@@ -14,9 +14,9 @@ import html
 import json
 from pathlib import Path
 
-from .atomic import write_text
-from .demo_registry import caption, load_demos
-from .errors import UsageError
+from .demo_registry import caption, in_tour_order, load_demos
+from .util.atomic import write_text
+from .util.errors import UsageError
 
 STYLE = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:auto;padding:1em;line-height:1.45;color:#222}"
          "h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
@@ -40,6 +40,9 @@ def _headline_table(demo, summary: dict, folder: Path) -> str:
     except (KeyError, IndexError, TypeError) as exc:
         return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} does not have the shape this version "
                 f"of the demo writes (missing {html.escape(str(exc))}); run the demo again.</p>")
+    if not rows:
+        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} holds none of the numbers this demo's "
+                f"headline shows; run the demo again.</p>")
     body = "".join(f"<tr><td>{html.escape(q)}</td><td class='value'>{html.escape(v)}</td><td>{html.escape(c)}</td></tr>"
                    for q, v, c in rows)
     return ("<table class='headline'><thead><tr><th>quantity</th><th>value</th><th>compared with</th></tr></thead>"
@@ -48,6 +51,8 @@ def _headline_table(demo, summary: dict, folder: Path) -> str:
 
 def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     summary = _load(folder / "summary.json")
+    if (folder / "details.json").is_file():  # what the demo returned under "details", written apart by the registry
+        summary = {**summary, "details": _load(folder / "details.json")}
     demo = demos.get(folder.name)
     parts = [f"<h2 id='{html.escape(folder.name)}'>{html.escape(folder.name)}</h2>"]
     if demo is not None:
@@ -72,7 +77,8 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
 def build_report(out: Path) -> Path:
     """Write ``out/index.html`` from every ``out/<demo>/summary.json`` and its figures."""
     out = Path(out)
-    folders = sorted(p.parent for p in out.glob("*/summary.json"))
+    by_name = {p.parent.name: p.parent for p in out.glob("*/summary.json")}
+    folders = [by_name[name] for name in in_tour_order(by_name)]
     if not folders:
         raise UsageError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
     demos = load_demos()
@@ -82,6 +88,9 @@ def build_report(out: Path) -> Path:
              "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
              "Temperatures in °C, temperature errors in K, times in s. Every number is in the demo's "
              "summary.json, linked under its figures.</p>",
+             "<p>These are the demos' results as they were run into this folder: <code>make demo</code> runs every "
+             "demo in quick mode (shorter logs, fewer episodes and cells). A full run of one demo: "
+             "<code>thermolimb demo NAME --out DIR</code>, then <code>thermolimb report DIR</code>.</p>",
              "<ul>" + "".join(f"<li><a href='#{html.escape(f.name)}'>{html.escape(f.name)}</a>"
                               + (f" — {html.escape(demos[f.name].description)}" if f.name in demos else "") + "</li>"
                               for f in folders) + "</ul>"]

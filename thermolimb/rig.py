@@ -119,6 +119,7 @@ class BulletRig:
                                   rng=self.rng, protection=protection)
         self.time_s = 0.0
         self.applied_Nm = np.zeros(len(self.joints))
+        self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
         self._log = {key: deque(maxlen=config.log_capacity)
                      for key in ("time", "effort", "velocity", "temperature", "ambient")}
 
@@ -130,13 +131,21 @@ class BulletRig:
     def actuator_velocities(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         return qd
 
-    def derating_fraction(self, q: np.ndarray) -> np.ndarray:
-        """Per joint, the share of torque thermal protection allows now (one actuator per joint by default)."""
-        return self.plant.derating()
+    def torques_at_fraction(self, torques_Nm: np.ndarray, actuator_fraction: np.ndarray) -> np.ndarray:
+        """Joint torques when each actuator may give ``actuator_fraction`` of its effort (one-to-one by default)."""
+        return self.plant.scale_efforts(torques_Nm, actuator_fraction)
 
-    def derated_torques(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
-        """Joint torques after thermal protection (one-to-one by default)."""
-        return self.plant.derate(torques_Nm)
+    def protected_torques(self, q: np.ndarray, qd: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
+        """Joint torques after thermal protection, for torques to be held over one control period.
+
+        Every robot goes through this one call: the actuators' efforts and
+        speeds for these torques, the plant's :meth:`~ThermalPlant.protection_fraction`
+        with the control period (so the observer's predictive current cap acts
+        at slow control rates too), mapped back to the joints.
+        """
+        efforts = self.actuator_efforts(q, torques_Nm)
+        fraction = self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
+        return self.torques_at_fraction(torques_Nm, fraction)
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
@@ -200,9 +209,9 @@ class BulletRig:
     # ---------------------------------------------------------------- stepping
     def step_torques(self, torque_Nm: np.ndarray) -> None:
         """Hold ``torque_Nm`` for one control period (clipped, thermally derated), then step the plant."""
-        q, _ = self.joint_states()
+        q, qd = self.joint_states()
         command = np.clip(np.asarray(torque_Nm, float), -self.effort_limit, self.effort_limit)
-        self.applied_Nm = self.derated_torques(q, command)
+        self.applied_Nm = self.protected_torques(q, qd, command)
         c = self.client
         forces = self.applied_Nm.tolist()
         for _ in range(self.config.substeps):
@@ -215,18 +224,21 @@ class BulletRig:
         """One control period with the actuators' own joint impedance loop run at the physics rate.
 
         Every physics step applies ``tau = tau_ff + kp (q_des - q) - kd qd``
-        (clipped to the effort limits and derated as at the period's start),
-        as series-elastic actuators do with the targets a whole-body
-        controller sends them; the plant and the log see the period's mean.
+        (clipped to the effort limits), scaled by the share thermal protection
+        allows for the torques the loop asks for at the period's start; the
+        plant and the log see the period's mean.
         """
-        q, _ = self.joint_states()
-        fraction = self.derating_fraction(q)
+        q, qd = self.joint_states()
+        start = np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd, -self.effort_limit,
+                        self.effort_limit)
+        efforts = self.actuator_efforts(q, start)
+        fraction = self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
         c = self.client
         total = np.zeros(len(self.joints))
         for _ in range(self.config.substeps):
             q, qd = self.joint_states()
-            tau = np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd, -self.effort_limit,
-                          self.effort_limit) * fraction
+            tau = self.torques_at_fraction(np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd,
+                                                   -self.effort_limit, self.effort_limit), fraction)
             c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
             c.stepSimulation()
             total += tau
@@ -236,6 +248,7 @@ class BulletRig:
     def _after_control_period(self) -> None:
         q, qd = self.joint_states()
         efforts = self.actuator_efforts(q, self.applied_Nm)
+        self.last_efforts = efforts
         velocities = self.actuator_velocities(q, qd)
         self._log["time"].append(self.time_s)
         self._log["effort"].append(efforts)

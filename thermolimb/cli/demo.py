@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import argparse
 import time
 from pathlib import Path
 
-from ..demo_registry import load_demos, run_demo
+from ..demo_registry import demo_names, in_tour_order, load_demos, run_demo
 from ..report import build_report
 from .options import print_json
 from .types import output_dir
@@ -13,7 +14,10 @@ from .types import output_dir
 
 def add_parser(sub):
     p = sub.add_parser("demo", help="run a demo (or all) and write its plots and summary.json",
-                       description="Run a registered demo into OUT/NAME/: PNG plots and summary.json.")
+                       description="Run a registered demo into OUT/NAME/: PNG plots and summary.json.",
+                       formatter_class=argparse.RawDescriptionHelpFormatter,
+                       epilog="demos (in the order to read them; 'thermolimb demo' with no name describes each):\n  "
+                              + "\n  ".join(demo_names()))
     p.add_argument("name", nargs="?", default=None, help="demo name, or 'all'; omit to list them")
     p.add_argument("--quick", action="store_true", help="short mode (what make demo and the tests run)")
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default out)")
@@ -31,10 +35,10 @@ def add_parser(sub):
 def run(args) -> int:
     demos = load_demos()
     if args.name is None:
-        for name in sorted(demos):
+        for name in in_tour_order(demos):
             print(f"{name:22s} {demos[name].description}")
         return 0
-    names = sorted(demos) if args.name == "all" else [args.name]
+    names = in_tour_order(demos) if args.name == "all" else [args.name]
     if args.name == "all":
         for name in [n for n in names if demos[n].missing]:
             print(f"demo {name}: skipped (needs {', '.join(demos[name].missing)}: "

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnosis import auto_diagnose, diagnose
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..workbench.diagnosis import auto_diagnose, diagnose
 from .options import (
     add_fleet,
     add_html,
@@ -61,11 +61,11 @@ def run(args) -> int:
         else:
             d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out)
         if args.plot:
-            from ..diagnosis.plots import plot_diagnosis
+            from ..plotting.diagnosis import plot_diagnosis
 
             plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
         if page is not None:
-            from ..interactive import add_diagnosis
+            from ..plotting.interactive import add_diagnosis
 
             add_diagnosis(page, d)
         return d.to_json(), describe_diagnosis(d)

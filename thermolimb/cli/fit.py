@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..evaluation import evaluate
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..workbench.validation import evaluate
 from .options import (
     add_fleet,
     add_html,
@@ -28,7 +28,8 @@ def add_parser(sub):
         description="Fit the effort-based thermal model on the first --split of each run's time span, then "
         "simulate each run from its first reading through to its end from the inputs alone, scoring the rest. Reports "
         "validation RMSE (K), max absolute error (K), fit % = 100(1 - |y - y_sim| / |y - mean y|) and the "
-        "parameters with standard errors (RC in s, betaR in K/(N m)^2, beta_biasR in K/(N m), T_offset in degC).",
+        "parameters with standard errors in the log's units (RC in s, T_offset in degC, betaR in K/(N m)^2 for "
+        "efforts in N m or K/mA^2 for a current logged as effort in mA; a unit the log does not give is said so).",
     )
     add_log_input(p)
     p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
@@ -56,11 +57,11 @@ def run(args) -> int:
     def analyse(name, series, held_out):
         report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method)
         if args.plot:
-            from ..plots import plot_fit
+            from ..plotting.fits import plot_fit
 
             plot_fit(report, Path(args.plot) / f"fit_{name.replace('/', '_')}.png")
         if page is not None:
-            from ..interactive import temperature_figure, thinning_note
+            from ..plotting.interactive import temperature_figure, thinning_note
 
             page.add(f"{name}: measured against the model", temperature_figure([(args.model, report)], name),
                      f"{report.scheme}; validation RMSE {report.validation['rmse_K']:.3f} K." + thinning_note(report))

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
+from ..logs.mapping import suggest_table_mapping
 from ..logs.table import read_table
 from .options import print_json
 
@@ -46,10 +47,19 @@ def run(args) -> int:
     frame = read_table(path)
     columns = [{"column": str(c), "values": int(frame[c].notna().sum()),
                 "first": str(frame[c].dropna().iloc[0]) if frame[c].notna().any() else ""} for c in frame.columns]
+    mapping, reasons = suggest_table_mapping(frame.columns, {c["column"]: c["values"] for c in columns})
     if args.json:
-        print_json({"rows": len(frame), "columns": columns})
+        print_json({"rows": len(frame), "columns": columns, "suggested_map": mapping, "notes": reasons})
         return 0
-    print(f"{path}: {len(frame)} row(s), {len(columns)} column(s)")
-    for c in columns:
+    shown = [c for c in columns if c["values"] > 0]
+    empty = len(columns) - len(shown)
+    print(f"{path}: {len(frame)} row(s), {len(columns)} column(s)"
+          + (f" ({empty} without any value, not shown)" if empty else ""))
+    for c in shown:
         print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}")
+    if mapping:
+        text = ",".join(f"{k}={v}" for k, v in mapping.items())
+        print(f'suggested: --map "{text}"' + ("  (add --actuator NAME to read one joint)" if "{j}" in text else ""))
+    for reason in reasons:
+        print(f"note: {reason}")
     return 0

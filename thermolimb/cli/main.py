@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import errno
+import os
+import signal
 import sys
 
-from ..errors import ThermolimbError
+from .. import __version__
+from ..util.errors import ThermolimbError
 from . import compare, demo, diagnose, fit, inspect, simulate, strategies
 
 COMMANDS = (inspect, simulate, fit, compare, diagnose, strategies, demo)
@@ -27,23 +31,81 @@ def build_parser() -> argparse.ArgumentParser:
         description="Thermal models of robot actuators: simulate a thermal plant, identify models from "
         "logs, validate them, and run the demos.  Units: SI, temperatures in degC.",
     )
+    parser.add_argument("--version", action="version", version=f"thermolimb {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMANDS:
         module.add_parser(sub)
     return parser
 
 
+# what the machine, not the input, can refuse a write for: said in one sentence naming what was not written
+WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota is exceeded",
+                errno.EROFS: "the file system is read-only", errno.ENAMETOOLONG: "the file name is too long",
+                errno.EFBIG: "the file is too large for the file system"}
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what timeout, systemd, containers and CI send), met like Ctrl-C: writers remove their temporaries."""
+
+
+def _terminate(signum, frame):
+    raise Terminated
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate) if _main_thread() else None
     try:
-        return int(args.func(args) or 0)
+        return _run(args)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main_thread() -> bool:
+    import threading
+
+    return threading.current_thread() is threading.main_thread()
+
+
+def _run(args) -> int:
+    try:
+        code = int(args.func(args) or 0)
+        sys.stdout.flush()  # a full disk or a closed pipe behind standard output shows here, not at exit
+        return code
     except USER_ERRORS as exc:
         print(f"thermolimb {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:  # files being written are removed by their writers; earlier outputs stay intact
-        print(f"thermolimb {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # files being written are removed by their writers; earlier outputs stay intact
+        terminated = isinstance(exc, Terminated)
+        print(f"thermolimb {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+        return 143 if terminated else 130
+    except BrokenPipeError:  # the reader went away (`| head`, `| true`): stop quietly, as Unix tools do
+        _silence_stdout()
+        return 141
+    except OSError as exc:
+        if exc.errno not in WRITE_FAULTS:
+            raise
+        what = exc.filename if exc.filename else "standard output"
+        print(f"thermolimb {args.command}: error: could not write {_bounded(str(what))}: "
+              f"{WRITE_FAULTS[exc.errno]}", file=sys.stderr)
+        _silence_stdout()
+        return 1
+
+
+def _silence_stdout() -> None:
+    """Point standard output at /dev/null so that the interpreter's own flush at exit cannot fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+
+
+def _bounded(text: str, limit: int = 200) -> str:
+    """A name as long as a message can carry: its start and end around an ellipsis."""
+    return text if len(text) <= limit else f"{text[: limit // 2]}…{text[-limit // 2:]} ({len(text)} characters)"
 
 
 if __name__ == "__main__":

@@ -6,13 +6,13 @@ import json
 import sys
 from pathlib import Path
 
-from ..atomic import write_text
-from ..errors import UsageError
-from ..evaluation import Scheme
-from ..jsonutil import to_jsonable
 from ..logs import VELOCITY_UNITS, ActuatorSeries, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
-from ..parallel import BACKENDS
+from ..util.atomic import write_text
+from ..util.errors import UsageError
+from ..util.jsonutil import to_jsonable
+from ..util.parallel import BACKENDS
+from ..workbench.validation import Scheme
 from .types import folds, fraction, integer, output_file
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
@@ -32,8 +32,12 @@ def add_log_input(p):
                         "and * for any text: effort=Current_J{j},temperature=Temperature_*{j}; a column on a time base "
                         "of its own as COLUMN@TIME_COLUMN; for a bag, /topic.field "
                         "(effort=/joint_states.effort,temperature=/temperatures.temps; see thermolimb inspect)")
-    p.add_argument("--velocity-unit", default="rad/s", choices=sorted(VELOCITY_UNITS),
-                   help="unit of the velocity column (default rad/s); converted to rad/s")
+    p.add_argument("--velocity-unit", default=None, choices=sorted(VELOCITY_UNITS),
+                   help="unit of the velocity column, converted to rad/s (default: the column header's, e.g. "
+                        "'Speed [rpm]'; rad/s in the canonical format; else reported as not given)")
+    p.add_argument("--effort-unit", default=None, metavar="UNIT",
+                   help="unit of the effort column (e.g. 'N m', mA, A, W) when its header does not say "
+                        "(also --map effort=COLUMN:UNIT); parameters are reported in it")
     p.add_argument("--sep", default=None, choices=sorted(SEPARATORS),
                    help="CSV separator (default: found from the file)")
     p.add_argument("--decimal", default=None, choices=(".", ","),
@@ -68,7 +72,7 @@ def read_options(args, path) -> dict:
     """The keyword arguments of :func:`read_log` that the command line's options give for ``path``."""
     mapping = parse_mapping(args.map)
     name = args.actuator if mapping and "actuator" not in mapping else None
-    return {"mapping": mapping, "velocity_unit": args.velocity_unit,
+    return {"mapping": mapping, "velocity_unit": args.velocity_unit, "effort_unit": args.effort_unit,
             "actuator_name": args.actuator if is_bag(path) else name,
             "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
             "drop_incomplete": args.drop_incomplete}
@@ -112,6 +116,8 @@ def for_each_actuator(args, analyse, page=None) -> int:
                 gap = log.describe_gaps(name)
                 if gap:
                     print(f"note: {gap}", file=sys.stderr)
+    plot_dir = getattr(args, "plot", None)
+    before = _files(plot_dir)
     records = []
     for name in names:
         missing = [log.source for log in logs + held if name not in log.actuators]
@@ -126,12 +132,25 @@ def for_each_actuator(args, analyse, page=None) -> int:
         print_json(records[0] if len(records) == 1 else records)
     if page is not None:
         page.write(args.html)
+    after = _files(plot_dir)
+    written = [path for path, stamp in after.items() if before.get(path) != stamp]
+    written += [Path(args.html)] if page is not None else []
+    for path in written:
+        print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _files(folder) -> dict:
+    """``{path: (size, mtime)}`` of the files in ``folder`` (nothing when ``None`` or absent): what a run wrote is
+    what changed."""
+    if folder is None or not Path(folder).is_dir():
+        return {}
+    return {p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()}
 
 
 def format_params(report, indent: str = "  ") -> list[str]:
     """Parameters with uncertainty and unit, one per line, then the report's flags."""
-    lines = [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g} {p.unit}"
+    lines = [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g} {report.unit(p)}"
              for p in report.model.parameters]
     lines += [f"{indent}! {flag}" for flag in report.flags]
     return lines
@@ -146,7 +165,7 @@ def html_page(args, title: str):
     """The interactive page ``--html`` asks for, or ``None``."""
     if not getattr(args, "html", None):
         return None
-    from ..interactive import InteractivePage
+    from ..plotting.interactive import InteractivePage
 
     return InteractivePage(title, f"thermolimb {args.command} on {', '.join(map(str, args.logs))}.")
 
@@ -168,8 +187,9 @@ def add_fleet(p):
 
 def run_fleet(args, diagnose: bool) -> int:
     """``--fleet``: rows for every actuator and run, the drift table, and the files asked for."""
-    from ..drift import drift, format_drift, plot_drift
-    from ..fleet import expand_paths, fit_fleet_files, format_rows, rows_table
+    from ..plotting.drift import plot_drift
+    from ..workbench.drift import drift, format_drift
+    from ..workbench.fleet import expand_paths, fit_fleet_files, format_rows, rows_table
 
     if args.table and Path(args.table).suffix.lower() not in (".csv", ".json"):
         raise UsageError(f"--table {args.table}: expected a .csv or .json file")

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import UsageError
 from ..logs.table import kind_of
 from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
+from ..plant.cases import CASE_NAMES, CASE_SPECS
+from ..util.errors import UsageError
 from .options import add_quiet, print_json
 from .types import AMBIENT_C, SEED, number, output_file
 
 MAX_ROWS = 30_000_000  # about 2 GB of log in memory
-DEFAULT_ACTUATORS = "knee:X8-9,hip:X8-16,ankle:X8-9"
+DEFAULT_ACTUATORS = ",".join(f"{name}:{spec.model}" for name, spec in zip(CASE_NAMES, CASE_SPECS))
 
 
 def add_parser(sub):
@@ -54,6 +55,8 @@ def parse_actuators(text: str):
         name, _, model = item.strip().partition(":")
         if not name or model not in ACTUATOR_SPECS:
             raise UsageError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATOR_SPECS)}")
+        if name in names:
+            raise UsageError(f"--actuators names {name!r} twice; give each actuator its own name")
         names.append(name)
         specs.append(ACTUATOR_SPECS[model])
     return names, specs

@@ -34,8 +34,8 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..envs.evaluate import evaluate
-    from ..envs.report import episodes_json, format_table, plot_table, table
+    from ..envs.episodes import evaluate
+    from ..envs.tables import episodes_json, format_table, plot_table, table
 
     episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=args.workers,
                         address=args.address, max_time_s=args.max_time)

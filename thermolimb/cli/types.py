@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..atomic import check_output_dir, check_output_file
-from ..errors import UsageError
+from ..util.atomic import check_output_dir, check_output_file
+from ..util.errors import UsageError
 
 
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False, unit: str = ""):
@@ -71,11 +71,11 @@ def folds(text: str):
 
 
 def names(text: str) -> list[str]:
-    """A comma-separated list of one or more names."""
+    """A comma-separated list of one or more names, each once (a name repeated is the same thing asked twice)."""
     items = [item.strip() for item in text.split(",")]
     if not all(items):
         raise argparse.ArgumentTypeError(f"expected one or more names separated by commas, got {text!r}")
-    return items
+    return list(dict.fromkeys(items))
 
 
 def _checked(check, text: str):

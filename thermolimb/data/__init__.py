@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
-from ..errors import UsageError
+from ..util.errors import UsageError
 
 PMSM_MAP = "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
 

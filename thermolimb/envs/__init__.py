@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from importlib import import_module
 from importlib.metadata import entry_points
 
-from ..errors import UsageError
+from ..util.errors import UsageError
 
 ENTRY_POINT_GROUP = "thermolimb.envs"
 

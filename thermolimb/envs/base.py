@@ -9,6 +9,17 @@ import gymnasium as gym
 import numpy as np
 
 
+def checked_range(name: str, value, lowest: float, highest: float) -> tuple[float, float]:
+    """A reset range ``(low, high)`` with ``lowest <= low <= high <= highest``, or a ValueError naming it."""
+    try:
+        low, high = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (low, high) of numbers, got {value!r}") from None
+    if not (math.isfinite(low) and math.isfinite(high) and lowest <= low <= high <= highest):
+        raise ValueError(f"{name} must satisfy {lowest:g} <= low <= high <= {highest:g}, got ({low:g}, {high:g})")
+    return low, high
+
+
 class RigEnv(gym.Env):
     """Base of the suite's environments: ``self.sim`` is the current world (a :class:`thermolimb.rig.BulletRig`).
 
@@ -23,6 +34,7 @@ class RigEnv(gym.Env):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
+    RESET_OPTIONS: tuple[str, ...] = ()  # the keys ``reset(options=...)`` accepts (documented by each environment)
     LOG_CAPACITY = 3000  # control steps of rig log kept in memory: an episode's memory stays flat however long
 
     def __init__(self, max_time_s: float, decision_s: float, render_mode: str | None = None):
@@ -40,6 +52,14 @@ class RigEnv(gym.Env):
         self._ended = False
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        if options is not None:
+            if not isinstance(options, dict):
+                raise ValueError(f"reset options must be a dict or None, got {type(options).__name__}")
+            unknown = sorted(str(k) for k in options if k not in self.RESET_OPTIONS)
+            if unknown:
+                accepted = ", ".join(self.RESET_OPTIONS) or "none"
+                raise ValueError(f"{type(self).__name__}.reset does not take the option(s) {', '.join(unknown)}; "
+                                 f"it takes: {accepted}")
         super().reset(seed=seed)
         self.close()
         self.steps = 0

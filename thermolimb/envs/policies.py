@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import UsageError
+from ..util.errors import UsageError
 from . import env_info
 
 Policy = Callable[[object, np.ndarray], object]

@@ -13,10 +13,10 @@ from typing import Sequence
 
 import numpy as np
 
-from ..logs import ActuatorSeries
-from ..metrics import fit_percent
+from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import DEFAULT_MODEL, TERMS, ModelSpecError, parse_model
+from .metrics import fit_percent
 from .regression import IdentifiabilityError
 
 
@@ -51,6 +51,10 @@ class ThermalEstimator:
         series = [data] if isinstance(data, ActuatorSeries) else list(data)
         if not series:
             raise ValueError("fit needs at least one series")
+        short = [s for s in series if s.n < MIN_SAMPLES]
+        if short:
+            raise LogError(f"actuator {short[0].actuator}{short[0].run_label} has {short[0].n} sample(s); fitting "
+                           f"needs at least {MIN_SAMPLES} per series")
         terms = parse_model(self.model)
         for ser in series:
             for name in terms:
@@ -94,9 +98,7 @@ class ThermalEstimator:
         first minute unless given.
         """
         self._check_fitted()
-        start = series.temperature_C[0] if initial_temperature_C is None else initial_temperature_C
-        rate = series.rate_K_per_s() if initial_rate_K_per_s is None else initial_rate_K_per_s
-        return self.model_.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate)
+        return self.model_.free_run(series, initial_rate_K_per_s, method, initial_temperature_C)
 
     def predict(self, series: ActuatorSeries) -> np.ndarray:
         """One-step-ahead predictions from the previous measured temperature."""

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..metrics import ar1_variance_factor
 from .base import ThermalEstimator
+from .metrics import hac_covariance
 from .regression import build_regression, mean_ambient_C
 
 
@@ -15,7 +15,8 @@ def solve_least_squares(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float
     Normal equations on unit-norm columns (a p x p solve after one pass over
     the rows), which is accurate here because the regressors are few and the
     check for identifiability has already refused near-collinear ones.
-    The covariance is inflated for serially correlated residuals.
+    The covariance allows for serially correlated residuals (Newey-West,
+    :func:`~thermolimb.identification.metrics.hac_covariance`).
     """
     scale = np.linalg.norm(X, axis=0)
     scale[scale == 0] = 1.0
@@ -24,9 +25,7 @@ def solve_least_squares(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float
     coef = np.linalg.solve(gram, Xs.T @ y)
     residual = y - Xs @ coef
     loss = 0.5 * float(np.mean(residual**2))
-    dof = max(y.size - coef.size, 1)
-    sigma2 = float(residual @ residual) / dof * ar1_variance_factor(residual)
-    cov = sigma2 * np.linalg.inv(gram) / np.outer(scale, scale)
+    cov = hac_covariance(Xs, residual) * y.size / max(y.size - coef.size, 1) / np.outer(scale, scale)
     return coef / scale, loss, cov
 
 

@@ -14,11 +14,11 @@ from typing import Mapping
 
 import numpy as np
 
-from ..metrics import ar1_variance_factor
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import TERMS
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
+from .metrics import ar1_variance_factor
 from .regression import IdentifiabilityError, independent_fractions
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
@@ -87,8 +87,7 @@ class OutputError(ThermalEstimator):
 
         def residual(x):
             model = ThermalModel(terms, dict(zip(names, x)))
-            return np.concatenate([model.simulate(s.signals, s.temperature_C[0], initial_rate_K_per_s=r)
-                                   for s, r in zip(series, rates)]) - measured
+            return np.concatenate([model.free_run(s, r) for s, r in zip(series, rates)]) - measured
 
         from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 

@@ -19,11 +19,11 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import ThermolimbError
 from ..logs import ActuatorSeries
 from ..model.model import model_parameters
 from ..model.signals import Signals
 from ..model.terms import TERMS, Parameter
+from ..util.errors import ThermolimbError
 
 
 class IdentifiabilityError(ThermolimbError):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..metrics import ar1_variance_factor
 from .base import ThermalEstimator
+from .metrics import ar1_variance_factor
 from .regression import build_regression, mean_ambient_C
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import atomic_path
+from ..util.atomic import atomic_path
 from .table import LogError
 
 THERMAL_TYPE = "thermolimb_msgs/msg/ActuatorThermal"

@@ -9,14 +9,18 @@ from typing import Mapping
 
 import numpy as np
 
-from ..atomic import atomic_path
-from ..lazy import pandas as pd
 from ..model.signals import Signals
+from ..util.atomic import atomic_path
+from ..util.frozen import FrozenMapping
+from ..util.lazy import pandas as pd
 from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
-from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern
+from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
 from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
+from .units import CANONICAL, NOT_GIVEN, SCALED, channel_units, split_unit
+
+CANONICAL_UNITS = FrozenMapping(CANONICAL)
 
 # no working actuator's winding, housing or air reads outside this: readings beyond are not degC
 TEMPERATURE_RANGE_C = (-100.0, 500.0)
@@ -35,6 +39,7 @@ class ActuatorSeries:
     signals: Signals
     temperature_C: np.ndarray
     run: str = ""
+    units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power (see thermolimb.logs.units)
 
     @property
     def time_s(self) -> np.ndarray:
@@ -61,7 +66,7 @@ class ActuatorSeries:
         return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
 
     def slice(self, start: int, stop: int) -> "ActuatorSeries":
-        return ActuatorSeries(self.actuator, self.signals.slice(start, stop), self.temperature_C[start:stop], self.run)
+        return replace(self, signals=self.signals.slice(start, stop), temperature_C=self.temperature_C[start:stop])
 
     def split_index(self, fraction: float) -> int:
         """First sample after the first ``fraction`` of the time span (training is ``[0, index)``)."""
@@ -102,6 +107,7 @@ class ThermalLog:
     frame: pd.DataFrame
     source: str = "<memory>"
     notes: tuple[str, ...] = field(default=())
+    units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power, from the log (logs.units)
 
     @cached_property
     def actuators(self) -> tuple[str, ...]:
@@ -141,7 +147,7 @@ class ThermalLog:
             ambient_C=col("ambient"), neighbor_temperature_C=neighbors, neighbor_names=tuple(others),
             housing_C=col("housing"), power_W=col("power"),
         )
-        return ActuatorSeries(actuator, signals, col("temperature"))
+        return ActuatorSeries(actuator, signals, col("temperature"), units=self.units)
 
     def runs(self, actuator: str) -> list[ActuatorSeries]:
         """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own reading."""
@@ -152,8 +158,7 @@ class ThermalLog:
         edges = [0] + cuts + [whole.n]
         stem = Path(self.source).stem if self.source != "<memory>" else "log"
         pieces = [whole.slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
-        return [ActuatorSeries(p.actuator, p.signals, p.temperature_C, f"{stem}#{k + 1}")
-                for k, p in enumerate(pieces) if p.n >= MIN_SAMPLES]
+        return [replace(p, run=f"{stem}#{k + 1}") for k, p in enumerate(pieces) if p.n >= MIN_SAMPLES]
 
     def describe_gaps(self, actuator: str) -> str | None:
         """A sentence on the runs a log was cut into, or ``None``."""
@@ -195,11 +200,12 @@ def gaps(time_s: np.ndarray) -> list[int]:
 def read_log(
     path: str | Path,
     mapping: Mapping[str, str] | None = None,
-    velocity_unit: str = "rad/s",
+    velocity_unit: str | None = None,
     actuator_name: str | None = None,
     sep: str | None = None,
     decimal: str | None = None,
     drop_incomplete: bool = False,
+    effort_unit: str | None = None,
 ) -> ThermalLog:
     """Read and validate a log.
 
@@ -217,22 +223,45 @@ def read_log(
         For a bag: the joint to read (default every joint in the mapped topics).
     velocity_unit
         Unit of the velocity column: ``rad/s``, ``m/s``, ``rpm`` or ``deg/s``;
-        converted to rad/s (m/s stays m/s).
+        converted to rad/s (m/s stays m/s).  Default: the column header's
+        (``Speed [rpm]``), rad/s for a canonical log, else "unit not given".
+    effort_unit
+        Unit of the effort channel (``N m``, ``mA``, ``A``, ``W``, ...), when
+        neither the header nor the mapping (``effort=COLUMN:mA``) gives it.
+        Every channel's unit is in the log's ``units`` (:mod:`thermolimb.logs.units`).
     sep, decimal
         The CSV dialect; guessed from the file when not given.
     drop_incomplete
         Leave out samples with a missing value (said in ``notes``) instead of refusing the file.
     """
     path = Path(path)
+    if isinstance(mapping, str):  # the command line's form, "effort=torque,temperature=winding"
+        mapping = parse_mapping(mapping)
+    elif mapping is not None and not isinstance(mapping, Mapping):
+        raise LogError(f"mapping must be a dict {{channel: column}} or a string 'channel=column,...', got "
+                       f"{type(mapping).__name__}")
+    given = {"effort": effort_unit}
     if is_bag(path):
-        frames, notes = read_bag(path, mapping, actuator_name)
+        mapping, from_map = _split_units(mapping)
+        frames, notes = read_bag(path, mapping or None, actuator_name)
+        # a bag's fields carry no units (ROS says N m for JointState.effort; servo drivers often publish mA there)
+        units = channel_units({c: "" for c in SCALED}, {**given, **from_map, "velocity": velocity_unit})
         log = from_frame(pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path),
-                         velocity_unit=velocity_unit)
+                         units=units)
         return replace(log, notes=tuple(notes) + log.notes)
     frame = read_table(path, sep=sep, decimal=decimal)
-    log = from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
-                     actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete)
-    return log
+    return from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
+                      actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete, units=given)
+
+
+def _split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
+    """``{channel: "COLUMN:UNIT"}`` -> ``({channel: COLUMN}, {channel: UNIT})`` (see :func:`~.units.split_unit`)."""
+    columns, units = {}, {}
+    for key, value in (mapping or {}).items():
+        columns[key], unit = split_unit(value)
+        if unit:
+            units[key] = unit
+    return columns, units
 
 
 def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
@@ -300,19 +329,29 @@ def from_frame(
     frame: pd.DataFrame,
     source: str = "<memory>",
     mapping: Mapping[str, str] | None = None,
-    velocity_unit: str = "rad/s",
+    velocity_unit: str | None = None,
     actuator_name: str = "actuator",
     drop_incomplete: bool = False,
+    units: Mapping[str, str | None] | None = None,
 ) -> ThermalLog:
     """Validate a data frame (canonical, or wide with ``mapping``) into a :class:`ThermalLog`.
 
     Samples with only a time stamp are left out (they hold nothing); a sample
-    missing some values is an error unless ``drop_incomplete``.
+    missing some values is an error unless ``drop_incomplete``.  ``units``
+    gives channels' units the frame does not (see :mod:`thermolimb.logs.units`).
     """
-    mapping = dict(mapping or {})
-    if velocity_unit not in VELOCITY_UNITS:
+    mapping, from_map = _split_units(mapping)
+    if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
         raise LogError(f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}")
+    given = {**{k: v for k, v in (units or {}).items() if v}, **from_map}
+    if velocity_unit is not None:
+        given["velocity"] = velocity_unit
+    channel = channel_units(mapping, given)
     notes = []
+    if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
+        notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
+                     f"suite converts ({', '.join(VELOCITY_UNITS)}); taken as not given -- name it with --velocity-unit")
+        channel["velocity"] = NOT_GIVEN
     if mapping:
         frame = _apply_mapping(frame, mapping, source, actuator_name)
         notes += frame.attrs.get("notes", [])
@@ -376,8 +415,9 @@ def from_frame(
                 f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} (a log in kelvin, in tenths of a degree "
                 f"or in raw counts needs converting first)"
             )
-    if "velocity" in out.columns:
-        out["velocity"] *= VELOCITY_UNITS[velocity_unit]
+    if "velocity" in out.columns and channel["velocity"] in VELOCITY_UNITS:
+        out["velocity"] *= VELOCITY_UNITS[channel["velocity"]]
+        channel["velocity"] = "m/s" if channel["velocity"] == "m/s" else "rad/s"
     parts = []
     for name, g in out.groupby("actuator", sort=False):
         t = g["time"].to_numpy()
@@ -391,7 +431,7 @@ def from_frame(
         if len(g) < MIN_SAMPLES:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         parts.append(g)
-    return ThermalLog(pd.concat(parts, ignore_index=True), source, tuple(notes))
+    return ThermalLog(pd.concat(parts, ignore_index=True), source, tuple(notes), FrozenMapping(channel))
 
 
 def log_from_arrays(

@@ -100,3 +100,71 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
         cols = {k: (per_key[k][j] if k in per_key else v) for k, v in mapping.items() if k != "actuator"}
         out.append((name.replace(JOINT, str(j)), cols))
     return out
+
+
+# words in a column's name that say which channel it is, most specific first (a column is matched once)
+CHANNEL_WORDS = (("time", ("timestamp", "time")), ("temperature", ("winding temp", "stator_winding", "temperature",
+                                                                   "temp")),
+                 ("effort", ("torque", "effort")), ("current", ("current",)), ("power", ("power",)),
+                 ("velocity", ("velocity", "speed")), ("ambient", ("ambient",)))
+_JOINT_COLUMN = re.compile(r"^(?P<stem>.*?)(?P<j>\d+)$")
+
+
+def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str, str], list[str]]:
+    """A ``--map`` for a wide table from its column names, and what could not be decided.
+
+    Columns with no value are ignored.  Per-joint columns (a name ending in
+    the joint number, ``Current_J0 .. Current_J5``) give a joint pattern:
+    ``{j}`` for the number and ``*`` where the names differ
+    (``Temperature_T0``, ``Temperature_J1`` -> ``Temperature_*{j}``).  Without
+    a torque or effort column, the current stands for effort (said in the
+    reasons).  Only a suggestion: the user checks it against the listing.
+    """
+    names = [str(c) for c in columns if values.get(str(c), 0) > 0]
+    joint_groups: dict[str, list[tuple[str, int]]] = {}
+    for name in names:
+        m = _JOINT_COLUMN.match(name)
+        if m and m.group("stem"):
+            joint_groups.setdefault(_word(m.group("stem")), []).append((name, int(m.group("j"))))
+    mapping, reasons, used = {}, [], set()
+    for channel, words in CHANNEL_WORDS:
+        for word in words:
+            group = next((g for key, g in joint_groups.items() if word in key.lower() and len(g) > 1), None)
+            if group is not None and channel != "time":
+                mapping[channel] = _pattern([n for n, _ in group])
+                used |= {n for n, _ in group}
+                break
+            single = [n for n in names if word in n.lower() and n not in used and not _JOINT_COLUMN.match(n)
+                      and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
+            if len(single) == 1:
+                mapping[channel] = single[0]
+                used.add(single[0])
+                break
+            if len(single) > 1:
+                reasons.append(f"{channel}: several columns could be it ({', '.join(single[:4])}); name one")
+                break
+    if "effort" not in mapping and "current" in mapping:
+        mapping["effort"] = mapping.pop("current")
+        reasons.append("no torque or effort column: the motor current stands for effort")
+    if "effort" not in mapping and "power" in mapping:
+        mapping["effort"] = mapping["power"]
+        reasons.append("no torque or effort column: the electrical power stands for effort")
+    missing = [c for c in ("time", "effort", "temperature") if c not in mapping]
+    if missing:
+        reasons.append(f"no column found for {', '.join(missing)}")
+    return mapping, reasons
+
+
+def _word(stem: str) -> str:
+    """The name part that says what a per-joint column holds (``Temperature_T`` -> ``Temperature``)."""
+    return re.split(r"[_\s\-]", stem.strip())[0] or stem
+
+
+def _pattern(names: list[str]) -> str:
+    """The joint pattern of per-joint column names: ``{j}`` for the number, ``*`` where they differ."""
+    stems = [_JOINT_COLUMN.match(n).group("stem") for n in names]
+    prefix = stems[0]
+    for s in stems[1:]:
+        while not s.startswith(prefix):
+            prefix = prefix[:-1]
+    return prefix + ("" if all(s == prefix for s in stems) else "*") + JOINT

@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ThermolimbError
-from ..lazy import pandas as pd
+from ..util.errors import ThermolimbError
+from ..util.lazy import pandas as pd
 
 SEPARATORS = (",", ";", "\t", "|")
 SNIFF_LINES = 200

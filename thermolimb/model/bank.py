@@ -45,6 +45,14 @@ class FirstOrderBank:
         return int(self.RC_s.shape[0])
 
     @classmethod
+    def from_specs(cls, specs: Sequence, ambient_C: float = 25.0, lumped_nodes: int = 1) -> "FirstOrderBank":
+        """Eq. 5 from actuator datasheets (:meth:`thermolimb.plant.ActuatorSpec.first_order`, no effort bias):
+        what a controller can plan with before any log is identified."""
+        rc, beta = zip(*(spec.first_order(lumped_nodes) for spec in specs))
+        n = len(rc)
+        return cls(np.array(rc), np.array(beta), np.zeros(n), np.full(n, float(ambient_C)))
+
+    @classmethod
     def from_models(cls, models: Sequence[ThermalModel]) -> "FirstOrderBank":
         """Stack fitted single-actuator models whose terms are within joule and effort_bias."""
         for m in models:
@@ -57,6 +65,11 @@ class FirstOrderBank:
             beta_biasR_K_per_effort=np.array([m.params.get("beta_biasR_K_per_effort", 0.0) for m in models]),
             T_offset_C=np.array([m.params["T_offset_C"] for m in models]),
         )
+
+    def subset(self, indices) -> "FirstOrderBank":
+        """The bank of the actuators at ``indices`` (an index array or boolean mask), in that order."""
+        return FirstOrderBank(self.RC_s[indices], self.betaR_K_per_effort2[indices],
+                              self.beta_biasR_K_per_effort[indices], self.T_offset_C[indices])
 
     def equilibrium_C(self, effort: np.ndarray) -> np.ndarray:
         """Steady-state temperatures for efforts held forever."""

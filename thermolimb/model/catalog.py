@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..constants import COPPER_REFERENCE_C
 from .scan import first_order_scan
 from .signals import Signals
 from .terms import Parameter, Term, register_term
 
-TEMPCO_REFERENCE_C = 25.0  # copper resistance is quoted at this temperature
 AMBIENT_REFERENCE_C = 25.0  # T_offset is the offset at this logged ambient when ambient_variation is on
 
 
@@ -43,7 +43,7 @@ class Joule(LinearTerm):
     name = "joule"
     description = "Joule heating from effort squared (the base heat source)"
     parameters = (
-        Parameter("betaR_K_per_effort2", "K/(N m)^2", 0.0, np.inf, 0.1,
+        Parameter("betaR_K_per_effort2", "K/({effort})^2", 0.0, np.inf, 0.1,
                   "steady-state rise per squared effort, beta*R of Eq. 5",
                   "effort held at three or more distinct levels"),
     )
@@ -60,7 +60,7 @@ class EffortBias(LinearTerm):
     name = "effort_bias"
     description = "linear effort term (series-elastic bias of the torque-current map)"
     parameters = (
-        Parameter("beta_biasR_K_per_effort", "K/(N m)", -np.inf, np.inf, 0.1,
+        Parameter("beta_biasR_K_per_effort", "K/({effort})", -np.inf, np.inf, 0.1,
                   "beta_bias*R of Eq. 5; positive when the bias lowers heating at positive effort",
                   "effort held at three or more distinct levels, ideally of both signs"),
     )
@@ -76,7 +76,7 @@ class CurrentHeating(LinearTerm):
     name = "current_heating"
     description = "Joule heating from measured current squared"
     parameters = (
-        Parameter("currentR_K_per_A2", "K/A^2", 0.0, np.inf, 0.01,
+        Parameter("currentR_K_per_A2", "K/({current})^2", 0.0, np.inf, 0.01,
                   "steady-state rise per squared ampere (R_e * R_thermal)",
                   "current at three or more distinct levels"),
     )
@@ -94,7 +94,7 @@ class PowerHeating(LinearTerm):
     name = "power_heating"
     description = "heating in proportion to electrical input power (its losses are a share of it)"
     parameters = (
-        Parameter("powerR_K_per_W", "K/W", 0.0, np.inf, 0.1,
+        Parameter("powerR_K_per_W", "K/({power})", 0.0, np.inf, 0.1,
                   "steady-state rise per watt of input power (loss share times thermal resistance)",
                   "power at three or more distinct levels"),
     )
@@ -146,7 +146,7 @@ class WindingTempco(Term):
         if "currentR_K_per_A2" in p and s.current_A is not None:
             joule = joule + p["currentR_K_per_A2"] * s.current_A**2
         alpha = p["alpha_per_K"]
-        return -alpha * TEMPCO_REFERENCE_C * joule, alpha * joule
+        return -alpha * COPPER_REFERENCE_C * joule, alpha * joule
 
 
 @register_term
@@ -156,9 +156,9 @@ class SpeedLosses(Term):
     name = "speed_losses"
     description = "friction and iron losses growing with speed"
     parameters = (
-        Parameter("speed_K_per_rad_s", "K/(rad/s)", 0.0, np.inf, 1.0,
+        Parameter("speed_K_per_rad_s", "K/({velocity})", 0.0, np.inf, 1.0,
                   "rise per unit speed (friction)", "motion at several speeds"),
-        Parameter("speed2_K_per_rad2_s2", "K/(rad/s)^2", 0.0, np.inf, 0.5,
+        Parameter("speed2_K_per_rad2_s2", "K/({velocity})^2", 0.0, np.inf, 0.5,
                   "rise per squared speed (iron losses)", "motion at several speeds"),
     )
     columns = ("velocity",)
@@ -222,7 +222,7 @@ class MotionCooling(Term):
     name = "motion_cooling"
     description = "cooling that improves with speed (airflow)"
     parameters = (
-        Parameter("cooling_per_rad_s", "1/(rad/s)", 0.0, 20.0, 0.3,
+        Parameter("cooling_per_rad_s", "1/({velocity})", 0.0, 20.0, 0.3,
                   "relative increase of the conductance to ambient per unit speed",
                   "motion at several speeds while warm", plausible=(0.0, 5.0)),
     )

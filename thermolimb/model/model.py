@@ -9,11 +9,11 @@ With the default terms ``joule`` and ``effort_bias`` this is exactly Eq. 5:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import Mapping
 
 import numpy as np
 
+from ..util.frozen import FrozenMapping
 from .scan import first_order_scan
 from .signals import Signals
 from .terms import TERMS, Parameter, parse_model
@@ -52,9 +52,15 @@ class ThermalModel:
         extra = [n for n in self.params if n not in expected]
         if missing or extra:
             raise ValueError(f"parameters of model {','.join(terms)}: missing {missing}, unexpected {extra}")
-        if not self.params["RC_s"] > 0:
-            raise ValueError(f"RC_s must be positive, got {self.params['RC_s']}")
-        object.__setattr__(self, "params", MappingProxyType({n: float(self.params[n]) for n in expected}))
+        values = {n: float(self.params[n]) for n in expected}
+        bad = [n for n, v in values.items() if not np.isfinite(v)]
+        if bad:
+            raise ValueError(f"parameters of model {','.join(terms)} must be finite numbers; {', '.join(bad)} "
+                             f"{'is' if len(bad) == 1 else 'are'} not ({', '.join(str(values[n]) for n in bad)})")
+        if not values["RC_s"] > 0:
+            raise ValueError(f"RC_s must be positive, got {values['RC_s']}")
+        # read-only and picklable (a fitted model crosses process boundaries in fleets and users' pools)
+        object.__setattr__(self, "params", FrozenMapping(values))
 
     @property
     def parameters(self) -> tuple[Parameter, ...]:
@@ -141,6 +147,19 @@ class ThermalModel:
         for term in terms:
             winding = term.shape_output(self.params, s, winding, initial_temperature_C)
         return winding
+
+    def free_run(self, series, initial_rate_K_per_s: float | None = None, method: str = "exact",
+                 initial_temperature_C: float | None = None) -> np.ndarray:
+        """The free run of a measured run (an :class:`~thermolimb.logs.ActuatorSeries`) from its first reading.
+
+        The one way every fit, validation and diagnosis simulates a log: from
+        the first measured temperature (unless ``initial_temperature_C``) and
+        the measured trend over the first minute (unless
+        ``initial_rate_K_per_s``), with the log's inputs alone.
+        """
+        start = series.temperature_C[0] if initial_temperature_C is None else initial_temperature_C
+        rate = series.rate_K_per_s() if initial_rate_K_per_s is None else initial_rate_K_per_s
+        return self.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate)
 
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray, start: float, method: str) -> np.ndarray:
         dt = s.dt_s

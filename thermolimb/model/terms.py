@@ -23,8 +23,9 @@ from typing import ClassVar, Mapping
 
 import numpy as np
 
-from ..errors import ThermolimbError
+from ..util.errors import ThermolimbError
 from .signals import Signals
+from .units import render
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,10 @@ class Parameter:
     null: float = 0.0  # the value at which the effect is absent (for score tests)
     nuisance: bool = False  # only meaningful once the effect is present (e.g. a second mass's time constant)
     plausible: tuple[float, float] | None = None  # the physically expected range, for a plausibility check
+
+    def unit_in(self, units: Mapping[str, str] | None) -> str:
+        """The unit with the log's channel units put in (``unit`` may name channels: ``K/({effort})^2``)."""
+        return render(self.unit, units)
 
 
 class Term:
@@ -86,7 +91,7 @@ class Term:
         """Why fitted values are physically implausible, or ``None``; default: each parameter's range."""
         for par in self.parameters:
             if par.plausible and not (par.plausible[0] <= p[par.name] <= par.plausible[1]):
-                return f"{par.name} = {p[par.name]:.3g} {par.unit} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
+                return f"{par.name} = {p[par.name]:.3g} {par.unit_in(None)} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
         return None
 
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:

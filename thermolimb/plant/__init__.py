@@ -2,17 +2,17 @@
 
 from .effects import (
                       EFFECT_TYPES,
-                      AmbientDrift,
-                      ConvectionBySpeed,
-                      CopperTempco,
+                      AmbientVariation,
+                      EffortBias,
                       FieldWeakening,
-                      FrictionIronLosses,
-                      NeighborConduction,
+                      MotionCooling,
+                      NeighborCoupling,
                       PlantEffects,
                       Quantisation,
+                      SensorLag,
                       SensorNoise,
-                      SeriesElasticBias,
-                      ThermistorLag,
+                      SpeedLosses,
+                      WindingTempco,
 )
 from .network import (
                       ACTUATOR_SPECS,
@@ -32,9 +32,9 @@ from .profiles import PROFILES, Profile
 from .run import PlantRun, run_profile, simulate_profile
 
 __all__ = [
-    "ACTUATOR_SPECS", "ActuatorSpec", "AmbientDrift", "ConvectionBySpeed", "CopperTempco", "DriverSpec",
-    "EFFECT_TYPES", "FIRST_ORDER_NETWORK", "FieldWeakening", "FrictionIronLosses", "NETWORKS", "NeighborConduction",
+    "ACTUATOR_SPECS", "ActuatorSpec", "AmbientVariation", "MotionCooling", "WindingTempco", "DriverSpec",
+    "EFFECT_TYPES", "FIRST_ORDER_NETWORK", "FieldWeakening", "SpeedLosses", "NETWORKS", "NeighborCoupling",
     "PROFILES", "PlantEffects", "PlantRun", "Profile", "Quantisation", "SECOND_ORDER_NETWORK", "SensorNoise",
-    "SeriesElasticBias", "ThermalNetwork", "ThermalPlant", "ThermalProtection", "ThermistorLag", "X5_NETWORK",
+    "EffortBias", "ThermalNetwork", "ThermalPlant", "ThermalProtection", "SensorLag", "X5_NETWORK",
     "X8_16", "X8_9", "X8_NETWORK", "run_profile", "simulate_profile",
 ]

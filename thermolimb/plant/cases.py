@@ -15,7 +15,9 @@ from .network import NETWORKS, X8_9, X8_16
 from .run import simulate_profile
 
 SENSOR = ("sensor_noise", "quantisation")
-CASE_ACTUATORS = (("knee", X8_9), ("hip", X8_16), ("ankle", X8_9))
+# the three actuators of every plant log the suite's demos, tests and benchmarks make (names, then datasheets)
+CASE_NAMES = ("knee", "hip", "ankle")
+CASE_SPECS = (X8_9, X8_16, X8_9)
 
 
 @dataclass(frozen=True)
@@ -31,8 +33,7 @@ class HiddenCase:
     def log(self, seed: int, network: str = "x8", duration_s: float = 2 * 3600.0, dt_s: float = 1.0,
             profile: str = "random"):
         fx = PlantEffects.from_names(list(SENSOR) + ([self.effect] if self.effect else []))
-        names, specs = zip(*CASE_ACTUATORS)
-        return simulate_profile(profile, duration_s, dt_s, list(names), list(specs), fx, seed=seed,
+        return simulate_profile(profile, duration_s, dt_s, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
                                 network=NETWORKS[network], load_scale=self.load_scale, **self.options).log
 
 

@@ -10,26 +10,27 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
-from ..errors import UsageError
+from ..constants import COPPER_REFERENCE_C, COPPER_TEMPCO_PER_K
+from ..util.errors import UsageError
 
 
 @dataclass(frozen=True)
-class SeriesElasticBias:
+class EffortBias:
     """Series-elastic bias: the motor current makes ``effort - bias_effort`` (seed Eq. 2)."""
 
     bias_effort: float = 2.0  # N m (or N)
 
 
 @dataclass(frozen=True)
-class CopperTempco:
+class WindingTempco:
     """Copper resistance rising with winding temperature: R = R25 (1 + alpha (T - 25 degC))."""
 
-    alpha_per_K: float = 0.0039  # copper
-    reference_C: float = 25.0
+    alpha_per_K: float = COPPER_TEMPCO_PER_K
+    reference_C: float = COPPER_REFERENCE_C
 
 
 @dataclass(frozen=True)
-class FrictionIronLosses:
+class SpeedLosses:
     """Losses growing with output speed: bearing/gear friction (into the housing) and iron losses (winding)."""
 
     friction_W_per_rad_s: float = 1.5  # W per rad/s of |velocity|
@@ -45,14 +46,14 @@ class FieldWeakening:
 
 
 @dataclass(frozen=True)
-class NeighborConduction:
+class NeighborCoupling:
     """Conduction between the outer nodes of neighbouring actuators (consecutive in the plant's order)."""
 
     conductance_W_per_K: float = 0.3
 
 
 @dataclass(frozen=True)
-class AmbientDrift:
+class AmbientVariation:
     """Ambient temperature drifting and oscillating: T_amb(t) = T0 + drift t + A sin(2 pi t / period)."""
 
     amplitude_K: float = 3.0
@@ -61,14 +62,14 @@ class AmbientDrift:
 
 
 @dataclass(frozen=True)
-class ConvectionBySpeed:
+class MotionCooling:
     """Airflow while moving: the outer node's conductance to ambient times (1 + gain |v|)."""
 
     gain_per_rad_s: float = 0.6
 
 
 @dataclass(frozen=True)
-class ThermistorLag:
+class SensorLag:
     """The thermistor follows the winding with a first-order lag."""
 
     time_constant_s: float = 15.0
@@ -92,14 +93,14 @@ class Quantisation:
 class PlantEffects:
     """Which effects are on (an instance) or off (``None``)."""
 
-    effort_bias: SeriesElasticBias | None = None
-    winding_tempco: CopperTempco | None = None
-    speed_losses: FrictionIronLosses | None = None
+    effort_bias: EffortBias | None = None
+    winding_tempco: WindingTempco | None = None
+    speed_losses: SpeedLosses | None = None
     field_weakening: FieldWeakening | None = None
-    neighbor_coupling: NeighborConduction | None = None
-    ambient_variation: AmbientDrift | None = None
-    motion_cooling: ConvectionBySpeed | None = None
-    sensor_lag: ThermistorLag | None = None
+    neighbor_coupling: NeighborCoupling | None = None
+    ambient_variation: AmbientVariation | None = None
+    motion_cooling: MotionCooling | None = None
+    sensor_lag: SensorLag | None = None
     sensor_noise: SensorNoise | None = None
     quantisation: Quantisation | None = None
 
@@ -125,14 +126,14 @@ class PlantEffects:
 
 
 EFFECT_TYPES = {
-    "effort_bias": SeriesElasticBias,
-    "winding_tempco": CopperTempco,
-    "speed_losses": FrictionIronLosses,
+    "effort_bias": EffortBias,
+    "winding_tempco": WindingTempco,
+    "speed_losses": SpeedLosses,
     "field_weakening": FieldWeakening,
-    "neighbor_coupling": NeighborConduction,
-    "ambient_variation": AmbientDrift,
-    "motion_cooling": ConvectionBySpeed,
-    "sensor_lag": ThermistorLag,
+    "neighbor_coupling": NeighborCoupling,
+    "ambient_variation": AmbientVariation,
+    "motion_cooling": MotionCooling,
+    "sensor_lag": SensorLag,
     "sensor_noise": SensorNoise,
     "quantisation": Quantisation,
 }

@@ -109,6 +109,22 @@ class ActuatorSpec:
             if not (np.isfinite(value) and value > 0):
                 raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
 
+    def first_order(self, lumped_nodes: int = 1) -> tuple[float, float]:
+        """The seed's Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (seed Eqs. 2-5).
+
+        The first ``lumped_nodes`` nodes of the network (from the winding
+        out) are lumped into one mass and the rest taken as the slow
+        "ambient": ``RC = (C_1 + ... + C_n)(R_1 + ... + R_n)`` and
+        ``betaR = R_e (R_1 + ... + R_n) / k^2`` with ``k`` the effort per amp.
+        This is the one conversion from a datasheet to the seed's model.
+        """
+        net = self.network
+        if not 1 <= lumped_nodes <= net.n_nodes:
+            raise ValueError(f"ActuatorSpec({self.model}).first_order lumps 1 to {net.n_nodes} nodes, got {lumped_nodes}")
+        resistance = float(np.sum(net.resistance_K_per_W[:lumped_nodes]))
+        capacity = float(np.sum(net.capacity_J_per_K[:lumped_nodes]))
+        return resistance * capacity, self.winding_resistance_ohm * resistance / self.effort_per_amp**2
+
 
 _X8_TORQUE_CONSTANT_NM_PER_A = 9.32e-3
 X8_9 = ActuatorSpec("X8-9", _X8_TORQUE_CONSTANT_NM_PER_A * 762.22, 3.19, 20.0, 8.0, 3.14)

@@ -18,11 +18,11 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-from scipy.linalg import expm
 
-from ..observer import WindingObserver
 from .effects import PlantEffects
 from .network import ActuatorSpec
+from .observer import WindingObserver
+from .zoh import zero_order_hold
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,7 @@ class ThermalProtection:
     actuator's winding limit (``ActuatorSpec.winding_limit_C``) to
     ``min_fraction`` at the limit.  ``estimator`` says which temperature it
     acts on: ``"observer"`` (default) the winding estimated by a
-    :class:`~thermolimb.observer.WindingObserver` from the measured current and
+    :class:`~thermolimb.plant.observer.WindingObserver` from the measured current and
     thermistor, plus ``sigmas`` of its uncertainty; ``"measured"`` the lagged
     thermistor reading itself, which lets the true winding overshoot.  With
     the observer the current is also capped so that the winding predicted at
@@ -195,13 +195,8 @@ class ThermalPlant:
         """Exact ZOH matrices ``(Phi, Gamma)`` with ``x+ = Phi x + Gamma [q; T_amb]``."""
         key = round(dt_s, 12)
         if key not in self._discretised:
-            N = self._n_states
-            M = np.zeros((2 * N + 1, 2 * N + 1))
-            M[:N, :N] = self._A
-            M[:N, N : 2 * N] = np.diag(self._inv_capacity)
-            M[:N, 2 * N] = self._b_amb
-            E = expm(M * dt_s)
-            self._discretised[key] = (E[:N, :N].copy(), E[:N, N:].copy())
+            inputs = np.column_stack([np.diag(self._inv_capacity), self._b_amb])
+            self._discretised[key] = zero_order_hold(self._A, inputs, dt_s)
         return self._discretised[key]
 
     # ----------------------------------------------------------------- inputs
@@ -380,18 +375,20 @@ class ThermalPlant:
         """Fraction of the commanded effort thermal protection allows each actuator now."""
         return self.protection.fraction(self.protected_C, self.winding_limits_C)
 
-    def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
-        """Efforts after thermal protection: the motor's share of each (all of it, less a series-elastic bias)
-        scaled by :meth:`derating`.
+    def protection_fraction(self, effort: np.ndarray, velocity: np.ndarray | None = None,
+                            dt_s: float | None = None) -> np.ndarray:
+        """The share of each actuator's motor effort thermal protection allows over the next interval.
 
-        Given the interval ``dt_s`` it will be held for (and the speeds), the
+        :meth:`derating` on the temperature protection acts on; given the
+        interval ``dt_s`` the efforts will be held for (and the speeds), the
         observer also caps the current so that the winding it predicts at the
-        interval's end stays below the limit: a winding heats by tens of
-        kelvin a second at peak current, faster than a slow control period
-        can react to.  Field-weakening current is scaled by the same share.
+        interval's end stays ``guard_K`` plus ``sigmas`` below the limit: a
+        winding heats by tens of kelvin a second at peak current, faster than
+        a slow control period can react to.  Field-weakening current is scaled
+        by the same share.  This is the plant's one protection call: the
+        robots' rigs call it every control period with that period.
         """
         effort = np.asarray(effort, dtype=float)
-        bias = self.effects.effort_bias.bias_effort if self.effects.effort_bias is not None else 0.0
         fraction = self.derating()
         if self.observer is not None and dt_s is not None:
             speed = np.zeros(self.n) if velocity is None else np.abs(np.asarray(velocity, float))
@@ -401,7 +398,17 @@ class ThermalPlant:
                                                      self.ambient_at(self.time_s), dt_s, speed)
             fraction = np.minimum(fraction, cap)
         self._applied_fraction = fraction
+        return fraction
+
+    def scale_efforts(self, effort: np.ndarray, fraction: np.ndarray) -> np.ndarray:
+        """Efforts whose motor share (all of it, less a series-elastic bias) is scaled by ``fraction``."""
+        effort = np.asarray(effort, dtype=float)
+        bias = self.effects.effort_bias.bias_effort if self.effects.effort_bias is not None else 0.0
         return bias + (effort - bias) * fraction
+
+    def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
+        """Efforts after thermal protection (:meth:`protection_fraction` applied by :meth:`scale_efforts`)."""
+        return self.scale_efforts(effort, self.protection_fraction(effort, velocity, dt_s))
 
     def steady_state_rise_K(self, heat_W: float, actuator: int = 0) -> float:
         """Winding rise above ambient for constant winding heat, from the network alone."""

@@ -13,7 +13,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import UsageError
+from ..util.errors import UsageError
 
 
 @dataclass(frozen=True)

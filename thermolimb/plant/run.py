@@ -7,9 +7,9 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import UsageError
 from ..logs import ThermalLog, log_from_arrays
-from ..progress import progress
+from ..util.errors import UsageError
+from ..util.progress import progress
 from .effects import PlantEffects
 from .network import ActuatorSpec, ThermalNetwork
 from .plant import ThermalPlant

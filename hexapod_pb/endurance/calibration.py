@@ -1,0 +1,56 @@
+"""The hexapod's own calibration log and the first-order models identified from it (what its planners may know)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from thermolimb.identification.bank import identify_bank
+from thermolimb.logs import ThermalLog
+from thermolimb.model import FirstOrderBank
+
+from .. import cpg
+from ..constants import JOINTS
+from ..loop import ControlLoop
+from ..params import DAISY
+from ..sim import HexapodSim, SimConfig
+from .cycle import EFFECTS, PROTECTION
+
+MIN_RISE_K = 0.5  # a joint whose log shows less mean Joule rise (five sensor steps) is not identified: prior
+WINDING_RC_S = 1.0  # an X8 winding's own time constant is 1.4 s: the fastest an identified RC may be
+
+
+def calibrate(duration_s: float, payload_kg: float = 20.0, seed: int = 0) -> tuple[FirstOrderBank, ThermalLog, float]:
+    """The robot's own log: walking then standing with ``payload_kg`` at 25 degC; Eq. 5 identified from it.
+
+    Returns the bank (JOINTS order), the log and the ambient the robot
+    measured when it started cold (its thermistors' mean first reading).
+    """
+    gait = cpg.CPGParams()
+    config = SimConfig(payload_kg=payload_kg, ambient_C=25.0)
+    with HexapodSim(config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
+        loop = ControlLoop(sim, DAISY, gait, payload_kg)
+        measured_ambient = float(np.mean(loop.reading.temperature_C))
+        n = int(round(duration_s * config.control_hz))
+        for k in range(n):
+            # walk, stand, walk, stand: efforts that change, so every walking joint is identifiable
+            loop.step("vertical_only", walking=(4 * k // n) % 2 == 0)
+        log = sim.thermal_log()
+    # joule only: the X8 has no series-elastic bias to find, and a shoulder's torque never changes sign, so an
+    # effort_bias term trades off against betaR on this log and extrapolates wildly
+    bank = identify_bank(log, JOINTS, DAISY.effort_limit_Nm, min_rc_s=WINDING_RC_S, model="joule",
+                         min_rise_K=MIN_RISE_K)
+    return bank, log, measured_ambient
+
+
+def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:
+    """The identified bank planning hours ahead at ``ambient_C``: every offset is the ambient the robot measures cold.
+
+    Fitted on minutes of log, Eq. 5's offset holds whatever the first-order
+    model could not follow -- here the housing's and body's warming, more
+    for busy joints than idle ones -- and a minimax over predicted
+    temperatures would shift load onto the joints the offsets call cool.
+    Hours ahead the offset is the ambient.
+    """
+    return replace(bank, T_offset_C=np.full(bank.n, float(ambient_C)))

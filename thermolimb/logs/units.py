@@ -1,0 +1,58 @@
+"""The units of a log's input channels, taken from the log, never assumed.
+
+A parameter's unit depends on the unit of the channel it multiplies: βR is
+in K/(N m)^2 for a torque logged in N m, in K/mA^2 for a current logged as
+effort in mA.  Each log carries the units of its ``effort``, ``velocity``,
+``current`` and ``power`` channels:
+
+* the canonical long format (``time, actuator, effort, temperature, ...``,
+  what the suite's plant writes) is in its documented units: N m, rad/s, A, W;
+* a mapped column takes the unit its header gives (``Effort [mA]``,
+  ``Power (W)``), or the one given with the mapping (``--map effort=COL:mA``)
+  or its option (``--effort-unit mA``, ``--velocity-unit rpm``);
+* otherwise the channel's unit is "unit not given", and every unit built on
+  it says so instead of guessing.
+
+Velocity given in rpm or deg/s is converted to rad/s when the log is read.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Mapping
+
+from ..model.units import CANONICAL, NOT_GIVEN, SCALED, render  # noqa: F401  (render: for the log's users)
+
+# units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's name
+KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%")
+_HEADER = re.compile(r"[\[(]\s*([^\[\]()]+?)\s*[\])]\s*$")
+
+
+def header_unit(column: str) -> str | None:
+    """The unit a column's header gives at its end (``Effort [mA]`` -> ``mA``, ``Power (W)`` -> ``W``), or ``None``."""
+    m = _HEADER.search(str(column).partition("@")[0])
+    return m.group(1) if m else None
+
+
+def split_unit(value: str) -> tuple[str, str | None]:
+    """``COLUMN:UNIT`` -> ``(COLUMN, UNIT)`` when UNIT is a known unit; otherwise the whole value is the column."""
+    column, sep, unit = str(value).rpartition(":")
+    if sep and unit.strip() in KNOWN and column:
+        return column, unit.strip()
+    return str(value), None
+
+
+def channel_units(mapping: Mapping[str, str] | None, given: Mapping[str, str | None]) -> dict[str, str]:
+    """The unit of each scaled channel: ``given`` (a mapping's ``:UNIT`` or an option), else the mapped column's
+    header, else, for a canonical log (no mapping), the canonical unit; else :data:`NOT_GIVEN`."""
+    units = {}
+    for channel in SCALED:
+        if given.get(channel):
+            units[channel] = str(given[channel])
+        elif not mapping:
+            units[channel] = CANONICAL[channel]
+        elif channel in mapping:
+            units[channel] = header_unit(mapping[channel]) or NOT_GIVEN
+        else:
+            units[channel] = NOT_GIVEN
+    return units

@@ -1,0 +1,28 @@
+"""Units of parameters that depend on the units of the channels they multiply (see :mod:`thermolimb.logs.units`).
+
+A parameter's unit is a template naming its channels, ``K/({effort})^2``;
+:func:`render` puts in the units a log gives, or says a unit was not given.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Mapping
+
+SCALED = ("effort", "velocity", "current", "power")  # the inputs parameters' units are built on
+CANONICAL = {"effort": "N m", "velocity": "rad/s", "current": "A", "power": "W"}  # the canonical log's units
+NOT_GIVEN = "unit not given"
+
+
+def render(template: str, units: Mapping[str, str] | None) -> str:
+    """A parameter's unit with its channels' units put in: ``K/({effort})^2`` -> ``K/(N m)^2``, ``K/mA^2``, or
+    ``K/(effort: unit not given)^2``."""
+    units = units or {}
+
+    def one(m: re.Match) -> str:
+        channel = m.group(1)
+        unit = units.get(channel, NOT_GIVEN)
+        return f"{channel}: {NOT_GIVEN}" if unit == NOT_GIVEN else unit
+
+    text = re.sub(r"\{(\w+)\}", one, template)
+    return re.sub(r"\(([A-Za-z%]+)\)", r"\1", text)  # K/(mA)^2 -> K/mA^2; K/(N m)^2 keeps its brackets

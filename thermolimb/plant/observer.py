@@ -1,0 +1,261 @@
+"""Estimate the winding temperature a thermistor cannot show, and the time left before it reaches its limit.
+
+A thermistor sits on the winding's outside and lags it; at high current the
+winding can be several kelvin hotter than it reads.  Firmware protects the
+winding it cannot measure with a model, and so does this module: a Kalman
+filter per actuator on its thermal network (winding, housing, body), the
+thermistor's lag, and the heat it does not know: losses growing with speed
+(``c1 |v| + c2 v^2``, iron and friction, their coefficients learned online)
+and an unknown extra heat in the winding (a random walk: a drifting ambient,
+a neighbour's heat).  The heat it knows is the measured current through the
+copper's resistance, which rises 0.39 %/K.
+
+Two ways in:
+
+* :class:`WindingObserver`, online, from current, measured temperature and
+  ambient at each control step (the plant's thermal protection runs one);
+* :func:`observe_log`, offline, from a log and an identified
+  :class:`~thermolimb.model.ThermalModel` (first order, with its sensor lag
+  if it has one): the winding estimate with its uncertainty and the time to a
+  limit at the effort of each sample.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from ..constants import COPPER_REFERENCE_C, COPPER_TEMPCO_PER_K
+from .zoh import zero_order_hold
+
+
+class WindingObserver:
+    """A Kalman filter per actuator: network nodes, the thermistor, and an unknown winding heat (W).
+
+    Parameters
+    ----------
+    specs
+        One :class:`~thermolimb.plant.ActuatorSpec` per actuator (its network and winding resistance).
+    sensor_tau_s
+        The thermistor's time constant (s), or ``None`` when it reads the winding directly.
+    initial_C
+        Every node's temperature at the start (degC), per actuator or one for all.
+    measurement_std_K
+        The thermistor's noise (1 sigma, K), quantisation included.
+    heat_walk_W
+        How fast the unknown heat may change: its standard deviation grows by this per square-root hour.
+    copper_alpha_per_K
+        The winding resistance's temperature coefficient (copper: 0.0039/K).
+    """
+
+    def __init__(self, specs: Sequence, sensor_tau_s: float | None = None, initial_C=25.0,
+                 measurement_std_K: float = 0.1, heat_walk_W: float = 100.0,
+                 copper_alpha_per_K: float = COPPER_TEMPCO_PER_K):
+        if sensor_tau_s is not None and not sensor_tau_s > 0:
+            raise ValueError(f"sensor_tau_s must be positive or None, got {sensor_tau_s}")
+        if not measurement_std_K > 0:
+            raise ValueError(f"measurement_std_K must be positive, got {measurement_std_K}")
+        self.m = len(specs)
+        self.nodes = max(s.network.n_nodes for s in specs)
+        self.sensor = self.nodes if sensor_tau_s is not None else 0  # the measured state
+        self.heat = self.nodes + (1 if sensor_tau_s is not None else 0)  # the unknown heat state (W)
+        self.speed = self.heat + 1  # two states: speed-loss coefficients, W per rad/s and W per (rad/s)^2
+        n = self.heat + 3
+        self.n = n
+        self.alpha = copper_alpha_per_K
+        self.resistance_ohm = np.array([s.winding_resistance_ohm for s in specs])
+        self.r_meas = measurement_std_K**2
+        self.q_heat = (heat_walk_W**2) / 3600.0  # W^2 per s
+        self.q_speed = np.array([0.5, 0.5]) ** 2 / 3600.0  # the loss coefficients drift slowly
+        self._A = np.zeros((self.m, n, n))
+        self._B = np.zeros((self.m, n, 2))  # inputs: known winding heat (W), ambient (degC)
+        for i, spec in enumerate(specs):
+            net = spec.network
+            k = net.n_nodes
+            A = self._A[i]
+            A[:k, :k] = net.system_matrix()
+            for pad in range(k, self.nodes):  # unused nodes of a shorter network: isolated, decaying
+                A[pad, pad] = -1.0
+            C = np.asarray(net.capacity_J_per_K)
+            A[0, self.heat] = 1.0 / C[0]
+            self._B[i, 0, 0] = 1.0 / C[0]
+            self._B[i, k - 1, 1] = 1.0 / (net.resistance_K_per_W[-1] * C[-1])
+            if sensor_tau_s is not None:
+                A[self.sensor, 0] = 1.0 / sensor_tau_s
+                A[self.sensor, self.sensor] = -1.0 / sensor_tau_s
+        self._cache: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._last_speed = (None, None)
+        self.reset(initial_C)
+
+    def reset(self, temperature_C) -> None:
+        """Every node (and the thermistor) at ``temperature_C`` (per actuator or one), no unknown heat."""
+        T = np.broadcast_to(np.asarray(temperature_C, float), (self.m,))
+        self.x = np.zeros((self.m, self.n))
+        self.x[:, : self.heat] = T[:, None]
+        self.P = np.zeros((self.m, self.n, self.n))
+        self.P[:, np.arange(self.heat), np.arange(self.heat)] = 1.0  # 1 K at the start
+        self.P[:, self.heat, self.heat] = 1.0
+        self.P[:, self.speed, self.speed] = 1.0
+        self.P[:, self.speed + 1, self.speed + 1] = 0.25
+
+    def _discrete(self, dt_s: float):
+        if dt_s not in self._cache:
+            n = self.n
+            Phi, Gam = np.empty((self.m, n, n)), np.empty((self.m, n, 2))
+            Qd = np.zeros((self.m, n, n))
+            for i in range(self.m):
+                Phi[i], Gam[i] = zero_order_hold(self._A[i], self._B[i], dt_s)
+                # the unknown heat's and the loss coefficients' random walks (first order in dt)
+                g = Phi[i][:, self.heat]
+                Qd[i] = np.outer(g, g) * self.q_heat * dt_s
+                Qd[i, self.speed, self.speed] = self.q_speed[0] * dt_s
+                Qd[i, self.speed + 1, self.speed + 1] = self.q_speed[1] * dt_s
+                Phi[i][self.speed :, self.speed :] = np.eye(2)
+            self._cache[dt_s] = (Phi, Gam, Qd)
+        return self._cache[dt_s]
+
+    def known_heat_W(self, current_A: np.ndarray) -> np.ndarray:
+        """Copper loss of the measured current at the estimated winding temperature."""
+        winding = self.x[:, 0]
+        return np.asarray(current_A, float) ** 2 * self.resistance_ohm * (
+            1.0 + self.alpha * (winding - COPPER_REFERENCE_C))
+
+    def _with_speed(self, Phi: np.ndarray, speed_rad_s) -> np.ndarray:
+        """The transition with the speed losses of this interval: unit heat's response times each feature."""
+        if speed_rad_s is None:
+            return Phi
+        v = np.abs(np.broadcast_to(np.asarray(speed_rad_s, float), (self.m,)))
+        key = (id(Phi), v.tobytes())
+        if self._last_speed[0] != key:  # the plant asks twice per interval (cap, then update)
+            out = Phi.copy()
+            g = Phi[:, : self.heat, self.heat]
+            out[:, : self.heat, self.speed] = g * v[:, None]
+            out[:, : self.heat, self.speed + 1] = g * (v**2)[:, None]
+            self._last_speed = (key, out)
+        return self._last_speed[1]
+
+    def predict(self, current_A: np.ndarray, ambient_C: float, dt_s: float,
+                speed_rad_s: np.ndarray | None = None) -> np.ndarray:
+        """Advance the estimate over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held."""
+        Phi, Gam, Qd = self._discrete(float(dt_s))
+        Phi = self._with_speed(Phi, speed_rad_s)
+        heat = self.known_heat_W(current_A)
+        self.x = (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat[:, None] + Gam[:, :, 1] * float(ambient_C)
+        self.P = Phi @ self.P @ Phi.transpose(0, 2, 1) + Qd
+        return self.winding_C
+
+    def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
+               speed_rad_s: np.ndarray | None = None) -> np.ndarray:
+        """Predict over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held, then correct with
+        the reading at its end."""
+        self.predict(current_A, ambient_C, dt_s, speed_rad_s)
+        s = self.sensor
+        column = self.P[:, :, s]
+        gain = column / (column[:, s] + self.r_meas)[:, None]
+        self.x += gain * (np.asarray(measured_C, float) - self.x[:, s])[:, None]
+        self.P -= gain[:, :, None] * column[:, None, :]  # P is symmetric: its row s is its column s
+        return self.winding_C
+
+    def current_fraction_cap(self, current_A: np.ndarray, limit_C, ambient_C: float, dt_s: float,
+                             speed_rad_s=None) -> np.ndarray:
+        """The largest share of ``current_A`` (0 to 1) that keeps the predicted winding at or below ``limit_C``
+        at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no current overshoots."""
+        Phi, Gam, _ = self._discrete(float(dt_s))
+        Phi = self._with_speed(Phi, speed_rad_s)
+        free = (Phi[:, 0, :] * self.x).sum(axis=1) + Gam[:, 0, 1] * float(ambient_C)
+        full = Gam[:, 0, 0] * self.known_heat_W(current_A)
+        room = limit_C - free
+        share = (room >= 0.0).astype(float)
+        heating = full > 0.0
+        share[heating] = np.sqrt(np.clip(room[heating] / full[heating], 0.0, 1.0))
+        return share
+
+    @property
+    def winding_C(self) -> np.ndarray:
+        return self.x[:, 0].copy()
+
+    @property
+    def winding_std_K(self) -> np.ndarray:
+        return np.sqrt(np.maximum(self.P[:, 0, 0], 0.0))
+
+    @property
+    def unknown_heat_W(self) -> np.ndarray:
+        return self.x[:, self.heat].copy()
+
+    def time_to_limit_s(self, current_A: np.ndarray, limit_C, ambient_C: float, speed_rad_s=None,
+                        horizon_s: float = 4 * 3600.0, step_s: float = 10.0) -> np.ndarray:
+        """Time until each estimated winding reaches ``limit_C`` if ``current_A``, the speed and the unknown heat
+        were held (``inf`` when not within ``horizon_s``)."""
+        limit = np.broadcast_to(np.asarray(limit_C, float), (self.m,))
+        Phi, Gam, _ = self._discrete(float(step_s))
+        Phi = self._with_speed(Phi, speed_rad_s)
+        x = self.x.copy()
+        out = np.full(self.m, np.inf)
+        out[x[:, 0] >= limit] = 0.0
+        for k in range(1, int(horizon_s / step_s) + 1):
+            heat = np.asarray(current_A, float) ** 2 * self.resistance_ohm * (
+                1.0 + self.alpha * (x[:, 0] - COPPER_REFERENCE_C))
+            u = np.stack([heat, np.full(self.m, float(ambient_C))], axis=1)
+            x = np.einsum("mij,mj->mi", Phi, x) + np.einsum("mij,mj->mi", Gam, u)
+            newly = np.isinf(out) & (x[:, 0] >= limit)
+            out[newly] = k * step_s
+            if not np.isinf(out).any():
+                break
+        return out
+
+
+@dataclass(frozen=True)
+class ObservedLog:
+    """What :func:`observe_log` returns, per sample."""
+
+    time_s: np.ndarray
+    measured_C: np.ndarray
+    winding_C: np.ndarray  # the estimate
+    winding_std_K: np.ndarray
+    time_to_limit_s: np.ndarray  # at each sample's inputs held (inf: never)
+
+
+def observe_log(series, model, limit_C: float, measurement_std_K: float = 0.1,
+                process_std_K_per_sqrt_s: float = 0.02) -> ObservedLog:
+    """The winding temperature and the time to ``limit_C`` along a logged run, from an identified model.
+
+    ``model`` is read as ``dT/dt = lam (u - T)`` (its :meth:`forcing`) with,
+    if it has ``sensor_lag``, a thermistor lagging the winding by
+    ``sensor_tau_s``; a Kalman filter corrects it with each reading.
+    """
+    s = series.signals
+    u, lam = model.forcing(s)
+    tau = model.params.get("sensor_tau_s")
+    lagged = tau is not None and tau > 0
+    n = 2 if lagged else 1
+    x = np.full(n, series.temperature_C[0])
+    P = np.eye(n)
+    q = process_std_K_per_sqrt_s**2
+    r = measurement_std_K**2
+    dt = s.dt_s
+    estimate, std = np.empty(s.n), np.empty(s.n)
+    estimate[0], std[0] = x[0], 1.0
+    transitions: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}  # (lam, dt) -> (Phi, response to u)
+    for k in range(1, s.n):
+        key = (float(lam[k - 1]), float(dt[k - 1]))
+        if key not in transitions:  # lam and dt rarely change: one matrix exponential per distinct pair
+            A = np.zeros((n, n))
+            A[0, 0] = -key[0]
+            if lagged:
+                A[1, 0], A[1, 1] = 1.0 / tau, -1.0 / tau
+            Phi, response = zero_order_hold(A, np.eye(n, 1) * key[0], key[1])
+            transitions[key] = (Phi, response[:, 0])
+        Phi, response = transitions[key]
+        x = Phi @ x + response * u[k - 1]
+        P = Phi @ P @ Phi.T + np.diag([q * key[1]] + [0.0] * (n - 1))
+        h = n - 1
+        gain = P[:, h] / (P[h, h] + r)
+        x = x + gain * (series.temperature_C[k] - x[h])
+        P = P - np.outer(gain, P[h])
+        estimate[k], std[k] = x[0], np.sqrt(max(P[0, 0], 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (limit_C - u) / (estimate - u)
+        ttl = np.where(estimate >= limit_C, 0.0, np.where((u > limit_C) & (ratio > 0), -np.log(ratio) / lam, np.inf))
+    return ObservedLog(series.time_s, series.temperature_C, estimate, std, ttl)

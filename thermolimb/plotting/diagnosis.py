@@ -1,0 +1,101 @@
+"""Diagnosis plots: where the model fails (overlay, residual, correlations), the changes tried, the walk."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..workbench.diagnosis.diagnose import Diagnosis
+from .fits import overlay, plt, save
+
+STATUS_COLOURS = {"helps": "tab:green", "does not help": "tab:blue", "implausible": "tab:red",
+                  "unidentifiable": "tab:purple", "refit failed": "0.5"}
+
+
+def plot_residuals(d: Diagnosis, path: Path) -> Path:
+    """Measured against the model's free run, the residual beneath, then its autocorrelation, phases and correlations."""
+    a = d.residuals
+    n_cross = len(a.cross)
+    rows = 3 + (n_cross + 1) // 2
+    fig = plt.figure(figsize=(11, 3.2 + 2.2 * rows))
+    grid = fig.add_gridspec(rows, 2, height_ratios=[2.2, 1.2] + [1.0] * (rows - 2))
+    top = fig.add_subplot(grid[0, :])
+    err = fig.add_subplot(grid[1, :], sharex=top)
+    overlay(d.base, top, err)
+    v = d.base.validation
+    top.set_title(f"{d.actuator}: measured temperature and the free run of model {','.join(d.model)}\n"
+                  f"validation (shaded) RMSE {v['rmse_K']:.3f} K, fit {v['fit_percent']:.1f} %; {d.base.scheme}",
+                  fontsize=10)
+    err.set_title("residual: where the model fails", fontsize=9)
+    err.set_xlabel("time (s; runs one after another)")
+    ac = fig.add_subplot(grid[2, 0])
+    ac.plot(a.autocorrelation.lags_s, a.autocorrelation.values)
+    ac.axhspan(-a.autocorrelation.band, a.autocorrelation.band, color="0.85")
+    ac.set_title("autocorrelation of the training residual (grey: white noise)", fontsize=9)
+    ac.set_xlabel("lag (s)")
+    ph = fig.add_subplot(grid[2, 1])
+    names = list(a.phase_rmse_K)
+    ph.barh(names, [a.phase_rmse_K[n] for n in names], color="tab:gray")
+    ph.set_title("where the fit is worst: training RMSE by phase (K)", fontsize=9)
+    for i, (name, c) in enumerate(a.cross.items()):
+        axc = fig.add_subplot(grid[3 + i // 2, i % 2])
+        axc.axhspan(-c.band, c.band, color="0.85")
+        axc.plot(c.lags_s, c.values, color="tab:blue", lw=0.8)
+        outside = np.abs(np.asarray(c.values)) > c.band
+        axc.plot(np.asarray(c.lags_s)[outside], np.asarray(c.values)[outside], ".", color="tab:red", ms=2)
+        axc.set_title(f"residual vs {name}: cross-correlation (red: lags outside Bartlett's band)", fontsize=9)
+        axc.set_xlabel("lag (s)")
+    fig.tight_layout()
+    return save(fig, path)
+
+
+def plot_candidates(d: Diagnosis, path: Path) -> Path:
+    """Held-out gain of every refitted change, coloured by its status; the others listed with why."""
+    refitted = [c for c in d.candidates if c.refitted]
+    others = [c for c in d.candidates if not c.refitted]
+    fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
+    labels = [c.label for c in refitted][::-1]
+    gains = [100 * c.improvement for c in refitted][::-1]
+    colours = [STATUS_COLOURS.get(c.status, "tab:blue") for c in refitted][::-1]
+    ax.barh(labels, gains, color=colours)
+    for y, c in enumerate(refitted[::-1]):
+        mark = "  ← recommended" if c is d.recommended else ""
+        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}", va="center", fontsize=8)
+    ax.axvline(0, color="k", lw=0.8)
+    ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
+    lo, hi = ax.get_xlim()
+    ax.set_xlim(lo, hi + 0.4 * (hi - lo))  # room for the labels right of the bars
+    ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
+    ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
+                 f"{d.recommended.label if d.recommended else 'none'}", fontsize=10)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
+    ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
+              fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    if others:
+        text = "\n".join(f"{c.label}: {c.status}" + (f" ({c.confounded.split(':')[0]})" if c.confounded else
+                                                     f" (score test p = {c.p_value:.2g})") for c in others)
+        fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
+    return save(fig, path)
+
+
+def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    rmse = [s["rmse_K"] for s in steps]
+    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") for s in steps[1:]]
+    ax.bar(np.arange(len(rmse)), rmse, color=["tab:red" if s["flags"] else "tab:blue" for s in steps])
+    for i, v in enumerate(rmse):
+        ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
+    ax.set_xticks(np.arange(len(rmse)), labels, rotation=15, fontsize=8)
+    ax.set_ylabel("validation RMSE (K)")
+    ax.set_title(f"{actuator}: validation error at each step of the search (red: fitted values flagged)", fontsize=10)
+    return save(fig, path)
+
+
+def plot_diagnosis(d: Diagnosis, folder: Path, stem: str) -> list[Path]:
+    """Every diagnosis plot of one actuator into ``folder``: residuals, candidates, and the waterfall if any."""
+    folder = Path(folder)
+    paths = [plot_residuals(d, folder / f"residuals_{stem}.png"), plot_candidates(d, folder / f"candidates_{stem}.png")]
+    if d.auto:
+        paths.append(plot_waterfall(d.auto, d.actuator, folder / f"waterfall_{stem}.png"))
+    return paths

@@ -1,0 +1,110 @@
+"""Plots written by the command line and the demos (Matplotlib, no screen needed)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from ..model.units import NOT_GIVEN  # noqa: E402
+from ..util.atomic import atomic_path  # noqa: E402
+from ..workbench.validation import FitReport  # noqa: E402
+
+
+def save(fig, path: Path) -> Path:
+    """Write a figure whole (to a temporary name first) and close it."""
+    path = Path(path)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", format=path.suffix.lstrip(".") or "png")
+    finally:
+        plt.close(fig)
+    return path
+
+
+def _offsets(segments) -> dict[str, float]:
+    """Time shift per run, so that runs that each start at 0 s are drawn one after another."""
+    offsets, end = {}, None
+    for seg in segments:
+        if seg.run in offsets:
+            continue
+        start = float(seg.time_s[0])
+        shift = 0.0 if end is None or start > end else end - start + 0.02 * max(end, 1.0)
+        offsets[seg.run] = shift
+        end = max(end or -float("inf"), float(seg.time_s[-1]) + shift)
+    return offsets
+
+
+def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) -> None:
+    """Measured temperature and the model's free run, validation shaded; the error and effort beneath if given."""
+    segments = list(report.train_segments) + list(report.validation_segments)
+    shift = _offsets(sorted(segments, key=lambda s: (s.run, float(s.time_s[0]))))
+    for part, color, segs in (("training", "tab:blue", report.train_segments),
+                              ("validation", "tab:orange", report.validation_segments)):
+        for i, seg in enumerate(segs):
+            t = seg.time_s + shift[seg.run]
+            ax_temperature.plot(t, seg.measured_C, color="0.2", lw=1, label="measured" if part == "training" and i == 0
+                                else None)
+            ax_temperature.plot(t, seg.simulated_C, color=color, lw=1.2,
+                                label=f"model free run, {part}" if i == 0 else None)
+            if part == "validation":
+                for ax in (ax_temperature, ax_error, ax_effort):
+                    if ax is not None:
+                        ax.axvspan(t[0], t[-1], color="tab:orange", alpha=0.08, lw=0)
+            if ax_error is not None:
+                ax_error.plot(t, seg.measured_C - seg.simulated_C, color=color, lw=0.8)
+            if ax_effort is not None:
+                ax_effort.plot(t, seg.effort, color="0.4", lw=0.6)
+    ax_temperature.set_ylabel("temperature (°C)")
+    ax_temperature.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8, frameon=False)  # off the data
+    if ax_error is not None:
+        ax_error.axhline(0, color="k", lw=0.5)
+        ax_error.set_ylabel("measured − model (K)")
+    if report.flags:  # under the figure, off the data (the saved figure grows to hold them)
+        import textwrap
+
+        lines = [textwrap.fill("! " + f, 160) for f in report.flags]
+        ax_temperature.figure.text(0.01, 0.0, "\n".join(lines), fontsize=7, color="tab:red", va="top")
+
+
+def effort_unit(report: FitReport) -> str:
+    """The effort's unit as the log gives it, for an axis label (``N m``, ``mA``, or ``unit not given``)."""
+    return report.channel_units.get("effort", NOT_GIVEN)
+
+
+def plot_fit(report: FitReport, path: Path) -> Path:
+    """Measured and simulated temperature over training and validation (shaded), their error, and effort."""
+    fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True, height_ratios=[3, 1.4, 1.4])
+    overlay(report, axes[0], axes[1], axes[2])
+    v = report.validation
+    axes[0].set_title(
+        f"{report.actuator}: model {','.join(report.model.terms)} ({report.method}); validation (shaded) "
+        f"RMSE {v['rmse_K']:.2f} K, max {v['max_abs_K']:.2f} K, fit {v['fit_percent']:.1f} %\n{report.scheme}",
+        fontsize=10)
+    axes[2].set_ylabel(f"effort ({effort_unit(report)})")
+    axes[2].set_xlabel("time (s; runs one after another)")
+    return save(fig, path)
+
+
+def plot_comparison(results, actuator: str, path: Path) -> Path:
+    """Measured temperature and each model's free run on held-out data, residuals below (``results``: reports
+    with their information criteria, as :func:`~thermolimb.workbench.compare.compare_models` returns them)."""
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 6), sharex=True, height_ratios=[2, 1])
+    first = results[0][0]
+    for seg in first.validation_segments:
+        top.plot(seg.time_s, seg.measured_C, color="k", lw=1)
+    for report, _ in results:
+        label = ",".join(report.model.terms)
+        for i, seg in enumerate(report.validation_segments):
+            line, = top.plot(seg.time_s, seg.simulated_C, lw=1, label=label if i == 0 else None)
+            bottom.plot(seg.time_s, seg.measured_C - seg.simulated_C, lw=0.8, color=line.get_color())
+    top.set_title(f"{actuator}: measured (black) and each model's free run on held-out data")
+    top.set_ylabel("temperature (°C)")
+    top.legend(fontsize=8)
+    bottom.axhline(0, color="k", lw=0.5)
+    bottom.set_ylabel("measured − model (K)")
+    bottom.set_xlabel("time (s)")
+    return save(fig, path)

@@ -1,0 +1,358 @@
+"""Changes to the model worth trying on a log: add an effect, drop a term, swap a heat source.
+
+Quick score (a Lagrange-multiplier test) for an added effect.  Adding effect
+``c`` to the fitted model at its null value (effect absent) changes the
+free-run simulation, to first order, by ``S_c dtheta_c`` where ``S_c`` is the
+sensitivity of the simulated temperature to ``c``'s parameters -- the effect's
+signature passed through the thermal lag.  Part of that signature the current
+parameters can already produce (``J``, the Jacobian of the fitted model); what
+is left, ``S_c_perp = (I - J J^+) S_c``, is what only ``c`` can explain.  The
+share of the residual it explains is a partial ``R^2``; ``n_eff R^2`` is the
+score statistic, chi-squared with one degree of freedom per parameter, where
+``n_eff`` discounts the serial correlation of the residual left once the
+candidate has explained its share.  When nothing is left (``S_c_perp ~ 0``)
+the effect is *confounded* on this log with what the model already has (speed
+losses at constant speed look like an offset) and is named so, not refitted.
+
+Time scales.  An effect's time constants (parameters in seconds: a second
+mass, a sensor lag) are scanned over the time scales the log can show, from a
+few samples to half its length; the score keeps the best, and the refit starts
+from the best few of them.
+
+Refit.  Each candidate worth it is then fitted for real (output error) and
+validated on held-out data like the base model: validation RMSE, improvement,
+``delta_bic`` on the training residual, fitted values with uncertainty,
+plausibility, identifiability and, when the refit fails, why.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...identification.metrics import ar1_variance_factor, information_criteria
+from ...logs import ActuatorSeries
+from ...model.model import ThermalModel, model_parameters
+from ...model.terms import TERMS
+
+SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
+MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
+# a term goes when held-out data rejects it by this much, whatever the training fit says (it extrapolates badly)
+DROP_IMPROVEMENT = 0.05
+MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence on the training part)
+CONFOUNDED_FRACTION = 1e-3  # a signature with less than this share of its own is confounded
+COLLINEAR = 0.999  # heat sources whose regressors correlate at least this much cannot be told apart
+TIME_SCALES = 5  # points of the time-scale scan
+REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time scales
+WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this level
+
+
+@dataclass
+class Candidate:
+    """One change to the model tried on this log.
+
+    ``kind`` is ``"add"`` (``effect`` joins the model), ``"drop"`` (``effect``
+    leaves it) or ``"swap"`` (``effect`` replaces the heat source ``replaces``).
+    """
+
+    effect: str
+    model: tuple[str, ...]
+    kind: str = "add"
+    replaces: str | None = None
+    also_drops: tuple[str, ...] = ()  # a swap that also removes the terms built on the old heat source
+    score: float = 0.0
+    p_value: float = 1.0
+    partial_r2: float = 0.0
+    rmse_K: float | None = None
+    fit_percent: float | None = None
+    improvement: float | None = None
+    delta_bic: float | None = None
+    params: dict = field(default_factory=dict)
+    identifiable: bool | None = None
+    plausible: bool | None = None
+    implausible_because: str | None = None
+    confounded: str | None = None
+    failure: str | None = None
+    flags: list[str] = field(default_factory=list)
+    evidence: str = ""
+    report: object = field(default=None, repr=False)
+    starts: list[dict] = field(default_factory=list, repr=False)  # where refits start
+
+    @property
+    def label(self) -> str:
+        if self.kind == "drop":
+            return f"- {self.effect}"
+        if self.kind == "swap":
+            return f"{self.effect} for {','.join((self.replaces,) + self.also_drops)}"
+        return f"+ {self.effect}"
+
+    @property
+    def refitted(self) -> bool:
+        return self.rmse_K is not None
+
+    @property
+    def helps(self) -> bool:
+        """Held-out error and the information criterion both favour the change (see :func:`judge`)."""
+        if not self.refitted:
+            return False
+        if self.kind == "drop":
+            # a term that extrapolates badly, or one the data does not need: simpler and no worse
+            return self.improvement >= DROP_IMPROVEMENT or (self.improvement >= 0.0 and self.delta_bic < 0.0)
+        return self.improvement >= MIN_IMPROVEMENT and self.delta_bic <= MAX_DELTA_BIC
+
+    @property
+    def eligible(self) -> bool:
+        """It helps, and is physically plausible, identifiable, not confounded, and its refit did not fail."""
+        return (self.helps and self.confounded is None and self.failure is None
+                and self.plausible is not False and self.identifiable is not False)
+
+    @property
+    def status(self) -> str:
+        """One word for tables and plots."""
+        if self.confounded:
+            return "confounded"
+        if not self.refitted:
+            return "not refitted" if self.failure is None else "refit failed"
+        if self.failure:
+            return "refit failed"
+        if self.plausible is False:
+            return "implausible"
+        if self.identifiable is False:
+            return "unidentifiable"
+        return "helps" if self.helps else "does not help"
+
+    def to_json(self) -> dict:
+        out = {
+            "effect": self.effect, "kind": self.kind, "label": self.label, "rmse_K": self.rmse_K,
+            "fit_percent": self.fit_percent, "improvement": self.improvement, "delta_bic": self.delta_bic,
+            "params": self.params, "identifiable": self.identifiable, "plausible": self.plausible,
+            "implausible_because": self.implausible_because, "confounded": self.confounded,
+            "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
+            "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
+        }
+        if self.replaces:
+            out["replaces"] = self.replaces
+            out["also_drops"] = list(self.also_drops)
+        return out
+
+
+def _has_columns(term, series: ActuatorSeries) -> bool:
+    return all(series.signals.has(c) for c in term.columns)
+
+
+def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Candidate]:
+    """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
+    out = []
+    for name, term in TERMS.items():
+        if name not in model and _has_columns(term, series) and all(r in model for r in term.requires):
+            out.append(Candidate(name, model + (name,)))
+    sources = [n for n in model if TERMS[n].is_heat_source]
+    for name in model:
+        rest = tuple(t for t in model if t != name)
+        needed = any(name in TERMS[t].requires for t in rest)
+        if any(TERMS[t].is_heat_source for t in rest) and not needed:
+            out.append(Candidate(name, rest, kind="drop"))
+    for old in sources:
+        for new, term in TERMS.items():
+            if term.is_heat_source and new not in model and _has_columns(term, series):
+                swapped = tuple(new if t == old else t for t in model)
+                out.append(Candidate(new, swapped, kind="swap", replaces=old))
+                # the simplest form: also without the terms that only read effort, which the old source used
+                extra = tuple(t for t in model if t not in sources and "effort" in TERMS[t].columns
+                              and "effort" not in term.columns)
+                if extra:
+                    out.append(Candidate(new, tuple(t for t in swapped if t not in extra), kind="swap",
+                                         replaces=old, also_drops=extra))
+    return out
+
+
+def simulate_all(model: ThermalModel, series: list[ActuatorSeries]) -> np.ndarray:
+    return np.concatenate([model.free_run(s) for s in series])
+
+
+def time_scales_s(series: list[ActuatorSeries]) -> np.ndarray:
+    """Time constants a log can show: from three sampling intervals to half its length, log-spaced."""
+    dt = min(s.median_dt_s for s in series)
+    duration = max(s.duration_s for s in series)
+    lo, hi = 3.0 * dt, max(0.5 * duration, 6.0 * dt)
+    return np.geomspace(lo, hi, TIME_SCALES)
+
+
+def _grid(term, series) -> list[dict]:
+    """Values of the term's nuisance parameters to scan: time scales for times, multiples of typical otherwise."""
+    nuisance = [p for p in term.parameters if p.nuisance]
+    if not nuisance:
+        return [{}]
+    scales = time_scales_s(series)
+    out = []
+    for k in range(TIME_SCALES):
+        point = {}
+        for p in nuisance:
+            value = scales[k] if p.unit == "s" else p.typical * (0.1, 0.3, 1.0, 3.0, 10.0)[k]
+            point[p.name] = float(np.clip(value, p.lower, p.upper))
+        out.append(point)
+    return out
+
+
+def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None:
+    """Why a swapped heat source cannot be told from the one it replaces on this log, or ``None``."""
+    a, b = TERMS[cand.replaces](), TERMS[cand.effect]()
+    xa = np.concatenate([np.ravel(a.features(s.signals, s.temperature_C)) for s in series])
+    xb = np.concatenate([np.ravel(b.features(s.signals, s.temperature_C)) for s in series])
+    if np.ptp(xa) == 0 or np.ptp(xb) == 0:
+        return None
+    r = float(np.corrcoef(xa, xb)[0, 1])
+    if abs(r) >= COLLINEAR:
+        return (f"{cand.effect} and {cand.replaces} move together on this log (correlation {r:.4f}): it cannot tell "
+                f"them apart; a log where they differ (e.g. current without torque) would")
+    return None
+
+
+def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray,
+                    residual: np.ndarray) -> None:
+    """Fill ``score``, ``p_value``, ``partial_r2``, ``starts`` and ``confounded`` of an added effect.
+
+    Parameters that only mean something once the effect is present
+    (``nuisance``, e.g. a second mass's time constant) are scanned and the
+    largest score is kept (a sup-score test); the best points start the refits.
+    Drops and swaps are not scored: they are always refitted (a swap unless confounded).
+    """
+    if cand.kind in ("drop", "swap"):
+        # from what the base fit left, and afresh (the base may sit where the old terms did the work)
+        keep = {p.name for p in model_parameters(cand.model)}
+        cand.starts = [{k: v for k, v in base.params.items() if k in keep}, {}]
+        cand.p_value = 0.0
+        if cand.kind == "swap":
+            cand.confounded = confounded_swap(cand, train)
+        return
+    term = TERMS[cand.effect]
+    scored = []
+    own_share = float("nan")
+    for fixed in _grid(term, train):
+        score, p_value, r2, step, share, partner = _score_at(cand, term, base, train, jacobian, residual, fixed)
+        own_share = np.fmax(own_share, share)
+        scored.append((score, p_value, r2, {**dict(base.params), **step, **fixed}, partner))
+    scored.sort(key=lambda x: (x[4] is None, -x[0]))
+    cand.score, cand.p_value, cand.partial_r2 = scored[0][0], scored[0][1], scored[0][2]
+    cand.starts = [s[3] for s in scored[:REFIT_STARTS]]
+    cand.starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
+    # times that are not nuisance (a sensor lag) start from the log's time scales too
+    times = [p for p in term.parameters if p.unit == "s" and not p.nuisance]
+    for scale in time_scales_s(train)[1:4:2] if times else ():
+        cand.starts.append({**dict(base.params), **{p.name: float(np.clip(scale, p.lower, p.upper)) for p in times}})
+    if not np.isfinite(own_share) or scored[0][4] is None:
+        cand.confounded = (f"{cand.effect} makes no difference on this log: it needs "
+                           f"{term.parameters[0].excitation}")
+    elif own_share < CONFOUNDED_FRACTION:
+        cand.confounded = (f"on this log {cand.effect} changes the simulation only as {scored[0][4]} already does "
+                           f"({100 * own_share:.2g} % of its signature is its own): a log where "
+                           f"{term.parameters[0].excitation} would tell them apart")
+
+
+def _score_at(cand, term, base, train, jacobian, residual, fixed):
+    values = dict(base.params)
+    values.update({p.name: p.null for p in term.parameters})
+    values.update(fixed)
+    extended = ThermalModel(cand.model, values)
+    at_null = simulate_all(extended, train)
+    primary = [p for p in term.parameters if not p.nuisance]
+    columns = []
+    for p in primary:
+        step = 0.05 * abs(p.typical) if p.typical else 1e-3
+        step = step if p.null + step <= p.upper else -step
+        moved = extended.with_params({**extended.params, p.name: p.null + step})
+        columns.append((simulate_all(moved, train) - at_null) / step)
+    S = np.column_stack(columns)
+    coef, *_ = np.linalg.lstsq(jacobian, S, rcond=None)
+    S_perp = S - jacobian @ coef
+    size = np.linalg.norm(S)
+    if not size > 1e-12 * max(np.linalg.norm(jacobian), 1.0):
+        return 0.0, 1.0, 0.0, {p.name: p.null for p in primary}, float("nan"), None
+    share = float(np.linalg.norm(S_perp) / size)
+    names = [p.name for p in base.parameters]
+    partner = names[int(np.argmax(np.abs(coef).sum(axis=1) * np.linalg.norm(jacobian, axis=0)))]
+    null_step = {p.name: p.null for p in primary}
+    if not np.any(np.abs(S_perp) > 0) or residual @ residual == 0:
+        return 0.0, 1.0, 0.0, null_step, share, partner
+    beta, *_ = np.linalg.lstsq(S_perp, residual, rcond=None)
+    explained = S_perp @ beta
+    r2 = float(explained @ explained / (residual @ residual))
+    # serial correlation of what is left once the candidate explains its share: under the
+    # alternative the left-over is the noise whose correlation discounts the sample count
+    n_eff = residual.size / ar1_variance_factor(residual - explained)
+    score = n_eff * r2
+    # a Gauss-Newton step from the null, clipped into the bounds, starts the refit
+    step = {p.name: float(np.clip(p.null + b, p.lower, p.upper)) for p, b in zip(primary, beta)}
+    return score, float(_chi2().sf(score, S.shape[1])), r2, step, share, partner
+
+
+def bic(residual: np.ndarray, n_params: int) -> float:
+    """BIC on the training residual; it overstates evidence for correlated residuals, which is why a
+    recommendation also needs a held-out improvement."""
+    return information_criteria(residual, n_params)["bic"]
+
+
+def _chi2():
+    from scipy.stats import chi2  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
+
+    return chi2
+
+
+def judge(cand: Candidate, report, base_rmse: float, base_bic: float) -> None:
+    """Fill the refit results of a candidate from its :class:`~thermolimb.workbench.validation.FitReport`."""
+    cand.report = report
+    cand.rmse_K = report.validation["rmse_K"]
+    cand.fit_percent = report.validation["fit_percent"]
+    cand.improvement = 1.0 - cand.rmse_K / base_rmse if base_rmse > 0 else 0.0
+    cand.delta_bic = bic(report.train_residual_K, len(report.model.params)) - base_bic
+    cand.flags = list(report.flags)
+    if cand.kind == "drop":
+        cand.identifiable = cand.plausible = True
+        return
+    term = TERMS[cand.effect]
+    params = report.model.params
+    cand.implausible_because = term().implausible(params)
+    for p in term.parameters:
+        cand.params[p.name] = {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
+    identifiable = term_identified(term, report)
+    cand.identifiable = identifiable
+    cand.plausible = cand.implausible_because is None
+    cand.failure = refit_failure(term, params)
+
+
+
+def term_identified(term, report) -> bool:
+    """Whether the log determines the term: its size parameters are jointly non-zero (a Wald test on their
+    covariance, so that two parameters that trade off against each other still count as one effect) and
+    none of them sits on a bound."""
+    names = [p.name for p in report.model.parameters]
+    primary = [p for p in term.parameters if not p.nuisance]
+    if not primary:
+        return True
+    idx = [names.index(p.name) for p in primary]
+    theta = np.array([report.model.params[p.name] - p.null for p in primary])
+    cov = np.asarray(report.estimator.covariance_)[np.ix_(idx, idx)]
+    if not np.all(np.isfinite(cov)):
+        return False
+    for p in primary:
+        span = p.upper - p.lower if np.isfinite(p.upper - p.lower) else max(abs(report.model.params[p.name]), 1.0)
+        value = report.model.params[p.name]
+        if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
+            return False
+    wald = float(theta @ np.linalg.pinv(cov) @ theta)
+    return wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary))
+
+
+def refit_failure(term, params) -> str | None:
+    """Why a refit did not find the effect: its size collapsed to the null, or a time constant ran to a bound."""
+    primary = [p for p in term.parameters if not p.nuisance]
+    if primary and all(abs(params[p.name] - p.null) <= 1e-6 * max(abs(p.typical), 1e-12) for p in primary):
+        names = ", ".join(f"{p.name} = {p.null:g}" for p in primary)
+        return f"collapsed to {names}: the refit found no such effect"
+    for p in term.parameters:
+        if p.unit == "s":
+            for bound in (p.lower, p.upper):
+                if np.isfinite(bound) and abs(params[p.name] - bound) <= 1e-3 * max(abs(bound), 1.0):
+                    return f"{p.name} ran to its bound {bound:g} s: the log does not show this time scale"
+    return None

@@ -1,0 +1,213 @@
+"""Diagnose a model against a log: residual analysis, ranked changes, a recommendation.
+
+``diagnose(series, model)`` fits the model once (output error, validated by
+the chosen :class:`~thermolimb.workbench.validation.Scheme`), analyses its residual,
+scores every catalog effect the model lacks, refits the changes worth trying
+-- added effects, dropped terms, swapped heat sources -- and recommends the
+one that helps most on held-out data, or none.  A change is recommended only
+if it is plausible, identifiable, not confounded and its refit did not fail;
+candidates are listed best held-out gain first, eligible ones before the rest,
+so the first row is the recommendation when there is one.
+
+``auto_diagnose`` walks from the start model: at each step it takes the
+recommended change (add, drop or swap), never returning to a model it has
+already visited, until nothing helps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+from ...identification import IdentifiabilityError, OutputError
+from ...logs import ActuatorSeries
+from ...model.model import model_parameters
+from ...model.terms import TERMS, parse_model
+from ...util.progress import progress
+from ..validation import FitReport, Scheme, evaluate
+from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
+from .evidence import describe
+from .residuals import ResidualAnalysis, analyse_residuals
+
+ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
+REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
+SCREEN_EVALUATIONS = 2  # simulations per parameter to screen a refit's starts
+
+
+@dataclass
+class Diagnosis:
+    actuator: str
+    model: tuple[str, ...]
+    base: FitReport
+    base_bic: float
+    residuals: ResidualAnalysis
+    candidates: list[Candidate]
+    recommended: Candidate | None
+    auto: list[dict] | None = field(default=None)
+    notes: tuple[str, ...] = ()
+
+    def to_json(self) -> dict:
+        out = {
+            "actuator": self.actuator,
+            "model": list(self.model),
+            "validation_scheme": self.base.scheme,
+            "base": {**self.base.validation, "bic": self.base_bic},
+            "base_params": self.base.to_json()["params"],
+            "flags": list(self.base.flags),
+            "candidates": [c.to_json() for c in self.candidates],
+            "recommended": None if self.recommended is None else self.recommended.effect,
+            "recommended_change": None if self.recommended is None else self.recommended.label,
+            "recommended_model": None if self.recommended is None else list(self.recommended.model),
+            "residuals": self.residuals.to_json(),
+            "notes": list(self.notes),
+        }
+        if self.auto is not None:
+            out["auto"] = self.auto
+        return out
+
+
+def _evaluate(series, model, scheme, validate_on, initial=None) -> FitReport:
+    def make():
+        return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
+
+    return evaluate(series, model, scheme, make=make, validate_on=validate_on)
+
+
+def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
+             refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
+             validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
+             skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset(),
+             base: FitReport | None = None) -> Diagnosis:
+    """Fit ``model``, analyse its residual, rank the changes worth making.
+
+    Held-out errors come from ``scheme`` (default: the ``split`` rule, or
+    with ``cv=K`` blocked cross-validation), or from the runs ``validate_on``.
+    ``refit="strong"`` refits additions whose score test has p < 0.01 and the
+    three that explain most of the residual, and every drop and swap;
+    ``"all"`` refits every candidate.  ``initial`` starts the base fit;
+    candidates whose label is in ``skip`` (confounded before) are not tried.
+    ``base``: ``model`` already fitted and validated by this scheme (a refitted
+    candidate's report, as ``auto_diagnose`` passes on), used as it is.
+    """
+    model = parse_model(model)
+    series = list(series)
+    scheme = scheme or Scheme(split=split, folds=cv)
+    if base is None:
+        base, model, notes = _identifiable_base(series, model, scheme, validate_on, initial)
+    else:
+        notes = ()
+    train = list(base.train_series)
+    residual = base.train_residual_K
+    base_bic = bic(residual, len(base.model.params))
+    first = base.train_segments[0]
+    analysis = analyse_residuals(train[0], first.simulated_C)
+
+    candidates = [c for c in candidate_models(model, series[0])
+                  if c.label not in skip and frozenset(c.model) not in visited]
+    for cand in candidates:
+        score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
+    adds = [c for c in candidates if c.kind == "add" and c.confounded is None]
+    top = {id(c) for c in sorted(adds, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
+    to_refit = [c for c in candidates if c.confounded is None and
+                (refit == "all" or c.kind != "add" or c.p_value < SCORE_P_VALUE or id(c) in top)]
+    for cand in progress(to_refit, desc="refits", disable=quiet):
+        _refit(cand, series, scheme, validate_on, base, base_bic)
+    for cand in candidates:
+        if not cand.evidence:
+            cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
+    candidates.sort(key=_rank)
+    recommended = candidates[0] if candidates and candidates[0].eligible else None
+    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, notes=notes)
+
+
+def _identifiable_base(series, model, scheme, validate_on, initial):
+    """Fit ``model``; a term this log cannot identify is set aside (said in the notes) and the rest fitted.
+
+    Refuses (re-raises) when what cannot be identified is the time constant, the offset or the only heat source.
+    """
+    notes = []
+    while True:
+        try:
+            return _evaluate(series, model, scheme, validate_on, initial), model, tuple(notes)
+        except IdentifiabilityError as exc:
+            term = next((t for t in model if any(p.name == exc.parameter for p in TERMS[t].parameters)), None)
+            rest = tuple(t for t in model if t != term)
+            if term is None or not any(TERMS[t].is_heat_source for t in rest):
+                raise
+            notes.append(f"{term} set aside, this log cannot identify it: {exc}")
+            model = rest
+
+
+def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
+    """Screen the starts by a short fit on the training data, refit from the best, judge it on held-out data."""
+    keep = {p.name for p in model_parameters(cand.model)}
+    starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
+    errors = []
+    if len(starts) > 1:
+        screened = []
+        for start in starts:
+            try:
+                est = OutputError(model=cand.model, initial=start, max_nfev=SCREEN_EVALUATIONS)
+                est.fit(list(base.train_series))
+                screened.append((float(est.optimizer_result_.cost), est.params_))
+            except IdentifiabilityError as exc:
+                errors.append(str(exc))
+        starts = [min(screened, key=lambda x: x[0])[1]] if screened else []
+    try:
+        report = _evaluate(series, cand.model, scheme, validate_on, starts[0]) if starts else None
+    except IdentifiabilityError as exc:
+        errors.append(str(exc))
+        report = None
+    if report is None:
+        cand.identifiable = False
+        cand.failure = f"not identifiable from this log: {errors[0]}"
+        return
+    judge(cand, report, base.validation["rmse_K"], base_bic)
+
+
+def _rank(c: Candidate):
+    """Eligible changes by held-out gain, then the other refitted ones by gain, confounded, then the rest by score."""
+    if c.refitted:
+        return (0 if c.eligible else 1, -c.improvement, 0.0)
+    return (2 if c.confounded is None else 3, 0.0, -c.score)
+
+
+def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
+                  max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
+                  validate_on: Sequence[ActuatorSeries] = ()) -> tuple[Diagnosis, list[Diagnosis]]:
+    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
+
+    The first diagnosis carries the walk in ``auto``: per step the model, its
+    validation error, and the change that led to it with the reason.
+    """
+    scheme = scheme or Scheme(split=split, folds=cv)
+    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on)]
+    visited = {frozenset(steps[0].model)}
+    confounded: set[str] = set()
+    moves: list[Candidate] = []
+    while len(steps) <= max_steps:
+        d = steps[-1]
+        confounded |= {c.label for c in d.candidates if c.confounded}
+        move = next((c for c in d.candidates if c.eligible and frozenset(c.model) not in visited), None)
+        if move is None:
+            break
+        visited.add(frozenset(move.model))
+        moves.append(move)
+        steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
+                              skip=frozenset(confounded), visited=frozenset(visited), base=move.report))
+    waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
+                 for k, d in enumerate(steps)]
+    first = steps[0]
+    first.auto = waterfall
+    return first, steps
+
+
+def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:
+    out = {"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
+           "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags)}
+    if move is not None:
+        b = before.base.validation["rmse_K"]
+        out["change"] = move.label
+        out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
+                      f"BIC {move.delta_bic:+.1f}")
+    return out

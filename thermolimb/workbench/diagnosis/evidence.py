@@ -1,0 +1,68 @@
+"""One sentence per candidate on what in the data points to it (or does not)."""
+
+from __future__ import annotations
+
+from ...model.terms import TERMS
+from .candidates import Candidate
+from .residuals import ResidualAnalysis
+
+# Which residual cross-correlation speaks for which effect; user effects use their first column.
+CHANNEL = {"joule": "effort^2", "effort_bias": "effort", "speed_losses": "|velocity|",
+           "motion_cooling": "|velocity|", "current_heating": "current^2", "ambient_variation": "ambient",
+           "power_heating": "power", "housing_boundary": "housing temperature"}
+PHASE_EFFECTS = ("winding_tempco", "second_node", "sensor_lag")
+COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "current^2", "ambient": "ambient",
+                  "power": "power", "housing": "housing temperature"}
+
+
+def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
+    if effect in CHANNEL:
+        return CHANNEL[effect] if CHANNEL[effect] in analysis.cross else None
+    if effect == "neighbor_coupling":
+        return next((k for k in analysis.cross if k.startswith("temperature of")), None)
+    for column in TERMS[effect].columns:
+        if COLUMN_CHANNEL.get(column) in analysis.cross:
+            return COLUMN_CHANNEL[column]
+    return None
+
+
+def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
+    if c.confounded:
+        return f"confounded: {c.confounded}."
+    parts = []
+    ph = analysis.phase_rmse_K
+    # effects whose signature is in time or temperature, not in an input channel (their terms scale the effort,
+    # so the effort's correlation would say nothing about them)
+    channel = _channel(c.effect, analysis) if c.kind != "drop" and c.effect not in PHASE_EFFECTS else None
+    if channel:
+        corr = analysis.cross[channel]
+        lag, value = corr.peak
+        word = "correlates" if corr.significant else "does not correlate significantly"
+        parts.append(f"the residual {word} with {channel} (peak {value:+.2f} at lag {lag:.0f} s, band ±{corr.band:.2f})")
+    elif c.effect == "winding_tempco" and "hot" in ph and "cool" in ph:
+        parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
+                     f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
+    elif c.effect in ("second_node", "sensor_lag"):
+        slow = analysis.autocorrelation.values[-1]
+        what = "a slow drift" if c.effect == "second_node" else "errors at heating and cooling onsets"
+        parts.append(f"looking for {what}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
+                     f"RMSE {ph.get('heating', float('nan')):.2f} K heating vs {ph.get('cool', float('nan')):.2f} K cool")
+    if c.kind == "drop":
+        parts.append(f"without {c.effect}")
+    elif c.kind == "swap":
+        parts.append(f"replacing {c.replaces} by {c.effect}")
+    else:
+        parts.append(f"score test p = {c.p_value:.2g}")
+    if c.failure:
+        parts.append(f"refit failed: {c.failure}")
+    elif c.refitted:
+        parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
+        if c.kind == "drop" and c.helps:
+            parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
+                         else "the term extrapolated badly beyond the training data")
+        if c.plausible is False:
+            parts.append(f"it fits, but is physically implausible ({c.implausible_because}): it stands in for "
+                         f"something else")
+        if c.identifiable is False:
+            parts.append("but this log does not pin its value down")
+    return "; ".join(parts) + "."

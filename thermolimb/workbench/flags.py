@@ -1,0 +1,89 @@
+"""Warnings about fitted values a user should not trust as physics.
+
+A parameter pinned at a bound or vanishing (``betaR -> 0``: the log shows no
+such heating), an offset far from any temperature the log supports, a time
+constant the log is too short or too coarse to show.  Each flag is one
+sentence; ``fit``, ``compare`` and ``diagnose`` print them, put them in their
+JSON and on their plots.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ..logs import ActuatorSeries
+from ..model.model import ThermalModel
+
+OFFSET_MARGIN_K = 10.0  # an offset further than this (or half the logged range) from the reference is flagged
+LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many log durations is extrapolated
+SHORT_TIME_CONSTANT = 0.5  # ... or shorter than this many sampling intervals is not seen
+MAX_RELATIVE_STDERR = 0.5  # a value known to worse than half of itself is flagged
+# terms after which T_offset is no longer an ambient temperature
+OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")
+
+
+def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries]) -> list[str]:
+    """One sentence per fitted value that looks like an artefact of the log rather than physics."""
+    flags = []
+    units = series[0].units if series else {}
+    duration = max(s.duration_s for s in series)
+    dt = min(s.median_dt_s for s in series)
+    for p in model.parameters:
+        v = model.params[p.name]
+        scale = abs(p.typical) if p.typical else 1.0
+        if p.unit == "s":
+            if v > LONG_TIME_CONSTANT * duration:
+                flags.append(f"{p.name} = {v:.3g} s is longer than {LONG_TIME_CONSTANT:g}x the log ({duration:.0f} s): "
+                             f"the log shows the start of a change, not its time constant")
+            elif v < SHORT_TIME_CONSTANT * dt:
+                flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
+                             f"({dt:.3g} s): the log cannot show it")
+            elif _uncertain(p, v, stderr.get(p.name), units):
+                flags.append(_uncertain(p, v, stderr.get(p.name), units))
+            continue
+        if p.lower == 0.0 and v <= 1e-6 * scale and not p.nuisance:
+            flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term "
+                         f"(identifying it needs {p.excitation})")
+            continue
+        at_bound = False
+        for bound in (p.lower, p.upper):
+            if np.isfinite(bound) and bound != 0.0 and abs(v - bound) <= 1e-4 * max(abs(bound), scale):
+                at_bound = True
+                flags.append(f"{p.name} = {v:.3g} {p.unit_in(units)} is at its bound {bound:g}: the fit wants more than "
+                             f"this term can give; another effect is missing")
+        flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units)
+        if flag:
+            flags.append(flag)
+    if not any(t in model.terms for t in OFFSET_REDEFINED_BY):
+        flag = _offset_flag(model.params["T_offset_C"], series)
+        if flag:
+            flags.append(flag)
+    return flags
+
+
+def _uncertain(p, value: float, stderr: float | None, units) -> str | None:
+    """A value whose standard error exceeds ``MAX_RELATIVE_STDERR`` of it: the log does not pin it down.
+    (Temperatures are left out: their relative error depends on where 0 degC is.)"""
+    if stderr is None or not np.isfinite(stderr) or p.unit == "degC" or value == 0.0:
+        return None
+    relative = stderr / abs(value)
+    if relative <= MAX_RELATIVE_STDERR:
+        return None
+    return (f"{p.name} = {value:.3g} ± {stderr:.2g} {p.unit_in(units)}: its standard error is {100 * relative:.0f} % of "
+            f"it, so the log does not pin it down (identifying it needs {p.excitation})")
+
+
+def _offset_flag(offset_C: float, series: Sequence[ActuatorSeries]) -> str | None:
+    measured = np.concatenate([s.temperature_C for s in series])
+    ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
+    if ambient:
+        reference, what = float(np.mean(np.concatenate(ambient))), "the logged ambient"
+    else:
+        reference, what = float(measured.min()), "the coolest reading"
+    margin = max(OFFSET_MARGIN_K, 0.5 * float(np.ptp(measured)))
+    if abs(offset_C - reference) > margin:
+        return (f"T_offset_C = {offset_C:.1f} degC is {abs(offset_C - reference):.0f} K from {what} "
+                f"({reference:.1f} degC): other terms stand in for the heat balance, or heat flows the model lacks")
+    return None

@@ -1,0 +1,232 @@
+"""Fit on part of the data, validate by free-run simulation on the rest.
+
+Every command (``fit``, ``compare``, ``diagnose``) validates the same way,
+chosen by a :class:`Scheme`:
+
+* a **split** (default): fit on the first ``split`` of each run's time span;
+  the free run starts at the run's beginning and runs through the training
+  part into the validation part, scored on the latter only, so hidden states
+  (a slow mass, a lagging sensor) arrive at the split as they really are.
+  ``restart_at_split`` restarts the free run at the split from the measured
+  temperature instead, as if every hidden state were at rest there;
+* **blocked cross-validation** over ``folds`` contiguous blocks of each run,
+  each scored by a free run from the run's start with a model fitted on the
+  rest (or restarted at the block, with ``restart_at_split``);
+* **leave one run out** (``by_run``): each run validated, whole, by a model
+  fitted on the other runs;
+* **held-out runs** (``validate_on``): fit on some runs, validate on others.
+
+Each run is simulated from its own first reading.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..identification import ESTIMATORS, ThermalEstimator
+from ..identification.metrics import fit_metrics
+from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
+from ..model.model import ThermalModel
+from .flags import parameter_flags
+
+
+@dataclass(frozen=True)
+class Scheme:
+    """How held-out error is measured (see the module docstring)."""
+
+    split: float = 0.7
+    folds: int | None = None
+    by_run: bool = False
+    restart_at_split: bool = False
+
+    def __post_init__(self):
+        if not 0.0 < self.split < 1.0:
+            raise LogError(f"--split must be between 0 and 1 (exclusive), got {self.split}")
+        if self.folds is not None and self.folds < 2:
+            raise LogError(f"--cv needs at least 2 folds (or 'runs'), got {self.folds}")
+
+    def describe(self, held_out: bool = False) -> str:
+        if held_out:
+            return "fitted on the given runs, validated on the held-out runs"
+        if self.by_run:
+            return "leave one run out"
+        start = "restarted at each block" if self.restart_at_split else "free run carried from each run's start"
+        if self.folds:
+            return f"{self.folds}-fold blocked cross-validation, {start}"
+        start = "restarted at the split" if self.restart_at_split else "free run carried from each run's start"
+        return f"fit on the first {100 * self.split:.0f} % of each run, {start}"
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One stretch of measured and simulated temperature."""
+
+    time_s: np.ndarray
+    measured_C: np.ndarray
+    simulated_C: np.ndarray
+    effort: np.ndarray
+    run: str = ""
+
+
+@dataclass(frozen=True)
+class FitReport:
+    """The outcome of fitting and validating one actuator.
+
+    ``estimator`` is the fitted estimator whose model the report shows, and
+    ``train_series`` the data it was fitted on (for cross-validation: every
+    run), so that later steps (a diagnosis) need not fit again.
+    """
+
+    actuator: str
+    method: str
+    model: ThermalModel
+    stderr: dict
+    train: dict
+    validation: dict
+    train_segments: tuple[Segment, ...] = field(repr=False, default=())
+    validation_segments: tuple[Segment, ...] = field(repr=False, default=())
+    estimator: ThermalEstimator | None = field(repr=False, default=None)
+    train_series: tuple[ActuatorSeries, ...] = field(repr=False, default=())
+    flags: tuple[str, ...] = ()
+    scheme: str = ""
+
+    @property
+    def train_residual_K(self) -> np.ndarray:
+        """``measured - simulated`` over the training data, in the estimator's order."""
+        return np.concatenate([s.measured_C - s.simulated_C for s in self.train_segments])
+
+    @property
+    def channel_units(self) -> Mapping[str, str]:
+        """The units of the log's effort, velocity, current and power channels (what parameter units are built on)."""
+        return self.train_series[0].units if self.train_series else {}
+
+    def unit(self, parameter) -> str:
+        """A parameter's unit on this log (``K/(N m)^2``, ``K/mA^2``, or saying the channel's unit was not given)."""
+        return parameter.unit_in(self.channel_units)
+
+    def to_json(self) -> dict:
+        """The record ``thermolimb fit --json`` prints."""
+        units = {p.name: self.unit(p) for p in self.model.parameters}
+        return {
+            "actuator": self.actuator,
+            "model": list(self.model.terms),
+            "method": self.method,
+            "channel_units": dict(self.channel_units),
+            "params": {
+                name: {"value": value, "stderr": float(self.stderr[name]), "unit": units[name]}
+                for name, value in self.model.params.items()
+            },
+            "train": self.train,
+            "validation": self.validation,
+            "flags": list(self.flags),
+            "validation_scheme": self.scheme,
+        }
+
+
+def _segment(model: ThermalModel, series: ActuatorSeries, lo: int = 0, hi: int | None = None,
+             restart: bool = False) -> Segment:
+    """Samples ``[lo, hi)`` of ``series``, simulated from its start (or restarted at ``lo - 1``)."""
+    hi = series.n if hi is None else hi
+    if restart and lo > 0:
+        part = series.slice(lo - 1, hi)
+        # the trend at the restart comes from the data before it
+        sim = model.free_run(part, series.slice(0, lo).rate_K_per_s(at_end=True))
+        return Segment(part.time_s, part.temperature_C, sim, part.signals.effort, series.run)
+    sim = model.free_run(series.slice(0, hi), series.rate_K_per_s())[lo:]
+    return Segment(series.time_s[lo:hi], series.temperature_C[lo:hi], sim, series.signals.effort[lo:hi], series.run)
+
+
+def _metrics(segments: Sequence[Segment]) -> dict:
+    return fit_metrics(np.concatenate([s.measured_C for s in segments]),
+                       np.concatenate([s.simulated_C for s in segments]))
+
+
+def make_estimator(method: str, model: str | Sequence[str]) -> ThermalEstimator:
+    if method not in ESTIMATORS:
+        raise LogError(f"unknown method {method!r}; expected one of {', '.join(ESTIMATORS)}")
+    return ESTIMATORS[method](model=model)
+
+
+# A fold: the series a model is fitted on, and the pieces (series, lo, hi) it is scored on.
+Fold = tuple[list[ActuatorSeries], list[tuple[ActuatorSeries, int, int]]]
+
+
+def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
+    if scheme.by_run:
+        if len(series) < 2:
+            raise LogError(f"actuator {series[0].actuator}: --cv runs needs at least two runs (several logs, or a log "
+                           f"with pauses); this one has {len(series)}")
+        return [([o for o in series if o is not s], [(s, 0, s.n)]) for s in series]
+    if scheme.folds:
+        folds = []
+        for s in series:
+            edges = np.linspace(0, s.n, scheme.folds + 1).astype(int)
+            if np.min(np.diff(edges)) < MIN_SAMPLES // 2:
+                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few for {scheme.folds} "
+                               f"folds (each needs at least {MIN_SAMPLES // 2}); use fewer folds or a longer log")
+            for lo, hi in zip(edges[:-1], edges[1:]):
+                pieces = [p for p in (s.slice(0, lo), s.slice(hi, s.n)) if p.n >= MIN_SAMPLES // 2]
+                folds.append((pieces + [o for o in series if o is not s], [(s, int(lo), int(hi))]))
+        return folds
+    cuts = [s.split_index(scheme.split) for s in series]
+    return [([s.slice(0, c) for s, c in zip(series, cuts)], [(s, c, s.n) for s, c in zip(series, cuts)])]
+
+
+def evaluate(
+    series: Sequence[ActuatorSeries],
+    model: str | Sequence[str],
+    scheme: Scheme = Scheme(),
+    make: Callable[[], ThermalEstimator] | None = None,
+    validate_on: Sequence[ActuatorSeries] = (),
+    method: str = "output_error",
+) -> FitReport:
+    """Fit and validate one actuator (one or several runs) by ``scheme``; ``make()`` gives a fresh estimator."""
+    series = list(series)
+    make = make or (lambda: make_estimator(method, model))
+    if validate_on:
+        folds: list[Fold] = [(series, [(v, 0, v.n) for v in validate_on])]
+    else:
+        folds = _folds(series, scheme)
+    restart = scheme.restart_at_split and not (scheme.by_run or validate_on)
+    fitted = [make().fit(fit_on) for fit_on, _ in folds]
+    valid = tuple(_segment(est.model_, s, lo, hi, restart) for est, (_, scored) in zip(fitted, folds)
+                  for s, lo, hi in scored)
+    if len(folds) == 1:
+        final, train_series = fitted[0], folds[0][0]
+    else:
+        final, train_series = make().fit(series), series
+    train = tuple(_segment(final.model_, s) for s in train_series)
+    return FitReport(
+        actuator=series[0].actuator, method=final.method, model=final.model_, stderr=final.stderr_,
+        train=_metrics(train), validation=_metrics(valid), train_segments=train, validation_segments=valid,
+        estimator=final, train_series=tuple(train_series),
+        flags=tuple(parameter_flags(final.model_, final.stderr_, series)),
+        scheme=scheme.describe(held_out=bool(validate_on)),
+    )
+
+
+def fit_and_validate(
+    series: Sequence[ActuatorSeries],
+    model: str | Sequence[str],
+    split: float = 0.7,
+    method: str = "output_error",
+    estimator: ThermalEstimator | None = None,
+    restart_at_split: bool = False,
+) -> FitReport:
+    """Fit jointly on the first ``split`` of every series (one actuator, one or several runs), validate on the rest."""
+    make = (lambda: estimator) if estimator is not None else None
+    return evaluate(series, model, Scheme(split=split, restart_at_split=restart_at_split), make=make, method=method)
+
+
+def cross_validate(
+    series: Sequence[ActuatorSeries],
+    model: str | Sequence[str],
+    folds: int,
+    method: str = "output_error",
+    make: Callable[[], ThermalEstimator] | None = None,
+) -> FitReport:
+    """Blocked cross-validation over ``folds`` contiguous blocks of each series (see :class:`Scheme`)."""
+    return evaluate(series, model, Scheme(folds=folds), make=make, method=method)
