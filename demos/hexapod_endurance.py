@@ -92,7 +92,8 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
 
 PAGE = DemoPage(
     about="Time until the first actuator derates (its winding 15 K below the 155 °C limit) for the hexapod "
-          "walking or standing with a payload, at two ambients, under vertical-only forces, the seed's minimax "
+          "walking or standing with a payload at each ambient of the grid (the quick run: 25 and 80 kg at 40 °C; "
+          "the full run: 0-100 kg at 25 and 40 °C), under vertical-only forces, the minimax of Nair et al. "
           "(with and without its second stage), thermal-aware forces, and thermal-aware forces on a gait planned "
           "with the identified models. Look at where vertical-only derates within the horizon, and at what each "
           "strategy does there; crosses mark payloads the robot cannot carry that way, hollow circles gaits that "
@@ -155,7 +156,9 @@ def _plot_envelope(cells: list[dict], grid: dict, path: Path) -> None:
                                and c["strategy"] == strategy), key=lambda c: c["payload_kg"])
                 x = np.array([c["payload_kg"] for c in rows]) + (k - 2) * 0.6
                 hours = [np.nan if c["fell"] else (c["time_to_derate_s"] or horizon) / 3600 for c in rows]
-                line, = ax.plot(x, hours, "o-", ms=4, lw=1.2, label=strategy.replace("_", " "))
+                # lines only where the payload grid is fine enough to read a trend between its points
+                line, = ax.plot(x, hours, "o-" if len(rows) >= 4 else "o", ms=4, lw=1.2,
+                                label=strategy.replace("_", " "))
                 fell = [xx for xx, c in zip(x, rows) if c["fell"]]
                 ax.plot(fell, [FLOOR_H] * len(fell), "x", color=line.get_color(), ms=7)
                 turning = [(xx, h) for xx, h, c in zip(x, hours, rows) if not c["fell"] and not c["holds_heading"]]

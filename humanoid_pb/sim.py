@@ -76,7 +76,7 @@ class HumanoidSim(BulletRig):
     def render(self, width: int = 480, height: int = 480, yaw_deg: float = 30.0) -> np.ndarray:
         """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software renderer."""
         pos, _, _, _ = self.base_state()
-        return super().render([pos[0], pos[1], 0.7], 3.0, yaw_deg, -15.0, width, height, fov_deg=40.0)
+        return super().render([pos[0], pos[1], 0.9], 4.0, yaw_deg, -10.0, width, height, fov_deg=40.0)  # head to feet
 
     def command(self, cmd) -> Reading:
         """One control step with an :class:`~humanoid_pb.balance.ImpedanceCommand`."""

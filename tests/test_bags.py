@@ -131,15 +131,17 @@ def test_plant_run_round_trips_through_mcap(plant_run, tmp_path):
     assert not list(tmp_path.glob(".*"))  # nothing temporary left beside it
 
 
-def _sqlite_bag(folder, t_states, t_temps, joint="knee"):
-    """A ROS 2 SQLite bag: JointState for two joints, and one scalar sensor_msgs/Temperature topic."""
+def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None):
+    """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or
+    one per joint of ``temperature_joints``, the common per-joint layout)."""
     store = get_typestore(Stores.ROS2_HUMBLE)
     JointState, Header, Time = (store.types[k] for k in
                                 ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
     Temperature = store.types["sensor_msgs/msg/Temperature"]
     with Writer(folder, version=8, storage_plugin=StoragePlugin.SQLITE3) as w:
         states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-        temps = w.add_connection(f"/{joint}/temperature", Temperature.__msgtype__, typestore=store)
+        temps = {j: w.add_connection(f"/{j}/temperature", Temperature.__msgtype__, typestore=store)
+                 for j in (temperature_joints or [joint])}
         for t in t_states:
             ns = int(t * 1e9) + 10**18
             h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
@@ -149,9 +151,26 @@ def _sqlite_bag(folder, t_states, t_temps, joint="knee"):
         for t in t_temps:
             ns = int(t * 1e9) + 10**18
             h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
-            msg = Temperature(header=h, temperature=30.0 + 0.01 * t, variance=0.0)
-            w.write(temps, ns, store.serialize_cdr(msg, Temperature.__msgtype__))
+            for k, conn in enumerate(temps.values()):
+                msg = Temperature(header=h, temperature=30.0 + 0.01 * (k + 1) * t, variance=0.0)
+                w.write(conn, ns, store.serialize_cdr(msg, Temperature.__msgtype__))
     return folder
+
+
+def test_one_temperature_topic_per_joint_reads_with_a_joint_pattern_and_is_suggested(tmp_path):
+    """The common ROS 2 layout: one sensor_msgs/Temperature topic per joint.  {j} in a topic runs over the joint
+    names of the JointState topic; inspect suggests it; a fleet reads every joint of the bag in one command."""
+    folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 200.0, 0.05), np.arange(1.0, 200.0, 2.0),
+                         temperature_joints=["hip", "knee"])
+    mapping, reasons = suggest_mapping(inspect_bag(folder))
+    assert mapping["temperature"] == "/{j}/temperature.temperature" and not reasons
+    log = read_log(folder, mapping={"effort": "/joint_states.effort", "temperature": "/{j}/temperature.temperature"})
+    assert log.actuators == ("hip", "knee")
+    assert np.allclose(log.series("knee").temperature_C, 30.0 + 0.02 * log.series("knee").time_s, atol=0.05)
+    assert np.allclose(log.series("hip").signals.effort, 1.0)
+    assert read_log(folder).actuators == ("hip", "knee")  # the suggestion, chosen when no --map is given
+    assert read_log(folder, actuator_name="knee").actuators == ("knee",)
+    assert main(["fit", str(folder), "--fleet", "--quiet", "--workers", "1", "--backend", "serial"]) == 0
 
 
 def test_ros2_sqlite_bag_with_a_scalar_temperature_topic(tmp_path):

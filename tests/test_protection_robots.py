@@ -5,7 +5,7 @@ windings and a thermistor that lags its winding by 15 s: the hexapod standing
 with 80 kg on its back, the humanoid balancing on its right foot.  With
 protection on the observer's winding estimate no true winding passes its
 limit; with protection on the lagging thermistor alone it does (measured:
-+27.6 K in the hexapod's elbows, +14.7 K in the humanoid's stance ankle rod),
++27.6 K in the hexapod's hottest winding, +14.7 K in the humanoid's stance ankle rod),
 so these tests fail if the robots' protection stops using the observer.
 Both robots may sink once protection takes their torque away: that is the
 protection working, and what happens to the windings is what is checked.

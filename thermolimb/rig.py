@@ -143,9 +143,11 @@ class BulletRig:
         with the control period (so the observer's predictive current cap acts
         at slow control rates too), mapped back to the joints.
         """
+        return self.torques_at_fraction(torques_Nm, self._protection_fraction(q, qd, torques_Nm))
+
+    def _protection_fraction(self, q: np.ndarray, qd: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
         efforts = self.actuator_efforts(q, torques_Nm)
-        fraction = self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
-        return self.torques_at_fraction(torques_Nm, fraction)
+        return self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
@@ -228,17 +230,16 @@ class BulletRig:
         allows for the torques the loop asks for at the period's start; the
         plant and the log see the period's mean.
         """
+        def loop(q, qd):  # the actuators' joint impedance, within the effort limits
+            return np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd, -self.effort_limit,
+                           self.effort_limit)
+
         q, qd = self.joint_states()
-        start = np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd, -self.effort_limit,
-                        self.effort_limit)
-        efforts = self.actuator_efforts(q, start)
-        fraction = self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
+        fraction = self._protection_fraction(q, qd, loop(q, qd))
         c = self.client
         total = np.zeros(len(self.joints))
         for _ in range(self.config.substeps):
-            q, qd = self.joint_states()
-            tau = self.torques_at_fraction(np.clip(feedforward_Nm + kp_Nm_rad * (q_des - q) - kd_Nm_s_rad * qd,
-                                                   -self.effort_limit, self.effort_limit), fraction)
+            tau = self.torques_at_fraction(loop(*self.joint_states()), fraction)
             c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
             c.stepSimulation()
             total += tau

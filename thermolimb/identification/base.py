@@ -19,6 +19,8 @@ from ..model.terms import DEFAULT_MODEL, TERMS, ModelSpecError, parse_model
 from .metrics import fit_percent
 from .regression import IdentifiabilityError
 
+MIN_FIT_SAMPLES = MIN_SAMPLES // 2  # the fewest a training part may hold (ActuatorSeries.split_index)
+
 
 class ThermalEstimator:
     """Base class: subclasses implement ``_fit(series, terms) -> (values, covariance)``."""
@@ -51,10 +53,10 @@ class ThermalEstimator:
         series = [data] if isinstance(data, ActuatorSeries) else list(data)
         if not series:
             raise ValueError("fit needs at least one series")
-        short = [s for s in series if s.n < MIN_SAMPLES]
+        short = [s for s in series if s.n < MIN_FIT_SAMPLES]
         if short:
             raise LogError(f"actuator {short[0].actuator}{short[0].run_label} has {short[0].n} sample(s); fitting "
-                           f"needs at least {MIN_SAMPLES} per series")
+                           f"needs at least {MIN_FIT_SAMPLES} per series")
         terms = parse_model(self.model)
         for ser in series:
             for name in terms:

@@ -31,6 +31,7 @@ from typing import Mapping
 import numpy as np
 
 from .align import align, series_of
+from .mapping import JOINT
 from .table import LogError
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -159,6 +160,10 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     scalars = [i for i in infos if i.msgtype.endswith("/Temperature")]
     if not temps:
         temps = [(i, "temperature") for i in scalars if not _is_air(i.topic)]
+    if len(states) == 1 and len(temps) > 1:  # one Temperature topic per joint, named after it (/knee/temperature)
+        pattern = _joint_topic_pattern([i.topic for i, _ in temps], states[0].joint_names)
+        if pattern is not None:
+            temps = [(TopicInfo(pattern, temps[0][0].msgtype, 0, 0.0, (), ()), temps[0][1])]
     if len(states) != 1:
         reasons.append(f"{len(states)} sensor_msgs/JointState topics ({', '.join(i.topic for i in states) or 'none'})")
     if len(temps) != 1:
@@ -177,6 +182,17 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     if len(air) == 1:
         mapping["ambient"] = f"{air[0].topic}.temperature"
     return mapping, reasons
+
+
+def _joint_topic_pattern(topics: list[str], joints: tuple[str, ...]) -> str | None:
+    """``/robot/{j}/temperature`` when every topic is one pattern with a joint's name in place of ``{j}``."""
+    patterns = set()
+    for topic in topics:
+        named = [j for j in joints if j and j in topic.split("/")]
+        if len(named) != 1:
+            return None
+        patterns.add("/".join(JOINT if part == named[0] else part for part in topic.split("/")))
+    return patterns.pop() if len(patterns) == 1 else None
 
 
 def _split_target(key: str, target: str, path: Path) -> tuple[str, str]:
@@ -266,6 +282,8 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
         if missing:
             raise LogError(f"{path}: --map does not name {', '.join(missing)}; expected e.g. "
                            f"effort=/joint_states.effort,temperature=/temperatures.temperature")
+        if any(JOINT in target for target in mapping.values()):
+            return _read_joint_topics(reader, path, mapping, actuator, notes)
         wanted, data = _collect(reader, path, mapping)
     joints = _joints(wanted, data, actuator, path)
     frames = []
@@ -274,6 +292,42 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
         temperature = series.pop("temperature")
         aligned, more = align(temperature, series, f"{path} ({joint or path.stem})")
         aligned["actuator"] = joint or actuator or path.stem
+        frames.append(aligned)
+        notes += more
+    return frames, notes
+
+
+def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator: str | None, notes: list[str]):
+    """A mapping with ``{j}`` in topic names (one topic per joint, ``/{j}/temperature.temperature``): ``{j}`` runs
+    over the joint names of the mapped array topics (or ``actuator``); joints without such a topic are left out."""
+    patterned = {k: v for k, v in mapping.items() if JOINT in v}
+    shared = {k: v for k, v in mapping.items() if JOINT not in v}
+    topics = {c.topic for c in reader.connections}
+    wanted, data = _collect(reader, path, shared)
+    names = [n for key in shared for n in (data[key][2][0] or ()) if np.ndim(data[key][1][0]) > 0]
+    joints = [actuator] if actuator is not None else list(dict.fromkeys(names))
+    if not joints:
+        raise LogError(f"{path}: --map uses {{j}} in a topic name, but no mapped array topic names joints; name the "
+                       f"joint with --actuator")
+    have = [j for j in joints if all(_split_target(k, v.replace(JOINT, j), path)[0] in topics
+                                     for k, v in patterned.items())]
+    if not have:
+        example = next(iter(patterned.values())).replace(JOINT, joints[0])
+        raise LogError(f"{path}: no joint has the topics --map names with {{j}} (e.g. {example.partition('.')[0]} "
+                       f"for {joints[0]}); the bag's topics are {', '.join(sorted(topics))}")
+    if len(have) < len(joints):
+        notes.append(f"{path}: joint(s) {', '.join(j for j in joints if j not in have)} have no "
+                     + ", ".join(v for v in patterned.values()) + " topic; left out")
+    per_joint = {f"{k}|{j}": v.replace(JOINT, j) for j in have for k, v in patterned.items()}
+    more_wanted, more_data = _collect(reader, path, per_joint)
+    frames = []
+    for joint in have:
+        series = {key: _joint_series(key, wanted[key][0], data[key], joint, path) for key in wanted}
+        series.update({k: _joint_series(k, more_wanted[f"{k}|{joint}"][0], more_data[f"{k}|{joint}"], joint, path)
+                       for k in patterned})
+        temperature = series.pop("temperature")
+        aligned, more = align(temperature, series, f"{path} ({joint})")
+        aligned["actuator"] = joint
         frames.append(aligned)
         notes += more
     return frames, notes
