@@ -37,7 +37,6 @@ class ControlLoop:
         self.state = ControllerState(cpg.initial_state(None, self.gait))
         self.reading: Reading = sim.read()
         self.torques_Nm = np.zeros(len(params.effort_limit_Nm))  # what the controller commanded last
-        self.decided: dict = {}  # what the controller decided last (stance, solution, wrench, targets)
 
     @property
     def fallen(self) -> bool:
@@ -45,7 +44,7 @@ class ControlLoop:
 
     def step(self, forces, walking: bool = True, gait: cpg.CPGParams | None = None) -> Reading:
         """One control period: the controller's torques from the last reading, held on the rig."""
-        self.torques_Nm, self.state, self.decided = control_step(
+        self.torques_Nm, self.state, _ = control_step(
             self.reading, self.state, self.params, gait or self.gait, forces, self.sim.config.control_dt_s,
             self.payload_kg, self.gains, self.thermal, walking=walking)
         self.reading = self.sim.step(self.torques_Nm)
@@ -53,10 +52,6 @@ class ControlLoop:
 
     def settle(self, forces) -> Reading:
         """Stand still for ``SETTLE_S`` with ``forces``: the start every measured run shares."""
-        for _ in range(self.settle_steps):
+        for _ in range(int(SETTLE_S * self.sim.config.control_hz)):
             self.step(forces, walking=False)
         return self.reading
-
-    @property
-    def settle_steps(self) -> int:
-        return int(SETTLE_S * self.sim.config.control_hz)

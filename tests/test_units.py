@@ -5,7 +5,8 @@ import pandas as pd
 import pytest
 
 from thermolimb.logs import from_frame, read_log
-from thermolimb.logs.units import NOT_GIVEN, header_unit, render, split_unit
+from thermolimb.logs.units import NOT_GIVEN, header_unit, split_unit
+from thermolimb.model.units import render
 from thermolimb.workbench.validation import Scheme, evaluate
 
 

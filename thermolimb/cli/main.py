@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import os
 import signal
 import sys
+import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError
@@ -64,8 +66,6 @@ def main(argv=None) -> int:
 
 
 def _main_thread() -> bool:
-    import threading
-
     return threading.current_thread() is threading.main_thread()
 
 
@@ -96,11 +96,8 @@ def _run(args) -> int:
 
 def _silence_stdout() -> None:
     """Point standard output at /dev/null so that the interpreter's own flush at exit cannot fail again."""
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError):
-        pass
+    with contextlib.suppress(OSError, ValueError):  # no standard output to point anywhere: nothing to silence
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 def _bounded(text: str, limit: int = 200) -> str:

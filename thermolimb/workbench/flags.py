@@ -40,8 +40,8 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
             elif v < SHORT_TIME_CONSTANT * dt:
                 flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
                              f"({dt:.3g} s): the log cannot show it")
-            elif _uncertain(p, v, stderr.get(p.name), units):
-                flags.append(_uncertain(p, v, stderr.get(p.name), units))
+            else:
+                flags += [flag for flag in (_uncertain(p, v, stderr.get(p.name), units),) if flag]
             continue
         if p.lower == 0.0 and v <= 1e-6 * scale and not p.nuisance:
             flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term "
