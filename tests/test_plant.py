@@ -115,7 +115,7 @@ def test_same_seed_same_log_and_other_seed_differs():
 def test_bad_plant_parameters_are_refused():
     with pytest.raises(ValueError, match="positive and finite"):
         replace(X8_9, winding_resistance_ohm=-1.0)
-    with pytest.raises(ValueError, match="sensor noise is on"):
+    with pytest.raises(ValueError, match="sensor_noise is on"):
         ThermalPlant(["a"], [X8_9], PlantEffects.from_names("sensor_noise"))
     with pytest.raises(ValueError, match="unknown plant effect"):
         PlantEffects.from_names("copper")

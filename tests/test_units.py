@@ -42,7 +42,8 @@ def test_rendering_says_when_a_unit_was_not_given():
 def test_units_travel_from_the_header_to_every_parameter():
     log = from_frame(bench(), mapping={"time": "Time [s]", "effort": "Effort [mA]", "temperature": "Temp [C]",
                                        "velocity": "Speed [rpm]"}, actuator_name="motor")
-    assert dict(log.units) == {"effort": "mA", "velocity": "rad/s", "current": NOT_GIVEN, "power": NOT_GIVEN}
+    assert dict(log.units) == {"effort": "mA", "velocity": "rad/s", "current": NOT_GIVEN, "power": NOT_GIVEN,
+                               "extra.Current_A1": NOT_GIVEN}  # the unmapped column, kept as an extra channel
     np.testing.assert_allclose(log.frame["velocity"], 60.0 * 2 * np.pi / 60.0)  # rpm from the header, converted
     record = evaluate([log.series("motor")], "joule", Scheme()).to_json()
     assert record["params"]["betaR_K_per_effort2"]["unit"] == "K/mA^2"

@@ -10,10 +10,12 @@ from .options import (
     add_html,
     add_log_input,
     add_quiet,
+    add_terms,
     add_validation,
     for_each_actuator,
     format_params,
     html_page,
+    load_terms,
     scheme_of,
 )
 from .types import output_dir
@@ -26,6 +28,7 @@ def add_parser(sub):
         "run: validation RMSE (K), max error (K), fit %, AIC and BIC on the training residual, parameters.",
     )
     add_log_input(p)
+    add_terms(p)
     p.add_argument("--model", action="append", default=None, metavar="TERMS",
                    help=f"a model to compare (repeat the option; default {','.join(DEFAULT_MODEL)}, the model fit and "
                         f"diagnose start from); terms: {', '.join(TERMS)}")
@@ -38,6 +41,7 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    load_terms(args)
     models = [parse_model(m) for m in (args.model or [",".join(DEFAULT_MODEL)])]
     scheme = scheme_of(args)
     page = html_page(args, "thermolimb compare")

@@ -5,20 +5,24 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from ..workbench.diagnosis import auto_diagnose, diagnose
+from ..util.errors import UsageError
+from ..workbench.diagnosis import Diagnosis, auto_diagnose, diagnose
+from ..workbench.validation import FitReport
 from .options import (
     add_fleet,
     add_html,
     add_log_input,
     add_quiet,
+    add_terms,
     add_validation,
     for_each_actuator,
     format_params,
     html_page,
+    load_terms,
     run_fleet,
     scheme_of,
 )
-from .types import output_dir
+from .types import output_dir, output_file
 
 
 def add_parser(sub):
@@ -28,9 +32,12 @@ def add_parser(sub):
         "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, power, ambient, the housing "
         "and the neighbours' temperatures; RMSE by phase), try every change worth trying (add an effect, drop a "
         "term, swap the heat source), validate each on held-out data and recommend the one that helps most, if it "
-        "is plausible and identifiable. --auto takes recommended changes while one helps. Errors in K.",
+        "is plausible and identifiable. --auto takes recommended changes while one helps. --discover also tries "
+        "every extra channel the log carries (heat, conductance, boundary forms) and, when nothing helps and the "
+        "residual has structure, a form found by sparse regression; --propose writes it as a Term. Errors in K.",
     )
     add_log_input(p)
+    add_terms(p)
     p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
                    help=f"model to diagnose (default {','.join(DEFAULT_MODEL)}); known terms: {', '.join(TERMS)}")
     add_validation(p)
@@ -40,6 +47,13 @@ def add_parser(sub):
     p.add_argument("--refit", choices=("strong", "all"), default="strong",
                    help="refit only additions with a strong score test (default) or all of them; drops and swaps "
                         "are always refitted")
+    p.add_argument("--discover", action="store_true",
+                   help="open the vocabulary: try the log's extra channels as heat, conductance or boundary, and "
+                        "propose a form the catalog lacks when nothing else helps (labelled 'discovered'); with "
+                        "--auto, such changes are taken under the same gates as catalog effects")
+    p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
+                   help="with --discover: write the generated terms of the recommended (with --auto: the final) "
+                        "model as a Python file of Term classes, to read, rename, keep and load with --terms")
     p.add_argument("--json", action="store_true", help="print the diagnosis as one JSON object")
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write the diagnosis plots into DIR")
     add_html(p)
@@ -49,17 +63,29 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    load_terms(args)
     parse_model(args.model)
+    if args.propose and not args.discover:
+        raise UsageError("--propose writes what --discover finds; add --discover")
     if args.fleet:
+        if args.discover:
+            raise UsageError("--discover works on the logs of one command, not with --fleet; diagnose a run of "
+                             "interest with --discover, then load what it proposes in the fleet with --terms")
         return run_fleet(args, diagnose=True)
     scheme = scheme_of(args)
     page = html_page(args, "thermolimb diagnose")
+    proposals: list[tuple[str, Diagnosis, FitReport]] = []
 
     def analyse(name, series, held_out):
         if args.auto:
-            d, _ = auto_diagnose(series, args.model, quiet=args.quiet, scheme=scheme, validate_on=held_out)
+            d, steps = auto_diagnose(series, args.model, quiet=args.quiet, scheme=scheme, validate_on=held_out,
+                                     discover=args.discover)
+            final = steps[-1].base
         else:
-            d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out)
+            d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out,
+                         discover=args.discover)
+            final = d.recommended.report if d.recommended is not None else d.base
+        proposals.append((name, d, final))
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 
@@ -70,7 +96,39 @@ def run(args) -> int:
             add_diagnosis(page, d)
         return d.to_json(), describe_diagnosis(d)
 
-    return for_each_actuator(args, analyse, page)
+    status = for_each_actuator(args, analyse, page)
+    if args.propose:
+        write_proposal(Path(args.propose), [(name, final) for name, _, final in proposals])
+    return status
+
+
+def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> None:
+    """The generated terms of each actuator's final model, as one Python file with their fitted values; nothing
+    is written when there are none (said on stderr)."""
+    import sys
+
+    from ..model.generated import module_source
+    from ..util.atomic import write_text
+
+    classes, fitted = {}, []
+    for name, report in finals:
+        for term in report.model.terms:
+            cls = TERMS[term]
+            if getattr(cls, "generated", False):
+                classes.setdefault(term, cls.source)
+                fitted += [f"#   {name}: {p.name} = {report.model.params[p.name]:.6g} ± "
+                           f"{float(report.stderr[p.name]):.2g} {report.unit(p)}" for p in cls.parameters]
+    if not classes:
+        print(f"--propose {path}: nothing written: no channel or discovered term is in the final model",
+              file=sys.stderr)
+        return
+    doc = (f"Terms proposed by `thermolimb diagnose --discover`: {', '.join(classes)}. Load them with "
+           f"`--terms {path.name}` and name them in --model; rename a class and its name to keep it.")
+    text = module_source(doc, list(classes.values()))
+    text = text.replace("\nimport numpy", "\n# fitted values (validation scheme of that run):\n" + "\n".join(fitted)
+                        + "\n\nimport numpy", 1)
+    write_text(path, text)
+    print(f"wrote {path}", file=sys.stderr)
 
 
 def describe_diagnosis(d) -> str:
@@ -82,7 +140,7 @@ def describe_diagnosis(d) -> str:
     lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
     for c in d.candidates:
         if not c.refitted:
-            why = c.confounded or c.failure or f"score test p = {c.p_value:.2g}"
+            why = c.confounded or c.failure or c.skipped or f"score test p = {c.p_value:.2g}"
             lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s}  {c.status}: {why}")
             continue
         lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f}  {c.status}")

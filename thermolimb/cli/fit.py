@@ -12,10 +12,12 @@ from .options import (
     add_html,
     add_log_input,
     add_quiet,
+    add_terms,
     add_validation,
     for_each_actuator,
     format_params,
     html_page,
+    load_terms,
     run_fleet,
     scheme_of,
 )
@@ -32,6 +34,7 @@ def add_parser(sub):
         "efforts in N m or K/mA^2 for a current logged as effort in mA; a unit the log does not give is said so).",
     )
     add_log_input(p)
+    add_terms(p)
     p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
                    help=f"comma-separated model terms (default {','.join(DEFAULT_MODEL)}); known: {', '.join(TERMS)}")
     p.add_argument("--method", default="output_error", choices=list(ESTIMATORS),
@@ -48,6 +51,7 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    load_terms(args)
     parse_model(args.model)
     if args.fleet:
         return run_fleet(args, diagnose=False)

@@ -49,6 +49,19 @@ def add_log_input(p):
                         "single-actuator file, so that several such files fit jointly")
 
 
+def add_terms(p):
+    p.add_argument("--terms", nargs="+", default=None, metavar="FILE",
+                   help="Python file(s) of model terms (classes decorated with @register_term, e.g. the file "
+                        "diagnose --propose wrote), loaded before --model is read")
+
+
+def load_terms(args) -> None:
+    from ..model.generated import load_term_file
+
+    for path in getattr(args, "terms", None) or ():
+        load_term_file(path)
+
+
 def add_validation(p):
     p.add_argument("--split", type=fraction, default=0.7,
                    help="fraction of each run's time span used to fit (default 0.7)")

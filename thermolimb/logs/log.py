@@ -13,10 +13,11 @@ from ..model.signals import Signals
 from ..util.atomic import atomic_path
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
+from . import extras
 from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
-from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
+from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
 from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
 from .units import CANONICAL, NOT_GIVEN, SCALED, channel_units, split_unit
 
@@ -122,6 +123,12 @@ class ThermalLog:
     def columns(self) -> tuple[str, ...]:
         return tuple(c for c in REQUIRED + OPTIONAL if c in self.frame.columns)
 
+    @cached_property
+    def extras(self) -> tuple[str, ...]:
+        """Names of the channels the log carries beyond the canonical ones (:mod:`.extras`); their units are in
+        ``units`` as ``extra.NAME``."""
+        return tuple(c[len(EXTRA):] for c in self.frame.columns if c.startswith(EXTRA))
+
     def series(self, actuator: str) -> ActuatorSeries:
         """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
         if actuator not in self.actuators:
@@ -146,6 +153,7 @@ class ThermalLog:
             time_s=t, effort=col("effort"), velocity=col("velocity"), current_A=col("current"),
             ambient_C=col("ambient"), neighbor_temperature_C=neighbors, neighbor_names=tuple(others),
             housing_C=col("housing"), power_W=col("power"),
+            extra={name: col(EXTRA + name) for name in self.extras},
         )
         return ActuatorSeries(actuator, signals, col("temperature"), units=self.units)
 
@@ -180,12 +188,19 @@ class ThermalLog:
         if path.suffix.lower() == ".mcap":
             return write_mcap(self, path)
         kind = kind_of(path)
+        frame = self.frame.rename(columns={EXTRA + name: _header(name, self.units.get(EXTRA + name))
+                                           for name in self.extras})
         with atomic_path(path) as tmp:
             if kind == "csv":
-                self.frame.to_csv(tmp, index=False)
+                frame.to_csv(tmp, index=False)
             else:
-                self.frame.to_parquet(tmp, index=False)
+                frame.to_parquet(tmp, index=False)
         return path
+
+
+def _header(name: str, unit: str | None) -> str:
+    """An extra channel's column header, with its unit when known (read back to the same name and unit)."""
+    return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
 
 
 def gaps(time_s: np.ndarray) -> list[int]:
@@ -246,6 +261,7 @@ def read_log(
         frames, notes = read_bag(path, mapping or None, actuator_name)
         # a bag's fields carry no units (ROS says N m for JointState.effort; servo drivers often publish mA there)
         units = channel_units({c: "" for c in SCALED}, {**given, **from_map, "velocity": velocity_unit})
+        units.update({k: v for k, v in from_map.items() if k.startswith(EXTRA)})
         log = from_frame(pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path),
                          units=units)
         return replace(log, notes=tuple(notes) + log.notes)
@@ -267,9 +283,16 @@ def _split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dic
 def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
     if is_pattern(mapping):
         parts = []
-        for name, cols in expand_joints(frame.columns, mapping, source):
+        joints = expand_joints(frame.columns, mapping, source)
+        per_joint, shared = extras.joint_extras(frame.columns, {k: v for k, v in mapping.items() if k != "actuator"},
+                                                [j for j, _, _ in joints])
+        for j, name, cols in joints:
             part = pd.DataFrame({k: frame[v] for k, v in cols.items()})
             part.insert(1, "actuator", name)
+            for stem, column in per_joint[j].items():
+                part[EXTRA + stem] = frame[column].to_numpy()
+            for column in shared:
+                part[EXTRA + column] = frame[column].to_numpy()
             parts.append(part)
         return pd.concat(parts, ignore_index=True)
     if any(TIME_OF in v for v in mapping.values()):
@@ -288,6 +311,8 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
             f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {shown_names(frame.columns)}"
         )
     out = pd.DataFrame({k: frame[v] for k, v in mapping.items()})
+    for column in extras.unmapped(frame.columns, mapping):
+        out[EXTRA + column] = frame[column]
     if "actuator" not in out.columns:
         out["actuator"] = actuator_name
     return out
@@ -363,7 +388,7 @@ def from_frame(
             f"the file has {shown_names(frame.columns)}{hint}"
         )
     keep = [c for c in REQUIRED + OPTIONAL if c in frame.columns]
-    frame = frame[keep].reset_index(drop=True)
+    frame = frame.reset_index(drop=True)
     measured = [c for c in keep if c not in ("time", "actuator")]
     empty = frame[measured].isna().all(axis=1).to_numpy()
     if empty.any():
@@ -395,6 +420,9 @@ def from_frame(
             raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
                            f"expected {UNITS[c]}")
         out[c] = values.astype(float)
+    explicit = {k: v for k, v in mapping.items() if k.startswith(EXTRA)}
+    extra_values, extra_units, extra_notes = extras.collect(frame, given, explicit, source)
+    notes += extra_notes
     for c in out.columns:
         if c == "actuator":
             continue
@@ -418,6 +446,9 @@ def from_frame(
     if "velocity" in out.columns and channel["velocity"] in VELOCITY_UNITS:
         out["velocity"] *= VELOCITY_UNITS[channel["velocity"]]
         channel["velocity"] = "m/s" if channel["velocity"] == "m/s" else "rad/s"
+    for name, values in extra_values.items():
+        out[EXTRA + name] = values
+        channel[EXTRA + name] = extra_units[name] or NOT_GIVEN
     parts = []
     for name, g in out.groupby("actuator", sort=False):
         t = g["time"].to_numpy()
@@ -444,8 +475,10 @@ def log_from_arrays(
     ambient_C: np.ndarray | None = None,
     source: str = "<memory>",
     housing_C: np.ndarray | None = None,
+    extra: Mapping[str, np.ndarray] | None = None,
 ) -> ThermalLog:
-    """Build a canonical log from ``(n_samples, n_actuators)`` arrays (``ambient_C``: ``(n_samples,)``)."""
+    """Build a canonical log from ``(n_samples, n_actuators)`` arrays (``ambient_C``: ``(n_samples,)``);
+    ``extra``: more channels by column header (unit in brackets, ``fan [%]``), each ``(n_samples, n_actuators)``."""
     n, m = effort.shape
     data = {
         "time": np.tile(time_s, m),
@@ -461,4 +494,6 @@ def log_from_arrays(
         data["ambient"] = np.tile(ambient_C, m)
     if housing_C is not None:
         data["housing"] = housing_C.T.ravel()
+    for column, values in (extra or {}).items():
+        data[column] = np.asarray(values).T.ravel()
     return from_frame(pd.DataFrame(data), source=source)

@@ -26,6 +26,7 @@ OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
 UNITS = {"time": "s", "actuator": "name", "effort": "N m or N", "temperature": "degC",
          "velocity": "rad/s or m/s", "current": "A", "power": "W", "ambient": "degC", "housing": "degC"}
 JOINT = "{j}"
+EXTRA = "extra."  # a channel the model does not read, kept for the diagnosis to try: --map extra.NAME=COLUMN
 TIME_OF = "@"  # column@time_column: a channel sampled on a time base of its own
 DEFAULT_JOINT_NAME = "J{j}"
 
@@ -41,8 +42,9 @@ def parse_mapping(text: str | None) -> dict[str, str]:
         if "=" not in item:
             raise LogError(f"--map item {item!r} is not of the form canonical=column, e.g. effort=torque")
         key, value = (s.strip() for s in item.split("=", 1))
-        if key not in REQUIRED + OPTIONAL:
-            raise LogError(f"--map names {key!r}, which is not a log column; map any of: {', '.join(REQUIRED + OPTIONAL)}")
+        if key not in REQUIRED + OPTIONAL and not (key.startswith(EXTRA) and len(key) > len(EXTRA)):
+            raise LogError(f"--map names {key!r}, which is not a log column; map any of: {', '.join(REQUIRED + OPTIONAL)}, "
+                           f"or an extra channel as {EXTRA}NAME")
         if key in mapping:
             raise LogError(f"--map names {key!r} twice ({mapping[key]!r} and {value!r}); give each channel one column")
         if not value:
@@ -61,8 +63,8 @@ def _regex(template: str) -> re.Pattern:
     return re.compile(f"^{body}$")
 
 
-def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[str, dict[str, str]]]:
-    """``[(actuator name, {canonical: column})]`` for every joint of a pattern mapping, in joint order."""
+def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[int, str, dict[str, str]]]:
+    """``[(joint number, actuator name, {canonical: column})]`` for every joint of a pattern mapping, in joint order."""
     columns = [str(c) for c in columns]
     per_key: dict[str, dict[int, str]] = {}
     for key, template in mapping.items():
@@ -98,7 +100,7 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
     out = []
     for j in joints:
         cols = {k: (per_key[k][j] if k in per_key else v) for k, v in mapping.items() if k != "actuator"}
-        out.append((name.replace(JOINT, str(j)), cols))
+        out.append((j, name.replace(JOINT, str(j)), cols))
     return out
 
 

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
+from typing import Mapping
 
 import numpy as np
+
+EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
 CHANNELS = {
@@ -35,11 +38,12 @@ class Signals:
     neighbor_names: tuple[str, ...] = field(default=())
     housing_C: np.ndarray | None = None  # a second measured temperature: housing, case or driver board
     power_W: np.ndarray | None = None  # electrical input power
+    extra: Mapping[str, np.ndarray] = field(default_factory=dict)  # channels the log carries beyond these, by name
 
     def __post_init__(self):
         n = self.time_s.shape[0]
-        for name in CHANNELS.values():
-            value = getattr(self, name)
+        arrays = [(name, getattr(self, name)) for name in CHANNELS.values()]
+        for name, value in arrays + [(f"extra[{k!r}]", v) for k, v in self.extra.items()]:
             if value is not None and value.shape[0] != n:
                 raise ValueError(f"Signals.{name} has {value.shape[0]} samples, time_s has {n}")
 
@@ -53,12 +57,14 @@ class Signals:
         return np.diff(self.time_s)
 
     def has(self, name: str) -> bool:
-        """Whether the log column ``name`` is present."""
+        """Whether the log column ``name`` is present (``extra.NAME`` for an extra channel)."""
+        if name.startswith(EXTRA):
+            return name[len(EXTRA):] in self.extra
         return getattr(self, CHANNELS[name]) is not None
 
     def channel(self, name: str) -> np.ndarray:
-        """A channel by its log column name, with an error naming what is missing."""
-        value = getattr(self, CHANNELS[name])
+        """A channel by its log column name (``extra.NAME`` for an extra one), with an error naming what is missing."""
+        value = self.extra.get(name[len(EXTRA):]) if name.startswith(EXTRA) else getattr(self, CHANNELS[name])
         if value is None:
             raise KeyError(f"this model needs the '{name}' column, which the log does not have")
         return value
@@ -66,7 +72,8 @@ class Signals:
     def map_arrays(self, fn) -> "Signals":
         """The same signals with ``fn`` applied to the time axis and every channel present."""
         changed = {f.name: fn(getattr(self, f.name)) for f in fields(self)
-                   if f.name != "neighbor_names" and getattr(self, f.name) is not None}
+                   if f.name not in ("neighbor_names", "extra") and getattr(self, f.name) is not None}
+        changed["extra"] = {k: fn(v) for k, v in self.extra.items()}
         return replace(self, **changed)
 
     def slice(self, start: int, stop: int) -> "Signals":

@@ -60,6 +60,7 @@ class Term:
     # through every slow mass, where a heat term's rise builds up partly across each
     boundary: ClassVar[bool] = False
     requires: ClassVar[tuple[str, ...]] = ()  # terms this one builds on (a third mass needs a second)
+    generated: ClassVar[bool] = False  # written by a diagnosis (thermolimb.model.generated), not offered by the catalog
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""

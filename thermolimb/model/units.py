@@ -22,7 +22,8 @@ def render(template: str, units: Mapping[str, str] | None) -> str:
     def one(m: re.Match) -> str:
         channel = m.group(1)
         unit = units.get(channel, NOT_GIVEN)
-        return f"{channel}: {NOT_GIVEN}" if unit == NOT_GIVEN else unit
+        return f"{channel.removeprefix('extra.')}: {NOT_GIVEN}" if unit == NOT_GIVEN else unit
 
-    text = re.sub(r"\{(\w+)\}", one, template)
-    return re.sub(r"\(([A-Za-z%]+)\)", r"\1", text)  # K/(mA)^2 -> K/mA^2; K/(N m)^2 keeps its brackets
+    text = re.sub(r"\{([^{}]+)\}", one, template)
+    text = re.sub(r"\(([A-Za-z%\d]+)\)", r"\1", text)  # K/(mA)^2 -> K/mA^2; K/(N m)^2 keeps its brackets
+    return re.sub(r"/1(\^[\d.]+)?$", "", text) or "1"  # per dimensionless unit: K/1 -> K

@@ -90,6 +90,60 @@ class Quantisation:
 
 
 @dataclass(frozen=True)
+class Schedule:
+    """A logged channel that holds a random level for a random time, then switches (a fan's duty, a brake).
+
+    ``levels`` are the values it takes; each is held for a time drawn
+    uniformly from ``hold_s``.  Every actuator has its own schedule, drawn
+    from the plant's generator (so a seed gives the same schedules).
+    """
+
+    levels: tuple[float, ...]
+    hold_s: tuple[float, float] = (300.0, 900.0)
+
+
+@dataclass(frozen=True)
+class FanCooling:
+    """A fan whose duty (logged as ``fan [%]``) multiplies the outer node's conductance to ambient by
+    ``1 + gain * duty``.  The model's catalog has no fan: its one channel is the logged duty."""
+
+    gain: float = 1.0
+    schedule: Schedule = Schedule((0.0, 0.25, 0.5, 0.75, 1.0))
+    column: str = "fan [%]"
+    scale: float = 100.0  # logged value per unit of duty
+
+
+@dataclass(frozen=True)
+class HoldingBrake:
+    """A holding brake whose coil heats the winding while engaged (logged as ``brake [1]``, 1 engaged)."""
+
+    coil_W: float = 3.0
+    schedule: Schedule = Schedule((0.0, 1.0), hold_s=(120.0, 600.0))
+    column: str = "brake [1]"
+    scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class DriverConduction:
+    """The driver board conducts into the winding (``conductance_W_per_K``) and carries an electronics load of
+    its own that switches between ``schedule.levels`` (W); its thermistor is logged as ``driver [degC]``.
+    Needs actuators with a driver board (:class:`~thermolimb.plant.network.DriverSpec`)."""
+
+    conductance_W_per_K: float = 0.15
+    schedule: Schedule = Schedule((0.0, 2.0, 4.0, 6.0))
+    column: str = "driver [degC]"
+
+
+@dataclass(frozen=True)
+class DecoyChannels:
+    """Channels that vary and do nothing thermal: a supply voltage (``supply [V]``) and an indicator (``led [1]``).
+    For checking that a diagnosis does not take a channel that only varies."""
+
+    supply: Schedule = Schedule((23.0, 23.5, 24.0, 24.5, 25.0), hold_s=(200.0, 800.0))
+    led: Schedule = Schedule((0.0, 1.0), hold_s=(120.0, 600.0))
+
+
+@dataclass(frozen=True)
 class PlantEffects:
     """Which effects are on (an instance) or off (``None``)."""
 
@@ -103,6 +157,10 @@ class PlantEffects:
     sensor_lag: SensorLag | None = None
     sensor_noise: SensorNoise | None = None
     quantisation: Quantisation | None = None
+    fan_cooling: FanCooling | None = None
+    holding_brake: HoldingBrake | None = None
+    driver_conduction: DriverConduction | None = None
+    decoy_channels: DecoyChannels | None = None
 
     @classmethod
     def from_names(cls, names) -> "PlantEffects":
@@ -136,4 +194,10 @@ EFFECT_TYPES = {
     "sensor_lag": SensorLag,
     "sensor_noise": SensorNoise,
     "quantisation": Quantisation,
+    "fan_cooling": FanCooling,
+    "holding_brake": HoldingBrake,
+    "driver_conduction": DriverConduction,
+    "decoy_channels": DecoyChannels,
 }
+# effects that log a channel of their own (and need the plant's generator for their schedules)
+SCHEDULED = ("fan_cooling", "holding_brake", "driver_conduction", "decoy_channels")

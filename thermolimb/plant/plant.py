@@ -19,9 +19,10 @@ from typing import Sequence
 
 import numpy as np
 
-from .effects import PlantEffects
+from .effects import SCHEDULED, PlantEffects
 from .network import ActuatorSpec
 from .observer import WindingObserver
+from .schedules import ScheduledChannel
 from .zoh import zero_order_hold
 
 
@@ -93,8 +94,13 @@ class ThermalPlant:
             raise ValueError(f"ThermalPlant needs one spec per actuator name, got {len(names)} names and {len(specs)} specs")
         if len(set(names)) != len(names):
             raise ValueError(f"actuator names must be unique, got {list(names)}")
-        if effects.sensor_noise is not None and rng is None:
-            raise ValueError("sensor noise is on: pass rng=np.random.default_rng(seed)")
+        scheduled = [name for name in SCHEDULED if getattr(effects, name) is not None]
+        if (effects.sensor_noise is not None or scheduled) and rng is None:
+            random = (["sensor_noise"] if effects.sensor_noise else []) + scheduled
+            raise ValueError(f"{', '.join(random)} {'is' if len(random) == 1 else 'are'} on and draw random numbers: "
+                             f"pass rng=np.random.default_rng(seed)")
+        if effects.driver_conduction is not None and any(spec.driver is None for spec in specs):
+            raise ValueError("driver_conduction needs every actuator to have a driver board (ActuatorSpec.driver)")
         self.names = tuple(names)
         self.specs = tuple(specs)
         self.effects = effects
@@ -105,6 +111,7 @@ class ThermalPlant:
         self._applied_fraction = np.ones(len(self.specs))  # the share of current protection allowed last
         self._rng = rng
         self._build_network()
+        self._schedules = self._make_schedules(scheduled)
         self.time_s = 0.0
         start = self.ambient0_C if initial_C is None else float(initial_C)
         self._x = np.full(self._n_states, start)
@@ -171,6 +178,12 @@ class ThermalPlant:
             for i in range(self.n):
                 A[sensor[i], sensor[i]] = -rate
                 A[sensor[i], winding[i]] = rate
+        if self.effects.driver_conduction is not None:
+            g = self.effects.driver_conduction.conductance_W_per_K
+            for w, d in zip(winding, driver):
+                for p, q in ((w, d), (d, w)):
+                    A[p, p] -= g * inv_capacity[p]
+                    A[p, q] += g * inv_capacity[p]
         if self.effects.neighbor_coupling is not None and self.n > 1:
             g = self.effects.neighbor_coupling.conductance_W_per_K
             for i in range(self.n - 1):
@@ -190,6 +203,33 @@ class ThermalPlant:
         self._resistance_ohm = np.array([s.winding_resistance_ohm for s in self.specs])
         self._driver_ohm = np.array([s.driver.loss_resistance_ohm if s.driver else 0.0 for s in self.specs])
         self._has_driver = self._driver >= 0
+
+    def _make_schedules(self, scheduled: list[str]) -> dict[str, ScheduledChannel]:
+        """The random schedules of the effects that log a channel, from one generator drawn off the plant's."""
+        if not scheduled:
+            return {}
+        rng = np.random.default_rng(self._rng.integers(2**63))
+        fx = self.effects
+        plans = {"fan_cooling": [("fan", fx.fan_cooling and fx.fan_cooling.schedule)],
+                 "holding_brake": [("brake", fx.holding_brake and fx.holding_brake.schedule)],
+                 "driver_conduction": [("driver_load", fx.driver_conduction and fx.driver_conduction.schedule)],
+                 "decoy_channels": [("supply", fx.decoy_channels and fx.decoy_channels.supply),
+                                    ("led", fx.decoy_channels and fx.decoy_channels.led)]}
+        return {key: ScheduledChannel(schedule, self.n, rng) for name in scheduled for key, schedule in plans[name]}
+
+    def logged_channels(self) -> dict[str, np.ndarray]:
+        """The extra channels the switched-on effects log, by column name (unit in the name), per actuator, now."""
+        fx, t, out = self.effects, self.time_s, {}
+        if fx.fan_cooling is not None:
+            out[fx.fan_cooling.column] = fx.fan_cooling.scale * self._schedules["fan"].at(t)
+        if fx.holding_brake is not None:
+            out[fx.holding_brake.column] = fx.holding_brake.scale * self._schedules["brake"].at(t)
+        if fx.driver_conduction is not None:
+            out[fx.driver_conduction.column] = self._measured_driver.copy()
+        if fx.decoy_channels is not None:
+            out["supply [V]"] = self._schedules["supply"].at(t)
+            out["led [1]"] = self._schedules["led"].at(t)
+        return out
 
     def _discretisation(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Exact ZOH matrices ``(Phi, Gamma)`` with ``x+ = Phi x + Gamma [q; T_amb]``."""
@@ -262,6 +302,14 @@ class ThermalPlant:
             constant[self._outer] += extra_g * self.ambient_at(self.time_s)
             per_kelvin[self._outer] -= extra_g
         constant[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
+        if fx.fan_cooling is not None:
+            extra_g = self._outer_conductance * fx.fan_cooling.gain * self._schedules["fan"].at(self.time_s)
+            constant[self._outer] += extra_g * self.ambient_at(self.time_s)
+            per_kelvin[self._outer] -= extra_g
+        if fx.holding_brake is not None:
+            constant[self._winding] += fx.holding_brake.coil_W * self._schedules["brake"].at(self.time_s)
+        if fx.driver_conduction is not None:
+            constant[self._driver] += self._schedules["driver_load"].at(self.time_s)
         return constant, per_kelvin
 
     def set_temperatures(self, temperature_C: np.ndarray, rest_C: np.ndarray | None = None) -> None:

@@ -56,6 +56,7 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     driver = np.empty((n, n_drivers))
     ambient = np.empty(n)
     housing = np.empty((n, m)) if housing_sensor else None
+    channels: dict[str, np.ndarray] = {}
     for k in progress(range(n), desc="plant", disable=quiet, unit="step"):
         dt = t[k + 1] - t[k] if k + 1 < n else None
         effort[k] = plant.derate(np.clip(profile.load[k] * continuous, -limit, limit), velocity[k], dt)
@@ -68,6 +69,8 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
         if n_drivers:
             driver[k] = plant.measured_driver_C
         ambient[k] = plant.ambient_C
+        for column, values in plant.logged_channels().items():
+            channels.setdefault(column, np.empty((n, m)))[k] = values
         if k + 1 < n:
             plant.step(effort[k], velocity[k], t[k + 1] - t[k])
         current[k] = plant.current_A
@@ -78,10 +81,11 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
         effort_log = np.hstack([effort, effort[:, has]])
         log = log_from_arrays(t, names, effort_log, np.hstack([measured, driver]),
                               velocity=np.hstack([velocity, velocity[:, has]]),
-                              current_A=np.hstack([current, current[:, has]]), ambient_C=ambient)
+                              current_A=np.hstack([current, current[:, has]]), ambient_C=ambient,
+                              extra={c: np.hstack([v, v[:, has]]) for c, v in channels.items()})
     else:
         log = log_from_arrays(t, names, effort, measured, velocity=velocity, current_A=current, ambient_C=ambient,
-                              housing_C=housing)
+                              housing_C=housing, extra=channels)
     return PlantRun(log, t, effort, winding, measured, estimated)
 
 

@@ -52,8 +52,11 @@ WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this lev
 class Candidate:
     """One change to the model tried on this log.
 
-    ``kind`` is ``"add"`` (``effect`` joins the model), ``"drop"`` (``effect``
-    leaves it) or ``"swap"`` (``effect`` replaces the heat source ``replaces``).
+    ``kind`` is ``"add"`` (the catalog's ``effect`` joins the model),
+    ``"channel"`` (a form of the log's extra channel ``channel`` joins it),
+    ``"discovered"`` (a form found by :mod:`.discovery` joins it), ``"drop"``
+    (``effect`` leaves it) or ``"swap"`` (``effect`` replaces the heat source
+    ``replaces``).
     """
 
     effect: str
@@ -78,9 +81,23 @@ class Candidate:
     evidence: str = ""
     report: object = field(default=None, repr=False)
     starts: list[dict] = field(default_factory=list, repr=False)  # where refits start
+    channel: str | None = None  # the extra channel a "channel" candidate reads
+    channel_unit: str | None = None
+    formula: str | None = None  # a generated term's heat in symbols
+    source: str | None = field(default=None, repr=False)  # a generated term's Python source (--propose)
+    skipped: str | None = None  # why a candidate worth a refit was not refitted
+
+    @property
+    def adds(self) -> bool:
+        """An added effect: from the catalog, a channel, or a discovered form."""
+        return self.kind in ("add", "channel", "discovered")
 
     @property
     def label(self) -> str:
+        if self.kind == "channel":
+            return f"+ {self.effect} ({self.channel} [{self.channel_unit}])"
+        if self.kind == "discovered":
+            return f"+ {self.effect} (discovered)"
         if self.kind == "drop":
             return f"- {self.effect}"
         if self.kind == "swap":
@@ -131,9 +148,15 @@ class Candidate:
             "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
             "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
         }
+        if self.skipped:
+            out["skipped"] = self.skipped
         if self.replaces:
             out["replaces"] = self.replaces
             out["also_drops"] = list(self.also_drops)
+        if self.channel is not None:
+            out["channel"] = {"name": self.channel, "unit": self.channel_unit}
+        if self.formula is not None:
+            out["formula"] = self.formula
         return out
 
 
@@ -145,7 +168,8 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
     out = []
     for name, term in TERMS.items():
-        if name not in model and _has_columns(term, series) and all(r in model for r in term.requires):
+        if (name not in model and not term.generated and _has_columns(term, series)
+                and all(r in model for r in term.requires)):
             out.append(Candidate(name, model + (name,)))
     sources = [n for n in model if TERMS[n].is_heat_source]
     for name in model:
@@ -155,7 +179,7 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
             out.append(Candidate(name, rest, kind="drop"))
     for old in sources:
         for new, term in TERMS.items():
-            if term.is_heat_source and new not in model and _has_columns(term, series):
+            if term.is_heat_source and not term.generated and new not in model and _has_columns(term, series):
                 swapped = tuple(new if t == old else t for t in model)
                 out.append(Candidate(new, swapped, kind="swap", replaces=old))
                 # the simplest form: also without the terms that only read effort, which the old source used

@@ -12,6 +12,12 @@ so the first row is the recommendation when there is one.
 ``auto_diagnose`` walks from the start model: at each step it takes the
 recommended change (add, drop or swap), never returning to a model it has
 already visited, until nothing helps.
+
+With ``discover=True`` the vocabulary opens (:mod:`.channels`,
+:mod:`.discovery`): every extra channel the log carries is tried in the
+forms a heat balance allows, and when no change helps and the residual still
+has structure, a sparse regression proposes a form the catalog lacks.  Both
+are fitted, validated and gated like catalog effects.
 """
 
 from __future__ import annotations
@@ -23,10 +29,13 @@ from ...identification import IdentifiabilityError, OutputError
 from ...logs import ActuatorSeries
 from ...model.model import model_parameters
 from ...model.terms import TERMS, parse_model
+from ...model.units import NOT_GIVEN
 from ...util.progress import progress
 from ..validation import FitReport, Scheme, evaluate
 from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
-from .evidence import describe
+from .channels import channel_terms, unused_channels
+from .discovery import Proposal, propose
+from .evidence import describe, describe_discovered
 from .residuals import ResidualAnalysis, analyse_residuals
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
@@ -45,6 +54,7 @@ class Diagnosis:
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
     notes: tuple[str, ...] = ()
+    proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
 
     def to_json(self) -> dict:
         out = {
@@ -63,6 +73,10 @@ class Diagnosis:
         }
         if self.auto is not None:
             out["auto"] = self.auto
+        if self.proposal is not None:
+            p = self.proposal
+            out["proposal"] = {"term": p.term, "formula": p.formula, "words": p.words,
+                               "library_size": p.library_size, "partial_r2": p.partial_r2}
         return out
 
 
@@ -77,7 +91,7 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
              refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
              validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
              skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset(),
-             base: FitReport | None = None) -> Diagnosis:
+             base: FitReport | None = None, discover: bool = False) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making.
 
     Held-out errors come from ``scheme`` (default: the ``split`` rule, or
@@ -88,6 +102,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     candidates whose label is in ``skip`` (confounded before) are not tried.
     ``base``: ``model`` already fitted and validated by this scheme (a refitted
     candidate's report, as ``auto_diagnose`` passes on), used as it is.
+    ``discover``: also try the log's extra channels, and, when nothing helps
+    and the residual has structure, a discovered form (module docstring).
     """
     model = parse_model(model)
     series = list(series)
@@ -102,22 +118,74 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     first = base.train_segments[0]
     analysis = analyse_residuals(train[0], first.simulated_C)
 
-    candidates = [c for c in candidate_models(model, series[0])
-                  if c.label not in skip and frozenset(c.model) not in visited]
+    candidates = candidate_models(model, series[0])
+    if discover:
+        candidates += _channel_candidates(model, train, series + list(validate_on))
+    candidates = [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
     for cand in candidates:
         score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
-    adds = [c for c in candidates if c.kind == "add" and c.confounded is None]
-    top = {id(c) for c in sorted(adds, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
-    to_refit = [c for c in candidates if c.confounded is None and
-                (refit == "all" or c.kind != "add" or c.p_value < SCORE_P_VALUE or id(c) in top)]
-    for cand in progress(to_refit, desc="refits", disable=quiet):
+    for cand in progress(_worth_refitting(candidates, refit), desc="refits", disable=quiet):
         _refit(cand, series, scheme, validate_on, base, base_bic)
     for cand in candidates:
         if not cand.evidence:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
+    proposal = None
+    if discover and not (candidates and candidates[0].eligible) and analysis.structured:
+        proposal = propose(base.model, train, base.estimator.jacobian_, residual)
+        if proposal is not None and frozenset(model + (proposal.term,)) not in visited:
+            cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
+                             source=proposal.source)
+            score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
+            params = [p.name for p in TERMS[proposal.term].parameters]
+            cand.starts.insert(0, {**dict(base.model.params), **dict(zip(params, proposal.coefficients))})
+            if cand.confounded is None:
+                _refit(cand, series, scheme, validate_on, base, base_bic)
+            cand.evidence = describe_discovered(cand, proposal, base.validation["rmse_K"])
+            candidates = sorted(candidates + [cand], key=_rank)
     recommended = candidates[0] if candidates and candidates[0].eligible else None
-    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, notes=notes)
+    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, notes=notes,
+                     proposal=proposal)
+
+
+def _channel_candidates(model, train, every) -> list[Candidate]:
+    """The forms of every extra channel the model does not read (present on every run, varying on the training ones)."""
+    out = []
+    for channel in unused_channels(model, train):
+        if not all(channel in s.signals.extra for s in every):
+            continue
+        unit = train[0].units.get(f"extra.{channel}") or NOT_GIVEN
+        for name in channel_terms(channel, train):
+            out.append(Candidate(name, model + (name,), kind="channel", channel=channel, channel_unit=unit,
+                                 source=TERMS[name].source))
+    return out
+
+
+def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
+    """Every drop and swap; additions whose score test is significant and the best few; of a channel's forms, only
+    the strongest (the others say so)."""
+    adds = [c for c in candidates if c.adds and c.confounded is None]
+    top = {id(c) for c in sorted([c for c in adds if c.kind == "add"], key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
+    strongest: dict[str, Candidate] = {}
+    for c in adds:
+        if c.kind == "channel" and (c.channel not in strongest or c.score > strongest[c.channel].score):
+            strongest[c.channel] = c
+    chosen = []
+    for c in candidates:
+        if c.confounded is not None:
+            continue
+        if refit == "all" or not c.adds:
+            chosen.append(c)
+        elif c.kind == "channel":
+            best = strongest[c.channel]
+            if c is best and c.p_value < SCORE_P_VALUE:
+                chosen.append(c)
+            elif c is not best:
+                c.skipped = f"{best.effect} explains more of the residual with the same channel {c.channel}"
+                c.evidence = f"score test p = {c.p_value:.2g}; not refitted: {c.skipped}."
+        elif c.p_value < SCORE_P_VALUE or id(c) in top:
+            chosen.append(c)
+    return chosen
 
 
 def _identifiable_base(series, model, scheme, validate_on, initial):
@@ -174,14 +242,14 @@ def _rank(c: Candidate):
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
                   max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
-                  validate_on: Sequence[ActuatorSeries] = ()) -> tuple[Diagnosis, list[Diagnosis]]:
+                  validate_on: Sequence[ActuatorSeries] = (), discover: bool = False) -> tuple[Diagnosis, list[Diagnosis]]:
     """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
 
     The first diagnosis carries the walk in ``auto``: per step the model, its
     validation error, and the change that led to it with the reason.
     """
     scheme = scheme or Scheme(split=split, folds=cv)
-    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on)]
+    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on, discover=discover)]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
@@ -194,7 +262,8 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
         visited.add(frozenset(move.model))
         moves.append(move)
         steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
-                              skip=frozenset(confounded), visited=frozenset(visited), base=move.report))
+                              skip=frozenset(confounded), visited=frozenset(visited), base=move.report,
+                              discover=discover))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]

@@ -16,6 +16,11 @@ COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "curr
 
 
 def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
+    for column in TERMS[effect].columns if TERMS[effect].generated else ():
+        name = column.removeprefix("extra.")
+        for key in (name, column):
+            if column.startswith("extra.") and key in analysis.cross:
+                return key
     if effect in CHANNEL:
         return CHANNEL[effect] if CHANNEL[effect] in analysis.cross else None
     if effect == "neighbor_coupling":
@@ -56,6 +61,8 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     if c.failure:
         parts.append(f"refit failed: {c.failure}")
     elif c.refitted:
+        if c.kind == "channel":
+            parts.append(_fitted(c))
         parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
         if c.kind == "drop" and c.helps:
             parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
@@ -63,6 +70,30 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         if c.plausible is False:
             parts.append(f"it fits, but is physically implausible ({c.implausible_because}): it stands in for "
                          f"something else")
+        if c.identifiable is False:
+            parts.append("but this log does not pin its value down")
+    return "; ".join(parts) + "."
+
+
+def _fitted(c: Candidate) -> str:
+    """The fitted sizes of a generated term, with their units and uncertainty."""
+    return ", ".join(f"{name} = {p['value']:.3g} ± {p['stderr']:.2g} {p['unit']}" for name, p in c.params.items())
+
+
+def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:
+    """A discovered form's evidence: what it is, how it was chosen, what the refit and held-out data say."""
+    parts = [(f"a discovered form, not a known effect: heat = {proposal.formula} ({proposal.words}); chosen by "
+              f"sparse regression among {proposal.library_size} library features, it explains "
+              f"{100 * proposal.partial_r2:.0f} % of the residual the model cannot")]
+    if c.confounded:
+        parts.append(f"confounded: {c.confounded}")
+    elif c.failure:
+        parts.append(f"refit failed: {c.failure}")
+    elif c.refitted:
+        parts.append(_fitted(c))
+        parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
+        if c.plausible is False:
+            parts.append(f"physically implausible ({c.implausible_because})")
         if c.identifiable is False:
             parts.append("but this log does not pin its value down")
     return "; ".join(parts) + "."

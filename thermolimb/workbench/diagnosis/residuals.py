@@ -49,6 +49,11 @@ class ResidualAnalysis:
     cross: dict[str, Correlation]
     phase_rmse_K: dict[str, float]
 
+    @property
+    def structured(self) -> bool:
+        """Whether the residual is not white: autocorrelation outside its band, or a significant cross-correlation."""
+        return self.autocorrelation.significant or any(c.significant for c in self.cross.values())
+
     def to_json(self) -> dict:
         return {
             "rmse_K": float(np.sqrt(np.mean(self.residual_K**2))),
@@ -103,6 +108,8 @@ def candidate_inputs(series: ActuatorSeries) -> dict[str, np.ndarray]:
     if s.neighbor_temperature_C is not None:
         for name, column in zip(s.neighbor_names, s.neighbor_temperature_C.T):
             inputs[f"temperature of {name}"] = column
+    for name, column in s.extra.items():
+        inputs[name if name not in inputs else f"extra.{name}"] = column
     return {k: v for k, v in inputs.items() if np.ptp(v) > 0}
 
 

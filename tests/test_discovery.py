@@ -1,0 +1,165 @@
+"""Learning the effect the catalog lacks: extra channels of a log, channel terms, discovered forms, --propose.
+
+The plant logs here run on the one-mass network, so the truth is the model's
+structure plus one effect the catalog does not have: these tests show that
+the right channel and form are *selected* and their physical size recovered;
+``benchmarks/discovery.py`` runs the catalog's cases on the richer three-node
+network with discovery on.
+"""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.logs import from_frame, read_log
+from thermolimb.model import TERMS
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.plant.effects import DriverConduction, FanCooling, HoldingBrake
+from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
+
+R_TOTAL = sum(NETWORKS["first_order"].resistance_K_per_W)  # K/W, winding to ambient
+
+
+def plant_log(effects: str, seed: int = 0, duration_s: float = 3600.0):
+    fx = PlantEffects.from_names(f"sensor_noise,quantisation,{effects}")
+    return simulate_profile("random", duration_s, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
+                            network=NETWORKS["first_order"]).log
+
+
+def generated(model) -> list[str]:
+    return [t for t in model if TERMS[t].generated]
+
+
+@pytest.mark.parametrize("effect, term, param, truth", [
+    ("holding_brake", "brake_heat", "brake_heat_K", HoldingBrake().coil_W * R_TOTAL),  # K while engaged
+    ("fan_cooling", "fan_conductance", "fan_conductance_per_unit", FanCooling().gain / FanCooling().scale),  # per %
+    ("driver_conduction", "driver_boundary", "driver_boundary_gain",  # G_b / (G_b + G_ambient)
+     DriverConduction().conductance_W_per_K / (DriverConduction().conductance_W_per_K + 1.0 / R_TOTAL)),
+])
+def test_a_channel_term_is_found_with_its_physical_value(effect, term, param, truth):
+    first, steps = auto_diagnose([plant_log(effect).series("knee")], discover=True)
+    final = steps[-1]
+    assert term in final.model, first.auto
+    value = final.base.model.params[param]
+    assert value == pytest.approx(truth, rel=0.10)
+    assert final.base.validation["rmse_K"] < 0.35 * first.auto[0]["rmse_K"]
+    move = next(c for d in steps for c in d.candidates if c.effect == term and c.refitted)
+    assert move.kind == "channel" and move.channel in move.label and move.channel_unit in move.label
+    assert f"`{move.channel}`" in TERMS[term].description and move.to_json()["channel"]["name"] == move.channel
+
+
+def test_decoy_channels_are_never_taken():
+    log = plant_log("decoy_channels,speed_losses", seed=1)
+    assert set(log.extras) == {"supply", "led"}
+    first, steps = auto_diagnose([log.series("knee")], discover=True)
+    assert not generated(steps[-1].model), first.auto
+    assert "speed_losses" in steps[-1].model
+    tried = [c for d in steps for c in d.candidates if c.kind == "channel"]
+    assert tried and not any(c.eligible for c in tried)  # tried, and held-out data turned them down
+
+
+def test_without_discover_extra_channels_change_nothing():
+    log = plant_log("holding_brake", seed=2, duration_s=1800.0)
+    bare = from_frame(log.frame.drop(columns=[f"extra.{n}" for n in log.extras]))
+    assert bare.extras == () and log.extras == ("brake",)
+    with_extras = diagnose([log.series("knee")]).to_json()
+    without = diagnose([bare.series("knee")]).to_json()
+    with_extras["residuals"]["cross_correlation"].pop("brake")
+    assert json.dumps(with_extras, sort_keys=True, default=str) == json.dumps(without, sort_keys=True, default=str)
+
+
+def test_a_white_residual_gets_no_proposal():
+    d = diagnose([plant_log("").series("knee")], discover=True)
+    assert d.proposal is None or not any(c.kind == "discovered" and c.eligible for c in d.candidates)
+    assert d.recommended is None or d.recommended.kind != "discovered"
+
+
+def test_a_discovered_form_is_written_loaded_and_refits_the_same(tmp_path, capsys):
+    log = plant_log("field_weakening", seed=0, duration_s=2 * 3600.0)
+    path = tmp_path / "no_current.csv"
+    from_frame(log.frame.drop(columns="current")).write(path)
+    proposal = tmp_path / "proposed.py"
+    assert main(["diagnose", str(path), "--actuator", "knee", "--auto", "--discover", "--propose", str(proposal),
+                 "--json", "--quiet"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    final = record["auto"][-1]
+    found = [t for t in final["model"] if t.startswith("discovered_")]
+    assert found, record["auto"]
+    assert any(c["kind"] == "discovered" and c["formula"] for c in record["candidates"]) or any(
+        "discovered" in step.get("change", "") for step in record["auto"])
+    text = proposal.read_text()
+    compile(text, str(proposal), "exec")
+    assert all(f"name = {t!r}" in text for t in found) and "fitted values" in text
+    for t in found:  # a user's file now: not the suite's own generated term
+        del TERMS[t]
+    assert main(["fit", str(path), "--actuator", "knee", "--terms", str(proposal), "--model", ",".join(final["model"]),
+                 "--json", "--quiet"]) == 0
+    refit = json.loads(capsys.readouterr().out)
+    assert refit["validation"]["rmse_K"] == pytest.approx(final["rmse_K"], rel=0.02)
+    assert all(not TERMS[t].generated for t in found)
+
+
+def test_propose_writes_nothing_when_nothing_was_found(tmp_path, capsys):
+    path = tmp_path / "plain.csv"
+    plant_log("decoy_channels", duration_s=1800.0).write(path)
+    proposal = tmp_path / "proposed.py"
+    assert main(["diagnose", str(path), "--actuator", "knee", "--auto", "--discover", "--propose", str(proposal),
+                 "--quiet"]) == 0
+    assert not proposal.exists() and not list(tmp_path.glob(".*"))
+    assert "nothing written" in capsys.readouterr().err
+
+
+def test_propose_and_fleet_refuse_what_they_cannot_do(tmp_path, capsys):
+    path = tmp_path / "plain.csv"
+    plant_log("", duration_s=600.0).write(path)
+    assert main(["diagnose", str(path), "--propose", str(tmp_path / "p.py")]) == 2
+    assert "add --discover" in capsys.readouterr().err
+    assert main(["diagnose", str(path), "--discover", "--fleet"]) == 2
+    assert "--terms" in capsys.readouterr().err
+    bad = tmp_path / "bad.py"
+    bad.write_text("x = 1\n")
+    assert main(["fit", str(path), "--terms", str(bad)]) != 0
+    assert "registers no term" in capsys.readouterr().err
+
+
+def test_extra_channels_are_read_with_their_units(tmp_path):
+    n = 40
+    t = np.arange(n, dtype=float)
+    frame = pd.DataFrame({"Time [s]": t, "Torque [N m]": np.sin(t), "Winding [degC]": 30 + 0.1 * t,
+                          "Voltage [V]": 24 + 0.1 * np.cos(t), "Fan": (t % 7 > 3).astype(float),
+                          "Mode": ["run"] * n, "Sample": np.arange(n), "Brake": ["True", "False"] * (n // 2),
+                          "Gappy [A]": np.where(t == 5, np.nan, 1.0 + t)})
+    path = tmp_path / "bench.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, mapping={"time": "Time [s]", "effort": "Torque [N m]", "temperature": "Winding [degC]"})
+    assert set(log.extras) == {"Voltage", "Fan", "Brake"}  # text, a counter and a gappy column are not channels
+    assert log.units["extra.Voltage"] == "V" and log.units["extra.Fan"] == "unit not given"
+    assert any("Gappy" in note and "missing" in note for note in log.notes)
+    assert any("Mode" in note for note in log.notes)
+    series = log.series("bench")
+    np.testing.assert_allclose(series.signals.extra["Brake"], [1.0, 0.0] * (n // 2))
+    out = tmp_path / "round.csv"
+    log.write(out)
+    again = read_log(out)
+    assert again.extras == log.extras and again.units["extra.Voltage"] == "V"
+    np.testing.assert_allclose(again.series("bench").signals.extra["Voltage"], series.signals.extra["Voltage"])
+
+
+def test_per_joint_and_shared_extra_channels_follow_the_joint_pattern(tmp_path):
+    n = 30
+    t = np.arange(n, dtype=float)
+    frame = pd.DataFrame({"Time": t, "Tool_current": np.cos(t)})
+    for j in range(3):
+        frame[f"Current_J{j}"] = np.sin(t + j)
+        frame[f"Temperature_J{j}"] = 30.0 + j + 0.01 * t
+        frame[f"Voltage_J{j}"] = 24.0 + j + 0.1 * np.sin(3 * t)
+    path = tmp_path / "arm.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, mapping="time=Time,effort=Current_J{j},temperature=Temperature_J{j}")
+    assert set(log.extras) == {"Voltage_J", "Tool_current"}
+    np.testing.assert_allclose(log.series("J2").signals.extra["Voltage_J"], frame["Voltage_J2"])
+    np.testing.assert_allclose(log.series("J0").signals.extra["Tool_current"], frame["Tool_current"])

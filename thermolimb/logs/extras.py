@@ -1,0 +1,137 @@
+"""Channels a log carries beyond the model's inputs, kept for the diagnosis to try (``diagnose --discover``).
+
+A fan's duty, a brake's state, a driver board's temperature, a supply
+voltage: a heat path that rides on one of them is invisible to a model that
+reads only effort, velocity and the canonical channels.  A log keeps every
+extra numeric channel it has, named after its column without the unit
+(``Voltage [V]`` -> ``Voltage`` in V), in the frame as ``extra.Voltage``:
+
+* a canonical or single-actuator file: every column that is not a canonical one;
+* a file mapped with joint patterns (``effort=Current_J{j}``): per-joint
+  columns of the same form (``Voltage_J{j}`` -> ``Voltage_J`` of each
+  joint) and the columns shared by every joint (``Tool_current``);
+* a file with per-channel time columns, or a bag: the channels named as
+  ``--map extra.NAME=COLUMN@TIME`` or ``extra.NAME=/topic.field``.
+
+Columns that are not numbers, are empty, or count samples or time (strictly
+monotonic) are not channels and are left out; one with missing values is left
+out with a note.  Booleans are read as 0 and 1.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Mapping
+
+import numpy as np
+
+from ..util.lazy import pandas as pd
+from .mapping import EXTRA, JOINT, OPTIONAL, REQUIRED
+from .table import shown_names
+from .units import header_unit
+
+_HEADER_UNIT = re.compile(r"\s*[\[(][^\[\]()]*[\])]\s*$")
+_PER_JOINT = re.compile(r"^(?P<stem>.*?\D)(?P<j>\d+)$")
+_BOOLEAN = {"true": 1.0, "false": 0.0}
+
+
+def extra_name(header: str) -> tuple[str, str | None]:
+    """``Voltage [V]`` -> ``("Voltage", "V")``; a header without a unit is its own name."""
+    header = str(header).strip()
+    name = _HEADER_UNIT.sub("", header).strip()
+    return (name or header), header_unit(header)
+
+
+def unmapped(columns, mapping: Mapping[str, str]) -> list[str]:
+    """Columns of a single-actuator file that no ``--map`` entry uses (candidates for extra channels)."""
+    used = set(mapping.values())
+    return [str(c) for c in columns if str(c) not in used]
+
+
+def joint_extras(columns, mapping: Mapping[str, str], joints: list[int]) -> tuple[dict[int, dict[str, str]], list[str]]:
+    """Per-joint extra columns (``{joint: {stem: column}}``, only stems every joint has) and shared ones, for a
+    file mapped with joint patterns; columns the mapping uses are not extras."""
+    used = {str(c) for c in columns if any(_matches(c, t) for t in mapping.values())}
+    per_stem: dict[str, dict[int, str]] = {}
+    shared = []
+    for c in (str(c) for c in columns):
+        if c in used:
+            continue
+        m = _PER_JOINT.match(c)
+        if m and int(m.group("j")) in joints:
+            per_stem.setdefault(m.group("stem"), {})[int(m.group("j"))] = c
+        elif not m:
+            shared.append(c)
+    complete = {stem: cols for stem, cols in per_stem.items() if set(joints) <= set(cols)}
+    return {j: {stem: cols[j] for stem, cols in complete.items()} for j in joints}, shared
+
+
+def _matches(column, template: str) -> bool:
+    if JOINT not in template and "*" not in template:
+        return str(column) == template
+    parts = re.split(r"(\{j\}|\*)", template)
+    body = "".join("\\d+" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
+    return re.fullmatch(body, str(column)) is not None
+
+
+def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapping[str, str],
+            source: str) -> tuple[dict[str, np.ndarray], dict[str, str | None], list[str]]:
+    """The frame's extra channels as float arrays by name, their units, and notes on what was left out.
+
+    Extra columns are those of ``frame`` that are not canonical; a column
+    named ``extra.NAME`` was mapped (``explicit``: NAME's mapped column, whose
+    header may give the unit) or comes from a bag.  ``given`` holds units
+    given with the mapping (``extra.NAME=COL:UNIT``).
+    """
+    values, units, missing, text = {}, {}, [], []
+    for column in frame.columns:
+        if column in REQUIRED + OPTIONAL:
+            continue
+        if column.startswith(EXTRA) and column in explicit:
+            name, unit = column[len(EXTRA):], given.get(column) or header_unit(explicit[column])
+        elif column.startswith(EXTRA):
+            name, unit = extra_name(column[len(EXTRA):])
+            unit = given.get(column) or unit
+        else:
+            name, unit = extra_name(column)
+        if name in values:
+            name = column  # two headers with one name and different units: keep the header
+        x = _numeric(frame[column])
+        if x is None:
+            if frame[column].notna().any():
+                text.append(name)
+            continue
+        finite = np.isfinite(x)
+        if not finite.any() or _monotonic(x):
+            continue  # empty, or a sample counter or a clock
+        if not finite.all():
+            missing.append(f"{name} ({int((~finite).sum())})")
+            continue
+        values[name] = x
+        units[name] = unit
+    notes = []
+    if missing:
+        notes.append(f"{source}: extra channel(s) with missing values not kept: {', '.join(missing)} "
+                     f"(fill them to use them)")
+    if text:
+        notes.append(f"{source}: column(s) holding text not kept as channels: {shown_names(text)}")
+    return values, units, notes
+
+
+def _numeric(column: pd.Series) -> np.ndarray | None:
+    """The column as floats (booleans 0/1), or ``None`` when it holds text."""
+    if pd.api.types.is_bool_dtype(column):
+        return column.to_numpy(float)
+    if column.dtype == object:
+        lowered = column.dropna().astype(str).str.strip().str.lower()
+        if len(lowered) and lowered.isin(list(_BOOLEAN)).all():
+            return column.map(lambda v: _BOOLEAN.get(str(v).strip().lower(), np.nan)).to_numpy(float)
+    converted = pd.to_numeric(column, errors="coerce")
+    if converted.notna().sum() < column.notna().sum():
+        return None
+    return converted.to_numpy(float)
+
+
+def _monotonic(x: np.ndarray) -> bool:
+    d = np.diff(x)
+    return x.size > 2 and (bool(np.all(d > 0)) or bool(np.all(d < 0)))

@@ -1,0 +1,91 @@
+"""Every channel the log carries is a candidate: the forms a heat balance allows for an extra channel ``x``.
+
+* a heat input: ``c x``, ``c |x|`` (a channel of both signs), ``c x^2``, and
+  ``c x |effort|`` (a supply voltage times a current-like effort);
+* a change of the conductance to ambient: ``-h x (T - T_offset)``, the
+  conductance times ``1 + h x`` (a fan's duty, a coolant's flow), which must
+  stay positive over the log;
+* for a temperature (a unit of degC or K, or a name saying so): a boundary
+  the winding relaxes towards, ``g (x - 25 degC)`` with ``0 <= g <= 1``
+  (a driver board, a coolant, a housing sensor the mapping did not name).
+
+Each form is a generated :class:`~thermolimb.model.terms.Term`
+(:mod:`thermolimb.model.generated`) and goes through the same machinery as
+a catalog effect: score test, refit of the strongest form of each channel,
+held-out validation, plausibility, identifiability and confounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...logs import ActuatorSeries
+from ...model.generated import Feature, define, identifier, input_name, term_source
+from ...model.terms import TERMS
+
+TEMPERATURE_UNITS = ("degC", "°C", "C", "K", "deg C", "celsius", "Celsius")
+TEMPERATURE_WORDS = ("temp", "°c", "degc")
+BOUNDARY_REFERENCE_C = 25.0  # a boundary's offset is the model's offset at this channel temperature
+CONDUCTANCE_MARGIN = 0.98  # the conductance's multiplier may fall to 2 % of its value, never below
+
+
+def is_temperature(name: str, unit: str | None) -> bool:
+    """Whether a channel is a temperature, from its unit or, without one, its name."""
+    if unit and unit.strip() in TEMPERATURE_UNITS:
+        return True
+    return any(word in name.lower() for word in TEMPERATURE_WORDS) and not (unit and unit.strip() not in ("", "1"))
+
+
+def unused_channels(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[str]:
+    """Extra channels of the log that vary on every run and that no term of ``model`` reads."""
+    read = {c for name in model for c in TERMS[name].columns}
+    names = series[0].signals.extra.keys()
+    return [n for n in names if f"extra.{n}" not in read
+            and all(n in s.signals.extra and np.ptp(s.signals.extra[n]) > 0 for s in series)]
+
+
+def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
+    """Register the forms of one extra channel as generated terms; their names, in the order above."""
+    unit = series[0].units.get(f"extra.{channel}")
+    x = np.concatenate([s.signals.extra[channel] for s in series])
+    ident, var, template = identifier(channel), input_name(channel), f"{{extra.{channel}}}"
+    shown = f"`{channel}`"
+    forms: list[tuple[str, str, list[Feature], tuple[str, ...], str | None]] = []
+    if is_temperature(channel, unit):
+        forms.append(("boundary", f"the winding relaxes towards the logged temperature {shown}", [Feature(
+            f"{ident}_boundary_gain", "1", f"{var} - {BOUNDARY_REFERENCE_C!r}", f"({channel} - 25 degC)",
+            f"the logged temperature {shown}", lower=-1.0, upper=2.0, typical=0.3, plausible=(0.0, 1.0))], (), None))
+    else:
+        scale = float(np.max(np.abs(x))) or 1.0
+        forms.append(("heat", f"heat in proportion to the logged channel {shown}", [Feature(
+            f"{ident}_heat_K", f"K/({template})", var, channel, shown, typical=1.0 / scale)], (), None))
+        if x.min() < 0.0 < x.max():
+            forms.append(("heat_abs", f"heat in proportion to the magnitude of {shown}", [Feature(
+                f"{ident}_heat_abs_K", f"K/({template})", f"np.abs({var})", f"|{channel}|", f"|{shown}|",
+                typical=1.0 / scale)], (), None))
+        if not np.allclose(x**2, x):  # an on/off channel is its own square
+            forms.append(("heat_sq", f"heat in proportion to the square of {shown}", [Feature(
+                f"{ident}_heat_sq_K", f"K/({template})^2", f"{var} ** 2", f"{channel}^2", f"{shown} squared",
+                typical=1.0 / scale**2)], (), None))
+        forms.append(("heat_effort", f"heat in proportion to {shown} times the effort's magnitude", [Feature(
+            f"{ident}_heat_effort_K", f"K/({template} {{effort}})", f"{var} * np.abs(effort)",
+            f"{channel} |effort|", f"{shown} times |effort|", typical=1.0 / scale)], ("effort",), None))
+        lower = -CONDUCTANCE_MARGIN / x.max() if x.max() > 0 else -np.inf
+        upper = CONDUCTANCE_MARGIN / -x.min() if x.min() < 0 else np.inf
+        param = f"{ident}_conductance_per_unit"
+        check = (f"worst = min(1.0 + p[{param!r}] * {float(x.min())!r}, 1.0 + p[{param!r}] * {float(x.max())!r})\n"
+                 f"if worst <= 0.0:\n"
+                 f"    return f\"the conductance to ambient would be negative ({{worst:.2f}} of its value at "
+                 f"{channel} = 0)\"")
+        forms.append(("conductance", f"the conductance to ambient changes with {shown} (a fan, a coolant)", [Feature(
+            param, f"1/({template})", var, f"{channel} (T - T_offset)", f"{shown} times the rise above the offset",
+            gain=True, sign=-1.0, lower=lower, upper=upper, typical=0.1 / scale)], (), check))
+    names = []
+    for form, description, features, needs, check in forms:
+        name = f"{ident}_{form}"
+        doc = (f"{description[0].upper()}{description[1:]}: a term written by `thermolimb diagnose --discover` for "
+               f"the channel {channel!r} ({unit or 'unit not given'}) of the log it diagnosed.")
+        define(term_source(name, description, features, {var: channel}, needs + (f"extra.{channel}",), check),
+               doc, f"channel {channel}")
+        names.append(name)
+    return names

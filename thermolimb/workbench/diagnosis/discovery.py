@@ -1,0 +1,270 @@
+"""Forms the catalog lacks: a sparse regression on the heat balance, over a library of physical features.
+
+When no change of the catalog or of the log's channels helps and the
+residual still has structure, :func:`propose` asks which few features of the
+logged signals explain it.  The library holds forms a heat balance allows:
+powers of |velocity| and of |effort|, heat above a speed threshold
+(``max(0, |v| - v0)^2``), heat growing with temperature (``effort^2 (T - 25)``,
+copper), cooling growing with speed, the pull of every other logged
+temperature (``T_x - T``), and the extra channels' heat and conductance forms.
+
+The regression is on the free run's residual, not on a differentiated
+temperature: each feature ``f`` enters as its *signature*, the change of the
+simulated temperature when the model gains the heat ``c f`` (computed by the
+model itself, so a lag, a slow mass or a lagging sensor shapes it exactly as
+it would the real effect), with the part the fitted parameters can already
+produce projected out, as in the score test of :mod:`.candidates`.  A
+signature the model already has is confounded and left out of the library.
+
+Orthogonal matching pursuit picks the features (scikit-learn's
+``orthogonal_mp``: a maintained, exact greedy solver; the library's
+features are strongly correlated powers of one speed, where OMP's one pick
+per family reads better than a Lasso path that spreads weight over
+neighbouring exponents, and OMP needs no penalty to tune).  A feature is kept
+while it explains at least :data:`MIN_SHARE` of what is left, at most
+:data:`MAX_FEATURES` of them.  The proposal is a generated term
+(:mod:`thermolimb.model.generated`) with one coefficient per feature; its
+exponents and thresholds are fixed at the library's values.  It is refitted
+in the full model by output error and validated on held-out data like any
+candidate, and labelled a discovered form, not a known effect.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ...logs import ActuatorSeries
+from ...model.generated import Feature, define, input_name, term_source
+from ...model.model import ThermalModel
+from ...model.terms import TERMS, Parameter, Term, register_term, unregister_term
+from .channels import is_temperature, unused_channels
+
+MAX_FEATURES = 2
+SPEED_POWERS = (1.5, 2.5, 3.0, 4.0)  # |v| and v^2 are the catalog's speed losses
+SPEED_QUANTILES = (0.25, 0.5, 0.75)  # thresholds of heat above a speed, as quantiles of the speed while moving
+EFFORT_POWERS = (1.0, 3.0)  # |F|; F^2 is the Joule heat itself
+# a feature is kept while it explains at least this share of what is left of the residual.  No significance test
+# here: a thermal residual's serial correlation leaves a two-hour log a few dozen independent samples, and a test
+# on them would refuse forms that halve the held-out error.  The regression proposes; held-out data decide.
+MIN_SHARE = 0.05
+OWN_SHARE = 1e-3  # a feature whose signature is less than this share its own is confounded with the model
+PROBE = "_discovery_probe"
+
+
+@dataclass(frozen=True)
+class LibraryFeature:
+    """A feature and what it reads: extra channels by input name, log columns."""
+
+    key: str
+    feature: Feature
+    extras: dict
+    columns: tuple[str, ...]
+
+
+@dataclass
+class Proposal:
+    """A discovered form: its generated term's name, formula, and how the regression chose it."""
+
+    term: str
+    formula: str
+    words: str
+    features: list[LibraryFeature]
+    coefficients: list[float]
+    partial_r2: float
+    library_size: int
+    source: str
+
+
+def _speed_features(speed: np.ndarray) -> list[LibraryFeature]:
+    out = []
+    for n in SPEED_POWERS:
+        out.append(LibraryFeature(f"speed_p{n:g}".replace(".", "_"), Feature(
+            "", f"K/({{velocity}})^{n:g}", f"np.abs(velocity) ** {n!r}", f"|v|^{n:g}",
+            f"|velocity| to the power {n:g}"), {}, ("velocity",)))
+    moving = speed[speed > 0.01 * speed.max()] if speed.max() > 0 else speed
+    for q in SPEED_QUANTILES:
+        v0 = float(f"{np.quantile(moving, q):.2g}")
+        if v0 <= 0:
+            continue
+        out.append(LibraryFeature(f"speed_over_{v0:g}".replace(".", "_"), Feature(
+            "", "K/({velocity})^2", f"np.maximum(np.abs(velocity) - {v0!r}, 0.0) ** 2", f"max(0, |v| - {v0:g})^2",
+            f"the square of |velocity| above {v0:g}"), {}, ("velocity",)))
+    out.append(LibraryFeature("speed_cooling", Feature(
+        "", "1/({velocity})", "np.abs(velocity)", "|v| (T - T_offset)", "|velocity| times the rise above the offset",
+        gain=True), {}, ("velocity",)))
+    return out
+
+
+def _effort_features(effort: np.ndarray) -> list[LibraryFeature]:
+    out = [LibraryFeature(f"effort_p{n:g}", Feature(
+        "", f"K/({{effort}})^{n:g}" if n != 1 else "K/({effort})", f"np.abs(effort) ** {n!r}",
+        f"|F|^{n:g}" if n != 1 else "|F|", f"|effort| to the power {n:g}"), {}, ("effort",)) for n in EFFORT_POWERS]
+    f0 = float(f"{np.quantile(np.abs(effort), 0.75):.2g}")
+    if f0 > 0:
+        out.append(LibraryFeature(f"effort_over_{f0:g}".replace(".", "_"), Feature(
+            "", "K/({effort})^2", f"np.maximum(np.abs(effort) - {f0!r}, 0.0) ** 2", f"max(0, |F| - {f0:g})^2",
+            f"the square of |effort| above {f0:g}"), {}, ("effort",)))
+    out.append(LibraryFeature("effort2_temperature", Feature(
+        "", "1/({effort})^2", "effort ** 2", "F^2 (T - 25 degC)", "effort squared times the temperature above 25 degC",
+        gain=True, reference="25.0"), {}, ("effort",)))
+    return out
+
+
+def _pull(key: str, reference: str, symbol: str, words: str, extras=None, columns=()) -> LibraryFeature:
+    """``c (T_x - T)``: the pull of another temperature (a gain of ``-c`` with the reference ``T_x``)."""
+    return LibraryFeature(key, Feature("", "1", "1.0", symbol, words, gain=True, reference=reference, sign=-1.0),
+                          extras or {}, columns)
+
+
+def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[LibraryFeature]:
+    """The features this log can feed, for a model ``model`` (its extra channels' forms included)."""
+    s = series[0].signals
+    out = _effort_features(np.concatenate([x.signals.effort for x in series]))
+    if s.velocity is not None:
+        out += _speed_features(np.abs(np.concatenate([x.signals.velocity for x in series])))
+    if s.current_A is not None:
+        out.append(LibraryFeature("current_p2", Feature("", "K/({current})^2", "current ** 2", "I^2",
+                                                        "current squared"), {}, ("current",)))
+        out.append(LibraryFeature("current2_temperature", Feature(
+            "", "1/({current})^2", "current ** 2", "I^2 (T - 25 degC)", "current squared times the temperature "
+            "above 25 degC", gain=True, reference="25.0"), {}, ("current",)))
+    for column, words in (("ambient", "the logged ambient"), ("housing", "the housing temperature"),
+                          ("neighbors", "the neighbours' mean temperature")):
+        if s.has(column):
+            out.append(_pull(f"{column}_pull", column, f"({column} - T)", f"the pull of {words}", columns=(column,)))
+    for channel in unused_channels(model, series):
+        var, unit = input_name(channel), series[0].units.get(f"extra.{channel}")
+        needs = (f"extra.{channel}",)
+        key = var[2:]
+        if is_temperature(channel, unit):
+            out.append(_pull(f"{key}_pull", var, f"({channel} - T)", f"the pull of `{channel}`", {var: channel}, needs))
+            continue
+        template = f"{{extra.{channel}}}"
+        out += [
+            LibraryFeature(f"{key}_heat", Feature("", f"K/({template})", var, channel, f"`{channel}`"),
+                           {var: channel}, needs),
+            LibraryFeature(f"{key}_sq", Feature("", f"K/({template})^2", f"{var} ** 2", f"{channel}^2",
+                                                f"`{channel}` squared"), {var: channel}, needs),
+            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} {{effort}})", f"{var} * np.abs(effort)",
+                                                    f"{channel} |F|", f"`{channel}` times |effort|"),
+                           {var: channel}, needs + ("effort",)),
+            LibraryFeature(f"{key}_cooling", Feature("", f"1/({template})", var, f"{channel} (T - T_offset)",
+                                                     f"`{channel}` times the rise above the offset", gain=True),
+                           {var: channel}, needs),
+        ]
+    return out
+
+
+def evaluate(feature: Feature, extras: dict, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
+    """The feature's values on a series, and its reference temperature (degC) for a gain feature."""
+    s = series.signals
+    names = {"np": np, "effort": s.effort, "velocity": s.velocity, "current": s.current_A, "power": s.power_W,
+             "ambient": s.ambient_C, "housing": s.housing_C,
+             "neighbors": None if s.neighbor_temperature_C is None else s.neighbor_temperature_C.mean(axis=1),
+             "T_offset_C": offset_C}
+    names.update({var: s.extra[channel] for var, channel in extras.items()})
+    values = np.broadcast_to(np.asarray(eval(feature.expr, {"__builtins__": {}}, names), float), (s.n,))
+    if not feature.gain:
+        return values.copy(), None
+    reference = np.broadcast_to(np.asarray(eval(feature.reference, {"__builtins__": {}}, names), float), (s.n,))
+    return values.copy(), reference.copy()
+
+
+class _Probe(Term):
+    """The heat ``c f`` of one library feature (``f`` and, for a gain feature, its reference, passed as extra
+    channels): registered only while the signatures are computed."""
+
+    name = PROBE
+    description = "a library feature under test"
+    parameters = (Parameter("_discovery_probe_coef", "1", -np.inf, np.inf, 1.0, "probe"),)
+    columns = ("extra._f",)
+    generated = True
+
+    def contribution(self, p, s):
+        k = p["_discovery_probe_coef"] * s.extra["_f"]
+        if "_ref" in s.extra:
+            return -k * s.extra["_ref"], k
+        return k, 0.0
+
+
+def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[LibraryFeature]) -> np.ndarray:
+    """Each feature's signature in the free run per unit coefficient (columns), over the training series."""
+    register_term(_Probe)
+    try:
+        model = ThermalModel(base.terms + (PROBE,), {**base.params, "_discovery_probe_coef": 0.0})
+        columns = []
+        for lf in features:
+            runs = []
+            for s in train:
+                f, ref = evaluate(lf.feature, lf.extras, s, base.params["T_offset_C"])
+                extra = {**s.signals.extra, "_f": f * lf.feature.sign}
+                if ref is not None:
+                    extra["_ref"] = ref
+                probe = replace(s, signals=replace(s.signals, extra=extra))
+                size = np.max(np.abs(f)) or 1.0
+                step = (1e-3 if ref is not None else 0.1) / size
+                at_null = model.free_run(probe)
+                moved = model.with_params({**model.params, "_discovery_probe_coef": step}).free_run(probe)
+                runs.append((moved - at_null) / step)
+            columns.append(np.concatenate(runs))
+        return np.column_stack(columns) if columns else np.empty((sum(s.n for s in train), 0))
+    finally:
+        unregister_term(PROBE)
+
+
+def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray, residual: np.ndarray,
+            name_prefix: str = "discovered") -> Proposal | None:
+    """The few library features that explain the residual significantly, as a generated term, or ``None``."""
+    from sklearn.linear_model import orthogonal_mp  # scikit-learn takes ~0.1 s to import: only when discovering
+
+    features = [lf for lf in library(base.terms, train)
+                if np.ptp(np.concatenate([evaluate(lf.feature, lf.extras, s, 0.0)[0] for s in train])) > 0]
+    if not features or not residual @ residual > 0:
+        return None
+    S = signatures(base, train, features)
+    coef, *_ = np.linalg.lstsq(jacobian, S, rcond=None)
+    S_perp = S - jacobian @ coef
+    size, own = np.linalg.norm(S, axis=0), np.linalg.norm(S_perp, axis=0)
+    usable = np.flatnonzero((size > 0) & (own > OWN_SHARE * np.maximum(size, 1e-300)))
+    if usable.size == 0:
+        return None
+    X = S_perp[:, usable] / own[usable]
+    path = np.atleast_2d(orthogonal_mp(X, residual, n_nonzero_coefs=min(MAX_FEATURES, usable.size),
+                                       return_path=True).T)
+    order: list[int] = []
+    for step in path:
+        order += [int(k) for k in np.flatnonzero(step) if int(k) not in order]
+    chosen, r2_before = [], 0.0
+    total = float(residual @ residual)
+    for k in order:
+        trial = chosen + [k]
+        beta, *_ = np.linalg.lstsq(X[:, trial], residual, rcond=None)
+        left = residual - X[:, trial] @ beta
+        r2 = 1.0 - float(left @ left) / total
+        if (r2 - r2_before) / max(1.0 - r2_before, 1e-12) < MIN_SHARE:
+            break
+        chosen, r2_before = trial, r2
+    if not chosen:
+        return None
+    picked = [features[usable[k]] for k in chosen]
+    beta, *_ = np.linalg.lstsq(S_perp[:, usable[chosen]], residual, rcond=None)
+    return _proposal(picked, [float(b) for b in beta], r2_before, len(features), train, name_prefix)
+
+
+def _proposal(picked: list[LibraryFeature], beta: list[float], r2: float, size: int, train, prefix: str) -> Proposal:
+    name = f"{prefix}_" + "_".join(lf.key for lf in picked)
+    features, extras, columns = [], {}, []
+    for k, (lf, b) in enumerate(zip(picked, beta), start=1):
+        features.append(replace(lf.feature, param=f"{name}_c{k}", typical=abs(b) or 1.0))
+        extras.update(lf.extras)
+        columns += [c for c in lf.columns if c not in columns]
+    formula = " + ".join(f"c{k} {f.symbol}" for k, f in enumerate(features, start=1))
+    words = "; ".join(f.words for f in features)
+    doc = (f"A discovered form, not a known effect: heat = {formula}. Written by `thermolimb diagnose --discover` "
+           f"(orthogonal matching pursuit over {size} library features of the log it diagnosed); rename it, keep it, "
+           f"or load it with `--terms FILE`.")
+    source = term_source(name, f"discovered form: {words}", features, extras, tuple(columns))
+    define(source, doc, "discovery")
+    return Proposal(name, formula, words, picked, beta, r2, size, TERMS[name].source)
