@@ -86,6 +86,18 @@ def test_custom_effect_is_ranked_like_a_builtin_and_then_unregistered(quick_runs
     assert "speed_power_heating" not in TERMS
 
 
+def test_discovery_demo_names_the_brake_and_writes_a_term_file(quick_runs):
+    """The brake's heat is found from its channel with the plant's value (3 W through 3.256 K/W), the walk ends
+    well below the catalog's, and the term file the report shows compiles."""
+    summary = quick(quick_runs, "discovery")
+    assert any(step["change"].startswith("+ brake_heat") for step in summary["with_discovery"])
+    assert summary["generated_params"]["brake_heat_K"]["value"] == pytest.approx(3.0 * 3.256, rel=0.1)
+    assert summary["with_discovery"][-1]["rmse_K"] < 0.2 * summary["catalog_only"][-1]["rmse_K"]
+    source = (quick_runs[0] / "discovery" / summary["term_file"]).read_text()
+    compile(source, summary["term_file"], "exec")
+    assert "brake_heat_K =" in source
+
+
 def test_real_pmsm_data_points_to_current_heating(quick_runs):
     summary = quick(quick_runs, "pmsm-real-data")
     for name, entry in summary["profiles"].items():

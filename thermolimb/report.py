@@ -24,7 +24,7 @@ STYLE = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:auto;pad
          "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
          "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
          "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}"
-         "figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}")
+         "pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:13px}figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}")
 
 
 def _load(path: Path):
@@ -66,6 +66,10 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
         text = caption(page, png.name)
         parts.append(f"<figure><img src='{html.escape(rel)}' alt='{html.escape(text or png.stem)}'>"
                      f"<figcaption>{html.escape(text or png.stem.replace('_', ' '))}</figcaption></figure>")
+    for source in sorted(folder.glob("*.py")):  # a term file a diagnosis wrote (--propose), shown as it is
+        parts.append(f"<figure><pre><code>{html.escape(source.read_text(encoding='utf-8'))}</code></pre>"
+                     f"<figcaption>{html.escape(source.name)}: the Python term file the demo wrote, with its fitted "
+                     f"values; load it with --terms {html.escape(source.name)}</figcaption></figure>")
     links = [f"<a href='{html.escape(p.relative_to(out).as_posix())}'>{label}</a>"
              for p, label in ((folder / "summary.json", "summary.json (every number)"),
                               (folder / "details.json", "details.json"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import textwrap
+
 from pathlib import Path
 
 import numpy as np
@@ -83,10 +85,12 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.5))
     rmse = [s["rmse_K"] for s in steps]
     labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") for s in steps[1:]]
+    # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not overlap
+    labels = [textwrap.fill(label.replace("_", "_ "), 18).replace("_ ", "_") for label in labels]
     ax.bar(np.arange(len(rmse)), rmse, color=["tab:red" if s["flags"] else "tab:blue" for s in steps])
     for i, v in enumerate(rmse):
         ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
-    ax.set_xticks(np.arange(len(rmse)), labels, rotation=15, fontsize=8)
+    ax.set_xticks(np.arange(len(rmse)), labels, rotation=0, fontsize=7)
     ax.set_ylabel("validation RMSE (K)")
     ax.set_title(f"{actuator}: validation error at each step of the search (red: fitted values flagged)", fontsize=10)
     return save(fig, path)

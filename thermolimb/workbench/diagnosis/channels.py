@@ -7,7 +7,9 @@
   stay positive over the log;
 * for a temperature (a unit of degC or K, or a name saying so): a boundary
   the winding relaxes towards, ``g (x - 25 degC)`` with ``0 <= g <= 1``
-  (a driver board, a coolant, a housing sensor the mapping did not name).
+  (a driver board, a coolant, a housing sensor the mapping did not name);
+  a channel with no unit whose values lie in the range of the log's own
+  temperatures may be one, and is tried both as a boundary and as the other forms.
 
 Each form is a generated :class:`~thermolimb.model.terms.Term`
 (:mod:`thermolimb.model.generated`) and goes through the same machinery as
@@ -22,9 +24,11 @@ import numpy as np
 from ...logs import ActuatorSeries
 from ...model.generated import Feature, define, identifier, input_name, term_source
 from ...model.terms import TERMS
+from ...model.units import NOT_GIVEN
 
 TEMPERATURE_UNITS = ("degC", "°C", "C", "K", "deg C", "celsius", "Celsius")
-TEMPERATURE_WORDS = ("temp", "°c", "degc")
+TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")
+TEMPERATURE_SPAN_K = 30.0  # a channel with no unit is temperature-like if it stays this close to the log's temperatures
 BOUNDARY_REFERENCE_C = 25.0  # a boundary's offset is the model's offset at this channel temperature
 CONDUCTANCE_MARGIN = 0.98  # the conductance's multiplier may fall to 2 % of its value, never below
 
@@ -33,7 +37,19 @@ def is_temperature(name: str, unit: str | None) -> bool:
     """Whether a channel is a temperature, from its unit or, without one, its name."""
     if unit and unit.strip() in TEMPERATURE_UNITS:
         return True
-    return any(word in name.lower() for word in TEMPERATURE_WORDS) and not (unit and unit.strip() not in ("", "1"))
+    given = unit and unit.strip() not in ("", "1", NOT_GIVEN)
+    return any(word in name.lower() for word in TEMPERATURE_WORDS) and not given
+
+
+def in_temperature_range(x: np.ndarray, unit: str | None, series: list[ActuatorSeries]) -> bool:
+    """A channel with no unit that takes many values, all within :data:`TEMPERATURE_SPAN_K` of the log's
+    temperatures, and reaches within a third of that of them (an on/off or a small signal near 0 does not)."""
+    if unit and unit not in ("", NOT_GIVEN):
+        return False
+    measured = np.concatenate([s.temperature_C for s in series])
+    low, high = measured.min() - TEMPERATURE_SPAN_K, measured.max() + TEMPERATURE_SPAN_K
+    return bool(np.unique(x[:1000]).size > 2 and x.min() >= low and x.max() <= high
+                and x.max() >= measured.min() - TEMPERATURE_SPAN_K / 3)
 
 
 def unused_channels(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[str]:
@@ -51,14 +67,16 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
     ident, var, template = identifier(channel), input_name(channel), f"{{extra.{channel}}}"
     shown = f"`{channel}`"
     forms: list[tuple[str, str, list[Feature], tuple[str, ...], str | None]] = []
-    if is_temperature(channel, unit):
+    named, ranged = is_temperature(channel, unit), in_temperature_range(x, unit, series)
+    if named or ranged:
         forms.append(("boundary", f"the winding relaxes towards the logged temperature {shown}", [Feature(
             f"{ident}_boundary_gain", "1", f"{var} - {BOUNDARY_REFERENCE_C!r}", f"({channel} - 25 degC)",
             f"the logged temperature {shown}", lower=-1.0, upper=2.0, typical=0.3, plausible=(0.0, 1.0))], (), None))
-    else:
+    if not named:
         scale = float(np.max(np.abs(x))) or 1.0
-        forms.append(("heat", f"heat in proportion to the logged channel {shown}", [Feature(
-            f"{ident}_heat_K", f"K/({template})", var, channel, shown, typical=1.0 / scale)], (), None))
+        if not ranged:  # the boundary is this form, with a temperature's bounds
+            forms.append(("heat", f"heat in proportion to the logged channel {shown}", [Feature(
+                f"{ident}_heat_K", f"K/({template})", var, channel, shown, typical=1.0 / scale)], (), None))
         if x.min() < 0.0 < x.max():
             forms.append(("heat_abs", f"heat in proportion to the magnitude of {shown}", [Feature(
                 f"{ident}_heat_abs_K", f"K/({template})", f"np.abs({var})", f"|{channel}|", f"|{shown}|",

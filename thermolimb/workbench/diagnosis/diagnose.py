@@ -162,27 +162,25 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
 
 
 def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
-    """Every drop and swap; additions whose score test is significant and the best few; of a channel's forms, only
-    the strongest (the others say so)."""
+    """Every drop and swap; additions whose score test is significant and the few that explain most of the
+    residual (catalog effects and channels counted apart); of a channel's forms, only the strongest (the others
+    say so)."""
     adds = [c for c in candidates if c.adds and c.confounded is None]
-    top = {id(c) for c in sorted([c for c in adds if c.kind == "add"], key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
     strongest: dict[str, Candidate] = {}
     for c in adds:
         if c.kind == "channel" and (c.channel not in strongest or c.score > strongest[c.channel].score):
             strongest[c.channel] = c
+    top = {id(c) for group in ([c for c in adds if c.kind == "add"], list(strongest.values()))
+           for c in sorted(group, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
     chosen = []
     for c in candidates:
         if c.confounded is not None:
             continue
         if refit == "all" or not c.adds:
             chosen.append(c)
-        elif c.kind == "channel":
-            best = strongest[c.channel]
-            if c is best and c.p_value < SCORE_P_VALUE:
-                chosen.append(c)
-            elif c is not best:
-                c.skipped = f"{best.effect} explains more of the residual with the same channel {c.channel}"
-                c.evidence = f"score test p = {c.p_value:.2g}; not refitted: {c.skipped}."
+        elif c.kind == "channel" and c is not strongest[c.channel]:
+            c.skipped = f"{strongest[c.channel].effect} explains more of the residual with the same channel {c.channel}"
+            c.evidence = f"score test p = {c.p_value:.2g}; not refitted: {c.skipped}."
         elif c.p_value < SCORE_P_VALUE or id(c) in top:
             chosen.append(c)
     return chosen

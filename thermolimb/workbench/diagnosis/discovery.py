@@ -39,7 +39,7 @@ from ...logs import ActuatorSeries
 from ...model.generated import Feature, define, input_name, term_source
 from ...model.model import ThermalModel
 from ...model.terms import TERMS, Parameter, Term, register_term, unregister_term
-from .channels import is_temperature, unused_channels
+from .channels import in_temperature_range, is_temperature, unused_channels
 
 MAX_FEATURES = 2
 SPEED_POWERS = (1.5, 2.5, 3.0, 4.0)  # |v| and v^2 are the catalog's speed losses
@@ -48,7 +48,7 @@ EFFORT_POWERS = (1.0, 3.0)  # |F|; F^2 is the Joule heat itself
 # a feature is kept while it explains at least this share of what is left of the residual.  No significance test
 # here: a thermal residual's serial correlation leaves a two-hour log a few dozen independent samples, and a test
 # on them would refuse forms that halve the held-out error.  The regression proposes; held-out data decide.
-MIN_SHARE = 0.05
+MIN_SHARE = 0.01
 OWN_SHARE = 1e-3  # a feature whose signature is less than this share its own is confounded with the model
 PROBE = "_discovery_probe"
 
@@ -138,8 +138,11 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
         var, unit = input_name(channel), series[0].units.get(f"extra.{channel}")
         needs = (f"extra.{channel}",)
         key = var[2:]
-        if is_temperature(channel, unit):
+        values = np.concatenate([x.signals.extra[channel] for x in series])
+        named = is_temperature(channel, unit)
+        if named or in_temperature_range(values, unit, series):
             out.append(_pull(f"{key}_pull", var, f"({channel} - T)", f"the pull of `{channel}`", {var: channel}, needs))
+        if named:
             continue
         template = f"{{extra.{channel}}}"
         out += [
