@@ -22,6 +22,7 @@ import time
 from thermolimb.data import PMSM_MAP, REAL_LOGS, WX200_BAG, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import TERMS
+from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.diagnosis import auto_diagnose
 
 UR3_JOINTS = ("J1", "J2", "J4")  # three of the six: the shoulder and elbow carry load, J4 a wrist
@@ -33,7 +34,12 @@ def _generated(model) -> list[str]:
 
 def _walk(series, validate_on=(), discover=False) -> dict:
     start = time.perf_counter()
-    first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover)
+    try:
+        first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover)
+    except ThermolimbError as exc:  # the log cannot carry the seed's model: said, not hidden
+        nan = float("nan")
+        return {"base_K": nan, "final_K": nan, "model": [], "generated": [], "walk": [], "proposals": [],
+                "seconds": time.perf_counter() - start, "refused": str(exc)}
     return {"base_K": first.auto[0]["rmse_K"], "final_K": first.auto[-1]["rmse_K"], "model": list(steps[-1].model),
             "generated": _generated(steps[-1].model), "walk": [s.get("change", "start") for s in first.auto],
             "proposals": [d.proposal.formula for d in steps if d.proposal is not None],
@@ -56,32 +62,34 @@ def _runs() -> dict[str, dict[str, list]]:
     return out
 
 
+def _row(log, actuator, scheme, extras, catalog, found) -> dict:
+    r = {"log": log, "actuator": actuator, "scheme": scheme, "extras": extras, "catalog_K": catalog["final_K"],
+         "base_K": found["base_K"], "discover_K": found["final_K"], "generated": found["generated"],
+         "proposals": found["proposals"], "model": found["model"], "seconds": found["seconds"],
+         "refused": found.get("refused")}
+    taken = f"refused: {r['refused'][:90]}" if r["refused"] else (", ".join(r["generated"]) or "nothing")
+    print(f"{log:10s} {actuator:8s} {scheme:34s} {r['base_K']:7.3f} {r['catalog_K']:9.3f} {r['discover_K']:10.3f}  "
+          f"{taken}", flush=True)
+    return r
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
     args = parser.parse_args(argv)
     rows = []
+    print(f"{'log':10s} {'actuator':8s} {'scheme':34s} {'base K':>7s} {'catalog K':>9s} {'discover K':>10s}  "
+          f"taken by discovery", flush=True)
     for log, actuators in _runs().items():
         for actuator, runs in actuators.items():
             extras = list(runs[0].signals.extra)
             for k, run in enumerate(runs):
                 catalog, found = _walk([run]), _walk([run], discover=True)
-                rows.append({"log": log, "actuator": actuator, "scheme": f"run {k + 1}, 70/30 split",
-                             "extras": extras, "catalog_K": catalog["final_K"], "base_K": found["base_K"],
-                             "discover_K": found["final_K"], "generated": found["generated"],
-                             "proposals": found["proposals"], "model": found["model"], "seconds": found["seconds"]})
+                rows.append(_row(log, actuator, f"run {k + 1}, 70/30 split", extras, catalog, found))
             for k, run in enumerate(runs if len(runs) > 1 else []):
                 other = [r for j, r in enumerate(runs) if j != k]
                 catalog, found = _walk([run], other), _walk([run], other, discover=True)
-                rows.append({"log": log, "actuator": actuator, "scheme": f"fit run {k + 1}, validate on the other",
-                             "extras": extras, "catalog_K": catalog["final_K"], "base_K": found["base_K"],
-                             "discover_K": found["final_K"], "generated": found["generated"],
-                             "proposals": found["proposals"], "model": found["model"], "seconds": found["seconds"]})
-    print(f"{'log':10s} {'actuator':8s} {'scheme':34s} {'base K':>7s} {'catalog K':>9s} {'discover K':>10s}  "
-          f"taken by discovery")
-    for r in rows:
-        print(f"{r['log']:10s} {r['actuator']:8s} {r['scheme']:34s} {r['base_K']:7.3f} {r['catalog_K']:9.3f} "
-              f"{r['discover_K']:10.3f}  {', '.join(r['generated']) or 'nothing'}")
+                rows.append(_row(log, actuator, f"fit run {k + 1}, validate on the other", extras, catalog, found))
     record = {"rows": rows}
     if args.json:
         print(json.dumps(record))

@@ -163,3 +163,17 @@ def test_per_joint_and_shared_extra_channels_follow_the_joint_pattern(tmp_path):
     assert set(log.extras) == {"Voltage_J", "Tool_current"}
     np.testing.assert_allclose(log.series("J2").signals.extra["Voltage_J"], frame["Voltage_J2"])
     np.testing.assert_allclose(log.series("J0").signals.extra["Tool_current"], frame["Tool_current"])
+
+
+def test_a_sample_counter_shared_by_every_joint_is_not_a_channel(tmp_path):
+    n = 30
+    t = np.arange(n, dtype=float)
+    frame = pd.DataFrame({"Num": np.arange(1, n + 1), "Time": t, "cycle": np.repeat(np.arange(3), n // 3),
+                          "Tool": np.cos(t)})
+    for j in range(2):
+        frame[f"Current_J{j}"] = np.sin(t + j)
+        frame[f"Temperature_J{j}"] = 30.0 + j + 0.01 * t
+    path = tmp_path / "arm.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, mapping="time=Time,effort=Current_J{j},temperature=Temperature_J{j}")
+    assert log.extras == ("Tool",)  # the sample number and the cycle count are counters, not channels

@@ -13,8 +13,8 @@ extra numeric channel it has, named after its column without the unit
 * a file with per-channel time columns, or a bag: the channels named as
   ``--map extra.NAME=COLUMN@TIME`` or ``extra.NAME=/topic.field``.
 
-Columns that are not numbers, are empty, or count samples or time (strictly
-monotonic) are not channels and are left out; one with missing values is left
+Columns that are not numbers, are empty, or count samples, cycles or time
+(monotonic) are not channels and are left out; one with missing values is left
 out with a note.  Booleans are read as 0 and 1.
 """
 
@@ -84,6 +84,7 @@ def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapp
     given with the mapping (``extra.NAME=COL:UNIT``).
     """
     values, units, missing, text = {}, {}, [], []
+    groups = list(frame.groupby("actuator", sort=False).indices.values()) if "actuator" in frame.columns else None
     for column in frame.columns:
         if column in REQUIRED + OPTIONAL:
             continue
@@ -102,7 +103,7 @@ def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapp
                 text.append(name)
             continue
         finite = np.isfinite(x)
-        if not finite.any() or _monotonic(x):
+        if not finite.any() or _monotonic(x, groups):
             continue  # empty, or a sample counter or a clock
         if not finite.all():
             missing.append(f"{name} ({int((~finite).sum())})")
@@ -132,6 +133,13 @@ def _numeric(column: pd.Series) -> np.ndarray | None:
     return converted.to_numpy(float)
 
 
-def _monotonic(x: np.ndarray) -> bool:
-    d = np.diff(x)
-    return x.size > 2 and (bool(np.all(d > 0)) or bool(np.all(d < 0)))
+def _monotonic(x: np.ndarray, groups: list[np.ndarray] | None) -> bool:
+    """A count or a clock: strictly monotonic, or whole numbers that never decrease and take several values (a
+    cycle counter), within each actuator's rows (a counter shared by every joint repeats per joint)."""
+    def one(v: np.ndarray) -> bool:
+        d = np.diff(v)
+        strict = bool(np.all(d > 0)) or bool(np.all(d < 0))
+        counting = bool(np.all(d >= 0)) and bool(np.all(v == np.round(v))) and np.unique(v).size > 2
+        return v.size > 2 and (strict or counting)
+
+    return all(one(x[idx]) for idx in groups) if groups else one(x)
