@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from thermolimb.cli.diagnose import write_proposal
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.logs import from_frame
 from thermolimb.model.terms import TERMS
@@ -22,6 +21,7 @@ from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.plotting.diagnosis import plot_diagnosis
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.proposal import write_proposal
 from thermolimb.workbench.validation import fit_and_validate
 
 NAME = "discovery"

@@ -7,6 +7,7 @@ from pathlib import Path
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ..util.errors import UsageError
 from ..workbench.diagnosis import Diagnosis, auto_diagnose, diagnose
+from ..workbench.diagnosis.proposal import write_proposal
 from ..workbench.validation import FitReport
 from .options import (
     add_fleet,
@@ -100,35 +101,6 @@ def run(args) -> int:
     if args.propose:
         write_proposal(Path(args.propose), [(name, final) for name, _, final in proposals])
     return status
-
-
-def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> None:
-    """The generated terms of each actuator's final model, as one Python file with their fitted values; nothing
-    is written when there are none (said on stderr)."""
-    import sys
-
-    from ..model.generated import module_source
-    from ..util.atomic import write_text
-
-    classes, fitted = {}, []
-    for name, report in finals:
-        for term in report.model.terms:
-            cls = TERMS[term]
-            if getattr(cls, "generated", False):
-                classes.setdefault(term, cls.source)
-                fitted += [f"#   {name}: {p.name} = {report.model.params[p.name]:.6g} ± "
-                           f"{float(report.stderr[p.name]):.2g} {report.unit(p)}" for p in cls.parameters]
-    if not classes:
-        print(f"--propose {path}: nothing written: no channel or discovered term is in the final model",
-              file=sys.stderr)
-        return
-    doc = (f"Terms proposed by `thermolimb diagnose --discover`: {', '.join(classes)}. Load them with "
-           f"`--terms {path.name}` and name them in --model; rename a class and its name to keep it.")
-    text = module_source(doc, list(classes.values()))
-    text = text.replace("\nimport numpy", "\n# fitted values (validation scheme of that run):\n" + "\n".join(fitted)
-                        + "\n\nimport numpy", 1)
-    write_text(path, text)
-    print(f"wrote {path}", file=sys.stderr)
 
 
 def describe_diagnosis(d) -> str:
