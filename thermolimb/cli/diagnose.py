@@ -6,7 +6,7 @@ from pathlib import Path
 
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ..util.errors import UsageError
-from ..workbench.diagnosis import Diagnosis, auto_diagnose, diagnose
+from ..workbench.diagnosis import auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
 from ..workbench.validation import FitReport
 from .options import (
@@ -75,7 +75,7 @@ def run(args) -> int:
         return run_fleet(args, diagnose=True)
     scheme = scheme_of(args)
     page = html_page(args, "thermolimb diagnose")
-    proposals: list[tuple[str, Diagnosis, FitReport]] = []
+    finals: list[tuple[str, FitReport]] = []  # each actuator's final model, for --propose
 
     def analyse(name, series, held_out):
         if args.auto:
@@ -86,7 +86,7 @@ def run(args) -> int:
             d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out,
                          discover=args.discover)
             final = d.recommended.report if d.recommended is not None else d.base
-        proposals.append((name, d, final))
+        finals.append((name, final))
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 
@@ -99,7 +99,7 @@ def run(args) -> int:
 
     status = for_each_actuator(args, analyse, page)
     if args.propose:
-        write_proposal(Path(args.propose), [(name, final) for name, _, final in proposals])
+        write_proposal(Path(args.propose), finals)
     return status
 
 

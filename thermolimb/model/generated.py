@@ -37,6 +37,13 @@ INPUTS = {
 }
 
 
+def input_arrays(s) -> dict:
+    """The arrays the names of :data:`INPUTS` stand for, on the signals ``s`` (``None`` for a channel it lacks)."""
+    return {"effort": s.effort, "velocity": s.velocity, "current": s.current_A, "power": s.power_W,
+            "ambient": s.ambient_C, "housing": s.housing_C,
+            "neighbors": None if s.neighbor_temperature_C is None else s.neighbor_temperature_C.mean(axis=1)}
+
+
 @dataclass(frozen=True)
 class Feature:
     """One regressor of a generated term and its coefficient (a model parameter).
@@ -162,7 +169,6 @@ def define(source: str, doc: str, origin: str) -> type[Term]:
     cls = next(v for v in namespace.values() if isinstance(v, type) and issubclass(v, Term) and v is not Term)
     cls.generated = True
     cls.source = source
-    cls.doc = doc
     return TERMS[cls.name]
 
 

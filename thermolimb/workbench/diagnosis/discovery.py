@@ -36,7 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ...logs import ActuatorSeries
-from ...model.generated import Feature, define, input_name, term_source
+from ...model.generated import Feature, define, input_arrays, input_name, term_source
 from ...model.model import ThermalModel
 from ...model.terms import TERMS, Parameter, Term, register_term, unregister_term
 from .channels import in_temperature_range, is_temperature, unused_channels
@@ -70,7 +70,6 @@ class Proposal:
     term: str
     formula: str
     words: str
-    features: list[LibraryFeature]
     coefficients: list[float]
     partial_r2: float
     library_size: int
@@ -163,10 +162,7 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
 def evaluate(feature: Feature, extras: dict, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
     """The feature's values on a series, and its reference temperature (degC) for a gain feature."""
     s = series.signals
-    names = {"np": np, "effort": s.effort, "velocity": s.velocity, "current": s.current_A, "power": s.power_W,
-             "ambient": s.ambient_C, "housing": s.housing_C,
-             "neighbors": None if s.neighbor_temperature_C is None else s.neighbor_temperature_C.mean(axis=1),
-             "T_offset_C": offset_C}
+    names = {"np": np, **input_arrays(s), "T_offset_C": offset_C}
     names.update({var: s.extra[channel] for var, channel in extras.items()})
     values = np.broadcast_to(np.asarray(eval(feature.expr, {"__builtins__": {}}, names), float), (s.n,))
     if not feature.gain:
@@ -270,4 +266,4 @@ def _proposal(picked: list[LibraryFeature], beta: list[float], r2: float, size: 
            f"or load it with `--terms FILE`.")
     source = term_source(name, f"discovered form: {words}", features, extras, tuple(columns))
     define(source, doc, "discovery")
-    return Proposal(name, formula, words, picked, beta, r2, size, TERMS[name].source)
+    return Proposal(name, formula, words, beta, r2, size, TERMS[name].source)
