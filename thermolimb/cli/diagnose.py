@@ -112,8 +112,7 @@ def describe_diagnosis(d) -> str:
     lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
     for c in d.candidates:
         if not c.refitted:
-            why = c.confounded or c.failure or c.skipped or f"score test p = {c.p_value:.2g}"
-            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s}  {c.status}: {why}")
+            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s}  {c.status}: {c.not_refitted_because}")
             continue
         lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f}  {c.status}")
         for pname, v in c.params.items():

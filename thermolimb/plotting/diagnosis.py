@@ -74,8 +74,8 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
               fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     if others:
-        text = "\n".join(f"{c.label}: {c.status}" + (f" ({c.confounded.split(':')[0]})" if c.confounded else
-                                                     f" (score test p = {c.p_value:.2g})") for c in others)
+        text = "\n".join(f"{c.label}: {c.status} ({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
+                         for c in others)
         fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
     return save(fig, path)
 

@@ -105,6 +105,11 @@ class Candidate:
         return f"+ {self.effect}"
 
     @property
+    def not_refitted_because(self) -> str:
+        """Why a candidate has no refit: confounded, failed, outdone by a stronger form, or its score test."""
+        return self.confounded or self.failure or self.skipped or f"score test p = {self.p_value:.2g}"
+
+    @property
     def refitted(self) -> bool:
         return self.rmse_K is not None
 
