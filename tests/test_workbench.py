@@ -60,15 +60,17 @@ def test_an_internal_error_is_not_reported_as_a_user_error(tmp_path, monkeypatch
         main(["fit", str(path), "--actuator", "knee"])
 
 
-def test_compare_goes_on_past_a_model_the_log_cannot_identify(tmp_path, capsys):
-    # effort held at one level: current heating with a bias cannot be told from the offset
+def test_compare_fits_the_largest_submodel_the_log_identifies_and_says_what_it_set_aside(tmp_path, capsys):
+    # current follows torque on this log: current heating cannot be told from Joule heating
     path = plant_log("pulses", 480, 1.0).write(tmp_path / "log.csv")
     code = main(["compare", str(path), "--actuator", "knee", "--json", "--model", "joule,second_node",
                  "--model", "joule,effort_bias,current_heating"])
     assert code == 0
     models = json.loads(capsys.readouterr().out)["models"]
-    assert "rmse_K" in models[0]["validation"]
-    assert "error" in models[1] and "cannot identify" in models[1]["error"]
+    assert "rmse_K" in models[0]["validation"] and models[0]["set_aside"] == []
+    assert "current_heating" not in models[1]["model"] and "joule" in models[1]["model"]
+    [aside] = [a for a in models[1]["set_aside"] if a.get("term") == "current_heating"]
+    assert "cannot" in aside["reason"] and "needs" in aside["reason"]
 
 
 # ------------------------------------------------------------------ slow states, validated fairly

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
-from ..workbench.compare import compare_models
+from ..workbench.compare import compare_models, rank_models
 from .options import (
     add_html,
     add_log_input,
@@ -69,10 +69,13 @@ def run(args) -> int:
             lines.append(f"  {','.join(r.model.terms):40s} {v['rmse_K']:8.3f} {v['max_abs_K']:8.3f} "
                          f"{v['fit_percent']:7.1f} {ic['aic']:11.1f} {ic['bic']:11.1f}")
         lines.append(f"  validation: {fitted[0][0].scheme}")
+        ranking = rank_models(fitted)
+        if len(fitted) > 1:
+            lines.append(f"  {ranking['sentence']}")
         for r, _ in fitted:
             lines.append(f"  {','.join(r.model.terms)}:")
-            lines += format_params(r, indent="    ")
+            lines += format_params(r, indent="    ", evidence=len(fitted) == 1)
         records = [ic if r is None else {**r.to_json(), **ic} for r, ic in results]
-        return {"actuator": name, "models": records}, "\n".join(lines)
+        return {"actuator": name, "models": records, "ranking": ranking}, "\n".join(lines)
 
     return for_each_actuator(args, analyse, page)

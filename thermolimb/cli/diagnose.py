@@ -107,7 +107,6 @@ def describe_diagnosis(d) -> str:
     b = d.base.validation
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
              f"fit {b['fit_percent']:.1f} % ({d.base.scheme})"]
-    lines += [f"  note: {note}" for note in d.notes]
     lines += format_params(d.base)
     lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
     for c in d.candidates:
@@ -118,7 +117,12 @@ def describe_diagnosis(d) -> str:
         for pname, v in c.params.items():
             lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g} {v['unit']}")
         lines.append(f"      {c.evidence}")
-    lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}")
+    evidence = d.base.evidence
+    if not evidence.rankable:
+        lines.append("  recommended: none (the evidence above is too thin to carry a recommendation)")
+    else:
+        warn = f" (on {evidence.verdict} evidence: a hint)" if d.recommended and evidence.thin else ""
+        lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}{warn}")
     if d.auto:
         lines.append("  steps:")
         for step in d.auto:

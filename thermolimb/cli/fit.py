@@ -59,7 +59,7 @@ def run(args) -> int:
     page = html_page(args, "thermolimb fit")
 
     def analyse(name, series, held_out):
-        report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method)
+        report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method, reduce=True)
         if args.plot:
             from ..plotting.fits import plot_fit
 

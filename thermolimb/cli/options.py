@@ -12,7 +12,7 @@ from ..util.atomic import write_text
 from ..util.errors import UsageError
 from ..util.jsonutil import to_jsonable
 from ..util.parallel import BACKENDS
-from ..workbench.validation import Scheme
+from ..workbench.validation import Scheme, set_aside_sentence
 from .types import folds, fraction, integer, output_file
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
@@ -161,11 +161,14 @@ def _files(folder) -> dict:
     return {p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()}
 
 
-def format_params(report, indent: str = "  ") -> list[str]:
-    """Parameters with uncertainty and unit, one per line, then the report's flags."""
-    lines = [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g} {report.unit(p)}"
+def format_params(report, indent: str = "  ", evidence: bool = True) -> list[str]:
+    """What the validation rests on (unless ``evidence`` is false: said once elsewhere), the parameters with
+    uncertainty and unit, one per line, then the report's flags and what was set aside."""
+    lines = [f"{indent}{report.evidence.sentence()}"] if evidence else []
+    lines += [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g} {report.unit(p)}"
              for p in report.model.parameters]
     lines += [f"{indent}! {flag}" for flag in report.flags]
+    lines += [f"{indent}{set_aside_sentence(a)}" for a in report.set_aside]
     return lines
 
 

@@ -19,7 +19,7 @@ from ..model.terms import TERMS
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor
-from .regression import IdentifiabilityError, independent_fractions
+from .regression import IdentifiabilityError, collinear_partners, independent_fractions
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
 DEGENERATE_FRACTION = 1e-5
@@ -41,21 +41,25 @@ class OutputError(ThermalEstimator):
     max_nfev
         Limit on simulations per parameter (scipy's ``max_nfev`` is this times
         the number of parameters).
+    fixed
+        Values held, not fitted (an offset tied to the logged ambient when the
+        log cannot identify it); their standard error is 0.
     """
 
     method = "output_error"
 
     def __init__(self, model="joule,effort_bias", initial: Mapping[str, float] | None = None,
-                 cutoff_hz: float | None = 0.015, max_nfev: int = 30):
+                 cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None):
         super().__init__(model)
         self.initial = initial
         self.cutoff_hz = cutoff_hz
         self.max_nfev = max_nfev
+        self.fixed = fixed
 
     def _start(self, series, terms) -> np.ndarray:
         params = model_parameters(terms)
         start = {p.name: p.typical for p in params}
-        given = dict(self.initial or {})
+        given = {**(self.initial or {}), **(self.fixed or {})}
         if any(p.name not in given for p in params):
             first = series[0]
             linear = tuple(n for n in terms if TERMS[n]().features(first.signals, first.temperature_C) is not None)
@@ -63,7 +67,7 @@ class OutputError(ThermalEstimator):
                 try:
                     start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
                 except IdentifiabilityError as exc:
-                    if len(linear) == len(terms) and exc.parameter != "RC_s":
+                    if len(linear) == len(terms) and exc.parameter != "RC_s" and not self.fixed:
                         raise  # a regressor the data cannot separate: the regression's message is the most specific
                     # a non-positive RC from the filtered regression, or nonlinear terms that may make the model
                     # identifiable: output error starts from typical values and judges for itself
@@ -81,21 +85,31 @@ class OutputError(ThermalEstimator):
         names = [p.name for p in params]
         lower = np.array([p.lower for p in params])
         upper = np.array([p.upper for p in params])
-        x0 = self._start(series, terms)
+        x_all = self._start(series, terms)
+        unknown = [k for k in self.fixed or {} if k not in names]
+        if unknown:
+            raise ValueError(f"fixed names {', '.join(unknown)}, not a parameter of model {','.join(terms)}")
+        free = np.array([p.name not in (self.fixed or {}) for p in params])
+        params = [p for p, f in zip(params, free) if f]
         measured = np.concatenate([s.temperature_C for s in series])
         rates = [s.rate_K_per_s() for s in series]
 
         def residual(x):
-            model = ThermalModel(terms, dict(zip(names, x)))
+            values = x_all.copy()
+            values[free] = x
+            model = ThermalModel(terms, dict(zip(names, values)))
             return np.concatenate([model.free_run(s, r) for s, r in zip(series, rates)]) - measured
 
-        from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
+        from scipy.optimize import (
+            least_squares,  # scipy.optimize takes ~0.4 s to import: only when fitting
+        )
 
+        x0 = x_all[free]
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
-        result = least_squares(residual, x0, bounds=(lower, upper), x_scale=scale, method="trf",
-                               max_nfev=self.max_nfev * len(names))
+        result = least_squares(residual, x0, bounds=(lower[free], upper[free]), x_scale=scale, method="trf",
+                               max_nfev=self.max_nfev * len(params))
         self.optimizer_result_ = result
-        self.jacobian_ = result.jac  # d simulated temperature / d parameters, every sample of every series
+        self.jacobian_ = result.jac  # d simulated temperature / d free parameters, every sample of every series
         r = result.fun
         J = result.jac
         fractions = independent_fractions(J)
@@ -106,12 +120,15 @@ class OutputError(ThermalEstimator):
                 f"cannot identify {p.name} ({p.description}) for actuator {series[0].actuator}: changing it changes "
                 f"the simulated temperature almost exactly as other parameters do ({fractions[weak]:.1e} independent); "
                 f"a log needs {p.excitation}",
-                parameter=p.name,
+                parameter=p.name, partners=tuple(params[k].name for k in collinear_partners(J, weak)),
             )
-        dof = max(r.size - len(names), 1)
+        dof = max(r.size - len(params), 1)
         sigma2 = float(r @ r) / dof * ar1_variance_factor(r)
-        cov = sigma2 * np.linalg.pinv(J.T @ J)
-        return result.x, cov
+        cov = np.zeros((len(names), len(names)))
+        cov[np.ix_(free, free)] = sigma2 * np.linalg.pinv(J.T @ J)
+        values = x_all.copy()
+        values[free] = result.x
+        return values, cov
 
 
 def _time_constant_guess(series) -> float:

@@ -27,11 +27,16 @@ from ..util.errors import ThermolimbError
 
 
 class IdentifiabilityError(ThermolimbError):
-    """The data cannot determine a parameter (e.g. effort held constant); ``parameter`` names it when known."""
+    """The data cannot determine a parameter (e.g. effort held constant); ``parameter`` names it when known,
+    ``partners`` the parameters it cannot be told from."""
 
-    def __init__(self, message: str, parameter: str | None = None):
+    def __init__(self, message: str, parameter: str | None = None, partners: tuple[str, ...] = ()):
         super().__init__(message)
         self.parameter = parameter
+        self.partners = tuple(partners)
+
+    def __reduce__(self):
+        return type(self), (str(self), self.parameter, self.partners)
 
 
 @dataclass(frozen=True)
@@ -74,7 +79,10 @@ def lowpass(x: np.ndarray, cutoff_hz: float | None, dt_s: float, axis: int = 0) 
     nyquist = 0.5 / dt_s
     if cutoff_hz is None or cutoff_hz >= nyquist:
         return np.asarray(x, dtype=float)
-    from scipy.signal import butter, sosfiltfilt  # scipy.signal takes ~0.7 s to import: only when filtering
+    from scipy.signal import (  # scipy.signal takes ~0.7 s to import: only when filtering
+        butter,
+        sosfiltfilt,
+    )
     sos = butter(2, cutoff_hz / nyquist, output="sos")
     return sosfiltfilt(sos, x, axis=axis)
 
@@ -204,12 +212,12 @@ def check_identifiable(reg: Regression, actuator: str) -> None:
         if fractions[j] < IDENTIFIABLE_FRACTION:
             col = reg.X[:, j]
             levels = np.unique(np.round(reg.effort, 3)).size
-            partners = ", ".join(reg.parameters[k].name for k in collinear_partners(reg.X, j))
+            partners = tuple(reg.parameters[k].name for k in collinear_partners(reg.X, j))
             what = "constant" if np.ptp(col) == 0 else (
-                f"almost a combination of the regressors of {partners} ({fractions[j]:.1e} independent)")
+                f"almost a combination of the regressors of {', '.join(partners)} ({fractions[j]:.1e} independent)")
             raise IdentifiabilityError(
                 f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
                 f"in the training data, where effort takes {levels} distinct level(s) "
                 f"between {reg.effort.min():.3g} and {reg.effort.max():.3g}; a log needs {p.excitation}",
-                parameter=p.name,
+                parameter=p.name, partners=partners,
             )

@@ -17,9 +17,25 @@ from . import extras
 from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
-from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
+from .mapping import (
+    EXTRA,
+    OPTIONAL,
+    REQUIRED,
+    TIME_OF,
+    UNITS,
+    expand_joints,
+    is_pattern,
+    parse_mapping,
+)
 from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
-from .units import CANONICAL, NOT_GIVEN, SCALED, channel_units, split_unit
+from .units import (
+    CANONICAL,
+    NOT_GIVEN,
+    SCALED,
+    canonical_headers,
+    channel_units,
+    split_unit,
+)
 
 CANONICAL_UNITS = FrozenMapping(CANONICAL)
 
@@ -350,6 +366,40 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
     return out
 
 
+CELSIUS = ("degC", "°C", "C", "deg C", "celsius")
+TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
+
+
+def _canonical_with_units(frame: pd.DataFrame, source: str, given: Mapping[str, str], channel: dict,
+                          notes: list) -> pd.DataFrame:
+    """A canonical log whose headers carry units (``time [s]``, ``effort [N m]``, ``temperature [degC]``):
+    columns renamed to their canonical names, inputs' units taken from the header (an option still wins),
+    time in ms/min/h and temperatures in K converted (said in the notes), any other unit refused."""
+    renames, units = canonical_headers(frame.columns, REQUIRED + OPTIONAL)
+    if not renames:
+        return frame
+    frame = frame.rename(columns=renames)
+    for name, unit in units.items():
+        if name in SCALED:
+            if name not in given:
+                channel[name] = unit
+        elif name == "time":
+            if unit not in TIME_SCALES:
+                raise LogError(f"{source}: column 'time [{unit}]' is in a unit this suite does not read; "
+                               f"expected one of {', '.join(TIME_SCALES)}")
+            if unit != "s" and pd.api.types.is_numeric_dtype(frame[name]):
+                frame[name] = frame[name] * TIME_SCALES[unit]
+                notes.append(f"{source}: time read in {unit} (from its header), converted to s")
+        elif UNITS.get(name) == "degC":
+            if unit == "K":
+                frame[name] = pd.to_numeric(frame[name], errors="coerce") - 273.15
+                notes.append(f"{source}: {name} read in K (from its header), converted to degC")
+            elif unit not in CELSIUS:
+                raise LogError(f"{source}: column '{name} [{unit}]' is in a unit this suite does not read; "
+                               f"expected degC or K")
+    return frame
+
+
 def from_frame(
     frame: pd.DataFrame,
     source: str = "<memory>",
@@ -380,6 +430,8 @@ def from_frame(
     if mapping:
         frame = _apply_mapping(frame, mapping, source, actuator_name)
         notes += frame.attrs.get("notes", [])
+    else:
+        frame = _canonical_with_units(frame, source, given, channel, notes)
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
         hint = "" if mapping else "; name them with --map canonical=column"

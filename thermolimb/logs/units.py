@@ -34,6 +34,19 @@ def header_unit(column: str) -> str | None:
     return m.group(1) if m else None
 
 
+def canonical_headers(columns, names) -> tuple[dict[str, str], dict[str, str]]:
+    """Columns of a canonical log that carry their unit (``effort [N m]``, ``temperature (degC)``):
+    ``({column: canonical name}, {canonical name: unit})``; names already present bare are left alone."""
+    renames, units = {}, {}
+    present = {str(c) for c in columns}
+    for column in columns:
+        unit = header_unit(column)
+        base = _HEADER.sub("", str(column)).strip().lower() if unit else ""
+        if base in names and base not in present and base not in units:
+            renames[column], units[base] = base, unit
+    return renames, units
+
+
 def split_unit(value: str) -> tuple[str, str | None]:
     """``COLUMN:UNIT`` -> ``(COLUMN, UNIT)`` when UNIT is a known unit; otherwise the whole value is the column."""
     column, sep, unit = str(value).rpartition(":")

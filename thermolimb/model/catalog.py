@@ -248,7 +248,8 @@ class SlowMass(Term):
 
     def implausible(self, p):
         if p[self.tau] <= p["RC_s"]:
-            return f"{self.tau} = {p[self.tau]:.3g} s is not slower than RC_s = {p['RC_s']:.3g} s"
+            return (f"{self.tau} = {p[self.tau]:.3g} s is not slower than the winding's RC_s = {p['RC_s']:.3g} s "
+                    f"fitted with it")
         return super().implausible(p)
 
     def winding_share(self, p):

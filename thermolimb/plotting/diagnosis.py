@@ -53,6 +53,11 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
 
 def plot_candidates(d: Diagnosis, path: Path) -> Path:
     """Held-out gain of every refitted change, coloured by its status; the others listed with why."""
+    return save(candidates_figure(d), path)
+
+
+def candidates_figure(d: Diagnosis):
+    """The figure :func:`plot_candidates` writes: a failed refit's bar carries its reason, as the table does."""
     refitted = [c for c in d.candidates if c.refitted]
     others = [c for c in d.candidates if not c.refitted]
     fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
@@ -62,14 +67,16 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
     ax.barh(labels, gains, color=colours)
     for y, c in enumerate(refitted[::-1]):
         mark = "  ← recommended" if c is d.recommended else ""
-        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}", va="center", fontsize=8)
+        why = f": {c.failure}" if c.failure else ""
+        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}{why}", va="center", fontsize=8)
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
     lo, hi = ax.get_xlim()
     ax.set_xlim(lo, hi + 0.4 * (hi - lo))  # room for the labels right of the bars
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
+    thin = "" if d.base.evidence.rankable else " (evidence too thin)"
     ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
-                 f"{d.recommended.label if d.recommended else 'none'}", fontsize=10)
+                 f"{d.recommended.label if d.recommended else 'none'}{thin}", fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
               fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
@@ -77,7 +84,7 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
         text = "\n".join(f"{c.label}: {c.status} ({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
                          for c in others)
         fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
-    return save(fig, path)
+    return fig
 
 
 def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:

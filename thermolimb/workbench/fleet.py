@@ -125,13 +125,14 @@ def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: b
             row["recommended"] = best.label if best else None
             row["recommended_rmse_K"] = float(best.rmse_K) if best else None
         else:
-            report = evaluate([series], model, scheme, method=method)
+            report = evaluate([series], model, scheme, method=method, reduce=True)
     except ThermolimbError as err:
         return row | {"error": str(err)}
     record = report.to_json()
     return row | {"model": record["model"], "params": record["params"],
                   "train_rmse_K": record["train"]["rmse_K"], "validation_rmse_K": record["validation"]["rmse_K"],
-                  "flags": record["flags"], "error": None}
+                  "flags": record["flags"], "set_aside": record["set_aside"],
+                  "evidence": record["evidence"]["verdict"], "error": None}
 
 
 def fleet_jobs(logs, actuators: Sequence[str] | None = None) -> list[FleetJob]:

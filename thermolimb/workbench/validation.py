@@ -21,15 +21,17 @@ Each run is simulated from its own first reading.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..identification import ESTIMATORS, ThermalEstimator
+from ..identification import ESTIMATORS, IdentifiabilityError, ThermalEstimator
 from ..identification.metrics import fit_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel
+from ..model.terms import TERMS, parse_model
+from .evidence import Evidence
 from .flags import parameter_flags
 
 
@@ -92,11 +94,22 @@ class FitReport:
     train_series: tuple[ActuatorSeries, ...] = field(repr=False, default=())
     flags: tuple[str, ...] = ()
     scheme: str = ""
+    set_aside: tuple[dict, ...] = ()  # terms of the requested model this log cannot identify: {"term", "reason"}
 
     @property
     def train_residual_K(self) -> np.ndarray:
         """``measured - simulated`` over the training data, in the estimator's order."""
         return np.concatenate([s.measured_C - s.simulated_C for s in self.train_segments])
+
+    @property
+    def evidence(self) -> Evidence:
+        """How much the validation holds (samples, span in time constants, distinct readings)."""
+        return Evidence.of(self.validation_segments, self.model.params["RC_s"])
+
+    @property
+    def held(self) -> dict[str, float]:
+        """Values held rather than fitted because the log cannot identify them (see ``set_aside``)."""
+        return {a["parameter"]: a["held_at"] for a in self.set_aside if "parameter" in a}
 
     @property
     def channel_units(self) -> Mapping[str, str]:
@@ -121,7 +134,9 @@ class FitReport:
             },
             "train": self.train,
             "validation": self.validation,
+            "evidence": self.evidence.to_json(),
             "flags": list(self.flags),
+            "set_aside": [dict(s) for s in self.set_aside],
             "validation_scheme": self.scheme,
         }
 
@@ -182,9 +197,27 @@ def evaluate(
     make: Callable[[], ThermalEstimator] | None = None,
     validate_on: Sequence[ActuatorSeries] = (),
     method: str = "output_error",
+    reduce: bool = False,
+    fixed: Mapping[str, float] | None = None,
 ) -> FitReport:
-    """Fit and validate one actuator (one or several runs) by ``scheme``; ``make()`` gives a fresh estimator."""
+    """Fit and validate one actuator (one or several runs) by ``scheme``; ``make()`` gives a fresh estimator.
+
+    With ``reduce``, a term the log cannot identify is set aside and the largest sub-model the log identifies
+    is fitted (:func:`identifiable_submodel`; said in the report's ``set_aside``); without it, the
+    :class:`~thermolimb.identification.IdentifiabilityError` is raised.  ``fixed``: values held, not fitted
+    (output error only).
+    """
+    if reduce:
+        if make is not None:
+            raise ValueError("evaluate(reduce=True) builds its own estimators; give method, not make")
+
+        def fit(terms, held):
+            return evaluate(series, terms, scheme, None, validate_on, method, fixed=held)
+
+        return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error")
     series = list(series)
+    if make is None and fixed:
+        make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
     make = make or (lambda: make_estimator(method, model))
     if validate_on:
         folds: list[Fold] = [(series, [(v, 0, v.n) for v in validate_on])]
@@ -206,6 +239,61 @@ def evaluate(
         flags=tuple(parameter_flags(final.model_, final.stderr_, series)),
         scheme=scheme.describe(held_out=bool(validate_on)),
     )
+
+
+def identifiable_submodel(fit: Callable[[tuple[str, ...], dict], FitReport], model: tuple[str, ...],
+                          series: Sequence[ActuatorSeries], hold: bool = True) -> FitReport:
+    """``fit(model, held)``, narrowing the model while the log cannot identify a parameter; the report says how
+    in ``set_aside``.
+
+    * An offset the log cannot tell from its heating (effort never low) is held at the logged ambient's mean,
+      when the log has one and ``hold``.
+    * Otherwise a term goes: the one owning the parameter the fit could not determine or one it cannot be
+      told from, preferring a term other than the model's first heat source (on a two-level step test the
+      effort bias goes, Joule heating stays).
+
+    Raises the fit's error when neither applies (the time constant, an offset without a logged ambient, the
+    last heat source): then nothing the model means can be identified.
+    """
+    aside, held = [], {}
+    while True:
+        try:
+            report = fit(model, dict(held))
+            return replace(report, set_aside=tuple(aside))
+        except IdentifiabilityError as exc:
+            ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
+            if exc.parameter == "T_offset_C" and hold and "T_offset_C" not in held and ambient:
+                held["T_offset_C"] = float(np.mean(np.concatenate(ambient)))
+                aside.append({"parameter": "T_offset_C", "held_at": held["T_offset_C"], "unit": "degC",
+                              "reason": f"held at the logged ambient's mean, {held['T_offset_C']:.2f} degC: {exc}"})
+                continue
+            term = _term_to_set_aside(model, exc)
+            if term is None:
+                raise
+            own = exc.parameter in {p.name for p in TERMS[term].parameters}
+            what = (f"cannot identify {exc.parameter}" if own else
+                    f"cannot tell {', '.join(p.name for p in TERMS[term].parameters)} from {exc.parameter}")
+            needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
+            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {needs}"})
+            model = tuple(t for t in model if t != term)
+
+
+def set_aside_sentence(entry: Mapping) -> str:
+    """One line for a term set aside or a value held (an entry of :attr:`FitReport.set_aside`)."""
+    if "term" in entry:
+        return f"set aside: {entry['term']} ({entry['reason']})"
+    return f"held: {entry['parameter']} = {entry['held_at']:.2f} {entry['unit']} ({entry['reason']})"
+
+
+def _term_to_set_aside(model: tuple[str, ...], exc: IdentifiabilityError) -> str | None:
+    owners = [next((t for t in model if any(p.name == name for p in TERMS[t].parameters)), None)
+              for name in (exc.parameter, *exc.partners)]
+    primary = next((t for t in model if TERMS[t].is_heat_source), None)
+    candidates = sorted(dict.fromkeys(o for o in owners if o is not None), key=lambda t: t == primary)
+    for term in candidates:
+        if any(TERMS[t].is_heat_source for t in model if t != term):
+            return term
+    return None
 
 
 def fit_and_validate(

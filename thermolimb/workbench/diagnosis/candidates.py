@@ -152,6 +152,8 @@ class Candidate:
             "implausible_because": self.implausible_because, "confounded": self.confounded,
             "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
             "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
+            # every value of the refitted model (the term's own are in params), which its sentences may name
+            "model_params": None if self.report is None else dict(self.report.model.params),
         }
         if self.skipped:
             out["skipped"] = self.skipped
@@ -323,7 +325,9 @@ def bic(residual: np.ndarray, n_params: int) -> float:
 
 
 def _chi2():
-    from scipy.stats import chi2  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
+    from scipy.stats import (
+        chi2,  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
+    )
 
     return chi2
 

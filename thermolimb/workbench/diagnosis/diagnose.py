@@ -22,7 +22,7 @@ are fitted, validated and gated like catalog effects.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Sequence
 
 from ...identification import IdentifiabilityError, OutputError
@@ -31,8 +31,15 @@ from ...model.model import model_parameters
 from ...model.terms import TERMS, parse_model
 from ...model.units import NOT_GIVEN
 from ...util.progress import progress
-from ..validation import FitReport, Scheme, evaluate
-from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
+from ..validation import FitReport, Scheme, evaluate, identifiable_submodel
+from .candidates import (
+    SCORE_P_VALUE,
+    Candidate,
+    bic,
+    candidate_models,
+    judge,
+    score_candidate,
+)
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .evidence import describe, describe_discovered
@@ -53,7 +60,6 @@ class Diagnosis:
     candidates: list[Candidate]
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
-    notes: tuple[str, ...] = ()
     proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
 
     def to_json(self) -> dict:
@@ -63,13 +69,15 @@ class Diagnosis:
             "validation_scheme": self.base.scheme,
             "base": {**self.base.validation, "bic": self.base_bic},
             "base_params": self.base.to_json()["params"],
+            "channel_units": dict(self.base.channel_units),
+            "evidence": self.base.evidence.to_json(),
+            "set_aside": [dict(a) for a in self.base.set_aside],
             "flags": list(self.base.flags),
             "candidates": [c.to_json() for c in self.candidates],
             "recommended": None if self.recommended is None else self.recommended.effect,
             "recommended_change": None if self.recommended is None else self.recommended.label,
             "recommended_model": None if self.recommended is None else list(self.recommended.model),
             "residuals": self.residuals.to_json(),
-            "notes": list(self.notes),
         }
         if self.auto is not None:
             out["auto"] = self.auto
@@ -80,9 +88,9 @@ class Diagnosis:
         return out
 
 
-def _evaluate(series, model, scheme, validate_on, initial=None) -> FitReport:
+def _evaluate(series, model, scheme, validate_on, initial=None, fixed=None) -> FitReport:
     def make():
-        return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS)
+        return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
 
     return evaluate(series, model, scheme, make=make, validate_on=validate_on)
 
@@ -109,9 +117,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     series = list(series)
     scheme = scheme or Scheme(split=split, folds=cv)
     if base is None:
-        base, model, notes = _identifiable_base(series, model, scheme, validate_on, initial)
-    else:
-        notes = ()
+        base = _identifiable_base(series, model, scheme, validate_on, initial)
+        model = base.model.terms
     train = list(base.train_series)
     residual = base.train_residual_K
     base_bic = bic(residual, len(base.model.params))
@@ -143,8 +150,9 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
                 _refit(cand, series, scheme, validate_on, base, base_bic)
             cand.evidence = describe_discovered(cand, proposal, base.validation["rmse_K"])
             candidates = sorted(candidates + [cand], key=_rank)
-    recommended = candidates[0] if candidates and candidates[0].eligible else None
-    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, notes=notes,
+    best = candidates[0] if candidates and candidates[0].eligible else None
+    recommended = best if base.evidence.rankable else None  # a handful of held-out readings recommends nothing
+    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended,
                      proposal=proposal)
 
 
@@ -186,22 +194,11 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
     return chosen
 
 
-def _identifiable_base(series, model, scheme, validate_on, initial):
-    """Fit ``model``; a term this log cannot identify is set aside (said in the notes) and the rest fitted.
-
-    Refuses (re-raises) when what cannot be identified is the time constant, the offset or the only heat source.
-    """
-    notes = []
-    while True:
-        try:
-            return _evaluate(series, model, scheme, validate_on, initial), model, tuple(notes)
-        except IdentifiabilityError as exc:
-            term = next((t for t in model if any(p.name == exc.parameter for p in TERMS[t].parameters)), None)
-            rest = tuple(t for t in model if t != term)
-            if term is None or not any(TERMS[t].is_heat_source for t in rest):
-                raise
-            notes.append(f"{term} set aside, this log cannot identify it: {exc}")
-            model = rest
+def _identifiable_base(series, model, scheme, validate_on, initial) -> FitReport:
+    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``;
+    :func:`~thermolimb.workbench.validation.identifiable_submodel`)."""
+    return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, validate_on, initial, held),
+                                 model, series)
 
 
 def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
@@ -213,14 +210,15 @@ def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_b
         screened = []
         for start in starts:
             try:
-                est = OutputError(model=cand.model, initial=start, max_nfev=SCREEN_EVALUATIONS)
+                est = OutputError(model=cand.model, initial=start, max_nfev=SCREEN_EVALUATIONS, fixed=base.held or None)
                 est.fit(list(base.train_series))
                 screened.append((float(est.optimizer_result_.cost), est.params_))
             except IdentifiabilityError as exc:
                 errors.append(str(exc))
         starts = [min(screened, key=lambda x: x[0])[1]] if screened else []
     try:
-        report = _evaluate(series, cand.model, scheme, validate_on, starts[0]) if starts else None
+        report = _evaluate(series, cand.model, scheme, validate_on, starts[0], base.held) if starts else None
+        report = report and replace(report, set_aside=base.set_aside)
     except IdentifiabilityError as exc:
         errors.append(str(exc))
         report = None
@@ -255,7 +253,7 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
         d = steps[-1]
         confounded |= {c.label for c in d.candidates if c.confounded}
         move = next((c for c in d.candidates if c.eligible and frozenset(c.model) not in visited), None)
-        if move is None:
+        if move is None or not d.base.evidence.rankable:
             break
         visited.add(frozenset(move.model))
         moves.append(move)
@@ -274,7 +272,7 @@ def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dic
            "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags)}
     if move is not None:
         b = before.base.validation["rmse_K"]
-        out["change"] = move.label
+        out.update(change=move.label, from_rmse_K=b, improvement=move.improvement, delta_bic=move.delta_bic)
         out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
                       f"BIC {move.delta_bic:+.1f}")
     return out

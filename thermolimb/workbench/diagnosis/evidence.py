@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...model.terms import TERMS
-from .candidates import Candidate
+from .candidates import SCORE_P_VALUE, Candidate
 from .residuals import ResidualAnalysis
 
 # Which residual cross-correlation speaks for which effect; user effects use their first column.
@@ -42,8 +42,14 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     if channel:
         corr = analysis.cross[channel]
         lag, value = corr.peak
-        word = "correlates" if corr.significant else "does not correlate significantly"
-        parts.append(f"the residual {word} with {channel} (peak {value:+.2f} at lag {lag:.0f} s, band ±{corr.band:.2f})")
+        peak = f"peak {value:+.2f} at lag {lag:.0f} s, band ±{corr.band:.2f}"
+        if corr.significant:
+            parts.append(f"the residual correlates with {channel} ({peak})")
+        elif c.helps or (c.p_value is not None and c.p_value < SCORE_P_VALUE):
+            parts.append(f"no sign of it in the residual's correlation with {channel} alone ({peak}); the score "
+                         f"test and the held-out data carry it")
+        else:
+            parts.append(f"the residual does not correlate significantly with {channel} ({peak})")
     elif c.effect == "winding_tempco" and "hot" in ph and "cool" in ph:
         parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
                      f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")

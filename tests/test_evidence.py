@@ -1,0 +1,140 @@
+"""What the data can carry: the evidence every verdict states, and the largest sub-model a log identifies."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.data import WX200_BAG
+from thermolimb.identification import IdentifiabilityError
+from thermolimb.logs import read_log
+from thermolimb.plant import X8_9, PlantEffects, simulate_profile
+from thermolimb.workbench.evidence import MIN_SAMPLES_TO_RANK, THIN_SAMPLES, Evidence
+from thermolimb.workbench.validation import Segment, evaluate
+
+
+def step_test(path, levels=(0.0, 15.0, 15.0, 0.0), duration_s=3600.0, dt_s=1.0, rc_s=600.0, beta_r=0.1,
+              ambient=False, seed=0):
+    """A first-order actuator driven through ``levels`` (N m) in equal parts, written with units in its header."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration_s, dt_s)
+    effort = np.concatenate([np.full(len(part), level) for part, level in
+                             zip(np.array_split(t, len(levels)), levels)])
+    decay = np.exp(-dt_s / rc_s)
+    winding = np.full(t.size, 25.0)
+    for k in range(1, t.size):
+        winding[k] = 25.0 + (winding[k - 1] - 25.0) * decay + (1 - decay) * beta_r * effort[k - 1] ** 2
+    frame = pd.DataFrame({"time [s]": t, "actuator": "knee", "effort [N m]": effort,
+                          "temperature [degC]": np.round(winding + rng.normal(0, 0.05, t.size), 1)})
+    if ambient:
+        frame["ambient [degC]"] = 25.0
+    frame.to_csv(path, index=False)
+    return path
+
+
+def test_a_canonical_log_may_carry_units_in_its_header(tmp_path):
+    log = read_log(step_test(tmp_path / "step.csv"))
+    assert log.units["effort"] == "N m" and log.series("knee").n == 3600
+
+
+def test_a_header_in_kelvin_or_milliseconds_is_converted_and_said(tmp_path):
+    path = step_test(tmp_path / "step.csv")
+    frame = pd.read_csv(path)
+    frame = frame.rename(columns={"time [s]": "time [ms]", "temperature [degC]": "temperature [K]"})
+    frame["time [ms]"] *= 1000.0
+    frame["temperature [K]"] += 273.15
+    frame.to_csv(path, index=False)
+    log = read_log(path)
+    series = log.series("knee")
+    assert series.time_s[1] == pytest.approx(1.0) and 20.0 < series.temperature_C.min() < 30.0
+    assert any("converted to s" in n for n in log.notes) and any("converted to degC" in n for n in log.notes)
+
+
+def test_a_step_test_sets_the_bias_aside_and_identifies_joule_heating(tmp_path, capsys):
+    """Effort at two levels cannot tell a bias from Joule heating: the bias goes, βR is found within 2 %."""
+    path = step_test(tmp_path / "step.csv")
+    assert main(["fit", str(path), "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["model"] == ["joule"]
+    assert [a["term"] for a in record["set_aside"]] == ["effort_bias"]
+    assert "three or more distinct levels" in record["set_aside"][0]["reason"]
+    assert record["params"]["betaR_K_per_effort2"]["value"] == pytest.approx(0.1, rel=0.02)
+    assert record["params"]["RC_s"]["value"] == pytest.approx(600.0, rel=0.02)
+    for command in (["compare"], ["diagnose"], ["diagnose", "--auto"], ["fit", "--fleet"]):
+        assert main([command[0], str(path), *command[1:]]) == 0, command
+        assert "set aside: effort_bias" in capsys.readouterr().out or command == ["fit", "--fleet"]
+
+
+@pytest.fixture(scope="module")
+def steady_squat():
+    """120 s at 50 Hz of squatting (effort never low) on the plant, with its ambient channel."""
+    return simulate_profile("squat", 120.0, 0.02, ["knee"], [X8_9],
+                            PlantEffects.from_names(["sensor_noise", "quantisation"]), seed=0).log
+
+
+def test_an_offset_the_log_cannot_tell_from_heating_is_held_at_the_logged_ambient(steady_squat, tmp_path, capsys):
+    with pytest.raises(IdentifiabilityError, match="T_offset_C"):
+        evaluate(steady_squat.runs("knee"), "joule,effort_bias")
+    path = steady_squat.write(tmp_path / "squat.csv")
+    assert main(["fit", str(path), "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    [held] = [a for a in record["set_aside"] if a.get("parameter") == "T_offset_C"]
+    assert held["held_at"] == pytest.approx(25.0) and "periods at low effort" in held["reason"]
+    assert record["params"]["T_offset_C"] == {"value": held["held_at"], "stderr": 0.0, "unit": "degC"}
+    assert main(["diagnose", str(path)]) == 0
+    assert "held: T_offset_C = 25.00 degC" in capsys.readouterr().out
+
+
+def test_a_log_at_one_effort_level_identifies_nothing_and_says_what_would(tmp_path):
+    """Effort held at one level: heating cannot be told from the offset, and there is no ambient to hold it at."""
+    path = step_test(tmp_path / "flat.csv", levels=(15.0,))
+    with pytest.raises(IdentifiabilityError, match="a log needs"):
+        evaluate(read_log(path).runs("knee"), "joule,effort_bias", reduce=True)
+
+
+def _segment(n, span_s, values=None):
+    t = np.linspace(0.0, span_s, n)
+    y = np.arange(n, dtype=float) if values is None else values
+    return Segment(t, y, y, np.zeros(n))
+
+
+@pytest.mark.parametrize("n, span_s, rc_s, verdict", [
+    (MIN_SAMPLES_TO_RANK - 1, 1000.0, 10.0, "too thin"),
+    (THIN_SAMPLES - 1, 1000.0, 10.0, "thin"),
+    (500, 5.0, 10.0, "thin"),
+    (500, 1000.0, 10.0, "enough"),
+])
+def test_evidence_verdicts_follow_their_stated_thresholds(n, span_s, rc_s, verdict):
+    evidence = Evidence.of([_segment(n, span_s)], rc_s)
+    assert evidence.verdict == verdict
+    sentence = evidence.sentence()
+    assert sentence.startswith(f"evidence: {n} validation samples over {span_s:.3g} s")
+    assert ("too thin" in sentence) == (verdict == "too thin") and ("thin (" in sentence) == (verdict == "thin")
+
+
+def test_compare_refuses_to_rank_on_a_handful_of_held_out_readings(capsys):
+    """The WidowX bag: 6 held-out temperature readings; the two models are listed, not ranked."""
+    path = WX200_BAG.paths[0]
+    assert main(["compare", str(path), "--actuator", "waist", "--model", "joule,effort_bias", "--model", "joule",
+                 "--json"]) == 0
+    ranking = json.loads(capsys.readouterr().out)["ranking"]
+    assert ranking["best"] is None and ranking["verdict"] == "too thin"
+    assert ranking["evidence"]["validation_samples"] < MIN_SAMPLES_TO_RANK
+    assert main(["compare", str(path), "--actuator", "waist", "--model", "joule,effort_bias", "--model", "joule"]) == 0
+    assert "not ranked: evidence: " in capsys.readouterr().out
+
+
+def test_compare_ranks_with_enough_evidence():
+    run = simulate_profile("random", 1800.0, 1.0, ["knee"], [X8_9], PlantEffects.from_names(["sensor_noise"]),
+                           seed=2)
+    from thermolimb.workbench.compare import compare_models, rank_models
+
+    fitted = compare_models(run.log.runs("knee"), [("joule",), ("joule", "second_node")])
+    ranking = rank_models(fitted)
+    best = min(fitted, key=lambda x: x[0].validation["rmse_K"])[0]
+    assert ranking["best"] == list(best.model.terms) and ranking["verdict"] in ("enough", "thin")
+    assert ranking["sentence"].startswith(f"lowest held-out RMSE: {','.join(best.model.terms)}")
