@@ -56,7 +56,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     plot_diagnosis(first, out, "hip")
     page = InteractivePage("diagnose demo: hidden speed losses and neighbour conduction",
                            "The hip of a plant log with two hidden effects, from the seed's model to the search's end.")
-    add_diagnosis(page, first, steps[-1])
+    add_diagnosis(page, first, steps)
     page.write(out / "interactive.html")
     return {
         "hidden_effects": list(HIDDEN),

@@ -56,7 +56,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
         series = [log.series(f"profile{number}")]
         first, steps = auto_diagnose(series, quiet=quiet)
         plot_diagnosis(first, out, f"profile{number}")
-        add_diagnosis(page, first, steps[-1])
+        add_diagnosis(page, first, steps)
         entry = {"split": {"waterfall": first.auto, "recommended_model": first.to_json()["recommended_model"]}}
         if number == 24:
             cv, _ = auto_diagnose(series, cv=4, quiet=quiet)

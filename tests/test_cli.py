@@ -133,3 +133,19 @@ def test_html_target_that_is_a_folder_is_refused_before_any_work(sim_log, tmp_pa
     assert exit_.value.code == 2
     err = capsys.readouterr().err
     assert "--html" in err and "is a directory" in err
+
+
+def test_diagnose_auto_draws_every_step_over_the_measurement(tmp_path, capsys):
+    """The user sees the error fall on the data, not only in a bar chart: one line per step, its residual below."""
+    path = tmp_path / "log.csv"
+    assert main(["simulate", "--profile", "random", "--duration", "1800", "--dt", "1", "--network", "first_order",
+                 "--actuators", "knee:X8-9", "--effects", "sensor_noise,speed_losses", "--out", str(path),
+                 "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["diagnose", str(path), "--auto", "--plot", str(tmp_path / "plots"), "--html",
+                 str(tmp_path / "page.html"), "--json", "--quiet"]) == 0
+    steps = json.loads(capsys.readouterr().out)["auto"]
+    assert len(steps) > 1
+    assert (tmp_path / "plots" / "steps_knee.png").stat().st_size > 10_000
+    page = (tmp_path / "page.html").read_text()
+    assert all(",".join(step["model"]) in page for step in steps)

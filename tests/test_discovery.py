@@ -69,6 +69,7 @@ def test_without_discover_extra_channels_change_nothing():
     with_extras = diagnose([log.series("knee")]).to_json()
     without = diagnose([bare.series("knee")]).to_json()
     with_extras["residuals"]["cross_correlation"].pop("brake")
+    assert with_extras["channel_units"].pop("extra.brake") == "1"  # the channel's unit is said, nothing else moves
     assert json.dumps(with_extras, sort_keys=True, default=str) == json.dumps(without, sort_keys=True, default=str)
 
 

@@ -85,16 +85,17 @@ def run(args) -> int:
         else:
             d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out,
                          discover=args.discover)
+            steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
         finals.append((name, final))
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 
-            plot_diagnosis(d, Path(args.plot), name.replace("/", "_"))
+            plot_diagnosis(d, Path(args.plot), name.replace("/", "_"), steps)
         if page is not None:
             from ..plotting.interactive import add_diagnosis
 
-            add_diagnosis(page, d)
+            add_diagnosis(page, d, steps)
         return d.to_json(), describe_diagnosis(d)
 
     status = for_each_actuator(args, analyse, page)

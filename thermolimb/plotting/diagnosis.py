@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..workbench.diagnosis.diagnose import Diagnosis
-from .fits import overlay, plt, save
+from .fits import overlay, plot_comparison, plt, save
 
 STATUS_COLOURS = {"helps": "tab:green", "does not help": "tab:blue", "implausible": "tab:red",
                   "unidentifiable": "tab:purple", "refit failed": "0.5"}
@@ -102,10 +102,13 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     return save(fig, path)
 
 
-def plot_diagnosis(d: Diagnosis, folder: Path, stem: str) -> list[Path]:
-    """Every diagnosis plot of one actuator into ``folder``: residuals, candidates, and the waterfall if any."""
+def plot_diagnosis(d: Diagnosis, folder: Path, stem: str, steps=()) -> list[Path]:
+    """Every diagnosis plot of one actuator into ``folder``: residuals, candidates, and, after a search
+    (``steps``: its diagnoses), the waterfall and every step's model over the measurement with its residual."""
     folder = Path(folder)
     paths = [plot_residuals(d, folder / f"residuals_{stem}.png"), plot_candidates(d, folder / f"candidates_{stem}.png")]
     if d.auto:
         paths.append(plot_waterfall(d.auto, d.actuator, folder / f"waterfall_{stem}.png"))
+    if len(steps) > 1:
+        paths.append(plot_comparison([(s.base, None) for s in steps], d.actuator, folder / f"steps_{stem}.png"))
     return paths

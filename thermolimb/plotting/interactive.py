@@ -140,14 +140,13 @@ def thinning_note(report) -> str:
     return f" Drawn at every {step}-th sample (runs of up to {n} samples)." if step > 1 else ""
 
 
-def add_diagnosis(page: InteractivePage, d, final=None) -> None:
+def add_diagnosis(page: InteractivePage, d, steps=()) -> None:
     """The model against the measurement, the candidates, and the waterfall when the search ran.
 
-    ``final``: the last step of a stepwise search (a diagnosis), drawn beside the starting model.
+    ``steps``: every step of a stepwise search (diagnoses, the first being ``d``), each step's model drawn
+    over the measurement with its residual, so that the error is seen to fall.
     """
-    reports = [(",".join(d.model), d.base)]
-    if final is not None and tuple(final.model) != tuple(d.model):
-        reports.append((",".join(final.model), final.base))
+    reports = [(",".join(s.model), s.base) for s in (steps or [d])]
     page.add(f"{d.actuator}: measured against the model", temperature_figure(reports, d.actuator),
              "Measured temperature (black) and each model's free run from each run's first reading; dotted where it "
              "was fitted, solid on held-out data (shaded). Zoom on any panel: the three share the time axis."
