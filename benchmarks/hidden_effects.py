@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-
 from dataclasses import replace
 
 from thermolimb.plant import NETWORKS, X8_9, AmbientVariation, PlantEffects, simulate_profile

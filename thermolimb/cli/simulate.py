@@ -5,14 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..logs.table import kind_of
-from ..plant import (
-    ACTUATOR_SPECS,
-    EFFECT_TYPES,
-    NETWORKS,
-    PROFILES,
-    PlantEffects,
-    simulate_profile,
-)
+from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
 from ..plant.cases import CASE_NAMES, CASE_SPECS
 from ..util.errors import UsageError
 from .options import add_quiet, print_json

@@ -100,9 +100,7 @@ class OutputError(ThermalEstimator):
             model = ThermalModel(terms, dict(zip(names, values)))
             return np.concatenate([model.free_run(s, r) for s, r in zip(series, rates)]) - measured
 
-        from scipy.optimize import (
-            least_squares,  # scipy.optimize takes ~0.4 s to import: only when fitting
-        )
+        from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 
         x0 = x_all[free]
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])

@@ -79,10 +79,7 @@ def lowpass(x: np.ndarray, cutoff_hz: float | None, dt_s: float, axis: int = 0) 
     nyquist = 0.5 / dt_s
     if cutoff_hz is None or cutoff_hz >= nyquist:
         return np.asarray(x, dtype=float)
-    from scipy.signal import (  # scipy.signal takes ~0.7 s to import: only when filtering
-        butter,
-        sosfiltfilt,
-    )
+    from scipy.signal import butter, sosfiltfilt  # scipy.signal takes ~0.7 s to import: only when filtering
     sos = butter(2, cutoff_hz / nyquist, output="sos")
     return sosfiltfilt(sos, x, axis=axis)
 

@@ -17,25 +17,9 @@ from . import extras
 from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
-from .mapping import (
-    EXTRA,
-    OPTIONAL,
-    REQUIRED,
-    TIME_OF,
-    UNITS,
-    expand_joints,
-    is_pattern,
-    parse_mapping,
-)
+from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
 from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
-from .units import (
-    CANONICAL,
-    NOT_GIVEN,
-    SCALED,
-    canonical_headers,
-    channel_units,
-    split_unit,
-)
+from .units import CANONICAL, CELSIUS, NOT_GIVEN, SCALED, canonical_headers, channel_units, split_unit
 
 CANONICAL_UNITS = FrozenMapping(CANONICAL)
 
@@ -366,7 +350,6 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
     return out
 
 
-CELSIUS = ("degC", "°C", "C", "deg C", "celsius")
 TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
 
 

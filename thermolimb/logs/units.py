@@ -25,6 +25,7 @@ from ..model.units import CANONICAL, NOT_GIVEN, SCALED
 
 # units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's name
 KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%")
+CELSIUS = ("degC", "°C", "C", "deg C", "celsius", "Celsius")  # what a header may call degrees Celsius
 _HEADER = re.compile(r"[\[(]\s*([^\[\]()]+?)\s*[\])]\s*$")
 
 

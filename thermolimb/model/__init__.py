@@ -5,16 +5,7 @@ from .bank import FirstOrderBank
 from .model import BASE_PARAMETERS, ThermalModel, model_parameters
 from .scan import first_order_scan
 from .signals import Signals
-from .terms import (
-    DEFAULT_MODEL,
-    TERMS,
-    ModelSpecError,
-    Parameter,
-    Term,
-    parse_model,
-    register_term,
-    unregister_term,
-)
+from .terms import DEFAULT_MODEL, TERMS, ModelSpecError, Parameter, Term, parse_model, register_term, unregister_term
 
 __all__ = [
     "BASE_PARAMETERS", "DEFAULT_MODEL", "FirstOrderBank", "ModelSpecError", "Parameter", "Signals",

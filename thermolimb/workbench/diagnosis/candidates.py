@@ -325,9 +325,7 @@ def bic(residual: np.ndarray, n_params: int) -> float:
 
 
 def _chi2():
-    from scipy.stats import (
-        chi2,  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
-    )
+    from scipy.stats import chi2  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
 
     return chi2
 

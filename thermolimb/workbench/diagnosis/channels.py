@@ -22,11 +22,12 @@ from __future__ import annotations
 import numpy as np
 
 from ...logs import ActuatorSeries
+from ...logs.units import CELSIUS
 from ...model.generated import Feature, define, identifier, input_name, term_source
 from ...model.terms import TERMS
 from ...model.units import NOT_GIVEN
 
-TEMPERATURE_UNITS = ("degC", "°C", "C", "K", "deg C", "celsius", "Celsius")
+TEMPERATURE_UNITS = CELSIUS + ("K",)
 TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")
 TEMPERATURE_SPAN_K = 30.0  # a channel with no unit is temperature-like if it stays this close to the log's temperatures
 BOUNDARY_REFERENCE_C = 25.0  # a boundary's offset is the model's offset at this channel temperature

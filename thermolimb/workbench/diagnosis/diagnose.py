@@ -32,14 +32,7 @@ from ...model.terms import TERMS, parse_model
 from ...model.units import NOT_GIVEN
 from ...util.progress import progress
 from ..validation import FitReport, Scheme, evaluate, identifiable_submodel
-from .candidates import (
-    SCORE_P_VALUE,
-    Candidate,
-    bic,
-    candidate_models,
-    judge,
-    score_candidate,
-)
+from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .evidence import describe, describe_discovered

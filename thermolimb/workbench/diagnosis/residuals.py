@@ -74,9 +74,7 @@ def _normalised(x: np.ndarray) -> np.ndarray:
 
 def cross_correlation(x: np.ndarray, y: np.ndarray, max_lag: int) -> tuple[np.ndarray, np.ndarray]:
     """``r_xy(k) = mean(x_t y_{t+k})`` of the standardised series for ``k`` in ``[-max_lag, max_lag]``."""
-    from scipy.signal import (
-        correlate,  # scipy.signal takes ~0.7 s to import: only when analysing
-    )
+    from scipy.signal import correlate  # scipy.signal takes ~0.7 s to import: only when analysing
 
     xn, yn = _normalised(x), _normalised(y)
     n = xn.size
