@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 
 from thermolimb.cli.main import main
+from thermolimb.data import REAL_LOGS
 from thermolimb.logs import from_frame, read_log
 from thermolimb.model import TERMS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
@@ -178,3 +179,19 @@ def test_a_sample_counter_shared_by_every_joint_is_not_a_channel(tmp_path):
     frame.to_csv(path, index=False)
     log = read_log(path, mapping="time=Time,effort=Current_J{j},temperature=Temperature_J{j}")
     assert log.extras == ("Tool",)  # the sample number and the cycle count are counters, not channels
+
+
+def test_a_cycle_counter_that_resets_now_and_then_is_still_a_counter(tmp_path):
+    """The UR3's cycle count drops once (105 ... 264 with one step of -9): not a channel; an on/off brake and an
+    integer fan duty going up and down stay channels."""
+    n = 200
+    t = np.arange(n, dtype=float)
+    cycle = np.repeat(np.arange(40), 5)
+    cycle[120:] -= 3  # one reset
+    frame = pd.DataFrame({"time": t, "actuator": "knee", "effort": np.sin(t), "temperature": 30.0 + 0.01 * t,
+                          "cycle": cycle, "brake": (np.sin(t / 7) > 0).astype(int),
+                          "fan [%]": np.round(50 + 40 * np.sin(t / 20))})
+    path = tmp_path / "log.csv"
+    frame.to_csv(path, index=False)
+    assert read_log(path).extras == ("brake", "fan")
+    assert "cycle" not in REAL_LOGS["ur3"].read()[0].extras

@@ -133,13 +133,19 @@ def _numeric(column: pd.Series) -> np.ndarray | None:
     return converted.to_numpy(float)
 
 
+COUNTER_RISES = 0.95  # a counter's changes are rises, but for the odd reset (the UR3's cycle count drops once)
+
+
 def _monotonic(x: np.ndarray, groups: list[np.ndarray] | None) -> bool:
-    """A count or a clock: strictly monotonic, or whole numbers that never decrease and take several values (a
-    cycle counter), within each actuator's rows (a counter shared by every joint repeats per joint)."""
+    """A count or a clock: strictly monotonic, or whole numbers that take several values and change almost only
+    upwards (a cycle counter, reset now and then), within each actuator's rows (a counter shared by every joint
+    repeats per joint)."""
     def one(v: np.ndarray) -> bool:
         d = np.diff(v)
         strict = bool(np.all(d > 0)) or bool(np.all(d < 0))
-        counting = bool(np.all(d >= 0)) and bool(np.all(v == np.round(v))) and np.unique(v).size > 2
+        changes = d[d != 0]
+        counting = (bool(np.all(v == np.round(v))) and np.unique(v).size > 2
+                    and changes.size > 0 and np.mean(changes > 0) >= COUNTER_RISES)
         return v.size > 2 and (strict or counting)
 
     return all(one(x[idx]) for idx in groups) if groups else one(x)

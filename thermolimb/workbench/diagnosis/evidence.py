@@ -45,9 +45,12 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         peak = f"peak {value:+.2f} at lag {lag:.0f} s, band ±{corr.band:.2f}"
         if corr.significant:
             parts.append(f"the residual correlates with {channel} ({peak})")
-        elif c.helps or (c.p_value is not None and c.p_value < SCORE_P_VALUE):
+        elif c.helps:
             parts.append(f"no sign of it in the residual's correlation with {channel} alone ({peak}); the score "
                          f"test and the held-out data carry it")
+        elif c.p_value is not None and c.p_value < SCORE_P_VALUE:
+            parts.append(f"no sign of it in the residual's correlation with {channel} alone ({peak}); only the "
+                         f"score test sees it")
         else:
             parts.append(f"the residual does not correlate significantly with {channel} ({peak})")
     elif c.effect == "winding_tempco" and "hot" in ph and "cool" in ph:
