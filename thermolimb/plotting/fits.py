@@ -96,11 +96,11 @@ def plot_comparison(results, actuator: str, path: Path) -> Path:
     first = results[0][0]
     for seg in first.validation_segments:
         top.plot(seg.time_s, seg.measured_C, color="k", lw=1)
-    for report, _ in results:
-        label = ",".join(report.model.terms)
+    for k, (report, _) in enumerate(results):
+        label, colour = ",".join(report.model.terms), f"C{k % 10}"  # one colour per model, on every run
         for i, seg in enumerate(report.validation_segments):
-            line, = top.plot(seg.time_s, seg.simulated_C, lw=1, label=label if i == 0 else None)
-            bottom.plot(seg.time_s, seg.measured_C - seg.simulated_C, lw=0.8, color=line.get_color())
+            top.plot(seg.time_s, seg.simulated_C, lw=1, color=colour, label=label if i == 0 else None)
+            bottom.plot(seg.time_s, seg.measured_C - seg.simulated_C, lw=0.8, color=colour)
     top.set_title(f"{actuator}: measured (black) and each model's free run on held-out data")
     top.set_ylabel("temperature (°C)")
     top.legend(fontsize=8)
