@@ -19,7 +19,7 @@ from humanoid_pb.actuators import datasheet_bank, effort_limits
 from humanoid_pb.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
 from humanoid_pb.fast_ik import FastThermalIK
-from humanoid_pb.params import VALKYRIE
+from humanoid_pb.params import RECOVERED_C, VALKYRIE, WARNING_C
 from humanoid_pb.poses import crouch_angles, single_support, standing
 from humanoid_pb.potential import MinimumEffort
 from humanoid_pb.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
@@ -68,8 +68,10 @@ PAGE = DemoPage(
           "against minimum effort. Look at the hot leg's time to 70 °C and cooling rate, and at the contact "
           "modes each strategy chose.",
     headline=_headline,
-    captions={"temperature_norms.png": "Norm of the hot leg's temperatures over time for both strategies; the "
-                                       "warning (75 °C) and the recovery threshold (70 °C) dashed.",
+    captions={"temperature_norms.png": "Top: the norm of each group's temperatures over time, one panel per "
+                                       "strategy (dotted: the warning). Bottom left: the robot's hottest actuator, "
+                                       "with the warning (75 °C) and the recovery threshold (70 °C) dashed. "
+                                       "Bottom right: the hot leg's cooling rate after the warning.",
               "contact_modes.png": "Contact mode chosen over time by each strategy.",
               "configuration_": "The configuration the strategy holds in that contact mode."})
 
@@ -122,25 +124,36 @@ def _norm(run, group):
 
 
 def _plot_norms(runs, path):
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for s, r in runs.items():
+    """Fig. 6/7 of the seed: each group's temperature norm per strategy (top), the hottest actuator against the
+    warning and recovery thresholds and the hot leg's cooling rate (bottom)."""
+    fig, axes = plt.subplots(2, 2, figsize=(13, 7.5))
+    hottest, rate = axes[1, 0], axes[1, 1]
+    for k, (s, r) in enumerate(runs.items()):
         for group in GROUPS:
             t, norm = _norm(r, group)
-            axes[0 if s == "thermal_aware" else 1].plot(t, norm, label=group)
+            axes[0, k].plot(t, norm, label=group)
         t, norm = _norm(r, "right leg")
-        dt = t[1] - t[0]
-        axes[2].plot(t - (r.warning_at_s or 0.0), np.gradient(lowpass(norm, 0.1, dt), t), label=s)
-    for ax, s in zip(axes[:2], runs):
-        ax.set_title(f"{s}: temperature l2-norms")
+        words = s.replace("_", " ")
+        hottest.plot(t, np.max(np.array(r.temperature_C), axis=1), label=words)
+        rate.plot(t - (r.warning_at_s or 0.0), np.gradient(lowpass(norm, 0.1, t[1] - t[0]), t), label=words)
+    for ax, (s, r) in zip(axes[0], runs.items()):
+        ax.set_title(f"{s.replace('_', ' ')}: temperature norms")
         ax.set_xlabel("time (s)")
-        ax.set_ylabel("norm (°C)")
-        if runs[s].warning_at_s:
-            ax.axvline(runs[s].warning_at_s, color="k", ls=":", lw=0.8)
+        ax.set_ylabel("norm of the group's temperatures (°C)")
+        if r.warning_at_s:
+            ax.axvline(r.warning_at_s, color="k", ls=":", lw=0.8)
         ax.legend(fontsize=8)
-    axes[2].set_title("hot (right) leg: rate of its norm, 0.1 Hz low-pass")
-    axes[2].set_xlabel("time since the warning (s)")
-    axes[2].set_ylabel("K/s")
-    axes[2].legend(fontsize=8)
+    hottest.axhline(WARNING_C, color="tab:red", ls="--", lw=1, label=f"warning, {WARNING_C:.0f} °C")
+    hottest.axhline(RECOVERED_C, color="tab:green", ls="--", lw=1, label=f"recovered, {RECOVERED_C:.0f} °C")
+    hottest.set_title("hottest actuator of the robot")
+    hottest.set_xlabel("time (s)")
+    hottest.set_ylabel("temperature (°C)")
+    rate.set_title("hot (right) leg: rate of its norm, 0.1 Hz low-pass")
+    rate.set_xlabel("time since the warning (s)")
+    rate.set_ylabel("rate (K/s)")
+    hottest.legend(fontsize=8)
+    rate.legend(fontsize=8)
+    fig.tight_layout()
     save(fig, path)
 
 

@@ -34,8 +34,11 @@ PAGE = DemoPage(
           "policy as the floor. Look at the return and the outcome that matters (distance, recovery time) with "
           "their spread over seeds.",
     headline=_headline,
-    captions={"HexapodLoadCarry-v0.png": "Return and outcomes per strategy, hexapod (mean ± std over seeds).",
-              "HumanoidThermalRecovery-v0.png": "Return and outcomes per strategy, humanoid (mean ± std over seeds)."})
+    captions={"HexapodLoadCarry-v0.png": "Return and outcome per strategy, hexapod: the mean over seeded episodes "
+                                         "(n above each bar), with ± std bars when two or more episodes ran.",
+              "HumanoidThermalRecovery-v0.png": "Return and outcome per strategy, humanoid: the mean over seeded "
+                                                "episodes (n above each bar), with ± std bars when two or more "
+                                                "episodes ran."})
 
 
 @register_demo(NAME, "minimum-effort against thermal-aware (and baselines) in both Gymnasium environments",

@@ -5,6 +5,8 @@ Skipped, with the reason, where no Chromium or ChromeDriver is installed
 browser or driver is ever downloaded.
 """
 
+import json
+import re
 import shutil
 import tempfile
 
@@ -25,6 +27,9 @@ FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "-
 FIGURES = """return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => ({
     id: g.id, traces: g.data.length, points: (g.calcdata || []).reduce((n, c) => n + c.length, 0)}));"""
 IMAGES = """return Array.from(document.images).map(i => ({src: i.getAttribute('src'), width: i.naturalWidth}));"""
+AXES = r"""return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => Object.keys(g.layout)
+    .filter(k => /^[xy]axis\d*$/.test(k)).map(k => (g.layout[k].title || {}).text || ''));"""
+TRACES = "return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => g.data.map(t => t.name || ''));"
 RESOURCES = "return performance.getEntriesByType('resource').map(e => e.name);"
 
 
@@ -59,13 +64,34 @@ def _open(browser, path):
 def test_diagnose_html_page_has_its_figures_with_data(browser, tmp_path):
     page = tmp_path / "diagnose.html"
     assert main(["diagnose", str(WX200_BAG.paths[0]), "--actuator", "waist", "--auto", "--html", str(page),
-                 "--quiet"]) == 0
+                 "--effort-unit", "mA", "--quiet"]) == 0
     _open(browser, page)
     figures = browser.execute_script(FIGURES)
     assert [f["id"] for f in figures] == ["figure-0", "figure-1", "figure-2"]  # temperature, candidates, waterfall
     assert figures[0]["traces"] >= 4 and figures[0]["points"] >= 4 * 21  # 21 samples per trace
     assert all(f["points"] > 0 for f in figures)
     assert page.read_text().count("<script type=\"text/javascript\">/**") <= 1  # Plotly embedded once
+    titles = [t for figure in browser.execute_script(AXES) for t in figure]
+    assert titles and all(re.search(r"\(.+\)$", t) for t in titles if t), titles  # every drawn axis has its unit
+    assert "effort (mA)" in titles and "temperature (°C)" in titles, titles  # the unit the user gave, not N m
+
+
+def test_diagnose_html_page_draws_every_step_of_the_search(browser, tmp_path, capsys):
+    """On a plant log whose search takes more than one step, the page draws each step's model over the data."""
+    log, page = tmp_path / "plant.csv", tmp_path / "steps.html"
+    assert main(["simulate", "--profile", "random", "--duration", "1800", "--dt", "1", "--network", "first_order",
+                 "--actuators", "knee:X8-9", "--effects", "sensor_noise,speed_losses", "--out", str(log),
+                 "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["diagnose", str(log), "--auto", "--html", str(page), "--json", "--quiet"]) == 0
+    steps = json.loads(capsys.readouterr().out)["auto"]
+    assert len(steps) > 1, steps
+    _open(browser, page)
+    names = {n for figure in browser.execute_script(TRACES) for n in figure}
+    for step in steps:
+        assert any(n.startswith(",".join(step["model"]) + " ") for n in names), (step["model"], names)
+    titles = [t for figure in browser.execute_script(AXES) for t in figure]
+    assert "effort (N m)" in titles, titles  # the plant's unit, from its log's header
 
 
 def test_report_opens_with_every_figure_drawn(browser, tmp_path):

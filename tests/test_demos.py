@@ -4,8 +4,10 @@ import json
 import re
 
 import pytest
+from captions import broken_promises, code_names
 
-from thermolimb.demo_registry import load_demos, run_demo
+from thermolimb.demo_registry import caption, load_demos, run_demo
+from thermolimb.plotting.inventory import read_inventory
 from thermolimb.report import build_report
 from thermolimb.util.errors import UsageError
 
@@ -40,6 +42,24 @@ def test_demo_quick(name, quick_runs):
     assert values and all(v.strip() for v in values), values  # a headline table with rows, every value given
     for src in re.findall(r"<img src='([^']+)'", section):
         assert (out / src).is_file(), src  # every figure the section shows exists
+
+
+def test_every_figure_keeps_its_captions_promise(quick_runs):
+    """What a caption tells the reader (a dashed 75 °C line, error bars, the measurement in black) is drawn, and
+    no axis is labelled with a raw identifier; read from each PNG's own inventory of what it draws."""
+    out = quick_runs[0]
+    demos = load_demos()
+    problems, checked = [], 0
+    for name in DEMOS:
+        quick(quick_runs, name)
+        for png in sorted((out / name).glob("*.png")):
+            axes = read_inventory(png)
+            assert axes is not None, f"{png.name} was not written through thermolimb.plotting.fits.save"
+            text = caption(demos[name].page, png.name)
+            problems += [f"{name}/{png.name}: {p}" for p in broken_promises(text, axes) + code_names(axes)]
+            checked += 1
+    assert checked >= 20, checked
+    assert not problems, "\n".join(problems)
 
 
 def test_thermal_fit_demo_predicts_the_squats(quick_runs):

@@ -74,7 +74,8 @@ def plot_table(rows, env_id, path: Path) -> Path:
             ax.annotate(f"n = {n}", (k, mean), ha="center", va="bottom", fontsize=7, color="0.3",
                         xytext=(0, 2), textcoords="offset points")
         ax.set_xticks(range(len(names)), names)
-        ax.set_title(f"{title}, mean ± std over episodes", fontsize=9)
+        spread = any(r[key][2] >= 2 for r in rows if r[key][0] is not None)
+        ax.set_title(f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"), fontsize=9)
         ax.tick_params(axis="x", labelsize=8, rotation=15)
     fig.suptitle(env_id, fontsize=10)
     return save(fig, path)

@@ -12,14 +12,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 from ..model.units import NOT_GIVEN  # noqa: E402
 from ..util.atomic import atomic_path  # noqa: E402
 from ..workbench.validation import FitReport  # noqa: E402
+from .inventory import metadata  # noqa: E402
 
 
 def save(fig, path: Path) -> Path:
-    """Write a figure whole (to a temporary name first) and close it."""
+    """Write a figure whole (to a temporary name first) and close it; a PNG carries what it draws (inventory)."""
     path = Path(path)
+    kind = path.suffix.lstrip(".").lower() or "png"
     try:
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110, bbox_inches="tight", format=path.suffix.lstrip(".") or "png")
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", format=kind,
+                        metadata=metadata(fig) if kind == "png" else None)
     finally:
         plt.close(fig)
     return path
