@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import first_order_log, first_order_truth
 
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG
@@ -87,6 +88,31 @@ def test_an_offset_the_log_cannot_tell_from_heating_is_held_at_the_logged_ambien
     assert record["params"]["T_offset_C"] == {"value": held["held_at"], "stderr": 0.0, "unit": "degC"}
     assert main(["diagnose", str(path)]) == 0
     assert "held: T_offset_C = 25.00 degC" in capsys.readouterr().out
+
+
+def test_a_time_constant_the_log_leaves_loose_is_held_at_its_datasheet_value():
+    """15 s of a plant whose winding takes 80 s: the fitted RC is 93 ± 114 s and βR 0.26 ± 0.30. Held at the
+    datasheet's RC (said, with the reason), βR comes within 10 % of the truth with a fifth of the error."""
+    truth = first_order_truth()
+    series = first_order_log(0, duration_s=15.0, dt_s=0.1).runs("knee")
+    free = evaluate(series, "joule,effort_bias", reduce=True)
+    held = evaluate(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": truth["RC_s"]})
+    assert any(f.startswith("RC_s = ") for f in free.flags)  # loose without the datasheet
+    assert held.held["RC_s"] == truth["RC_s"] and held.stderr["RC_s"] == 0.0
+    entry = next(a for a in held.set_aside if a.get("parameter") == "RC_s")
+    assert entry["unit"] == "s" and "datasheet" in entry["reason"] and "loose" in entry["reason"]
+    assert not any(f.startswith("RC_s = ") for f in held.flags)  # a held value is not judged as a fitted one
+    beta = "betaR_K_per_effort2"
+    assert held.model.params[beta] == pytest.approx(truth[beta], rel=0.1)
+    assert held.stderr[beta] < 0.2 * free.stderr[beta]
+
+
+def test_a_datasheet_value_is_used_only_where_the_log_needs_it(plant_log):
+    """On two hours of the plant the log identifies RC itself: a (wrong) datasheet value changes nothing."""
+    series = plant_log.runs("knee")
+    free = evaluate(series, "joule,effort_bias", reduce=True)
+    given = evaluate(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": 3 * free.model.params["RC_s"]})
+    assert given.set_aside == () and given.model.params == free.model.params
 
 
 def test_a_log_at_one_effort_level_identifies_nothing_and_says_what_would(tmp_path):

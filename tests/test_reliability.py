@@ -52,6 +52,12 @@ def small_log(tmp_path):
     (["compare-strategies", "--env", "x", "--max-time", "nan"], "--max-time"),
     (["fit", "{log}", "--cv", "0"], "--cv"),
     (["fit", "{log}", "--split", "1.5"], "--split"),
+    (["fit", "{log}", "--datasheet", "RC_s"], "--datasheet"),
+    (["fit", "{log}", "--datasheet", "RC_s=1,RC_s=2"], "--datasheet"),
+    (["fit", "{log}", "--datasheet", "RC_s=nan"], "--datasheet"),
+    (["fit", "{log}", "--datasheet", "RC_x=600"], "--datasheet"),  # not a parameter of the model
+    (["compare", "{log}", "--datasheet", "RC_s=-5"], "--datasheet"),  # outside what RC_s can be
+    (["diagnose", "{log}", "--fleet", "--datasheet", "frame_tau_s=900"], "--datasheet"),
     (["fit", "{log}", "--plot", "{file}"], "--plot"),
     (["diagnose", "{log}", "--plot", "{file}"], "--plot"),
     (["demo", "diagnose", "--out", "{file}"], "--out"),

@@ -12,6 +12,7 @@ from .options import (
     add_quiet,
     add_terms,
     add_validation,
+    datasheet_of,
     for_each_actuator,
     format_params,
     html_page,
@@ -43,11 +44,12 @@ def add_parser(sub):
 def run(args) -> int:
     load_terms(args)
     models = [parse_model(m) for m in (args.model or [",".join(DEFAULT_MODEL)])]
+    datasheet = datasheet_of(args, *models)
     scheme = scheme_of(args)
     page = html_page(args, "thermolimb compare")
 
     def analyse(name, series, held_out):
-        results = compare_models(series, models, scheme, held_out)
+        results = compare_models(series, models, scheme, held_out, datasheet)
         fitted = [(r, ic) for r, ic in results if r is not None]
         if page is not None:
             from ..plotting.interactive import temperature_figure, thinning_note

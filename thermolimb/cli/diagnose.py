@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
@@ -16,6 +16,7 @@ from .options import (
     add_quiet,
     add_terms,
     add_validation,
+    datasheet_of,
     for_each_actuator,
     format_params,
     html_page,
@@ -65,7 +66,7 @@ def add_parser(sub):
 
 def run(args) -> int:
     load_terms(args)
-    parse_model(args.model)
+    datasheet = datasheet_of(args, args.model)
     if args.propose and not args.discover:
         raise UsageError("--propose writes what --discover finds; add --discover")
     if args.fleet:
@@ -80,11 +81,11 @@ def run(args) -> int:
     def analyse(name, series, held_out):
         if args.auto:
             d, steps = auto_diagnose(series, args.model, quiet=args.quiet, scheme=scheme, validate_on=held_out,
-                                     discover=args.discover)
+                                     discover=args.discover, datasheet=datasheet)
             final = steps[-1].base
         else:
             d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out,
-                         discover=args.discover)
+                         discover=args.discover, datasheet=datasheet)
             steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
         finals.append((name, final))

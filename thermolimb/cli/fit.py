@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..identification import ESTIMATORS
-from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..model.terms import DEFAULT_MODEL, TERMS
 from ..workbench.validation import evaluate
 from .options import (
     add_fleet,
@@ -14,6 +14,7 @@ from .options import (
     add_quiet,
     add_terms,
     add_validation,
+    datasheet_of,
     for_each_actuator,
     format_params,
     html_page,
@@ -52,14 +53,15 @@ def add_parser(sub):
 
 def run(args) -> int:
     load_terms(args)
-    parse_model(args.model)
+    datasheet = datasheet_of(args, args.model)
     if args.fleet:
         return run_fleet(args, diagnose=False)
     scheme = scheme_of(args)
     page = html_page(args, "thermolimb fit")
 
     def analyse(name, series, held_out):
-        report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method, reduce=True)
+        report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method, reduce=True,
+                          datasheet=datasheet)
         if args.plot:
             from ..plotting.fits import plot_fit
 

@@ -6,14 +6,14 @@ import json
 import sys
 from pathlib import Path
 
-from ..logs import VELOCITY_UNITS, ActuatorSeries, ThermalLog, parse_mapping, read_log
+from ..logs import VELOCITY_UNITS, ActuatorSeries, LogError, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
 from ..util.atomic import write_text
 from ..util.errors import UsageError
 from ..util.jsonutil import to_jsonable
 from ..util.parallel import BACKENDS
 from ..workbench.validation import Scheme, set_aside_sentence
-from .types import folds, fraction, integer, output_file
+from .types import assignments, folds, fraction, integer, output_file
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
 
@@ -72,6 +72,9 @@ def add_validation(p):
     p.add_argument("--restart-at-split", action="store_true",
                    help="restart the validation free run at the split from the measured temperature, hidden states "
                         "at rest (default: carried from each run's start through the training part)")
+    p.add_argument("--datasheet", type=assignments, default={}, metavar="NAME=VALUE,...",
+                   help="values from a datasheet (e.g. RC_s=600), held where the log cannot identify the parameter "
+                        "or leaves it loose (standard error over half of it); the output says when one is held")
 
 
 def scheme_of(args) -> Scheme:
@@ -79,6 +82,18 @@ def scheme_of(args) -> Scheme:
         raise UsageError("--validate-on and --cv are two ways to validate; give one")
     return Scheme(split=args.split, folds=args.cv if isinstance(args.cv, int) else None,
                   by_run=args.cv == "runs", restart_at_split=args.restart_at_split)
+
+
+def datasheet_of(args, *models) -> dict[str, float]:
+    """``--datasheet``, checked against the models' parameters before any log is read."""
+    from ..model.terms import parse_model
+    from ..workbench.validation import check_datasheet
+
+    try:
+        check_datasheet(args.datasheet, *(parse_model(m) for m in models))
+    except LogError as exc:
+        raise UsageError(str(exc)) from None
+    return dict(args.datasheet)
 
 
 def read_options(args, path) -> dict:
@@ -212,10 +227,12 @@ def run_fleet(args, diagnose: bool) -> int:
     paths = expand_paths(args.logs)
     if len({is_bag(p) for p in paths}) > 1:
         raise UsageError("--fleet reads bags and tables with the same --map; give bags and tables in separate runs")
+    datasheet = datasheet_of(args, args.model)
     rows, notes = fit_fleet_files(paths, read_options(args, paths[0]), args.model, scheme_of(args),
                                   method=getattr(args, "method", "output_error"), diagnose=diagnose,
                                   backend=args.backend, workers=args.workers, address=args.address,
-                                  actuators=[args.actuator] if args.actuator and not args.map else None)
+                                  actuators=[args.actuator] if args.actuator and not args.map else None,
+                                  datasheet=datasheet)
     for note in notes:
         print(f"note: {note}", file=sys.stderr)
     records = drift(rows)

@@ -78,6 +78,25 @@ def names(text: str) -> list[str]:
     return list(dict.fromkeys(items))
 
 
+def assignments(text: str) -> dict[str, float]:
+    """``NAME=VALUE,...``: parameter values by name (``RC_s=600,T_offset_C=25``), each named once."""
+    values = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        try:
+            number_ = float(value)
+        except ValueError:
+            number_ = math.nan
+        if not (sep and name and math.isfinite(number_)):
+            raise argparse.ArgumentTypeError(f"expected NAME=VALUE,... with finite numbers (e.g. RC_s=600), got "
+                                             f"{item.strip()!r}")
+        if name in values:
+            raise argparse.ArgumentTypeError(f"{name} is given twice")
+        values[name] = number_
+    return values
+
+
 def _checked(check, text: str):
     try:
         return check(text)

@@ -2,21 +2,31 @@
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from ..identification import IdentifiabilityError
 from ..identification.metrics import information_criteria
-from .validation import FitReport, Scheme, evaluate
+from ..model.model import model_parameters
+from ..model.terms import parse_model
+from .validation import FitReport, Scheme, check_datasheet, evaluate
 
 
-def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=()) -> list[tuple[FitReport, dict]]:
+def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=(),
+                   datasheet: Mapping[str, float] | None = None) -> list[tuple[FitReport, dict]]:
     """Fit and validate each model; returns each report with its AIC and BIC.
 
     A model this log cannot identify is returned as ``(None, {"model", "error"})``; the others go on.
+    ``datasheet``: values each model holds where the log cannot identify them (those of its parameters).
     """
+    datasheet = dict(datasheet or {})
+    check_datasheet(datasheet, *(parse_model(m) for m in models))
     out = []
     errors = []
     for model in models:
+        names = {p.name for p in model_parameters(parse_model(model))}
         try:
-            report = evaluate(series, model, scheme, validate_on=validate_on, reduce=True)
+            report = evaluate(series, model, scheme, validate_on=validate_on, reduce=True,
+                              datasheet={k: v for k, v in datasheet.items() if k in names})
         except IdentifiabilityError as exc:
             errors.append(exc)
             out.append((None, {"model": list(model), "error": str(exc)}))

@@ -24,13 +24,17 @@ MAX_RELATIVE_STDERR = 0.5  # a value known to worse than half of itself is flagg
 OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")
 
 
-def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries]) -> list[str]:
-    """One sentence per fitted value that looks like an artefact of the log rather than physics."""
+def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries],
+                    held: Sequence[str] = ()) -> list[str]:
+    """One sentence per fitted value that looks like an artefact of the log rather than physics (values
+    ``held``, not fitted, are the user's or the ambient's and are not judged)."""
     flags = []
     units = series[0].units if series else {}
     duration = max(s.duration_s for s in series)
     dt = min(s.median_dt_s for s in series)
     for p in model.parameters:
+        if p.name in held:
+            continue
         v = model.params[p.name]
         scale = abs(p.typical) if p.typical else 1.0
         if p.unit == "s":
@@ -56,7 +60,7 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units)
         if flag:
             flags.append(flag)
-    if not any(t in model.terms for t in OFFSET_REDEFINED_BY):
+    if not any(t in model.terms for t in OFFSET_REDEFINED_BY) and "T_offset_C" not in held:
         flag = _offset_flag(model.params["T_offset_C"], series)
         if flag:
             flags.append(flag)

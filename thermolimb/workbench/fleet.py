@@ -92,10 +92,11 @@ class FleetJob:
     series: object  # ActuatorSeries
 
 
-def analyse_run(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool) -> dict:
+def analyse_run(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool,
+                datasheet: dict | None = None) -> dict:
     """One row: fit (and diagnose) one actuator's run, with one BLAS thread (see :data:`BLAS_THREADS`)."""
     with _one_blas_thread():
-        return _analyse(job, model, scheme, method, diagnose)
+        return _analyse(job, model, scheme, method, diagnose, datasheet)
 
 
 _CONTROLLER = None
@@ -111,7 +112,8 @@ def _one_blas_thread():
     return _CONTROLLER.limit(limits=BLAS_THREADS)
 
 
-def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool) -> dict:
+def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool,
+             datasheet: dict | None = None) -> dict:
     series = job.series
     row = {"source": job.source, "actuator": job.actuator, "run": job.run, "samples": int(series.n),
            "duration_s": float(series.duration_s)}
@@ -119,13 +121,13 @@ def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: b
         if diagnose:
             from .diagnosis import diagnose as run_diagnosis
 
-            d = run_diagnosis([series], model, quiet=True, scheme=scheme)
+            d = run_diagnosis([series], model, quiet=True, scheme=scheme, datasheet=datasheet)
             report = d.base
             best = d.recommended
             row["recommended"] = best.label if best else None
             row["recommended_rmse_K"] = float(best.rmse_K) if best else None
         else:
-            report = evaluate([series], model, scheme, method=method, reduce=True)
+            report = evaluate([series], model, scheme, method=method, reduce=True, datasheet=datasheet)
     except ThermolimbError as err:
         return row | {"error": str(err)}
     record = report.to_json()
@@ -153,24 +155,25 @@ def _check(scheme: Scheme) -> None:
 
 def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output_error", diagnose: bool = False,
               backend: str = "process", workers: int | None = None, address: str | None = None,
-              actuators: Sequence[str] | None = None) -> list[dict]:
+              actuators: Sequence[str] | None = None, datasheet: dict | None = None) -> list[dict]:
     """Rows for every actuator and run of logs in memory, computed on ``backend``; the same rows on every backend."""
     _check(scheme)
     jobs = fleet_jobs(logs, actuators)
     if not jobs:
         raise UsageError("the logs hold no run of the chosen actuators")
     workers = workers or os.cpu_count() or 1
-    return run_jobs(analyse_run, [(job, model, scheme, method, diagnose) for job in jobs], backend, workers, address)
+    return run_jobs(analyse_run, [(job, model, scheme, method, diagnose, datasheet) for job in jobs], backend, workers,
+                    address)
 
 
 def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str, scheme: Scheme, method: str,
-                 diagnose: bool) -> tuple[list[dict], list[str]]:
+                 diagnose: bool, datasheet: dict | None = None) -> tuple[list[dict], list[str]]:
     """Read one log in the worker and analyse its actuators ``names`` (all when ``None``): ``(rows, notes)``."""
     from ..logs import read_log
 
     log = read_log(path, **read)
     with _one_blas_thread():
-        rows = [_analyse(job, model, scheme, method, diagnose) for job in fleet_jobs([log], names)]
+        rows = [_analyse(job, model, scheme, method, diagnose, datasheet) for job in fleet_jobs([log], names)]
     return rows, list(log.notes)
 
 
@@ -178,7 +181,7 @@ def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Schem
                     method: str = "output_error", diagnose: bool = False, backend: str = "process",
                     workers: int | None = None, address: str | None = None,
                     actuators: Sequence[str] | None = None,
-                    runner: Runner | None = None) -> tuple[list[dict], list[str]]:
+                    runner: Runner | None = None, datasheet: dict | None = None) -> tuple[list[dict], list[str]]:
     """Rows for every actuator and run of the log files, each worker reading the files it analyses.
 
     Only file names and rows cross between processes, never the logs.  A
@@ -201,7 +204,7 @@ def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Schem
             groups = [names[i:i + size] for i in range(0, len(names), size)]
         else:
             groups = [names]
-        jobs += [(str(path), read, group, model, scheme, method, diagnose) for group in groups]
+        jobs += [(str(path), read, group, model, scheme, method, diagnose, datasheet) for group in groups]
     results = runner.map(analyse_file, jobs) if runner else run_jobs(analyse_file, jobs, backend, workers, address)
     rows = [row for part, _ in results for row in part]
     notes = list(dict.fromkeys(note for _, part in results for note in part))

@@ -29,7 +29,7 @@ import numpy as np
 from ..identification import ESTIMATORS, IdentifiabilityError, ThermalEstimator
 from ..identification.metrics import fit_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
-from ..model.model import ThermalModel
+from ..model.model import ThermalModel, model_parameters
 from ..model.terms import TERMS, parse_model
 from .evidence import Evidence
 from .flags import parameter_flags
@@ -199,13 +199,14 @@ def evaluate(
     method: str = "output_error",
     reduce: bool = False,
     fixed: Mapping[str, float] | None = None,
+    datasheet: Mapping[str, float] | None = None,
 ) -> FitReport:
     """Fit and validate one actuator (one or several runs) by ``scheme``; ``make()`` gives a fresh estimator.
 
     With ``reduce``, a term the log cannot identify is set aside and the largest sub-model the log identifies
     is fitted (:func:`identifiable_submodel`; said in the report's ``set_aside``); without it, the
     :class:`~thermolimb.identification.IdentifiabilityError` is raised.  ``fixed``: values held, not fitted
-    (output error only).
+    (output error only); ``datasheet``: values held only where the log cannot identify them (with ``reduce``).
     """
     if reduce:
         if make is not None:
@@ -214,7 +215,8 @@ def evaluate(
         def fit(terms, held):
             return evaluate(series, terms, scheme, None, validate_on, method, fixed=held)
 
-        return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error")
+        return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error",
+                                     datasheet=datasheet)
     series = list(series)
     if make is None and fixed:
         make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
@@ -232,40 +234,55 @@ def evaluate(
     else:
         final, train_series = make().fit(series), series
     train = tuple(_segment(final.model_, s) for s in train_series)
+    held = list(getattr(final, "fixed", None) or [])
     return FitReport(
         actuator=series[0].actuator, method=final.method, model=final.model_, stderr=final.stderr_,
         train=_metrics(train), validation=_metrics(valid), train_segments=train, validation_segments=valid,
         estimator=final, train_series=tuple(train_series),
-        flags=tuple(parameter_flags(final.model_, final.stderr_, series)),
+        flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held)),
         scheme=scheme.describe(held_out=bool(validate_on)),
     )
 
 
 def identifiable_submodel(fit: Callable[[tuple[str, ...], dict], FitReport], model: tuple[str, ...],
-                          series: Sequence[ActuatorSeries], hold: bool = True) -> FitReport:
+                          series: Sequence[ActuatorSeries], hold: bool = True,
+                          datasheet: Mapping[str, float] | None = None) -> FitReport:
     """``fit(model, held)``, narrowing the model while the log cannot identify a parameter; the report says how
     in ``set_aside``.
 
+    * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the fit
+      leaves uncertain (standard error over half of it, or a time constant over three log durations), is held
+      at that value.
     * An offset the log cannot tell from its heating (effort never low) is held at the logged ambient's mean,
       when the log has one and ``hold``.
     * Otherwise a term goes: the one owning the parameter the fit could not determine or one it cannot be
       told from, preferring a term other than the model's first heat source (on a two-level step test the
       effort bias goes, Joule heating stays).
 
-    Raises the fit's error when neither applies (the time constant, an offset without a logged ambient, the
-    last heat source): then nothing the model means can be identified.
+    Raises the fit's error when none applies (the time constant without a datasheet value, an offset without
+    a logged ambient, the last heat source): then nothing the model means can be identified.
     """
+    datasheet = dict(datasheet or {})
+    check_datasheet(datasheet, model)
+    units = series[0].units if series else {}
     aside, held = [], {}
+
+    def hold_value(name: str, value: float, reason: str) -> None:
+        held[name] = value
+        parameter = next(p for p in model_parameters(model) if p.name == name)
+        aside.append({"parameter": name, "held_at": value, "unit": parameter.unit_in(units), "reason": reason})
+
     while True:
         try:
             report = fit(model, dict(held))
-            return replace(report, set_aside=tuple(aside))
         except IdentifiabilityError as exc:
+            if exc.parameter in datasheet and exc.parameter not in held and hold:
+                hold_value(exc.parameter, datasheet[exc.parameter], f"its datasheet value: {exc}")
+                continue
             ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
             if exc.parameter == "T_offset_C" and hold and "T_offset_C" not in held and ambient:
-                held["T_offset_C"] = float(np.mean(np.concatenate(ambient)))
-                aside.append({"parameter": "T_offset_C", "held_at": held["T_offset_C"], "unit": "degC",
-                              "reason": f"held at the logged ambient's mean, {held['T_offset_C']:.2f} degC: {exc}"})
+                value = float(np.mean(np.concatenate(ambient)))
+                hold_value("T_offset_C", value, f"held at the logged ambient's mean, {value:.2f} degC: {exc}")
                 continue
             term = _term_to_set_aside(model, exc)
             if term is None:
@@ -276,6 +293,32 @@ def identifiable_submodel(fit: Callable[[tuple[str, ...], dict], FitReport], mod
             needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
             aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {needs}"})
             model = tuple(t for t in model if t != term)
+            continue
+        loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
+                 for flag in _loose_flag(report, name)]
+        if not loose:
+            return replace(report, set_aside=tuple(aside))
+        for name, flag in loose:
+            hold_value(name, datasheet[name], f"its datasheet value, since the log leaves it loose: {flag}")
+
+
+def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> None:
+    """Refuse a datasheet value for a parameter none of ``models`` has, or outside the parameter's bounds."""
+    params = {p.name: p for model in models for p in model_parameters(tuple(model))}
+    for name, value in datasheet.items():
+        if name not in params:
+            named = " or ".join(",".join(m) for m in models)
+            raise LogError(f"--datasheet names {name}, not a parameter of model {named}; expected one of "
+                           f"{', '.join(params)}")
+        p = params[name]
+        if not (np.isfinite(value) and p.lower <= value <= p.upper):
+            raise LogError(f"--datasheet {name}={value:g} is outside what {name} can be ({p.lower:g} to {p.upper:g} "
+                           f"{p.unit})")
+
+
+def _loose_flag(report: FitReport, name: str) -> list[str]:
+    """The report's flags about parameter ``name`` (uncertain, or a time constant the log cannot show)."""
+    return [f for f in report.flags if f.startswith(f"{name} = ")]
 
 
 def set_aside_sentence(entry: Mapping) -> str:

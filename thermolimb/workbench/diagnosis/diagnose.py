@@ -92,7 +92,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
              refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
              validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
              skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset(),
-             base: FitReport | None = None, discover: bool = False) -> Diagnosis:
+             base: FitReport | None = None, discover: bool = False,
+             datasheet: dict[str, float] | None = None) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making.
 
     Held-out errors come from ``scheme`` (default: the ``split`` rule, or
@@ -105,12 +106,14 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     candidate's report, as ``auto_diagnose`` passes on), used as it is.
     ``discover``: also try the log's extra channels, and, when nothing helps
     and the residual has structure, a discovered form (module docstring).
+    ``datasheet``: values held where the log cannot identify them (``RC_s``; see
+    :func:`~thermolimb.workbench.validation.identifiable_submodel`).
     """
     model = parse_model(model)
     series = list(series)
     scheme = scheme or Scheme(split=split, folds=cv)
     if base is None:
-        base = _identifiable_base(series, model, scheme, validate_on, initial)
+        base = _identifiable_base(series, model, scheme, validate_on, initial, datasheet)
         model = base.model.terms
     train = list(base.train_series)
     residual = base.train_residual_K
@@ -187,11 +190,11 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
     return chosen
 
 
-def _identifiable_base(series, model, scheme, validate_on, initial) -> FitReport:
+def _identifiable_base(series, model, scheme, validate_on, initial, datasheet=None) -> FitReport:
     """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``;
     :func:`~thermolimb.workbench.validation.identifiable_submodel`)."""
     return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, validate_on, initial, held),
-                                 model, series)
+                                 model, series, datasheet=datasheet)
 
 
 def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
@@ -231,14 +234,16 @@ def _rank(c: Candidate):
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
                   max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
-                  validate_on: Sequence[ActuatorSeries] = (), discover: bool = False) -> tuple[Diagnosis, list[Diagnosis]]:
+                  validate_on: Sequence[ActuatorSeries] = (), discover: bool = False,
+                  datasheet: dict[str, float] | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
     """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
 
     The first diagnosis carries the walk in ``auto``: per step the model, its
     validation error, and the change that led to it with the reason.
     """
     scheme = scheme or Scheme(split=split, folds=cv)
-    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on, discover=discover)]
+    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on, discover=discover,
+                      datasheet=datasheet)]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
