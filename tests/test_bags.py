@@ -13,6 +13,7 @@ from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG, WX200_EXPORT
 from thermolimb.logs import LogError, read_log
 from thermolimb.logs.align import align, interval_average
+from thermolimb.logs.bag_writer import write_mcap
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
@@ -84,6 +85,20 @@ def test_real_ros1_bag_lists_its_topics_and_suggests_a_mapping():
                        "velocity": "/wx200/joint_states.velocity"}
 
 
+def test_a_bag_keeps_the_other_numeric_fields_of_its_mapped_topics_as_extra_channels(plant_run, tmp_path):
+    """The servo's joint positions ride along for --discover; fields that never change (a Temperature message's
+    variance, the plant's zero positions) carry nothing and are not kept; a field named by the user keeps its name."""
+    log = read_log(BAG, actuator_name="waist")
+    assert log.extras == ("position",) and any("position=/wx200/joint_states.position" in n for n in log.notes)
+    series = log.series("waist")
+    assert np.ptp(series.signals.channel("extra.position")) > 0.1  # the waist turns (rad by ROS's convention)
+    named = read_log(BAG, mapping="effort=/wx200/joint_states.effort,temperature=/wx200/temperatures/joint_group.temps,"
+                                  "extra.angle=/wx200/joint_states.position", actuator_name="waist")
+    assert named.extras == ("angle", "velocity")  # the user's name; velocity is no longer mapped, so it is extra
+    constant = read_log(write_mcap(plant_run, tmp_path / "run.mcap", per_joint=True))
+    assert constant.extras == ()
+
+
 def test_real_bag_agrees_with_its_csv_export():
     """Same temperatures, sample for sample; interval-mean-square effort within a few % (the export keeps 11 Hz of
     the 100 Hz states, and shifts each time base to zero at its own first sample)."""
@@ -129,6 +144,19 @@ def test_plant_run_round_trips_through_mcap(plant_run, tmp_path):
         assert np.array_equal(a.signals.current_A[:-1], b.signals.current_A[:-1])
         assert np.allclose(a.signals.ambient_C[:-1], b.signals.ambient_C[:-1])
     assert not list(tmp_path.glob(".*"))  # nothing temporary left beside it
+
+
+def test_plant_run_in_the_per_joint_layout_reads_back_by_the_suggested_pattern(plant_run, tmp_path):
+    """One sensor_msgs/Temperature topic per joint, every fifth sample: read with the {j} pattern the reader
+    suggests, each joint gets its own temperatures at their own stamps."""
+    path = write_mcap(plant_run, tmp_path / "run.mcap", per_joint=True, temperature_every=5)
+    back = read_log(path)
+    assert back.actuators == plant_run.actuators
+    assert any("/{j}/temperature.temperature" in n for n in back.notes)
+    for name in plant_run.actuators:
+        a, b = plant_run.series(name), back.series(name)
+        assert np.array_equal(b.temperature_C, a.temperature_C[::5][:b.n])
+        assert b.n >= a.n // 5 - 1
 
 
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None):

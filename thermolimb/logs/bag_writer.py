@@ -7,6 +7,10 @@ Topics (receive time = the log's time stamps, from the Unix epoch 0 plus ``START
   the file: ``name``, ``temperature`` (degC) and, when the log has them, ``current`` (A), ``housing`` (degC)
 * ``/ambient`` — ``sensor_msgs/msg/Temperature`` (degC), when the log has an ambient channel
 
+With ``per_joint=True`` the temperatures go instead, as many robots publish them, to one
+``sensor_msgs/msg/Temperature`` topic per joint, ``/<joint>/temperature`` (read back with
+``temperature=/{j}/temperature.temperature``, which ``inspect`` suggests), every ``temperature_every``-th sample.
+
 Every actuator must share one time base (as the plant's logs do).
 """
 
@@ -37,8 +41,8 @@ def _matrix(log, column: str) -> np.ndarray | None:
     return np.column_stack([g[column].to_numpy(float) for _, g in log.frame.groupby("actuator", sort=False)])
 
 
-def write_mcap(log, path: str | Path) -> Path:
-    """Write ``log`` to ``path`` (``.mcap``), whole or not at all."""
+def write_mcap(log, path: str | Path, per_joint: bool = False, temperature_every: int = 1) -> Path:
+    """Write ``log`` to ``path`` (``.mcap``), whole or not at all (layouts: module docstring)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
@@ -66,7 +70,10 @@ def write_mcap(log, path: str | Path) -> Path:
         try:
             with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
                 states = writer.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-                thermal = writer.add_connection("/thermal", THERMAL_TYPE, typestore=store, msgdef=THERMAL_DEFINITION)
+                thermal = None if per_joint else writer.add_connection("/thermal", THERMAL_TYPE, typestore=store,
+                                                                       msgdef=THERMAL_DEFINITION)
+                joints = [writer.add_connection(f"/{n}/temperature", TemperatureMsg.__msgtype__, typestore=store)
+                          for n in names] if per_joint else []
                 air = writer.add_connection("/ambient", TemperatureMsg.__msgtype__, typestore=store) \
                     if ambient is not None else None
                 for k, t in enumerate(time_s):
@@ -76,10 +83,14 @@ def write_mcap(log, path: str | Path) -> Path:
                                        velocity=velocity[k].copy() if velocity is not None else zeros.copy(),
                                        effort=effort[k].copy())
                     writer.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
-                    heat = Thermal(name=names, temperature=temperature[k].copy(),
-                                   current=current[k].copy() if current is not None else empty,
-                                   housing=housing[k].copy() if housing is not None else empty)
-                    writer.write(thermal, ns, store.serialize_cdr(heat, THERMAL_TYPE))
+                    if thermal is not None:
+                        heat = Thermal(name=names, temperature=temperature[k].copy(),
+                                       current=current[k].copy() if current is not None else empty,
+                                       housing=housing[k].copy() if housing is not None else empty)
+                        writer.write(thermal, ns, store.serialize_cdr(heat, THERMAL_TYPE))
+                    for j, conn in enumerate(joints if k % temperature_every == 0 else ()):
+                        msg = TemperatureMsg(header=header, temperature=float(temperature[k, j]), variance=0.0)
+                        writer.write(conn, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))
                     if air is not None:
                         msg = TemperatureMsg(header=header, temperature=float(ambient[k, 0]), variance=0.0)
                         writer.write(air, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))

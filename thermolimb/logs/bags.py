@@ -23,6 +23,7 @@ Without ``--map`` a mapping is suggested from the topics (see
 
 from __future__ import annotations
 
+from collections import Counter
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,7 +32,7 @@ from typing import Mapping
 import numpy as np
 
 from .align import align, series_of
-from .mapping import JOINT
+from .mapping import EXTRA, JOINT
 from .table import LogError
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -262,17 +263,37 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path) -> 
     return series_of(times, out, str(path), key)
 
 
+def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:
+    """Every numeric field of a topic the mapping reads that the mapping does not use, as an extra channel
+    (``extra.position=/joint_states.position``; named ``TOPIC_FIELD`` where two topics share a field name).
+    Topics named with ``{j}`` are not searched; extras the user named stay as named."""
+    used = set(mapping.values())
+    topics = {v.partition(".")[0] for v in mapping.values() if JOINT not in v}
+    fields = [(i.topic, f) for i in infos if i.topic in topics for f in i.numeric_fields
+              if f"{i.topic}.{f}" not in used]
+    counts = Counter(f for _, f in fields)
+    out = {}
+    for topic, field in fields:
+        name = field if counts[field] == 1 else f"{topic.strip('/').replace('/', '_')}_{field}"
+        key = EXTRA + name.replace(".", "_")
+        if key not in mapping:
+            out[key] = f"{topic}.{field}"
+    return out
+
+
 def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuator: str | None = None):
     """Canonical columns per actuator: ``(frames, notes)`` with ``frames`` a list of dicts of arrays.
 
     ``actuator`` restricts a joint-array mapping to one joint, or names the
-    actuator of scalar topics.
+    actuator of scalar topics.  Every other numeric field of the mapped topics
+    comes along as an extra channel (:func:`auto_extras`).
     """
     path = Path(path)
     notes = []
     with _open(path) as reader:
+        infos = _topic_infos(reader, path)
         if not mapping:
-            mapping, reasons = suggest_mapping(_topic_infos(reader, path))
+            mapping, reasons = suggest_mapping(infos)
             if mapping is None:
                 raise LogError(f"{path}: no --map given and none can be chosen from the bag: "
                                + "; ".join(reasons) + "; see `thermolimb inspect` and give --map channel=/topic.field")
@@ -282,13 +303,20 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
         if missing:
             raise LogError(f"{path}: --map does not name {', '.join(missing)}; expected e.g. "
                            f"effort=/joint_states.effort,temperature=/temperatures.temperature")
+        if all(v.partition(".")[0] in {i.topic for i in infos} for v in mapping.values() if JOINT not in v):
+            more = auto_extras(infos, mapping)
+            if more:
+                offered = ", ".join(f"{k[len(EXTRA):]}={v}" for k, v in more.items())
+                notes.append(f"{path}: the mapped topics' other numeric fields, offered as extra channels for "
+                             f"diagnose --discover (kept where they vary): {offered}")
+            mapping = {**mapping, **more}
         if any(JOINT in target for target in mapping.values()):
             return _read_joint_topics(reader, path, mapping, actuator, notes)
         wanted, data = _collect(reader, path, mapping)
     joints = _joints(wanted, data, actuator, path)
     frames = []
     for joint in joints:
-        series = {key: _joint_series(key, wanted[key][0], data[key], joint, path) for key in wanted}
+        series = _series_of_joint(wanted, data, joint, path, notes)
         temperature = series.pop("temperature")
         aligned, more = align(temperature, series, f"{path} ({joint or path.stem})")
         aligned["actuator"] = joint or actuator or path.stem
@@ -322,7 +350,7 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     more_wanted, more_data = _collect(reader, path, per_joint)
     frames = []
     for joint in have:
-        series = {key: _joint_series(key, wanted[key][0], data[key], joint, path) for key in wanted}
+        series = _series_of_joint(wanted, data, joint, path, notes)
         series.update({k: _joint_series(k, more_wanted[f"{k}|{joint}"][0], more_data[f"{k}|{joint}"], joint, path)
                        for k in patterned})
         temperature = series.pop("temperature")
@@ -333,13 +361,27 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     return frames, notes
 
 
+def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[str]) -> dict:
+    """Each mapped channel's series for ``joint``; an extra channel that has none for it is left out (noted)."""
+    series = {}
+    for key in wanted:
+        try:
+            series[key] = _joint_series(key, wanted[key][0], data[key], joint, path)
+        except LogError as exc:
+            if not key.startswith(EXTRA):
+                raise
+            notes.append(f"{path}: extra channel {key[len(EXTRA):]} not kept for {joint or path.stem}: {exc}")
+    return series
+
+
 def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
-    arrays = {key: data[key][2][0] for key in wanted if np.ndim(data[key][1][0]) > 0}
+    mapped = [key for key in wanted if not key.startswith(EXTRA)]  # extra channels follow the joints, not choose them
+    arrays = {key: data[key][2][0] for key in mapped if np.ndim(data[key][1][0]) > 0}
     if actuator is not None:
         return [actuator]
     if not arrays:
         return [None]
-    scalars = [k for k in wanted if k not in arrays and k != "ambient"]  # the ambient is every joint's
+    scalars = [k for k in mapped if k not in arrays and k != "ambient"]  # the ambient is every joint's
     if scalars:
         scalar = wanted[scalars[0]][0]
         raise LogError(f"{path}: {scalar} holds one value per message while other topics hold one per joint; name "

@@ -10,11 +10,12 @@ extra numeric channel it has, named after its column without the unit
 * a file mapped with joint patterns (``effort=Current_J{j}``): per-joint
   columns of the same form (``Voltage_J{j}`` -> ``Voltage_J`` of each
   joint) and the columns shared by every joint (``Tool_current``);
-* a file with per-channel time columns, or a bag: the channels named as
-  ``--map extra.NAME=COLUMN@TIME`` or ``extra.NAME=/topic.field``.
+* a bag: every other numeric field of the topics the mapping reads
+  (:func:`~thermolimb.logs.bags.auto_extras`), and those named as ``extra.NAME=/topic.field``;
+* a file with per-channel time columns: the channels named as ``--map extra.NAME=COLUMN@TIME``.
 
-Columns that are not numbers, are empty, or count samples, cycles or time
-(monotonic) are not channels and are left out; one with missing values is left
+Columns that are not numbers, are empty, never change, or count samples,
+cycles or time (monotonic) are not channels and are left out; one with missing values is left
 out with a note.  Booleans are read as 0 and 1.
 """
 
@@ -103,8 +104,8 @@ def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapp
                 text.append(name)
             continue
         finite = np.isfinite(x)
-        if not finite.any() or _monotonic(x, groups):
-            continue  # empty, or a sample counter or a clock
+        if not finite.any() or np.nanmin(x) == np.nanmax(x) or _monotonic(x, groups):
+            continue  # empty, constant (it can explain nothing), or a sample counter or a clock
         if not finite.all():
             missing.append(f"{name} ({int((~finite).sum())})")
             continue

@@ -87,7 +87,7 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
                 f"{ident}_heat_sq_K", f"K/({template})^2", f"{var} ** 2", f"{channel}^2", f"{shown} squared",
                 typical=1.0 / scale**2)], (), None))
         forms.append(("heat_effort", f"heat in proportion to {shown} times the effort's magnitude", [Feature(
-            f"{ident}_heat_effort_K", f"K/({template} {{effort}})", f"{var} * np.abs(effort)",
+            f"{ident}_heat_effort_K", f"K/({template} · {{effort}})", f"{var} * np.abs(effort)",
             f"{channel} |effort|", f"{shown} times |effort|", typical=1.0 / scale)], ("effort",), None))
         lower = -CONDUCTANCE_MARGIN / x.max() if x.max() > 0 else -np.inf
         upper = CONDUCTANCE_MARGIN / -x.min() if x.min() < 0 else np.inf

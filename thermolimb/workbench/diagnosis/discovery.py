@@ -149,7 +149,7 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
                            {var: channel}, needs),
             LibraryFeature(f"{key}_sq", Feature("", f"K/({template})^2", f"{var} ** 2", f"{channel}^2",
                                                 f"`{channel}` squared"), {var: channel}, needs),
-            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} {{effort}})", f"{var} * np.abs(effort)",
+            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} · {{effort}})", f"{var} * np.abs(effort)",
                                                     f"{channel} |F|", f"`{channel}` times |effort|"),
                            {var: channel}, needs + ("effort",)),
             LibraryFeature(f"{key}_cooling", Feature("", f"1/({template})", var, f"{channel} (T - T_offset)",
