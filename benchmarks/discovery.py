@@ -103,7 +103,7 @@ def catalog_case(name: str, seed: int) -> dict:
     series = [case.log(seed).series("knee")]
     without, t_without = walk(series, False)
     with_discovery, t_with = walk(series, True)
-    found_without, found_with = case.term in without["model"], case.term in with_discovery["model"]
+    found_without, found_with = case.found_in(without["model"]), case.found_in(with_discovery["model"])
     return {"case": f"catalog: {name}", "seed": seed, "base_K": without["base_K"], "catalog_K": without["rmse_K"],
             "discovery_K": with_discovery["rmse_K"], "found_without": found_without, "found_with": found_with,
             "generated_taken": generated_in(with_discovery["model"]), "passes": found_with == found_without,

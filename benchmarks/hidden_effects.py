@@ -34,7 +34,7 @@ def x8_cases(seed: int) -> list[dict]:
     for name, case in HIDDEN_CASES.items():
         start = time.perf_counter()
         first, steps = auto_diagnose([case.log(seed).series("knee")])
-        rows.append({"case": name, "term": case.term, "seed": seed, "found": case.term in steps[-1].model,
+        rows.append({"case": name, "term": case.term, "seed": seed, "found": case.found_in(steps[-1].model),
                      "before_K": first.auto[0]["rmse_K"], "after_K": first.auto[-1]["rmse_K"],
                      "walk": [s.get("change", "start") for s in first.auto], "final": list(steps[-1].model),
                      "seconds": time.perf_counter() - start})
@@ -59,6 +59,9 @@ def step_tests(seeds) -> list[dict]:
 
 
 RICHER_BASE_EFFECTS = ("ambient_variation", "winding_tempco", "motion_cooling")
+# the plant's airflow cools its housing: on a model with a slow mass, the term that says so acts on that mass
+TERMS_OF = {"ambient_variation": ("ambient_variation",), "winding_tempco": ("winding_tempco",),
+            "motion_cooling": ("motion_cooling", "housing_motion_cooling")}
 
 
 def richer_base(seed: int) -> list[dict]:
@@ -71,8 +74,8 @@ def richer_base(seed: int) -> list[dict]:
                                network=NETWORKS["second_order"]).log
         start = time.perf_counter()
         first, steps = auto_diagnose([log.series("knee")])
-        last = {c.effect: c for c in steps[-1].candidates if c.kind == "add"}.get(effect)
-        rows.append({"effect": effect, "seed": seed, "found": effect in steps[-1].model,
+        last = next((c for c in steps[-1].candidates if c.kind == "add" and c.effect in TERMS_OF[effect]), None)
+        rows.append({"effect": effect, "seed": seed, "found": any(t in steps[-1].model for t in TERMS_OF[effect]),
                      "before_K": first.auto[0]["rmse_K"], "after_K": first.auto[-1]["rmse_K"],
                      "walk": [s.get("change", "start") for s in first.auto], "final": list(steps[-1].model),
                      "left_status": None if last is None else last.status,

@@ -255,15 +255,20 @@ class SlowMass(Term):
     def winding_share(self, p):
         return 1.0 - p[self.fraction]
 
+    def airflow(self, p, s) -> np.ndarray | float:
+        """How many times its still-air conductance to ambient this mass has (1: none moves it)."""
+        return 1.0
+
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C):
         phi = p[self.fraction]
         if phi == 0.0:
             return equilibrium_C
         # the heat's rise above the boundary builds up phi across this mass; the boundary itself (ambient)
-        # reaches the winding only through it
+        # reaches the winding only through it; airflow divides this mass's rise and its time constant alike
         heat = equilibrium_C - boundary_C
-        target = boundary_C + phi * heat
-        a = np.exp(-s.dt_s / p[self.tau])
+        flow = self.airflow(p, s)
+        target = boundary_C + phi * heat / flow
+        a = np.exp(-s.dt_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
         # the slow mass starts in proportion, as if the initial temperature were a steady state
         start = boundary_C[0] + phi * (initial_C - boundary_C[0])
         frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
@@ -288,6 +293,26 @@ class SecondNode(SlowMass):
     description = "a second, slower thermal mass"
     fraction, tau = "frame_fraction", "frame_tau_s"
     parameters = _slow_mass_parameters(fraction, tau, "slow")
+
+    def airflow(self, p, s):
+        h = p.get("housing_cooling_per_rad_s", 0.0)
+        return 1.0 + h * _speed(s) if h else 1.0
+
+
+@register_term
+class HousingMotionCooling(Term):
+    """Airflow while moving cools the slow mass (the housing), not the winding: the second mass's conductance
+    to ambient times ``1 + h |v|``, which shrinks its share of the rise and its time constant alike."""
+
+    name = "housing_motion_cooling"
+    description = "cooling of the housing (the second mass) that improves with speed (airflow)"
+    parameters = (
+        Parameter("housing_cooling_per_rad_s", "1/({velocity})", 0.0, 20.0, 0.3,
+                  "relative increase of the housing's conductance to ambient per unit speed",
+                  "motion at several speeds while the housing is warm", plausible=(0.0, 5.0)),
+    )
+    columns = ("velocity",)
+    requires = ("second_node",)
 
 
 @register_term
