@@ -30,6 +30,8 @@ IMAGES = """return Array.from(document.images).map(i => ({src: i.getAttribute('s
 AXES = r"""return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => Object.keys(g.layout)
     .filter(k => /^[xy]axis\d*$/.test(k)).map(k => (g.layout[k].title || {}).text || ''));"""
 TRACES = "return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => g.data.map(t => t.name || ''));"
+BARS = """return Array.from(document.querySelectorAll('.js-plotly-plot')).map(g => g.data
+    .filter(t => t.type === 'bar').flatMap(t => [].concat(t.y || [], t.x || [], t.text || [], t.hovertext || [])));"""
 RESOURCES = "return performance.getEntriesByType('resource').map(e => e.name);"
 
 
@@ -92,6 +94,25 @@ def test_diagnose_html_page_draws_every_step_of_the_search(browser, tmp_path, ca
         assert any(n.startswith(",".join(step["model"]) + " ") for n in names), (step["model"], names)
     titles = [t for figure in browser.execute_script(AXES) for t in figure]
     assert "effort (N m)" in titles, titles  # the plant's unit, from its log's header
+
+
+def test_discovery_candidates_are_drawn_like_catalog_ones(browser, tmp_path, capsys):
+    """A channel term found by --discover appears on the page as catalog candidates do: a bar of the candidates
+    figure named after its channel, and its step's model over the measurement."""
+    log, page = tmp_path / "brake.csv", tmp_path / "brake.html"
+    assert main(["simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
+                 "--effects", "sensor_noise,quantisation,holding_brake", "--out", str(log), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["diagnose", str(log), "--actuator", "knee", "--auto", "--discover", "--html", str(page), "--json",
+                 "--quiet"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    channel = [c for c in record["candidates"] if c["kind"] == "channel"]
+    assert channel, [c["label"] for c in record["candidates"]]
+    _open(browser, page)
+    shown = " ".join(str(v) for figure in browser.execute_script(BARS) for v in figure)
+    assert any(c["label"].split(" (")[0] in shown for c in channel), shown[:500]
+    names = {n for figure in browser.execute_script(TRACES) for n in figure}
+    assert any("brake" in n for n in names), names
 
 
 def test_report_opens_with_every_figure_drawn(browser, tmp_path):
