@@ -138,7 +138,7 @@ def test_hidden_effect_found_on_the_x8_from_the_default_start(case):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", [0])  # seed 0 finds 9 of 10, seed 1 8 (the copper coefficient's refit is a local optimum)
+@pytest.mark.parametrize("seed", [0])  # seed 0 finds 9 of 10, seed 1 8 (its copper refit is a local optimum)
 def test_x8_hidden_effect_found_in_at_least_eight_of_ten_cases(seed):
     """The issue's target.  Every walk, found or not, must at least halve the validation error."""
     missed = []
