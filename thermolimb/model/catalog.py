@@ -215,17 +215,22 @@ class AmbientVariation(LinearTerm):
         return s.channel("ambient") - AMBIENT_REFERENCE_C
 
 
+HOUSING_AIRFLOW = "housing_cooling_per_rad_s"
+
+
+def _airflow_parameter(name: str, conductance: str, when: str) -> Parameter:
+    """The gain of airflow on a conductance to ambient: it times ``1 + gain |v|``."""
+    return Parameter(name, "1/({velocity})", 0.0, 20.0, 0.3, f"relative increase of {conductance} per unit speed",
+                     f"motion at several speeds while {when}", plausible=(0.0, 5.0))
+
+
 @register_term
 class MotionCooling(Term):
     """Cooling improves with speed: the loss to ambient times ``1 + h |v|``."""
 
     name = "motion_cooling"
     description = "cooling that improves with speed (airflow)"
-    parameters = (
-        Parameter("cooling_per_rad_s", "1/({velocity})", 0.0, 20.0, 0.3,
-                  "relative increase of the conductance to ambient per unit speed",
-                  "motion at several speeds while warm", plausible=(0.0, 5.0)),
-    )
+    parameters = (_airflow_parameter("cooling_per_rad_s", "the conductance to ambient", "warm"),)
     columns = ("velocity",)
 
     def contribution(self, p, s):
@@ -295,7 +300,7 @@ class SecondNode(SlowMass):
     parameters = _slow_mass_parameters(fraction, tau, "slow")
 
     def airflow(self, p, s):
-        h = p.get("housing_cooling_per_rad_s", 0.0)
+        h = p.get(HOUSING_AIRFLOW, 0.0)  # set by housing_motion_cooling, when the model has it
         return 1.0 + h * _speed(s) if h else 1.0
 
 
@@ -306,11 +311,7 @@ class HousingMotionCooling(Term):
 
     name = "housing_motion_cooling"
     description = "cooling of the housing (the second mass) that improves with speed (airflow)"
-    parameters = (
-        Parameter("housing_cooling_per_rad_s", "1/({velocity})", 0.0, 20.0, 0.3,
-                  "relative increase of the housing's conductance to ambient per unit speed",
-                  "motion at several speeds while the housing is warm", plausible=(0.0, 5.0)),
-    )
+    parameters = (_airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),)
     columns = ("velocity",)
     requires = ("second_node",)
 
