@@ -229,3 +229,18 @@ def test_reset_refuses_options_it_does_not_take(options):
         with pytest.raises(ValueError, match="option"):
             env.reset(seed=0, options=options)
         env.reset(seed=0)  # still usable
+
+
+@pytest.mark.parametrize("env_id", [HEXAPOD_ID, HUMANOID_ID])
+def test_a_live_world_is_not_copied_but_an_idle_environment_is(env_id):
+    import copy
+    import pickle
+
+    with closing(gym.make(env_id)) as env:
+        with closing(copy.deepcopy(env)) as idle:  # no world yet: nothing shared
+            idle.reset(seed=0)
+        env.reset(seed=0)
+        for copier in (pickle.dumps, copy.deepcopy, lambda e: copy.copy(e.unwrapped)):
+            with pytest.raises(TypeError, match="live PyBullet world cannot be copied or pickled"):
+                copier(env)
+        env.step(env.action_space.sample())  # the original still steps

@@ -22,7 +22,7 @@ from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Callable, Mapping
 
-from .util.atomic import check_output_dir, write_text
+from .util.atomic import check_output_dir, made_folder, write_text
 from .util.errors import UsageError
 from .util.jsonutil import to_jsonable
 
@@ -134,12 +134,12 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
         raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: "
                          f"pip install 'thermolimb[{demos[name].extra}]'")
     folder = check_output_dir(Path(out) / name, "demo output folder")
-    folder.mkdir(parents=True, exist_ok=True)
-    summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
-    details = summary.pop("details", None)
-    for filename, record in (("summary.json", summary), ("details.json", details)):
-        if record is not None:
-            write_text(folder / filename, json.dumps(record, indent=2))
+    with made_folder(folder):
+        summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
+        details = summary.pop("details", None)
+        for filename, record in (("summary.json", summary), ("details.json", details)):
+            if record is not None:
+                write_text(folder / filename, json.dumps(record, indent=2))
     return summary
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..util.atomic import file_stem
 from ..workbench.compare import compare_models, rank_models
 from .options import (
     add_html,
@@ -61,7 +62,7 @@ def run(args) -> int:
         if args.plot:
             from ..plotting.fits import plot_comparison
 
-            plot_comparison(fitted, name, Path(args.plot) / f"compare_{name.replace('/', '_')}.png")
+            plot_comparison(fitted, name, Path(args.plot) / f"compare_{file_stem(name)}.png")
         lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
         for r, ic in results:
             if r is None:

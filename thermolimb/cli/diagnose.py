@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..model.terms import DEFAULT_MODEL, TERMS
+from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
@@ -92,7 +93,7 @@ def run(args) -> int:
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 
-            plot_diagnosis(d, Path(args.plot), name.replace("/", "_"), steps)
+            plot_diagnosis(d, Path(args.plot), file_stem(name), steps)
         if page is not None:
             from ..plotting.interactive import add_diagnosis
 

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS
+from ..util.atomic import file_stem
 from ..workbench.validation import evaluate
 from .options import (
     add_fleet,
@@ -65,7 +66,7 @@ def run(args) -> int:
         if args.plot:
             from ..plotting.fits import plot_fit
 
-            plot_fit(report, Path(args.plot) / f"fit_{name.replace('/', '_')}.png")
+            plot_fit(report, Path(args.plot) / f"fit_{file_stem(name)}.png")
         if page is not None:
             from ..plotting.interactive import temperature_figure, thinning_note
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
 from ..logs.mapping import suggest_table_mapping
-from ..logs.table import read_table
+from ..logs.table import table_chunks
 from .options import print_json
 
 
@@ -44,16 +44,15 @@ def run(args) -> int:
         else:
             print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with --map channel=/topic.field")
         return 0
-    frame = read_table(path)
-    columns = [{"column": str(c), "values": int(frame[c].notna().sum()),
-                "first": str(frame[c].dropna().iloc[0]) if frame[c].notna().any() else ""} for c in frame.columns]
-    mapping, reasons = suggest_table_mapping(frame.columns, {c["column"]: c["values"] for c in columns})
+    rows, columns = _listing(path)
+    mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
+                                             {c["column"]: c["values"] for c in columns})
     if args.json:
-        print_json({"rows": len(frame), "columns": columns, "suggested_map": mapping, "notes": reasons})
+        print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "notes": reasons})
         return 0
     shown = [c for c in columns if c["values"] > 0]
     empty = len(columns) - len(shown)
-    print(f"{path}: {len(frame)} row(s), {len(columns)} column(s)"
+    print(f"{path}: {rows} row(s), {len(columns)} column(s)"
           + (f" ({empty} without any value, not shown)" if empty else ""))
     for c in shown:
         print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}")
@@ -63,3 +62,17 @@ def run(args) -> int:
     for reason in reasons:
         print(f"note: {reason}")
     return 0
+
+
+def _listing(path: Path) -> tuple[int, list[dict]]:
+    """Rows, and each column's count of values and first value, read in pieces: a file of any size in the
+    memory of one piece."""
+    rows, counts, first = 0, {}, {}
+    for chunk in table_chunks(path):
+        rows += len(chunk)
+        for c in chunk.columns:
+            present = chunk[c].dropna()
+            counts[str(c)] = counts.get(str(c), 0) + len(present)
+            if str(c) not in first and len(present):
+                first[str(c)] = str(present.iloc[0])
+    return rows, [{"column": c, "values": k, "first": first.get(c, "")} for c, k in counts.items()]

@@ -11,7 +11,7 @@ import sys
 import threading
 
 from .. import __version__
-from ..util.errors import ThermolimbError
+from ..util.errors import ThermolimbError, bounded
 from . import compare, demo, diagnose, fit, inspect, simulate, strategies
 
 COMMANDS = (inspect, simulate, fit, compare, diagnose, strategies, demo)
@@ -57,12 +57,14 @@ def _terminate(signum, frame):
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    previous = signal.signal(signal.SIGTERM, _terminate) if _main_thread() else None
+    if not _main_thread():
+        return _run(args)
+    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, _terminate), signal.SIGINT: signal.getsignal(signal.SIGINT)}
     try:
         return _run(args)
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def _main_thread() -> bool:
@@ -75,9 +77,10 @@ def _run(args) -> int:
         sys.stdout.flush()  # a full disk or a closed pipe behind standard output shows here, not at exit
         return code
     except USER_ERRORS as exc:
-        print(f"thermolimb {args.command}: error: {exc}", file=sys.stderr)
+        print(f"thermolimb {args.command}: error: {bounded(str(exc))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:  # files being written are removed by their writers; earlier outputs stay intact
+        _ignore_further_interrupts()
         terminated = isinstance(exc, Terminated)
         print(f"thermolimb {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
         return 143 if terminated else 130
@@ -88,21 +91,23 @@ def _run(args) -> int:
         if exc.errno not in WRITE_FAULTS:
             raise
         what = exc.filename if exc.filename else "standard output"
-        print(f"thermolimb {args.command}: error: could not write {_bounded(str(what))}: "
+        print(f"thermolimb {args.command}: error: could not write {bounded(str(what))}: "
               f"{WRITE_FAULTS[exc.errno]}", file=sys.stderr)
         _silence_stdout()
         return 1
+
+
+def _ignore_further_interrupts() -> None:
+    """The command is already ending: a second Ctrl-C or SIGTERM must not break its last words (main restores)."""
+    if _main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
 
 
 def _silence_stdout() -> None:
     """Point standard output at /dev/null so that the interpreter's own flush at exit cannot fail again."""
     with contextlib.suppress(OSError, ValueError):  # no standard output to point anywhere: nothing to silence
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-
-
-def _bounded(text: str, limit: int = 200) -> str:
-    """A name as long as a message can carry: its start and end around an ellipsis."""
-    return text if len(text) <= limit else f"{text[: limit // 2]}…{text[-limit // 2:]} ({len(text)} characters)"
 
 
 if __name__ == "__main__":

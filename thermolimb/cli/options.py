@@ -8,10 +8,10 @@ from pathlib import Path
 
 from ..logs import VELOCITY_UNITS, ActuatorSeries, LogError, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
-from ..util.atomic import write_text
-from ..util.errors import UsageError
+from ..util.atomic import is_stream, write_text
+from ..util.errors import UsageError, bounded
 from ..util.jsonutil import to_jsonable
-from ..util.parallel import BACKENDS
+from ..util.parallel import BACKENDS, worker_limit
 from ..workbench.validation import Scheme, set_aside_sentence
 from .types import assignments, folds, fraction, integer, output_file
 
@@ -103,7 +103,9 @@ def read_options(args, path) -> dict:
     return {"mapping": mapping, "velocity_unit": args.velocity_unit, "effort_unit": args.effort_unit,
             "actuator_name": args.actuator if is_bag(path) else name,
             "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
-            "drop_incomplete": args.drop_incomplete}
+            "drop_incomplete": args.drop_incomplete,
+            # one actuator of a canonical table: only its rows are read (and its neighbours' temperatures)
+            "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None}
 
 
 def _read(paths, args) -> list[ThermalLog]:
@@ -121,9 +123,10 @@ def _runs(logs: list[ThermalLog], name: str) -> list[ActuatorSeries]:
     return runs
 
 
-def print_json(obj) -> None:
-    json.dump(to_jsonable(obj), sys.stdout, indent=2)
-    sys.stdout.write("\n")
+def print_json(obj, file=None) -> None:
+    file = file or sys.stdout
+    json.dump(to_jsonable(obj), file, indent=2)
+    file.write("\n")
 
 
 def for_each_actuator(args, analyse, page=None) -> int:
@@ -138,12 +141,12 @@ def for_each_actuator(args, analyse, page=None) -> int:
     names = [args.actuator] if args.actuator else list(logs[0].actuators)
     for log in logs + held:
         for note in log.notes:
-            print(f"note: {note}", file=sys.stderr)
+            say(note)
         for name in names:
             if name in log.actuators:
                 gap = log.describe_gaps(name)
                 if gap:
-                    print(f"note: {gap}", file=sys.stderr)
+                    say(gap)
     plot_dir = getattr(args, "plot", None)
     before = _files(plot_dir)
     records = []
@@ -216,30 +219,51 @@ def add_fleet(p):
                    help="with --fleet: write the rows to FILE (.csv, or .json with the drift records)")
 
 
+def say(note: str) -> None:
+    """A note on standard error, its over-long words (a name, a path) cut (:func:`~thermolimb.util.errors.bounded`)."""
+    print(f"note: {bounded(note)}", file=sys.stderr)
+
+
+def local_workers(args) -> int | None:
+    """``--workers`` as this machine can run it (:func:`~thermolimb.util.parallel.worker_limit`), said when lowered."""
+    if args.backend != "process" or args.workers is None:
+        return args.workers
+    count, why = worker_limit(args.workers)
+    if why:
+        say(why)
+    return count
+
+
 def run_fleet(args, diagnose: bool) -> int:
     """``--fleet``: rows for every actuator and run, the drift table, and the files asked for."""
     from ..plotting.drift import plot_drift
     from ..workbench.drift import drift, format_drift
     from ..workbench.fleet import expand_paths, fit_fleet_files, format_rows, rows_table
 
-    if args.table and Path(args.table).suffix.lower() not in (".csv", ".json"):
+    table_kind = Path(args.table).suffix.lower() if args.table else None
+    if args.table and is_stream(args.table) and table_kind != ".json":
+        table_kind = ".csv"  # a pipe, a terminal or a device (/dev/stdout) takes the CSV unless named .json
+    if args.table and table_kind not in (".csv", ".json"):
         raise UsageError(f"--table {args.table}: expected a .csv or .json file")
-    paths = expand_paths(args.logs)
+    skipped: list[str] = []
+    paths = expand_paths(args.logs, skipped)
+    for note in skipped:
+        say(note)
     if len({is_bag(p) for p in paths}) > 1:
         raise UsageError("--fleet reads bags and tables with the same --map; give bags and tables in separate runs")
     datasheet = datasheet_of(args, args.model)
     rows, notes = fit_fleet_files(paths, read_options(args, paths[0]), args.model, scheme_of(args),
                                   method=getattr(args, "method", "output_error"), diagnose=diagnose,
-                                  backend=args.backend, workers=args.workers, address=args.address,
+                                  backend=args.backend, workers=local_workers(args), address=args.address,
                                   actuators=[args.actuator] if args.actuator and not args.map else None,
                                   datasheet=datasheet)
     for note in notes:
-        print(f"note: {note}", file=sys.stderr)
+        say(note)
     records = drift(rows)
     if args.plot:
         plot_drift(records, Path(args.plot) / "drift.png")
     if args.table:
-        if Path(args.table).suffix.lower() == ".json":
+        if table_kind == ".json":
             write_text(args.table, json.dumps(to_jsonable({"rows": rows, "drift": records}), indent=2))
         else:
             import pandas as pd

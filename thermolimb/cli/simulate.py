@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from ..logs.table import kind_of
 from ..plant import ACTUATOR_SPECS, EFFECT_TYPES, NETWORKS, PROFILES, PlantEffects, simulate_profile
 from ..plant.cases import CASE_NAMES, CASE_SPECS
+from ..util.atomic import is_stream
 from ..util.errors import UsageError
 from .options import add_quiet, print_json
 from .types import AMBIENT_C, SEED, number, output_file
@@ -82,9 +84,10 @@ def run(args) -> int:
         "actuators": list(result.log.actuators), "network": args.network, "effects": list(effects.names),
         "seed": args.seed, "max_true_winding_C": dict(zip(names, result.true_winding_C.max(axis=0))),
     }
+    said = sys.stderr if is_stream(path) else sys.stdout  # the log itself may be going to standard output
     if args.json:
-        print_json(record)
+        print_json(record, said)
     else:
         print(f"wrote {path}: {len(result.time_s)} samples x {len(result.log.actuators)} channels; "
-              f"hottest winding {result.true_winding_C.max():.1f} degC")
+              f"hottest winding {result.true_winding_C.max():.1f} degC", file=said)
     return 0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .options import add_quiet, print_json
+from .options import add_quiet, local_workers, print_json
 from .types import SEED, integer, names, number, output_dir
 
 
@@ -26,7 +26,7 @@ def add_parser(sub):
     p.add_argument("--backend", choices=("process", "ray"), default="process",
                    help="local process pool (default) or Ray tasks (optional extra 'ray')")
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
-    p.add_argument("--workers", type=integer(1, 256), default=2, help="processes of the local pool (default 2)")
+    p.add_argument("--workers", type=integer(1, 1024), default=2, help="processes of the local pool (default 2)")
     p.add_argument("--plot", type=output_dir, default="out/strategies", metavar="DIR", help="folder for the plot (default out/strategies)")
     p.add_argument("--json", action="store_true", help="print the table and every episode as JSON")
     add_quiet(p)
@@ -37,7 +37,7 @@ def run(args) -> int:
     from ..envs.episodes import evaluate
     from ..envs.tables import episodes_json, format_table, plot_table, table
 
-    episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=args.workers,
+    episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
                         address=args.address, max_time_s=args.max_time)
     rows = table(episodes)
     path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")

@@ -30,7 +30,8 @@ class RigEnv(gym.Env):
     steps; stepping after it ended, or with an action the action space does
     not contain (non-finite numbers, a mode out of range), raises a
     ``ValueError`` or ``RuntimeError`` naming what is wrong, and the
-    environment stays usable.
+    environment stays usable.  Copying or pickling one whose world is live
+    is refused in one sentence (the copy would share its PyBullet client).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
@@ -64,6 +65,15 @@ class RigEnv(gym.Env):
         self.close()
         self.steps = 0
         self._ended = False
+
+    def __reduce_ex__(self, protocol):
+        """Copying or pickling an environment whose world is live is refused in one sentence: the copy would
+        share the original's PyBullet client (stepping one moves the other, closing one kills both)."""
+        if self.sim is not None:
+            raise TypeError(f"a {type(self).__name__} with a live PyBullet world cannot be copied or pickled (the "
+                            f"copy would share its physics client); make another with gymnasium.make, or copy it "
+                            f"before reset() or after close()")
+        return super().__reduce_ex__(protocol)
 
     def _begin_step(self, action) -> np.ndarray:
         if self.sim is None:

@@ -26,6 +26,7 @@ class ThermalEstimator:
     """Base class: subclasses implement ``_fit(series, terms) -> (values, covariance)``."""
 
     method: str = ""
+    constrained: bool = True  # whether estimates stay within the parameters' bounds (output error's do)
 
     def __init__(self, model: str | Sequence[str] = DEFAULT_MODEL):
         self.model = model
@@ -77,7 +78,8 @@ class ThermalEstimator:
                 f"{model_parameters(terms)[0].excitation}",
                 parameter="RC_s",
             )
-        self.model_ = ThermalModel(terms, dict(zip(names, values)))
+        # an unconstrained regression's estimate stands as it came out; the flags judge it
+        self.model_ = ThermalModel(terms, dict(zip(names, values)), bounded=self.constrained)
         self.params_ = dict(self.model_.params)
         self.covariance_ = covariance
         self.stderr_ = dict(zip(names, np.sqrt(np.clip(np.diag(covariance), 0.0, None))))

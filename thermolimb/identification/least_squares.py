@@ -51,6 +51,7 @@ class LeastSquares(ThermalEstimator):
     """
 
     method = "least_squares"
+    constrained = False  # the seed's method: unconstrained, as Eq. 7 is
 
     def __init__(self, model="joule,effort_bias", cutoff_hz: float | None = 0.015,
                  filtering: str = "consistent", effort_cutoff_hz: float = 1.0, ambient_C: float = 25.0):

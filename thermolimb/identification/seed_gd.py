@@ -34,6 +34,7 @@ class SeedGradientDescent(ThermalEstimator):
     """
 
     method = "seed_gd"
+    constrained = False  # the seed's method: unconstrained, as Eq. 7 is
 
     def __init__(self, model="joule,effort_bias", temperature_cutoff_hz: float = 0.015,
                  effort_cutoff_hz: float = 1.0, learning_rate: float = 0.2, max_iter: int = 200_000,

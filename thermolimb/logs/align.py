@@ -90,12 +90,33 @@ def align(temperature: tuple[np.ndarray, np.ndarray], inputs: Mapping[str, tuple
     return out, notes
 
 
-def series_of(time_s, values, source: str, channel: str) -> tuple[np.ndarray, np.ndarray]:
-    """One channel's samples with missing entries dropped, checked for increasing time."""
+def series_of(time_s, values, source: str, channel: str, drop_incomplete: bool = False,
+              notes: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """One channel's samples, checked for increasing time.
+
+    Samples without a time stamp hold nothing and are dropped.  A reading
+    that is missing or not finite (NaN in a bag's field, a blank cell under a
+    time stamp) is refused as in every other format, or with
+    ``drop_incomplete`` left out and said in ``notes``.
+    """
     t = np.asarray(time_s, dtype=float)
     x = np.asarray(values, dtype=float)
-    ok = np.isfinite(t) & np.isfinite(x)
-    t, x = t[ok], x[ok]
+    timed = np.isfinite(t)
+    t, x = t[timed], x[timed]
+    bad = ~np.isfinite(x)
+    if bad.all():
+        raise LogError(f"{source}: {channel} has no finite reading ({x.size} sample(s), all missing or not finite); "
+                       f"expected numbers")
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        if not drop_incomplete:
+            raise LogError(f"{source}: {channel} has {int(bad.sum())} missing or non-finite reading(s) of {x.size}, "
+                           f"first at its sample {k} (t = {t[k]:g} s); expected finite numbers (leave them out with "
+                           f"--drop-incomplete)")
+        if notes is not None:
+            notes.append(f"{source}: {int(bad.sum())} missing or non-finite reading(s) of {channel} left out "
+                         f"(--drop-incomplete), first at t = {t[k]:g} s")
+        t, x = t[~bad], x[~bad]
     steps = np.diff(t)
     if np.any(steps <= 0):
         k = int(np.flatnonzero(steps <= 0)[0])

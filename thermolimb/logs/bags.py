@@ -243,24 +243,25 @@ def _collect(reader, path: Path, mapping: Mapping[str, str]):
     return wanted, data
 
 
-def _joint_series(key: str, topic: str, data, joint: str | None, path: Path) -> tuple[np.ndarray, np.ndarray]:
+def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, drop_incomplete: bool,
+                  notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
     times, values, names = data
     if np.ndim(values[0]) == 0:
-        return series_of(times, values, str(path), key)
+        return series_of(times, values, str(path), key, drop_incomplete, notes)
     if joint is None:
         raise LogError(f"{path}: {topic} holds an array per message; name the joint with --actuator")
     out = np.full(len(values), np.nan)
-    seen = False
+    carried = np.zeros(len(values), dtype=bool)  # a message that does not carry the joint holds no sample of it
     for i, (v, n) in enumerate(zip(values, names)):
         if joint in n:
             j = n.index(joint)
             if j < len(v):
                 out[i] = v[j]
-                seen = True
-    if not seen:
+                carried[i] = True
+    if not carried.any():
         listed = ", ".join(names[0]) if names[0] else "no joint names (no name array)"
         raise LogError(f"{path}: joint {joint!r} is not in {topic}; its messages name {listed}")
-    return series_of(times, out, str(path), key)
+    return series_of(np.where(carried, times, np.nan), out, str(path), f"{key} of {joint}", drop_incomplete, notes)
 
 
 def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:
@@ -281,11 +282,13 @@ def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str,
     return out
 
 
-def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuator: str | None = None):
+def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuator: str | None = None,
+             drop_incomplete: bool = False):
     """Canonical columns per actuator: ``(frames, notes)`` with ``frames`` a list of dicts of arrays.
 
     ``actuator`` restricts a joint-array mapping to one joint, or names the
-    actuator of scalar topics.  Every other numeric field of the mapped topics
+    actuator of scalar topics.  A missing or non-finite reading (NaN) is
+    refused, as in a table, or left out with ``drop_incomplete`` (noted).  Every other numeric field of the mapped topics
     comes along as an extra channel (:func:`auto_extras`).
     """
     path = Path(path)
@@ -311,12 +314,12 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
                              f"diagnose --discover (kept where they vary): {offered}")
             mapping = {**mapping, **more}
         if any(JOINT in target for target in mapping.values()):
-            return _read_joint_topics(reader, path, mapping, actuator, notes)
+            return _read_joint_topics(reader, path, mapping, actuator, notes, drop_incomplete)
         wanted, data = _collect(reader, path, mapping)
     joints = _joints(wanted, data, actuator, path)
     frames = []
     for joint in joints:
-        series = _series_of_joint(wanted, data, joint, path, notes)
+        series = _series_of_joint(wanted, data, joint, path, notes, drop_incomplete)
         temperature = series.pop("temperature")
         aligned, more = align(temperature, series, f"{path} ({joint or path.stem})")
         aligned["actuator"] = joint or actuator or path.stem
@@ -325,7 +328,8 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
     return frames, notes
 
 
-def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator: str | None, notes: list[str]):
+def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator: str | None, notes: list[str],
+                       drop_incomplete: bool):
     """A mapping with ``{j}`` in topic names (one topic per joint, ``/{j}/temperature.temperature``): ``{j}`` runs
     over the joint names of the mapped array topics (or ``actuator``); joints without such a topic are left out."""
     patterned = {k: v for k, v in mapping.items() if JOINT in v}
@@ -350,9 +354,9 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     more_wanted, more_data = _collect(reader, path, per_joint)
     frames = []
     for joint in have:
-        series = _series_of_joint(wanted, data, joint, path, notes)
-        series.update({k: _joint_series(k, more_wanted[f"{k}|{joint}"][0], more_data[f"{k}|{joint}"], joint, path)
-                       for k in patterned})
+        series = _series_of_joint(wanted, data, joint, path, notes, drop_incomplete)
+        series.update({k: _joint_series(k, more_wanted[f"{k}|{joint}"][0], more_data[f"{k}|{joint}"], joint, path,
+                                        drop_incomplete, notes) for k in patterned})
         temperature = series.pop("temperature")
         aligned, more = align(temperature, series, f"{path} ({joint})")
         aligned["actuator"] = joint
@@ -361,12 +365,12 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     return frames, notes
 
 
-def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[str]) -> dict:
+def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[str], drop_incomplete: bool) -> dict:
     """Each mapped channel's series for ``joint``; an extra channel that has none for it is left out (noted)."""
     series = {}
     for key in wanted:
         try:
-            series[key] = _joint_series(key, wanted[key][0], data[key], joint, path)
+            series[key] = _joint_series(key, wanted[key][0], data[key], joint, path, drop_incomplete, notes)
         except LogError as exc:
             if not key.startswith(EXTRA):
                 raise

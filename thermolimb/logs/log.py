@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -18,8 +18,27 @@ from .align import align, series_of
 from .bag_writer import write_mcap
 from .bags import is_bag, read_bag
 from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, parse_mapping
-from .table import LogError, first_stamp, kind_of, read_table, shown_names, time_seconds
-from .units import CANONICAL, CELSIUS, NOT_GIVEN, SCALED, canonical_headers, channel_units, split_unit
+from .table import (
+    LogError,
+    first_stamp,
+    kind_of,
+    read_table,
+    refuse_duplicates,
+    shown_names,
+    table_chunks,
+    time_seconds,
+)
+from .units import (
+    CANONICAL,
+    CELSIUS,
+    NOT_GIVEN,
+    SCALED,
+    base_name,
+    canonical_headers,
+    channel_units,
+    header_unit,
+    split_unit,
+)
 
 CANONICAL_UNITS = FrozenMapping(CANONICAL)
 
@@ -109,6 +128,10 @@ class ThermalLog:
     source: str = "<memory>"
     notes: tuple[str, ...] = field(default=())
     units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power, from the log (logs.units)
+    # read for some actuators only (read_log(actuators=...)): every actuator of the file in its order, and the
+    # (time s, temperature degC) of those beside a kept one, which a kept actuator's neighbour coupling reads
+    order: tuple[str, ...] = ()
+    neighbours: Mapping[str, tuple] = FrozenMapping({})
 
     @cached_property
     def actuators(self) -> tuple[str, ...]:
@@ -140,15 +163,12 @@ class ThermalLog:
         def col(name):
             return g[name].to_numpy(float) if name in g.columns else None
 
-        order = self.actuators
+        order = self.order or self.actuators
         i = order.index(actuator)
         others = [order[j] for j in (i - 1, i + 1) if 0 <= j < len(order)]
         neighbors = None
         if others:
-            neighbors = np.column_stack([
-                np.interp(t, groups[o]["time"].to_numpy(float), groups[o]["temperature"].to_numpy(float))
-                for o in others
-            ])
+            neighbors = np.column_stack([np.interp(t, *self._temperature_of(o)) for o in others])
         signals = Signals(
             time_s=t, effort=col("effort"), velocity=col("velocity"), current_A=col("current"),
             ambient_C=col("ambient"), neighbor_temperature_C=neighbors, neighbor_names=tuple(others),
@@ -156,6 +176,12 @@ class ThermalLog:
             extra={name: col(EXTRA + name) for name in self.extras},
         )
         return ActuatorSeries(actuator, signals, col("temperature"), units=self.units)
+
+    def _temperature_of(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        if name in self._groups:
+            g = self._groups[name]
+            return g["time"].to_numpy(float), g["temperature"].to_numpy(float)
+        return self.neighbours[name]
 
     def runs(self, actuator: str) -> list[ActuatorSeries]:
         """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own reading."""
@@ -221,6 +247,7 @@ def read_log(
     decimal: str | None = None,
     drop_incomplete: bool = False,
     effort_unit: str | None = None,
+    actuators: Sequence[str] | None = None,
 ) -> ThermalLog:
     """Read and validate a log.
 
@@ -248,6 +275,11 @@ def read_log(
         The CSV dialect; guessed from the file when not given.
     drop_incomplete
         Leave out samples with a missing value (said in ``notes``) instead of refusing the file.
+    actuators
+        For a table in the canonical long format: read only these actuators'
+        rows, in pieces, and of the actuators beside them in the file only
+        time and temperature (their neighbour coupling's input), so that one
+        actuator of a large file takes memory for its own rows alone.
     """
     path = Path(path)
     if isinstance(mapping, str):  # the command line's form, "effort=torque,temperature=winding"
@@ -258,16 +290,48 @@ def read_log(
     given = {"effort": effort_unit}
     if is_bag(path):
         mapping, from_map = _split_units(mapping)
-        frames, notes = read_bag(path, mapping or None, actuator_name)
+        frames, notes = read_bag(path, mapping or None, actuator_name, drop_incomplete)
         # a bag's fields carry no units (ROS says N m for JointState.effort; servo drivers often publish mA there)
         units = channel_units({c: "" for c in SCALED}, {**given, **from_map, "velocity": velocity_unit})
-        units.update({k: v for k, v in from_map.items() if k.startswith(EXTRA)})
+        units.update({k: v for k, v in from_map.items() if k.startswith(EXTRA) or k not in SCALED})
         log = from_frame(pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path),
                          units=units)
         return replace(log, notes=tuple(notes) + log.notes)
+    options = dict(source=str(path), velocity_unit=velocity_unit, drop_incomplete=drop_incomplete, units=given)
+    if actuators and not mapping:
+        return _read_selected(path, list(actuators), sep, decimal, options)
     frame = read_table(path, sep=sep, decimal=decimal)
-    return from_frame(frame, source=str(path), mapping=mapping, velocity_unit=velocity_unit,
-                      actuator_name=actuator_name or path.stem, drop_incomplete=drop_incomplete, units=given)
+    return from_frame(frame, mapping=mapping, actuator_name=actuator_name or path.stem, **options)
+
+
+def _read_selected(path: Path, names: list[str], sep, decimal, options: dict) -> ThermalLog:
+    """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
+    order: list[str] = []
+    for chunk in table_chunks(path, sep, decimal, columns=lambda c: base_name(c) == "actuator"):
+        if "actuator" not in map(base_name, chunk.columns):
+            return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
+        order += [str(a) for a in pd.unique(chunk.iloc[:, 0].dropna().astype(str)) if str(a) not in order]
+    missing = [n for n in names if n not in order]
+    if missing:
+        raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")
+    beside = {order[j] for n in names for j in (order.index(n) - 1, order.index(n) + 1) if 0 <= j < len(order)}
+    beside -= set(names)
+    kept, near = [], []
+    for chunk in table_chunks(path, sep, decimal):
+        who = chunk[next(c for c in chunk.columns if base_name(c) == "actuator")].astype(str)
+        kept.append(chunk.loc[who.isin(names)].astype({who.name: "category"}))
+        if beside:
+            near.append(chunk.loc[who.isin(beside), [c for c in chunk.columns
+                                                     if base_name(c) in ("time", "actuator", "temperature")]])
+    frame = pd.concat(kept, ignore_index=True)
+    frame.attrs = kept[0].attrs
+    log = from_frame(frame, **options)
+    neighbours = {}
+    if beside:
+        around = from_frame(pd.concat(near, ignore_index=True).assign(effort=0.0),
+                            **{**options, "source": f"{options['source']} (neighbours)"})
+        neighbours = {n: around._temperature_of(n) for n in around.actuators}
+    return replace(log, order=tuple(order), neighbours=FrozenMapping(neighbours))
 
 
 def _split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
@@ -280,7 +344,8 @@ def _split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dic
     return columns, units
 
 
-def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
+def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
+                   drop_incomplete: bool = False) -> pd.DataFrame:
     if is_pattern(mapping):
         parts = []
         joints = expand_joints(frame.columns, mapping, source)
@@ -296,7 +361,7 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
             parts.append(part)
         return pd.concat(parts, ignore_index=True)
     if any(TIME_OF in v for v in mapping.values()):
-        return _aligned(frame, mapping, source, actuator_name)
+        return _aligned(frame, mapping, source, actuator_name, drop_incomplete)
     absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
     if absent:
         k, v = next(iter(absent.items()))
@@ -318,14 +383,15 @@ def _apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str,
     return out
 
 
-def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str) -> pd.DataFrame:
+def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
+             drop_incomplete: bool) -> pd.DataFrame:
     """A wide file whose channels have time columns of their own, put on the temperature's samples."""
     if is_pattern(mapping):
         raise LogError(f"{source}: --map cannot mix joint patterns ({{j}}) with per-channel time columns (@)")
     if "temperature" not in mapping or ("time" not in mapping and TIME_OF not in mapping["temperature"]):
         raise LogError(f"{source}: with per-channel time columns, --map names temperature=COLUMN@TIME_COLUMN "
                        f"(or time=COLUMN for the channels without their own)")
-    columns = {}
+    columns, notes = {}, []
     targets = {key: value.partition(TIME_OF) for key, value in mapping.items() if key not in ("time", "actuator")}
     stamps = [first_stamp(frame[t or mapping["time"]]) for _, _, t in targets.values()
               if (t or mapping.get("time")) in frame.columns]
@@ -342,8 +408,9 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
                                f"its columns are {shown_names(frame.columns)}")
         columns[key] = series_of(time_seconds(frame[time_column].dropna(), source, time_column, origin),
                                  pd.to_numeric(frame.loc[frame[time_column].notna(), column], errors="coerce"),
-                                 source, key)
-    aligned, notes = align(columns.pop("temperature"), columns, source)
+                                 source, key, drop_incomplete, notes)
+    aligned, more = align(columns.pop("temperature"), columns, source)
+    notes += more
     out = pd.DataFrame(aligned)
     out.insert(1, "actuator", actuator_name)
     out.attrs["notes"] = notes
@@ -351,13 +418,21 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
 
 
 TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
+# Numbers that are the seconds since 1970 of a day in 2000-2099: a time column counting milliseconds,
+# microseconds or nanoseconds since 1970 reads 1e3, 1e6 or 1e9 times as much.
+EPOCH_S = (9.46e8, 4.1e9)
+EPOCH_UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
+# A temperature column whose every reading lies here is in kelvin: no actuator stays at 200 degC or more
+# for a whole log (the hottest insulation class is rated 180-220 degC), while 200-500 K is -73 to 227 degC.
+KELVIN_READINGS = (200.0, 500.0)
+KELVIN_JUMP = (263.15, 283.15)  # a step this large between two readings is a switch between degC and K
 
 
 def _canonical_with_units(frame: pd.DataFrame, source: str, given: Mapping[str, str], channel: dict,
-                          notes: list) -> pd.DataFrame:
+                          notes: list, stated: dict) -> pd.DataFrame:
     """A canonical log whose headers carry units (``time [s]``, ``effort [N m]``, ``temperature [degC]``):
-    columns renamed to their canonical names, inputs' units taken from the header (an option still wins),
-    time in ms/min/h and temperatures in K converted (said in the notes), any other unit refused."""
+    columns renamed to their canonical names, inputs' units taken from the header (an option still wins);
+    the time's and temperatures' units go to ``stated`` (:func:`_convert_stated`)."""
     renames, units = canonical_headers(frame.columns, REQUIRED + OPTIONAL)
     if not renames:
         return frame
@@ -366,21 +441,91 @@ def _canonical_with_units(frame: pd.DataFrame, source: str, given: Mapping[str, 
         if name in SCALED:
             if name not in given:
                 channel[name] = unit
-        elif name == "time":
+        elif name == "time" or UNITS.get(name) == "degC":
+            stated[name] = unit
+    return frame
+
+
+def _convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, notes: list) -> pd.DataFrame:
+    """Time in ms/min/h and temperatures in K, as their headers state, converted (said in the notes); any
+    other unit of these refused."""
+    for name, unit in stated.items():
+        if name not in frame.columns:
+            continue
+        if name == "time":
             if unit not in TIME_SCALES:
-                raise LogError(f"{source}: column 'time [{unit}]' is in a unit this suite does not read; "
-                               f"expected one of {', '.join(TIME_SCALES)}")
+                raise LogError(f"{source}: the time column's header gives the unit {unit!r}, which this suite does "
+                               f"not read; expected one of {', '.join(TIME_SCALES)}")
             if unit != "s" and pd.api.types.is_numeric_dtype(frame[name]):
                 frame[name] = frame[name] * TIME_SCALES[unit]
-                notes.append(f"{source}: time read in {unit} (from its header), converted to s")
-        elif UNITS.get(name) == "degC":
-            if unit == "K":
-                frame[name] = pd.to_numeric(frame[name], errors="coerce") - 273.15
-                notes.append(f"{source}: {name} read in K (from its header), converted to degC")
-            elif unit not in CELSIUS:
-                raise LogError(f"{source}: column '{name} [{unit}]' is in a unit this suite does not read; "
-                               f"expected degC or K")
+                notes.append(f"{source}: time read in {unit} (as stated), converted to s")
+        elif unit == "K":
+            frame[name] = pd.to_numeric(frame[name], errors="coerce") - 273.15
+            notes.append(f"{source}: {name} read in K (as stated), converted to degC")
+        elif unit not in CELSIUS:
+            raise LogError(f"{source}: the {name} column's header gives the unit {unit!r}, which this suite does not "
+                           f"read; expected degC or K")
     return frame
+
+
+def _mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
+    """The time's and temperatures' units the mapped columns' headers give (``stamp [ms]``, ``T_winding [K]``)."""
+    out = {}
+    for name, column in mapping.items():
+        if name == "time" or UNITS.get(name) == "degC":
+            unit = header_unit(column.partition(TIME_OF)[0])
+            if unit:
+                out[name] = unit
+    return out
+
+
+def _plausible_units(out: pd.DataFrame, stated: Mapping[str, str], numeric_time: bool, source: str,
+                     notes: list) -> None:
+    """Unit mistakes a log's numbers show, where no header states the unit: time counted in milliseconds (or
+    micro-, nanoseconds) since 1970, converted; time steps too long for seconds, said; temperatures in
+    kelvin, converted.  Each said in the notes with the numbers that show it."""
+    t = out["time"].to_numpy()
+    if "time" not in stated and numeric_time and t.size:
+        lo, hi = float(np.min(t)), float(np.max(t))
+        for unit, scale in EPOCH_UNITS:
+            if EPOCH_S[0] <= lo * scale and hi * scale <= EPOCH_S[1] and not EPOCH_S[0] <= lo <= EPOCH_S[1]:
+                day = pd.Timestamp(lo * scale, unit="s").strftime("%Y-%m-%d")
+                out["time"] = t * scale
+                notes.append(f"{source}: time reads {lo:.13g} at its first sample, which is {day} counted in {unit} "
+                             f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map time=COLUMN:s)")
+                break
+        else:
+            steps = np.diff(np.unique(t))
+            step = float(np.median(steps)) if steps.size else 0.0
+            if step >= 100.0 and hi - lo >= 2 * 86400.0:
+                notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if the "
+                             f"time column counts milliseconds, state it: a header 'time [ms]' or --map time=COLUMN:ms")
+    for name in out.columns:
+        if UNITS.get(name) != "degC" or name in stated:
+            continue
+        values = out[name].to_numpy()
+        lo, hi = float(np.min(values)), float(np.max(values))
+        if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
+            out[name] = values - 273.15
+            notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} throughout, which no actuator stays at in "
+                         f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header '{name} [degC]' or --map "
+                         f"{name}=COLUMN:degC)")
+
+
+def _refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:
+    """A temperature jumping by about 273 K between two readings: part of the log is in kelvin."""
+    for column in g.columns:
+        if UNITS.get(column) != "degC":
+            continue
+        values = g[column].to_numpy()
+        jump = np.abs(np.diff(values))
+        switch = (jump >= KELVIN_JUMP[0]) & (jump <= KELVIN_JUMP[1])
+        if switch.any():
+            k = int(np.flatnonzero(switch)[0])
+            t = g["time"].to_numpy()
+            raise LogError(f"{source}: {column} of actuator {name!r} jumps by {values[k + 1] - values[k]:+.1f} K at "
+                           f"row {g.index[k + 1]} (t = {t[k]:g} s to {t[k + 1]:g} s): part of the log reads kelvin, "
+                           f"part degC; expected one unit throughout (convert one part)")
 
 
 def from_frame(
@@ -406,15 +551,19 @@ def from_frame(
         given["velocity"] = velocity_unit
     channel = channel_units(mapping, given)
     notes = []
+    stated = {**(_mapped_stated(mapping) if mapping else {}),
+              **{k: v for k, v in given.items() if k == "time" or UNITS.get(k) == "degC"}}
+    refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
     if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
         notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
                      f"suite converts ({', '.join(VELOCITY_UNITS)}); taken as not given -- name it with --velocity-unit")
         channel["velocity"] = NOT_GIVEN
     if mapping:
-        frame = _apply_mapping(frame, mapping, source, actuator_name)
+        frame = _apply_mapping(frame, mapping, source, actuator_name, drop_incomplete)
         notes += frame.attrs.get("notes", [])
     else:
-        frame = _canonical_with_units(frame, source, given, channel, notes)
+        frame = _canonical_with_units(frame, source, given, channel, notes, stated)
+    frame = _convert_stated(frame, stated, source, notes)
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
         hint = "" if mapping else "; name them with --map canonical=column"
@@ -443,6 +592,7 @@ def from_frame(
         raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
     out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"),
                         "actuator": frame["actuator"].astype(str)})
+    numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
     if not pd.api.types.is_numeric_dtype(frame["time"]):
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
     for c in keep:
@@ -470,8 +620,11 @@ def from_frame(
                 f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
                 f"with --drop-incomplete)"
             )
+    _plausible_units(out, stated, numeric_time, source, notes)
+    for c in (c for c in out.columns if UNITS.get(c) == "degC"):
+        values = out[c].to_numpy()
         outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
-        if UNITS.get(c) == "degC" and outside.any():
+        if outside.any():
             row = int(np.flatnonzero(outside)[0])
             raise LogError(
                 f"{source}: column {c!r} reads {values[row]:g} at row {row}; expected degC between "
@@ -496,6 +649,7 @@ def from_frame(
             )
         if len(g) < MIN_SAMPLES:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
+        _refuse_unit_switch(g, name, source)
         parts.append(g)
     return ThermalLog(pd.concat(parts, ignore_index=True), source, tuple(notes), FrozenMapping(channel))
 

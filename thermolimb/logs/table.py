@@ -12,16 +12,20 @@ into seconds from the first sample.
 
 from __future__ import annotations
 
+import csv
 import re
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
 
+from ..util.atomic import is_stream
 from ..util.errors import ThermolimbError
 from ..util.lazy import pandas as pd
 
 SEPARATORS = (",", ";", "\t", "|")
 SNIFF_LINES = 200
+CHUNK_ROWS = 1_000_000  # rows per frame when a file is read in pieces
 _DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
 
@@ -31,7 +35,10 @@ class LogError(ThermolimbError):
 
 
 def kind_of(path: Path) -> str:
-    suffix = path.suffix.lower()
+    """``csv`` or ``parquet``, by the file's suffix; a device, a FIFO or standard output without one takes CSV."""
+    suffix = Path(path).suffix.lower()
+    if not suffix and is_stream(path):
+        return "csv"
     if suffix in (".csv", ".txt", ".tsv"):
         return "csv"
     if suffix in (".parquet", ".pq"):
@@ -41,14 +48,57 @@ def kind_of(path: Path) -> str:
 
 def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -> pd.DataFrame:
     """The file as a data frame of raw columns (nothing validated yet)."""
-    kind = kind_of(path)
-    if not path.is_file():
-        raise LogError(f"{path}: no such file")
-    if kind == "parquet":
+    if _kind_checked(path) == "parquet":
         try:
             return pd.read_parquet(path)
         except (ValueError, OSError) as exc:
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+    options, duplicates = _csv_options(path, sep, decimal)
+    try:
+        frame = pd.read_csv(path, low_memory=False, **options)
+    except (ValueError, OSError, pd.errors.ParserError) as exc:
+        raise LogError(f"{path}: cannot be read as a {_name(options['sep'])}-separated CSV file: {exc}") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    frame.attrs["duplicate_columns"] = duplicates
+    return frame
+
+
+def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None, columns=None,
+                 rows: int = CHUNK_ROWS):
+    """The file's rows in frames of at most ``rows`` rows, with only the ``columns`` kept (a function of a
+    column's name, or ``None`` for all): what a large file is read through, in constant memory."""
+    if _kind_checked(path) == "parquet":
+        import pyarrow.parquet as pq
+
+        try:
+            f = pq.ParquetFile(path)
+            names = [n for n in f.schema_arrow.names if columns is None or columns(n)]
+            for batch in f.iter_batches(batch_size=rows, columns=names):
+                yield batch.to_pandas()
+        except (ValueError, OSError) as exc:
+            raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+        return
+    options, duplicates = _csv_options(path, sep, decimal)
+    usecols = (lambda c: columns(str(c).strip())) if columns is not None else None
+    try:
+        for chunk in pd.read_csv(path, chunksize=rows, usecols=usecols, **options):
+            chunk.columns = [str(c).strip() for c in chunk.columns]
+            chunk.attrs["duplicate_columns"] = duplicates
+            yield chunk
+    except (ValueError, OSError, pd.errors.ParserError) as exc:
+        raise LogError(f"{path}: cannot be read as a {_name(options['sep'])}-separated CSV file: {exc}") from None
+
+
+def _kind_checked(path: Path) -> str:
+    kind = kind_of(path)
+    if not Path(path).is_file():
+        raise LogError(f"{path}: no such file")
+    return kind
+
+
+def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict, dict[str, int]]:
+    """The keyword arguments of ``pandas.read_csv`` for the file's dialect (guessed where not given), and the
+    column names its header repeats (name -> count)."""
     _refuse_binary(path)
     head, comments = _scan(path)
     content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
@@ -59,13 +109,22 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -
     data = [line for i, line in content if i > header_at]
     decimal = decimal or ("," if sep != "," and any(_DECIMAL_COMMA.search(line) for line in data) else ".")
     skip = comments | set(range(header_at))
-    try:
-        frame = pd.read_csv(path, sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace",
-                            skiprows=skip or None, skip_blank_lines=True, low_memory=False)
-    except (ValueError, OSError, pd.errors.ParserError) as exc:
-        raise LogError(f"{path}: cannot be read as a {_name(sep)}-separated CSV file: {exc}") from None
-    frame.columns = [str(c).strip() for c in frame.columns]
-    return frame
+    header = next(csv.reader([next(line for i, line in content if i == header_at)], delimiter=sep), [])
+    counts = Counter(name.strip() for name in header)
+    options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
+                   skip_blank_lines=True)
+    return options, {name: k for name, k in counts.items() if k > 1 and name}
+
+
+def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) -> None:
+    """A header naming a column the log is read by more than once (two ``temperature`` columns) is refused:
+    which one holds the reading cannot be known; other repeated names are said (read as ``NAME.1``, ...)."""
+    for name, count in frame.attrs.get("duplicate_columns", {}).items():
+        if name in used:
+            raise LogError(f"{source}: the header names column {name!r} {count} times; expected each column once "
+                           f"(rename all but one, or --map to another column)")
+        notes.append(f"{source}: the header names column {name!r} {count} times; read as {name!r}, "
+                     + ", ".join(repr(f"{name}.{k}") for k in range(1, count)))
 
 
 def shown_names(names, limit: int = 300) -> str:

@@ -24,7 +24,8 @@ from typing import Mapping
 from ..model.units import CANONICAL, NOT_GIVEN, SCALED
 
 # units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's name
-KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%")
+KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%",
+         "s", "ms", "us", "min", "h", "degC", "K")
 CELSIUS = ("degC", "°C", "C", "deg C", "celsius", "Celsius")  # what a header may call degrees Celsius
 _HEADER = re.compile(r"[\[(]\s*([^\[\]()]+?)\s*[\])]\s*$")
 
@@ -33,6 +34,11 @@ def header_unit(column: str) -> str | None:
     """The unit a column's header gives at its end (``Effort [mA]`` -> ``mA``, ``Power (W)`` -> ``W``), or ``None``."""
     m = _HEADER.search(str(column).partition("@")[0])
     return m.group(1) if m else None
+
+
+def base_name(column) -> str:
+    """A column's name without the unit its header may carry, lower case (``Temperature [degC]`` -> ``temperature``)."""
+    return _HEADER.sub("", str(column)).strip().lower()
 
 
 def canonical_headers(columns, names) -> tuple[dict[str, str], dict[str, str]]:

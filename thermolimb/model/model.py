@@ -8,7 +8,7 @@ With the default terms ``joule`` and ``effort_bias`` this is exactly Eq. 5:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 from typing import Mapping
 
 import numpy as np
@@ -39,12 +39,18 @@ def model_parameters(terms: tuple[str, ...]) -> tuple[Parameter, ...]:
 
 @dataclass(frozen=True)
 class ThermalModel:
-    """A model structure (its terms) with parameter values."""
+    """A model structure (its terms) with parameter values, each finite and within its declared bounds.
+
+    ``bounded=False`` lets an estimate of an unconstrained regression (the
+    seed's least squares, Eq. 7) stand as it came out, a negative βR included:
+    the fit's flags report it as implausible instead.
+    """
 
     terms: tuple[str, ...]
     params: Mapping[str, float] = field(default_factory=dict)
+    bounded: InitVar[bool] = True
 
-    def __post_init__(self):
+    def __post_init__(self, bounded: bool):
         terms = parse_model(self.terms)
         object.__setattr__(self, "terms", terms)
         expected = [p.name for p in model_parameters(terms)]
@@ -59,6 +65,11 @@ class ThermalModel:
                              f"{'is' if len(bad) == 1 else 'are'} not ({', '.join(str(values[n]) for n in bad)})")
         if not values["RC_s"] > 0:
             raise ValueError(f"RC_s must be positive, got {values['RC_s']}")
+        for p in model_parameters(terms) if bounded else ():
+            slack = 1e-9 * max(1.0, abs(values[p.name]))
+            if not p.lower - slack <= values[p.name] <= p.upper + slack:
+                raise ValueError(f"{p.name} = {values[p.name]:g} is outside its bounds [{p.lower:g}, {p.upper:g}] "
+                                 f"({p.description})")
         # read-only and picklable (a fitted model crosses process boundaries in fleets and users' pools)
         object.__setattr__(self, "params", FrozenMapping(values))
 

@@ -8,17 +8,24 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 from ..model.units import NOT_GIVEN  # noqa: E402
 from ..util.atomic import atomic_path  # noqa: E402
+from ..util.errors import bounded  # noqa: E402
 from ..workbench.validation import FitReport  # noqa: E402
 from .inventory import metadata  # noqa: E402
+
+LABEL_WORD_LIMIT = 100  # characters of one word a figure's text shows
 
 
 def save(fig, path: Path) -> Path:
     """Write a figure whole (to a temporary name first) and close it; a PNG carries what it draws (inventory)."""
     path = Path(path)
     kind = path.suffix.lstrip(".").lower() or "png"
+    for text in fig.findobj(Text):  # a name of any length (an actuator's) keeps the figure drawable and readable
+        if len(text.get_text()) > LABEL_WORD_LIMIT:
+            text.set_text(bounded(text.get_text(), LABEL_WORD_LIMIT))
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=110, bbox_inches="tight", format=kind,

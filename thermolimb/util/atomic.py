@@ -3,12 +3,18 @@
 Every file the suite writes goes to a temporary name beside its target and
 is renamed over it only once complete, so that a failure or an interrupt
 (Ctrl-C included) leaves the previous output intact and no temporary file
-behind.
+behind.  A symbolic link keeps being a link: its target is replaced.  A
+target that is not a regular file -- a device (``/dev/null``), a FIFO, a
+terminal or pipe behind ``/dev/stdout`` -- is written to as a stream once the
+output is complete, never replaced by a file.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
+import shutil
+import stat
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,22 +26,85 @@ from .errors import UsageError
 def atomic_path(path: str | Path):
     """Yield a temporary path beside ``path``; on success it replaces ``path``, on any exit by error it is removed."""
     path = Path(path)
+    if is_stream(path):
+        with _through_stream(path) as tmp:
+            yield tmp
+        return
+    path = Path(os.path.realpath(path)) if path.is_symlink() else path
     check_output_file(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial" + path.suffix, dir=path.parent)
-    os.close(fd)
-    tmp = Path(name)
+    with made_folder(path.parent):
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial" + path.suffix, dir=path.parent)
+        os.close(fd)
+        tmp = Path(name)
+        try:
+            yield tmp
+            if tmp.is_file():
+                tmp.chmod(0o666 & ~_umask())  # mkstemp makes 0600; the result gets the mode any new file would
+            os.replace(tmp, path)
+        except OSError as exc:
+            if exc.filename is None or Path(exc.filename) == tmp:  # name the file asked for, not its temporary
+                raise OSError(exc.errno, exc.strerror, str(path)) from exc
+            raise
+        finally:
+            tmp.unlink(missing_ok=True)
+
+
+@contextmanager
+def made_folder(folder: str | Path):
+    """Make ``folder`` (and its missing parents); if the block then fails or is interrupted, remove the ones
+    made here that are still empty, so that a command that wrote nothing leaves nothing."""
+    folder = Path(folder)
+    made = [p for p in (folder, *folder.parents) if not p.exists()]
+    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        yield folder
+    except BaseException:
+        for p in made:  # deepest first
+            try:
+                p.rmdir()
+            except OSError:  # not empty (something was written there) or already gone: keep it
+                break
+        raise
+
+
+STEM_LIMIT = 100  # characters of a name in a file name (file systems take 255 bytes; prefixes and suffixes go around it)
+
+
+def file_stem(name: str) -> str:
+    """A name (an actuator's, a joint's) as part of a file name: no path separator, and a long name cut to its
+    start and a digest of the whole, so that two long names still give two files."""
+    stem = str(name).replace("/", "_").replace("\0", "_")
+    if len(stem.encode()) <= STEM_LIMIT:
+        return stem
+    digest = hashlib.sha1(stem.encode()).hexdigest()[:10]
+    return f"{stem.encode()[:STEM_LIMIT - 11].decode(errors='ignore')}-{digest}"
+
+
+def is_stream(path: str | Path) -> bool:
+    """Whether ``path`` (through any links) is something other than a regular file or a folder: written as a stream."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # nothing there yet (or a dangling link): a file will be made
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
+@contextmanager
+def _through_stream(path: Path):
+    """A temporary file (with ``path``'s suffix, which writers read the format from) copied into ``path`` when
+    complete, then removed; nothing reaches the stream if the writer fails."""
+    folder = Path(tempfile.mkdtemp(prefix=".thermolimb-"))
+    tmp = folder / f"out{path.suffix}"
     try:
         yield tmp
-        if tmp.is_file():
-            tmp.chmod(0o666 & ~_umask())  # mkstemp makes 0600; the result gets the mode any new file would
-        os.replace(tmp, path)
+        with open(tmp, "rb") as source, open(path, "wb") as sink:
+            shutil.copyfileobj(source, sink)
     except OSError as exc:
-        if exc.filename is None or Path(exc.filename) == tmp:  # name the file the user asked for, not its temporary
+        if exc.filename is None or Path(exc.filename) == tmp:
             raise OSError(exc.errno, exc.strerror, str(path)) from exc
         raise
     finally:
-        tmp.unlink(missing_ok=True)
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def _umask() -> int:
@@ -59,8 +128,11 @@ def _first_existing(path: Path) -> Path:
 
 
 def check_output_file(path: str | Path, what: str = "output file") -> Path:
-    """Refuse, before any work, a file target that is a directory or whose folder cannot be made or written."""
+    """Refuse, before any work, a file target that is a directory or whose folder cannot be made or written
+    (a device, a FIFO or a terminal is written as a stream, so its folder need not be writable)."""
     path = Path(path)
+    if is_stream(path):
+        return path
     if path.is_dir():
         raise UsageError(f"{what} {path} is a directory; expected a file name")
     _check_folder(path.parent, what, path)

@@ -4,11 +4,24 @@ Each job is a tuple of arguments to one module-level function, so that the
 same call runs in this process, in a worker process or on a Ray worker, and
 gives the same result in each.  :class:`Runner` keeps a pool (or a Ray
 connection) open across several maps; :func:`run_jobs` is one map.
+
+Local workers never outlive the command: they leave Ctrl-C to the parent
+(a terminal sends it to every process of the group), die with the parent
+(Linux's parent-death signal), and are ended by the parent when it leaves a
+map by an interrupt or an error, whatever the timing of further signals.
+Their number is bounded by the cores and the memory available
+(:func:`worker_limit`).
 """
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import os
+import signal
 import socket
+import sys
+import threading
 from concurrent.futures import ProcessPoolExecutor
 from typing import Callable, Sequence
 
@@ -16,6 +29,56 @@ from .errors import UsageError
 
 BACKENDS = ("process", "ray", "serial")
 RAY_CONNECT_TIMEOUT_S = 10.0
+# what one local worker takes once it has imported the suite and holds a fit or a PyBullet world
+# (150-170 MB measured for a fleet fit; a hexapod world is in the same range), with some room
+WORKER_MEMORY_BYTES = 250e6
+PR_SET_PDEATHSIG = 1  # prctl(2)
+STOP_GRACE_S = 5.0  # a worker ended by SIGTERM that is still there after this is killed
+
+
+def worker_limit(requested: int) -> tuple[int, str | None]:
+    """The local workers this machine can run of ``requested``, and a sentence saying why when fewer.
+
+    Bounded by the cores this process may use and by the memory available
+    (the cgroup's limit where there is one: a container's, a CI job's), at
+    :data:`WORKER_MEMORY_BYTES` each: more workers than cores only queue, and
+    more than the memory holds get the command killed without a word.
+    """
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    memory = available_memory_bytes()
+    by_memory = requested if memory is None else max(1, int(memory // WORKER_MEMORY_BYTES))
+    count = max(1, min(requested, cores, by_memory))
+    if count == requested:
+        return count, None
+    held = f"{memory / 1e9:.1f} GB of memory available" if memory is not None else "memory not known"
+    return count, (f"--workers {requested} lowered to {count}: this machine gives the command {cores} core(s) and "
+                   f"{held} (about {WORKER_MEMORY_BYTES / 1e6:.0f} MB per worker)")
+
+
+def available_memory_bytes() -> float | None:
+    """Memory this process can still take: the system's available memory, or its cgroup's room if smaller."""
+    found = []
+    with contextlib.suppress(OSError, ValueError):
+        for line in open("/proc/meminfo"):
+            if line.startswith("MemAvailable:"):
+                found.append(float(line.split()[1]) * 1024)
+    for limit, usage in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),  # cgroup v2
+                         ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        with contextlib.suppress(OSError, ValueError):  # no such cgroup file, or "max": no limit there
+            room = float(open(limit).read()) - float(open(usage).read())
+            if room < 2 ** 60:
+                found.append(max(room, 0.0))
+    return min(found) if found else None
+
+
+def _worker_start(parent: int) -> None:
+    """Each local worker: Ctrl-C is the parent's to answer, and the worker dies when the parent does."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() != parent:  # the parent died before the death signal was set
+        os._exit(1)
 
 
 def check_ray_address(address: str | None, timeout_s: float = RAY_CONNECT_TIMEOUT_S) -> None:
@@ -44,7 +107,9 @@ class Runner:
 
     def __enter__(self) -> "Runner":
         if self.backend == "process":
-            self._pool = ProcessPoolExecutor(max_workers=self.workers)
+            self.workers = worker_limit(self.workers)[0]
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker_start,
+                                             initargs=(os.getpid(),))
         elif self.backend == "ray":
             try:
                 import ray
@@ -56,9 +121,12 @@ class Runner:
             self._ray = ray
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, exc_type, *exc) -> None:
         if self._pool is not None:
-            self._pool.shutdown()
+            if exc_type is None:
+                self._pool.shutdown()
+            else:
+                _end_pool(self._pool)
         if self._ray is not None and self._started_ray:
             self._ray.shutdown()
 
@@ -72,6 +140,33 @@ class Runner:
             remote = self._ray.remote(func)
             return self._ray.get([remote.remote(*job) for job in jobs])
         return [func(*job) for job in jobs]
+
+
+def _end_pool(pool: ProcessPoolExecutor) -> None:
+    """Cancel what is queued and end the workers now (an interrupt or an error left the map).
+
+    Python 3.11's pool has no public call that ends running workers (3.14 adds
+    ``terminate_workers``), so its process table is read.  Further Ctrl-C or
+    SIGTERM wait until the workers are gone, so that no timing of repeated
+    signals can leave a worker behind or the pool's threads waiting on one.
+    """
+    blocked = {signal.SIGINT, signal.SIGTERM}
+    on_main = threading.current_thread() is threading.main_thread()
+    if on_main:
+        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+    try:
+        processes = list((pool._processes or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join(STOP_GRACE_S)
+            if process.is_alive():
+                process.kill()
+                process.join()
+    finally:
+        if on_main:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
 
 
 def run_jobs(func: Callable, jobs: Sequence[tuple], backend: str = "process", workers: int = 2,

@@ -25,29 +25,41 @@ from .validation import Scheme, evaluate
 # oversubscribe the cores, and a fixed thread count keeps every sum in the same order, so rows are equal bit for bit.
 BLAS_THREADS = 1
 LOG_SUFFIXES = (".csv", ".tsv", ".txt", ".parquet", ".pq") + BAG_SUFFIXES
+TABLE_COLUMNS = ("source", "actuator", "run", "samples", "duration_s")  # the first columns of a --table CSV
 
 
-def expand_paths(items: Sequence[str | Path]) -> list[Path]:
+def expand_paths(items: Sequence[str | Path], notes: list[str] | None = None) -> list[Path]:
     """Log files from files, folders (their logs, a ROS 2 bag folder as one log) and quoted globs, in order.
 
     A file reached twice -- named twice, matched by two patterns, or through a
     symbolic link (a link loop included) -- is one log, kept where it first
     appears: a run counted twice would make drift call an actuator steady.
+    A fleet table this suite wrote (``--table``) found in a folder or by a
+    pattern is not a log: it is skipped, with a sentence in ``notes``.
     """
-    return _once(_expand(items))
+    notes = notes if notes is not None else []
+    paths = _once(_expand(items, notes), notes)
+    if not paths:
+        raise UsageError(f"{', '.join(map(str, items))}: nothing but fleet tables this suite wrote; expected logs")
+    return paths
 
 
-def _once(paths: list[Path]) -> list[Path]:
-    seen, out = set(), []
+def _once(paths: list[Path], notes: list[str]) -> list[Path]:
+    seen, out, again = set(), [], 0
     for path in paths:
         key = os.path.realpath(path)
         if key not in seen:
             seen.add(key)
             out.append(path)
+        else:
+            again += 1
+    if again:
+        notes.append(f"{again} path(s) led to a log already listed (named twice, matched twice, or through a link): "
+                     f"each log read once")
     return out
 
 
-def _expand(items: Sequence[str | Path]) -> list[Path]:
+def _expand(items: Sequence[str | Path], notes: list[str]) -> list[Path]:
     out: list[Path] = []
     for item in items:
         text = str(item)
@@ -57,7 +69,7 @@ def _expand(items: Sequence[str | Path]) -> list[Path]:
             if not found:
                 raise UsageError(f"{text}: the pattern matches no log; expected files ending in "
                                  f"{', '.join(LOG_SUFFIXES)} or ROS 2 bag folders")
-            out += found
+            out += _not_tables(found, notes)
             continue
         path = Path(text)
         if path.is_dir() and not is_bag(path):
@@ -65,10 +77,33 @@ def _expand(items: Sequence[str | Path]) -> list[Path]:
             if not found:
                 raise UsageError(f"{path}: the folder holds no log; expected files ending in "
                                  f"{', '.join(LOG_SUFFIXES)} or ROS 2 bag folders")
-            out += found
+            out += _not_tables(found, notes)
         else:
             out.append(path)
     return out
+
+
+def _not_tables(paths: list[Path], notes: list[str]) -> list[Path]:
+    """``paths`` without the fleet tables this suite wrote (``--table`` into the logs' own folder)."""
+    kept = []
+    for path in paths:
+        if is_fleet_table(path):
+            notes.append(f"{path}: a fleet table (--table) this suite wrote, not a log: skipped")
+        else:
+            kept.append(path)
+    return kept
+
+
+def is_fleet_table(path: Path) -> bool:
+    """Whether ``path`` is a CSV whose header is the one :func:`rows_table` writes."""
+    if path.suffix.lower() != ".csv" or not path.is_file():
+        return False
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            head = f.readline(4096)
+    except OSError:
+        return False
+    return head.startswith(",".join(TABLE_COLUMNS) + ",")
 
 
 def _logs_in(folder: Path) -> list[Path]:
@@ -214,7 +249,8 @@ def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Schem
 
 
 def rows_table(rows: list[dict]) -> list[dict]:
-    """Flat rows for a CSV: one column per parameter value and standard error."""
+    """Flat rows for a CSV: one column per parameter value and standard error (the first columns are
+    :data:`TABLE_COLUMNS`, by which a later fleet recognises the table as none of its logs)."""
     flat = []
     for row in rows:
         out = {k: v for k, v in row.items() if k not in ("params", "flags", "model")}

@@ -1,0 +1,132 @@
+"""Signals from a terminal, a supervisor or the kernel end every worker and the command within seconds, and outputs
+onto special files keep what they are."""
+
+import os
+import random
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.util.atomic import write_text
+from thermolimb.util.parallel import WORKER_MEMORY_BYTES, worker_limit
+
+CLI = [sys.executable, "-m", "thermolimb.cli.main"]
+
+
+@pytest.fixture(scope="module")
+def fleet(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fleet")
+    assert main(["simulate", "--duration", "7200", "--dt", "1", "--out", str(folder / "run00.csv"), "--quiet"]) == 0
+    for k in range(1, 16):
+        shutil.copy(folder / "run00.csv", folder / f"run{k:02d}.csv")
+    return folder
+
+
+def _alive(group: int) -> list[str]:
+    """Processes of the group that still run (a zombie waiting for a PID 1 that does not reap is dead)."""
+    out = subprocess.run(["ps", "-o", "pid=,stat=", "-g", str(group)], capture_output=True, text=True).stdout
+    return [line.split()[0] for line in out.splitlines() if not line.split()[1].startswith("Z")]
+
+
+def _start(argv, cwd):
+    # a terminal's Ctrl-C goes to every process of the foreground group: a group of its own, SIGINT not ignored
+    return subprocess.Popen([*CLI, *argv], cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+
+
+def test_ctrl_c_twice_at_random_moments_ends_the_fleet_and_its_workers(fleet):
+    rng = random.Random(20261124)
+    for _ in range(3):
+        proc = _start(["diagnose", str(fleet), "--fleet", "--quiet", "--workers", "2"], fleet)
+        time.sleep(rng.uniform(2.0, 4.0))
+        os.killpg(proc.pid, signal.SIGINT)
+        time.sleep(rng.uniform(0.2, 1.0))
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+        except ProcessLookupError:
+            pass
+        try:
+            code = proc.wait(timeout=20)
+        finally:
+            time.sleep(0.5)
+            left = _alive(proc.pid)
+            if left:
+                os.killpg(proc.pid, signal.SIGKILL)
+        err = proc.stderr.read().decode()
+        assert not left, f"workers left behind: {left}"
+        assert code == 130 and err.strip() == "thermolimb diagnose: interrupted", (code, err)
+
+
+@pytest.mark.parametrize("signum, expected", [(signal.SIGTERM, 143), (signal.SIGKILL, -9)])
+def test_the_main_process_ended_alone_takes_its_workers_with_it(fleet, signum, expected):
+    proc = _start(["diagnose", str(fleet), "--fleet", "--quiet", "--workers", "2"], fleet)
+    deadline = time.monotonic() + 30
+    while len(_alive(proc.pid)) < 3 and time.monotonic() < deadline:  # the parent and both workers
+        time.sleep(0.2)
+    assert len(_alive(proc.pid)) == 3
+    os.kill(proc.pid, signum)  # what timeout, systemd and the OOM killer send: to the main process only
+    assert proc.wait(timeout=20) == expected
+    deadline = time.monotonic() + 10
+    while _alive(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    left = _alive(proc.pid)
+    if left:
+        os.killpg(proc.pid, signal.SIGKILL)
+    assert not left
+
+
+def test_workers_are_bounded_by_cores_and_memory_and_the_lowering_is_said():
+    cores = len(os.sched_getaffinity(0))
+    count, why = worker_limit(1024)
+    assert count <= cores and f"--workers 1024 lowered to {count}" in why
+    assert f"{WORKER_MEMORY_BYTES / 1e6:.0f} MB per worker" in why
+    assert worker_limit(1) == (1, None)
+
+
+def test_a_fifo_and_a_link_keep_what_they_are(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_text()))
+    reader.start()
+    write_text(fifo, "a,b\n1,2\n")
+    reader.join(timeout=10)
+    assert received == ["a,b\n1,2\n"] and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    target = tmp_path / "target.csv"
+    target.write_text("old\n")
+    link = tmp_path / "link.csv"
+    link.symlink_to(target)
+    write_text(link, "new\n")
+    assert link.is_symlink() and target.read_text() == "new\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "pipe", "target.csv"]
+
+
+def test_a_table_to_standard_output_is_printed_not_a_file(fleet, tmp_path):
+    done = subprocess.run([*CLI, "fit", str(fleet / "run00.csv"), "--fleet", "--quiet", "--table", "/dev/stdout",
+                           "--workers", "1"], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert done.returncode == 0 and done.stdout.startswith("source,actuator,run,samples,duration_s,")
+    assert os.path.islink("/dev/stdout") and not list(tmp_path.iterdir())
+
+
+def test_a_name_of_any_length_gives_a_bounded_file_name_and_message(tmp_path, capsys):
+    import numpy as np
+    import pandas as pd
+
+    t = np.arange(300.0)
+    name = "k" * 50_000
+    pd.DataFrame({"time": t, "actuator": name, "effort": 5 + 3 * np.sin(t / 20),
+                  "temperature": 30 + 0.02 * t}).to_csv(tmp_path / "long.csv", index=False)
+    assert main(["fit", str(tmp_path / "long.csv"), "--quiet", "--plot", str(tmp_path / "plots")]) == 0
+    (png,) = (tmp_path / "plots").iterdir()
+    assert len(png.name.encode()) < 120 and png.name.startswith("fit_kkk")
+    capsys.readouterr()
+    assert main(["fit", str(tmp_path / "long.csv"), "--quiet", "--actuator", "nope"]) == 2
+    err = capsys.readouterr().err
+    assert len(err) < 600 and "(50000 characters)" in err

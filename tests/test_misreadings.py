@@ -1,0 +1,114 @@
+"""Logs that read without an error but mean something else: each is converted with a note or refused in one line."""
+
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.logs import LogError, from_frame, read_log
+from thermolimb.logs.bag_writer import write_mcap
+
+
+@pytest.fixture
+def frame():
+    t = np.arange(300.0)
+    return pd.DataFrame({"time": t, "actuator": "knee", "effort": 5 + 3 * np.sin(t / 20),
+                         "temperature": 30 + 0.02 * t + 0.5 * np.sin(t / 30)})
+
+
+@pytest.mark.parametrize("scale, unit", [(1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds")])
+def test_time_counted_since_1970_in_a_finer_unit_is_converted_and_said(frame, scale, unit):
+    log = from_frame(frame.assign(time=1.7e9 * scale + scale * frame["time"]))
+    t = log.series("knee").time_s
+    assert np.allclose(np.diff(t), 1.0, rtol=1e-6)  # the samples' one-second steps, not 1000 s
+    assert any(f"counted in {unit} since 1970: converted to s" in note for note in log.notes)
+
+
+def test_epoch_seconds_and_stated_units_are_left_alone(frame):
+    log = from_frame(frame.assign(time=1.7e9 + frame["time"]))
+    assert np.allclose(np.diff(log.series("knee").time_s), 1.0) and not log.notes
+    stated = from_frame(frame.assign(time=1.7e12 + frame["time"]).rename(columns={"time": "time [s]"}))
+    assert np.allclose(np.diff(stated.series("knee").time_s), 1.0) and not stated.notes
+
+
+def test_time_steps_too_long_for_seconds_are_said(frame):
+    log = from_frame(frame.assign(time=12e3 * frame["time"]))
+    assert any("if the time column counts milliseconds" in note for note in log.notes)
+
+
+def test_temperatures_in_kelvin_are_converted_and_said(frame):
+    kelvin = frame.assign(temperature=frame["temperature"] + 273.15, ambient=295.15)
+    log = from_frame(kelvin)
+    s = log.series("knee")
+    assert np.allclose(s.temperature_C, frame["temperature"]) and np.allclose(s.signals.ambient_C, 22.0)
+    said = [note for note in log.notes if "taken as kelvin" in note]
+    assert len(said) == 2 and "303.1 to" in said[0]  # the numbers that show it, from the log
+
+
+def test_a_stated_degC_keeps_kelvin_like_numbers(frame):
+    log = from_frame(frame.assign(temperature=frame["temperature"] + 250).rename(
+        columns={"temperature": "temperature [degC]"}))
+    assert log.series("knee").temperature_C.min() > 250 and not log.notes
+
+
+@pytest.mark.parametrize("sign", [1, -1])
+def test_a_jump_between_degC_and_kelvin_is_refused(frame, sign):
+    part = frame.index >= 150 if sign > 0 else frame.index < 150
+    jumped = frame.assign(temperature=frame["temperature"].where(~part, frame["temperature"] + 273.15))
+    with pytest.raises(LogError, match=rf"jumps by {'[+]' if sign > 0 else '-'}273\.\d K at row 150 .*kelvin"):
+        from_frame(jumped)
+
+
+def test_a_repeated_column_is_refused_when_read_and_said_otherwise(tmp_path, frame):
+    rows = "".join(f"{r.time},{r.actuator},{r.effort},{r.temperature},{r.temperature + 1},1,2\n"
+                   for r in frame.itertuples())
+    path = tmp_path / "two.csv"
+    path.write_text("time,actuator,effort,temperature,temperature,note,note\n" + rows)
+    with pytest.raises(LogError, match="names column 'temperature' 2 times"):
+        read_log(path)
+    path.write_text("time,actuator,effort,temperature,housing_C,note,note\n" + rows)
+    log = read_log(path)
+    assert any("names column 'note' 2 times" in note for note in log.notes)
+
+
+@pytest.fixture(scope="module")
+def plant_log():
+    from thermolimb.plant import PlantEffects, simulate_profile
+    from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+
+    return simulate_profile("random", 600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), PlantEffects.from_names(""),
+                            seed=0).log
+
+
+def test_nan_readings_in_a_bag_are_refused_like_a_table_or_left_out_when_asked(tmp_path, plant_log):
+    f = plant_log.frame
+    path = tmp_path / "nan.mcap"
+    write_mcap(replace(plant_log, frame=f.assign(temperature=f["temperature"].where(f.index % 50 != 7))), path)
+    with pytest.raises(LogError, match=r"temperature of knee has 12 missing or non-finite reading\(s\) of 601.*"
+                                       r"--drop-incomplete"):
+        read_log(path)
+    log = read_log(path, drop_incomplete=True)
+    assert log.series("knee").n == 601 - 12
+    assert any("12 missing or non-finite reading(s) of temperature of knee left out" in n for n in log.notes)
+    write_mcap(replace(plant_log, frame=f.assign(temperature=np.nan)), path)
+    with pytest.raises(LogError, match="has no finite reading"):
+        read_log(path)
+
+
+def test_a_bag_in_kelvin_is_converted(tmp_path, plant_log):
+    path = tmp_path / "kelvin.mcap"
+    write_mcap(replace(plant_log, frame=plant_log.frame.assign(temperature=plant_log.frame["temperature"] + 273.15)),
+               path)
+    log = read_log(path)
+    assert np.allclose(log.series("knee").temperature_C, plant_log.series("knee").temperature_C, atol=1e-6)
+    assert any("taken as kelvin" in note for note in log.notes)
+
+
+def test_model_parameters_outside_their_bounds_are_refused_unless_an_unconstrained_regression_made_them():
+    from thermolimb.model import ThermalModel
+
+    values = {"RC_s": 40.0, "betaR_K_per_effort2": -1e9, "T_offset_C": 25.0}
+    with pytest.raises(ValueError, match=r"betaR_K_per_effort2 = -1e\+09 is outside its bounds \[0, inf\]"):
+        ThermalModel(("joule",), values)
+    assert ThermalModel(("joule",), values, bounded=False).params["betaR_K_per_effort2"] == -1e9
