@@ -113,6 +113,11 @@ def test_a_table_to_standard_output_is_printed_not_a_file(fleet, tmp_path):
                            "--workers", "1"], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert done.returncode == 0 and done.stdout.startswith("source,actuator,run,samples,duration_s,")
     assert os.path.islink("/dev/stdout") and not list(tmp_path.iterdir())
+    with open(tmp_path / "out.txt", "w") as out:  # standard output redirected to a file: written through it
+        subprocess.run([*CLI, "fit", str(fleet / "run00.csv"), "--fleet", "--quiet", "--table", "/dev/stdout",
+                        "--workers", "1"], stdout=out, timeout=120, cwd=tmp_path, check=True)
+    text = (tmp_path / "out.txt").read_text()
+    assert text.startswith("source,actuator,") and "drift:" in text  # the table, then the rows printed after it
 
 
 def test_a_name_of_any_length_gives_a_bounded_file_name_and_message(tmp_path, capsys):

@@ -15,6 +15,7 @@ import hashlib
 import os
 import shutil
 import stat
+import sys
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -67,6 +68,7 @@ def made_folder(folder: str | Path):
         raise
 
 
+OPEN_FILES = ("/dev/stdout", "/dev/stderr", "/dev/fd/", "/proc/self/fd/")
 STEM_LIMIT = 100  # characters of a name in a file name (file systems take 255 bytes; prefixes and suffixes go around it)
 
 
@@ -81,7 +83,11 @@ def file_stem(name: str) -> str:
 
 
 def is_stream(path: str | Path) -> bool:
-    """Whether ``path`` (through any links) is something other than a regular file or a folder: written as a stream."""
+    """Whether ``path`` (through any links) is something other than a regular file or a folder, or one of this
+    process's open files (``/dev/stdout``, ``/dev/fd/N``: replacing the file behind it would lose what else the
+    process writes there): written as a stream."""
+    if str(path).startswith(OPEN_FILES):
+        return True
     try:
         mode = os.stat(path).st_mode
     except OSError:  # nothing there yet (or a dangling link): a file will be made
@@ -97,14 +103,33 @@ def _through_stream(path: Path):
     tmp = folder / f"out{path.suffix}"
     try:
         yield tmp
-        with open(tmp, "rb") as source, open(path, "wb") as sink:
-            shutil.copyfileobj(source, sink)
+        fd = _open_file_of(path)
+        with open(tmp, "rb") as source:
+            if fd is None:
+                with open(path, "wb") as sink:
+                    shutil.copyfileobj(source, sink)
+            else:  # through the process's own descriptor: a new one would start over at the file's beginning
+                sys.stdout.flush()
+                sys.stderr.flush()
+                with os.fdopen(os.dup(fd), "wb") as sink:
+                    shutil.copyfileobj(source, sink)
     except OSError as exc:
         if exc.filename is None or Path(exc.filename) == tmp:
             raise OSError(exc.errno, exc.strerror, str(path)) from exc
         raise
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+
+
+def _open_file_of(path: Path) -> int | None:
+    """The descriptor ``/dev/stdout``, ``/dev/stderr``, ``/dev/fd/N`` or ``/proc/self/fd/N`` names, else ``None``."""
+    text = str(path)
+    if text in ("/dev/stdout", "/dev/stderr"):
+        return 1 if text.endswith("out") else 2
+    for prefix in ("/dev/fd/", "/proc/self/fd/"):
+        if text.startswith(prefix) and text[len(prefix):].isdigit():
+            return int(text[len(prefix):])
+    return None
 
 
 def _umask() -> int:
