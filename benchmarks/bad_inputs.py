@@ -2,6 +2,7 @@
 
     python benchmarks/bad_inputs.py            # the table of outcomes and the counts
     python benchmarks/bad_inputs.py --json     # one record per input
+    python benchmarks/bad_inputs.py --second-round   # only the second round's 51 inputs
 
 Every input runs in its own process (so that a hang is a timeout, not a stuck
 benchmark) in a scratch folder holding a small valid log and its broken
@@ -27,6 +28,15 @@ are ``clear`` when the command ends with their own status -- 1 with one
 sentence naming what could not be written, 141 and nothing said for a closed
 pipe, 143 for SIGTERM -- and leaves no file behind.  The full-disk cases
 mount a small tmpfs (root only; skipped, and said, elsewhere).
+
+The second round adds logs whose numbers give their unit away (epoch
+milliseconds, kelvin, a jump between the two), columns named twice, NaN in
+bags, names of any length, files reached twice, ``--workers`` beyond the
+machine, misuse of the Python API, outputs onto special files (``clear`` when
+the command succeeds and the target keeps its type), and interrupts: Ctrl-C
+twice at random moments to the whole process group, SIGTERM and SIGKILL to a
+fleet's main process (``clear`` when every repetition ends within 20 s with its
+status and leaves no worker running).
 
 Environments' bad actions (NaN, out of range, stepping after the end) are
 ``clear`` when the step raises an error of one line and the environment still
@@ -181,8 +191,8 @@ def _plant_bags(d: Path) -> None:
 UNREADABLE = ("empty.csv", "junk.csv", "junk.parquet", "junk.mcap", "truncated.bag", "missing.csv", "empty_folder",
               "nothing*.csv")
 READ_ONLY = "/proc/thermolimb"  # a read-only place even for root (permission bits do not bind root)
-CLEAR, WORD = "refuse", "word"
-SECOND: set[str] = set()  # the inputs of the second round (benchmarks' issue on reliability, round two)  # expected: exit 2, or exit 0 with a word on stderr (a regex)
+CLEAR, WORD = "refuse", "word"  # expected: exit 2, or exit 0 with a word on stderr (a regex)
+SECOND: set[str] = set()  # the names of the second round's inputs (filled as the case lists are built)
 
 
 def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
@@ -690,12 +700,12 @@ API_SNIPPET = textwrap.dedent("""
         print(json.dumps({"raised": type(exc).__name__, "lines": len(str(exc).strip().splitlines()),
                           "chars": len(str(exc))}))
 """)
-API_CASES = tuple((case, expected) for case, expected in (("read_log(mapping='effort=effort')", "raise"), ("read_log(mapping=42)", "raise"),
+API_CASES = (("read_log(mapping='effort=effort')", "raise"), ("read_log(mapping=42)", "raise"),
              ("fit 0 samples (output error)", "raise"), ("fit 2 samples (output error)", "raise"),
              ("fit 2 samples (least squares)", "raise"), ("ThermalModel betaR nan", "raise"),
              ("ThermalModel betaR -1e9", "raise"), ("ThermalModel betaR 1e300", "pass"),
              ("pickle a fitted OutputError, FitReport and ThermalModel", "pass"),
-             (f"pickle a live {HEX}", "raise"), (f"deepcopy a live {HUM}", "raise")))
+             (f"pickle a live {HEX}", "raise"), (f"deepcopy a live {HUM}", "raise"))
 SECOND.update(f"API: {case}" for case, _ in API_CASES)
 
 

@@ -59,7 +59,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if not _main_thread():
         return _run(args)
-    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, _terminate), signal.SIGINT: signal.getsignal(signal.SIGINT)}
+    previous = {signum: signal.getsignal(signum) for signum in (signal.SIGTERM, signal.SIGINT)}
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         return _run(args)
     finally:

@@ -288,8 +288,9 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
 
     ``actuator`` restricts a joint-array mapping to one joint, or names the
     actuator of scalar topics.  A missing or non-finite reading (NaN) is
-    refused, as in a table, or left out with ``drop_incomplete`` (noted).  Every other numeric field of the mapped topics
-    comes along as an extra channel (:func:`auto_extras`).
+    refused, as in a table, or left out with ``drop_incomplete`` (noted).
+    Every other numeric field of the mapped topics comes along as an extra
+    channel (:func:`auto_extras`).
     """
     path = Path(path)
     notes = []

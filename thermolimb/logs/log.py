@@ -492,7 +492,8 @@ def _plausible_units(out: pd.DataFrame, stated: Mapping[str, str], numeric_time:
                 day = pd.Timestamp(lo * scale, unit="s").strftime("%Y-%m-%d")
                 out["time"] = t * scale
                 notes.append(f"{source}: time reads {lo:.13g} at its first sample, which is {day} counted in {unit} "
-                             f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map time=COLUMN:s)")
+                             f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map "
+                             f"time=COLUMN:s)")
                 break
         else:
             steps = np.diff(np.unique(t))
@@ -508,8 +509,8 @@ def _plausible_units(out: pd.DataFrame, stated: Mapping[str, str], numeric_time:
         if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
             out[name] = values - 273.15
             notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} throughout, which no actuator stays at in "
-                         f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header '{name} [degC]' or --map "
-                         f"{name}=COLUMN:degC)")
+                         f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header "
+                         f"'{name} [degC]' or --map {name}=COLUMN:degC)")
 
 
 def _refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:
@@ -593,7 +594,7 @@ def from_frame(
     out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"),
                         "actuator": frame["actuator"].astype(str)})
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
-    if not pd.api.types.is_numeric_dtype(frame["time"]):
+    if not numeric_time:
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
     for c in keep:
         if c in ("time", "actuator"):

@@ -68,8 +68,7 @@ def made_folder(folder: str | Path):
         raise
 
 
-OPEN_FILES = ("/dev/stdout", "/dev/stderr", "/dev/fd/", "/proc/self/fd/")
-STEM_LIMIT = 100  # characters of a name in a file name (file systems take 255 bytes; prefixes and suffixes go around it)
+STEM_LIMIT = 100  # bytes of a name in a file name (file systems take 255; prefixes and suffixes go around it)
 
 
 def file_stem(name: str) -> str:
@@ -86,7 +85,7 @@ def is_stream(path: str | Path) -> bool:
     """Whether ``path`` (through any links) is something other than a regular file or a folder, or one of this
     process's open files (``/dev/stdout``, ``/dev/fd/N``: replacing the file behind it would lose what else the
     process writes there): written as a stream."""
-    if str(path).startswith(OPEN_FILES):
+    if _open_file_of(path) is not None:
         return True
     try:
         mode = os.stat(path).st_mode

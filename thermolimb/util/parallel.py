@@ -62,10 +62,10 @@ def available_memory_bytes() -> float | None:
         for line in open("/proc/meminfo"):
             if line.startswith("MemAvailable:"):
                 found.append(float(line.split()[1]) * 1024)
-    for limit, usage in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),  # cgroup v2
-                         ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+    for limit, usage in (("memory.max", "memory.current"),  # cgroup v2, then v1
+                         ("memory/memory.limit_in_bytes", "memory/memory.usage_in_bytes")):
         with contextlib.suppress(OSError, ValueError):  # no such cgroup file, or "max": no limit there
-            room = float(open(limit).read()) - float(open(usage).read())
+            room = float(open(f"/sys/fs/cgroup/{limit}").read()) - float(open(f"/sys/fs/cgroup/{usage}").read())
             if room < 2 ** 60:
                 found.append(max(room, 0.0))
     return min(found) if found else None
