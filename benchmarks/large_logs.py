@@ -7,7 +7,7 @@ time are printed with the size of the selected actuator's data (its rows times t
 each) and their ratio.
 
     python benchmarks/large_logs.py                      # 2 M rows per actuator (6 M rows per file)
-    python benchmarks/large_logs.py --rows 13.4e6 --csv-only   # the 40 M-row, 2 GB CSV
+    python benchmarks/large_logs.py --rows 13.4e6 --csv-only --no-diagnose  # the 40 M-row, 2 GB CSV
 
 "above base / selected" is the peak less the memory of the same command on a 3000-row file (the
 interpreter and its libraries), over the selected actuator's data: the cost of the file's size.
@@ -78,6 +78,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rows", type=float, default=2e6, help="rows per actuator (default 2e6)")
     parser.add_argument("--csv-only", action="store_true", help="only the CSV (the 40 M-row case)")
+    parser.add_argument("--no-diagnose", action="store_true", help="only fit and inspect")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     rows = int(args.rows)
@@ -93,9 +94,9 @@ def main() -> None:
         base = measure(["fit", "small.csv", "--actuator", "knee", "--quiet"], d)["peak_MB"]
         for kind in kinds:
             path = d / f"large.{kind}"
-            for argv in (["fit", path.name, "--actuator", "knee", "--quiet"],
-                         ["diagnose", path.name, "--actuator", "hip", "--quiet"],
-                         ["inspect", path.name]):
+            commands = [["fit", path.name, "--actuator", "knee", "--quiet"],
+                        ["diagnose", path.name, "--actuator", "hip", "--quiet"], ["inspect", path.name]]
+            for argv in commands[::2] if args.no_diagnose else commands:
                 record = measure(argv, d)
                 record.update(file=kind, file_MB=round(path.stat().st_size / 1e6), rows=rows * len(NAMES),
                               selected_MB=round(selected_MB), baseline_MB=base,

@@ -27,17 +27,8 @@ from .kinematics import inverse_kinematics, joint_axes, nominal_foot
 from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 from .readings import Reading
-from .wrench import (
-    StanceProblem,
-    StanceSolution,
-    closest_achievable,
-    minimax,
-    minimax_lex,
-    thermal_minimax,
-    vertical_only,
-)
+from .wrench import STRATEGIES, StanceProblem, StanceSolution, distribute
 
-STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")
 P_POINT_CONTACT = np.diag([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
 
 
@@ -129,45 +120,24 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
                                          friction=gains.friction, min_normal_N=gains.min_normal_N,
                                          world_R_body=reading.world_R_body)
     total = sum(weights.values())
-    solutions = [(w / total, distribute(problem, k, state.last, thermal, reading.temperature_C, gains.smoothing_1_N2))
-                 for k, w in weights.items()]
+    bank, horizon_s = (thermal.bank, thermal.horizon_s) if thermal is not None else (None, 0.0)
+    solutions = [(w / total, distribute(problem, k, state.last, bank, reading.temperature_C, horizon_s,
+                                        gains.smoothing_1_N2)) for k, w in weights.items()]
     solution = solutions[0][1] if len(solutions) == 1 else replace(
         solutions[0][1], forces_N=sum(w * sol.forces_N for w, sol in solutions), solver="blend")
 
     torques = np.zeros(18)
-    forces = dict(zip(legs, solution.forces_N))
+    # a stance leg's torques: its share of the wrench with its gravity (the problem's T f + g, computed once),
+    # plus the motion PD in the directions a point contact leaves free (rotations about the foot)
+    stance_torques = dict(zip(legs, solution.torques_Nm.reshape(-1, 3)))
     for i in range(len(LEGS)):
         sl = slice(3 * i, 3 * i + 3)
         M, g = statics[i].mass_matrix, statics[i].gravity_Nm
-        if i in forces:
+        if i in stance_torques:
             J = np.vstack([statics[i].jacobian, joint_axes(params, i, q[sl]).T])
             Lam = np.linalg.pinv(J.T) @ M
-            F_d = np.concatenate([-forces[i], np.zeros(3)])
-            torques[sl] = J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl])
-                                 + (np.eye(6) - P_POINT_CONTACT) @ F_d) + g
+            torques[sl] = J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl])) + stance_torques[i]
         else:
             torques[sl] = M @ swing_pid[sl] + g
     info = {"stance": planned_stance, "solution": solution, "wrench": wrench, "targets": targets}
     return torques, replace(state, cpg_state=cpg_state, integral=integral, last=solution), info
-
-
-def distribute(problem: StanceProblem, strategy: str, warm: StanceSolution | None,
-               thermal: ThermalContext | None, temperature_C: np.ndarray, smoothing_1_N2: float = 0.0) -> StanceSolution:
-    """Stance forces by the chosen strategy, for the nearest wrench the contacts can supply."""
-    if strategy == "vertical_only":
-        return vertical_only(problem)
-    problem = closest_achievable(problem)
-    previous = np.zeros((problem.n, 3))
-    if warm is not None:
-        last = dict(zip(warm.problem.legs, warm.forces_N))
-        previous = np.array([last.get(i, np.zeros(3)) for i in problem.legs])
-    if strategy == "minimax":
-        try:
-            return minimax(problem, smoothing_1_N2=smoothing_1_N2, previous_N=previous)
-        except RuntimeError as stalled:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible one
-            fallback = minimax(problem, solver="highs")
-            return replace(fallback, solver=f"highs (fallback: {stalled})")
-    if strategy == "minimax_lex":
-        return minimax_lex(problem)
-    joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in problem.legs])
-    return thermal_minimax(problem, thermal.bank.subset(joints), temperature_C[joints], thermal.horizon_s)

@@ -33,22 +33,19 @@ from __future__ import annotations
 
 import time
 import warnings
-from ctypes import c_int
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
-import daqp
 import numpy as np
-from scipy.optimize import LinearConstraint, linprog, minimize
+from scipy.optimize import LinearConstraint, minimize
 
 from thermolimb.model import FirstOrderBank
+from thermolimb.util.programs import INFINITE, Program, Solution, solve
 
 from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 
-_INF = 1e30
-_EQUALITY = 5  # daqp sense: active and immutable
-_ACTIVE = 1
+STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")  # what distribute() can do
 
 
 @dataclass(frozen=True)
@@ -85,6 +82,12 @@ class StanceProblem:
         """Friction-pyramid and unilateral rows ``(A, bu, bl)`` over ``x = (f, z)``: built once per problem and
         shared by every solve and cutting-plane round on it."""
         return _contact_rows(self)
+
+    @cached_property
+    def minimax_program(self) -> Program:
+        """The epigraph LP of the minimax over ``x = (f, z)``: ``min z`` with the wrench balanced (6 equality
+        rows), ``|T f + g| <= z s`` and the contact rows (see the module docstring)."""
+        return _epigraph(self)
 
     @classmethod
     def from_configuration(cls, params: DaisyParams, q: np.ndarray, legs, payload_kg: float = 0.0,
@@ -138,9 +141,12 @@ class StanceSolution:
     solver: str
     solve_time_s: float
     iterations: int = 0
-    duals: np.ndarray | None = field(default=None, repr=False)
-    active: np.ndarray | None = field(default=None, repr=False)  # active set, for warm starts
-    lp: tuple | None = field(default=None, repr=False)  # (c, A, bu, bl, n_eq, x) of an LP solve, for the certificate
+    program: Solution | None = field(default=None, repr=False)  # the solved program, with its certificate
+
+    @property
+    def active(self) -> np.ndarray | None:
+        """The solved program's active set, to warm-start the next control step's."""
+        return None if self.program is None else self.program.active
 
     @property
     def torques_Nm(self) -> np.ndarray:
@@ -152,7 +158,9 @@ class StanceSolution:
         return float(np.max(self.problem.normalised(self.forces_N)))
 
     def residuals(self) -> dict[str, float]:
-        """Equilibrium error (N, N m), friction-cone and unilateral violations (N)."""
+        """Equilibrium error (N, N m), friction-cone and unilateral violations (N); for a solved program also
+        its certificate (:meth:`~thermolimb.util.programs.Program.residuals`: bounds, stationarity,
+        complementarity, duality gap)."""
         p = self.problem
         f = self.forces_N
         out = {"equilibrium": float(np.max(np.abs(p.equilibrium @ f.ravel() - p.wrench)))}
@@ -160,15 +168,8 @@ class StanceSolution:
             out["friction"] = float(max(0.0, np.max(np.abs(f[:, :2]) - p.friction * f[:, 2:3])))
         if p.min_normal_N is not None:
             out["unilateral"] = float(max(0.0, np.max(p.min_normal_N - f[:, 2])))
-        if self.lp is not None and self.duals is not None:
-            # optimality certificate of the LP (KKT): c + A'lam = 0, lam > 0 only on rows at their upper
-            # bound and lam < 0 only on rows at their lower bound
-            c, A, bu, bl, n_eq, x = self.lp
-            lam = self.duals
-            out["stationarity"] = float(np.max(np.abs(c + A.T @ lam)))
-            row = A @ x
-            bound = np.where(lam > 0, bu, bl)[n_eq:]
-            out["complementarity"] = float(np.max(np.abs(lam[n_eq:]) * np.abs(row[n_eq:] - bound), initial=0.0))
+        if self.program is not None:
+            out.update(self.program.residuals)
         return out
 
 
@@ -235,8 +236,8 @@ def seed_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
 # ------------------------------------------------------------ exact minimax
 
 
-def _epigraph(problem: StanceProblem):
-    """LP data ``min c'x, bl <= A x <= bu`` over ``x = (f, z)``; the first 6 rows are equalities."""
+def _epigraph(problem: StanceProblem) -> Program:
+    """The minimax LP over ``x = (f, z)``; the first 6 rows are equalities."""
     p = problem
     nf = 3 * p.n
     s = p.torque_scale_Nm
@@ -253,8 +254,8 @@ def _epigraph(problem: StanceProblem):
     bl = np.empty(m)
     bu[:6] = bl[:6] = p.wrench
     bu[6 : 6 + nf] = -p.gravity_Nm
-    bl[6 : 6 + nf] = -_INF
-    bu[6 + nf : 6 + 2 * nf] = _INF
+    bl[6 : 6 + nf] = -INFINITE
+    bu[6 + nf : 6 + 2 * nf] = INFINITE
     bl[6 + nf : 6 + 2 * nf] = -p.gravity_Nm
     if contact:
         A[6 + 2 * nf :] = contact_A
@@ -262,42 +263,12 @@ def _epigraph(problem: StanceProblem):
         bl[6 + 2 * nf :] = contact_bl
     c = np.zeros(nf + 1)
     c[-1] = 1.0
-    return c, A, bu, bl
+    return Program(c, A, bu, bl, n_eq=6, name="the stance LP")
 
 
-_ZERO_HESSIANS: dict[int, np.ndarray] = {}
-
-
-def _zero_hessian(n: int) -> np.ndarray:
-    """One zero matrix per size, reused: an LP's Hessian (daqp regularises it and does not write to it)."""
-    if n not in _ZERO_HESSIANS:
-        _ZERO_HESSIANS[n] = np.zeros((n, n))
-    return _ZERO_HESSIANS[n]
-
-
-def solve_lp(c: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq: int,
-             sense: np.ndarray | None = None) -> tuple[np.ndarray, str, int, np.ndarray | None]:
-    """``min c'x`` subject to ``bl <= A x <= bu`` (the first ``n_eq`` rows equalities).
-
-    By daqp (dual active set, about 10 us here); should it stall, by HiGHS,
-    and the solver label says so (``"highs (daqp stalled, exit flag -2)"``):
-    a fallback is never silent.  Returns ``(x, solver, iterations, duals)``.
-    """
-    n = len(c)
-    if sense is None:
-        sense = np.zeros(len(bu), dtype=c_int)
-        sense[:n_eq] = _EQUALITY
-    x, _, flag, info = daqp.solve(_zero_hessian(n), c, A, bu, bl, sense, eps_prox=1e-6)
-    if flag >= 1:
-        return x, "daqp", int(info["iterations"]), np.asarray(info["lam"])
-    rows = np.arange(len(bu)) >= n_eq
-    upper = rows & (bu < _INF / 2)
-    lower = rows & (bl > -_INF / 2)
-    res = linprog(c, A_ub=np.vstack([A[upper], -A[lower]]), b_ub=np.concatenate([bu[upper], -bl[lower]]),
-                  A_eq=A[:n_eq], b_eq=bu[:n_eq], bounds=[(None, None)] * n, method="highs")
-    if res.status != 0:
-        raise RuntimeError(f"the stance LP has no solution (daqp exit flag {flag}; HiGHS: {res.message})")
-    return res.x, f"highs (daqp stalled, exit flag {flag})", int(res.nit), None
+# The exact programs are solved by daqp (dual active set, about 10 us here) with eps_prox for an LP's proximal
+# iterations; should it stall, by HiGHS, and the solution's solver says so ("highs (daqp stalled, exit flag -2)").
+LP_SOLVER = dict(solver="daqp", fallback="highs", eps_prox=1e-6)
 
 
 MOMENT_ARM_M = 0.3  # weights moment errors against force errors in the closest achievable wrench
@@ -317,67 +288,52 @@ def closest_achievable(problem: StanceProblem) -> StanceProblem:
     contact_A, contact_bu, contact_bl = p.contact_rows
     A = np.vstack([np.hstack([p.equilibrium, -np.eye(6)]), np.hstack([p.equilibrium, np.eye(6)]),
                    np.hstack([contact_A[:, :nf], np.zeros((len(contact_A), 6))])])
-    bu = np.concatenate([p.wrench, np.full(6, _INF), contact_bu])
-    bl = np.concatenate([np.full(6, -_INF), p.wrench, contact_bl])
+    bu = np.concatenate([p.wrench, np.full(6, INFINITE), contact_bu])
+    bl = np.concatenate([np.full(6, -INFINITE), p.wrench, contact_bl])
     c = np.r_[np.zeros(nf), weights]
-    x, *_ = solve_lp(c, A, bu, bl, n_eq=0)
+    x = solve(Program(c, A, bu, bl, name="the closest achievable wrench's LP"), **LP_SOLVER).x
     if np.max(x[nf:]) < 1e-6:
         return p
     return replace(p, wrench=p.equilibrium @ x[:nf])
 
 
 def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution | None = None,
-            smoothing_1_N2: float = 0.0, previous_N: np.ndarray | None = None) -> StanceSolution:
-    """The exact minimax of the peak normalised torque (an LP), by ``daqp`` or ``highs``.
+            smoothing_1_N2: float = 0.0, previous_N: np.ndarray | None = None,
+            fallback: str | None = None) -> StanceSolution:
+    """The exact minimax of the peak normalised torque (an LP), by ``solver`` (``daqp`` or ``highs``), should it
+    fail by ``fallback`` if one is named (said in the solution's ``solver``).
 
     ``warm``: the previous control step's solution; its active set starts
     the dual active-set solver (same problem structure required).
 
     ``smoothing_1_N2 > 0`` adds ``smoothing/2 |f - previous|^2`` to the cost
-    (daqp only): many force distributions share nearly the optimal peak and
+    (a QP, daqp only): many force distributions share nearly the optimal peak and
     the LP's optimum jumps between them as the legs move, which, fed back
     through the body, makes the forces alternate from one control step to the
     next; the proximal term picks the near-optimal one closest to the last
     step (the seed's one trust-region iteration per step plays that role).
     """
-    c, A, bu, bl = _epigraph(problem)
+    lp = problem.minimax_program
     nf = 3 * problem.n
     start = time.perf_counter()
-    if smoothing_1_N2 > 0 and solver != "daqp":
-        raise ValueError("smoothing needs the daqp solver")
-    if solver == "daqp" and smoothing_1_N2 > 0:
+    if smoothing_1_N2 > 0:
+        if solver != "daqp":
+            raise ValueError("smoothing makes a QP: it needs the daqp solver")
         prev = np.zeros(nf) if previous_N is None else np.ravel(previous_N)
         H = np.zeros((nf + 1, nf + 1))
         H[:nf, :nf] = smoothing_1_N2 * np.eye(nf)
         H[nf, nf] = 1e-9
-        c = c.copy()
+        c = lp.cost.copy()
         c[:nf] = -smoothing_1_N2 * prev
-        sense = np.zeros(len(bu), dtype=c_int)
-        sense[:6] = _EQUALITY
-        x, _, flag, info = daqp.solve(H, c, A, bu, bl, sense)
-        if flag < 1:
-            raise RuntimeError(f"daqp could not solve the smoothed stance problem (exit flag {flag})")
-        return StanceSolution(problem, x[:nf].reshape(-1, 3), "daqp-smoothed", time.perf_counter() - start,
-                              int(info["iterations"]))
-    if solver == "daqp":
-        sense = np.zeros(len(bu), dtype=c_int)
-        sense[:6] = _EQUALITY
-        if warm is not None and warm.active is not None and warm.active.shape == sense.shape:
-            sense[6:] = np.where(warm.active[6:], _ACTIVE, 0)
-        x, used, iterations, lam = solve_lp(c, A, bu, bl, 6, sense)
-        return StanceSolution(problem, x[:nf].reshape(-1, 3), used, time.perf_counter() - start, iterations,
-                              duals=lam, active=None if lam is None else np.abs(lam) > 0, lp=(c, A, bu, bl, 6, x))
-    if solver == "highs":
-        ub_rows = bu < _INF / 2
-        ub_rows[:6] = False
-        lb_rows = bl > -_INF / 2
-        lb_rows[:6] = False
-        res = linprog(c, A_ub=np.vstack([A[ub_rows], -A[lb_rows]]), b_ub=np.concatenate([bu[ub_rows], -bl[lb_rows]]),
-                      A_eq=A[:6], b_eq=bu[:6], bounds=[(None, None)] * (nf + 1), method="highs")
-        if res.status != 0:
-            raise RuntimeError(f"HiGHS could not solve the stance problem: {res.message}")
-        return StanceSolution(problem, res.x[:nf].reshape(-1, 3), "highs", time.perf_counter() - start, int(res.nit))
-    raise ValueError(f"unknown solver {solver!r}; expected 'daqp' or 'highs'")
+        qp = replace(lp, cost=c, hessian=H, name="the smoothed stance QP")
+        found = solve(qp, "daqp", fallback=None)
+        return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "daqp-smoothed", time.perf_counter() - start,
+                              found.iterations, found)
+    options = {"eps_prox": 1e-6} if solver == "daqp" else {}
+    active = warm.active if warm is not None else None
+    found = solve(lp, solver, fallback=fallback, active=active, **options)
+    return StanceSolution(problem, found.x[:nf].reshape(-1, 3), found.solver, time.perf_counter() - start,
+                          found.iterations, found)
 
 
 def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
@@ -388,7 +344,7 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
     ``|T f + g| <= peak* (1 + slack) s``.
     """
     p = problem
-    first = minimax(p)
+    first = minimax(p, fallback="highs")
     nf = 3 * p.n
     start = time.perf_counter()
     W = p.torque_map / p.torque_scale_Nm[:, None]
@@ -400,13 +356,9 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
     A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
     bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
     bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
-    sense = np.zeros(len(bu), dtype=c_int)
-    sense[:6] = _EQUALITY
-    x, _, flag, info = daqp.solve(H, f, A, bu, bl, sense)
-    if flag < 1:
-        raise RuntimeError(f"daqp could not solve the second stage (exit flag {flag})")
-    return StanceSolution(p, x.reshape(-1, 3), "daqp-lex", first.solve_time_s + time.perf_counter() - start,
-                          int(info["iterations"]))
+    found = solve(Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"))
+    return StanceSolution(p, found.x.reshape(-1, 3), "daqp-lex", first.solve_time_s + time.perf_counter() - start,
+                          found.iterations, found)
 
 
 # ------------------------------------------------------------ thermal-aware
@@ -428,7 +380,7 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
     a, b, cq = bank.ahead_coefficients(temperature_C, horizon_s)
     E = p.equilibrium
     start = time.perf_counter()
-    sol = minimax(p)  # a good first point: the torque minimax
+    sol = minimax(p, fallback="highs")  # a good first point: the torque minimax
     cuts_A, cuts_b = [], []
     # what every round shares: the wrench balance, the contact rows and the torques within 3x their scale (a trust
     # region for the cuts)
@@ -451,14 +403,49 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
         cuts_b.append(rhs)
         A = np.vstack([balance, *cuts_A, fixed_A])
         bu = np.concatenate([p.wrench, *cuts_b, fixed_bu])
-        bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -_INF), fixed_bl])
-        x, *_ = solve_lp(c, A, bu, bl, n_eq=6)
-        sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds)
+        bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -INFINITE), fixed_bl])
+        found = solve(Program(c, A, bu, bl, n_eq=6, name="the thermal minimax's cutting-plane LP"), **LP_SOLVER)
+        x = found.x
+        sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds, found)
         tau = p.torques(sol.forces_N)
         true_peak = float(np.max(a + b * tau + cq * tau**2))
         if true_peak - x[-1] <= tol_K:
             break
     return replace(sol, solve_time_s=time.perf_counter() - start, iterations=rounds)
+
+
+def distribute(problem: StanceProblem, strategy: str, warm: StanceSolution | None = None,
+               bank: FirstOrderBank | None = None, temperature_C: np.ndarray | None = None, horizon_s: float = 20.0,
+               smoothing_1_N2: float = 0.0) -> StanceSolution:
+    """Stance forces by ``strategy`` (one of :data:`STRATEGIES`), for the nearest wrench the contacts can supply.
+
+    ``warm``: the previous control step's solution (its forces smooth the
+    minimax, its active set starts the solver); ``bank``, ``temperature_C``
+    (all 18 joints) and ``horizon_s``: what ``thermal_aware`` predicts with.
+    Should daqp stall, HiGHS solves the plain LP and the solution's
+    ``solver`` says so.
+    """
+    if strategy not in STRATEGIES:
+        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if strategy == "vertical_only":
+        return vertical_only(problem)
+    problem = closest_achievable(problem)
+    previous = np.zeros((problem.n, 3))
+    if warm is not None:
+        last = dict(zip(warm.problem.legs, warm.forces_N))
+        previous = np.array([last.get(i, np.zeros(3)) for i in problem.legs])
+    if strategy == "minimax":
+        try:
+            return minimax(problem, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback="highs")
+        except RuntimeError as stalled:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible one
+            fallback = minimax(problem, solver="highs")
+            return replace(fallback, solver=f"highs (fallback: {stalled})")
+    if strategy == "minimax_lex":
+        return minimax_lex(problem)
+    if bank is None or temperature_C is None:
+        raise ValueError("the thermal_aware strategy needs identified models (bank) and the joints' temperatures")
+    joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in problem.legs])
+    return thermal_minimax(problem, bank.subset(joints), np.asarray(temperature_C)[joints], horizon_s)
 
 
 def _contact_rows(p: StanceProblem):
@@ -473,12 +460,12 @@ def _contact_rows(p: StanceProblem):
         rows[np.arange(4 * p.n), 3 * k + 2] = -p.friction
         blocks.append(rows)
         bu.append(np.zeros(4 * p.n))
-        bl.append(np.full(4 * p.n, -_INF))
+        bl.append(np.full(4 * p.n, -INFINITE))
     if p.min_normal_N is not None:
         rows = np.zeros((p.n, nf + 1))
         rows[np.arange(p.n), 3 * np.arange(p.n) + 2] = 1.0
         blocks.append(rows)
-        bu.append(np.full(p.n, _INF))
+        bu.append(np.full(p.n, INFINITE))
         bl.append(np.full(p.n, p.min_normal_N))
     if not blocks:
         return np.zeros((0, nf + 1)), np.zeros(0), np.zeros(0)

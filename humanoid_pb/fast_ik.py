@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import time
 
-import daqp
 import numpy as np
 import pinocchio as pin
+
+from thermolimb.util.programs import INFINITE, Program, SolverError, solve
 
 from .actuators import effort_limits, effort_matrix
 from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
@@ -40,8 +41,6 @@ MIN_NORMAL_N = 20.0
 COP_MARGIN_M = 0.015
 SWING_CLEARANCE_M = 0.05
 MAX_STEP_RAD = 0.2  # trust region cap: at 0.3 a third of the steps on the benchmark's starts were rejected
-_EQ = 5  # daqp: active and immutable
-_INF = 1e30
 
 
 class FastThermalIK:
@@ -83,8 +82,8 @@ class FastThermalIK:
             [0, 0, -MU_YAW_M, 0, 0, 1], [0, 0, -MU_YAW_M, 0, 0, -1],
         ]
         R = np.array(rows, float)
-        bu = np.r_[_INF, np.zeros(len(rows) - 1)]
-        bl = np.r_[MIN_NORMAL_N, np.full(len(rows) - 1, -_INF)]
+        bu = np.r_[INFINITE, np.zeros(len(rows) - 1)]
+        bl = np.r_[MIN_NORMAL_N, np.full(len(rows) - 1, -INFINITE)]
         blocks = np.zeros((len(rows) * k, 6 * k))
         for i in range(k):
             blocks[len(rows) * i : len(rows) * (i + 1), 6 * i : 6 * i + 6] = R
@@ -133,14 +132,15 @@ class FastThermalIK:
     def _solve_qp(self, H, f, blocks, bounds=None):
         """daqp over ``blocks`` of ``(A, upper, lower, equality)`` and simple ``bounds`` ``(upper, lower)`` on the
         leading variables; None if infeasible."""
-        A = np.vstack([b[0] for b in blocks])
-        upper, lower = bounds if bounds is not None else (np.empty(0), np.empty(0))
-        bu = np.concatenate([upper, *(b[1] for b in blocks)])
-        bl = np.concatenate([lower, *(b[2] for b in blocks)])
-        sense = np.concatenate([np.zeros(len(upper), dtype=np.intc),
-                                *(np.full(len(b[1]), _EQ if b[3] else 0, dtype=np.intc) for b in blocks)])
-        x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense)
-        return None if flag < 1 else x
+        blocks = sorted(blocks, key=lambda b: not b[3])  # equalities first
+        n_eq = sum(len(b[1]) for b in blocks if b[3])
+        program = Program(f, np.vstack([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks]),
+                          np.concatenate([b[2] for b in blocks]), n_eq=n_eq, hessian=H, bounds=bounds,
+                          name="the thermal IK's QP")
+        try:
+            return solve(program, "daqp").x
+        except SolverError:
+            return None
 
     def _inner_qp(self, q, E, mode, objective, Gamma):
         """The exact problem at fixed ``q``: best ``(Gamma, F)`` of the Newton model, balanced, in the cones."""
@@ -189,7 +189,7 @@ class FastThermalIK:
             row = np.zeros((1, n))
             row[0, :nv] = pin.getFrameJacobian(model, data, body.sole_frame[free], pin.LOCAL_WORLD_ALIGNED)[2]
             z = data.oMf[body.sole_frame[free]].translation[2]
-            blocks.append((row, np.array([_INF]), np.array([SWING_CLEARANCE_M - z]), False))
+            blocks.append((row, np.array([INFINITE]), np.array([SWING_CLEARANCE_M - z]), False))
         x = self._solve_qp(H, f, blocks, (upper, lower))
         return None if x is None else x[:nv]
 

@@ -172,3 +172,34 @@ def test_airflow_on_the_housing_is_found_once_the_slow_mass_is_taken(seed):
     assert first.auto[-1]["rmse_K"] < min(0.35 * after_mass, NOISE_FLOOR_K + 0.05), first.auto
     # the plant's gain, 0.6 per rad/s (measured 0.557 and 0.579)
     assert steps[-1].base.model.params["housing_cooling_per_rad_s"] == pytest.approx(0.6, rel=0.15)
+
+
+def test_every_term_at_its_null_runs_as_the_base():
+    """At its parameters' null an added term is absent: the score test reuses the base's free run for it."""
+    import numpy as np
+
+    from thermolimb.model.model import ThermalModel, model_parameters
+    from thermolimb.model.signals import Signals
+    from thermolimb.model.terms import TERMS
+
+    rng = np.random.default_rng(3)
+    n = 4000
+    t = np.arange(n) * 0.5
+    effort = np.cumsum(rng.normal(size=n)) * 0.05
+    s = Signals(time_s=t, effort=effort, velocity=np.sin(t / 30.0) * 3.0, current_A=effort * 1.7,
+                ambient_C=25.0 + np.sin(t / 900.0) * 3.0, neighbor_temperature_C=40.0 + rng.normal(size=(n, 2)),
+                neighbor_names=("a", "b"), housing_C=30.0 + np.sin(t / 600.0), power_W=effort**2 * 4.0)
+    checked = []
+    for name, term in TERMS.items():
+        base_terms = ("joule", "effort_bias") + tuple(term.requires)
+        if name in base_terms:
+            continue
+        base_values = {p.name: p.typical for p in model_parameters(base_terms)}
+        base = ThermalModel(base_terms, base_values)
+        values = {**base_values, **{p.name: p.null for p in term.parameters}}
+        extended = ThermalModel(base_terms + (name,), values)
+        np.testing.assert_allclose(extended.simulate(s, 31.0, initial_rate_K_per_s=0.01),
+                                   base.simulate(s, 31.0, initial_rate_K_per_s=0.01), rtol=0, atol=1e-9,
+                                   err_msg=name)
+        checked.append(name)
+    assert len(checked) >= 12, checked

@@ -7,12 +7,20 @@ import pytest
 
 from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
-from hexapod_pb.controller import STRATEGIES, ControllerState, Gains, ThermalContext, control_step
+from hexapod_pb.controller import ControllerState, Gains, ThermalContext, control_step
 from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY, GRAVITY_M_S2
 from hexapod_pb.sim import HexapodSim, SimConfig
 from hexapod_pb.thermal import datasheet_bank
-from hexapod_pb.wrench import StanceProblem, minimax, minimax_lex, seed_trust_constr, thermal_minimax, vertical_only
+from hexapod_pb.wrench import (
+    STRATEGIES,
+    StanceProblem,
+    minimax,
+    minimax_lex,
+    seed_trust_constr,
+    thermal_minimax,
+    vertical_only,
+)
 
 TRIPOD = tuple(LEGS.index(n) for n in TRIPODS[0])
 
@@ -185,18 +193,45 @@ def test_friction_pyramid_holds_in_every_direction(push):
 
 
 def test_a_stalled_dual_active_set_falls_back_to_highs_with_the_same_optimum(monkeypatch):
-    """solve_lp's fallback, reached by making daqp report a stall: HiGHS meets the same equalities and the same
-    optimum (the LP's value; its minimiser need not be unique)."""
-    from hexapod_pb import wrench
+    """The named fallback, reached by making daqp report a stall: HiGHS meets the same equalities and the same
+    optimum (the LP's value; its minimiser need not be unique), the label says so, and both certify optimality."""
+    import daqp
+
+    from thermolimb.util.programs import SolverError, solve
 
     problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(1)), TRIPOD,
                                                payload_kg=2.0, include_leg_gravity=False)
-    c, A, bu, bl = wrench._epigraph(problem)
-    x_daqp, solver, _, _ = wrench.solve_lp(c, A, bu, bl, 6)
-    assert solver == "daqp"
-    monkeypatch.setattr(wrench.daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
-    x_highs, solver, _, duals = wrench.solve_lp(c, A, bu, bl, 6)
-    assert solver == "highs (daqp stalled, exit flag -2)" and duals is None  # the fallback is said
-    assert c @ x_highs == pytest.approx(c @ x_daqp, rel=1e-6)
-    np.testing.assert_allclose(A[:6] @ x_highs, bu[:6], atol=1e-6)  # the wrench, balanced
-    assert np.all(A[6:] @ x_highs <= bu[6:] + 1e-6) and np.all(A[6:] @ x_highs >= bl[6:] - 1e-6)
+    lp = problem.minimax_program
+    by_daqp = solve(lp, "daqp", fallback="highs", eps_prox=1e-6)
+    assert by_daqp.solver == "daqp"
+    monkeypatch.setattr(daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
+    by_highs = solve(lp, "daqp", fallback="highs")
+    assert by_highs.solver == "highs (daqp stalled, exit flag -2)"  # the fallback is said
+    with pytest.raises(SolverError, match="daqp could not solve the stance LP"):
+        solve(lp, "daqp")  # and never taken unless named
+    assert lp.cost @ by_highs.x == pytest.approx(lp.cost @ by_daqp.x, rel=1e-6)
+    np.testing.assert_allclose(lp.A[:6] @ by_highs.x, lp.upper[:6], atol=1e-6)  # the wrench, balanced
+    for found in (by_daqp, by_highs):
+        r = found.residuals
+        assert r["bounds"] < 1e-6 and r["stationarity"] < 1e-8 and r["complementarity"] < 1e-8, r
+        assert abs(r["duality_gap"]) < 1e-8, r
+
+
+def test_every_program_certifies_its_optimum_and_a_wrong_point_fails_the_certificate():
+    """Each solved program's residuals hold at the optimum (LP by both solvers, the smoothed and second-stage
+    QPs by daqp), and the certificate rejects a feasible point that is not optimal (so the check can fail)."""
+    problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(4)), TRIPOD,
+                                               payload_kg=5.0, friction=0.5, min_normal_N=5.0)
+    solutions = [minimax(problem), minimax(problem, solver="highs"), minimax_lex(problem),
+                 minimax(problem, smoothing_1_N2=1e-3, previous_N=vertical_only(problem).forces_N)]
+    for sol in solutions:
+        r = sol.residuals()
+        assert r["equilibrium"] < 1e-6 and r["bounds"] < 1e-6, (sol.solver, r)
+        assert r["stationarity"] < 1e-6 and abs(r["duality_gap"]) < 1e-6, (sol.solver, r)
+    lp, exact = problem.minimax_program, solutions[0].program
+    worse = exact.x.copy()
+    worse[-1] += 0.1  # a larger peak bound: still feasible, not optimal
+    r = lp.residuals(worse, exact.duals)
+    assert r["bounds"] < 1e-9 and r["duality_gap"] > 0.09
+
+

@@ -171,3 +171,41 @@ def test_least_squares_standard_errors_match_the_spread_of_estimates_over_noise_
         stderrs.append([fit.stderr_[k] for k in ("RC_s", "betaR_K_per_effort2", "T_offset_C")])
     ratio = np.mean(stderrs, axis=0) / np.std(estimates, axis=0)
     assert np.all((ratio > 0.5) & (ratio < 5.0)), ratio.round(2).tolist()
+
+
+def test_newey_west_weighted_sum_equals_the_sum_over_lags():
+    """``hac_covariance`` forms the Bartlett-weighted sum of the score's autocovariances by one correlation per
+    score; the sum over lags written out must give the same matrix (a wrong weight, lag or transpose would not)."""
+    from scipy.signal import lfilter
+
+    from thermolimb.identification.metrics import correlation_length, hac_covariance
+
+    rng = np.random.default_rng(3)
+    for n, rho in ((60, 0.5), (900, 0.99), (5000, 0.995)):
+        r = lfilter([1.0], [1.0, -rho], rng.normal(size=n))
+        X = np.column_stack([rng.normal(size=n), np.linspace(0, 1, n) ** 2, np.ones(n)])
+        lags = int(min(max(4.0 * (n / 100.0) ** (2.0 / 9.0), 2 * correlation_length(r)), n // 4))
+        scores = X * r[:, None]
+        S = scores.T @ scores
+        for lag in range(1, lags + 1):
+            G = scores[lag:].T @ scores[:-lag]
+            S += (1.0 - lag / (lags + 1.0)) * (G + G.T)
+        inverse = np.linalg.inv(X.T @ X)
+        np.testing.assert_allclose(hac_covariance(X, r), inverse @ S @ inverse, rtol=1e-9, atol=0.0)
+
+
+@pytest.mark.parametrize("estimator", [LeastSquares, OutputError])
+def test_a_long_log_compared_at_a_stride_gives_the_same_fit(monkeypatch, estimator):
+    """A fit of more samples than ``MAX_FIT_SAMPLES`` compares every k-th (thinning): on a 1 h, 1 Hz log thinned
+    four times the estimates move by less than their standard errors and the standard errors stay within a factor
+    of 1.6 (they allow for serial correlation, which the thinned rows have less of)."""
+    from thermolimb.identification import thinning
+
+    series, _ = _correlated_noise_series(5, rho=0.9, duration_s=3600.0)
+    full = estimator("joule").fit(series)
+    monkeypatch.setattr(thinning, "MAX_FIT_SAMPLES", series.n // 4)
+    thin = estimator("joule").fit(series)
+    assert thinning.fit_stride([series]) == 5
+    for name, value in full.params_.items():
+        assert abs(thin.params_[name] - value) < full.stderr_[name], name
+        assert 1 / 1.6 < thin.stderr_[name] / full.stderr_[name] < 1.6, name

@@ -124,3 +124,28 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
     mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))
     assert "time" not in mapping and any("several columns" in n for n in notes)
     assert mapping["temperature"] == "Temp [C]"  # a time column named after the temperature is not a temperature
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".parquet"])
+def test_one_actuator_read_in_pieces_is_the_whole_files_series(plant_log, tmp_path, monkeypatch, suffix):
+    """``read_log(actuators=...)`` keeps an actuator's rows and its neighbours' temperatures piece by piece (in
+    Arrow for Parquet): the series, its neighbours and the log's order are those of reading the whole file, with
+    pieces of 97 rows so that actuators and neighbours straddle them."""
+    from thermolimb.logs import read_log, table
+
+    frame = plant_log.frame.copy()
+    parts = [frame.assign(actuator=name, temperature=frame["temperature"] + i, effort=frame["effort"] * (i + 1))
+             for i, name in enumerate(("hip", "knee", "ankle"))]
+    path = tmp_path / f"three{suffix}"
+    whole = pd.concat(parts, ignore_index=True).sample(frac=1.0, random_state=0).sort_values("time", kind="stable")
+    whole.to_csv(path, index=False) if suffix == ".csv" else whole.to_parquet(path, index=False)
+    monkeypatch.setattr(table, "CHUNK_ROWS", 97)
+    everything = read_log(path)
+    for name in ("hip", "knee", "ankle"):
+        one = read_log(path, actuators=[name])
+        assert one.actuators == (name,)
+        a, b = one.series(name), everything.series(name)
+        np.testing.assert_array_equal(a.temperature_C, b.temperature_C)
+        np.testing.assert_array_equal(a.signals.effort, b.signals.effort)
+        assert a.signals.neighbor_names == b.signals.neighbor_names
+        np.testing.assert_array_equal(a.signals.neighbor_temperature_C, b.signals.neighbor_temperature_C)

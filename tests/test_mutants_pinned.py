@@ -204,15 +204,19 @@ def test_autocorrelation_band_and_lags_are_the_textbook_ones():
 
 
 def test_sensor_lag_is_exact_for_a_winding_that_moves_linearly():
-    """First-order hold: a ramp seen through tau dTs/dt = T - Ts is T(t) - r tau (1 - exp(-t/tau))."""
-    from types import SimpleNamespace
-
+    """First-order hold: a ramp seen through tau dTs/dt = T - Ts is T(t) - r tau (1 - exp(-t/tau)), on a uniform
+    time grid (one interval) and on an uneven one."""
     from thermolimb.model.catalog import SensorLag
+    from thermolimb.model.signals import Signals
 
-    t = np.arange(0.0, 300.0, 2.0)
-    winding = 30.0 + 0.05 * t
-    lagged = SensorLag().shape_output({"sensor_tau_s": 25.0}, SimpleNamespace(dt_s=np.diff(t)), winding, 30.0)
-    np.testing.assert_allclose(lagged, winding - 0.05 * 25.0 * (1.0 - np.exp(-t / 25.0)), atol=1e-9)
+    uniform = np.arange(0.0, 300.0, 2.0)
+    uneven = np.cumsum(np.r_[0.0, np.random.default_rng(0).uniform(0.5, 3.5, 149)])
+    for t in (uniform, uneven):
+        signals = Signals(time_s=t, effort=np.zeros(t.size))
+        assert (signals.uniform_dt_s is not None) == (t is uniform)
+        winding = 30.0 + 0.05 * t
+        lagged = SensorLag().shape_output({"sensor_tau_s": 25.0}, signals, winding, 30.0)
+        np.testing.assert_allclose(lagged, winding - 0.05 * 25.0 * (1.0 - np.exp(-t / 25.0)), atol=1e-9)
 
 
 def test_a_log_keeps_only_its_canonical_columns(tmp_path):

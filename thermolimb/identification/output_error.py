@@ -6,6 +6,9 @@ estimator starts from least squares and refines every parameter by
 ``scipy.optimize.least_squares`` (trust-region reflective, within each
 parameter's bounds) on the residual ``simulate(inputs) - measured`` of every
 series, each simulated from its own first measured temperature.
+
+A long log is simulated at its full rate but compared at every ``k``-th
+sample (``stride_``, see :mod:`~thermolimb.identification.thinning`).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor
 from .regression import IdentifiabilityError, collinear_partners, independent_fractions
+from .thinning import fit_stride
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
 DEGENERATE_FRACTION = 1e-5
@@ -91,14 +95,15 @@ class OutputError(ThermalEstimator):
             raise ValueError(f"fixed names {', '.join(unknown)}, not a parameter of model {','.join(terms)}")
         free = np.array([p.name not in (self.fixed or {}) for p in params])
         params = [p for p, f in zip(params, free) if f]
-        measured = np.concatenate([s.temperature_C for s in series])
+        self.stride_ = k = fit_stride(series)
+        measured = np.concatenate([s.temperature_C[::k] for s in series])
         rates = [s.rate_K_per_s() for s in series]
 
         def residual(x):
             values = x_all.copy()
             values[free] = x
             model = ThermalModel(terms, dict(zip(names, values)))
-            return np.concatenate([model.free_run(s, r) for s, r in zip(series, rates)]) - measured
+            return np.concatenate([model.free_run(s, r)[::k] for s, r in zip(series, rates)]) - measured
 
         from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 
@@ -107,7 +112,7 @@ class OutputError(ThermalEstimator):
         result = least_squares(residual, x0, bounds=(lower[free], upper[free]), x_scale=scale, method="trf",
                                max_nfev=self.max_nfev * len(params))
         self.optimizer_result_ = result
-        self.jacobian_ = result.jac  # d simulated temperature / d free parameters, every sample of every series
+        self.jacobian_ = result.jac  # d simulated temperature / d free parameters, every stride_-th sample
         r = result.fun
         J = result.jac
         fractions = independent_fractions(J)

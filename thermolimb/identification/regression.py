@@ -24,6 +24,7 @@ from ..model.model import model_parameters
 from ..model.signals import Signals
 from ..model.terms import TERMS, Parameter
 from ..util.errors import ThermolimbError
+from .thinning import fit_stride
 
 
 class IdentifiabilityError(ThermolimbError):
@@ -115,9 +116,11 @@ def build_regression(
 
     ``subtract_ambient_C``: the seed's form ``y = T - T_amb`` (use the
     log's ambient column when it has one, else this constant); ``None`` keeps
-    ``y = T`` with the ambient inside ``T_offset``.
+    ``y = T`` with the ambient inside ``T_offset``.  A long log's rows are
+    thinned (:mod:`~thermolimb.identification.thinning`).
     """
     Xs, ys, efforts = [], [], []
+    stride = fit_stride(series)
     for raw in series:
         ser = _uniform(raw)
         dt = float(ser.time_s[1] - ser.time_s[0])
@@ -134,14 +137,14 @@ def build_regression(
         if subtract_ambient_C is not None:
             amb = ser.signals.ambient_C
             y -= lowpass(amb, cutoff_hz, dt) if amb is not None else subtract_ambient_C
-        X = np.column_stack([-dT, feats, np.ones(ser.n)])
         trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
-        keep = slice(trim, ser.n - trim)
-        Xs.append(X[keep])
-        ys.append(y[keep])
-        efforts.append(ser.signals.effort[keep])
+        keep = slice(trim, ser.n - trim, stride)
+        Xs.append(np.column_stack([-dT[keep], feats[keep], np.ones(len(range(ser.n)[keep]))]))
+        ys.append(y[keep].copy())
+        efforts.append(ser.signals.effort[keep].copy())
     params = model_parameters(terms)
-    reg = Regression(np.vstack(Xs), np.concatenate(ys), params, np.concatenate(efforts))
+    X = Xs[0] if len(Xs) == 1 else np.vstack(Xs)
+    reg = Regression(X, np.concatenate(ys), params, np.concatenate(efforts))
     check_identifiable(reg, series[0].actuator)
     return reg
 
@@ -170,7 +173,7 @@ def independent_fractions(X: np.ndarray) -> np.ndarray:
     """
     norms = np.linalg.norm(X, axis=0)
     safe = np.where(norms > 0, norms, 1.0)
-    G = (X / safe).T @ (X / safe)
+    G = (X.T @ X) / np.outer(safe, safe)
     p = G.shape[0]
     residual = np.empty(p)
     for j in range(p):
@@ -184,7 +187,7 @@ def collinear_partners(X: np.ndarray, j: int) -> list[int]:
     """Columns that carry most of column ``j``'s explained part (scaled regression weights > 0.2 of the largest)."""
     norms = np.linalg.norm(X, axis=0)
     safe = np.where(norms > 0, norms, 1.0)
-    G = (X / safe).T @ (X / safe)
+    G = (X.T @ X) / np.outer(safe, safe)
     others = [k for k in range(G.shape[0]) if k != j]
     weights = np.abs(np.linalg.pinv(G[np.ix_(others, others)], rcond=1e-12) @ G[others, j])
     if not weights.size or weights.max() == 0:

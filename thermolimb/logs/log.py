@@ -21,11 +21,12 @@ from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, expand_joints, i
 from .table import (
     LogError,
     first_stamp,
+    key_values,
     kind_of,
     read_table,
     refuse_duplicates,
+    rows_where,
     shown_names,
-    table_chunks,
     time_seconds,
 )
 from .units import (
@@ -139,7 +140,10 @@ class ThermalLog:
 
     @cached_property
     def _groups(self) -> dict:
-        """Each actuator's rows, split once (a log's frame is not changed after reading)."""
+        """Each actuator's rows, split once (a log's frame is not changed after reading); a log of one actuator
+        (read with ``actuators=``) is its own group, not a copy."""
+        if len(self.actuators) == 1:
+            return {self.actuators[0]: self.frame}
         return {name: g for name, g in self.frame.groupby("actuator", sort=False)}
 
     @property
@@ -306,32 +310,38 @@ def read_log(
 
 def _read_selected(path: Path, names: list[str], sep, decimal, options: dict) -> ThermalLog:
     """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
-    order: list[str] = []
-    for chunk in table_chunks(path, sep, decimal, columns=lambda c: base_name(c) == "actuator"):
-        if "actuator" not in map(base_name, chunk.columns):
-            return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
-        order += [str(a) for a in pd.unique(chunk.iloc[:, 0].dropna().astype(str)) if str(a) not in order]
+    order = key_values(path, _is_actuator, sep, decimal)
+    if order is None:
+        return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
     missing = [n for n in names if n not in order]
     if missing:
         raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")
     beside = {order[j] for n in names for j in (order.index(n) - 1, order.index(n) + 1) if 0 <= j < len(order)}
     beside -= set(names)
-    kept, near = [], []
-    for chunk in table_chunks(path, sep, decimal):
-        who = chunk[next(c for c in chunk.columns if base_name(c) == "actuator")].astype(str)
-        kept.append(chunk.loc[who.isin(names)].astype({who.name: "category"}))
-        if beside:
-            near.append(chunk.loc[who.isin(beside), [c for c in chunk.columns
-                                                     if base_name(c) in ("time", "actuator", "temperature")]])
-    frame = pd.concat(kept, ignore_index=True)
-    frame.attrs = kept[0].attrs
-    log = from_frame(frame, **options)
+    groups = [(set(names), None)] + ([(beside, lambda c: base_name(c) in ("time", "temperature"))] if beside else [])
+    frames = rows_where(path, _is_actuator, groups, sep, decimal)
+    log = from_frame(frames.pop(0), **options)  # popped: the rows as read are freed once validated
     neighbours = {}
     if beside:
-        around = from_frame(pd.concat(near, ignore_index=True).assign(effort=0.0),
-                            **{**options, "source": f"{options['source']} (neighbours)"})
+        near = frames.pop()
+        near["effort"] = 0.0  # a canonical log needs one; the neighbours' are not read
+        around = from_frame(near, **{**options, "source": f"{options['source']} (neighbours)"})
+        del near
         neighbours = {n: around._temperature_of(n) for n in around.actuators}
     return replace(log, order=tuple(order), neighbours=FrozenMapping(neighbours))
+
+
+def _as_text(column: pd.Series) -> pd.Series:
+    """A column as text.  A categorical one (a large log read in pieces) has its few categories converted and
+    placed by their codes: converting row by row would make a string object per row (144 MB for 2 M rows)."""
+    if not isinstance(column.dtype, pd.CategoricalDtype):
+        return column.astype(str)
+    text = np.array([str(c) for c in column.cat.categories] + [""], dtype=object)
+    return pd.Series(text[column.cat.codes.to_numpy()], index=column.index).astype(str)
+
+
+def _is_actuator(column: str) -> bool:
+    return base_name(column) == "actuator"
 
 
 def _split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
@@ -587,12 +597,12 @@ def from_frame(
             frame = frame.loc[~incomplete].reset_index(drop=True)
     if frame.empty:
         raise LogError(f"{source}: the log has no rows with measurements")
-    blank = frame["actuator"].isna() | (frame["actuator"].astype(str).str.strip() == "")
+    names = _as_text(frame["actuator"])
+    blank = frame["actuator"].isna() | (names.str.strip() == "")
     if blank.any():
         row = int(np.flatnonzero(blank.to_numpy())[0])
         raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
-    out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"),
-                        "actuator": frame["actuator"].astype(str)})
+    out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"), "actuator": names})
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
     if not numeric_time:
         notes.append(f"{source}: time stamps turned into seconds from the first sample")

@@ -25,7 +25,7 @@ from ..util.lazy import pandas as pd
 
 SEPARATORS = (",", ";", "\t", "|")
 SNIFF_LINES = 200
-CHUNK_ROWS = 1_000_000  # rows per frame when a file is read in pieces
+CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
 _DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
 
@@ -68,16 +68,90 @@ def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None,
     """The file's rows in frames of at most ``rows`` rows, with only the ``columns`` kept (a function of a
     column's name, or ``None`` for all): what a large file is read through, in constant memory."""
     if _kind_checked(path) == "parquet":
-        import pyarrow.parquet as pq
-
-        try:
-            f = pq.ParquetFile(path)
-            names = [n for n in f.schema_arrow.names if columns is None or columns(n)]
-            for batch in f.iter_batches(batch_size=rows, columns=names):
-                yield batch.to_pandas()
-        except (ValueError, OSError) as exc:
-            raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+        for batch in _parquet_batches(path, columns, rows):
+            yield batch.to_pandas()
         return
+    yield from _csv_chunks(path, sep, decimal, columns, rows)
+
+
+def key_values(path: Path, key, sep: str | None = None, decimal: str | None = None) -> list[str] | None:
+    """The distinct values (as text) of the column ``key`` picks (a function of a column's name), in the
+    order they first appear, read in pieces; ``None`` when no column is the key."""
+    order: dict[str, None] = {}
+    if _kind_checked(path) == "parquet":
+        import pyarrow as pa
+        import pyarrow.compute as pc
+
+        for batch in _parquet_batches(path, key, CHUNK_ROWS):
+            if not batch.num_columns:
+                return None
+            values = pc.unique(pc.drop_null(pc.cast(batch.column(0), pa.string())))
+            order.update(dict.fromkeys(values.to_pylist()))
+        return list(order)
+    for chunk in _csv_chunks(path, sep, decimal, key, CHUNK_ROWS):
+        if chunk.shape[1] == 0:
+            return None
+        order.update(dict.fromkeys(str(a) for a in pd.unique(chunk.iloc[:, 0].dropna().astype(str))))
+    return list(order)
+
+
+def rows_where(path: Path, key, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
+    """For each group ``(values, columns)``: the rows whose ``key`` column (a function of a column's name)
+    holds one of ``values`` (compared as text), with the columns ``columns`` picks (``None``: all), as one
+    frame.  Read in pieces and, for Parquet, selected in Arrow before any row becomes a Python object: the
+    memory is that of the rows kept, not the file's (``key`` in text takes the same as in
+    :func:`key_values`)."""
+    if _kind_checked(path) == "parquet":
+        return _parquet_rows_where(path, key, groups)
+    parts: list[list[pd.DataFrame]] = [[] for _ in groups]
+    for chunk in _csv_chunks(path, sep, decimal, None, CHUNK_ROWS):
+        who = chunk[next(c for c in chunk.columns if key(c))].astype(str)
+        for (values, columns), part in zip(groups, parts):
+            picked = [c for c in chunk.columns if columns is None or columns(c) or key(c)]
+            part.append(chunk.loc[who.isin(values), picked].astype({who.name: "category"}))
+    frames = []
+    for part in parts:
+        frame = pd.concat(part, ignore_index=True)
+        frame.attrs = part[0].attrs
+        frames.append(frame)
+    return frames
+
+
+def _parquet_rows_where(path: Path, key, groups) -> list[pd.DataFrame]:
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    parts: list[list] = [[] for _ in groups]
+    for batch in _parquet_batches(path, None, CHUNK_ROWS):
+        name = next(n for n in batch.schema.names if key(n))
+        who = pc.cast(batch.column(name), pa.string())
+        for (values, columns), part in zip(groups, parts):
+            picked = [n for n in batch.schema.names if columns is None or columns(n) or n == name]
+            mask = pc.is_in(who, value_set=pa.array(sorted(values), pa.string()))
+            part.append(batch.select(picked).filter(mask))
+    frames = []
+    for part in parts:
+        table = pa.Table.from_batches(part)
+        part.clear()
+        frames.append(table.to_pandas(strings_to_categorical=True, self_destruct=True, split_blocks=True))
+        del table
+    pa.default_memory_pool().release_unused()
+    return frames
+
+
+def _parquet_batches(path: Path, columns, rows: int):
+    """Record batches of at most ``rows`` rows with the ``columns`` picked (see :func:`table_chunks`)."""
+    import pyarrow.parquet as pq
+
+    try:
+        f = pq.ParquetFile(path, pre_buffer=False)
+        names = [n for n in f.schema_arrow.names if columns is None or columns(n)]
+        yield from f.iter_batches(batch_size=rows, columns=names)
+    except (ValueError, OSError) as exc:
+        raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+
+
+def _csv_chunks(path: Path, sep, decimal, columns, rows: int):
     options, duplicates = _csv_options(path, sep, decimal)
     usecols = (lambda c: columns(str(c).strip())) if columns is not None else None
     try:

@@ -191,10 +191,10 @@ class NeighborCoupling(Term):
 
     def contribution(self, p, s):
         k = p["neighbor_ratio"]
-        return k * s.channel("neighbors").mean(axis=1), -k
+        return k * s.neighbor_mean_C, -k
 
     def features(self, s, temperature_C):
-        return (s.channel("neighbors").mean(axis=1) - temperature_C)[:, None]
+        return (s.neighbor_mean_C - temperature_C)[:, None]
 
 
 @register_term
@@ -273,7 +273,7 @@ class SlowMass(Term):
         heat = equilibrium_C - boundary_C
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
-        a = np.exp(-s.dt_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
+        a = np.exp(-s.interval_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
         # the slow mass starts in proportion, as if the initial temperature were a steady state
         start = boundary_C[0] + phi * (initial_C - boundary_C[0])
         frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
@@ -345,7 +345,7 @@ class SensorLag(Term):
         tau = p["sensor_tau_s"]
         if tau <= 0.0:
             return winding_C
-        dt = s.dt_s
+        dt = s.interval_s
         a = np.exp(-dt / tau)
         # first-order hold: exact when the winding temperature moves linearly between samples
         ramp = 1.0 - tau / dt * (1.0 - a)

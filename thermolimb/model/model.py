@@ -102,25 +102,29 @@ class ThermalModel:
         1 (thermal runaway) it is clipped to ``1 - 1e-6``.
         """
         u, lam, _, _ = self._forcing(s)
-        return u, lam
+        return u, np.broadcast_to(lam, u.shape)
 
-    def _forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def _forcing(self, s: Signals) -> tuple[np.ndarray, np.ndarray | float, np.ndarray, np.ndarray | float]:
         """``(u, lam, boundary, gain)``: ``boundary`` is the temperature heat finally flows to (offset plus
         boundary terms such as the ambient), which slow masses relax towards; ``gain`` the terms' total
-        gain on T, clipped short of runaway."""
+        gain on T, clipped short of runaway.  ``lam`` and ``gain`` are one number when no term's gain varies
+        (the usual case: a long log's free run then makes no array for them)."""
+        offset = self.params["T_offset_C"]
         rise = np.zeros(s.n)
-        gain = np.zeros(s.n)
-        boundary = np.full(s.n, self.params["T_offset_C"])
+        gain = 0.0
+        boundary = offset
         for term in self._terms():
             r, g = term.contribution(self.params, s)
-            rise = rise + r
-            gain = gain + g
+            rise += r
+            if np.ndim(g) or g != 0.0:
+                gain = gain + g
             if term.boundary:
                 boundary = boundary + r
         restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
-        u = (self.params["T_offset_C"] + rise) / restoring
+        rise += offset
+        u = rise / restoring if np.ndim(restoring) or restoring != 1.0 else rise
         lam = restoring / self.params["RC_s"]
-        return u, lam, boundary, 1.0 - restoring
+        return u, lam, np.broadcast_to(boundary, u.shape), 1.0 - restoring
 
     def _terms(self):
         return [TERMS[name]() for name in self.terms]
@@ -172,15 +176,16 @@ class ThermalModel:
         rate = series.rate_K_per_s() if initial_rate_K_per_s is None else initial_rate_K_per_s
         return self.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate)
 
-    def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray, start: float, method: str) -> np.ndarray:
-        dt = s.dt_s
+    def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
+        lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
         if method == "exact":
-            a = np.exp(-lam[:-1] * dt)
+            a = np.exp(-lam * dt)
             return first_order_scan(a, (1.0 - a) * u[:-1], start)
-        a = 1.0 - lam[:-1] * dt
-        b = lam[:-1] * dt * u[:-1]
+        a = 1.0 - lam * dt
+        b = lam * dt * u[:-1]
         if np.all(a >= 0.0):
             return first_order_scan(a, b, start)
+        a = np.broadcast_to(a, b.shape)
         winding = np.empty(s.n)
         winding[0] = start
         for k in range(s.n - 1):
@@ -214,7 +219,7 @@ class ThermalModel:
 
     def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:
         u, lam, boundary, _ = self._forcing(s)
-        return self._shape(s, terms, u, initial_C, boundary), lam
+        return self._shape(s, terms, u, initial_C, boundary), np.broadcast_to(lam, u.shape)
 
     def one_step(self, s: Signals, measured_C: np.ndarray) -> np.ndarray:
         """Prediction of each sample from the measured temperature one sample before (exact).

@@ -13,6 +13,10 @@ which is a pair of cumulative sums.  To keep ``exp(-L)`` inside floating-point
 range the series is cut into chunks whose total decay is at most
 ``MAX_DECAY_PER_CHUNK`` (e-folds), carrying the state across chunk boundaries.
 
+When ``a`` is one constant to rounding (a uniformly sampled log and a
+time-invariant rate; see ``CONSTANT_A``), the recursion is a first-order IIR filter: ``scipy.signal.lfilter``
+runs it in one compiled pass.
+
 When the series decays so fast that it would need many chunks (a time
 constant of a few samples), an associative scan is used instead: the pairs
 ``(a, b)`` compose as ``(a2, b2) o (a1, b1) = (a2 a1, a2 b1 + b2)``, so
@@ -26,18 +30,23 @@ import numpy as np
 
 MAX_DECAY_PER_CHUNK = 30.0  # e-folds: exp(30) ~ 1e13 keeps ~3 significant digits of headroom
 _MIN_LOG_A = -MAX_DECAY_PER_CHUNK  # one step may decay at most this much (a >= 9e-14)
+# Factors that differ by less than this share of their distance from 1 are one constant: a time grid of
+# k * 0.1 s has steps that differ by rounding; taking their mean changes x by at most about 1e-9 of its size.
+CONSTANT_A = 1e-9
 MAX_CHUNKS = 64  # beyond this many chunks the associative scan is faster
 
 
 def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
-    """Return ``x`` of length ``len(a) + 1`` with ``x[0] = x0`` and ``x[k+1] = a[k] x[k] + b[k]``.
+    """Return ``x`` of length ``len(b) + 1`` with ``x[0] = x0`` and ``x[k+1] = a[k] x[k] + b[k]``.
 
     ``a`` must lie in ``[0, 1]`` (a stable, decaying recursion); values below
     ``exp(-30)`` are treated as ``exp(-30)``, which changes ``x`` by less than
-    one part in 1e13.
+    one part in 1e13.  A single number ``a`` is the same factor at every step.
     """
-    a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
+    a = np.asarray(a, dtype=float)
+    if a.ndim == 0 and 0.0 <= a <= 1.0:
+        return _constant_factor(float(a), b, float(x0))
     n = a.shape[0]
     if b.shape != a.shape:
         raise ValueError(f"a and b must have the same shape, got {a.shape} and {b.shape}")
@@ -47,6 +56,8 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
     out[0] = x0
     if n == 0:
         return out
+    if a.max() - a.min() <= CONSTANT_A * (1.0 - a.max()):
+        return _constant_factor(float(np.mean(a)), b, float(x0))
     log_a = np.maximum(np.log(np.maximum(a, 1e-300)), _MIN_LOG_A)
     cum_decay = -np.cumsum(log_a)  # decay after step k, increasing
     if cum_decay[-1] / MAX_DECAY_PER_CHUNK > MAX_CHUNKS:
@@ -64,6 +75,16 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
         out[start + 1 : stop + 1] = np.exp(L_rel) * (state + np.cumsum(weighted))
         state = out[stop]
         start = stop
+    return out
+
+
+def _constant_factor(a: float, b: np.ndarray, x0: float) -> np.ndarray:
+    """The recursion with one factor ``a``: a first-order IIR filter, one compiled pass."""
+    from scipy.signal import lfilter
+
+    out = np.empty(b.shape[0] + 1)
+    out[0] = x0
+    out[1:], _ = lfilter([1.0], [1.0, -a], b, zi=[a * x0])
     return out
 
 

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
+from functools import cached_property
 from typing import Mapping
 
 import numpy as np
+
+from .scan import CONSTANT_A
 
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
@@ -51,10 +54,29 @@ class Signals:
     def n(self) -> int:
         return int(self.time_s.shape[0])
 
-    @property
+    @cached_property
     def dt_s(self) -> np.ndarray:
-        """Interval lengths, ``n - 1`` of them."""
+        """Interval lengths, ``n - 1`` of them (computed once: the arrays are not changed after construction)."""
         return np.diff(self.time_s)
+
+    @cached_property
+    def uniform_dt_s(self) -> float | None:
+        """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``."""
+        dt = self.dt_s
+        if dt.size == 0:
+            return None
+        step = float(dt.mean())
+        return step if step > 0.0 and float(dt.max() - dt.min()) <= CONSTANT_A * step else None
+
+    @cached_property
+    def neighbor_mean_C(self) -> np.ndarray:
+        """The neighbours' mean measured temperature per sample (computed once)."""
+        return self.channel("neighbors").mean(axis=1)
+
+    @property
+    def interval_s(self) -> np.ndarray | float:
+        """The sampling interval: one number when the log is uniformly sampled, else :attr:`dt_s`."""
+        return self.dt_s if self.uniform_dt_s is None else self.uniform_dt_s
 
     def has(self, name: str) -> bool:
         """Whether the log column ``name`` is present (``extra.NAME`` for an extra channel)."""

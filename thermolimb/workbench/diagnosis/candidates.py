@@ -198,8 +198,9 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     return out
 
 
-def simulate_all(model: ThermalModel, series: list[ActuatorSeries]) -> np.ndarray:
-    return np.concatenate([model.free_run(s) for s in series])
+def simulate_all(model: ThermalModel, series: list[ActuatorSeries], stride: int = 1) -> np.ndarray:
+    """The free runs of the series, every ``stride``-th sample of each, concatenated."""
+    return np.concatenate([model.free_run(s)[::stride] for s in series])
 
 
 def time_scales_s(series: list[ActuatorSeries]) -> np.ndarray:
@@ -241,13 +242,17 @@ def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None
 
 
 def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray,
-                    residual: np.ndarray) -> None:
+                    residual: np.ndarray, stride: int = 1, base_run: np.ndarray | None = None) -> None:
     """Fill ``score``, ``p_value``, ``partial_r2``, ``starts`` and ``confounded`` of an added effect.
 
     Parameters that only mean something once the effect is present
     (``nuisance``, e.g. a second mass's time constant) are scanned and the
     largest score is kept (a sup-score test); the best points start the refits.
     Drops and swaps are not scored: they are always refitted (a swap unless confounded).
+    ``jacobian`` and ``residual`` hold every ``stride``-th sample of each series (the base fit's
+    :attr:`~thermolimb.identification.OutputError.stride_`), and so does ``base_run``, the base model's free
+    run if the caller has it: at its null an added effect is absent, so the extended model runs as the base
+    (``tests/test_diagnosis.py::test_every_term_at_its_null_runs_as_the_base``) and is not simulated again.
     """
     if cand.kind in ("drop", "swap"):
         # from what the base fit left, and afresh (the base may sit where the old terms did the work)
@@ -260,8 +265,10 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     term = TERMS[cand.effect]
     scored = []
     own_share = float("nan")
+    at_null = simulate_all(base, train, stride) if base_run is None else base_run
     for fixed in _grid(term, train):
-        score, p_value, r2, step, share, partner = _score_at(cand, term, base, train, jacobian, residual, fixed)
+        score, p_value, r2, step, share, partner = _score_at(cand, term, base, train, jacobian, residual, fixed,
+                                                             stride, at_null)
         own_share = np.fmax(own_share, share)
         scored.append((score, p_value, r2, {**dict(base.params), **step, **fixed}, partner))
     scored.sort(key=lambda x: (x[4] is None, -x[0]))
@@ -281,19 +288,18 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
                            f"{term.parameters[0].excitation} would tell them apart")
 
 
-def _score_at(cand, term, base, train, jacobian, residual, fixed):
+def _score_at(cand, term, base, train, jacobian, residual, fixed, stride, at_null):
     values = dict(base.params)
     values.update({p.name: p.null for p in term.parameters})
     values.update(fixed)
     extended = ThermalModel(cand.model, values)
-    at_null = simulate_all(extended, train)
     primary = [p for p in term.parameters if not p.nuisance]
     columns = []
     for p in primary:
         step = 0.05 * abs(p.typical) if p.typical else 1e-3
         step = step if p.null + step <= p.upper else -step
         moved = extended.with_params({**extended.params, p.name: p.null + step})
-        columns.append((simulate_all(moved, train) - at_null) / step)
+        columns.append((simulate_all(moved, train, stride) - at_null) / step)
     S = np.column_stack(columns)
     coef, *_ = np.linalg.lstsq(jacobian, S, rcond=None)
     S_perp = S - jacobian @ coef

@@ -25,7 +25,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Sequence
 
+import numpy as np
+
 from ...identification import IdentifiabilityError, OutputError
+from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.model import model_parameters
 from ...model.terms import TERMS, parse_model
@@ -116,8 +119,10 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
         base = _identifiable_base(series, model, scheme, validate_on, initial, datasheet)
         model = base.model.terms
     train = list(base.train_series)
-    residual = base.train_residual_K
-    base_bic = bic(residual, len(base.model.params))
+    base_bic = bic(base.train_residual_K, len(base.model.params))
+    stride = base.estimator.stride_
+    residual, jacobian = thinned(base.train_residual_K, train, stride), base.estimator.jacobian_
+    base_run = thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
     first = base.train_segments[0]
     analysis = analyse_residuals(train[0], first.simulated_C)
 
@@ -126,7 +131,7 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
         candidates += _channel_candidates(model, train, series + list(validate_on))
     candidates = [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
     for cand in candidates:
-        score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
+        score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
     for cand in progress(_worth_refitting(candidates, refit), desc="refits", disable=quiet):
         _refit(cand, series, scheme, validate_on, base, base_bic)
     for cand in candidates:
@@ -135,11 +140,11 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     candidates.sort(key=_rank)
     proposal = None
     if discover and not (candidates and candidates[0].eligible) and analysis.structured:
-        proposal = propose(base.model, train, base.estimator.jacobian_, residual)
+        proposal = propose(base.model, train, jacobian, residual, stride=stride)
         if proposal is not None and frozenset(model + (proposal.term,)) not in visited:
             cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
                              source=proposal.source)
-            score_candidate(cand, base.model, train, base.estimator.jacobian_, residual)
+            score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
             params = [p.name for p in TERMS[proposal.term].parameters]
             cand.starts.insert(0, {**dict(base.model.params), **dict(zip(params, proposal.coefficients))})
             if cand.confounded is None:

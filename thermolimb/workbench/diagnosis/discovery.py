@@ -188,8 +188,10 @@ class _Probe(Term):
         return k, 0.0
 
 
-def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[LibraryFeature]) -> np.ndarray:
-    """Each feature's signature in the free run per unit coefficient (columns), over the training series."""
+def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[LibraryFeature],
+               stride: int = 1) -> np.ndarray:
+    """Each feature's signature in the free run per unit coefficient (columns), over every ``stride``-th sample
+    of the training series."""
     register_term(_Probe)
     try:
         model = ThermalModel(base.terms + (PROBE,), {**base.params, "_discovery_probe_coef": 0.0})
@@ -206,15 +208,15 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
                 step = (1e-3 if ref is not None else 0.1) / size
                 at_null = model.free_run(probe)
                 moved = model.with_params({**model.params, "_discovery_probe_coef": step}).free_run(probe)
-                runs.append((moved - at_null) / step)
+                runs.append((moved[::stride] - at_null[::stride]) / step)
             columns.append(np.concatenate(runs))
-        return np.column_stack(columns) if columns else np.empty((sum(s.n for s in train), 0))
+        return np.column_stack(columns) if columns else np.empty((sum(len(range(0, s.n, stride)) for s in train), 0))
     finally:
         unregister_term(PROBE)
 
 
 def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray, residual: np.ndarray,
-            name_prefix: str = "discovered") -> Proposal | None:
+            name_prefix: str = "discovered", stride: int = 1) -> Proposal | None:
     """The few library features that explain the residual significantly, as a generated term, or ``None``."""
     from sklearn.linear_model import orthogonal_mp  # scikit-learn takes ~0.1 s to import: only when discovering
 
@@ -222,7 +224,7 @@ def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarra
                 if np.ptp(np.concatenate([evaluate(lf.feature, lf.extras, s, 0.0)[0] for s in train])) > 0]
     if not features or not residual @ residual > 0:
         return None
-    S = signatures(base, train, features)
+    S = signatures(base, train, features, stride)
     coef, *_ = np.linalg.lstsq(jacobian, S, rcond=None)
     S_perp = S - jacobian @ coef
     size, own = np.linalg.norm(S, axis=0), np.linalg.norm(S_perp, axis=0)
