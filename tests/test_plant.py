@@ -13,6 +13,7 @@ from thermolimb.plant import (
     ThermalProtection,
     simulate_profile,
 )
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 
 
 def hold(plant, effort, velocity, seconds, dt):
@@ -148,3 +149,44 @@ def test_driver_boards_are_logged_as_their_own_channels():
     np.testing.assert_array_equal(driver.signals.effort, motor.signals.effort)
     assert not np.allclose(driver.temperature_C, motor.temperature_C)  # the board has a thermal mass of its own
     assert driver.temperature_C.max() > 25.0 + 0.5  # and heats with the current
+
+
+@pytest.mark.parametrize("estimator", ["observer", "measured"])
+def test_a_run_in_blocks_is_the_run_stepped_one_interval_at_a_time(estimator):
+    """Blocks between protection's decisions change nothing but the speed: the same efforts, temperatures,
+    readings (the same noise draws) and estimates as stepping every interval, here with protection acting on a
+    good share of the run (a 60 K margin), so blocks are cut where it starts to act and resumed after."""
+    from thermolimb.plant import run_profile
+    from thermolimb.plant.profiles import PROFILES
+
+    effects = PlantEffects.from_names("sensor_noise,quantisation,sensor_lag,speed_losses,neighbor_coupling,"
+                                      "ambient_variation")
+    runs = []
+    for in_blocks in (True, False):
+        rng = np.random.default_rng(7)
+        profile = PROFILES["random"](1500.0, 0.1, len(CASE_NAMES), rng)
+        profile = replace(profile, load=profile.load * 3.0)
+        plant = ThermalPlant(list(CASE_NAMES), list(CASE_SPECS), effects, rng=rng,
+                             protection=ThermalProtection(margin_K=60.0, estimator=estimator))
+        assert plant.steps_in_blocks
+        runs.append(run_profile(plant, profile, in_blocks=in_blocks))
+    blocks, steps = runs
+    continuous = np.array([s.continuous_effort for s in CASE_SPECS])
+    limit = np.array([s.effort_limit for s in CASE_SPECS])
+    commanded = np.clip(profile.load * continuous, -limit, limit)
+    derated = np.mean(np.abs(steps.effort) < np.abs(commanded) - 1e-9)
+    assert 0.05 < derated < 0.95, derated  # protection acts on part of the run, not all of it
+    np.testing.assert_allclose(blocks.effort, steps.effort, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(blocks.true_winding_C, steps.true_winding_C, rtol=0, atol=1e-8)
+    np.testing.assert_array_equal(blocks.measured_C, steps.measured_C)
+    if estimator == "observer":
+        np.testing.assert_allclose(blocks.estimated_C, steps.estimated_C, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(blocks.log.frame["current"], steps.log.frame["current"], rtol=0, atol=1e-8)
+
+
+def test_a_plant_whose_heat_follows_its_state_steps_one_interval_at_a_time():
+    """Copper resistance makes the heat depend on the temperature: no fixed map over a block, so no blocks."""
+    plant = ThermalPlant(list(CASE_NAMES), list(CASE_SPECS), PlantEffects.from_names("winding_tempco"))
+    assert not plant.steps_in_blocks
+    with pytest.raises(ValueError, match="free_block needs"):
+        plant.free_block(np.ones((3, 3)), np.zeros((3, 3)), 0.1)

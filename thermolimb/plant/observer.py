@@ -116,34 +116,48 @@ class WindingObserver:
             self._cache[dt_s] = (Phi, Gam, Qd)
         return self._cache[dt_s]
 
-    def known_heat_W(self, current_A: np.ndarray) -> np.ndarray:
-        """Copper loss of the measured current at the estimated winding temperature."""
-        winding = self.x[:, 0]
+    def known_heat_W(self, current_A: np.ndarray, winding_C: np.ndarray | None = None) -> np.ndarray:
+        """Copper loss of the measured current at the estimated winding temperature (or at ``winding_C``)."""
+        winding = self.x[:, 0] if winding_C is None else winding_C
         return np.asarray(current_A, float) ** 2 * self.resistance_ohm * (
             1.0 + self.alpha * (winding - COPPER_REFERENCE_C))
 
+    def speed_transitions(self, Phi: np.ndarray, speed_rad_s: np.ndarray) -> np.ndarray:
+        """The transition with each interval's speed losses: unit heat's response times each feature, for speeds
+        of shape ``(..., m)`` (one interval, or a block of them)."""
+        v = np.abs(np.asarray(speed_rad_s, float))
+        out = np.broadcast_to(Phi, v.shape[:-1] + Phi.shape).copy()
+        g = Phi[:, : self.heat, self.heat]
+        out[..., : self.heat, self.speed] = g * v[..., None]
+        out[..., : self.heat, self.speed + 1] = g * (v**2)[..., None]
+        return out
+
     def _with_speed(self, Phi: np.ndarray, speed_rad_s) -> np.ndarray:
-        """The transition with the speed losses of this interval: unit heat's response times each feature."""
+        """:meth:`speed_transitions` of one interval, kept while the speed is unchanged."""
         if speed_rad_s is None:
             return Phi
-        v = np.abs(np.broadcast_to(np.asarray(speed_rad_s, float), (self.m,)))
+        v = np.broadcast_to(np.asarray(speed_rad_s, float), (self.m,))
         key = (id(Phi), v.tobytes())
         if self._last_speed[0] != key:  # the plant asks twice per interval (cap, then update)
-            out = Phi.copy()
-            g = Phi[:, : self.heat, self.heat]
-            out[:, : self.heat, self.speed] = g * v[:, None]
-            out[:, : self.heat, self.speed + 1] = g * (v**2)[:, None]
-            self._last_speed = (key, out)
+            self._last_speed = (key, self.speed_transitions(Phi, v))
         return self._last_speed[1]
+
+    def _predict(self, Phi: np.ndarray, Gam: np.ndarray, Qd: np.ndarray, heat_W: np.ndarray, ambient_C: float):
+        self.x = (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat_W[:, None] + Gam[:, :, 1] * ambient_C
+        self.P = Phi @ self.P @ Phi.transpose(0, 2, 1) + Qd
+
+    def _correct(self, measured_C: np.ndarray):
+        s = self.sensor
+        column = self.P[:, :, s]
+        gain = column / (column[:, s] + self.r_meas)[:, None]
+        self.x += gain * (measured_C - self.x[:, s])[:, None]
+        self.P -= gain[:, :, None] * column[:, None, :]  # P is symmetric: its row s is its column s
 
     def predict(self, current_A: np.ndarray, ambient_C: float, dt_s: float,
                 speed_rad_s: np.ndarray | None = None) -> np.ndarray:
         """Advance the estimate over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held."""
         Phi, Gam, Qd = self._discrete(float(dt_s))
-        Phi = self._with_speed(Phi, speed_rad_s)
-        heat = self.known_heat_W(current_A)
-        self.x = (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat[:, None] + Gam[:, :, 1] * float(ambient_C)
-        self.P = Phi @ self.P @ Phi.transpose(0, 2, 1) + Qd
+        self._predict(self._with_speed(Phi, speed_rad_s), Gam, Qd, self.known_heat_W(current_A), float(ambient_C))
         return self.winding_C
 
     def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
@@ -151,26 +165,51 @@ class WindingObserver:
         """Predict over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held, then correct with
         the reading at its end."""
         self.predict(current_A, ambient_C, dt_s, speed_rad_s)
-        s = self.sensor
-        column = self.P[:, :, s]
-        gain = column / (column[:, s] + self.r_meas)[:, None]
-        self.x += gain * (np.asarray(measured_C, float) - self.x[:, s])[:, None]
-        self.P -= gain[:, :, None] * column[:, None, :]  # P is symmetric: its row s is its column s
+        self._correct(np.asarray(measured_C, float))
         return self.winding_C
 
-    def current_fraction_cap(self, current_A: np.ndarray, limit_C, ambient_C: float, dt_s: float,
-                             speed_rad_s=None) -> np.ndarray:
-        """The largest share of ``current_A`` (0 to 1) that keeps the predicted winding at or below ``limit_C``
-        at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no current overshoots."""
-        Phi, Gam, _ = self._discrete(float(dt_s))
-        Phi = self._with_speed(Phi, speed_rad_s)
-        free = (Phi[:, 0, :] * self.x).sum(axis=1) + Gam[:, 0, 1] * float(ambient_C)
-        full = Gam[:, 0, 0] * self.known_heat_W(current_A)
+    def run(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: np.ndarray, dt_s: float,
+            speed_rad_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`update` over a block of intervals (rows of ``current_A``, ``measured_C``, ``ambient_C``,
+        ``speed_rad_s``), with a copper coefficient of 0 (the heat does not depend on the estimate).  Returns
+        every state, covariance and transition, the first row the state before the block, the last after it."""
+        if self.alpha != 0.0:
+            raise ValueError("WindingObserver.run needs copper_alpha_per_K = 0; step with update() otherwise")
+        Phi, Gam, Qd = self._discrete(float(dt_s))
+        Phis = self.speed_transitions(Phi, speed_rad_s)
+        heat = np.asarray(current_A, float) ** 2 * self.resistance_ohm * 1.0
+        states, covariances = [self.x.copy()], [self.P.copy()]
+        for k in range(len(heat)):
+            self._predict(Phis[k], Gam, Qd, heat[k], float(ambient_C[k]))
+            self._correct(measured_C[k])
+            states.append(self.x.copy())
+            covariances.append(self.P.copy())
+        return np.array(states), np.array(covariances), Phis
+
+    def set_state(self, x: np.ndarray, P: np.ndarray) -> None:
+        """Put the filter at a state and covariance :meth:`run` returned (a block taken only in part)."""
+        self.x, self.P = x.copy(), P.copy()
+
+    def fraction_cap(self, x: np.ndarray, Phi_v: np.ndarray, current_A: np.ndarray, limit_C, ambient_C,
+                     dt_s: float) -> np.ndarray:
+        """:meth:`current_fraction_cap` from states ``x`` and speed transitions ``Phi_v`` of shape ``(..., m, n)``
+        and ``(..., m, n, n)`` (one interval, or a block of them)."""
+        _, Gam, _ = self._discrete(float(dt_s))
+        ambient = np.asarray(ambient_C, float)[..., None] if np.ndim(ambient_C) else float(ambient_C)
+        free = (Phi_v[..., 0, :] * x).sum(axis=-1) + Gam[:, 0, 1] * ambient
+        full = Gam[:, 0, 0] * self.known_heat_W(current_A, x[..., 0])
         room = limit_C - free
         share = (room >= 0.0).astype(float)
         heating = full > 0.0
         share[heating] = np.sqrt(np.clip(room[heating] / full[heating], 0.0, 1.0))
         return share
+
+    def current_fraction_cap(self, current_A: np.ndarray, limit_C, ambient_C: float, dt_s: float,
+                             speed_rad_s=None) -> np.ndarray:
+        """The largest share of ``current_A`` (0 to 1) that keeps the predicted winding at or below ``limit_C``
+        at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no current overshoots."""
+        Phi, _, _ = self._discrete(float(dt_s))
+        return self.fraction_cap(self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C, dt_s)
 
     @property
     def winding_C(self) -> np.ndarray:

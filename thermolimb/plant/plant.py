@@ -27,6 +27,21 @@ from .zoh import zero_order_hold
 
 
 @dataclass(frozen=True)
+class Block:
+    """What :meth:`ThermalPlant.free_block` advanced: ``steps`` intervals, and per interval the efforts applied,
+    the true winding, the measured and estimated temperatures and the ambient at its start, and the current
+    over it."""
+
+    steps: int
+    effort: np.ndarray
+    true_winding_C: np.ndarray
+    measured_C: np.ndarray
+    estimated_C: np.ndarray | None
+    ambient_C: np.ndarray
+    current_A: np.ndarray
+
+
+@dataclass(frozen=True)
 class ThermalProtection:
     """Derating near the winding limit, as HEBI firmware caps output power.
 
@@ -110,6 +125,7 @@ class ThermalPlant:
         self.observer = None
         self._applied_fraction = np.ones(len(self.specs))  # the share of current protection allowed last
         self._rng = rng
+        self._unused_noise = np.empty(0)  # drawn by a block that was cut short, read first (see free_block)
         self._build_network()
         self._schedules = self._make_schedules(scheduled)
         self.time_s = 0.0
@@ -284,32 +300,33 @@ class ThermalPlant:
         speed = np.abs(np.asarray(velocity, dtype=float))
         current_sq = self._current_sq(np.asarray(effort, dtype=float), speed, self._applied_fraction)
         self.current_A = np.sqrt(current_sq)
-        constant = np.zeros(self._n_states)
-        per_kelvin = np.zeros(self._n_states)
+        shape = current_sq.shape[:-1] + (self._n_states,)  # one interval, or a block of them (free_block)
+        constant = np.zeros(shape)
+        per_kelvin = np.zeros(shape)
         joule = current_sq * self._resistance_ohm
         if fx.winding_tempco is not None:
             tc = fx.winding_tempco
-            constant[self._winding] += joule * (1.0 - tc.alpha_per_K * tc.reference_C)
-            per_kelvin[self._winding] += joule * tc.alpha_per_K
+            constant[..., self._winding] += joule * (1.0 - tc.alpha_per_K * tc.reference_C)
+            per_kelvin[..., self._winding] += joule * tc.alpha_per_K
         else:
-            constant[self._winding] += joule
+            constant[..., self._winding] += joule
         if fx.speed_losses is not None:
             sl = fx.speed_losses
-            constant[self._winding] += sl.iron_W_per_rad2_s2 * speed**2
-            constant[self._housing] += sl.friction_W_per_rad_s * speed
+            constant[..., self._winding] += sl.iron_W_per_rad2_s2 * speed**2
+            constant[..., self._housing] += sl.friction_W_per_rad_s * speed
         if fx.motion_cooling is not None:
             extra_g = self._outer_conductance * fx.motion_cooling.gain_per_rad_s * speed
-            constant[self._outer] += extra_g * self.ambient_at(self.time_s)
-            per_kelvin[self._outer] -= extra_g
-        constant[self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[self._has_driver]
+            constant[..., self._outer] += extra_g * self.ambient_at(self.time_s)
+            per_kelvin[..., self._outer] -= extra_g
+        constant[..., self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[..., self._has_driver]
         if fx.fan_cooling is not None:
             extra_g = self._outer_conductance * fx.fan_cooling.gain * self._schedules["fan"].at(self.time_s)
-            constant[self._outer] += extra_g * self.ambient_at(self.time_s)
-            per_kelvin[self._outer] -= extra_g
+            constant[..., self._outer] += extra_g * self.ambient_at(self.time_s)
+            per_kelvin[..., self._outer] -= extra_g
         if fx.holding_brake is not None:
-            constant[self._winding] += fx.holding_brake.coil_W * self._schedules["brake"].at(self.time_s)
+            constant[..., self._winding] += fx.holding_brake.coil_W * self._schedules["brake"].at(self.time_s)
         if fx.driver_conduction is not None:
-            constant[self._driver] += self._schedules["driver_load"].at(self.time_s)
+            constant[..., self._driver] += self._schedules["driver_load"].at(self.time_s)
         return constant, per_kelvin
 
     def set_temperatures(self, temperature_C: np.ndarray, rest_C: np.ndarray | None = None) -> None:
@@ -366,16 +383,98 @@ class ThermalPlant:
         self._measured_core = readings[: self.n]
         self._measured_driver = readings[self.n :]
 
-    def read(self, true_C: np.ndarray) -> np.ndarray:
-        """What a thermistor on these temperatures reports: the plant's sensor noise and quantisation, as switched on."""
+    def read(self, true_C: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
+        """What a thermistor on these temperatures reports: the plant's sensor noise and quantisation, as switched
+        on (``noise``: the standard normals to use, drawn already)."""
         fx = self.effects
         readings = np.asarray(true_C, float)
         if fx.sensor_noise is not None:
-            readings = readings + self._rng.normal(0.0, fx.sensor_noise.std_K, readings.shape)
+            if noise is None:
+                noise = self._standard_normal(readings.size).reshape(readings.shape)
+            readings = readings + fx.sensor_noise.std_K * noise
         if fx.quantisation is not None:
             step = fx.quantisation.step_K
             readings = np.round(readings / step) * step
         return readings
+
+    def _standard_normal(self, count: int) -> np.ndarray:
+        """The generator's next ``count`` standard normals; those a block drew but did not use come first, so a
+        run reads the same noise whether it is stepped one interval at a time or in blocks."""
+        taken, self._unused_noise = self._unused_noise[:count], self._unused_noise[count:]
+        if taken.size == count:
+            return taken
+        return np.concatenate([taken, self._rng.standard_normal(count - taken.size)])
+
+    # ---------------------------------------------------------------- blocks
+    @property
+    def steps_in_blocks(self) -> bool:
+        """Whether :meth:`free_block` applies: no effect makes the heat depend on the state or on a schedule
+        (copper resistance, airflow, a fan, a brake, a board's load), so held inputs give a fixed linear map."""
+        fx = self.effects
+        return (fx.winding_tempco is None and fx.motion_cooling is None and not self._schedules
+                and (self.observer is None or self.observer.alpha == 0.0))
+
+    def free_block(self, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> "Block":
+        """Advance over the rows of ``effort`` and ``velocity`` (``(k, m)``, each held ``dt_s``) for as long as
+        thermal protection would not act, and say how many intervals that was.
+
+        The same intervals as :meth:`derate` then :meth:`step` each time: the network's exact map, the sensors'
+        noise (the same draws), the observer's update; protection is then checked at every interval's start as
+        :meth:`protection_fraction` would, and the block is cut before the first interval it would have
+        derated or capped (its state, the observer's and the unused noise put back).  What it saves is the
+        per-interval bookkeeping of a step: the network advances in one loop of matrix products.
+        """
+        if not self.steps_in_blocks:
+            raise ValueError("free_block needs a plant whose heat does not depend on its state or a schedule")
+        effort = np.asarray(effort, float)
+        velocity = np.asarray(velocity, float)
+        k = effort.shape[0]
+        times = self.time_s + dt_s * np.arange(k + 1)
+        ambient = np.array([self.ambient_at(t) for t in times])
+        before = self.current_A, self._applied_fraction
+        self._applied_fraction = np.ones(self.n)
+        applied = self.scale_efforts(effort, np.ones(self.n))
+        constant, _ = self.heat_affine(applied, velocity)
+        current, self.current_A = self.current_A, before[0]
+        Phi, Gamma = self._discretisation(dt_s)
+        inputs = np.concatenate([constant, ambient[:-1, None]], axis=1) @ Gamma.T
+        states = np.empty((k + 1, self._n_states))
+        states[0] = x = self._x
+        for i in range(k):
+            x = Phi @ x + inputs[i]
+            states[i + 1] = x
+        sensed = np.concatenate([self._sensor, self._driver[self._has_driver]])
+        noise = self._standard_normal(k * len(sensed)).reshape(k, -1) if self.effects.sensor_noise else None
+        readings = self.read(states[1:, sensed], noise)
+        measured = np.vstack([self._measured_core, readings[:, : self.n]])
+        if self.observer is not None:
+            est, cov, Phis = self.observer.run(current, readings[:, : self.n], ambient, dt_s, velocity)
+            std = np.sqrt(np.maximum(cov[:, :, 0, 0], 0.0))
+            fraction = self.protection.fraction(est[:k, :, 0] + self.protection.sigmas * std[:k],
+                                                self.winding_limits_C)
+            speed = np.abs(velocity)
+            margin = self.protection.guard_K + self.protection.sigmas * std[:k]
+            cap = self.observer.fraction_cap(est[:k], Phis, np.sqrt(self._current_sq(effort, speed, 1.0)),
+                                             self.winding_limits_C - margin, ambient[:k], dt_s)
+            fraction = np.minimum(fraction, cap)
+        else:
+            fraction = self.protection.fraction(measured[:k], self.winding_limits_C)
+        acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))
+        done = int(acting[0]) if acting.size else k
+        self._x = states[done].copy()
+        self.time_s = float(times[done])
+        self._measured_core = measured[done].copy()
+        self._measured_driver = readings[done - 1, self.n :].copy() if done else self._measured_driver
+        if noise is not None:
+            self._unused_noise = np.concatenate([noise[done:].ravel(), self._unused_noise])
+        if self.observer is not None:
+            self.observer.set_state(est[done], cov[done])
+        if done:
+            self.current_A = current[done - 1].copy()
+        else:
+            self._applied_fraction = before[1]
+        return Block(done, applied[:done], states[:done][:, self._winding], measured[:done],
+                     est[:done, :, 0] if self.observer is not None else None, ambient[:done], current[:done])
 
     # ---------------------------------------------------------------- outputs
     @property
