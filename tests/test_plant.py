@@ -190,3 +190,28 @@ def test_a_plant_whose_heat_follows_its_state_steps_one_interval_at_a_time():
     assert not plant.steps_in_blocks
     with pytest.raises(ValueError, match="free_block needs"):
         plant.free_block(np.ones((3, 3)), np.zeros((3, 3)), 0.1)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".parquet"])
+def test_a_run_in_pieces_is_the_whole_run_and_its_file_reads_back_as_the_whole_log(tmp_path, suffix):
+    """Windows of a run carry the plant from one to the next (the same samples as one window), and their logs
+    written a piece at a time read back as the whole run's log."""
+    from thermolimb.logs import read_log, write_pieces
+    from thermolimb.plant.run import simulate_profile_in_pieces
+
+    effects = PlantEffects.from_names("sensor_noise,quantisation,sensor_lag,speed_losses")
+    args = ("random", 1200.0, 0.2, list(CASE_NAMES), list(CASE_SPECS), effects)
+    whole = simulate_profile(*args, seed=3, load_scale=3.0)
+    pieces = list(simulate_profile_in_pieces(*args, seed=3, load_scale=3.0, piece_samples=1000))
+    assert [len(p.time_s) for p in pieces] == [1000] * 5 + [1001]  # 6001 samples; none shorter than half
+    for field in ("time_s", "effort", "true_winding_C", "measured_C", "estimated_C"):
+        np.testing.assert_allclose(np.concatenate([getattr(p, field) for p in pieces]), getattr(whole, field),
+                                   rtol=0, atol=1e-9, err_msg=field)
+    path = write_pieces((p.log for p in pieces), tmp_path / f"log{suffix}")
+    back, alone = read_log(path), read_log(whole.log.write(tmp_path / f"whole{suffix}"))
+    assert back.actuators == alone.actuators
+    for name in back.actuators:
+        a, b = back.series(name), alone.series(name)
+        np.testing.assert_allclose(a.time_s, b.time_s, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(a.temperature_C, b.temperature_C, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(a.signals.effort, b.signals.effort, rtol=0, atol=1e-9)

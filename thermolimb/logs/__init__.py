@@ -34,10 +34,11 @@ from .log import (
                   gaps,
                   log_from_arrays,
                   read_log,
+                  write_pieces,
 )
 from .mapping import OPTIONAL, REQUIRED, UNITS, parse_mapping
 from .table import LogError
 
 __all__ = ["ActuatorSeries", "GAP_FACTOR", "GAP_MIN_S", "LogError", "MIN_SAMPLES", "OPTIONAL", "REQUIRED",
            "ThermalLog", "UNITS", "VELOCITY_UNITS", "from_frame", "gaps", "log_from_arrays", "parse_mapping",
-           "read_log"]
+           "read_log", "write_pieces"]

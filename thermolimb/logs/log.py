@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -217,15 +217,38 @@ class ThermalLog:
         path = Path(path)
         if path.suffix.lower() == ".mcap":
             return write_mcap(self, path)
-        kind = kind_of(path)
-        frame = self.frame.rename(columns={EXTRA + name: _header(name, self.units.get(EXTRA + name))
-                                           for name in self.extras})
-        with atomic_path(path) as tmp:
-            if kind == "csv":
-                frame.to_csv(tmp, index=False)
-            else:
-                frame.to_parquet(tmp, index=False)
-        return path
+        return write_pieces([self], path)
+
+    def file_frame(self) -> pd.DataFrame:
+        """The frame as a file holds it: extra channels under their headers, with units."""
+        return self.frame.rename(columns={EXTRA + name: _header(name, self.units.get(EXTRA + name))
+                                          for name in self.extras})
+
+
+def write_pieces(pieces: Iterable[ThermalLog], path: str | Path) -> Path:
+    """Write consecutive pieces of one log (the same actuators and columns, later times in each) as one CSV or
+    Parquet file, each piece as it comes, the file whole or not at all.  It reads back as the whole log (a log's
+    rows are grouped by actuator on reading); only one piece is held at a time."""
+    path = Path(path)
+    kind = kind_of(path)
+    with atomic_path(path) as tmp:
+        if kind == "csv":
+            for i, piece in enumerate(pieces):
+                piece.file_frame().to_csv(tmp, index=False, header=i == 0, mode="w" if i == 0 else "a")
+            return path
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        writer = None
+        try:
+            for piece in pieces:
+                table = pa.Table.from_pandas(piece.file_frame(), preserve_index=False)
+                writer = writer or pq.ParquetWriter(tmp, table.schema)
+                writer.write_table(table.cast(writer.schema))
+        finally:
+            if writer is not None:
+                writer.close()
+    return path
 
 
 def _header(name: str, unit: str | None) -> str:

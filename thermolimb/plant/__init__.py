@@ -29,12 +29,13 @@ from .network import (
 )
 from .plant import ThermalPlant, ThermalProtection
 from .profiles import PROFILES, Profile
-from .run import PlantRun, run_profile, simulate_profile
+from .run import PlantRun, run_profile, run_profile_in_pieces, simulate_profile, simulate_profile_in_pieces
 
 __all__ = [
     "ACTUATOR_SPECS", "ActuatorSpec", "AmbientVariation", "MotionCooling", "WindingTempco", "DriverSpec",
     "EFFECT_TYPES", "FIRST_ORDER_NETWORK", "FieldWeakening", "SpeedLosses", "NETWORKS", "NeighborCoupling",
     "PROFILES", "PlantEffects", "PlantRun", "Profile", "Quantisation", "SECOND_ORDER_NETWORK", "SensorNoise",
     "EffortBias", "ThermalNetwork", "ThermalPlant", "ThermalProtection", "SensorLag", "X5_NETWORK",
-    "X8_16", "X8_9", "X8_NETWORK", "run_profile", "simulate_profile",
+    "X8_16", "X8_9", "X8_NETWORK", "run_profile", "run_profile_in_pieces", "simulate_profile",
+    "simulate_profile_in_pieces",
 ]
