@@ -23,7 +23,8 @@ from .statics import WholeBody
 
 @dataclass(frozen=True)
 class DescentResult:
-    method: str
+    """Where the seed's descent stopped: the configuration and its potential under Eq. 23's torques."""
+
     mode: str
     q: np.ndarray
     potential: float
@@ -31,8 +32,6 @@ class DescentResult:
     wall_s: float
     history: list[float] = field(default_factory=list)
     contact_drift_m: float = 0.0  # largest sole displacement from the start (m)
-    torques_Nm: np.ndarray | None = None  # balancing joint torques at q (the fast IK's Gamma), when the method gives them
-    contact_wrenches: np.ndarray | None = None  # (feet, 6) at q, likewise
 
 
 def potential_of(body: WholeBody, q: np.ndarray, mode: str, potential) -> float:
@@ -90,5 +89,5 @@ def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
         if not moved:
             break
         history.append(f)
-    return DescentResult("naive", mode, q, f, iterations, time.perf_counter() - start, history,
+    return DescentResult(mode, q, f, iterations, time.perf_counter() - start, history,
                          contact_drift(body, q0, q, mode))

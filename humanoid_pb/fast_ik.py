@@ -24,6 +24,7 @@ within its contact constraints, not only the dynamically consistent one.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -32,7 +33,7 @@ from thermolimb.util.programs import INFINITE, Program, SolverError, solve
 
 from .actuators import effort_limits, effort_matrix
 from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
-from .descent import DescentResult, contact_drift
+from .descent import contact_drift
 from .statics import WholeBody
 
 MU = 0.6  # friction pyramid
@@ -41,6 +42,22 @@ MIN_NORMAL_N = 20.0
 COP_MARGIN_M = 0.015
 SWING_CLEARANCE_M = 0.05
 MAX_STEP_RAD = 0.2  # trust region cap: at 0.3 a third of the steps on the benchmark's starts were rejected
+
+
+@dataclass(frozen=True)
+class FastIKResult:
+    """What the fast thermal IK found: the configuration, the balancing torques and sole wrenches it chose with
+    it (its free choice, not Eq. 23's), the potential they give, and how it got there."""
+
+    mode: str
+    q: np.ndarray
+    potential: float  # with its own torques and wrenches (score q under Eq. 23 with descent.potential_of)
+    torques_Nm: np.ndarray  # balancing joint torques at q
+    contact_wrenches: np.ndarray  # (feet, 6) per sole, sole frame
+    iterations: int
+    wall_s: float
+    history: list[float] = field(default_factory=list)
+    contact_drift_m: float = 0.0  # largest sole displacement from the start (m)
 
 
 class FastThermalIK:
@@ -212,7 +229,7 @@ class FastThermalIK:
 
     # ----------------------------------------------------------------- solve
     def solve(self, q0: np.ndarray, mode: str, objective, delta: float = 0.1, max_iter: int = 50,
-              tol: float = 1e-4) -> DescentResult:
+              tol: float = 1e-4) -> FastIKResult:
         start = time.perf_counter()
         body = self.body
         if self.actuator_limits is None:
@@ -255,5 +272,5 @@ class FastThermalIK:
         if polished is not None and polished[0] < f:
             f, Gamma, F = polished
             history.append(f)
-        return DescentResult("fast", mode, q, f, iterations, time.perf_counter() - start, history,
-                             contact_drift(body, q0, q, mode), torques_Nm=Gamma, contact_wrenches=F.reshape(-1, 6))
+        return FastIKResult(mode, q, f, Gamma, F.reshape(-1, 6), iterations, time.perf_counter() - start, history,
+                            contact_drift(body, q0, q, mode))
