@@ -43,8 +43,13 @@ class OutputError(ThermalEstimator):
     cutoff_hz
         Filter of the least-squares start.
     max_nfev
-        Limit on simulations per parameter (scipy's ``max_nfev`` is this times
-        the number of parameters).
+        Limit on evaluations per parameter (scipy's ``max_nfev`` is this times
+        the number of parameters; scipy does not count the simulations of its
+        finite-difference Jacobians, one per parameter and iteration).
+    max_iterations
+        Instead of ``max_nfev``: at most this many evaluations in all, each
+        trust-region iteration one evaluation and one Jacobian (a short fit that
+        screens starting points).
     fixed
         Values held, not fitted (an offset tied to the logged ambient when the
         log cannot identify it); their standard error is 0.
@@ -53,12 +58,14 @@ class OutputError(ThermalEstimator):
     method = "output_error"
 
     def __init__(self, model="joule,effort_bias", initial: Mapping[str, float] | None = None,
-                 cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None):
+                 cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None,
+                 max_iterations: int | None = None):
         super().__init__(model)
         self.initial = initial
         self.cutoff_hz = cutoff_hz
         self.max_nfev = max_nfev
         self.fixed = fixed
+        self.max_iterations = max_iterations
 
     def _start(self, series, terms) -> np.ndarray:
         params = model_parameters(terms)
@@ -110,7 +117,7 @@ class OutputError(ThermalEstimator):
         x0 = x_all[free]
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
         result = least_squares(residual, x0, bounds=(lower[free], upper[free]), x_scale=scale, method="trf",
-                               max_nfev=self.max_nfev * len(params))
+                               max_nfev=self.max_iterations or self.max_nfev * len(params))
         self.optimizer_result_ = result
         self.jacobian_ = result.jac  # d simulated temperature / d free parameters, every stride_-th sample
         r = result.fun

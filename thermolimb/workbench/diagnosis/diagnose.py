@@ -43,7 +43,9 @@ from .residuals import ResidualAnalysis, analyse_residuals
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
-SCREEN_EVALUATIONS = 2  # simulations per parameter to screen a refit's starts
+# evaluations to screen a refit's starts, each with its Jacobian: (parameters + 1) simulations each (it was 2 per
+# parameter, which with the Jacobians scipy does not count made some 60 simulations a start)
+SCREEN_EVALUATIONS = 2
 
 
 @dataclass
@@ -211,7 +213,8 @@ def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_b
         screened = []
         for start in starts:
             try:
-                est = OutputError(model=cand.model, initial=start, max_nfev=SCREEN_EVALUATIONS, fixed=base.held or None)
+                est = OutputError(model=cand.model, initial=start, max_iterations=SCREEN_EVALUATIONS,
+                                  fixed=base.held or None)
                 est.fit(list(base.train_series))
                 screened.append((float(est.optimizer_result_.cost), est.params_))
             except IdentifiabilityError as exc:
