@@ -50,6 +50,9 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM (what timeout, systemd, containers and CI send), met like Ctrl-C: writers remove their temporaries."""
 
 
+INTERRUPTED = (130, 143)  # exit statuses after Ctrl-C and after SIGTERM, as shells report them
+
+
 def _terminate(signum, frame):
     raise Terminated
 
@@ -61,11 +64,16 @@ def main(argv=None) -> int:
         return _run(args)
     previous = {signum: signal.getsignal(signum) for signum in (signal.SIGTERM, signal.SIGINT)}
     signal.signal(signal.SIGTERM, _terminate)
+    code = None
     try:
-        return _run(args)
+        code = _run(args)
+        return code
     finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
+        # an interrupted command line is ending: further signals stay ignored until the process exits (restored,
+        # a second Ctrl-C would kill it by the signal after its last words); a call with argv gets them back
+        if argv is not None or code not in INTERRUPTED:
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
 
 
 def _main_thread() -> bool:
@@ -84,7 +92,7 @@ def _run(args) -> int:
         _ignore_further_interrupts()
         terminated = isinstance(exc, Terminated)
         print(f"thermolimb {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-        return 143 if terminated else 130
+        return INTERRUPTED[1] if terminated else INTERRUPTED[0]
     except BrokenPipeError:  # the reader went away (`| head`, `| true`): stop quietly, as Unix tools do
         _silence_stdout()
         return 141
@@ -99,7 +107,8 @@ def _run(args) -> int:
 
 
 def _ignore_further_interrupts() -> None:
-    """The command is already ending: a second Ctrl-C or SIGTERM must not break its last words (main restores)."""
+    """The command is already ending: a second Ctrl-C or SIGTERM must not break its last words, nor kill the
+    process by the signal after them (``main`` leaves them ignored)."""
     if _main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
