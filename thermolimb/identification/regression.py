@@ -139,7 +139,8 @@ def build_regression(
             y -= lowpass(amb, cutoff_hz, dt) if amb is not None else subtract_ambient_C
         trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
         keep = slice(trim, ser.n - trim, stride)
-        Xs.append(np.column_stack([-dT[keep], feats[keep], np.ones(len(range(ser.n)[keep]))]))
+        rows = -dT[keep]
+        Xs.append(np.column_stack([rows, feats[keep], np.ones(rows.size)]))
         ys.append(y[keep].copy())
         efforts.append(ser.signals.effort[keep].copy())
     params = model_parameters(terms)

@@ -449,16 +449,15 @@ class ThermalPlant:
         measured = np.vstack([self._measured_core, readings[:, : self.n]])
         if self.observer is not None:
             est, cov, Phis = self.observer.run(current, readings[:, : self.n], ambient, dt_s, velocity)
-            std = np.sqrt(np.maximum(cov[:, :, 0, 0], 0.0))
-            fraction = self.protection.fraction(est[:k, :, 0] + self.protection.sigmas * std[:k],
-                                                self.winding_limits_C)
-            speed = np.abs(velocity)
-            margin = self.protection.guard_K + self.protection.sigmas * std[:k]
-            cap = self.observer.fraction_cap(est[:k], Phis, np.sqrt(self._current_sq(effort, speed, 1.0)),
-                                             self.winding_limits_C - margin, ambient[:k], dt_s)
-            fraction = np.minimum(fraction, cap)
+            std = np.sqrt(np.maximum(cov[:k, :, 0, 0], 0.0))
+            commanded = np.sqrt(self._current_sq(effort, np.abs(velocity), 1.0))
+
+            def cap(below):
+                return self.observer.fraction_cap(est[:k], Phis, commanded, below, ambient[:k], dt_s)
+
+            fraction = self._share(est[:k, :, 0] + self.protection.sigmas * std, std, cap)
         else:
-            fraction = self.protection.fraction(measured[:k], self.winding_limits_C)
+            fraction = self._share(measured[:k], None, None)
         acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))
         done = int(acting[0]) if acting.size else k
         self._x = states[done].copy()
@@ -536,16 +535,28 @@ class ThermalPlant:
         robots' rigs call it every control period with that period.
         """
         effort = np.asarray(effort, dtype=float)
-        fraction = self.derating()
+        cap = None
         if self.observer is not None and dt_s is not None:
             speed = np.zeros(self.n) if velocity is None else np.abs(np.asarray(velocity, float))
             current = np.sqrt(self._current_sq(effort, speed, 1.0))
-            margin = self.protection.guard_K + self.protection.sigmas * self.observer.winding_std_K
-            cap = self.observer.current_fraction_cap(current, self.winding_limits_C - margin,
-                                                     self.ambient_at(self.time_s), dt_s, speed)
-            fraction = np.minimum(fraction, cap)
-        self._applied_fraction = fraction
-        return fraction
+            ambient = self.ambient_at(self.time_s)
+
+            def cap(below):
+                return self.observer.current_fraction_cap(current, below, ambient, dt_s, speed)
+
+        std = self.observer.winding_std_K if self.observer is not None else None
+        self._applied_fraction = self._share(self.protected_C, std, cap)
+        return self._applied_fraction
+
+    def _share(self, protected_C: np.ndarray, std_K: np.ndarray | None, cap) -> np.ndarray:
+        """Protection's share from the temperature it acts on and, given ``cap`` (the observer's current cap as a
+        function of the temperature the winding must stay below), the limit less ``guard_K`` and ``sigmas``
+        standard deviations: for one interval, or every interval of a block (:meth:`free_block`)."""
+        fraction = self.protection.fraction(protected_C, self.winding_limits_C)
+        if cap is None:
+            return fraction
+        margin = self.protection.guard_K + self.protection.sigmas * std_K
+        return np.minimum(fraction, cap(self.winding_limits_C - margin))
 
     def scale_efforts(self, effort: np.ndarray, fraction: np.ndarray) -> np.ndarray:
         """Efforts whose motor share (all of it, less a series-elastic bias) is scaled by ``fraction``."""
