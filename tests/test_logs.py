@@ -129,8 +129,9 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
 @pytest.mark.parametrize("suffix", [".csv", ".parquet"])
 def test_one_actuator_read_in_pieces_is_the_whole_files_series(plant_log, tmp_path, monkeypatch, suffix):
     """``read_log(actuators=...)`` keeps an actuator's rows and its neighbours' temperatures piece by piece (in
-    Arrow for Parquet): the series, its neighbours and the log's order are those of reading the whole file, with
-    pieces of 97 rows so that actuators and neighbours straddle them."""
+    Arrow for Parquet, a row group at a time): the series, its neighbours and the log's order are those of
+    reading the whole file, with pieces (CSV chunks, Parquet row groups) of 97 rows so that actuators and
+    neighbours straddle them."""
     from thermolimb.logs import read_log, table
 
     frame = plant_log.frame.copy()
@@ -138,7 +139,7 @@ def test_one_actuator_read_in_pieces_is_the_whole_files_series(plant_log, tmp_pa
              for i, name in enumerate(("hip", "knee", "ankle"))]
     path = tmp_path / f"three{suffix}"
     whole = pd.concat(parts, ignore_index=True).sample(frac=1.0, random_state=0).sort_values("time", kind="stable")
-    whole.to_csv(path, index=False) if suffix == ".csv" else whole.to_parquet(path, index=False)
+    whole.to_csv(path, index=False) if suffix == ".csv" else whole.to_parquet(path, index=False, row_group_size=97)
     monkeypatch.setattr(table, "CHUNK_ROWS", 97)
     everything = read_log(path)
     for name in ("hip", "knee", "ankle"):

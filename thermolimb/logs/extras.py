@@ -85,7 +85,7 @@ def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapp
     given with the mapping (``extra.NAME=COL:UNIT``).
     """
     values, units, missing, text = {}, {}, [], []
-    groups = list(frame.groupby("actuator", sort=False).indices.values()) if "actuator" in frame.columns else None
+    groups = None  # each actuator's rows, found when a column is first tested for counting (_monotonic)
     for column in frame.columns:
         if column in REQUIRED + OPTIONAL:
             continue
@@ -104,8 +104,12 @@ def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapp
                 text.append(name)
             continue
         finite = np.isfinite(x)
-        if not finite.any() or np.nanmin(x) == np.nanmax(x) or _monotonic(x, groups):
-            continue  # empty, constant (it can explain nothing), or a sample counter or a clock
+        if not finite.any() or np.nanmin(x) == np.nanmax(x):
+            continue  # empty, or constant (it can explain nothing)
+        if groups is None and "actuator" in frame.columns:
+            groups = list(frame.groupby("actuator", sort=False, observed=True).indices.values())
+        if _monotonic(x, groups):
+            continue  # a sample counter or a clock
         if not finite.all():
             missing.append(f"{name} ({int((~finite).sum())})")
             continue

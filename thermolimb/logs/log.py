@@ -343,24 +343,32 @@ def _read_selected(path: Path, names: list[str], sep, decimal, options: dict) ->
     beside -= set(names)
     groups = [(set(names), None)] + ([(beside, lambda c: base_name(c) in ("time", "temperature"))] if beside else [])
     frames = rows_where(path, _is_actuator, groups, sep, decimal)
-    log = from_frame(frames.pop(0), **options)  # popped: the rows as read are freed once validated
+    log = from_frame(frames.pop(0), copy=False, **options)  # popped: the log takes the rows as read
     neighbours = {}
     if beside:
         near = frames.pop()
         near["effort"] = 0.0  # a canonical log needs one; the neighbours' are not read
-        around = from_frame(near, **{**options, "source": f"{options['source']} (neighbours)"})
+        around = from_frame(near, copy=False, **{**options, "source": f"{options['source']} (neighbours)"})
         del near
         neighbours = {n: around._temperature_of(n) for n in around.actuators}
     return replace(log, order=tuple(order), neighbours=FrozenMapping(neighbours))
 
 
 def _as_text(column: pd.Series) -> pd.Series:
-    """A column as text.  A categorical one (a large log read in pieces) has its few categories converted and
-    placed by their codes: converting row by row would make a string object per row (144 MB for 2 M rows)."""
+    """A column as text.  A categorical one (a large log read in pieces) stays categorical, with its few
+    categories turned into text: converting row by row would make a string per row (144 MB for 2 M rows)."""
     if not isinstance(column.dtype, pd.CategoricalDtype):
         return column.astype(str)
-    text = np.array([str(c) for c in column.cat.categories] + [""], dtype=object)
-    return pd.Series(text[column.cat.codes.to_numpy()], index=column.index).astype(str)
+    return column.cat.rename_categories([str(c) for c in column.cat.categories])
+
+
+def _blank(names: pd.Series) -> np.ndarray:
+    """Where a column of actuator names (:func:`_as_text`) is missing or blank."""
+    if isinstance(names.dtype, pd.CategoricalDtype):
+        codes = names.cat.codes.to_numpy()
+        empty = np.array([c.strip() == "" for c in names.cat.categories] + [True])
+        return empty[codes]
+    return (names.isna() | (names.str.strip() == "")).to_numpy()
 
 
 def _is_actuator(column: str) -> bool:
@@ -512,12 +520,12 @@ def _mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
     return out
 
 
-def _plausible_units(out: pd.DataFrame, stated: Mapping[str, str], numeric_time: bool, source: str,
+def _plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numeric_time: bool, source: str,
                      notes: list) -> None:
     """Unit mistakes a log's numbers show, where no header states the unit: time counted in milliseconds (or
     micro-, nanoseconds) since 1970, converted; time steps too long for seconds, said; temperatures in
     kelvin, converted.  Each said in the notes with the numbers that show it."""
-    t = out["time"].to_numpy()
+    t = out["time"]
     if "time" not in stated and numeric_time and t.size:
         lo, hi = float(np.min(t)), float(np.max(t))
         for unit, scale in EPOCH_UNITS:
@@ -529,15 +537,15 @@ def _plausible_units(out: pd.DataFrame, stated: Mapping[str, str], numeric_time:
                              f"time=COLUMN:s)")
                 break
         else:
-            steps = np.diff(np.unique(t))
+            steps = np.diff(np.unique(t)) if hi - lo >= 2 * 86400.0 else np.zeros(0)  # a short log needs no steps
             step = float(np.median(steps)) if steps.size else 0.0
-            if step >= 100.0 and hi - lo >= 2 * 86400.0:
+            if step >= 100.0:
                 notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if the "
                              f"time column counts milliseconds, state it: a header 'time [ms]' or --map time=COLUMN:ms")
-    for name in out.columns:
+    for name in out:
         if UNITS.get(name) != "degC" or name in stated:
             continue
-        values = out[name].to_numpy()
+        values = out[name]
         lo, hi = float(np.min(values)), float(np.max(values))
         if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
             out[name] = values - 273.15
@@ -570,12 +578,15 @@ def from_frame(
     actuator_name: str = "actuator",
     drop_incomplete: bool = False,
     units: Mapping[str, str | None] | None = None,
+    copy: bool = True,
 ) -> ThermalLog:
     """Validate a data frame (canonical, or wide with ``mapping``) into a :class:`ThermalLog`.
 
     Samples with only a time stamp are left out (they hold nothing); a sample
     missing some values is an error unless ``drop_incomplete``.  ``units``
     gives channels' units the frame does not (see :mod:`thermolimb.logs.units`).
+    ``copy=False`` lets the log share the frame's float columns instead of copying them: for a frame the
+    caller hands over (a large log read once), not one it goes on changing.
     """
     mapping, from_map = _split_units(mapping)
     if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
@@ -621,16 +632,20 @@ def from_frame(
     if frame.empty:
         raise LogError(f"{source}: the log has no rows with measurements")
     names = _as_text(frame["actuator"])
-    blank = frame["actuator"].isna() | (names.str.strip() == "")
+    blank = frame["actuator"].isna().to_numpy() | _blank(names)
     if blank.any():
-        row = int(np.flatnonzero(blank.to_numpy())[0])
+        row = int(np.flatnonzero(blank)[0])
         raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
-    out = pd.DataFrame({"time": time_seconds(frame["time"], source, "time"), "actuator": names})
+    # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
+    out = {"time": np.array(time_seconds(frame["time"], source, "time"), copy=copy), "actuator": names}
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
     if not numeric_time:
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
     for c in keep:
         if c in ("time", "actuator"):
+            continue
+        if pd.api.types.is_float_dtype(frame[c]):
+            out[c] = frame[c].to_numpy(float, copy=copy)
             continue
         values = pd.to_numeric(frame[c], errors="coerce")
         bad = values.isna() & frame[c].notna()
@@ -638,14 +653,13 @@ def from_frame(
             row = int(np.flatnonzero(bad.to_numpy())[0])
             raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
                            f"expected {UNITS[c]}")
-        out[c] = values.astype(float)
+        out[c] = values.to_numpy(float, copy=copy)
     explicit = {k: v for k, v in mapping.items() if k.startswith(EXTRA)}
     extra_values, extra_units, extra_notes = extras.collect(frame, given, explicit, source)
     notes += extra_notes
-    for c in out.columns:
+    for c, values in out.items():
         if c == "actuator":
             continue
-        values = out[c].to_numpy()
         nan = ~np.isfinite(values)
         if nan.any():
             row = int(np.flatnonzero(nan)[0])
@@ -655,8 +669,8 @@ def from_frame(
                 f"with --drop-incomplete)"
             )
     _plausible_units(out, stated, numeric_time, source, notes)
-    for c in (c for c in out.columns if UNITS.get(c) == "degC"):
-        values = out[c].to_numpy()
+    for c in (c for c in out if UNITS.get(c) == "degC"):
+        values = out[c]
         outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
         if outside.any():
             row = int(np.flatnonzero(outside)[0])
@@ -665,14 +679,15 @@ def from_frame(
                 f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} (a log in kelvin, in tenths of a degree "
                 f"or in raw counts needs converting first)"
             )
-    if "velocity" in out.columns and channel["velocity"] in VELOCITY_UNITS:
-        out["velocity"] *= VELOCITY_UNITS[channel["velocity"]]
+    if "velocity" in out and channel["velocity"] in VELOCITY_UNITS and VELOCITY_UNITS[channel["velocity"]] != 1.0:
+        out["velocity"] = out["velocity"] * VELOCITY_UNITS[channel["velocity"]]
         channel["velocity"] = "m/s" if channel["velocity"] == "m/s" else "rad/s"
     for name, values in extra_values.items():
         out[EXTRA + name] = values
         channel[EXTRA + name] = extra_units[name] or NOT_GIVEN
+    out = pd.DataFrame(out, copy=False)
     parts = []
-    for name, g in out.groupby("actuator", sort=False):
+    for name, g in _by_actuator(out):
         t = g["time"].to_numpy()
         steps = np.diff(t)
         if np.any(steps <= 0):
@@ -685,7 +700,17 @@ def from_frame(
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         _refuse_unit_switch(g, name, source)
         parts.append(g)
-    return ThermalLog(pd.concat(parts, ignore_index=True), source, tuple(notes), FrozenMapping(channel))
+    whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
+    return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))
+
+
+def _by_actuator(frame: pd.DataFrame):
+    """``(name, rows)`` of each actuator in order of appearance; a frame of one actuator is its own rows (no
+    copy: a large log read for one actuator is not held twice)."""
+    first = frame["actuator"].iloc[0]
+    if (frame["actuator"] == first).all():
+        return [(first, frame)]
+    return frame.groupby("actuator", sort=False, observed=True)
 
 
 def log_from_arrays(

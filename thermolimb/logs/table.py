@@ -87,6 +87,7 @@ def key_values(path: Path, key, sep: str | None = None, decimal: str | None = No
                 return None
             values = pc.unique(pc.drop_null(pc.cast(batch.column(0), pa.string())))
             order.update(dict.fromkeys(values.to_pylist()))
+        pa.default_memory_pool().release_unused()
         return list(order)
     for chunk in _csv_chunks(path, sep, decimal, key, CHUNK_ROWS):
         if chunk.shape[1] == 0:
@@ -98,45 +99,89 @@ def key_values(path: Path, key, sep: str | None = None, decimal: str | None = No
 def rows_where(path: Path, key, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
     """For each group ``(values, columns)``: the rows whose ``key`` column (a function of a column's name)
     holds one of ``values`` (compared as text), with the columns ``columns`` picks (``None``: all), as one
-    frame.  Read in pieces and, for Parquet, selected in Arrow before any row becomes a Python object: the
-    memory is that of the rows kept, not the file's (``key`` in text takes the same as in
-    :func:`key_values`)."""
+    frame whose key column is categorical (its categories: ``values``).  Read in pieces (Parquet: a row group
+    and a column at a time, selected in Arrow) and joined a column at a time, so that the memory is that of
+    the rows kept and one column more, not the file's."""
     if _kind_checked(path) == "parquet":
-        return _parquet_rows_where(path, key, groups)
-    parts: list[list[pd.DataFrame]] = [[] for _ in groups]
+        pieces, attrs = _parquet_pieces(path, key, groups), {}
+    else:
+        pieces, attrs = _csv_pieces(path, key, groups, sep, decimal)
+    return [_joined(columns, attrs) for columns in pieces]
+
+
+def _csv_pieces(path: Path, key, groups, sep, decimal) -> tuple[list[dict[str, list]], dict]:
+    pieces: list[dict[str, list]] = [{} for _ in groups]
+    attrs: dict = {}
     for chunk in _csv_chunks(path, sep, decimal, None, CHUNK_ROWS):
-        who = chunk[next(c for c in chunk.columns if key(c))].astype(str)
-        for (values, columns), part in zip(groups, parts):
-            picked = [c for c in chunk.columns if columns is None or columns(c) or key(c)]
-            part.append(chunk.loc[who.isin(values), picked].astype({who.name: "category"}))
-    frames = []
-    for part in parts:
-        frame = pd.concat(part, ignore_index=True)
-        frame.attrs = part[0].attrs
-        frames.append(frame)
-    return frames
+        attrs = chunk.attrs
+        name = next(c for c in chunk.columns if key(c))
+        who = chunk[name].astype(str)
+        for (values, columns), piece in zip(groups, pieces):
+            keep = who.isin(values).to_numpy()
+            categories = sorted(values)
+            for c in chunk.columns:
+                if c == name:
+                    piece.setdefault(c, []).append(pd.Categorical(who[keep], categories=categories))
+                elif columns is None or columns(c):
+                    piece.setdefault(c, []).append(chunk[c].to_numpy()[keep])
+        del chunk, who
+    return pieces, attrs
 
 
-def _parquet_rows_where(path: Path, key, groups) -> list[pd.DataFrame]:
+def _parquet_pieces(path: Path, key, groups) -> list[dict[str, list]]:
     import pyarrow as pa
     import pyarrow.compute as pc
+    import pyarrow.parquet as pq
 
-    parts: list[list] = [[] for _ in groups]
-    for batch in _parquet_batches(path, None, CHUNK_ROWS):
-        name = next(n for n in batch.schema.names if key(n))
-        who = pc.cast(batch.column(name), pa.string())
-        for (values, columns), part in zip(groups, parts):
-            picked = [n for n in batch.schema.names if columns is None or columns(n) or n == name]
-            mask = pc.is_in(who, value_set=pa.array(sorted(values), pa.string()))
-            part.append(batch.select(picked).filter(mask))
-    frames = []
-    for part in parts:
-        table = pa.Table.from_batches(part)
-        part.clear()
-        frames.append(table.to_pandas(strings_to_categorical=True, self_destruct=True, split_blocks=True))
-        del table
+    pieces: list[dict[str, list]] = [{} for _ in groups]
+    try:
+        f = pq.ParquetFile(path, pre_buffer=False)
+        names = f.schema_arrow.names
+        name = next(n for n in names if key(n))
+        sets = [pa.array(sorted(values), pa.string()) for values, _ in groups]
+        for i in range(f.metadata.num_row_groups):
+            who = pc.cast(f.read_row_group(i, columns=[name]).column(0), pa.string())
+            masks = [pc.is_in(who, value_set=s) for s in sets]
+            for s, mask, piece in zip(sets, masks, pieces):
+                codes = pc.index_in(pc.filter(who, mask), value_set=s)
+                piece.setdefault(name, []).append(pd.Categorical.from_codes(codes.to_numpy(), s.to_pylist()))
+            del who
+            for c in names:
+                if c == name:
+                    continue
+                wanted = [j for j, (_, columns) in enumerate(groups) if columns is None or columns(c)]
+                if not wanted:
+                    continue
+                column = f.read_row_group(i, columns=[c]).column(0)
+                for j in wanted:
+                    pieces[j].setdefault(c, []).append(_numpy(pc.filter(column, masks[j])))
+                del column
+    except (ValueError, OSError, pa.ArrowException) as exc:
+        raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
     pa.default_memory_pool().release_unused()
-    return frames
+    return pieces
+
+
+def _numpy(array) -> np.ndarray:
+    """An Arrow array's values in memory of numpy's own (nulls as NaN, NaT or None): what is kept of a row
+    group outlives it, and Arrow's allocator would hold the pages of every row group read."""
+    values = array.to_numpy(zero_copy_only=False)
+    return values.copy() if values.base is not None or not values.flags.owndata else values
+
+
+def _joined(columns: dict[str, list], attrs: dict) -> pd.DataFrame:
+    """One frame of the pieces of each column, joined a column at a time (each column's pieces freed once it
+    is joined)."""
+    out = {}
+    for c, parts in columns.items():
+        if isinstance(parts[0], pd.Categorical):
+            out[c] = pd.Categorical.from_codes(np.concatenate([p.codes for p in parts]), parts[0].categories)
+        else:
+            out[c] = np.concatenate(parts)
+        parts.clear()
+    frame = pd.DataFrame(out, copy=False)
+    frame.attrs.update(attrs)
+    return frame
 
 
 def _parquet_batches(path: Path, columns, rows: int):
@@ -274,6 +319,8 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
         return _from_stamps(stamps, source, column, origin)
     if pd.api.types.is_timedelta64_dtype(values):
         return values.dt.total_seconds().to_numpy(float)
+    if pd.api.types.is_float_dtype(values):
+        return values.to_numpy(float)
     numeric = pd.to_numeric(values, errors="coerce")
     if numeric.notna().sum() == values.notna().sum():
         return numeric.to_numpy(float)
