@@ -40,36 +40,39 @@ from thermolimb.plant import ActuatorSpec, ThermalNetwork, ThermalProtection
 from .constants import ACTUATORS, JOINTS, ROD_PAIRS, rod_actuators
 from .params import ValkyrieParams
 from .pushrods import RodPair
+from .scenarios import DEFAULT, Scenario
+from .scenarios import scenario as get_scenario
 
 # winding (tau = 20 J/K * 2 K/W = 40 s, the seed's RC) on a slow housing (2000 J/K, 1 K/W)
 VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 1.0))
 TIME_TO_WARNING_S = 100.0  # single-leg balancing: 25 -> 75 degC at the hottest actuator's static effort
-COPPER_LOSS_AT_30_PCT_W = 40.0  # derived in the module docstring from TIME_TO_WARNING_S
 OPERATING_LIMIT_C = 90.0  # the seed: Valkyrie's actuators operate up to 90 degC; derating starts there
 WINDING_LIMIT_C = OPERATING_LIMIT_C + ThermalProtection().margin_K
 
 
-def actuator_specs(params: ValkyrieParams) -> list[ActuatorSpec]:
-    """One spec per actuator (ACTUATORS order): 0.5 ohm windings, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the limit."""
+def actuator_specs(params: ValkyrieParams, scenario: str | Scenario = DEFAULT) -> list[ActuatorSpec]:
+    """One spec per actuator (ACTUATORS order): 0.5 ohm windings sized by the ``scenario``
+    (:mod:`humanoid_pb.scenarios`; the default is the rule above, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the limit)."""
+    sizing = get_scenario(scenario)
     specs = []
     for name in ACTUATORS:
         if "_rod_" in name:
             limit = params.rod_force_limit_N
         else:
             limit = params.effort_limit(name)
-        per_amp = 0.3 * limit / np.sqrt(COPPER_LOSS_AT_30_PCT_W / 0.5)
+        per_amp = sizing.effort_per_amp(name, limit, 0.5)
         specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
                                   winding_limit_C=WINDING_LIMIT_C, driver=None))
     return specs
 
 
-def datasheet_bank(params: ValkyrieParams, ambient_C: float = 25.0) -> FirstOrderBank:
+def datasheet_bank(params: ValkyrieParams, ambient_C: float = 25.0, scenario: str | Scenario = DEFAULT) -> FirstOrderBank:
     """Eq. 5 of every actuator from its data, without identification: the winding node on a housing at ambient.
 
     RC = C_w R_w (40 s) and betaR = R_e R_w / k^2: what a controller can plan
     with before it has a log of its own.
     """
-    return FirstOrderBank.from_specs(actuator_specs(params), ambient_C, lumped_nodes=1)
+    return FirstOrderBank.from_specs(actuator_specs(params, scenario), ambient_C, lumped_nodes=1)
 
 
 def effort_limits(params: ValkyrieParams) -> np.ndarray:

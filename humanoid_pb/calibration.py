@@ -14,17 +14,21 @@ from .actuators import effort_limits
 from .constants import ACTUATORS
 from .executor import Executor
 from .poses import crouch_angles
+from .scenarios import DEFAULT, Scenario
+from .scenarios import scenario as get_scenario
 from .sim import HumanoidSim
 
 
-def calibrate(duration_s: float, seed: int = 0, quiet: bool = True,
-              specs: Sequence[ActuatorSpec] | None = None) -> tuple[FirstOrderBank, ThermalLog]:
+def calibrate(duration_s: float, seed: int = 0, quiet: bool = True, specs: Sequence[ActuatorSpec] | None = None,
+              scenario: str | Scenario = DEFAULT) -> tuple[FirstOrderBank, ThermalLog]:
     """A calibration run (double support, then each foot, in turn) and the models identified from its log.
 
     ``specs``: the robot's actuators if they are not the datasheet's (the
-    calibration runs on the robot; nothing reads the specs but its plant).
+    calibration runs on the robot; nothing reads the specs but its plant); ``scenario``: its stance and, without
+    ``specs``, its actuators (:mod:`humanoid_pb.scenarios`).
     """
-    with HumanoidSim(crouch_angles(), seed=seed, specs=specs) as sim:
+    stance = get_scenario(scenario)
+    with HumanoidSim(crouch_angles(stance.crouch_depth_rad), seed=seed, specs=specs, scenario=stance) as sim:
         ex = Executor(sim)
         reading = sim.read()
         schedule = ["right", "double", "left", "double"]

@@ -22,6 +22,8 @@ from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
 from .poses import crouch_angles
 from .readings import roll_pitch_rad
+from .scenarios import DEFAULT
+from .scenarios import scenario as get_scenario
 from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
@@ -91,6 +93,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     actuator_specs
         The robot's actuators if not the datasheet's (a worn or different
         robot); :meth:`calibration_run` identifies models on it.
+    scenario
+        ``"ankle"`` (default) or ``"walking"`` (:mod:`humanoid_pb.scenarios`): the stance the robot holds
+        (the crouch, or bent knees near walking height) and, without ``actuator_specs``, how its actuators are
+        sized.  ``info["hot_recovery_s"]`` is when the hot leg's actuators were all below 70 degC.
     ambient_range_C, hot_range_C, cool_range_C
         Uniform ranges of the ambient, the hot leg's windings and every other
         winding at reset (degC).
@@ -107,8 +113,9 @@ class HumanoidThermalRecoveryEnv(RigEnv):
                  ambient_range_C: tuple[float, float] = (20.0, 30.0), hot_range_C: tuple[float, float] = (72.0, 80.0),
                  cool_range_C: tuple[float, float] = (35.0, 50.0), housing_warming_K: float = HOUSING_WARMING_K,
                  cooling_weight_per_K: float = 1.0, warning_weight: float = 0.5, fall_penalty: float = 100.0,
-                 effort_weight: float = 0.01):
+                 effort_weight: float = 0.01, scenario: str = DEFAULT):
         super().__init__(max_time_s, DECISION_S, render_mode)
+        self.scenario = get_scenario(scenario)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
         self.hot_range_C = checked_range("hot_range_C", hot_range_C, -40.0, 150.0)
         self.cool_range_C = checked_range("cool_range_C", cool_range_C, -40.0, 150.0)
@@ -135,7 +142,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     def calibration_run(self, duration_s: float, seed: int = 0):
         """Models identified from a calibration run of this robot (its own actuators, whatever its datasheet
         says): what a thermal-aware policy plans with.  Returns ``(bank, log)``."""
-        return calibrate(duration_s, seed, specs=self.actuator_specs)
+        return calibrate(duration_s, seed, specs=self.actuator_specs, scenario=self.scenario)
 
     # ------------------------------------------------------------------ gym API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -148,11 +155,14 @@ class HumanoidThermalRecoveryEnv(RigEnv):
             temperatures[ACTUATORS.index(a)] = rng.uniform(*self.hot_range_C)
         housings = ambient + rng.uniform(0.0, self.housing_warming_K, self.n_act)
         config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
-        self.sim = HumanoidSim(crouch_angles(), config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs)
+        self.sim = HumanoidSim(crouch_angles(self.scenario.crouch_depth_rad), config=config,
+                               seed=int(rng.integers(2**31)), specs=self.actuator_specs, scenario=self.scenario)
         self.sim.plant.set_temperatures(temperatures, rest_C=housings)
         self.executor = Executor(self.sim)
         self.reading = self.sim.read()
         self.fallen = False
+        self.hot_leg = [ACTUATORS.index(a) for a in leg_actuators(self.hot_side)]
+        self.hot_recovery_s = None
         return self._observation(), self._info({})
 
     def step(self, action):
@@ -164,6 +174,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for _ in range(steps):
             self.reading = self.executor.tick(self.reading)
             warning += np.sum(self.reading.temperature_C > WARNING_C) / steps
+            if self.hot_recovery_s is None and self.reading.temperature_C[self.hot_leg].max() < RECOVERED_C:
+                self.hot_recovery_s = self.sim.time_s
             if self.reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 self.fallen = True
                 break
@@ -187,7 +199,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     @staticmethod
     def episode_outcome(info: dict, terminated: bool) -> dict:
         """Whether the hot actuators recovered, and how long it took."""
-        return {"recovered": info["recovered"], "recovery_s": info["time_s"] if info["recovered"] else None}
+        return {"recovered": info["recovered"], "recovery_s": info["time_s"] if info["recovered"] else None,
+                "hot_recovery_s": info["hot_recovery_s"]}
 
     # ------------------------------------------------------------------ helpers
     def _apply(self, action):
@@ -229,4 +242,4 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     def _info(self, terms: dict, recovered: bool = False) -> dict:
         return {"reward_terms": terms, "time_s": self.sim.time_s, "mode": self.executor.mode,
                 "hot_side": self.hot_side, "max_temperature_C": float(self.reading.temperature_C.max()),
-                "recovered": recovered, "fell": self.fallen}
+                "recovered": recovered, "fell": self.fallen, "hot_recovery_s": self.hot_recovery_s}

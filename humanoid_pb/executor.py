@@ -20,7 +20,7 @@ class Executor:
     def __init__(self, sim: HumanoidSim):
         self.sim = sim
         self.body = sim.body
-        self.nominal_angles = crouch_angles()
+        self.nominal_angles = crouch_angles(sim.scenario.crouch_depth_rad)
         self.q_nominal = standing(self.body, self.nominal_angles)
         self.mode = "double"
         self.target = self.nominal_angles.copy()

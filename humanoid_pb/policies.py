@@ -41,7 +41,7 @@ class HumanoidModePolicy:
 
     def models(self, env):
         """The bank identified from this robot's calibration run (run once per robot and process)."""
-        return _identified(env, env.actuator_specs, self.calibration_s, self.seed)
+        return _identified(env, (env.actuator_specs, env.scenario.name), self.calibration_s, self.seed)
 
     def __call__(self, env, observation):
         e = env.unwrapped

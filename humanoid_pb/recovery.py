@@ -25,6 +25,8 @@ from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, WARNING_C
 from .planner import ContactModePlanner
 from .poses import crouch_angles
+from .scenarios import DEFAULT, Scenario
+from .scenarios import scenario as get_scenario
 from .sim import HumanoidSim
 
 DWELL_S = 8.0  # minimum time in a mode before the next decision
@@ -50,15 +52,18 @@ class RecoveryRun:
 
 
 def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: str = "right",
-                 max_heat_s: float = 240.0, max_recovery_s: float = 240.0, quiet: bool = True) -> RecoveryRun:
+                 max_heat_s: float = 240.0, max_recovery_s: float = 240.0, quiet: bool = True,
+                 scenario: str | Scenario = DEFAULT) -> RecoveryRun:
     """Balance on ``heat_side`` until an actuator reaches 75 degC, then recover with ``strategy``:
     ``"thermal_aware"`` (Eq. 33 over the three modes, re-decided every 2 s after an 8 s dwell) or
-    ``"minimum_effort"`` (the least-effort mode and configuration, held)."""
+    ``"minimum_effort"`` (the least-effort mode and configuration, held).  ``scenario``: the stance and the
+    actuators (:mod:`humanoid_pb.scenarios`)."""
     if strategy not in ("thermal_aware", "minimum_effort"):
         raise ValueError(f"strategy must be 'thermal_aware' or 'minimum_effort', got {strategy!r}")
     run = RecoveryRun(strategy)
     hot_leg = [ACTUATORS.index(a) for a in leg_actuators(heat_side)]
-    with HumanoidSim(crouch_angles(), seed=seed) as sim:
+    stance = get_scenario(scenario)
+    with HumanoidSim(crouch_angles(stance.crouch_depth_rad), seed=seed, scenario=stance) as sim:
         ex = Executor(sim)
         planner = ContactModePlanner(sim.body, "thermal" if strategy == "thermal_aware" else "effort")
         reading = sim.read()

@@ -19,25 +19,32 @@ from . import actuators
 from .constants import ACTUATORS, FEET, JOINTS
 from .params import VALKYRIE, ValkyrieParams
 from .readings import Reading
+from .scenarios import DEFAULT, Scenario
+from .scenarios import scenario as get_scenario
 from .statics import WholeBody
 from .urdf_model import urdf_path
 
 
 class HumanoidSim(BulletRig):
-    """A world with the humanoid standing on the ground in ``joint_angles``, feet flat."""
+    """A world with the humanoid standing on the ground in ``joint_angles``, feet flat.
+
+    ``scenario`` (:mod:`humanoid_pb.scenarios`) sizes the actuators (unless ``specs`` are given) and sets the
+    stance the :class:`~humanoid_pb.executor.Executor` holds."""
 
     def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
                  config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
                  plant_effects: PlantEffects = PlantEffects.realistic_sensor(), seed: int = 0,
                  protection: ThermalProtection = ThermalProtection(),
-                 body: WholeBody | None = None, specs: Sequence[ActuatorSpec] | None = None):
+                 body: WholeBody | None = None, specs: Sequence[ActuatorSpec] | None = None,
+                 scenario: str | Scenario = DEFAULT):
         self.params = params
+        self.scenario = get_scenario(scenario)
         self.body = body or WholeBody(params)
         self.rods = self.body.rods
         angles = np.zeros(len(JOINTS)) if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
-        specs = actuators.actuator_specs(params) if specs is None else list(specs)
+        specs = actuators.actuator_specs(params, self.scenario) if specs is None else list(specs)
         super().__init__(urdf_path(), JOINTS, FEET, ACTUATORS, specs, limits, config,
                          base, plant_effects=plant_effects, seed=seed, protection=protection)
         self.set_joint_positions(angles)

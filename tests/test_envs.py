@@ -10,6 +10,7 @@ from gymnasium.utils.env_checker import check_env
 
 from hexapod_pb import ENV_ID as HEXAPOD_ID  # importing the robot packages registers their environments
 from humanoid_pb import ENV_ID as HUMANOID_ID
+from humanoid_pb.constants import JOINTS
 from thermolimb.cli.main import main
 from thermolimb.envs.policies import make_policy, strategies
 
@@ -244,3 +245,19 @@ def test_a_live_world_is_not_copied_but_an_idle_environment_is(env_id):
             with pytest.raises(TypeError, match="live PyBullet world cannot be copied or pickled"):
                 copier(env)
         env.step(env.action_space.sample())  # the original still steps
+
+
+def test_compare_strategies_scenario_is_checked_before_any_episode(capsys):
+    assert main(["compare-strategies", "--env", HUMANOID_ID, "--scenario", "squat", "--episodes", "1"]) == 2
+    assert "no humanoid scenario 'squat'; expected one of ankle, walking" in capsys.readouterr().err
+    assert main(["compare-strategies", "--env", HEXAPOD_ID, "--scenario", "walking", "--episodes", "1"]) == 2
+    assert "takes no scenario" in capsys.readouterr().err
+
+
+def test_humanoid_walking_scenario_holds_its_stance_and_reports_the_hot_legs_recovery():
+    with closing(gym.make(HUMANOID_ID, max_time_s=6.0, scenario="walking").unwrapped) as env:
+        _, info = env.reset(seed=0)
+        assert env.executor.nominal_angles[JOINTS.index("left_knee")] == pytest.approx(0.9)
+        assert info["hot_recovery_s"] is None  # the hot leg starts between 72 and 80 degC
+        *_, info = env.step(0)
+        assert not info["fell"] and env.sim.read().base_position_m[2] > 0.95

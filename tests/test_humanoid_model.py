@@ -146,3 +146,49 @@ def test_potential_derivatives_are_eq_26s():
         assert hessian[i] == pytest.approx(slope, rel=1e-5)
     np.testing.assert_allclose(potential.predicted_C(efforts),
                                potential.bank.ahead(T, efforts, potential.horizon_s), rtol=1e-12)
+
+
+@pytest.mark.parametrize("fractions", ["by type", "uniform"])
+def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_margins(body, fractions):
+    """humanoid_pb.scenarios' derivation: at the walking stance the stance knee carries 44.5 % of its limit on one
+    leg and 27.3 % in double support, and with the scenario's sizing it reaches the 75 degC warning in about the
+    seed's 100 s; with one continuous fraction for every actuator type the knee is still the hottest (the type
+    margins are an assumption that does not decide the case)."""
+    from dataclasses import replace
+
+    from humanoid_pb.actuators import TIME_TO_WARNING_S, datasheet_bank, effort_limits
+    from humanoid_pb.params import WARNING_C
+    from humanoid_pb.poses import single_support
+    from humanoid_pb.scenarios import SCENARIOS, UNIFORM
+
+    walking = SCENARIOS["walking"]
+    if fractions == "uniform":
+        walking = replace(walking, continuous_fraction=UNIFORM)
+    q = standing(body, crouch_angles(walking.crouch_depth_rad))
+    knee = ACTUATORS.index("right_knee")
+    one_leg = body.statics(single_support(body, q, "right"), "right").efforts
+    both = body.statics(q, "double").efforts
+    limits = effort_limits(VALKYRIE)
+    assert abs(one_leg[knee]) / limits[knee] == pytest.approx(0.445, abs=0.002)
+    assert abs(both[knee]) / limits[knee] == pytest.approx(0.273, abs=0.002)
+    bank = datasheet_bank(VALKYRIE, ambient_C=25.0, scenario=walking)
+    rise_K = bank.betaR_K_per_effort2 * one_leg**2
+    assert ACTUATORS[int(np.argmax(rise_K))] == "right_knee"
+    runner_up = np.sort(rise_K)[-2]
+    assert runner_up < 0.5 * rise_K[knee]
+    time_to_warning_s = bank.RC_s[knee] * np.log(rise_K[knee] / (rise_K[knee] - (WARNING_C - 25.0)))
+    assert time_to_warning_s == pytest.approx(TIME_TO_WARNING_S, rel=0.05)
+
+
+def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
+    from humanoid_pb.actuators import actuator_specs
+    from humanoid_pb.scenarios import UNIFORM, Scenario, scenario
+
+    assert actuator_specs(VALKYRIE) == actuator_specs(VALKYRIE, "ankle")
+    assert dict(scenario("ankle").continuous_fraction) == dict(UNIFORM)
+    with pytest.raises(ValueError, match="no humanoid scenario 'squat'; expected one of ankle, walking"):
+        scenario("squat")
+    with pytest.raises(ValueError, match="no continuous fraction for actuator type"):
+        Scenario("x", 0.3, 10.0, {"linear": 0.3}, "")
+    with pytest.raises(ValueError, match="crouch depth"):
+        Scenario("x", 1.5, 10.0, UNIFORM, "")

@@ -23,6 +23,9 @@ def add_parser(sub):
     p.add_argument("--strategies", type=names, default=None, metavar="NAME,...", help="subset of strategies (default all)")
     p.add_argument("--max-time", type=number(0.0, 1e7, low_open=True, unit="s"), default=None,
                    help="episode time limit in s (default the environment's)")
+    p.add_argument("--scenario", default=None, metavar="NAME",
+                   help="the environment's scenario, for one that has several (humanoid: ankle or walking; "
+                   "see docs/humanoid.md)")
     p.add_argument("--backend", choices=("process", "ray"), default="process",
                    help="local process pool (default) or Ray tasks (optional extra 'ray')")
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
@@ -38,7 +41,7 @@ def run(args) -> int:
     from ..envs.tables import episodes_json, format_table, plot_table, table
 
     episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
-                        address=args.address, max_time_s=args.max_time)
+                        address=args.address, max_time_s=args.max_time, scenario=args.scenario)
     rows = table(episodes)
     path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")
     if args.json:

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from ..util.errors import UsageError
 from ..util.parallel import run_jobs
-from . import env_info
+from . import env_class, env_info
 from .policies import make_policy
 from .policies import strategies as env_strategies
 
@@ -24,17 +24,21 @@ class Episode:
     distance_m: float | None  # environments that travel
     time_to_limit_s: float | None  # sim time until an actuator reached its winding limit
     fell: bool
+    hot_recovery_s: float | None = None  # sim time until the hot group (the humanoid's hot leg) recovered
 
 
-OUTCOMES = ("recovered", "recovery_s", "distance_m", "time_to_limit_s")
+OUTCOMES = ("recovered", "recovery_s", "distance_m", "time_to_limit_s", "hot_recovery_s")
 
 
-def run_episode(env_id: str, strategy: str, seed: int, max_time_s: float | None = None) -> Episode:
+def run_episode(env_id: str, strategy: str, seed: int, max_time_s: float | None = None,
+                scenario: str | None = None) -> Episode:
     """One episode of ``strategy`` from ``reset(seed=seed)``; the environment says what its outcome was."""
     import gymnasium as gym
 
     env_info(env_id)  # registers the environments in a fresh worker process
     kwargs = {} if max_time_s is None else {"max_time_s": max_time_s}
+    if scenario is not None:
+        kwargs["scenario"] = scenario
     env = gym.make(env_id, **kwargs)
     try:
         policy = make_policy(env_id, strategy, seed)
@@ -52,12 +56,28 @@ def run_episode(env_id: str, strategy: str, seed: int, max_time_s: float | None 
 
 
 def evaluate(env_id: str, episodes: int, seed: int, strategies=None, backend: str = "process", workers: int = 2,
-             address: str | None = None, max_time_s: float | None = None) -> list[Episode]:
-    """Every strategy over ``episodes`` seeds (``seed``, ``seed + 1``, ...), the same seeds for each strategy."""
+             address: str | None = None, max_time_s: float | None = None, scenario: str | None = None) -> list[Episode]:
+    """Every strategy over ``episodes`` seeds (``seed``, ``seed + 1``, ...), the same seeds for each strategy;
+    ``scenario``: the environment's ``scenario`` argument, for an environment that takes one."""
     offered = env_strategies(env_id)
     strategies = list(strategies or offered)
     unknown = [s for s in strategies if s not in offered]
     if unknown:
         raise UsageError(f"no strategy {', '.join(map(repr, unknown))} for {env_id}; available: {', '.join(offered)}")
-    jobs = [(env_id, s, seed + k, max_time_s) for s in strategies for k in range(episodes)]
+    if scenario is not None:
+        check_scenario(env_id, scenario)
+    jobs = [(env_id, s, seed + k, max_time_s, scenario) for s in strategies for k in range(episodes)]
     return run_jobs(run_episode, jobs, backend, workers, address)
+
+
+def check_scenario(env_id: str, scenario: str) -> None:
+    """One clear error when the environment takes no ``scenario`` or not this one (before any worker starts)."""
+    import inspect
+
+    cls = env_class(env_id)
+    if "scenario" not in inspect.signature(cls.__init__).parameters:
+        raise UsageError(f"{env_id} takes no scenario; --scenario is for environments that have several")
+    try:
+        cls(scenario=scenario)
+    except ValueError as exc:
+        raise UsageError(f"{env_id}: {exc}") from None

@@ -32,6 +32,7 @@ def table(episodes: list[Episode]) -> list[dict]:
             "recovery_s": stat([e.recovery_s for e in eps]),
             "distance_m": stat([e.distance_m for e in eps]),
             "time_to_limit_s": stat([e.time_to_limit_s for e in eps]),
+            "hot_recovery_s": stat([e.hot_recovery_s for e in eps]),
             "falls": sum(e.fell for e in eps),
         })
     return rows
@@ -48,10 +49,13 @@ def _cell(stat, fmt="{:.2f}"):
 
 def format_table(rows, env_id) -> str:
     outcome = outcome_key(env_id)
-    lines = [f"{'strategy':24s} {'return':>22s} {outcome:>22s} {'time_to_limit_s':>22s} {'falls':>6s}"]
+    hot = any(r["hot_recovery_s"][2] for r in rows) or outcome == "recovery_s"
+    lines = [f"{'strategy':24s} {'return':>22s} {outcome:>22s} " + (f"{'hot_recovery_s':>22s} " if hot else "")
+             + f"{'time_to_limit_s':>22s} {'falls':>6s}"]
     for r in rows:
         lines.append(f"{r['strategy']:24s} {_cell(r['return']):>22s} {_cell(r[outcome]):>22s} "
-                     f"{_cell(r['time_to_limit_s'], '{:.0f}'):>22s} {r['falls']:>6d}")
+                     + (f"{_cell(r['hot_recovery_s']):>22s} " if hot else "")
+                     + f"{_cell(r['time_to_limit_s'], '{:.0f}'):>22s} {r['falls']:>6d}")
     return "\n".join(lines)
 
 
