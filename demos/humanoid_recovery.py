@@ -148,8 +148,9 @@ def _norm_rate(run):
     return t - (run.warning_at_s if run.warning_at_s is not None else t[-1]), rate
 
 
-def _marks(ax, run, since_warning: bool = True):
-    zero = run.warning_at_s if since_warning and run.warning_at_s is not None else 0.0
+def _marks(ax, run):
+    """The warning, the hot leg's recovery and every actuator's, as vertical lines on a time-since-warning axis."""
+    zero = run.warning_at_s if run.warning_at_s is not None else 0.0
     for value, style, label in ((run.warning_at_s, ":", "75 °C reached"),
                                 (_after(run, run.hot_leg_recovery_s), "--", "hot leg < 70 °C"),
                                 (_after(run, run.recovery_s), "-", "all < 70 °C")):
@@ -215,10 +216,9 @@ def _plot_fig7(runs, name, path):
 
 
 def _render(runs, name, out):
-    stance = crouch_angles(scenario(name).crouch_depth_rad)
     for s, r in runs.items():
         for mode, angles in r.configurations.items():
-            with HumanoidSim(angles if mode == "double" else stance) as sim:
+            with HumanoidSim(angles if mode == "double" else None, scenario=name) as sim:
                 if mode != "double":
                     sim.set_joint_positions(angles)
                 image = sim.render()

@@ -13,9 +13,7 @@ from thermolimb.util.progress import progress
 from .actuators import effort_limits
 from .constants import ACTUATORS
 from .executor import Executor
-from .poses import crouch_angles
 from .scenarios import DEFAULT, Scenario
-from .scenarios import scenario as get_scenario
 from .sim import HumanoidSim
 
 
@@ -27,8 +25,7 @@ def calibrate(duration_s: float, seed: int = 0, quiet: bool = True, specs: Seque
     calibration runs on the robot; nothing reads the specs but its plant); ``scenario``: its stance and, without
     ``specs``, its actuators (:mod:`humanoid_pb.scenarios`).
     """
-    stance = get_scenario(scenario)
-    with HumanoidSim(crouch_angles(stance.crouch_depth_rad), seed=seed, specs=specs, scenario=stance) as sim:
+    with HumanoidSim(seed=seed, specs=specs, scenario=scenario) as sim:
         ex = Executor(sim)
         reading = sim.read()
         schedule = ["right", "double", "left", "double"]

@@ -20,7 +20,6 @@ from .calibration import calibrate
 from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, leg_joint
 from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
-from .poses import crouch_angles
 from .readings import roll_pitch_rad
 from .scenarios import DEFAULT
 from .scenarios import scenario as get_scenario
@@ -155,8 +154,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
             temperatures[ACTUATORS.index(a)] = rng.uniform(*self.hot_range_C)
         housings = ambient + rng.uniform(0.0, self.housing_warming_K, self.n_act)
         config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
-        self.sim = HumanoidSim(crouch_angles(self.scenario.crouch_depth_rad), config=config,
-                               seed=int(rng.integers(2**31)), specs=self.actuator_specs, scenario=self.scenario)
+        self.sim = HumanoidSim(config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs,
+                               scenario=self.scenario)
         self.sim.plant.set_temperatures(temperatures, rest_C=housings)
         self.executor = Executor(self.sim)
         self.reading = self.sim.read()

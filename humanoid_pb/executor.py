@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from .balance import Motion, balance_command
-from .poses import crouch_angles, single_support, standing
+from .poses import single_support, standing
 from .sim import HumanoidSim
 
 SHIFT_S = 1.5  # weight shift, and foot lift or placement, each
@@ -20,7 +20,7 @@ class Executor:
     def __init__(self, sim: HumanoidSim):
         self.sim = sim
         self.body = sim.body
-        self.nominal_angles = crouch_angles(sim.scenario.crouch_depth_rad)
+        self.nominal_angles = sim.stance_angles
         self.q_nominal = standing(self.body, self.nominal_angles)
         self.mode = "double"
         self.target = self.nominal_angles.copy()

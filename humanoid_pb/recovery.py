@@ -24,9 +24,7 @@ from .constants import ACTUATORS, leg_actuators
 from .executor import Executor
 from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, WARNING_C
 from .planner import ContactModePlanner
-from .poses import crouch_angles
 from .scenarios import DEFAULT, Scenario
-from .scenarios import scenario as get_scenario
 from .sim import HumanoidSim
 
 DWELL_S = 8.0  # minimum time in a mode before the next decision
@@ -62,8 +60,7 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
         raise ValueError(f"strategy must be 'thermal_aware' or 'minimum_effort', got {strategy!r}")
     run = RecoveryRun(strategy)
     hot_leg = [ACTUATORS.index(a) for a in leg_actuators(heat_side)]
-    stance = get_scenario(scenario)
-    with HumanoidSim(crouch_angles(stance.crouch_depth_rad), seed=seed, scenario=stance) as sim:
+    with HumanoidSim(seed=seed, scenario=scenario) as sim:
         ex = Executor(sim)
         planner = ContactModePlanner(sim.body, "thermal" if strategy == "thermal_aware" else "effort")
         reading = sim.read()

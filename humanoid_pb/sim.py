@@ -18,6 +18,7 @@ from thermolimb.rig import BulletRig, RigConfig
 from . import actuators
 from .constants import ACTUATORS, FEET, JOINTS
 from .params import VALKYRIE, ValkyrieParams
+from .poses import crouch_angles
 from .readings import Reading
 from .scenarios import DEFAULT, Scenario
 from .scenarios import scenario as get_scenario
@@ -29,7 +30,8 @@ class HumanoidSim(BulletRig):
     """A world with the humanoid standing on the ground in ``joint_angles``, feet flat.
 
     ``scenario`` (:mod:`humanoid_pb.scenarios`) sizes the actuators (unless ``specs`` are given) and sets the
-    stance the :class:`~humanoid_pb.executor.Executor` holds."""
+    stance (``stance_angles``): where the robot starts without ``joint_angles``, and what the
+    :class:`~humanoid_pb.executor.Executor` holds."""
 
     def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
                  config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
@@ -39,9 +41,10 @@ class HumanoidSim(BulletRig):
                  scenario: str | Scenario = DEFAULT):
         self.params = params
         self.scenario = get_scenario(scenario)
+        self.stance_angles = crouch_angles(self.scenario.crouch_depth_rad)
         self.body = body or WholeBody(params)
         self.rods = self.body.rods
-        angles = np.zeros(len(JOINTS)) if joint_angles is None else np.asarray(joint_angles, float)
+        angles = self.stance_angles if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
         specs = actuators.actuator_specs(params, self.scenario) if specs is None else list(specs)

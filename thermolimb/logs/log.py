@@ -537,11 +537,12 @@ def _plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], nume
                              f"time=COLUMN:s)")
                 break
         else:
-            steps = np.diff(np.unique(t)) if hi - lo >= 2 * 86400.0 else np.zeros(0)  # a short log needs no steps
-            step = float(np.median(steps)) if steps.size else 0.0
-            if step >= 100.0:
-                notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if the "
-                             f"time column counts milliseconds, state it: a header 'time [ms]' or --map time=COLUMN:ms")
+            if hi - lo >= 2 * 86400.0:  # only a log of days is looked at step by step
+                step = float(np.median(np.diff(np.unique(t))))
+                if step >= 100.0:
+                        notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
+                                 f"the time column counts milliseconds, state it: a header 'time [ms]' or --map "
+                                 f"time=COLUMN:ms")
     for name in out:
         if UNITS.get(name) != "degC" or name in stated:
             continue

@@ -111,17 +111,17 @@ def rows_where(path: Path, key, groups, sep: str | None = None, decimal: str | N
 
 def _csv_pieces(path: Path, key, groups, sep, decimal) -> tuple[list[dict[str, list]], dict]:
     pieces: list[dict[str, list]] = [{} for _ in groups]
+    categories = [sorted(values) for values, _ in groups]
     attrs: dict = {}
     for chunk in _csv_chunks(path, sep, decimal, None, CHUNK_ROWS):
         attrs = chunk.attrs
         name = next(c for c in chunk.columns if key(c))
         who = chunk[name].astype(str)
-        for (values, columns), piece in zip(groups, pieces):
+        for (values, columns), piece, sorted_values in zip(groups, pieces, categories):
             keep = who.isin(values).to_numpy()
-            categories = sorted(values)
             for c in chunk.columns:
                 if c == name:
-                    piece.setdefault(c, []).append(pd.Categorical(who[keep], categories=categories))
+                    piece.setdefault(c, []).append(pd.Categorical(who[keep], categories=sorted_values))
                 elif columns is None or columns(c):
                     piece.setdefault(c, []).append(chunk[c].to_numpy()[keep])
         del chunk, who
@@ -166,7 +166,7 @@ def _numpy(array) -> np.ndarray:
     """An Arrow array's values in memory of numpy's own (nulls as NaN, NaT or None): what is kept of a row
     group outlives it, and Arrow's allocator would hold the pages of every row group read."""
     values = array.to_numpy(zero_copy_only=False)
-    return values.copy() if values.base is not None or not values.flags.owndata else values
+    return values if values.flags.owndata else values.copy()
 
 
 def _joined(columns: dict[str, list], attrs: dict) -> pd.DataFrame:

@@ -10,8 +10,6 @@ import numpy as np
 
 from .scan import CONSTANT_A
 
-INTERVAL_CHUNK = 1 << 16  # intervals checked at a time for a uniform sampling
-
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
@@ -64,16 +62,11 @@ class Signals:
     @cached_property
     def uniform_dt_s(self) -> float | None:
         """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``."""
-        n = self.n
-        if n < 2:
+        dt = self.dt_s
+        if dt.size == 0:
             return None
-        t = self.time_s
-        step = float(t[-1] - t[0]) / (n - 1)
-        lo, hi = np.inf, -np.inf
-        for start in range(0, n - 1, INTERVAL_CHUNK):  # in pieces: a long log's intervals are not all held
-            dt = np.diff(t[start:start + INTERVAL_CHUNK + 1])
-            lo, hi = min(lo, float(dt.min())), max(hi, float(dt.max()))
-        return step if step > 0.0 and hi - lo <= CONSTANT_A * step else None
+        step = float(dt.mean())
+        return step if step > 0.0 and float(dt.max() - dt.min()) <= CONSTANT_A * step else None
 
     @cached_property
     def neighbor_mean_C(self) -> np.ndarray:
