@@ -8,6 +8,7 @@ actuators run hot, so its logs carry a 1.8x heavier load (windings reach 80-120 
 
 import json
 
+import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
@@ -203,3 +204,20 @@ def test_every_term_at_its_null_runs_as_the_base():
                                    err_msg=name)
         checked.append(name)
     assert len(checked) >= 12, checked
+
+
+@pytest.mark.parametrize("n, max_lag", [(10, 2), (10, 9), (1000, 250), (12345, 600), (5, 10)])
+def test_cross_correlation_over_the_lags_asked_equals_the_full_correlation(n, max_lag):
+    """The FFT over n + max_lag points (not 2n) gives the full correlation's values at every lag asked,
+    zero beyond the series' length."""
+    from scipy.signal import correlate
+
+    from thermolimb.workbench.diagnosis.residuals import _normalised, cross_correlation
+
+    rng = np.random.default_rng(n)
+    x, y = rng.normal(size=n).cumsum(), rng.normal(size=n)
+    full = correlate(_normalised(y), _normalised(x), mode="full", method="direct") / n
+    lags, r = cross_correlation(x, y, max_lag)
+    inside = np.abs(lags) <= n - 1
+    assert np.allclose(r[inside], full[n - 1 + lags[inside]], atol=1e-12)
+    assert np.all(r[~inside] == 0.0)

@@ -150,3 +150,21 @@ def test_one_actuator_read_in_pieces_is_the_whole_files_series(plant_log, tmp_pa
         np.testing.assert_array_equal(a.signals.effort, b.signals.effort)
         assert a.signals.neighbor_names == b.signals.neighbor_names
         np.testing.assert_array_equal(a.signals.neighbor_temperature_C, b.signals.neighbor_temperature_C)
+        alone = read_log(path, actuators=[name], neighbours=False).series(name)
+        np.testing.assert_array_equal(alone.temperature_C, b.temperature_C)
+        assert alone.signals.neighbor_temperature_C is None and alone.signals.neighbor_names == ()
+
+
+def test_fit_reads_the_neighbours_only_for_a_model_with_their_coupling(tmp_path):
+    """``fit --actuator`` on a canonical table leaves the neighbours unread for the default model (it has no use
+    for them) and reads them for a model with ``neighbor_coupling``, which then fits."""
+    from argparse import Namespace
+
+    from thermolimb.cli.options import _reads_neighbours
+
+    assert not _reads_neighbours(Namespace(model="joule,effort_bias", discovers=False))
+    assert _reads_neighbours(Namespace(model="joule,neighbor_coupling", discovers=False))
+    assert not _reads_neighbours(Namespace(model=None, discovers=False))  # compare's default: the default model
+    assert _reads_neighbours(Namespace(model=["joule", "joule,neighbor_coupling"], discovers=False))
+    assert _reads_neighbours(Namespace(model="joule,effort_bias"))  # diagnose: it may propose the coupling
+    assert _reads_neighbours(Namespace())  # a command without models reads what it always did

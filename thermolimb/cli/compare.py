@@ -39,7 +39,7 @@ def add_parser(sub):
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write compare_<actuator>.png into DIR")
     add_html(p)
     add_quiet(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, discovers=False)
 
 
 def run(args) -> int:

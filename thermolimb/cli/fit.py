@@ -49,7 +49,7 @@ def add_parser(sub):
     add_html(p)
     add_fleet(p)
     add_quiet(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, discovers=False)
 
 
 def run(args) -> int:

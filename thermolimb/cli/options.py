@@ -105,7 +105,19 @@ def read_options(args, path) -> dict:
             "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
             "drop_incomplete": args.drop_incomplete,
             # one actuator of a canonical table: only its rows are read (and its neighbours' temperatures)
-            "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None}
+            "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None,
+            "neighbours": _reads_neighbours(args)}
+
+
+def _reads_neighbours(args) -> bool:
+    """Whether the command needs the neighbours' temperatures: a diagnosis may add their coupling; a fit or a
+    comparison only when one of its models has it."""
+    from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+
+    if getattr(args, "discovers", True) or not hasattr(args, "model"):
+        return True
+    models = args.model if isinstance(args.model, list) else [args.model or DEFAULT_MODEL]
+    return any("neighbors" in TERMS[name].columns for spec in models for name in parse_model(spec))
 
 
 def _read(paths, args) -> list[ThermalLog]:

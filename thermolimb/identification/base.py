@@ -16,6 +16,7 @@ import numpy as np
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import DEFAULT_MODEL, TERMS, ModelSpecError, parse_model
+from ..util.memory import release_freed
 from .metrics import fit_percent
 from .regression import IdentifiabilityError
 
@@ -70,6 +71,7 @@ class ThermalEstimator:
                             f"{ser.actuator}'s log does not have"
                         ) from None
         values, covariance = self._fit(series, terms)
+        release_freed()  # the simulations' per-sample arrays, before the caller's next ones
         names = [p.name for p in model_parameters(terms)]
         if not values[0] > 0:
             raise IdentifiabilityError(

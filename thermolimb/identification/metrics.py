@@ -7,20 +7,30 @@ import numpy as np
 
 def fit_percent(measured: np.ndarray, predicted: np.ndarray) -> float:
     """100 (1 - ||y - y_hat|| / ||y - mean(y)||): 100 is perfect, 0 is no better than the mean."""
-    spread = np.linalg.norm(measured - np.mean(measured))
-    if spread == 0:
-        return float("nan")
-    return float(100.0 * (1.0 - np.linalg.norm(measured - predicted) / spread))
+    return fit_metrics(measured, predicted)["fit_percent"]
 
 
 def fit_metrics(measured: np.ndarray, predicted: np.ndarray) -> dict[str, float]:
     """``{"rmse_K", "max_abs_K", "fit_percent"}`` of a simulation against measurements."""
-    err = np.asarray(predicted) - np.asarray(measured)
-    return {
-        "rmse_K": float(np.sqrt(np.mean(err**2))),
-        "max_abs_K": float(np.max(np.abs(err))),
-        "fit_percent": fit_percent(np.asarray(measured), np.asarray(predicted)),
-    }
+    return pieces_metrics([(measured, predicted)])
+
+
+def pieces_metrics(pieces) -> dict[str, float]:
+    """:func:`fit_metrics` of pieces ``(measured, predicted)`` taken together, without joining them (one
+    temporary of a piece's length at a time)."""
+    pieces = [(np.asarray(m, float), np.asarray(p, float)) for m, p in pieces]
+    n = sum(m.size for m, _ in pieces)
+    squared = largest = spread = 0.0
+    mean = sum(float(np.sum(m)) for m, _ in pieces) / n if n else float("nan")
+    for measured, predicted in pieces:
+        err = np.subtract(predicted, measured)
+        squared += float(np.dot(err, err))
+        largest = max(largest, float(np.max(np.abs(err, out=err)))) if err.size else largest
+        np.subtract(measured, mean, out=err)
+        spread += float(np.dot(err, err))
+    rmse = float(np.sqrt(squared / n)) if n else float("nan")
+    fit = float(100.0 * (1.0 - np.sqrt(squared / spread))) if spread > 0 else float("nan")
+    return {"rmse_K": rmse, "max_abs_K": largest if n else float("nan"), "fit_percent": fit}
 
 
 def ar1_variance_factor(residuals: np.ndarray) -> float:

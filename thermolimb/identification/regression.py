@@ -117,37 +117,59 @@ def build_regression(
     ``subtract_ambient_C``: the seed's form ``y = T - T_amb`` (use the
     log's ambient column when it has one, else this constant); ``None`` keeps
     ``y = T`` with the ambient inside ``T_offset``.  A long log's rows are
-    thinned (:mod:`~thermolimb.identification.thinning`).
+    thinned (:mod:`~thermolimb.identification.thinning`): each signal is
+    filtered at the full rate, one column at a time, and only the kept rows
+    of it are held.
     """
     Xs, ys, efforts = [], [], []
     stride = fit_stride(series)
     for raw in series:
         ser = _uniform(raw)
         dt = float(ser.time_s[1] - ser.time_s[0])
-        T, dT = lowpass_derivative(ser.temperature_C, cutoff_hz, dt)
+        trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
+        keep = np.arange(trim, ser.n - trim, stride)
+        T = lowpass(ser.temperature_C, cutoff_hz, dt)
+        rows = -gradient_at(T, keep, dt)
         if consistent:
-            feats = lowpass(term_features(terms, ser.signals, ser.temperature_C), cutoff_hz, dt)
+            feats = _kept_features(terms, ser.signals, ser.temperature_C, keep, lambda x: lowpass(x, cutoff_hz, dt))
         else:
             s = ser.signals
             smooth = replace(s, **{name: lowpass(getattr(s, name), effort_cutoff_hz, dt)
                                    for name in ("effort", "velocity", "current_A", "power_W")
                                    if getattr(s, name) is not None})
-            feats = term_features(terms, smooth, T)
-        y = T.copy()
+            feats = _kept_features(terms, smooth, T, keep, lambda x: x)
+        y = T[keep]
+        del T
         if subtract_ambient_C is not None:
             amb = ser.signals.ambient_C
-            y -= lowpass(amb, cutoff_hz, dt) if amb is not None else subtract_ambient_C
-        trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
-        keep = slice(trim, ser.n - trim, stride)
-        rows = -dT[keep]
-        Xs.append(np.column_stack([rows, feats[keep], np.ones(rows.size)]))
-        ys.append(y[keep].copy())
-        efforts.append(ser.signals.effort[keep].copy())
+            y -= lowpass(amb, cutoff_hz, dt)[keep] if amb is not None else subtract_ambient_C
+        Xs.append(np.column_stack([rows, feats, np.ones(rows.size)]))
+        ys.append(y)
+        efforts.append(ser.signals.effort[keep])
     params = model_parameters(terms)
     X = Xs[0] if len(Xs) == 1 else np.vstack(Xs)
     reg = Regression(X, np.concatenate(ys), params, np.concatenate(efforts))
     check_identifiable(reg, series[0].actuator)
     return reg
+
+
+def gradient_at(x: np.ndarray, at: np.ndarray, dt_s: float) -> np.ndarray:
+    """``np.gradient(x, dt_s)[at]`` without the whole-length array: central differences inside, one-sided at
+    the ends."""
+    lo = np.clip(at - 1, 0, x.size - 1)
+    hi = np.clip(at + 1, 0, x.size - 1)
+    return (x[hi] - x[lo]) / ((hi - lo) * dt_s)
+
+
+def _kept_features(terms, s: Signals, temperature_C: np.ndarray, keep: np.ndarray, smooth) -> np.ndarray:
+    """The regressors of every term (:func:`term_features`) at the rows ``keep``, each column passed through
+    ``smooth`` at the full rate first, one term and one column at a time."""
+    columns = []
+    for name in terms:
+        block = term_features((name,), s, temperature_C)
+        columns += [smooth(block[:, j])[keep] for j in range(block.shape[1])]
+        del block
+    return np.column_stack(columns) if columns else np.zeros((keep.size, 0))
 
 
 def mean_ambient_C(series: Sequence[ActuatorSeries], default_C: float) -> float:

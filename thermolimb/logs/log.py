@@ -13,6 +13,7 @@ from ..model.signals import Signals
 from ..util.atomic import atomic_path
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
+from ..util.memory import release_freed
 from . import extras
 from .align import align, series_of
 from .bag_writer import write_mcap
@@ -81,8 +82,11 @@ class ActuatorSeries:
     def rate_K_per_s(self, at_end: bool = False, window_s: float = 60.0) -> float:
         """Slope of the measured temperature over the first (or last) ``window_s`` seconds (least squares)."""
         t = self.time_s
-        sel = t >= t[-1] - window_s if at_end else t <= t[0] + window_s
-        if sel.sum() < 3:
+        if at_end:
+            sel = slice(int(np.searchsorted(t, t[-1] - window_s, side="left")), None)
+        else:
+            sel = slice(0, int(np.searchsorted(t, t[0] + window_s, side="right")))
+        if t[sel].size < 3:
             return 0.0
         return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
 
@@ -131,6 +135,7 @@ class ThermalLog:
     units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power, from the log (logs.units)
     # read for some actuators only (read_log(actuators=...)): every actuator of the file in its order, and the
     # (time s, temperature degC) of those beside a kept one, which a kept actuator's neighbour coupling reads
+    # (none when read with neighbours=False: its series then have no neighbour temperatures)
     order: tuple[str, ...] = ()
     neighbours: Mapping[str, tuple] = FrozenMapping({})
 
@@ -169,7 +174,8 @@ class ThermalLog:
 
         order = self.order or self.actuators
         i = order.index(actuator)
-        others = [order[j] for j in (i - 1, i + 1) if 0 <= j < len(order)]
+        others = [order[j] for j in (i - 1, i + 1)
+                  if 0 <= j < len(order) and (order[j] in groups or order[j] in self.neighbours)]
         neighbors = None
         if others:
             neighbors = np.column_stack([np.interp(t, *self._temperature_of(o)) for o in others])
@@ -275,6 +281,7 @@ def read_log(
     drop_incomplete: bool = False,
     effort_unit: str | None = None,
     actuators: Sequence[str] | None = None,
+    neighbours: bool = True,
 ) -> ThermalLog:
     """Read and validate a log.
 
@@ -307,6 +314,10 @@ def read_log(
         rows, in pieces, and of the actuators beside them in the file only
         time and temperature (their neighbour coupling's input), so that one
         actuator of a large file takes memory for its own rows alone.
+    neighbours
+        With ``actuators``: ``False`` reads nothing of the actuators beside
+        them, for models without neighbour coupling (their series then have
+        no neighbour temperatures).
     """
     path = Path(path)
     if isinstance(mapping, str):  # the command line's form, "effort=torque,temperature=winding"
@@ -326,12 +337,12 @@ def read_log(
         return replace(log, notes=tuple(notes) + log.notes)
     options = dict(source=str(path), velocity_unit=velocity_unit, drop_incomplete=drop_incomplete, units=given)
     if actuators and not mapping:
-        return _read_selected(path, list(actuators), sep, decimal, options)
+        return _read_selected(path, list(actuators), sep, decimal, options, neighbours)
     frame = read_table(path, sep=sep, decimal=decimal)
     return from_frame(frame, mapping=mapping, actuator_name=actuator_name or path.stem, **options)
 
 
-def _read_selected(path: Path, names: list[str], sep, decimal, options: dict) -> ThermalLog:
+def _read_selected(path: Path, names: list[str], sep, decimal, options: dict, neighbours: bool) -> ThermalLog:
     """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
     order = key_values(path, _is_actuator, sep, decimal)
     if order is None:
@@ -340,18 +351,19 @@ def _read_selected(path: Path, names: list[str], sep, decimal, options: dict) ->
     if missing:
         raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")
     beside = {order[j] for n in names for j in (order.index(n) - 1, order.index(n) + 1) if 0 <= j < len(order)}
-    beside -= set(names)
+    beside = beside - set(names) if neighbours else set()
     groups = [(set(names), None)] + ([(beside, lambda c: base_name(c) in ("time", "temperature"))] if beside else [])
     frames = rows_where(path, _is_actuator, groups, sep, decimal)
     log = from_frame(frames.pop(0), copy=False, **options)  # popped: the log takes the rows as read
-    neighbours = {}
+    near_temperatures = {}
     if beside:
         near = frames.pop()
         near["effort"] = 0.0  # a canonical log needs one; the neighbours' are not read
         around = from_frame(near, copy=False, **{**options, "source": f"{options['source']} (neighbours)"})
         del near
-        neighbours = {n: around._temperature_of(n) for n in around.actuators}
-    return replace(log, order=tuple(order), neighbours=FrozenMapping(neighbours))
+        near_temperatures = {n: around._temperature_of(n) for n in around.actuators}
+    release_freed()  # the pieces' pages
+    return replace(log, order=tuple(order), neighbours=FrozenMapping(near_temperatures))
 
 
 def _as_text(column: pd.Series) -> pd.Series:

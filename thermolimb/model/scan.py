@@ -82,10 +82,10 @@ def _constant_factor(a: float, b: np.ndarray, x0: float) -> np.ndarray:
     """The recursion with one factor ``a``: a first-order IIR filter, one compiled pass."""
     from scipy.signal import lfilter
 
-    out = np.empty(b.shape[0] + 1)
-    out[0] = x0
-    out[1:], _ = lfilter([1.0], [1.0, -a], b, zi=[a * x0])
-    return out
+    inputs = np.empty(b.shape[0] + 1)  # x0 as the first input of a filter at rest gives x[0] = x0: no copy after
+    inputs[0] = x0
+    inputs[1:] = b
+    return lfilter([1.0], [1.0, -a], inputs)
 
 
 def _associative_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:

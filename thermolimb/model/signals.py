@@ -61,8 +61,10 @@ class Signals:
 
     @cached_property
     def uniform_dt_s(self) -> float | None:
-        """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``."""
-        dt = self.dt_s
+        """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``.
+        The intervals are not kept for this: a uniform log needs only its one step."""
+        dt = self.__dict__.get("dt_s")
+        dt = np.diff(self.time_s) if dt is None else dt
         if dt.size == 0:
             return None
         step = float(dt.mean())

@@ -27,7 +27,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 
 from ..identification import ESTIMATORS, IdentifiabilityError, ThermalEstimator
-from ..identification.metrics import fit_metrics
+from ..identification.metrics import pieces_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel, model_parameters
 from ..model.terms import TERMS, parse_model
@@ -155,8 +155,7 @@ def _segment(model: ThermalModel, series: ActuatorSeries, lo: int = 0, hi: int |
 
 
 def _metrics(segments: Sequence[Segment]) -> dict:
-    return fit_metrics(np.concatenate([s.measured_C for s in segments]),
-                       np.concatenate([s.simulated_C for s in segments]))
+    return pieces_metrics([(s.measured_C, s.simulated_C) for s in segments])
 
 
 def make_estimator(method: str, model: str | Sequence[str]) -> ThermalEstimator:

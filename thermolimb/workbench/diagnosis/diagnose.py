@@ -219,13 +219,15 @@ def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_b
                 screened.append((float(est.optimizer_result_.cost), est.params_))
             except IdentifiabilityError as exc:
                 errors.append(str(exc))
-        starts = [min(screened, key=lambda x: x[0])[1]] if screened else []
-    try:
-        report = _evaluate(series, cand.model, scheme, validate_on, starts[0], base.held) if starts else None
-        report = report and replace(report, set_aside=base.set_aside)
-    except IdentifiabilityError as exc:
-        errors.append(str(exc))
-        report = None
+        starts = [start for _, start in sorted(screened, key=lambda x: x[0])]
+    report = None
+    for start in starts:  # the best screened start first; the next when its refit ends where a parameter has no effect
+        try:
+            report = replace(_evaluate(series, cand.model, scheme, validate_on, start, base.held),
+                             set_aside=base.set_aside)
+            break
+        except IdentifiabilityError as exc:
+            errors.append(str(exc))
     if report is None:
         cand.identifiable = False
         cand.failure = f"not identifiable from this log: {errors[0]}"
