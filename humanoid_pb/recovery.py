@@ -44,6 +44,15 @@ class RecoveryRun:
     fell: bool = False
     configurations: dict = field(default_factory=dict)  # mode -> joint angles chosen
 
+    def safe_after_warning(self, indices) -> float | None:
+        """Seconds from the warning until the actuators at ``indices`` are all below 70 degC (None: not reached)."""
+        if self.warning_at_s is None:
+            return None
+        t = np.array(self.time_s)
+        below = np.array(self.temperature_C)[:, indices].max(axis=1) < RECOVERED_C
+        after = np.flatnonzero(below & (t >= self.warning_at_s))
+        return float(t[after[0]] - self.warning_at_s) if after.size else None
+
     def summary(self) -> dict:
         return {"recovery_s": self.recovery_s, "hot_leg_recovery_s": self.hot_leg_recovery_s, "fell": self.fell,
                 "warning_at_s": self.warning_at_s, "modes_chosen": [m for _, m in self.decisions]}

@@ -75,12 +75,14 @@ class Scenario:
     loss_at_continuous_W: float
     continuous_fraction: FrozenMapping
     about: str
+    # per-actuator continuous fractions that replace their type's (the switching map's thermally weak group)
+    actuator_fraction: FrozenMapping = FrozenMapping({})
 
     def __post_init__(self):
         missing = [t for t in TYPES if t not in self.continuous_fraction]
         if missing:
             raise ValueError(f"Scenario {self.name!r}: no continuous fraction for actuator type(s) {', '.join(missing)}")
-        if any(not 0.0 < f <= 1.0 for f in self.continuous_fraction.values()):
+        if any(not 0.0 < f <= 1.0 for f in (*self.continuous_fraction.values(), *self.actuator_fraction.values())):
             raise ValueError(f"Scenario {self.name!r}: continuous fractions must be in (0, 1]")
         if not 0.0 < self.crouch_depth_rad < 1.0:
             raise ValueError(f"Scenario {self.name!r}: crouch depth {self.crouch_depth_rad} rad; expected 0..1 rad")
@@ -89,7 +91,7 @@ class Scenario:
 
     def effort_per_amp(self, actuator: str, limit: float, resistance_ohm: float) -> float:
         """The effort per amp that gives this sizing on a winding of ``resistance_ohm``: R (c limit / k)^2 = L."""
-        c = self.continuous_fraction[actuator_type(actuator)]
+        c = self.actuator_fraction.get(actuator) or self.continuous_fraction[actuator_type(actuator)]
         return c * limit * np.sqrt(resistance_ohm / self.loss_at_continuous_W)
 
 

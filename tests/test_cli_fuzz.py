@@ -71,6 +71,8 @@ def command_line(draw, workspace):
             argv += [option, draw(st.sampled_from(SAFE_DURATIONS[option]))]
         elif option == "--env":
             argv += [option, draw(st.sampled_from(["", "thermolimb/Nothing-v0", "x"]))]
+        elif option in ("--plot", "--out"):  # a bare number or word would be written into the working folder
+            argv += [option, str(workspace / value(draw, workspace))]
         else:
             argv += [option, value(draw, workspace)]
     if command == "simulate" and "--out" not in argv:

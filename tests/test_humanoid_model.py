@@ -192,3 +192,54 @@ def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
         Scenario("x", 0.3, 10.0, {"linear": 0.3}, "")
     with pytest.raises(ValueError, match="crouch depth"):
         Scenario("x", 1.5, 10.0, UNIFORM, "")
+
+
+@pytest.mark.parametrize("group", ["ankle rods", "knee", "hip pitch", "hip roll", "torso"])
+@pytest.mark.parametrize("depth", [0.15, 0.3, 0.45])
+def test_a_switching_map_cell_makes_its_group_the_hottest_at_the_warning(body, group, depth):
+    """The map's sizing rule: heating on the right leg (first order, Eq. 5 on the cell's datasheet models) brings
+    one of the group's actuators to 75 degC first, in the time asked for, every other actuator well below."""
+    from humanoid_pb.actuators import datasheet_bank, effort_limits
+    from humanoid_pb.switching_map import GROUPS, map_scenario, stance_fractions
+
+    sc = map_scenario(group, depth, body, time_to_warning_s=60.0)
+    bank = datasheet_bank(VALKYRIE, scenario=sc)
+    limits = effort_limits(VALKYRIE)
+    steady = bank.equilibrium_C(stance_fractions(body, depth) * limits)
+    at_60_s = steady + (25.0 - steady) * np.exp(-60.0 / bank.RC_s)
+    inside = np.array([a in GROUPS[group] for a in ACTUATORS])
+    assert at_60_s[inside].max() == pytest.approx(75.0, abs=0.05)
+    assert at_60_s[~inside].max() == pytest.approx(50.0, abs=0.05)  # the most loaded other: half the heat
+
+
+def test_the_switching_map_refuses_unknown_groups_and_depths(body):
+    from humanoid_pb.switching_map import map_scenario
+
+    with pytest.raises(ValueError, match="no actuator group 'elbow'; expected one of ankle rods, knee"):
+        map_scenario("elbow", 0.3, body)
+    with pytest.raises(ValueError, match="stance depth 0.6 rad is outside 0.15-0.45 rad"):
+        map_scenario("knee", 0.6, body)
+
+
+def test_switching_map_predictions_fill_in_only_where_they_meet_the_measurements():
+    """A group's predictions are shown only if they meet every measured cell of it within 10 %; a cell where
+    minimum effort had not recovered by the end agrees only with a prediction at least its bound."""
+    from humanoid_pb.switching_map import Cell, agreeing_groups
+
+    def cell(group, depth, source, ta, me, watched=None):
+        return Cell(group, depth, source, {"thermal_aware": ta, "minimum_effort": me}, {},
+                    {"thermal_aware": False, "minimum_effort": False}, 90.0, watched)
+
+    predicted = {("knee", 0.3): cell("knee", 0.3, "first order", 4.0, 4.4),  # 1.10
+                 ("knee", 0.45): cell("knee", 0.45, "first order", 4.0, 4.0),  # 1.00
+                 ("hip pitch", 0.3): cell("hip pitch", 0.3, "first order", 4.0, None)}  # never: inf
+    close = [cell("knee", 0.3, "measured", 10.0, 10.5), cell("knee", 0.45, "measured", 10.0, 10.2)]  # 1.05, 1.02
+    assert agreeing_groups(close, predicted) == {"knee": True}
+    far = [cell("knee", 0.3, "measured", 10.0, 13.0)]  # 1.30 against 1.10
+    assert agreeing_groups(far, predicted) == {"knee": False}
+    bound = [cell("hip pitch", 0.3, "measured", 10.0, None, watched=80.0)]  # at least 8
+    assert bound[0].ratio is None and bound[0].ratio_at_least == pytest.approx(8.0)
+    assert agreeing_groups(bound, predicted) == {"hip pitch": True}
+    fell = Cell("knee", 0.3, "measured", {"thermal_aware": 10.0, "minimum_effort": 10.5}, {},
+                {"thermal_aware": True, "minimum_effort": False}, 90.0)
+    assert fell.ratio is None and agreeing_groups([fell], predicted) == {"knee": False}
