@@ -127,15 +127,16 @@ def joint_fractions(actuator_fraction: np.ndarray) -> np.ndarray:
 
 _MOTOR_ROWS = np.array([_A[a] for a, _ in _MOTORS])
 _MOTOR_COLS = np.array([j for _, j in _MOTORS])
-_ROD_INDEX = {pair: (np.array([_A[rod] for rod in rod_actuators(pair)]), np.array([_J[pitch], _J[roll]]))
-              for pair, (pitch, roll) in ROD_PAIRS.items()}
+ROD_BLOCKS = {  # each rod pair's rows (ACTUATORS) and columns (JOINTS: pitch, roll) in E
+    pair: (np.array([_A[rod] for rod in rod_actuators(pair)]), np.array([_J[pitch], _J[roll]]))
+    for pair, (pitch, roll) in ROD_PAIRS.items()}
 
 
 def effort_matrix(rods: dict[str, RodPair], angles: np.ndarray) -> np.ndarray:
     """``E`` (ACTUATORS x JOINTS) with ``efforts = E tau`` at joint angles ``angles`` (Eq. 24 as a matrix)."""
     E = np.zeros((len(ACTUATORS), len(JOINTS)))
     E[_MOTOR_ROWS, _MOTOR_COLS] = 1.0
-    for pair, (rows, cols) in _ROD_INDEX.items():
+    for pair, (rows, cols) in ROD_BLOCKS.items():
         (a, b), (c, d) = rods[pair].length_jacobian(angles[cols[0]], angles[cols[1]]).T
         E[rows[:, None], cols] = np.array([[d, -b], [-c, a]]) / (a * d - b * c)  # the 2 x 2 inverse
     return E

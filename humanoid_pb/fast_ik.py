@@ -34,6 +34,7 @@ from thermolimb.util.programs import INFINITE, Program, SolverError, solve
 from .actuators import effort_limits, effort_matrix
 from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
 from .descent import contact_drift
+from .like_for_like import gauss_newton, min_norm_balance, sole_forces
 from .statics import WholeBody
 
 MU = 0.6  # friction pyramid
@@ -120,14 +121,6 @@ class FastThermalIK:
             q = pin.integrate(self.body.model, q, -Jc.T @ np.linalg.solve(Jc @ Jc.T, e))
         return q
 
-    def _external_forces(self, q: np.ndarray, mode: str, F: np.ndarray):
-        model = self.body.model
-        fext = [pin.Force.Zero() for _ in range(model.njoints)]
-        for i, foot in enumerate(mode_feet(mode)):
-            frame = model.frames[self.body.sole_frame[FOOT_SIDE[foot]]]
-            fext[frame.parentJoint] += frame.placement.act(pin.Force(F[6 * i : 6 * i + 6]))
-        return fext
-
     # -------------------------------------------------------------------- QPs
     @staticmethod
     def _objective_model(E, objective, Gamma):
@@ -189,7 +182,7 @@ class FastThermalIK:
         H[nv : nv + na, nv : nv + na] += H_gamma
         g = body.gravity(q)
         Jc = body.contact_jacobian(q, mode)
-        D = pin.computeStaticTorqueDerivatives(model, data, q, self._external_forces(q, mode, F))
+        D = pin.computeStaticTorqueDerivatives(model, data, q, sole_forces(body, mode, F))
         e = self._contact_error(q, targets)
         A_static, bu_static, bl_static = self._static_rows(E, k, nv)
         blocks = [(np.hstack([-D, body.S_a.T, Jc.T]), g, g, True),  # equilibrium, linearised in q
@@ -229,12 +222,22 @@ class FastThermalIK:
 
     # ----------------------------------------------------------------- solve
     def solve(self, q0: np.ndarray, mode: str, objective, delta: float = 0.1, max_iter: int = 50,
-              tol: float = 1e-4) -> FastIKResult:
+              tol: float = 1e-4, like_for_like: bool = False) -> FastIKResult:
+        """The configuration of least ``objective`` reachable from ``q0`` with the contacts of ``mode`` held.
+
+        ``like_for_like``: solve the seed's descent's own problem instead -- Eq. 23's torques, only the
+        contacts and the joint limits held (:mod:`humanoid_pb.like_for_like`); the result's torques, wrenches
+        and potential are then Eq. 23's."""
         start = time.perf_counter()
         body = self.body
         if self.actuator_limits is None:
             self.actuator_limits = effort_limits(body.params)
         targets = {s: p for s, p in body.sole_poses(q0).items() if s in {FOOT_SIDE[f] for f in mode_feet(mode)}}
+        if like_for_like:
+            q, history, iterations = gauss_newton(self, q0.copy(), mode, objective, targets)
+            Gamma, F = min_norm_balance(body, q, mode)[:2]
+            return FastIKResult(mode, q, history[-1], Gamma, F.reshape(-1, 6), iterations,
+                                time.perf_counter() - start, history, contact_drift(body, q0, q, mode))
         q = q0.copy()
         # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which costs
         # a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound

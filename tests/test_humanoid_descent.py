@@ -98,3 +98,53 @@ def test_one_step_per_control_tick_retraces_the_descent(body, q0):
         assert moved
     np.testing.assert_array_equal(q, whole.q)
     assert f == whole.potential < potential_of(body, q0, "left", pot)
+
+
+@pytest.mark.parametrize("mode", CONTACT_MODES)
+def test_eq23_torques_are_the_minimum_norm_balance(body, q0, mode):
+    """Eq. 23's Gamma(q) (mass matrix, two pseudo-inverses) equals the least-norm torque that balances gravity
+    with free contact wrenches, and the like-for-like mode's analytic derivative matches finite differences."""
+    import pinocchio as pin
+
+    from humanoid_pb.like_for_like import efforts_and_jacobian, min_norm_balance
+    from humanoid_pb.poses import single_support
+
+    rng = np.random.default_rng(3)
+    start = q0 if mode == "double" else single_support(body, q0, mode)
+    for _ in range(3):
+        q = pin.integrate(body.model, start, 0.05 * rng.standard_normal(body.nv))
+        eq23 = body.statics(q, mode)
+        Gamma, F, _, _ = min_norm_balance(body, q, mode)
+        np.testing.assert_allclose(Gamma, eq23.torques_Nm, atol=1e-8)
+        np.testing.assert_allclose(F.reshape(-1, 6), eq23.contact_wrenches, atol=1e-7)
+        efforts, J = efforts_and_jacobian(body, q, mode)
+        direction = rng.standard_normal(body.nv)
+        h = 1e-6
+        ahead = body.statics(pin.integrate(body.model, q, h * direction), mode).efforts
+        behind = body.statics(pin.integrate(body.model, q, -h * direction), mode).efforts
+        np.testing.assert_allclose(J @ direction, (ahead - behind) / (2 * h), rtol=1e-4,
+                                   atol=1e-6 * np.max(np.abs(J @ direction)))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_like_for_like_mode_ends_no_higher_than_the_descent_on_its_own_objective(body, q0, seed):
+    """The descent's problem solved by the fast method's like-for-like mode, from the same start, on random
+    temperature profiles in every mode: no higher under Eq. 23's Gamma(q), contacts held exactly, joints within
+    the robot's limits."""
+    from humanoid_pb.fast_ik import FastThermalIK
+    from humanoid_pb.poses import single_support
+
+    solver = FastThermalIK(body)
+    pot = ThermalPotential.from_measurement(bank(), np.random.default_rng(seed).uniform(30.0, 85.0, len(ACTUATORS)))
+    limits = np.array([VALKYRIE.limits(j) for j in JOINTS])
+    for mode in CONTACT_MODES:
+        start = q0 if mode == "double" else single_support(body, q0, mode)
+        naive = naive_descent(body, start, mode, pot, max_iter=300)
+        same = solver.solve(start, mode, pot, like_for_like=True)
+        assert same.potential == pytest.approx(potential_of(body, same.q, mode, pot), rel=1e-9)
+        assert same.potential <= naive.potential, mode
+        assert same.contact_drift_m < 1e-8
+        angles = body.joint_angles(same.q)
+        assert np.all(angles >= limits[:, 0] - 1e-9) and np.all(angles <= limits[:, 1] + 1e-9)
+        again = solver.solve(start, mode, pot, like_for_like=True)
+        np.testing.assert_array_equal(again.q, same.q)
