@@ -11,7 +11,8 @@ from .balance import Motion, balance_command
 from .poses import single_support, standing
 from .sim import HumanoidSim
 
-SHIFT_S = 1.5  # weight shift, and foot lift or placement, each
+SHIFT_S = 1.5  # foot placement, a shift back to the middle, a move inside double support, each
+ENTRY_S = 2.5  # weight shift onto one foot, and the lift, each: at 1.5 s a switch from one foot to the other fell
 
 
 class Executor:
@@ -53,8 +54,8 @@ class Executor:
         else:
             shifted = self.support_angles(mode, 0.0)
             lifted = self.support_angles(mode, 0.05) if goal_angles is None else goal_angles
-            plan.append((Motion(here, shifted, t, SHIFT_S), "double"))
-            plan.append((Motion(shifted, lifted, t + SHIFT_S, SHIFT_S), mode))
+            plan.append((Motion(here, shifted, t, ENTRY_S), "double"))
+            plan.append((Motion(shifted, lifted, t + ENTRY_S, ENTRY_S), mode))
         self.queue = plan
 
     @property

@@ -113,3 +113,33 @@ def test_the_environments_planner_steps_off_a_hot_leg_held_in_a_crouch():
     assert ContactModePlanner(body, "thermal").plan_nominal(q, bank, hot) == "left"
     assert ContactModePlanner(body, "effort").plan_nominal(q, None, hot) == "double"
     assert ContactModePlanner(body, "thermal").plan_nominal(q, bank, np.full(len(ACTUATORS), 40.0)) == "double"
+
+
+@pytest.mark.parametrize("scenario", ["ankle", "walking"])
+def test_the_weight_goes_from_one_foot_to_the_other_and_into_the_planned_posture_without_a_fall(scenario):
+    """The move the thermal-aware strategy makes when it leaves the hot leg: from balancing on the right foot,
+    through the crouch, onto the left foot in the posture the planner found there (at 1.5 s per weight shift
+    and lift this fell in both scenarios)."""
+    from humanoid_pb.executor import Executor
+    from humanoid_pb.planner import ContactModePlanner
+    from humanoid_pb.recovery import FALLEN_PELVIS_HEIGHT_M
+    from humanoid_pb.sim import HumanoidSim
+
+    with HumanoidSim(seed=0, scenario=scenario) as sim:
+        executor = Executor(sim)
+        reading = sim.read()
+        executor.go("right")
+        lowest = np.inf
+        for _ in range(int(15.0 / sim.config.control_dt_s)):
+            reading = executor.tick(reading)
+        temperatures = np.full(len(ACTUATORS), 40.0)
+        temperatures[[ACTUATORS.index(a) for a in leg_actuators("right")]] = WARNING_C
+        plan = ContactModePlanner(sim.body, "thermal").plan(executor.q_nominal, datasheet_bank(VALKYRIE),
+                                                            temperatures)
+        left = plan.results["left"]
+        executor.go("left", sim.body.joint_angles(left.q), left.torques_Nm)
+        for _ in range(int(15.0 / sim.config.control_dt_s)):
+            reading = executor.tick(reading)
+            lowest = min(lowest, reading.base_position_m[2])
+        assert executor.mode == "left" and not executor.moving
+    assert lowest > FALLEN_PELVIS_HEIGHT_M

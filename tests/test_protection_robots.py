@@ -45,11 +45,12 @@ def hexapod_excess_K(estimator: str, duration_s: float = 20.0) -> float:
     return excess
 
 
-def humanoid_excess_K(estimator: str, duration_s: float = 20.0) -> float:
+def humanoid_excess_K(estimator: str, duration_s: float = 30.0) -> float:
     """Hottest true winding above its limit (K) balancing on the right foot, whose leg's windings are put 16 K
-    under the limit (where derating starts: 1 K inside its margin) once the weight is on it."""
+    under the limit (where derating starts: 1 K inside its margin) once the weight is on it, over ``duration_s``
+    from then."""
     from humanoid_pb.constants import ACTUATORS, leg_actuators
-    from humanoid_pb.executor import SHIFT_S, Executor
+    from humanoid_pb.executor import ENTRY_S, Executor
     from humanoid_pb.poses import crouch_angles
     from humanoid_pb.sim import HumanoidSim
 
@@ -60,12 +61,12 @@ def humanoid_excess_K(estimator: str, duration_s: float = 20.0) -> float:
         executor = Executor(sim)
         reading = sim.read()
         executor.go("right")
-        heated = False
+        heated_at = 2 * ENTRY_S + 0.5  # s: the weight is on the right foot
         excess = -np.inf
+        while sim.time_s < heated_at:
+            reading = executor.tick(reading)
+        sim.plant.set_temperatures(np.where(hot, limit_C - 16.0, 40.0), np.where(hot, limit_C - 40.0, 30.0))
         for _ in range(int(duration_s / sim.config.control_dt_s)):
-            if not heated and sim.time_s > 2 * SHIFT_S + 0.5:
-                sim.plant.set_temperatures(np.where(hot, limit_C - 16.0, 40.0), np.where(hot, limit_C - 40.0, 30.0))
-                heated = True
             reading = executor.tick(reading)
             excess = max(excess, float(np.max(sim.plant.winding_C - limit_C)))
     return excess
