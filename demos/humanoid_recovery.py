@@ -28,7 +28,7 @@ from humanoid_pb.recovery import cooling_bound, run_recovery, steady_needed_for_
 from humanoid_pb.scenarios import SCENARIOS, scenario
 from humanoid_pb.sim import HumanoidSim
 from humanoid_pb.statics import WholeBody
-from thermolimb.demo_registry import DemoPage, demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
 from thermolimb.identification.regression import lowpass
 from thermolimb.plotting.fits import plt, save
 
@@ -38,21 +38,17 @@ GROUPS = {"left leg": leg_actuators("left"), "right leg": leg_actuators("right")
 HOT_LEG = "right leg"  # the robot balances on its right leg before the warning
 
 
-def _seconds(v):
-    return "not reached" if v is None else f"{v:.1f} s"
-
-
 def _headline(summary: dict) -> list[tuple[str, str, str]]:
     rows = []
     for name in SCENARIOS:
         ta, me = summary[name]["thermal_aware"], summary[name]["minimum_effort"]
         ratio = (me["hot_leg_recovery_s"] / ta["hot_leg_recovery_s"]
                  if ta["hot_leg_recovery_s"] and me["hot_leg_recovery_s"] else None)
-        rows += [(f"{name}: hot leg below 70 °C, thermal-aware", _seconds(ta["hot_leg_recovery_s"]),
-                  f"minimum effort {_seconds(me['hot_leg_recovery_s'])}"
+        rows += [(f"{name}: hot leg below 70 °C, thermal-aware", seconds(ta["hot_leg_recovery_s"]),
+                  f"minimum effort {seconds(me['hot_leg_recovery_s'])}"
                   + (f" ({ratio:.2f}× as long)" if ratio else "")),
-                 (f"{name}: every actuator below 70 °C, thermal-aware", _seconds(ta["recovery_s"]),
-                  f"minimum effort {_seconds(me['recovery_s'])}"),
+                 (f"{name}: every actuator below 70 °C, thermal-aware", seconds(ta["recovery_s"]),
+                  f"minimum effort {seconds(me['recovery_s'])}"),
                  (f"{name}: contact modes chosen", ", ".join(ta["modes_chosen"]) or "none",
                   "minimum effort: " + (", ".join(me["modes_chosen"]) or "none")),
                  (f"{name}: fell", f"thermal-aware {ta['fell']}, minimum effort {me['fell']}",
@@ -158,8 +154,8 @@ def _marks(ax, run):
             ax.axvline(value - zero, color="k", ls=style, lw=0.8, label=label)
 
 
-def _after(run, seconds):
-    return None if seconds is None or run.warning_at_s is None else run.warning_at_s + seconds
+def _after(run, delay_s):
+    return None if delay_s is None or run.warning_at_s is None else run.warning_at_s + delay_s
 
 
 def _plot_fig6(runs, name, path):

@@ -17,7 +17,7 @@ import numpy as np
 
 from humanoid_pb.statics import WholeBody
 from humanoid_pb.switching_map import AGREEMENT, DEPTHS_RAD, GROUPS, agreeing_groups, measure_cell, predict_cell
-from thermolimb.demo_registry import DemoPage, demo_main, register_demo
+from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
 from thermolimb.plotting.fits import plt, save
 
 NAME = "humanoid-switching-map"
@@ -42,8 +42,8 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
         safe = cell["hot_set_safe_s"]
         rows.append((f"{cell['group']}, crouch {cell['depth_rad']:.2f} rad: minimum effort / thermal-aware",
                      _ratio_text(cell),
-                     f"hot set below 70 °C after {_seconds(safe['minimum_effort'])} against "
-                     f"{_seconds(safe['thermal_aware'])}; modes chosen {', '.join(cell['modes']['thermal_aware']) or 'none'} "
+                     f"hot set below 70 °C after {seconds(safe['minimum_effort'])} against "
+                     f"{seconds(safe['thermal_aware'])}; modes chosen {', '.join(cell['modes']['thermal_aware']) or 'none'} "
                      f"/ {', '.join(cell['modes']['minimum_effort']) or 'none'}; fell: "
                      f"{cell['fell']['thermal_aware']} / {cell['fell']['minimum_effort']}"))
     for group, ok in summary["prediction_agrees"].items():
@@ -51,10 +51,6 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
                      "predictions fill the unmeasured cells between the measured ones" if ok
                      else "unmeasured cells are left empty"))
     return rows
-
-
-def _seconds(v):
-    return "not reached" if v is None else f"{v:.1f} s"
 
 
 PAGE = DemoPage(

@@ -67,7 +67,8 @@ class FastThermalIK:
     def __init__(self, body: WholeBody):
         self.body = body
         p = body.params
-        self.limits_q = np.array([body.params.limits(j) for j in JOINTS])
+        self.robot_limits_q = np.array([body.params.limits(j) for j in JOINTS])  # the URDF's (like-for-like mode)
+        self.limits_q = self.robot_limits_q.copy()
         for side in SIDES:  # the IK's working range: knees never straight (singular, and torque-free in a rigid model)
             k = JOINTS.index(leg_joint(side, "knee"))
             self.limits_q[k, 0] = max(self.limits_q[k, 0], p.knee_min_rad)

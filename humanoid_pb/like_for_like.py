@@ -5,7 +5,7 @@ Xbar' N_c' g`` lies in the range of ``X = S_a N_c``, that is in ``S_a
 null(J_c)``; every torque that only changes the internal forces
 (``S_a' dGamma`` in the range of ``J_c'``) is orthogonal to it.  So among all
 ``(Gamma, F)`` with ``S_a' Gamma + J_c' F = g`` it is the one of least
-``|Gamma|`` (tested equal to Eq. 23's to 1e-9 N m), and it needs no mass
+``|Gamma|`` (tested equal to Eq. 23's to 1e-8 N m), and it needs no mass
 matrix.  Its optimality conditions
 
     Gamma - S_a lam = 0,    J_c lam = 0,    S_a' Gamma + J_c' F = g
@@ -42,8 +42,8 @@ MAX_STEP_RAD = 0.4  # trust region cap; on 20 random profiles 0.1 took 2.19 ms m
 
 
 def min_norm_balance(body, q: np.ndarray, mode: str):
-    """``(Gamma, F, lam, K)`` at ``q``: Eq. 23's torques (JOINTS order), the sole wrenches (flat, sole frames),
-    the multiplier and the factorised system (for :func:`effort_jacobian`)."""
+    """``(Gamma, F, lam, lu)`` at ``q``: Eq. 23's torques (JOINTS order), the sole wrenches (flat, sole frames),
+    the multiplier and the factorised system (for :func:`torque_jacobian`)."""
     na, nv = len(JOINTS), body.nv
     Jc = body.contact_jacobian(q, mode)
     nf = Jc.shape[0]
@@ -97,14 +97,14 @@ def efforts_and_jacobian(body, q: np.ndarray, mode: str) -> tuple[np.ndarray, np
 
 
 def gauss_newton(solver, q: np.ndarray, mode: str, objective, targets: dict, max_iter: int = 15,
-           tol: float = 1e-3) -> tuple[np.ndarray, list[float], int]:
+                 tol: float = 1e-3) -> tuple[np.ndarray, list[float], int]:
     """Gauss-Newton on the descent's objective from ``q``: each step a QP over ``dq`` with the contacts held to
     first order, a trust region and the robot's joint limits as simple bounds, kept if the exact objective at
     the re-projected configuration is lower; stops when a kept step gains less than ``tol`` (relative).
     Returns ``(q, the objective after each kept step, iterations)``."""
     body = solver.body
     nv = body.nv
-    limits = np.array([body.params.limits(j) for j in JOINTS])  # the robot's, as the descent has: no working range
+    limits = solver.robot_limits_q  # the robot's, as the descent has: no working range
     efforts, J = efforts_and_jacobian(body, q, mode)
     history = [objective.value(efforts)]
     delta, iterations = MAX_STEP_RAD, 0

@@ -66,6 +66,11 @@ def kelvin(value) -> str:
     return "—" if value is None else f"{value:.3f} K"
 
 
+def seconds(value) -> str:
+    """A time for a headline; ``not reached`` when there is none."""
+    return "not reached" if value is None else f"{value:.1f} s"
+
+
 def mean_std(triple, unit: str = "", digits: int = 3) -> str:
     """``[mean, std, n]`` as ``mean ± std unit (n)``; ``—`` when nothing was measured."""
     mean, std, n = triple
