@@ -685,8 +685,8 @@ API_SNIPPET = textwrap.dedent("""
             value = float(case.split()[-1])
             return ThermalModel(("joule",), {"RC_s": 40.0, "betaR_K_per_effort2": value, "T_offset_C": 25.0})
         if case == "pickle a fitted OutputError, FitReport and ThermalModel":
-            from thermolimb.workbench.validation import Scheme, evaluate
-            report = evaluate([series], "joule,effort_bias", Scheme())
+            from thermolimb.workbench.validation import Scheme, validate_model
+            report = validate_model([series], "joule,effort_bias", Scheme())
             for obj in (report, report.estimator, report.model):
                 assert pickle.loads(pickle.dumps(obj)) is not None
             return "pickled"

@@ -4,7 +4,7 @@ For each log (UR3 joints with every column kept, the WidowX-200 waist's two
 runs and its ROS 1 bag, the BLDC bench's two runs, the PMSM bench's
 profiles 24 and 46 with every column), per actuator:
 
-* the walk from the seed's model on each run's own split, without and with
+* the walk from Jorgensen et al.'s model on each run's own split, without and with
   ``--discover``: the final validation RMSE and what discovery added;
 * where there are several runs, leave one run out: fit on one, validate on
   the other (``--validate-on``), with ``--discover``; a channel or discovered
@@ -36,7 +36,7 @@ def _walk(series, validate_on=(), discover=False) -> dict:
     start = time.perf_counter()
     try:
         first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover)
-    except ThermolimbError as exc:  # the log cannot carry the seed's model: said, not hidden
+    except ThermolimbError as exc:  # the log cannot carry Jorgensen et al.'s model: said, not hidden
         nan = float("nan")
         return {"base_K": nan, "final_K": nan, "model": [], "generated": [], "walk": [], "proposals": [],
                 "seconds": time.perf_counter() - start, "refused": str(exc)}

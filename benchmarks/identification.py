@@ -1,6 +1,6 @@
-"""Identification on one million samples: direct least squares against the seed's gradient descent.
+"""Identification on one million samples: direct least squares against Jorgensen et al.'s gradient descent.
 
-Both solve the *same* regression (the seed's rows: effort low-passed at 1 Hz,
+Both solve the *same* regression (Jorgensen et al.'s rows: effort low-passed at 1 Hz,
 temperature at 0.015 Hz, y = T - T_amb); the gradient descent runs until its
 loss is within 1e-6 (relative) of the least-squares optimum.  Then the time of
 ``thermolimb fit`` (output error, the default) on a one-million-sample log,
@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.identification import LeastSquares, OutputError, SeedGradientDescent, build_regression
+from thermolimb.identification import LeastSquares, OutputError, JorgensenGradientDescent, build_regression
 from thermolimb.identification.least_squares import solve_least_squares
-from thermolimb.identification.seed_gd import zscore_gradient_descent
+from thermolimb.identification.jorgensen_gd import zscore_gradient_descent
 from thermolimb.logs import log_from_arrays
 from thermolimb.model import Signals, ThermalModel
 from thermolimb.plant.profiles import random_holds
@@ -64,9 +64,9 @@ def main(argv=None) -> dict:
     series = log.series("knee")
     print(f"{series.n} samples ({series.time_s[-1] / 3600:.1f} h at {1 / DT_S:.0f} Hz)")
 
-    t_ls, ls = timed(lambda: LeastSquares(filtering="seed").fit(series), repeat=3)
+    t_ls, ls = timed(lambda: LeastSquares(filtering="jorgensen").fit(series), repeat=3)
     target = ls.loss_ * (1 + 1e-6)
-    t_gd, gd = timed(lambda: SeedGradientDescent(target_loss=target, tol=0.0, max_iter=1_000_000).fit(series))
+    t_gd, gd = timed(lambda: JorgensenGradientDescent(target_loss=target, tol=0.0, max_iter=1_000_000).fit(series))
     agreement = max(abs(gd.params_[k] - ls.params_[k]) / abs(ls.params_[k]) for k in ls.params_)
     # The solvers alone, on the same prebuilt rows (filtering and differentiation excluded).
     rows = build_regression([series], ("joule", "effort_bias"), 0.015, consistent=False,
@@ -80,8 +80,8 @@ def main(argv=None) -> dict:
     t_lsc, lsc = timed(lambda: LeastSquares().fit(series), repeat=3)
     t_oe, oe = timed(lambda: OutputError().fit(series))
 
-    print(f"least squares (seed rows)     {t_ls * 1e3:9.1f} ms   loss {ls.loss_:.6g} K^2")
-    print(f"seed gradient descent         {t_gd * 1e3:9.1f} ms   loss {gd.loss_:.6g} K^2 after {gd.n_iter_} iterations")
+    print(f"least squares (paper's rows)  {t_ls * 1e3:9.1f} ms   loss {ls.loss_:.6g} K^2")
+    print(f"Jorgensen et al. gradient descent{t_gd * 1e3:9.1f} ms   loss {gd.loss_:.6g} K^2 after {gd.n_iter_} iterations")
     print(f"  speed-up of least squares   {t_gd / t_ls:9.1f} x   (target: >= 100 x)")
     print(f"  largest parameter difference {agreement:.2e} (relative)")
     print("solvers alone on the same rows (to the same loss, within 1e-6):")
@@ -92,7 +92,7 @@ def main(argv=None) -> dict:
     print(f"least squares (consistent)    {t_lsc * 1e3:9.1f} ms")
     print(f"output error                  {t_oe * 1e3:9.1f} ms   {oe.optimizer_result_.nfev} function evaluations")
     for name, value in TRUE.items():
-        print(f"  {name:26s} true {value:9.4g}  seed {gd.params_[name]:9.4g}  consistent LS {lsc.params_[name]:9.4g}"
+        print(f"  {name:26s} true {value:9.4g}  paper {gd.params_[name]:9.4g}  consistent LS {lsc.params_[name]:9.4g}"
               f"  output error {oe.params_[name]:9.4g}")
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -105,8 +105,8 @@ def main(argv=None) -> dict:
     print(f"thermolimb fit on {series.n} samples: {t_cli:.2f} s wall, peak memory {peak_mb:.0f} MB "
           f"(target: a few seconds, < 1024 MB)")
 
-    record = {"samples": series.n, "least_squares_s": t_ls, "seed_gd_s": t_gd, "speedup": t_gd / t_ls,
-              "seed_gd_iterations": gd.n_iter_, "max_param_rel_diff": agreement, "output_error_s": t_oe,
+    record = {"samples": series.n, "least_squares_s": t_ls, "jorgensen_gd_s": t_gd, "speedup": t_gd / t_ls,
+              "jorgensen_gd_iterations": gd.n_iter_, "max_param_rel_diff": agreement, "output_error_s": t_oe,
               "solve_only_speedup": {str(rate): t / t_solve_ls for rate, (t, _) in descents.items()},
               "cli_fit_s": t_cli, "cli_peak_MB": peak_mb}
     if args.json:

@@ -11,7 +11,7 @@ and one ``sensor_msgs/Temperature`` topic per joint (``/knee/temperature``…,
 * ``thermolimb diagnose BAG --fleet`` with that map: every joint in one command;
 * ``thermolimb diagnose CSV --fleet``: the same joints read from the CSV.
 
-Printed per joint: validation RMSE of the seed's model and the recommended
+Printed per joint: validation RMSE of Jorgensen et al.'s model and the recommended
 change, from the bag and from the CSV (the bag's temperatures are at 1 Hz
 and its efforts are averaged into each temperature interval, so the two
 agree closely, not exactly), and the time of each command, measured the same way.

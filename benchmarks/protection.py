@@ -6,7 +6,7 @@ quantised thermistor; 1 h of random holds and motions at 1.5x the continuous
 effort), against the thermistor's own error.
 Part 2: a 10 h soak with every plant effect on at 3x the continuous effort:
 the hottest true winding of each actuator under each protection, and the
-limit.  The seed's method has no protection of its own; the comparison is
+limit.  Jorgensen et al.'s method has no protection of its own; the comparison is
 the rig's two protections in the same run.
 
     python benchmarks/protection.py [--seeds 0 1] [--json]

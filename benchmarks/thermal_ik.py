@@ -1,4 +1,4 @@
-"""Thermal IK per contact mode: the seed's naive descent against the fast method, from the same start.
+"""Thermal IK per contact mode: Jorgensen et al.'s naive descent against the fast method, from the same start.
 
 For each mode: the wall time of each method (one warm-up solve, then the best
 of three, for both), their ratio, the final potential of each on the same
@@ -6,7 +6,7 @@ objective (the fast configuration scored with Eq. 23's single Gamma(q), as the
 descent scores its own), apart from it what the fast method's free choice of
 balancing torques and force split reaches, and the constraint violations of
 the fast result (contacts, equilibrium, unilateral normals, centre of
-pressure, joint limits).  Also the seed's final form: one descent step (Eqs.
+pressure, joint limits).  Also Jorgensen et al.'s final form: one descent step (Eqs.
 30-32, bounded by delta_max) per control step, timed alike, with the number of
 control steps the descent needs.  A hot right leg (78 degC) sets the potential's weights.
 
@@ -110,7 +110,7 @@ def main(argv=None) -> dict:
               f"({same_mode.iterations} it), potential {same_mode.potential:10.0f} = "
               f"{same_mode.potential / naive.potential:.4f} of the descent's, speed-up "
               f"{naive.wall_s / same_mode.wall_s:5.1f} x")
-        print(f"        the seed's final form, one descent step per control step: {step_s * 1e3:.1f} ms per step "
+        print(f"        Jorgensen et al.'s final form, one descent step per control step: {step_s * 1e3:.1f} ms per step "
               f"({'fits' if step_s <= 0.01 else 'does not fit'} a 100 Hz loop), {naive.iterations} steps = "
               f"{naive.iterations / 100:.2f} s of control at 100 Hz to reach the descent's end")
         print(f"        naive contact drift {naive.contact_drift_m * 1e3:.2f} mm; fast violations "

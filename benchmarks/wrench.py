@@ -1,9 +1,9 @@
-"""Stance-wrench minimax: the exact LP solver against the seed's trust-constr, same stances, one process.
+"""Stance-wrench minimax: the exact LP solver against Nair et al.'s trust-constr, same stances, one process.
 
 * 1000 random tripod stances of the Daisy-like robot (feet jittered around the
   nominal stance, payload 0-5 kg): median over stances of each method's best of
   three solves (every method timed the same way), their
-  ratio, and the largest amount by which the exact peak exceeds the seed's
+  ratio, and the largest amount by which the exact peak exceeds Nair et al.'s
   (it must never exceed it by more than 1e-6), plus how often trust-constr
   stops short of the optimum;
 * the nominal tripod (leg gravity included), 0, 2 and 5 kg: peak and mean normalised torque of
@@ -30,7 +30,7 @@ from hexapod_pb.controller import ControllerState, control_step
 from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY
 from hexapod_pb.sim import HexapodSim, SimConfig
-from hexapod_pb.wrench import StanceProblem, minimax, seed_trust_constr, vertical_only
+from hexapod_pb.wrench import StanceProblem, minimax, nair_trust_constr, vertical_only
 
 TRIPOD = tuple(LEGS.index(n) for n in TRIPODS[0])
 ONE_SHOT_SAMPLE = 100
@@ -85,18 +85,18 @@ def main(argv=None) -> dict:
     rng = np.random.default_rng(0)
     problems = [random_problem(rng) for _ in range(args.stances)]
 
-    t_exact, t_seed, t_oneshot, gaps, short = [], [], [], [], 0
+    t_exact, t_nair, t_oneshot, gaps, short = [], [], [], [], 0
     for k, p in enumerate(problems):
         te, exact = timed(lambda: minimax(p), repeat=REPEATS)  # every method timed alike: best of REPEATS
-        ts, seed = timed(lambda: seed_trust_constr(p), repeat=REPEATS)
+        ts, nair = timed(lambda: nair_trust_constr(p), repeat=REPEATS)
         t_exact.append(te)
-        t_seed.append(ts)
-        if k < ONE_SHOT_SAMPLE:  # the seed's one-shot default (quasi-Newton Hessian) is slow: a sample
-            t_oneshot.append(timed(lambda: seed_trust_constr(p, zero_hessian=False), repeat=REPEATS)[0])
-        gaps.append(exact.peak - seed.peak)
-        short += seed.peak > exact.peak + 1e-3
+        t_nair.append(ts)
+        if k < ONE_SHOT_SAMPLE:  # Nair et al.'s one-shot default (quasi-Newton Hessian) is slow: a sample
+            t_oneshot.append(timed(lambda: nair_trust_constr(p, zero_hessian=False), repeat=REPEATS)[0])
+        gaps.append(exact.peak - nair.peak)
+        short += nair.peak > exact.peak + 1e-3
     exact_us = float(np.median(t_exact) * 1e6)
-    seed_ms = float(np.median(t_seed) * 1e3)
+    nair_ms = float(np.median(t_nair) * 1e3)
     oneshot_ms = float(np.median(t_oneshot) * 1e3)
     max_gap = float(np.max(gaps))
 
@@ -126,12 +126,12 @@ def main(argv=None) -> dict:
     _, peak_v, mean_v = walk("vertical_only", 2.0, 10.0)
 
     print(f"{len(problems)} random tripod stances (payload 0-5 kg)")
-    print(f"  seed trust-constr, one-shot (its default)   median {oneshot_ms:8.2f} ms  ({len(t_oneshot)} stances)")
-    print(f"  seed trust-constr, zero Hessian (its 45 ms) median {seed_ms:8.2f} ms")
+    print(f"  Nair et al. trust-constr, one-shot (its default)   median {oneshot_ms:8.2f} ms  ({len(t_oneshot)} stances)")
+    print(f"  Nair et al. trust-constr, zero Hessian (its 45 ms) median {nair_ms:8.2f} ms")
     print(f"  exact LP (daqp)                             median {exact_us:8.1f} us")
-    print(f"  speed-up: {oneshot_ms * 1e3 / exact_us:7.0f} x over the one-shot, {seed_ms * 1e3 / exact_us:6.0f} x over "
+    print(f"  speed-up: {oneshot_ms * 1e3 / exact_us:7.0f} x over the one-shot, {nair_ms * 1e3 / exact_us:6.0f} x over "
           f"the zero-Hessian variant (target >= 1000 x)")
-    print(f"  largest (exact - seed) peak {max_gap:+.2e} (must be <= 1e-6); trust-constr stopped short of the "
+    print(f"  largest (exact - Nair et al.) peak {max_gap:+.2e} (must be <= 1e-6); trust-constr stopped short of the "
           f"optimum (by > 1e-3) on {short} of {len(problems)}")
     print(f"  warm-started control step  median {warm_us:6.1f} us (target <= 50 us)")
     for payload, row in static.items():
@@ -143,8 +143,8 @@ def main(argv=None) -> dict:
           f"({100 * (peak_mm / peak_v - 1):+.1f} %; target -15 %)")
     print(f"  mean normalised torque:          vertical-only {mean_v:.3f}, minimax {mean_mm:.3f} "
           f"({100 * (mean_mm / mean_v - 1):+.1f} %)")
-    record = {"trust_constr_ms": seed_ms, "trust_constr_one_shot_ms": oneshot_ms, "exact_us": exact_us,
-              "speedup": seed_ms * 1e3 / exact_us, "speedup_one_shot": oneshot_ms * 1e3 / exact_us,
+    record = {"trust_constr_ms": nair_ms, "trust_constr_one_shot_ms": oneshot_ms, "exact_us": exact_us,
+              "speedup": nair_ms * 1e3 / exact_us, "speedup_one_shot": oneshot_ms * 1e3 / exact_us,
               "max_peak_gap": max_gap, "trust_constr_short": short, "warm_us": warm_us, "walk_rtf": rtf,
               "static_tripod": static, "walk2kg_peak": {"vertical_only": peak_v, "minimax": peak_mm},
               "walk2kg_mean": {"vertical_only": mean_v, "minimax": mean_mm}}

@@ -1,6 +1,6 @@
 """Demo ``diagnose``: the model-versus-measurement story on a log with hidden effects.
 
-The plant hides two effects the seed's model lacks -- speed losses and heat
+The plant hides two effects Jorgensen et al.'s model lacks -- speed losses and heat
 conducted from the neighbouring actuators.  The diagnosis of the hip fits
 the base model, shows where and why it fails (residual analysis), ranks the
 catalog's effects, and with ``--auto`` adds them one at a time: the
@@ -26,7 +26,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     d = summary["diagnosis"]
     best = next((c for c in d["candidates"] if c["label"] == d["recommended_change"]), None)
     rows = [("hidden in the plant", ", ".join(summary["hidden_effects"]), "what the diagnosis should find"),
-            ("validation RMSE of the seed's model", kelvin(d["base"]["rmse_K"]), d["validation_scheme"]),
+            ("validation RMSE of Jorgensen et al.'s model", kelvin(d["base"]["rmse_K"]), d["validation_scheme"]),
             ("recommended first", d["recommended_change"] or "nothing",
              f"validation RMSE {kelvin(best['rmse_K'])}" if best else "")]
     if d.get("auto"):
@@ -37,7 +37,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
 
 
 PAGE = DemoPage(
-    about="A two-hour plant log of three actuators with two effects the seed's model lacks (speed losses and "
+    about="A two-hour plant log of three actuators with two effects Jorgensen et al.'s model lacks (speed losses and "
           "heat from the neighbours). The diagnosis of the hip reads the residual, tries every change, validates "
           "each on held-out data and recommends one; the search repeats while a change helps. Look for the "
           "significant cross-correlation with |velocity| and the neighbours' temperatures, and the waterfall "
@@ -55,7 +55,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     first, steps = auto_diagnose([log.series("hip")], quiet=quiet)
     plot_diagnosis(first, out, "hip")
     page = InteractivePage("diagnose demo: hidden speed losses and neighbour conduction",
-                           "The hip of a plant log with two hidden effects, from the seed's model to the search's end.")
+                           "The hip of a plant log with two hidden effects, from Jorgensen et al.'s model to the search's end.")
     add_diagnosis(page, first, steps)
     page.write(out / "interactive.html")
     return {

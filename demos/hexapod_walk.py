@@ -1,8 +1,8 @@
-"""Demo ``hexapod-walk``: the seed's three load-carrying scenarios with four stance-force strategies.
+"""Demo ``hexapod-walk``: Nair et al.'s three load-carrying scenarios with four stance-force strategies.
 
 Walking with no load, walking with 2 kg, standing with 5 kg; vertical-only
 forces (HEBI's stock controller), the minimax of the peak normalised torque
-(the seed), minimax with a least-squares second stage, and the thermal-aware
+(Nair et al.), minimax with a least-squares second stage, and the thermal-aware
 distribution.  Torques per leg and joint over one stride, per-scenario bars,
 temperature traces of a long carry, and ``summary.json``.
 """
@@ -38,8 +38,8 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
 
 PAGE = DemoPage(
     about="The hexapod walking with no load and with 2 kg, and standing with 5 kg, under four ways of sharing "
-          "the stance forces: vertical forces only, the seed's minimax of normalised torque, minimax with a "
-          "second stage, and thermal-aware. Look at the peak normalised torque (the seed's objective) and at the "
+          "the stance forces: vertical forces only, Nair et al.'s minimax of normalised torque, minimax with a "
+          "second stage, and thermal-aware. Look at the peak normalised torque (Nair et al.'s objective) and at the "
           "temperatures: in these scenarios the windings stay far below their limit, so no strategy has a "
           "thermal effect to show here.",
     headline=_headline,

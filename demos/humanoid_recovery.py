@@ -1,11 +1,11 @@
-"""Demo ``humanoid-recovery``: the seed's Figs. 6 and 7 in simulation, in each scenario of
+"""Demo ``humanoid-recovery``: Jorgensen et al.'s Figs. 6 and 7 in simulation, in each scenario of
 :mod:`humanoid_pb.scenarios`.
 
 The humanoid balances on its right leg until an actuator enters the 75 degC
 warning zone, then recovers (every actuator below 70 degC) with (a) the
 thermal-aware choice of contact mode and configuration (Eq. 33, planned with
 models identified from its own calibration log) and (b) minimum effort.
-Plots in the seed's layout: Fig. 6 (the temperature norms of the left leg,
+Plots in Jorgensen et al.'s layout: Fig. 6 (the temperature norms of the left leg,
 right leg and torso over the contact-mode sequence, per strategy), Fig. 7 (the
 hot leg's norm rate, 0.1 Hz low-pass derivative, both strategies aligned at the
 warning), and offscreen renders of the chosen configurations.
@@ -62,14 +62,14 @@ def _bound_rows(name: str, bound: dict) -> list[tuple[str, str, str]]:
     rows = [(f"{name}: {hot} held {held}: steady temperature, first-order 75 → 70 °C", f"{b['steady_C']:.1f} °C",
              f"{b['warning_to_recovered_s']:.1f} s at {b['effort_fraction']:.1%} of its limit")
             for held, b in bound["configurations"].items()]
-    rows.append((f"{name}: double support would need, for the seed's 2×",
+    rows.append((f"{name}: double support would need, for Jorgensen et al.'s 2×",
                  f"{bound['double_steady_needed_for_2x_C']:.1f} °C",
                  "steady temperature of the hot actuator, held in double support"))
     return rows
 
 
 PAGE = DemoPage(
-    about="The seed's recovery experiment on the humanoid, in two scenarios (humanoid_pb/scenarios.py): 'ankle', "
+    about="Jorgensen et al.'s recovery experiment on the humanoid, in two scenarios (humanoid_pb/scenarios.py): 'ankle', "
           "the crouch where the stance ankle's push rods run hottest and double support unloads them, and "
           "'walking', bent knees near walking height where the stance knee runs hottest and stays loaded in "
           "double support, as on Valkyrie. Balancing on the right leg heats it to the 75 °C warning; then each "
@@ -77,11 +77,11 @@ PAGE = DemoPage(
           "minimum effort, from the same warning state. Look at the hot leg's time to 70 °C, its cooling rate, "
           "and the contact modes each strategy chose.",
     headline=_headline,
-    captions={"fig6_": "The seed's Fig. 6 for one scenario: for each strategy, (e) the norms of the left leg's, "
+    captions={"fig6_": "Jorgensen et al.'s Fig. 6 for one scenario: for each strategy, (e) the norms of the left leg's, "
                        "right leg's and torso's actuator temperatures against the time since the warning (vertical "
                        "lines: the warning, then the hot leg's and every actuator's recovery, as the legend says), "
                        "and (f) the contact mode under it, on the same time axis.",
-              "fig7_": "The seed's Fig. 7 for one scenario: (a) the hot (right) leg's norm rate, 0.1 Hz low-pass "
+              "fig7_": "Jorgensen et al.'s Fig. 7 for one scenario: (a) the hot (right) leg's norm rate, 0.1 Hz low-pass "
                        "derivative, both strategies aligned at the warning, with each one's hot-leg-safe time "
                        "marked; (b) the hottest actuator against the warning (75 °C) and recovery (70 °C) lines.",
               "configuration_": "The configuration the strategy holds in that contact mode."})
@@ -90,7 +90,7 @@ PAGE = DemoPage(
 @register_demo(NAME, "humanoid thermal recovery: thermal-aware contact switching against minimum effort",
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
-    limit_s = 120.0 if quick else 240.0  # the seed: the warning "in less than two minutes"
+    limit_s = 120.0 if quick else 240.0  # Jorgensen et al.: the warning "in less than two minutes"
     summary, details = {}, {}
     for name in SCENARIOS:
         bank, _ = calibrate(90.0 if quick else 180.0, quiet=quiet, scenario=name)
@@ -137,7 +137,7 @@ def _norm(run, group):
 
 
 def _norm_rate(run):
-    """The hot leg's norm rate (K/s; 0.1 Hz low-pass derivative, as the seed's Fig. 7) against the time since the
+    """The hot leg's norm rate (K/s; 0.1 Hz low-pass derivative, as Jorgensen et al.'s Fig. 7) against the time since the
     warning (s)."""
     t, norm = _norm(run, HOT_LEG)
     rate = np.gradient(lowpass(norm, 0.1, t[1] - t[0]), t)
@@ -159,7 +159,7 @@ def _after(run, delay_s):
 
 
 def _plot_fig6(runs, name, path):
-    """The seed's Fig. 6 (e) and (f), one column per strategy: group norms over the mode sequence."""
+    """Jorgensen et al.'s Fig. 6 (e) and (f), one column per strategy: group norms over the mode sequence."""
     fig, axes = plt.subplots(2, len(runs), figsize=(6.5 * len(runs), 6.5), sharex="col",
                              gridspec_kw={"height_ratios": [3, 1]})
     code = {"right": 0, "double": 1, "left": 2}
@@ -184,7 +184,7 @@ def _plot_fig6(runs, name, path):
 
 
 def _plot_fig7(runs, name, path):
-    """The seed's Fig. 7 (a): the hot leg's norm rate, both strategies aligned at the warning; (b) the hottest
+    """Jorgensen et al.'s Fig. 7 (a): the hot leg's norm rate, both strategies aligned at the warning; (b) the hottest
     actuator against the thresholds."""
     fig, (rate_ax, hottest) = plt.subplots(1, 2, figsize=(13, 4))
     for s, r in runs.items():

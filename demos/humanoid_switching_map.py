@@ -1,7 +1,7 @@
 """Demo ``humanoid-switching-map``: where thermal-aware recovery beats minimum effort, over the hottest actuator
 group and the stance height (:mod:`humanoid_pb.switching_map`).
 
-Each measured cell runs the seed's recovery experiment in PyBullet for a robot
+Each measured cell runs Jorgensen et al.'s recovery experiment in PyBullet for a robot
 whose group is the thermally weakest, in a crouch of that depth: both
 strategies from the same warning state, the ratio of their hot-set-safe times
 (minimum effort over thermal-aware).  The first-order prediction of every cell
@@ -76,7 +76,7 @@ PAGE = DemoPage(
 @register_demo(NAME, "humanoid: where thermal-aware recovery beats minimum effort, by hot group and stance height",
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
-    warning_s = 40.0 if quick else 100.0  # the seed's "warning in under two minutes"; quick: a shorter heating
+    warning_s = 40.0 if quick else 100.0  # Jorgensen et al.'s "warning in under two minutes"; quick: a shorter heating
     body = WholeBody()
     predicted = {(g, d): predict_cell(g, d, body, warning_s) for g in GROUPS for d in DEPTHS_RAD}
     cells = QUICK_CELLS if quick else [(g, d) for g in GROUPS for d in MEASURED_DEPTHS_RAD]

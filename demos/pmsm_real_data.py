@@ -38,7 +38,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
 
 PAGE = DemoPage(
     about="Real measurements of a permanent-magnet motor on a test bench (Paderborn University, CC BY-SA 4.0). "
-          "The seed's torque-squared model misses how the winding heats; the search swaps in the measured "
+          "Jorgensen et al.'s torque-squared model misses how the winding heats; the search swaps in the measured "
           "current and adds what remains (speed losses, a second mass). Look at the waterfalls: the real data "
           "is richer than any candidate, so this shows robustness, not selection.",
     headline=_headline)
@@ -50,7 +50,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {"source": "Paderborn University 'Electric Motor Temperature' data, CC BY-SA 4.0",
                "base_model": list(DEFAULT_MODEL), "profiles": {}}
     page = InteractivePage("pmsm-real-data demo: a real motor on a test bench",
-                           "Profiles 24 and 46 of the Paderborn PMSM data: the seed's model and the search's last.")
+                           "Profiles 24 and 46 of the Paderborn PMSM data: Jorgensen et al.'s model and the search's last.")
     for number in (24, 46):
         log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
         series = [log.series(f"profile{number}")]

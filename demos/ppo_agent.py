@@ -13,7 +13,7 @@ import numpy as np
 
 from hexapod_pb import ENV_ID as HEXAPOD_ID
 from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
-from thermolimb.envs.episodes import evaluate
+from thermolimb.envs.episodes import run_episodes
 from thermolimb.envs.tables import table
 
 NAME = "ppo-agent"
@@ -74,7 +74,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     model = train(timesteps)
     episodes = 2 if quick else 5
     agent = evaluate_agent(model, episodes)
-    baselines = table(evaluate(HEXAPOD_ID, episodes, seed=0, max_time_s=6.0,
+    baselines = table(run_episodes(HEXAPOD_ID, episodes, seed=0, max_time_s=6.0,
                                strategies=("vertical_only", "minimax", "random")))
     from thermolimb.plotting.fits import plt, save
 

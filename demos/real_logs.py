@@ -4,7 +4,7 @@ Three openly licensed logs the suite did not generate (``thermolimb/data/real``)
 a UR3 cobot's six joints (signed motor currents, 1 Hz, two parts hours apart),
 a Dynamixel servo's two 600 s runs (whole degrees), and a BLDC bench's two
 heating runs (electrical power, no torque).  Each is read with the suite's own
-options, then ``diagnose --auto`` walks from the seed's model: per actuator the
+options, then ``diagnose --auto`` walks from Jorgensen et al.'s model: per actuator the
 validation error before and after, every change and why, and the fitted
 values the suite flags.  Where there are several runs, leave-one-run-out
 (``--cv runs``) checks that what was found carries over to a run it was not
@@ -39,21 +39,21 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
         for actuator, result in record["actuators"].items():
             split = result["split"]
             rows.append((f"{dataset} {actuator}: validation RMSE", kelvin(split["after_K"]),
-                         f"from {kelvin(split['before_K'])} with the seed's model; final model "
+                         f"from {kelvin(split['before_K'])} with Jorgensen et al.'s model; final model "
                          + ",".join(split["final_model"])))
     return rows
 
 
 PAGE = DemoPage(
     about="Logs from robots and benches the suite did not generate: a UR3 cobot's joints, a Dynamixel servo "
-          "(whole-degree readings) and a BLDC motor on a bench. Each is read as a user would, diagnosed from the "
-          "seed's model, and the search adds what helps. Look at where physics is found (heat from a neighbour "
+          "(whole-degree readings) and a BLDC motor on a bench. Each is read as a user would, diagnosed from "
+          "Jorgensen et al.'s model, and the search adds what helps. Look at where physics is found (heat from a neighbour "
           "in the UR3's wrist) and where the data cannot tell (the servo's 1 °C steps), which the suite says "
           "rather than guesses.",
     headline=_headline)
 
 
-@register_demo(NAME, "real UR3, Dynamixel and BLDC-bench logs: what the seed's model misses and what the search adds",
+@register_demo(NAME, "real UR3, Dynamixel and BLDC-bench logs: what Jorgensen et al.'s model misses and what the search adds",
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}

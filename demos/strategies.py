@@ -11,7 +11,7 @@ from pathlib import Path
 import hexapod_pb
 import humanoid_pb
 from thermolimb.demo_registry import DemoPage, demo_main, mean_std, register_demo
-from thermolimb.envs.episodes import evaluate
+from thermolimb.envs.episodes import run_episodes
 from thermolimb.envs.tables import format_table, plot_table, table
 
 NAME = "strategies"
@@ -46,7 +46,7 @@ PAGE = DemoPage(
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}
     for env_id, max_time in ((hexapod_pb.ENV_ID, 10.0 if quick else 60.0), (humanoid_pb.ENV_ID, 30.0 if quick else 90.0)):
-        episodes = evaluate(env_id, 1 if quick else 5, seed=0, max_time_s=max_time)
+        episodes = run_episodes(env_id, 1 if quick else 5, seed=0, max_time_s=max_time)
         rows = table(episodes)
         plot_table(rows, env_id, out / f"{env_id.split('/')[-1]}.png")
         if not quiet:

@@ -1,4 +1,4 @@
-"""Demo ``thermal-fit``: the seed's Fig. 5 on the thermal plant.
+"""Demo ``thermal-fit``: Jorgensen et al.'s Fig. 5 on the thermal plant.
 
 Identify the effort-based model of a knee actuator (core and driver) from a log
 of random holds and motions, then predict a long experiment of repeated
@@ -22,7 +22,7 @@ from thermolimb.workbench.validation import make_estimator
 NAME = "thermal-fit"
 DT_S = 0.5
 AMBIENT_C = 25.0
-METHODS = ("seed_gd", "least_squares", "output_error")
+METHODS = ("jorgensen_gd", "least_squares", "output_error")
 CHANNELS = ("knee", "knee/driver")
 
 
@@ -34,15 +34,15 @@ def _effects() -> PlantEffects:
 def _headline(summary: dict) -> list[tuple[str, str, str]]:
     rows = []
     for channel, methods in summary["channels"].items():
-        oe, gd = methods["output_error"]["prediction"], methods["seed_gd"]["prediction"]
+        oe, gd = methods["output_error"]["prediction"], methods["jorgensen_gd"]["prediction"]
         rows.append((f"{channel}: prediction RMSE, output error", kelvin(oe["rmse_K"]),
-                     f"seed's gradient descent {kelvin(gd['rmse_K'])}; fit {oe['fit_percent']:.0f} % "
+                     f"Jorgensen et al.'s gradient descent {kelvin(gd['rmse_K'])}; fit {oe['fit_percent']:.0f} % "
                      f"against {gd['fit_percent']:.0f} %"))
     return rows
 
 
 PAGE = DemoPage(
-    about="The seed's Fig. 5 on the thermal plant: a knee actuator's model is identified from a log of random "
+    about="Jorgensen et al.'s Fig. 5 on the thermal plant: a knee actuator's model is identified from a log of random "
           "holds and motions, then predicts a long experiment of squats (one every 4.5 minutes) from effort alone, "
           "never corrected by a measurement. Look at how closely the free-run prediction follows the measured "
           "winding and driver temperatures over the whole experiment, and how the three identification methods "
@@ -53,7 +53,7 @@ PAGE = DemoPage(
               "methods.png": "Prediction error of each identification method on both channels."})
 
 
-@register_demo(NAME, "the seed's Fig. 5: identify from plant data, predict a long squat experiment from effort only",
+@register_demo(NAME, "Jorgensen et al.'s Fig. 5: identify from plant data, predict a long squat experiment from effort only",
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     identification_s = 3600.0 if quick else 3 * 3600.0

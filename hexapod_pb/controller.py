@@ -1,4 +1,4 @@
-"""Hybrid motion-force control of the hexapod (the seed's Eq. 6), as pure functions.
+"""Hybrid motion-force control of the hexapod (Nair et al.'s Eq. 6), as pure functions.
 
 Swing legs: joint-space PID through the leg's mass matrix, tracking the CPG's
 foot targets by inverse kinematics, plus gravity compensation.
@@ -37,7 +37,7 @@ class Gains:
     swing_kp_1_s2: float = 200.0  # joint-space PID of swing legs, as accelerations (scaled by the leg mass matrix)
     swing_kd_1_s: float = 20.0
     swing_ki_1_s3: float = 0.0
-    # the seed's motion term on stance legs acts through the whole body; softer than the swing legs' (chosen:
+    # Nair et al.'s motion term on stance legs acts through the whole body; softer than the swing legs' (chosen:
     # with the swing gains on stance legs a 10 s walk was as stable here, body yaw under 0.002 rad)
     stance_kp_1_s2: float = 60.0
     stance_kd_1_s: float = 10.0
@@ -46,9 +46,9 @@ class Gains:
     velocity_kv_1_s: float = 3.0  # horizontal velocity tracking
     attitude_kp_Nm_rad: float = 200.0
     attitude_kd_Nm_s_rad: float = 5.0  # 50 makes the body's yaw run away at 50 Hz (tests/test_hexapod_control.py)
-    stance_motion_scale: float = 1.0  # the seed's motion term on stance legs (Eq. 6); 0 turns it off
+    stance_motion_scale: float = 1.0  # Nair et al.'s motion term on stance legs (Eq. 6); 0 turns it off
     smoothing_1_N2: float = 1e-3  # proximal weight of the control-rate minimax (see wrench.minimax)
-    friction: float = 0.6  # friction pyramid the distribution respects (None: the seed's unconstrained friction)
+    friction: float = 0.6  # friction pyramid the distribution respects (None: Nair et al.'s unconstrained friction)
     min_normal_N: float = 2.0  # keep every stance foot loaded
 
 

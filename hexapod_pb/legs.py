@@ -58,5 +58,5 @@ def leg_mass_matrix(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
 
 
 def leg_gravity_torque(params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.ndarray | None = None) -> np.ndarray:
-    """Joint torques (N m) that hold the leg's own weight in configuration ``q`` (the seed's ``g_i``)."""
+    """Joint torques (N m) that hold the leg's own weight in configuration ``q`` (Nair et al.'s ``g_i``)."""
     return leg_statics(params, leg, q, world_R_body).gravity_Nm

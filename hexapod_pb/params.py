@@ -4,7 +4,7 @@ Provenance of every number is in ``urdf/README.md``; in short: mounting angles,
 radial offsets, link lengths, actuator masses and limits are HEBI's published
 Daisy/X-series numbers (``shared/reference/facts.md``); the base-to-shoulder
 bracket, link-tube and bracket masses are chosen here so that the legs weigh
-135 N and the body 75 N, as in the seed.
+135 N and the body 75 N, as in Nair et al..
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ class DaisyParams:
     upper_tube_mass_kg: float = 0.30  # chosen: link tube, shoulder to elbow
     lower_tube_mass_kg: float = 0.2736  # chosen so that one leg weighs 135 N / 6
     # the actuator of each joint kind (JOINT_KINDS order: base, shoulder, elbow): HEBI's X8 datasheets, written once
-    # in thermolimb.plant; effort and velocity limits and continuous efforts (the seed's 8/16/8 N m) come from them
+    # in thermolimb.plant; effort and velocity limits and continuous efforts (Nair et al.'s 8/16/8 N m) come from them
     actuators: tuple[ActuatorSpec, ActuatorSpec, ActuatorSpec] = (X8_9, X8_16, X8_9)
     nominal_body_height_m: float = 0.16  # body centre above the ground when standing
     nominal_foot_reach_m: float = 0.22  # horizontal distance shoulder axis -> foot (feet 0.46-0.51 m from the centre)
@@ -108,7 +108,7 @@ class DaisyParams:
 
     @property
     def continuous_effort_Nm(self) -> np.ndarray:
-        """What each joint's actuator holds indefinitely, in JOINTS order (the seed's normalising torques)."""
+        """What each joint's actuator holds indefinitely, in JOINTS order (Nair et al.'s normalising torques)."""
         return np.array([spec.continuous_effort for spec in self.joint_actuators])
 
 

@@ -1,7 +1,7 @@
-"""The seed's three load-carrying scenarios, run with any distribution strategy and the X8 thermal plant.
+"""Nair et al.'s three load-carrying scenarios, run with any distribution strategy and the X8 thermal plant.
 
 Per run: normalised torque of every actuator at every control step
-(commanded and sensed, over the seed's continuous torques 8/16/8 N m), its
+(commanded and sensed, over Nair et al.'s continuous torques 8/16/8 N m), its
 peak and mean per stride, measured and true winding temperatures, and the
 time until an actuator first reaches its winding limit (``None`` if never).
 """

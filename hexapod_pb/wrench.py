@@ -1,6 +1,6 @@
 """Stance-wrench distribution: which ground forces should the stance feet push with?
 
-Problem (the seed's minimax, generalised).  Stance feet ``i`` at body-frame
+Problem (Nair et al.'s minimax, generalised).  Stance feet ``i`` at body-frame
 positions ``p_i`` push with ground reaction forces ``f_i`` (force *on* the
 foot).  The joints of the stance legs must then hold
 
@@ -11,7 +11,7 @@ and the robot is in equilibrium when
     sum_i f_i = F,   sum_i p_i x f_i = M        (E f = w)
 
 with ``(F, M)`` the wrench the ground must supply (the weight, plus any body
-posture correction).  The seed minimises the peak normalised torque
+posture correction).  Nair et al. minimise the peak normalised torque
 
     min_f  max_j |tau_j| / tau_cont_j    subject to  E f = w
 
@@ -23,7 +23,7 @@ program in epigraph form:
                         |f_x|, |f_y| <= friction f_z (friction pyramid), f_z >= f_min (unilateral)
 
 solved exactly here by a dual active-set solver (``daqp``) or HiGHS, for any
-number of stance legs, with friction and unilateral constraints the seed
+number of stance legs, with friction and unilateral constraints Nair et al.
 lacks; a second stage picks, among the distributions sharing the optimal
 peak, the one of least squared normalised torque; a thermal variant
 minimises the peak *predicted temperature* instead.
@@ -58,8 +58,8 @@ class StanceProblem:
     gravity_Nm: np.ndarray  # (3n,) g
     torque_scale_Nm: np.ndarray  # (3n,) normaliser (continuous torque)
     wrench: np.ndarray  # (6,) required (F, M) from the ground, body frame
-    friction: float | None = None  # friction coefficient of the pyramid; None: no friction limit (the seed)
-    min_normal_N: float | None = None  # unilateral contact; None: no bound (the seed)
+    friction: float | None = None  # friction coefficient of the pyramid; None: no friction limit (Nair et al.)
+    min_normal_N: float | None = None  # unilateral contact; None: no bound (Nair et al.)
 
     @property
     def n(self) -> int:
@@ -195,22 +195,22 @@ def vertical_only(problem: StanceProblem) -> StanceSolution:
     return StanceSolution(p, f, "vertical_only", time.perf_counter() - start)
 
 
-# ----------------------------------------------------------- the seed's way
+# ----------------------------------------------------------- Nair et al.'s way
 
 
-def seed_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.ndarray | None = None,
+def nair_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.ndarray | None = None,
                       maxiter: int = 500) -> StanceSolution:
-    """The seed: normal forces from statics, trust-constr over the friction components of a tripod.
+    """Nair et al.'s method: normal forces from statics, trust-constr over the friction components of a tripod.
 
-    The cost ``max_j |tau_j| / s_j`` is non-smooth, as in the seed; with
-    ``zero_hessian`` the Hessian is taken as zero (the seed's 45 ms variant).
-    Constraints: the seed's three friction equalities (x, y force and yaw moment).
+    The cost ``max_j |tau_j| / s_j`` is non-smooth, as in Nair et al.; with
+    ``zero_hessian`` the Hessian is taken as zero (Nair et al.'s 45 ms variant).
+    Constraints: Nair et al.'s three friction equalities (x, y force and yaw moment).
     """
     p = problem
     if p.n != 3:
-        raise ValueError(f"the seed's formulation is for a tripod; got {p.n} stance legs")
+        raise ValueError(f"Nair et al.'s formulation is for a tripod; got {p.n} stance legs")
     start = time.perf_counter()
-    normal = vertical_only(p).forces_N[:, 2]  # the seed's Eq. 9 (exact for three feet)
+    normal = vertical_only(p).forces_N[:, 2]  # Nair et al.'s Eq. 9 (exact for three feet)
     x, y = p.body_p_feet[:, 0], p.body_p_feet[:, 1]
     A = np.vstack([np.r_[np.ones(3), np.zeros(3)], np.r_[np.zeros(3), np.ones(3)], np.r_[-y, x]])
     b = np.array([p.wrench[0], p.wrench[1], p.wrench[5] - 0.0])
@@ -226,7 +226,7 @@ def seed_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
     hess = (lambda v: np.zeros((6, 6))) if zero_hessian else None
     kwargs = {"hess": hess} if hess else {}
     with warnings.catch_warnings():
-        # the quasi-Newton update warns that the cost is piecewise linear: that is why the seed zeroed the Hessian
+        # the quasi-Newton update warns that the cost is piecewise linear: that is why Nair et al. zeroed the Hessian
         warnings.simplefilter("ignore", UserWarning)
         result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
                           constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)
@@ -311,7 +311,7 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
     the LP's optimum jumps between them as the legs move, which, fed back
     through the body, makes the forces alternate from one control step to the
     next; the proximal term picks the near-optimal one closest to the last
-    step (the seed's one trust-region iteration per step plays that role).
+    step (Nair et al.'s one trust-region iteration per step plays that role).
     """
     lp = problem.minimax_program
     nf = 3 * problem.n

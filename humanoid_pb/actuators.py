@@ -1,9 +1,9 @@
 """The humanoid's thermal actuators: rotary motors at most joints, push-rod pairs at the ankles and waist.
 
 Valkyrie's actuator thermal data is not public; the specs are calibrated to
-what the seed reports on hardware, in three steps:
+what Jorgensen et al. report on hardware, in three steps:
 
-1. Time constant.  The seed predicts 20 s ahead and sets that horizon to
+1. Time constant.  Jorgensen et al. predict 20 s ahead and set that horizon to
    half the learned RC, so a winding's RC is 40 s: 20 J/K on 2 K/W, on a
    slow housing (2000 J/K, 1 K/W) that a two-minute experiment barely warms.
 2. Heat scale.  Balancing on one leg heats the stance leg from 25 degC into
@@ -25,8 +25,8 @@ what the seed reports on hardware, in three steps:
 3. Limit.  Valkyrie's actuators "can operate up to 90 degC": protection
    starts derating there, its margin below a winding limit of 105 degC.
 
-The seed's Fig. 5 (the knee over squats every 4.5 minutes) would fix the
-knee's own scale, but its temperatures are not in the seed's text; the knee
+Jorgensen et al.'s Fig. 5 (the knee over squats every 4.5 minutes) would fix the
+knee's own scale, but its temperatures are not in Jorgensen et al.'s text; the knee
 is sized by the same rule as the rest (tests check the derivation).
 """
 
@@ -43,10 +43,10 @@ from .pushrods import RodPair
 from .scenarios import DEFAULT, Scenario
 from .scenarios import scenario as get_scenario
 
-# winding (tau = 20 J/K * 2 K/W = 40 s, the seed's RC) on a slow housing (2000 J/K, 1 K/W)
+# winding (tau = 20 J/K * 2 K/W = 40 s, Jorgensen et al.'s RC) on a slow housing (2000 J/K, 1 K/W)
 VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 1.0))
 TIME_TO_WARNING_S = 100.0  # single-leg balancing: 25 -> 75 degC at the hottest actuator's static effort
-OPERATING_LIMIT_C = 90.0  # the seed: Valkyrie's actuators operate up to 90 degC; derating starts there
+OPERATING_LIMIT_C = 90.0  # Jorgensen et al.: Valkyrie's actuators operate up to 90 degC; derating starts there
 WINDING_LIMIT_C = OPERATING_LIMIT_C + ThermalProtection().margin_K
 
 

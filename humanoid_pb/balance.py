@@ -2,7 +2,7 @@
 
     tau = Gamma(q, mode) + Kp (q_des - q) - Kd qd
 
-``Gamma`` is the seed's Eq. 23 at the measured configuration in the current
+``Gamma`` is Jorgensen et al.'s Eq. 23 at the measured configuration in the current
 contact mode (the torques that hold the robot still there), sent at the
 control rate; the joint impedance towards the planned configuration runs in
 the actuators at the physics rate (:meth:`thermolimb.rig.BulletRig.step_impedance`).  Motions between configurations are

@@ -50,7 +50,7 @@ JOINTS = (
 FEET = tuple(foot_link(s) for s in SIDES)
 FOOT_SIDE = {foot_link(s): s for s in SIDES}
 
-# joint pairs driven by two linear push-rod actuators (the seed's Sec. III)
+# joint pairs driven by two linear push-rod actuators (Jorgensen et al.'s Sec. III)
 ROD_PAIRS = {
     "left_ankle": ("left_ankle_pitch", "left_ankle_roll"),
     "right_ankle": ("right_ankle_pitch", "right_ankle_roll"),

@@ -1,6 +1,6 @@
-"""Finding a thermally minimising configuration for a contact mode: the seed's descent, kept to compare.
+"""Finding a thermally minimising configuration for a contact mode: Jorgensen et al.'s descent, kept to compare.
 
-The seed's naive method (Eqs. 29-32): on a basis ``V`` of the directions
+Jorgensen et al.'s naive method (Eqs. 29-32): on a basis ``V`` of the directions
 that keep the contacts still (the null space of ``J_c``), a finite-difference
 directional gradient of the potential ``f(q)`` (Eq. 30); a step
 ``dq = -k_p grad f`` with the gain chosen so that no coordinate moves more
@@ -23,7 +23,7 @@ from .statics import WholeBody
 
 @dataclass(frozen=True)
 class DescentResult:
-    """Where the seed's descent stopped: the configuration and its potential under Eq. 23's torques."""
+    """Where Jorgensen et al.'s descent stopped: the configuration and its potential under Eq. 23's torques."""
 
     mode: str
     q: np.ndarray
@@ -47,13 +47,13 @@ def contact_drift(body: WholeBody, q0: np.ndarray, q: np.ndarray, mode: str) -> 
 
 def descent_step(body: WholeBody, q: np.ndarray, mode: str, potential, f: float | None = None,
                  delta_max: float = 0.01, h: float = 1e-4) -> tuple[np.ndarray, float, bool]:
-    """One iteration of the seed's descent (Eqs. 30-32): ``(q_next, f_next, moved)``.
+    """One iteration of Jorgensen et al.'s descent (Eqs. 30-32): ``(q_next, f_next, moved)``.
 
     The step is bounded by ``delta_max`` in its largest coordinate (Eq. 31's
     gain: a trust region) and projected into the contacts' dynamically
     consistent null space (Eq. 32).  ``moved`` is false when the step would
     not lower the potential (the descent's stopping rule); then ``q`` is
-    returned unchanged.  This is the unit the seed proposes to run inside a
+    returned unchanged.  This is the unit Jorgensen et al. propose to run inside a
     whole-body controller, one per control step.
     """
     f = potential_of(body, q, mode, potential) if f is None else f
@@ -78,7 +78,7 @@ def descent_step(body: WholeBody, q: np.ndarray, mode: str, potential, f: float 
 
 def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
                   delta_max: float = 0.01, h: float = 1e-4, max_iter: int = 300) -> DescentResult:
-    """The seed's contact-consistent finite-difference descent (Eqs. 29-32), iterated to its stopping rule."""
+    """Jorgensen et al.'s contact-consistent finite-difference descent (Eqs. 29-32), iterated to its stopping rule."""
     start = time.perf_counter()
     q = q0.copy()
     f = potential_of(body, q, mode, potential)

@@ -36,13 +36,13 @@ class HumanoidThermalRecoveryEnv(RigEnv):
 
     The humanoid starts standing in double support with one leg's actuators
     hot (which leg, how hot and the ambient are drawn at reset from the
-    constructor's ranges, around the seed's experiment: the windings hot,
+    constructor's ranges, around Jorgensen et al.'s experiment: the windings hot,
     their housings within ``housing_warming_K`` of ambient, as after a minute
     or two of balancing on one leg).  Every decision step (1.5 s) the agent
     picks a contact mode -- or, with ``action_type="configuration"``, a
     posture offset -- and the environment runs the balance controller and the
     thermal plant in between.  Mode changes go through the nominal crouch, as
-    in the seed.
+    in Jorgensen et al.
 
     Action (``action_type="mode"``): ``Discrete(3)``: 0 double support, 1 left
     single support, 2 right single support.

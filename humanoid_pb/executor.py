@@ -1,4 +1,4 @@
-"""Drive the humanoid through contact modes and postures, every change through the nominal crouch (as the seed
+"""Drive the humanoid through contact modes and postures, every change through the nominal crouch (as Jorgensen et al.
 assumes): what the recovery experiment, the calibration run and the environment share."""
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ The objective -- the thermal potential (Eq. 26) or minimum effort -- is a sum
 of squared residuals of the efforts, handled by Gauss-Newton; a step is kept
 only if it lowers the *exact* optimum at the new configuration (a convex
 problem in ``(Gamma, F)`` at fixed ``q``), with a trust region on ``dq``.
-Unlike the seed's method, ``Gamma`` is any torque that balances the robot
+Unlike Jorgensen et al.'s method, ``Gamma`` is any torque that balances the robot
 within its contact constraints, not only the dynamically consistent one.
 """
 
@@ -226,7 +226,7 @@ class FastThermalIK:
               tol: float = 1e-4, like_for_like: bool = False) -> FastIKResult:
         """The configuration of least ``objective`` reachable from ``q0`` with the contacts of ``mode`` held.
 
-        ``like_for_like``: solve the seed's descent's own problem instead -- Eq. 23's torques, only the
+        ``like_for_like``: solve Jorgensen et al.'s descent's own problem instead -- Eq. 23's torques, only the
         contacts and the joint limits held (:mod:`humanoid_pb.like_for_like`); the result's torques, wrenches
         and potential are then Eq. 23's."""
         start = time.perf_counter()

@@ -1,4 +1,4 @@
-"""The fast thermal IK on the seed's own objective: Eq. 23's torques, differentiated analytically.
+"""The fast thermal IK on Jorgensen et al.'s own objective: Eq. 23's torques, differentiated analytically.
 
 Eq. 23's torque is the *minimum-norm* balancing torque.  ``Gamma(q) =
 Xbar' N_c' g`` lies in the range of ``X = S_a N_c``, that is in ``S_a
@@ -15,7 +15,7 @@ lam)``.  Differentiating it gives ``dGamma/dq`` from Pinocchio's analytic
 derivatives (of the static torques under the wrenches ``F``, and of the
 soles' velocities under ``lam``), so a Gauss-Newton step on the descent's
 objective ``f(q) = phi(E(q) Gamma(q))`` over the contacts' null space costs
-one small factorisation, where the seed's descent (Eq. 30) spends ``|V| + 1``
+one small factorisation, where Jorgensen et al.'s descent (Eq. 30) spends ``|V| + 1``
 whole-body statics on a finite-difference gradient.
 
 :func:`gauss_newton` runs those steps (the fast method's like-for-like mode,

@@ -1,4 +1,4 @@
-"""The contact-mode planner of the seed's Eq. 33, shared by the recovery experiment and the environment's policies.
+"""The contact-mode planner of Jorgensen et al.'s Eq. 33, shared by the recovery experiment and the environment's policies.
 
 For each contact mode (double support, left, right) the fast thermal IK
 finds the configuration that minimises the objective from that mode's
@@ -29,7 +29,7 @@ class Plan:
 
 
 def best_mode(results: dict) -> str:
-    """The seed's Eq. 33: of each contact mode's best configuration (``{mode: result with .potential}``), the mode
+    """Jorgensen et al.'s Eq. 33: of each contact mode's best configuration (``{mode: result with .potential}``), the mode
     whose result scores lowest.  The one place the choice is made, whatever found each mode's configuration."""
     return min(results, key=lambda m: results[m].potential)
 

@@ -1,6 +1,6 @@
 """The humanoid's strategies as policies of ``thermolimb/HumanoidThermalRecovery-v0``.
 
-``thermal_aware`` (the seed's Eq. 33 over the modes the environment's actions
+``thermal_aware`` (Jorgensen et al.'s Eq. 33 over the modes the environment's actions
 hold: the contact mode whose nominal posture, held with Eq. 23's torques, has
 the lowest potential, planned with models identified from a calibration run
 of the robot itself -- never its plant's parameters or the true ambient),
@@ -17,7 +17,7 @@ from thermolimb.envs.policies import constant_policy
 from .constants import CONTACT_MODES
 from .planner import ContactModePlanner
 
-CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.recovery.calibrate)
+CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.calibration.calibrate)
 _BANKS = {}
 
 

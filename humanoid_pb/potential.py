@@ -1,4 +1,4 @@
-"""The thermal potential of a configuration: the seed's Eqs. 25-26.
+"""The thermal potential of a configuration: Jorgensen et al.'s Eqs. 25-26.
 
 For actuator efforts ``F(q)`` (Eq. 24 of the statics) and measured
 temperatures ``T0``, each actuator's temperature a horizon ``dt`` ahead is
@@ -7,8 +7,8 @@ temperatures ``T0``, each actuator's temperature a horizon ``dt`` ahead is
 
 and the potential is ``f = T' Q T`` (Eq. 26) with ``Q`` diagonal: 1 by
 default, raised for actuators measured above 70 degC so that the hot ones
-dominate, as in the seed.  The horizon is half the learned time constant
-(the seed: ``dt = RC/2``, 20 s on Valkyrie).
+dominate, as in Jorgensen et al..  The horizon is half the learned time constant
+(Jorgensen et al.: ``dt = RC/2``, 20 s on Valkyrie).
 """
 
 from __future__ import annotations

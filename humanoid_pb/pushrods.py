@@ -1,4 +1,4 @@
-"""Push-rod pairs (ankles, waist): joint torques to rod forces, the seed's Eq. 24 for these joints.
+"""Push-rod pairs (ankles, waist): joint torques to rod forces, Jorgensen et al.'s Eq. 24 for these joints.
 
 Each pair drives a (pitch, roll) joint pair through two linear actuators.
 Rod ``k`` runs from an anchor on the upper body (fixed in the pitch joint's

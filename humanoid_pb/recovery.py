@@ -1,11 +1,11 @@
-"""The seed's experiment: heat the stance leg on one foot, then recover, thermal-aware against minimum effort.
+"""Jorgensen et al.'s experiment: heat the stance leg on one foot, then recover, thermal-aware against minimum effort.
 
 Everything the controller knows is what the rig gives it: encoders, torque
 sensing, measured temperatures.  The thermal model it plans with is
 identified (output error, ``joule,effort_bias``) from the robot's own log of a
 calibration run, not copied from the plant.
 
-Modes change only through the nominal double-support crouch (as the seed
+Modes change only through the nominal double-support crouch (as Jorgensen et al.
 assumes), with a minimum dwell time; single support means shifting the
 weight over the stance foot, then lifting the other foot.
 """

@@ -8,13 +8,13 @@
     and double support unloads them almost completely: a case where switching to
     the cool foot does not pay.
 ``walking``
-    The case the seed describes: Valkyrie balancing with bent knees at about its
+    The case Jorgensen et al. describe: Valkyrie balancing with bent knees at about its
     walking height, where the actuators that stay loaded in double support (the
     knees) are the hot ones.  Two changes, each stated with its source:
 
     * Stance: 0.45 rad (knees bent 0.9 rad; the pelvis 1.03 m above the ground,
       0.08 m below straight legs).  Assumed: Valkyrie's walking height is not in
-      the seed or in ``facts.md``; 0.45 rad is the deepest of 0.35-0.5 rad at which
+      Jorgensen et al. or in ``facts.md``; 0.45 rad is the deepest of 0.35-0.5 rad at which
       this suite's balance controller holds one leg (at 0.5 rad the robot falls
       while lifting the free foot, measured).  Statics (Eq. 23) then put the stance
       knee at 44.5 % of its 350 N m limit on one leg and 27.3 % in double support,
@@ -24,13 +24,13 @@
     * Sizing by actuator type.  Valkyrie's actuator types are public only through
       their effort limits (facts.md): one rotary type per limit (350 N m: hip roll,
       hip pitch, knee; 190 N m: hip yaw, torso yaw, shoulders; 65 N m: shoulder yaw,
-      elbow; the seed calls them harmonic-driven series-elastic actuators) and the
+      elbow; Jorgensen et al. call them harmonic-driven series-elastic actuators) and the
       linear push rods of the ankles and waist.  Their thermal ratings are not
       public.  Assumed: a rotary actuator holds 30 % of its peak limit continuously
       (the uniform rule's fraction), a push rod 45 % of its own: each rod's limit is
       already half of what one rod would need to hold its joint alone (the pair
       shares the load, facts.md), so the rod's motor is sized against a smaller
-      peak.  The heat scale is then set by the seed's calibration, as in the uniform
+      peak.  The heat scale is then set by Jorgensen et al.'s calibration, as in the uniform
       rule: the hottest actuator on one leg reaches 75 degC from 25 degC in
       ``TIME_TO_WARNING_S`` (100 s), which needs 27.25 W in the hottest winding:
       27.25 W * (0.30 / 0.445)^2 = 12.4 W at a rotary actuator's continuous 30 %.

@@ -1,4 +1,4 @@
-"""Whole-body statics of the humanoid with Pinocchio: the seed's Eqs. 18-24.
+"""Whole-body statics of the humanoid with Pinocchio: Jorgensen et al.'s Eqs. 18-24.
 
 For a contact mode (double support, left or right single support) with 6-D
 contact Jacobian ``J_c`` of the soles:
@@ -38,7 +38,7 @@ class Statics:
 
 
 class WholeBody:
-    """The humanoid's rigid-body model (Pinocchio), with the seed's statics."""
+    """The humanoid's rigid-body model (Pinocchio), with Jorgensen et al.'s statics."""
 
     def __init__(self, params: ValkyrieParams = VALKYRIE):
         self.params = params
@@ -86,7 +86,7 @@ class WholeBody:
     def contact_null_space(self, q: np.ndarray, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(A^-1, Jc_bar, Nc)`` at ``q`` for the contact Jacobian ``Jc``: the inverse mass matrix (CRBA), the
         dynamically consistent inverse ``A^-1 Jc' (Jc A^-1 Jc')^+`` and the null space ``I - Jc_bar Jc`` (Eq. 21),
-        what the statics and the seed's descent step (Eq. 32) both project through."""
+        what the statics and Jorgensen et al.'s descent step (Eq. 32) both project through."""
         A = pin.crba(self.model, self.data, q)
         A_inv = np.linalg.inv(np.triu(A) + np.triu(A, 1).T)
         Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)

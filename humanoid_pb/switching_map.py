@@ -8,7 +8,7 @@ minimum, and 0.45 rad the deepest at which the balance controller holds one
 leg).  Its quantity is the ratio of hot-set-safe times, minimum effort over
 thermal-aware, from the same warning state: the time after the warning until
 the heated stance leg and the weak group are below 70 degC (for a leg group this
-is the seed's hot-leg-safe time).  Above 1, switching pays.
+is Jorgensen et al.'s hot-leg-safe time).  Above 1, switching pays.
 
 Sizing of a cell (:func:`map_scenario`; a what-if, not Valkyrie's data):
 statics (Eq. 23) at the nominal right single support of the crouch give each
@@ -20,7 +20,7 @@ fraction at which the group's most loaded one reaches the warning in that time.
 So the group is the hottest at the warning by construction, whatever the
 stance, and the other actuators are as warm as the loads make them.
 
-Measured cells run the seed's experiment in PyBullet (:func:`measure_cell`:
+Measured cells run Jorgensen et al.'s experiment in PyBullet (:func:`measure_cell`:
 balance on the right leg to 75 degC, then each strategy).  To isolate the
 physics of switching from identification, the thermal-aware planner plans here
 with the datasheet models of the cell's actuators (:func:`datasheet_bank`), not

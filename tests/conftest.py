@@ -24,7 +24,7 @@ FIRST_ORDER_X8 = replace(X8_9, network=FIRST_ORDER_NETWORK)
 
 
 def first_order_truth(spec=FIRST_ORDER_X8, bias=BIAS_EFFORT_NM, ambient_C=25.0) -> dict:
-    """Eq. 5 parameters of a first-order plant, from its physical data (seed Eqs. 2-5)."""
+    """Eq. 5 parameters of a first-order plant, from its physical data (Jorgensen et al., Eqs. 2-5)."""
     rc, beta_r = spec.first_order(lumped_nodes=1)
     return {"RC_s": rc, "betaR_K_per_effort2": beta_r, "beta_biasR_K_per_effort": 2 * bias * beta_r,
             "T_offset_C": ambient_C + bias**2 * beta_r}

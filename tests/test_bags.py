@@ -17,7 +17,7 @@ from thermolimb.logs.bag_writer import write_mcap
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
-from thermolimb.workbench.validation import Scheme, evaluate
+from thermolimb.workbench.validation import Scheme, validate_model
 
 BAG = WX200_BAG.paths[0]
 
@@ -109,7 +109,7 @@ def test_real_bag_agrees_with_its_csv_export():
     heat_bag, heat_csv = np.mean(bag.signals.effort ** 2), np.mean(csv.signals.effort ** 2)
     assert abs(heat_bag / heat_csv - 1.0) < 0.05
     scheme = Scheme(split=0.7)
-    a, b = (evaluate([s], "joule", scheme) for s in (bag, csv))
+    a, b = (validate_model([s], "joule", scheme) for s in (bag, csv))
     assert abs(a.validation["rmse_K"] - b.validation["rmse_K"]) < 0.3
     assert a.validation["rmse_K"] < 1.0
 

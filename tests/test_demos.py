@@ -68,7 +68,7 @@ def test_thermal_fit_demo_predicts_the_squats(quick_runs):
         # output error predicts the 90-minute squat experiment from effort alone
         assert methods["output_error"]["prediction"]["fit_percent"] > 70.0, channel
         assert (methods["output_error"]["prediction"]["rmse_K"]
-                <= methods["seed_gd"]["prediction"]["rmse_K"] + 1e-9), channel
+                <= methods["jorgensen_gd"]["prediction"]["rmse_K"] + 1e-9), channel
 
 
 def test_specified_summaries_keep_their_shape(quick_runs):

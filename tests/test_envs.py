@@ -94,10 +94,10 @@ def test_compare_strategies_json(tmp_path, capsys):
 
 def test_ray_backend_with_a_local_ray_instance():
     pytest.importorskip("ray")
-    from thermolimb.envs.episodes import evaluate
+    from thermolimb.envs.episodes import run_episodes
 
-    ray_eps = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="ray", max_time_s=2.0)
-    local = evaluate(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="process", max_time_s=2.0)
+    ray_eps = run_episodes(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="ray", max_time_s=2.0)
+    local = run_episodes(HEXAPOD_ID, 1, seed=3, strategies=("vertical_only", "minimax"), backend="process", max_time_s=2.0)
     assert [e.episode_return for e in ray_eps] == [e.episode_return for e in local]  # same seeds, same episodes
 
 
@@ -151,11 +151,11 @@ def test_a_ray_address_where_nothing_answers_is_refused_quickly():
     pytest.importorskip("ray")
     import time
 
-    from thermolimb.envs.episodes import evaluate
+    from thermolimb.envs.episodes import run_episodes
 
     start = time.perf_counter()
     with pytest.raises(ValueError, match="no Ray cluster answers at 127.0.0.1:1"):
-        evaluate(HEXAPOD_ID, 1, seed=0, strategies=("minimax",), backend="ray", address="127.0.0.1:1")
+        run_episodes(HEXAPOD_ID, 1, seed=0, strategies=("minimax",), backend="ray", address="127.0.0.1:1")
     assert time.perf_counter() - start < 15.0
 
 

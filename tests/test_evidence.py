@@ -15,7 +15,7 @@ from thermolimb.identification import IdentifiabilityError
 from thermolimb.logs import read_log
 from thermolimb.plant import X8_9, PlantEffects, simulate_profile
 from thermolimb.workbench.evidence import MIN_SAMPLES_TO_RANK, THIN_SAMPLES, Evidence
-from thermolimb.workbench.validation import Segment, evaluate
+from thermolimb.workbench.validation import Segment, validate_model
 
 
 def step_test(path, levels=(0.0, 15.0, 15.0, 0.0), duration_s=3600.0, dt_s=1.0, rc_s=600.0, beta_r=0.1,
@@ -79,7 +79,7 @@ def steady_squat():
 
 def test_an_offset_the_log_cannot_tell_from_heating_is_held_at_the_logged_ambient(steady_squat, tmp_path, capsys):
     with pytest.raises(IdentifiabilityError, match="T_offset_C"):
-        evaluate(steady_squat.runs("knee"), "joule,effort_bias")
+        validate_model(steady_squat.runs("knee"), "joule,effort_bias")
     path = steady_squat.write(tmp_path / "squat.csv")
     assert main(["fit", str(path), "--json"]) == 0
     record = json.loads(capsys.readouterr().out)
@@ -95,8 +95,8 @@ def test_a_time_constant_the_log_leaves_loose_is_held_at_its_datasheet_value():
     datasheet's RC (said, with the reason), βR comes within 10 % of the truth with a fifth of the error."""
     truth = first_order_truth()
     series = first_order_log(0, duration_s=15.0, dt_s=0.1).runs("knee")
-    free = evaluate(series, "joule,effort_bias", reduce=True)
-    held = evaluate(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": truth["RC_s"]})
+    free = validate_model(series, "joule,effort_bias", reduce=True)
+    held = validate_model(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": truth["RC_s"]})
     assert any(f.startswith("RC_s = ") for f in free.flags)  # loose without the datasheet
     assert held.held["RC_s"] == truth["RC_s"] and held.stderr["RC_s"] == 0.0
     entry = next(a for a in held.set_aside if a.get("parameter") == "RC_s")
@@ -110,8 +110,8 @@ def test_a_time_constant_the_log_leaves_loose_is_held_at_its_datasheet_value():
 def test_a_datasheet_value_is_used_only_where_the_log_needs_it(plant_log):
     """On two hours of the plant the log identifies RC itself: a (wrong) datasheet value changes nothing."""
     series = plant_log.runs("knee")
-    free = evaluate(series, "joule,effort_bias", reduce=True)
-    given = evaluate(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": 3 * free.model.params["RC_s"]})
+    free = validate_model(series, "joule,effort_bias", reduce=True)
+    given = validate_model(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": 3 * free.model.params["RC_s"]})
     assert given.set_aside == () and given.model.params == free.model.params
 
 
@@ -119,7 +119,7 @@ def test_a_log_at_one_effort_level_identifies_nothing_and_says_what_would(tmp_pa
     """Effort held at one level: heating cannot be told from the offset, and there is no ambient to hold it at."""
     path = step_test(tmp_path / "flat.csv", levels=(15.0,))
     with pytest.raises(IdentifiabilityError, match="a log needs"):
-        evaluate(read_log(path).runs("knee"), "joule,effort_bias", reduce=True)
+        validate_model(read_log(path).runs("knee"), "joule,effort_bias", reduce=True)
 
 
 def _segment(n, span_s, values=None):

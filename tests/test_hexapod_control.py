@@ -17,7 +17,7 @@ from hexapod_pb.wrench import (
     StanceProblem,
     minimax,
     minimax_lex,
-    seed_trust_constr,
+    nair_trust_constr,
     thermal_minimax,
     vertical_only,
 )
@@ -46,16 +46,16 @@ def test_exact_minimax_equals_trust_constr_and_balances(seed):
     problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(seed)), TRIPOD,
                                                payload_kg=2.0, include_leg_gravity=False)
     exact = minimax(problem)
-    seed_way = seed_trust_constr(problem)
+    nair_way = nair_trust_constr(problem)
     highs = minimax(problem, solver="highs")
     certificate = exact.residuals()
     assert certificate["equilibrium"] < 1e-8  # N and N m
     assert certificate["stationarity"] < 1e-9 and certificate["complementarity"] < 1e-9  # KKT: optimal
-    assert exact.peak <= seed_way.peak + 1e-6  # never worse than the seed's solver
+    assert exact.peak <= nair_way.peak + 1e-6  # never worse than Nair et al.'s solver
     assert exact.peak == pytest.approx(highs.peak, abs=1e-7)  # two exact solvers agree
     # trust-constr on the non-smooth max sometimes stops short (benchmarks/wrench.py counts how often);
     # started from the exact optimum it stays there: the LP optimum is its fixed point
-    polished = seed_trust_constr(problem, x0=np.r_[exact.forces_N[:, 0], exact.forces_N[:, 1]])
+    polished = nair_trust_constr(problem, x0=np.r_[exact.forces_N[:, 0], exact.forces_N[:, 1]])
     assert polished.peak == pytest.approx(exact.peak, abs=1e-6)
     assert exact.peak < vertical_only(problem).peak
 
@@ -151,19 +151,19 @@ def test_a_run_writes_a_canonical_log_that_fit_reads(tmp_path):
 
 @pytest.mark.parametrize("seed", range(3))
 def test_every_solver_balances_the_wrench_it_was_given(seed):
-    """Each solver's forces meet the net wrench (the seed's trust-constr its three equalities), and each reports
+    """Each solver's forces meet the net wrench (Nair et al.'s trust-constr its three equalities), and each reports
     a positive solve time."""
     problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(seed)), TRIPOD,
                                                payload_kg=2.0, include_leg_gravity=False)
     problem = replace(problem, wrench=problem.wrench + np.r_[4.0, -3.0, 0.0, 0.0, 0.0, 1.5])  # pushing and turning
-    seed_way = seed_trust_constr(problem)
-    # the seed's equalities are the horizontal forces and the yaw moment (its normals come from statics, which
+    nair_way = nair_trust_constr(problem)
+    # Nair et al.'s equalities are the horizontal forces and the yaw moment (its normals come from statics, which
     # leave the horizontal forces' roll and pitch moments unbalanced: its approximation)
-    error = problem.equilibrium @ seed_way.forces_N.ravel() - problem.wrench
+    error = problem.equilibrium @ nair_way.forces_N.ravel() - problem.wrench
     assert np.max(np.abs(error[[0, 1, 5]])) < 1e-6
     for sol in (minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
         assert sol.residuals()["equilibrium"] < 1e-6, sol.solver
-    for sol in (seed_way, minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
+    for sol in (nair_way, minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
         assert 0.0 < sol.solve_time_s < 5.0, sol.solver
     assert minimax_lex(problem).solver == "daqp-lex" and minimax(problem, solver="highs").solver == "highs"
 

@@ -23,7 +23,7 @@ def test_committed_urdf_matches_the_generator():
 
 
 def test_robot_weighs_about_210_newtons():
-    # the seed: 75 N body + 135 N legs
+    # Nair et al.: 75 N body + 135 N legs
     assert DAISY.robot_weight_N == pytest.approx(210.0, abs=0.5)
 
 

@@ -46,14 +46,14 @@ def test_descent_lowers_the_potential_and_keeps_contacts_fixed(body, q0, mode):
 def test_thermal_aware_and_minimum_effort_agree_when_cool_and_differ_when_one_leg_is_hot(body, q0):
     from humanoid_pb.planner import best_mode
 
-    def choose(potential):  # Eq. 33 over the seed's descent from one start
+    def choose(potential):  # Eq. 33 over Jorgensen et al.'s descent from one start
         return best_mode({m: naive_descent(body, q0, m, potential, max_iter=40) for m in CONTACT_MODES})
 
     limits = effort_limits(VALKYRIE)
     effort = choose(MinimumEffort(limits))
     cool = choose(ThermalPotential.from_measurement(bank(), np.full(len(ACTUATORS), 40.0)))
     hot = choose(ThermalPotential.from_measurement(bank(), hot_right_leg()))
-    # as the seed observes: with equal temperatures the thermal minimiser coincides with minimum effort...
+    # as Jorgensen et al. observe: with equal temperatures the thermal minimiser coincides with minimum effort...
     assert cool == effort == "double"
     # ...and with a hot right leg it leans on the left leg
     assert hot == "left"
@@ -87,7 +87,7 @@ def test_fast_ik_keeps_contacts_exact_and_is_never_worse_than_the_seeds_descent(
 
 
 def test_one_step_per_control_tick_retraces_the_descent(body, q0):
-    """The seed's final form runs one bounded step (Eqs. 30-32) per control step: iterated, it is the descent."""
+    """Jorgensen et al.'s final form runs one bounded step (Eqs. 30-32) per control step: iterated, it is the descent."""
     from humanoid_pb.descent import descent_step
 
     pot = ThermalPotential.from_measurement(bank(), hot_right_leg())

@@ -1,4 +1,4 @@
-"""The Valkyrie-like humanoid: generated URDF, push rods, and the seed's statics (Eqs. 21-24) with Pinocchio."""
+"""The Valkyrie-like humanoid: generated URDF, push rods, and Jorgensen et al.'s statics (Eqs. 21-24) with Pinocchio."""
 
 import numpy as np
 import pytest
@@ -81,10 +81,10 @@ def test_parameters_are_frozen_all_the_way_down():
     assert hash(VALKYRIE) == hash(ValkyrieParams())  # usable as a cache key
 
 
-def test_calibration_to_the_seed_follows_from_statics(body):
+def test_calibration_to_jorgensen_et_al_follows_from_statics(body):
     """The derivation in humanoid_pb.actuators: on one leg the stance ankle's rods are the hottest (then the knee,
     then the hip roll), and on the datasheet models they reach the 75 degC warning from 25 degC in about 100 s (the
-    seed: under two minutes), with a 40 s time constant (the seed's 20 s horizon is RC/2)."""
+    seed: under two minutes), with a 40 s time constant (Jorgensen et al.'s 20 s horizon is RC/2)."""
     from humanoid_pb.actuators import OPERATING_LIMIT_C, TIME_TO_WARNING_S, actuator_specs, datasheet_bank
     from humanoid_pb.constants import leg_actuators
     from humanoid_pb.params import WARNING_C
@@ -152,7 +152,7 @@ def test_potential_derivatives_are_eq_26s():
 def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_margins(body, fractions):
     """humanoid_pb.scenarios' derivation: at the walking stance the stance knee carries 44.5 % of its limit on one
     leg and 27.3 % in double support, and with the scenario's sizing it reaches the 75 degC warning in about the
-    seed's 100 s; with one continuous fraction for every actuator type the knee is still the hottest (the type
+    100 s of Jorgensen et al.; with one continuous fraction for every actuator type the knee is still the hottest (the type
     margins are an assumption that does not decide the case)."""
     from dataclasses import replace
 

@@ -1,4 +1,4 @@
-"""The seed's recovery experiment end to end (slow): calibrate, heat on one leg, recover without falling."""
+"""Jorgensen et al.'s recovery experiment end to end (slow): calibrate, heat on one leg, recover without falling."""
 
 import numpy as np
 import pytest

@@ -116,6 +116,25 @@ def test_the_command_line_starts_without_the_heavy_libraries():
                                  "scipy.stats", "scipy.optimize", "rosbags", "plotly", "threadpoolctl", "ray")) == []
 
 
+# what a checkout holds at its top level: the package folders, the docs and tests, and the build and CI files
+TOP_LEVEL = {".ci", ".gitignore", "Makefile", "README.md", "pyproject.toml", "setup.cfg", "benchmarks", "demos",
+             "docs", "hexapod_pb", "humanoid_pb", "tests", "thermolimb", "urdf"}
+
+
+def test_nothing_is_tracked_outside_the_known_folders():
+    """A stray output (a fuzz run's plots written into ``*/`` or ``-1/`` at the root) is never committed."""
+    import shutil
+    import subprocess
+
+    if shutil.which("git") is None or not (ROOT / ".git").exists():
+        import pytest
+
+        pytest.skip("not a git checkout: nothing to check")
+    tracked = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
+    stray = sorted({name.split("/")[0] for name in tracked.decode().split("\0") if name} - TOP_LEVEL)
+    assert not stray, f"tracked outside the known folders: {stray}"
+
+
 if __name__ == "__main__":
     for part, targets in sorted(import_graph(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT).items()):
         print(f"{part:18s} -> {', '.join(sorted(targets))}")

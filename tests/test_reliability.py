@@ -197,9 +197,9 @@ def test_fitted_models_reports_and_estimators_pickle(plant_run_csv):
     import pickle
 
     from thermolimb.model import ThermalModel
-    from thermolimb.workbench.validation import Scheme, evaluate
+    from thermolimb.workbench.validation import Scheme, validate_model
 
-    report = evaluate([read_log(plant_run_csv).series("knee")], "joule,effort_bias", Scheme())
+    report = validate_model([read_log(plant_run_csv).series("knee")], "joule,effort_bias", Scheme())
     again = pickle.loads(pickle.dumps(report))
     assert again.validation == report.validation and again.model == report.model
     assert pickle.loads(pickle.dumps(report.estimator)).params_ == report.estimator.params_

@@ -7,7 +7,7 @@ import pytest
 from thermolimb.logs import from_frame, read_log
 from thermolimb.logs.units import NOT_GIVEN, header_unit, split_unit
 from thermolimb.model.units import render
-from thermolimb.workbench.validation import Scheme, evaluate
+from thermolimb.workbench.validation import Scheme, validate_model
 
 
 def bench(n=400, seed=0):
@@ -45,7 +45,7 @@ def test_units_travel_from_the_header_to_every_parameter():
     assert dict(log.units) == {"effort": "mA", "velocity": "rad/s", "current": NOT_GIVEN, "power": NOT_GIVEN,
                                "extra.Current_A1": NOT_GIVEN}  # the unmapped column, kept as an extra channel
     np.testing.assert_allclose(log.frame["velocity"], 60.0 * 2 * np.pi / 60.0)  # rpm from the header, converted
-    record = evaluate([log.series("motor")], "joule", Scheme()).to_json()
+    record = validate_model([log.series("motor")], "joule", Scheme()).to_json()
     assert record["params"]["betaR_K_per_effort2"]["unit"] == "K/mA^2"
     assert record["channel_units"]["effort"] == "mA"
 
@@ -59,7 +59,7 @@ def test_a_column_without_a_unit_is_reported_as_not_given_and_the_mapping_or_an_
 
 def test_the_canonical_format_is_in_its_documented_units(plant_log):
     assert dict(plant_log.units) == {"effort": "N m", "velocity": "rad/s", "current": "A", "power": "W"}
-    record = evaluate([plant_log.series("knee")], "joule,effort_bias", Scheme()).to_json()
+    record = validate_model([plant_log.series("knee")], "joule,effort_bias", Scheme()).to_json()
     assert record["params"]["betaR_K_per_effort2"]["unit"] == "K/(N m)^2"
 
 

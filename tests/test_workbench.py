@@ -19,7 +19,7 @@ from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 from thermolimb.workbench.diagnosis.candidates import Candidate, refit_failure
 from thermolimb.workbench.flags import parameter_flags
-from thermolimb.workbench.validation import Scheme, evaluate, fit_and_validate
+from thermolimb.workbench.validation import Scheme, validate_model, fit_and_validate
 
 SENSOR = ["sensor_noise", "quantisation"]
 
@@ -55,7 +55,7 @@ def test_an_internal_error_is_not_reported_as_a_user_error(tmp_path, monkeypatch
     def broken(*args, **kwargs):
         raise ValueError("a bug in the suite")
 
-    monkeypatch.setattr("thermolimb.cli.fit.evaluate", broken)
+    monkeypatch.setattr("thermolimb.cli.fit.validate_model", broken)
     with pytest.raises(ValueError, match="a bug in the suite"):
         main(["fit", str(path), "--actuator", "knee"])
 
@@ -210,7 +210,7 @@ def test_a_housing_sensor_is_the_winding_boundary():
 
 def test_evaluate_with_held_out_runs_scores_only_those(step_test):
     other = plant_log("pulses", 480.0, 1.0, network="second_order", seed=2).series("knee")
-    report = evaluate([step_test], "joule,second_node", Scheme(), validate_on=[other])
+    report = validate_model([step_test], "joule,second_node", Scheme(), validate_on=[other])
     assert sum(s.measured_C.size for s in report.validation_segments) == other.n
     np.testing.assert_allclose(report.validation_segments[0].measured_C, other.temperature_C)
 

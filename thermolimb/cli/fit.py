@@ -7,7 +7,7 @@ from pathlib import Path
 from ..identification import ESTIMATORS
 from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.atomic import file_stem
-from ..workbench.validation import evaluate
+from ..workbench.validation import validate_model
 from .options import (
     add_fleet,
     add_html,
@@ -41,7 +41,7 @@ def add_parser(sub):
                    help=f"comma-separated model terms (default {','.join(DEFAULT_MODEL)}); known: {', '.join(TERMS)}")
     p.add_argument("--method", default="output_error", choices=list(ESTIMATORS),
                    help="output_error (default): free-run error, started from least squares; least_squares: "
-                        "the seed's regression solved directly; seed_gd: the seed's z-scored gradient descent")
+                        "Jorgensen et al.'s regression solved directly; jorgensen_gd: Jorgensen et al.'s z-scored gradient descent")
     add_validation(p)
     p.add_argument("--json", action="store_true",
                    help="print one JSON object per actuator (a list when several actuators are fitted)")
@@ -61,7 +61,7 @@ def run(args) -> int:
     page = html_page(args, "thermolimb fit")
 
     def analyse(name, series, held_out):
-        report = evaluate(series, args.model, scheme, validate_on=held_out, method=args.method, reduce=True,
+        report = validate_model(series, args.model, scheme, validate_on=held_out, method=args.method, reduce=True,
                           datasheet=datasheet)
         if args.plot:
             from ..plotting.fits import plot_fit

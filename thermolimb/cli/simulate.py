@@ -35,7 +35,7 @@ def add_parser(sub):
         "log (time s, actuator, effort N m, temperature degC measured, velocity rad/s, current A, ambient degC).",
     )
     p.add_argument("--profile", default="squat", choices=sorted(PROFILES),
-                   help="squat: the seed's Fig. 5 squat every 4.5 min; single_leg: balancing on one leg; "
+                   help="squat: Jorgensen et al.'s Fig. 5 squat every 4.5 min; single_leg: balancing on one leg; "
                         "walking: walking bouts and rests; random: random holds and motions (default squat)")
     p.add_argument("--duration", type=number(0.0, 1e8, low_open=True, unit="s"), default=3600.0,
                    help="simulated time in s (default 3600)")

@@ -1,4 +1,4 @@
-"""``thermolimb compare-strategies``: evaluate the environments' strategies over seeded episodes."""
+"""``thermolimb compare-strategies``: run_episodes the environments' strategies over seeded episodes."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from .types import SEED, integer, names, number, output_dir
 
 def add_parser(sub):
     p = sub.add_parser(
-        "compare-strategies", help="evaluate strategies of an environment over seeded episodes",
+        "compare-strategies", help="run_episodes strategies of an environment over seeded episodes",
         description="Run every strategy of the environment over --episodes seeds (the same seeds for each) and "
         "print mean +- std of the return, the recovery time (s, humanoid) or distance (m, hexapod), the time "
         "until an actuator reaches its limit (s) and the falls; write a plot.",
@@ -37,10 +37,10 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..envs.episodes import evaluate
+    from ..envs.episodes import run_episodes
     from ..envs.tables import episodes_json, format_table, plot_table, table
 
-    episodes = evaluate(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
+    episodes = run_episodes(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
                         address=args.address, max_time_s=args.max_time, scenario=args.scenario)
     rows = table(episodes)
     path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")

@@ -8,8 +8,8 @@ which imports the package itself).  This package never imports a robot.  ``impor
 registers anything.  Here: the robot packages that provide environments
 (found through the ``thermolimb.envs`` entry-point group), registration with
 the policies each environment offers, the rig base environment
-(:mod:`.base`), policies by name (:mod:`.policies`) and seeded evaluation
-(:mod:`.evaluate`).
+(:mod:`.base`), policies by name (:mod:`.policies`) seeded episodes
+(:mod:`.episodes`) and their tables and plots (:mod:`.tables`).
 """
 
 from __future__ import annotations

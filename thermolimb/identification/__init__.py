@@ -4,13 +4,13 @@ from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .output_error import OutputError
 from .regression import IdentifiabilityError, build_regression
-from .seed_gd import SeedGradientDescent
+from .jorgensen_gd import JorgensenGradientDescent
 
 ESTIMATORS = {
-    "seed_gd": SeedGradientDescent,
+    "jorgensen_gd": JorgensenGradientDescent,
     "least_squares": LeastSquares,
     "output_error": OutputError,
 }
 
-__all__ = ["ESTIMATORS", "IdentifiabilityError", "LeastSquares", "OutputError", "SeedGradientDescent",
+__all__ = ["ESTIMATORS", "IdentifiabilityError", "LeastSquares", "OutputError", "JorgensenGradientDescent",
            "ThermalEstimator", "build_regression"]

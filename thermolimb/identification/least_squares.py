@@ -1,4 +1,4 @@
-"""Direct least squares on the seed's regression (Eq. 7)."""
+"""Direct least squares on Jorgensen et al.'s regression (Eq. 7)."""
 
 from __future__ import annotations
 
@@ -39,19 +39,19 @@ class LeastSquares(ThermalEstimator):
         in its parameters.
     cutoff_hz
         Low-pass cutoff (zero phase) of the temperature; ``None`` for none.
-        The seed's 0.015 Hz by default.
+        Jorgensen et al.'s 0.015 Hz by default.
     filtering
         ``"consistent"``: every regressor goes through the temperature's filter,
-        which keeps the filtered equation exact.  ``"seed"``: the seed's rows
+        which keeps the filtered equation exact.  ``"jorgensen"``: Jorgensen et al.'s rows
         exactly (effort filtered at ``effort_cutoff_hz`` before squaring,
-        ``y = T - T_amb``), to compare with :class:`SeedGradientDescent` on the
+        ``y = T - T_amb``), to compare with :class:`JorgensenGradientDescent` on the
         same problem.
     ambient_C
-        With ``filtering="seed"``, the ambient when the log has no ``ambient`` column.
+        With ``filtering="jorgensen"``, the ambient when the log has no ``ambient`` column.
     """
 
     method = "least_squares"
-    constrained = False  # the seed's method: unconstrained, as Eq. 7 is
+    constrained = False  # Jorgensen et al.'s method: unconstrained, as Eq. 7 is
 
     def __init__(self, model="joule,effort_bias", cutoff_hz: float | None = 0.015,
                  filtering: str = "consistent", effort_cutoff_hz: float = 1.0, ambient_C: float = 25.0):
@@ -62,13 +62,13 @@ class LeastSquares(ThermalEstimator):
         self.ambient_C = ambient_C
 
     def _fit(self, series, terms):
-        if self.filtering not in ("consistent", "seed"):
-            raise ValueError(f"filtering must be 'consistent' or 'seed', got {self.filtering!r}")
-        seed = self.filtering == "seed"
-        reg = build_regression(series, terms, self.cutoff_hz, consistent=not seed,
+        if self.filtering not in ("consistent", "jorgensen"):
+            raise ValueError(f"filtering must be 'consistent' or 'jorgensen', got {self.filtering!r}")
+        as_published = self.filtering == "jorgensen"
+        reg = build_regression(series, terms, self.cutoff_hz, consistent=not as_published,
                                effort_cutoff_hz=self.effort_cutoff_hz,
-                               subtract_ambient_C=self.ambient_C if seed else None)
+                               subtract_ambient_C=self.ambient_C if as_published else None)
         values, self.loss_, cov = solve_least_squares(reg.X, reg.y)
-        if seed:
+        if as_published:
             values[-1] += mean_ambient_C(series, self.ambient_C)
         return values, cov

@@ -71,7 +71,7 @@ def hac_covariance(X: np.ndarray, residuals: np.ndarray) -> np.ndarray:
     score's autocovariances up to ``L`` lags, ``L`` the larger of Newey and
     West's rule ``4 (n/100)^(2/9)`` and twice the residual's
     :func:`correlation_length` (at most ``n/4``).  The regressions of the
-    seed's method are low-pass filtered, so their residuals stay correlated
+    method of Jorgensen et al. are low-pass filtered, so their residuals stay correlated
     over many samples: an AR(1) inflation there (``(1+rho)/(1-rho)`` with
     ``rho`` near 1) overstated the standard errors 12-15 times against their
     spread over noise draws (``tests/test_identification.py``).

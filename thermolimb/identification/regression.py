@@ -1,15 +1,15 @@
-"""The regression form of the model (seed Eq. 7) built from logs, and its identifiability check.
+"""The regression form of the model (Jorgensen et al., Eq. 7) built from logs, and its identifiability check.
 
 Rearranging the model ``RC dT/dt + T = T_offset + sum_k X_k theta_k`` gives one
 linear equation per sample in the unknowns ``[RC, theta..., T_offset]``:
 
     T_i = [-dT/dt_i, X_i, 1] . [RC, theta, T_offset]
 
-Temperature is low-pass filtered and differentiated (the seed's low-pass
+Temperature is low-pass filtered and differentiated (Jorgensen et al.'s low-pass
 derivative).  With ``consistent=True`` every regressor goes through the *same*
 zero-phase filter as the temperature, so the filtered signals satisfy the same
 linear ODE exactly and the filter introduces no bias; ``consistent=False``
-reproduces the seed, which filtered effort at 1 Hz and temperature at 0.015 Hz.
+reproduces Jorgensen et al., who filtered effort at 1 Hz and temperature at 0.015 Hz.
 """
 
 from __future__ import annotations
@@ -114,7 +114,7 @@ def build_regression(
 ) -> Regression:
     """Stack the regression rows of several series of one actuator.
 
-    ``subtract_ambient_C``: the seed's form ``y = T - T_amb`` (use the
+    ``subtract_ambient_C``: Jorgensen et al.'s form ``y = T - T_amb`` (use the
     log's ambient column when it has one, else this constant); ``None`` keeps
     ``y = T`` with the ambient inside ``T_offset``.  A long log's rows are
     thinned (:mod:`~thermolimb.identification.thinning`): each signal is

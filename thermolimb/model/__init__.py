@@ -1,4 +1,4 @@
-"""The effort-based thermal model of the seed (Eqs. 5, 6, 17, 25), composable terms."""
+"""The effort-based thermal model of Jorgensen et al. (Eqs. 5, 6, 17, 25), composable terms."""
 
 from . import catalog  # noqa: F401  (registers the built-in terms)
 from .bank import FirstOrderBank

@@ -1,4 +1,4 @@
-"""The seed's model for many actuators at once: Eq. 6 / Eq. 25 vectorised.
+"""Jorgensen et al.'s model for many actuators at once: Eq. 6 / Eq. 25 vectorised.
 
 A controller (the humanoid's thermal IK, the hexapod's thermal-aware wrench
 distribution) needs, for every actuator ``i`` and a candidate effort vector

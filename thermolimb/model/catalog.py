@@ -4,7 +4,7 @@ Each term states the physics it stands for, its parameters with units and
 bounds, and the log columns it needs.  The plant (``thermolimb.plant``) has a
 physical counterpart for each, so that logs with a hidden effect exist to test
 the diagnosis.  Parameters are expressed as steady-state temperature rises,
-like the seed's ``beta*R``: ``rise = R * heat``.
+like Jorgensen et al.'s ``beta*R``: ``rise = R * heat``.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ class LinearTerm(Term):
 
 @register_term
 class Joule(LinearTerm):
-    """Effort-squared heating: the seed's ``beta*R*F^2`` (Eq. 5)."""
+    """Effort-squared heating: Jorgensen et al.'s ``beta*R*F^2`` (Eq. 5)."""
 
     name = "joule"
     description = "Joule heating from effort squared (the base heat source)"

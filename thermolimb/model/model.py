@@ -1,4 +1,4 @@
-"""The effort-based first-order thermal model of one actuator (seed Eqs. 5, 6, 17).
+"""The effort-based first-order thermal model of one actuator (Jorgensen et al., Eqs. 5, 6, 17).
 
     RC * dT/dt + T = T_offset + sum_k ( rise_k(t) + gain_k(t) * T )
 
@@ -42,7 +42,7 @@ class ThermalModel:
     """A model structure (its terms) with parameter values, each finite and within its declared bounds.
 
     ``bounded=False`` lets an estimate of an unconstrained regression (the
-    seed's least squares, Eq. 7) stand as it came out, a negative βR included:
+    least squares of Jorgensen et al., Eq. 7) stand as it came out, a negative βR included:
     the fit's flags report it as implausible instead.
     """
 
@@ -143,7 +143,7 @@ class ThermalModel:
 
         ``method="exact"`` integrates each interval exactly for inputs held
         constant over it (zero-order hold, Eq. 6 applied interval by
-        interval); ``method="euler"`` is forward Euler as the seed used.
+        interval); ``method="euler"`` is forward Euler as Jorgensen et al. used.
         Terms with states of their own (a second mass, a lagging sensor) shape
         the equilibrium and the output around the winding's recursion.
         """

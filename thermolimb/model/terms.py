@@ -1,6 +1,6 @@
 """Composable terms of the effort-based thermal model, and their registry.
 
-The model of one actuator is the seed's Eq. 5 written with extra terms:
+The model of one actuator is Jorgensen et al.'s Eq. 5 written with extra terms:
 
     RC * dT/dt + T = T_offset + sum_k ( rise_k(t) + gain_k(t) * T )
 

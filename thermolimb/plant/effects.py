@@ -16,7 +16,7 @@ from ..util.errors import UsageError
 
 @dataclass(frozen=True)
 class EffortBias:
-    """Series-elastic bias: the motor current makes ``effort - bias_effort`` (seed Eq. 2)."""
+    """Series-elastic bias: the motor current makes ``effort - bias_effort`` (Jorgensen et al., Eq. 2)."""
 
     bias_effort: float = 2.0  # N m (or N)
 

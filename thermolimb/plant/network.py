@@ -110,13 +110,13 @@ class ActuatorSpec:
                 raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
 
     def first_order(self, lumped_nodes: int = 1) -> tuple[float, float]:
-        """The seed's Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (seed Eqs. 2-5).
+        """Jorgensen et al.'s Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (their Eqs. 2-5).
 
         The first ``lumped_nodes`` nodes of the network (from the winding
         out) are lumped into one mass and the rest taken as the slow
         "ambient": ``RC = (C_1 + ... + C_n)(R_1 + ... + R_n)`` and
         ``betaR = R_e (R_1 + ... + R_n) / k^2`` with ``k`` the effort per amp.
-        This is the one conversion from a datasheet to the seed's model.
+        This is the one conversion from a datasheet to Jorgensen et al.'s model.
         """
         net = self.network
         if not 1 <= lumped_nodes <= net.n_nodes:

@@ -42,7 +42,7 @@ def _smoothstep(x: np.ndarray) -> np.ndarray:
 def squat(duration_s: float, dt_s: float, n_actuators: int, rng: np.random.Generator,
           period_s: float = 270.0, hold_s: float = 90.0, move_s: float = 3.0,
           squat_load: float = 1.3, stand_load: float = 0.35, travel_rad: float = 1.2) -> Profile:
-    """The seed's Fig. 5 experiment: a double-support squat and stand-up every 4.5 minutes."""
+    """Jorgensen et al.'s Fig. 5 experiment: a double-support squat and stand-up every 4.5 minutes."""
     t = _grid(duration_s, dt_s)
     phase = np.mod(t, period_s)
     down = _smoothstep(phase / move_s) - _smoothstep((phase - move_s - hold_s) / move_s)

@@ -8,7 +8,7 @@ from ..identification import IdentifiabilityError
 from ..identification.metrics import information_criteria
 from ..model.model import model_parameters
 from ..model.terms import parse_model
-from .validation import FitReport, Scheme, check_datasheet, evaluate
+from .validation import FitReport, Scheme, check_datasheet, validate_model
 
 
 def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=(),
@@ -25,7 +25,7 @@ def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=(),
     for model in models:
         names = {p.name for p in model_parameters(parse_model(model))}
         try:
-            report = evaluate(series, model, scheme, validate_on=validate_on, reduce=True,
+            report = validate_model(series, model, scheme, validate_on=validate_on, reduce=True,
                               datasheet={k: v for k, v in datasheet.items() if k in names})
         except IdentifiabilityError as exc:
             errors.append(exc)

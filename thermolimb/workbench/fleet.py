@@ -19,7 +19,7 @@ from typing import Sequence
 from ..logs.bags import BAG_SUFFIXES, is_bag
 from ..util.errors import ThermolimbError, UsageError
 from ..util.parallel import Runner, run_jobs
-from .validation import Scheme, evaluate
+from .validation import Scheme, validate_model
 
 # One BLAS thread per fit on every backend: the parallelism is across runs, two BLAS threads per process would
 # oversubscribe the cores, and a fixed thread count keeps every sum in the same order, so rows are equal bit for bit.
@@ -162,7 +162,7 @@ def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: b
             row["recommended"] = best.label if best else None
             row["recommended_rmse_K"] = float(best.rmse_K) if best else None
         else:
-            report = evaluate([series], model, scheme, method=method, reduce=True, datasheet=datasheet)
+            report = validate_model([series], model, scheme, method=method, reduce=True, datasheet=datasheet)
     except ThermolimbError as err:
         return row | {"error": str(err)}
     record = report.to_json()

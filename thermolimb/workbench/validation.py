@@ -189,7 +189,7 @@ def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
     return [([s.slice(0, c) for s, c in zip(series, cuts)], [(s, c, s.n) for s, c in zip(series, cuts)])]
 
 
-def evaluate(
+def validate_model(
     series: Sequence[ActuatorSeries],
     model: str | Sequence[str],
     scheme: Scheme = Scheme(),
@@ -209,10 +209,10 @@ def evaluate(
     """
     if reduce:
         if make is not None:
-            raise ValueError("evaluate(reduce=True) builds its own estimators; give method, not make")
+            raise ValueError("validate_model(reduce=True) builds its own estimators; give method, not make")
 
         def fit(terms, held):
-            return evaluate(series, terms, scheme, None, validate_on, method, fixed=held)
+            return validate_model(series, terms, scheme, None, validate_on, method, fixed=held)
 
         return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error",
                                      datasheet=datasheet)
@@ -348,7 +348,7 @@ def fit_and_validate(
 ) -> FitReport:
     """Fit jointly on the first ``split`` of every series (one actuator, one or several runs), validate on the rest."""
     make = (lambda: estimator) if estimator is not None else None
-    return evaluate(series, model, Scheme(split=split, restart_at_split=restart_at_split), make=make, method=method)
+    return validate_model(series, model, Scheme(split=split, restart_at_split=restart_at_split), make=make, method=method)
 
 
 def cross_validate(
@@ -359,4 +359,4 @@ def cross_validate(
     make: Callable[[], ThermalEstimator] | None = None,
 ) -> FitReport:
     """Blocked cross-validation over ``folds`` contiguous blocks of each series (see :class:`Scheme`)."""
-    return evaluate(series, model, Scheme(folds=folds), make=make, method=method)
+    return validate_model(series, model, Scheme(folds=folds), make=make, method=method)

@@ -34,7 +34,7 @@ from ...model.model import model_parameters
 from ...model.terms import TERMS, parse_model
 from ...model.units import NOT_GIVEN
 from ...util.progress import progress
-from ..validation import FitReport, Scheme, evaluate, identifiable_submodel
+from ..validation import FitReport, Scheme, validate_model, identifiable_submodel
 from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
@@ -90,7 +90,7 @@ def _evaluate(series, model, scheme, validate_on, initial=None, fixed=None) -> F
     def make():
         return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
 
-    return evaluate(series, model, scheme, make=make, validate_on=validate_on)
+    return validate_model(series, model, scheme, make=make, validate_on=validate_on)
 
 
 def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,

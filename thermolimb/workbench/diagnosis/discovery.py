@@ -159,7 +159,7 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
     return out
 
 
-def evaluate(feature: Feature, extras: dict, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
+def feature_values(feature: Feature, extras: dict, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
     """The feature's values on a series, and its reference temperature (degC) for a gain feature."""
     s = series.signals
     names = {"np": np, **input_arrays(s), "T_offset_C": offset_C}
@@ -199,7 +199,7 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
         for lf in features:
             runs = []
             for s in train:
-                f, ref = evaluate(lf.feature, lf.extras, s, base.params["T_offset_C"])
+                f, ref = feature_values(lf.feature, lf.extras, s, base.params["T_offset_C"])
                 extra = {**s.signals.extra, "_f": f * lf.feature.sign}
                 if ref is not None:
                     extra["_ref"] = ref
@@ -221,7 +221,7 @@ def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarra
     from sklearn.linear_model import orthogonal_mp  # scikit-learn takes ~0.1 s to import: only when discovering
 
     features = [lf for lf in library(base.terms, train)
-                if np.ptp(np.concatenate([evaluate(lf.feature, lf.extras, s, 0.0)[0] for s in train])) > 0]
+                if np.ptp(np.concatenate([feature_values(lf.feature, lf.extras, s, 0.0)[0] for s in train])) > 0]
     if not features or not residual @ residual > 0:
         return None
     S = signatures(base, train, features, stride)

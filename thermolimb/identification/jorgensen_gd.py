@@ -1,4 +1,4 @@
-"""The seed's identification, kept to reproduce it: z-scored batch gradient descent (Eqs. 7-16)."""
+"""Jorgensen et al.'s identification, kept to reproduce it: z-scored batch gradient descent (Eqs. 7-16)."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ from .metrics import ar1_variance_factor
 from .regression import build_regression, mean_ambient_C
 
 
-class SeedGradientDescent(ThermalEstimator):
+class JorgensenGradientDescent(ThermalEstimator):
     """Batch gradient descent on ``y = T - T_amb = [RC, theta, P_bias R] . [-dT/dt, X, 1]``.
 
-    As in the seed: temperature low-passed at 0.015 Hz and differentiated,
+    As in Jorgensen et al.: temperature low-passed at 0.015 Hz and differentiated,
     effort low-passed at 1 Hz before forming the regressors, every regressor
     but the bias z-scored (Eq. 12), ``y`` z-scored, all parameters start at
     zero, plain gradient steps with a fixed learning rate (Eq. 11), then
@@ -30,11 +30,11 @@ class SeedGradientDescent(ThermalEstimator):
         Stop as soon as the loss (Eq. 9, in the *unscaled* units of ``y``, K^2/2)
         is at most this value; used to run it "to the same loss" as another method.
     ambient_C
-        Ambient temperature when the log has no ``ambient`` column (the seed measured 25 degC).
+        Ambient temperature when the log has no ``ambient`` column (Jorgensen et al. measured 25 degC).
     """
 
-    method = "seed_gd"
-    constrained = False  # the seed's method: unconstrained, as Eq. 7 is
+    method = "jorgensen_gd"
+    constrained = False  # Jorgensen et al.'s method: unconstrained, as Eq. 7 is
 
     def __init__(self, model="joule,effort_bias", temperature_cutoff_hz: float = 0.015,
                  effort_cutoff_hz: float = 1.0, learning_rate: float = 0.2, max_iter: int = 200_000,
