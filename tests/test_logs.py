@@ -160,11 +160,11 @@ def test_fit_reads_the_neighbours_only_for_a_model_with_their_coupling(tmp_path)
     for them) and reads them for a model with ``neighbor_coupling``, which then fits."""
     from argparse import Namespace
 
-    from thermolimb.cli.options import _reads_neighbours
+    from thermolimb.cli.reading import reads_neighbours
 
-    assert not _reads_neighbours(Namespace(model="joule,effort_bias", discovers=False))
-    assert _reads_neighbours(Namespace(model="joule,neighbor_coupling", discovers=False))
-    assert not _reads_neighbours(Namespace(model=None, discovers=False))  # compare's default: the default model
-    assert _reads_neighbours(Namespace(model=["joule", "joule,neighbor_coupling"], discovers=False))
-    assert _reads_neighbours(Namespace(model="joule,effort_bias"))  # diagnose: it may propose the coupling
-    assert _reads_neighbours(Namespace())  # a command without models reads what it always did
+    assert not reads_neighbours(Namespace(model="joule,effort_bias", discovers=False))
+    assert reads_neighbours(Namespace(model="joule,neighbor_coupling", discovers=False))
+    assert not reads_neighbours(Namespace(model=None, discovers=False))  # compare's default: the default model
+    assert reads_neighbours(Namespace(model=["joule", "joule,neighbor_coupling"], discovers=False))
+    assert reads_neighbours(Namespace(model="joule,effort_bias"))  # diagnose: it may propose the coupling
+    assert reads_neighbours(Namespace())  # a command without models reads what it always did

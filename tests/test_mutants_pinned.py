@@ -82,7 +82,7 @@ def test_gap_sentence_counts_only_runs_too_short(tmp_path):
     import pandas as pd
 
     from thermolimb.logs import read_log
-    from thermolimb.logs.log import MIN_SAMPLES
+    from thermolimb.logs.series import MIN_SAMPLES
 
     t = np.concatenate([np.arange(MIN_SAMPLES), 5000.0 + np.arange(40.0), 9000.0 + np.arange(5.0)])
     pd.DataFrame({"time": t, "actuator": "knee", "effort": 1.0, "temperature": 25.0}).to_csv(tmp_path / "g.csv",

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..demo_registry import demo_names, in_tour_order, load_demos, run_demo
 from ..report import build_report
-from .options import print_json
+from .output import print_json
 from .types import output_dir
 
 

@@ -4,106 +4,82 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
-from ..workbench.validation import FitReport
-from .options import (
-    add_fleet,
-    add_html,
-    add_log_input,
-    add_quiet,
-    add_terms,
-    add_validation,
-    datasheet_of,
-    for_each_actuator,
-    format_params,
-    html_page,
-    load_terms,
-    run_fleet,
-    scheme_of,
-)
-from .types import output_dir, output_file
+from .output import format_params
+from .template import LogCommand, Run
+from .types import output_file
 
 
-def add_parser(sub):
-    p = sub.add_parser(
-        "diagnose", help="find where the thermal model fails and which physical effect is missing",
-        description="Fit the model (output error, on the first --split of each run), analyse its residual "
-        "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, power, ambient, the housing "
-        "and the neighbours' temperatures; RMSE by phase), try every change worth trying (add an effect, drop a "
-        "term, swap the heat source), validate each on held-out data and recommend the one that helps most, if it "
-        "is plausible and identifiable. --auto takes recommended changes while one helps. --discover also tries "
-        "every extra channel the log carries (heat, conductance, boundary forms) and, when nothing helps and the "
-        "residual has structure, a form found by sparse regression; --propose writes it as a Term. Errors in K.",
-    )
-    add_log_input(p)
-    add_terms(p)
-    p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
-                   help=f"model to diagnose (default {','.join(DEFAULT_MODEL)}); known terms: {', '.join(TERMS)}")
-    add_validation(p)
-    p.add_argument("--auto", action="store_true",
-                   help="take the recommended change (add, drop or swap) while one helps, never revisiting a model, "
-                        "and draw the waterfall")
-    p.add_argument("--refit", choices=("strong", "all"), default="strong",
-                   help="refit only additions with a strong score test (default) or all of them; drops and swaps "
-                        "are always refitted")
-    p.add_argument("--discover", action="store_true",
-                   help="open the vocabulary: try the log's extra channels as heat, conductance or boundary, and "
-                        "propose a form the catalog lacks when nothing else helps (labelled 'discovered'); with "
-                        "--auto, such changes are taken under the same gates as catalog effects")
-    p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
-                   help="with --discover: write the generated terms of the recommended (with --auto: the final) "
-                        "model as a Python file of Term classes, to read, rename, keep and load with --terms")
-    p.add_argument("--json", action="store_true", help="print the diagnosis as one JSON object")
-    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help="write the diagnosis plots into DIR")
-    add_html(p)
-    add_fleet(p)
-    add_quiet(p)
-    p.set_defaults(func=run)
+class Diagnose(LogCommand):
+    name = "diagnose"
+    help = "find where the thermal model fails and which physical effect is missing"
+    description = ("Fit the model (output error, on the first --split of each run), analyse its residual "
+                   "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, power, "
+                   "ambient, the housing and the neighbours' temperatures; RMSE by phase), try every change worth "
+                   "trying (add an effect, drop a term, swap the heat source), validate each on held-out data and "
+                   "recommend the one that helps most, if it is plausible and identifiable. --auto takes recommended"
+                   " changes while one helps. --discover also tries every extra channel the log carries (heat, "
+                   "conductance, boundary forms) and, when nothing helps and the residual has structure, a form "
+                   "found by sparse regression; --propose writes it as a Term. Errors in K.")
+    model_help = "model to diagnose"
+    fleet = True
+    discovers = True
+    json_help = "print the diagnosis as one JSON object"
+    plot_help = "write the diagnosis plots into DIR"
 
+    def add_options(self, p):
+        p.add_argument("--auto", action="store_true",
+                       help="take the recommended change (add, drop or swap) while one helps, never revisiting a "
+                            "model, and draw the waterfall")
+        p.add_argument("--refit", choices=("strong", "all"), default="strong",
+                       help="refit only additions with a strong score test (default) or all of them; drops and swaps "
+                            "are always refitted")
+        p.add_argument("--discover", action="store_true",
+                       help="open the vocabulary: try the log's extra channels as heat, conductance or boundary, and "
+                            "propose a form the catalog lacks when nothing else helps (labelled 'discovered'); with "
+                            "--auto, such changes are taken under the same gates as catalog effects")
+        p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
+                       help="with --discover: write the generated terms of the recommended (with --auto: the final) "
+                            "model as a Python file of Term classes, to read, rename, keep and load with --terms")
 
-def run(args) -> int:
-    load_terms(args)
-    datasheet = datasheet_of(args, args.model)
-    if args.propose and not args.discover:
-        raise UsageError("--propose writes what --discover finds; add --discover")
-    if args.fleet:
-        if args.discover:
+    def check(self, args):
+        if args.propose and not args.discover:
+            raise UsageError("--propose writes what --discover finds; add --discover")
+        if args.fleet and args.discover:
             raise UsageError("--discover works on the logs of one command, not with --fleet; diagnose a run of "
                              "interest with --discover, then load what it proposes in the fleet with --terms")
-        return run_fleet(args, diagnose=True)
-    scheme = scheme_of(args)
-    page = html_page(args, "thermolimb diagnose")
-    finals: list[tuple[str, FitReport]] = []  # each actuator's final model, for --propose
 
-    def analyse(name, series, held_out):
+    def analyse(self, run: Run, name, series, held_out):
+        args, model = run.args, run.models[0]
         if args.auto:
-            d, steps = auto_diagnose(series, args.model, quiet=args.quiet, scheme=scheme, validate_on=held_out,
-                                     discover=args.discover, datasheet=datasheet)
+            d, steps = auto_diagnose(series, model, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
+                                     discover=args.discover, datasheet=run.datasheet)
             final = steps[-1].base
         else:
-            d = diagnose(series, args.model, refit=args.refit, quiet=args.quiet, scheme=scheme, validate_on=held_out,
-                         discover=args.discover, datasheet=datasheet)
+            d = diagnose(series, model, refit=args.refit, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
+                         discover=args.discover, datasheet=run.datasheet)
             steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
-        finals.append((name, final))
+        run.kept.append((name, final))  # each actuator's final model, for --propose
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 
             plot_diagnosis(d, Path(args.plot), file_stem(name), steps)
-        if page is not None:
+        if run.page is not None:
             from ..plotting.interactive import add_diagnosis
 
-            add_diagnosis(page, d, steps)
+            add_diagnosis(run.page, d, steps)
         return d.to_json(), describe_diagnosis(d)
 
-    status = for_each_actuator(args, analyse, page)
-    if args.propose:
-        write_proposal(Path(args.propose), finals)
-    return status
+    def finish(self, run: Run):
+        if run.args.propose:
+            write_proposal(Path(run.args.propose), run.kept)
+
+
+add_parser = Diagnose().add_parser
 
 
 def describe_diagnosis(d) -> str:

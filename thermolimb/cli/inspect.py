@@ -7,7 +7,7 @@ from pathlib import Path
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
 from ..logs.mapping import suggest_table_mapping
 from ..logs.table import table_chunks
-from .options import print_json
+from .output import print_json
 
 
 def add_parser(sub):

@@ -21,7 +21,8 @@ from ..plant import (
 from ..plant.cases import CASE_NAMES, CASE_SPECS
 from ..util.atomic import is_stream
 from ..util.errors import UsageError
-from .options import add_quiet, print_json
+from .options import add_quiet
+from .output import print_json
 from .types import AMBIENT_C, SEED, number, output_file
 
 MAX_ROWS = 30_000_000  # rows written at most (the profile's inputs, 16 bytes a row, are held whole)

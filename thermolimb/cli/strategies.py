@@ -1,16 +1,18 @@
-"""``thermolimb compare-strategies``: run_episodes the environments' strategies over seeded episodes."""
+"""``thermolimb compare-strategies``: evaluate the environments' strategies over seeded episodes."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .options import add_quiet, local_workers, print_json
+from .fleet import local_workers
+from .options import add_quiet
+from .output import print_json
 from .types import SEED, integer, names, number, output_dir
 
 
 def add_parser(sub):
     p = sub.add_parser(
-        "compare-strategies", help="run_episodes strategies of an environment over seeded episodes",
+        "compare-strategies", help="evaluate strategies of an environment over seeded episodes",
         description="Run every strategy of the environment over --episodes seeds (the same seeds for each) and "
         "print mean +- std of the return, the recovery time (s, humanoid) or distance (m, hexapod), the time "
         "until an actuator reaches its limit (s) and the falls; write a plot.",

@@ -16,6 +16,8 @@ column           unit                                     required
 ``housing``      degC, a second sensor (housing, case)    no
 ===============  =======================================  ==========
 
+The data (:mod:`.series`) is apart from reading (:mod:`.reading`, one
+place per format), validating (:mod:`.validate`) and writing (:mod:`.writing`).
 Wide files (a motor bench, a robot's joints side by side) are read by naming
 their columns (:mod:`thermolimb.logs.mapping`); the CSV dialect, a metadata
 preamble and the time format are found from the file (:mod:`thermolimb.logs.table`).
@@ -23,21 +25,12 @@ Every problem with a file raises :class:`LogError` with one sentence naming the
 file, the column and what is expected.
 """
 
-from .log import (
-                  GAP_FACTOR,
-                  GAP_MIN_S,
-                  MIN_SAMPLES,
-                  VELOCITY_UNITS,
-                  ActuatorSeries,
-                  ThermalLog,
-                  from_frame,
-                  gaps,
-                  log_from_arrays,
-                  read_log,
-                  write_pieces,
-)
 from .mapping import OPTIONAL, REQUIRED, UNITS, parse_mapping
+from .reading import read_log
+from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES, ActuatorSeries, ThermalLog, gaps
 from .table import LogError
+from .validate import VELOCITY_UNITS, from_frame, log_from_arrays
+from .writing import write_pieces
 
 __all__ = ["ActuatorSeries", "GAP_FACTOR", "GAP_MIN_S", "LogError", "MIN_SAMPLES", "OPTIONAL", "REQUIRED",
            "ThermalLog", "UNITS", "VELOCITY_UNITS", "from_frame", "gaps", "log_from_arrays", "parse_mapping",

@@ -1,0 +1,62 @@
+"""Reading the logs a command names, with the options it was given: terms files first, then each log
+(one actuator of a large table in pieces, the neighbours only when a model may use them), and its notes."""
+
+from __future__ import annotations
+
+from ..logs import ActuatorSeries, ThermalLog, parse_mapping, read_log
+from ..logs.bags import is_bag
+from .options import SEPARATORS
+from .output import say
+
+
+def load_terms(args) -> None:
+    from ..model.generated import load_term_file
+
+    for path in getattr(args, "terms", None) or ():
+        load_term_file(path)
+
+
+def read_options(args, path) -> dict:
+    """The keyword arguments of :func:`read_log` that the command line's options give for ``path``."""
+    mapping = parse_mapping(args.map)
+    name = args.actuator if mapping and "actuator" not in mapping else None
+    return {"mapping": mapping, "velocity_unit": args.velocity_unit, "effort_unit": args.effort_unit,
+            "actuator_name": args.actuator if is_bag(path) else name,
+            "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
+            "drop_incomplete": args.drop_incomplete,
+            # one actuator of a canonical table: only its rows are read (and its neighbours' temperatures)
+            "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None,
+            "neighbours": reads_neighbours(args)}
+
+
+def reads_neighbours(args) -> bool:
+    """Whether the command needs the neighbours' temperatures: a diagnosis may add their coupling; a fit or a
+    comparison only when one of its models has it."""
+    from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+
+    if getattr(args, "discovers", True) or not hasattr(args, "model"):
+        return True
+    models = args.model if isinstance(args.model, list) else [args.model or DEFAULT_MODEL]
+    return any("neighbors" in TERMS[name].columns for spec in models for name in parse_model(spec))
+
+
+def read_logs(paths, args) -> list[ThermalLog]:
+    """Every log of ``paths``, read alike."""
+    return [read_log(path, **read_options(args, path)) for path in paths]
+
+
+def runs_of(logs: list[ThermalLog], name: str) -> list[ActuatorSeries]:
+    """Actuator ``name``'s runs over every log, in order."""
+    return [run for log in logs for run in log.runs(name)]
+
+
+def say_notes(logs: list[ThermalLog], names) -> None:
+    """What reading changed in each log, and the runs the actuators' logging pauses cut it into."""
+    for log in logs:
+        for note in log.notes:
+            say(note)
+        for name in names:
+            if name in log.actuators:
+                gap = log.describe_gaps(name)
+                if gap:
+                    say(gap)

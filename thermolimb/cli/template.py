@@ -1,0 +1,136 @@
+"""One template for a command that reads logs and analyses each actuator (``fit``, ``compare``, ``diagnose``).
+
+The template owns what every such command does the same way: its shared options (logs and how to read them,
+terms files, models, validation, ``--json``/``--plot``/``--html``, ``--fleet`` where it has one, ``--quiet``),
+the checks made before any log is read (``--datasheet`` against the models, once), reading the logs and
+saying what reading changed, one analysis per actuator, printing, and saying which files it wrote.
+A command module subclasses :class:`LogCommand` and says only what it adds: its own options and checks,
+and :meth:`LogCommand.analyse`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..logs import LogError
+from ..util.errors import UsageError
+from .options import (
+    add_fleet,
+    add_log_input,
+    add_models,
+    add_outputs,
+    add_quiet,
+    add_terms,
+    add_validation,
+    scheme_of,
+)
+from .output import files_in, html_page, print_json, say_written
+from .reading import load_terms, read_logs, runs_of, say_notes
+
+
+@dataclass
+class Run:
+    """One invocation of a command: its arguments and what the template made of them before reading."""
+
+    args: object
+    models: list[tuple[str, ...]]
+    scheme: object
+    datasheet: dict[str, float]
+    page: object = None  # the --html page the analyses fill, or None
+    kept: list = field(default_factory=list)  # what a command keeps across actuators for its finish()
+
+
+class LogCommand:
+    """A subcommand that reads logs and analyses each actuator; subclasses fill in the class attributes and
+    :meth:`analyse`, and may add :meth:`add_options`, :meth:`check` and :meth:`finish`."""
+
+    name = ""
+    help = ""
+    description = ""
+    model_help = "model"
+    many_models = False  # --model repeated (compare)
+    fleet = False  # --fleet: every actuator and run of many logs on its own
+    discovers = False  # whether an analysis may add the neighbours' coupling (then their temperatures are read)
+    json_help = "print one JSON object per actuator (a list when several actuators)"
+    plot_help = "write plots into DIR"
+
+    def add_parser(self, sub):
+        p = sub.add_parser(self.name, help=self.help, description=self.description)
+        add_log_input(p)
+        add_terms(p)
+        add_models(p, self.model_help, repeated=self.many_models)
+        self.add_options(p)
+        add_validation(p)
+        add_outputs(p, self.json_help, self.plot_help)
+        if self.fleet:
+            add_fleet(p)
+        add_quiet(p)
+        p.set_defaults(func=self.run, discovers=self.discovers)
+        return p
+
+    def add_options(self, p) -> None:
+        """The command's own options."""
+
+    def check(self, args) -> None:
+        """The command's own checks of its options, before any log is read (raise :class:`UsageError`)."""
+
+    def analyse(self, run: Run, name: str, series: list, held_out: list) -> tuple[dict, str]:
+        """One actuator's analysis: its JSON record and its text."""
+        raise NotImplementedError
+
+    def finish(self, run: Run) -> None:
+        """After every actuator (writes what the command keeps across them)."""
+
+    def run(self, args) -> int:
+        load_terms(args)
+        from ..model.terms import DEFAULT_MODEL, parse_model
+
+        given = args.model if isinstance(args.model, list) else [args.model]
+        models = [parse_model(m) for m in given if m] or [tuple(DEFAULT_MODEL)]
+        datasheet = _checked_datasheet(args.datasheet, models)
+        self.check(args)
+        if self.fleet and args.fleet:
+            from .fleet import run_fleet
+
+            return run_fleet(args, diagnose=self.name == "diagnose", datasheet=datasheet)
+        run = Run(args, models, scheme_of(args), datasheet, html_page(args, f"thermolimb {self.name}"))
+        status = self._each_actuator(run)
+        self.finish(run)
+        return status
+
+    def _each_actuator(self, run: Run) -> int:
+        """:meth:`analyse` for the chosen actuator or every one: what reading changed on standard error, each
+        text (or with ``--json`` one record, a list when several actuators), the page, the files written."""
+        args = run.args
+        logs = read_logs(args.logs, args)
+        held = read_logs(args.validate_on, args) if args.validate_on else []
+        names = [args.actuator] if args.actuator else list(logs[0].actuators)
+        say_notes(logs + held, names)
+        before = files_in(args.plot)
+        records = []
+        for name in names:
+            missing = [log for log in logs + held if name not in log.actuators]
+            if missing:
+                raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
+                                 f"{', '.join(missing[0].actuators)}")
+            record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
+            records.append(record)
+            if not args.json:
+                print(text)
+        if args.json:
+            print_json(records[0] if len(records) == 1 else records)
+        if run.page is not None:
+            run.page.write(args.html)
+        say_written(before, args.plot, [args.html] if run.page is not None else [])
+        return 0
+
+
+def _checked_datasheet(values: dict[str, float], models) -> dict[str, float]:
+    """``--datasheet``, checked against the models' parameters before any log is read (the one place)."""
+    from ..workbench.validation import check_datasheet
+
+    try:
+        check_datasheet(values, *models)
+    except LogError as exc:
+        raise UsageError(str(exc)) from None
+    return dict(values)

@@ -1,0 +1,126 @@
+"""Units a log states in its headers, or gives away in its numbers: time in ms, min or h, or counted in
+milliseconds since 1970; temperatures in kelvin, or switching between degC and K.  Each converted and said
+in the log's notes, or refused in one sentence."""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from ..util.lazy import pandas as pd
+from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS
+from .table import LogError
+from .units import CELSIUS, SCALED, canonical_headers, header_unit
+
+TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
+# Numbers that are the seconds since 1970 of a day in 2000-2099: a time column counting milliseconds,
+# microseconds or nanoseconds since 1970 reads 1e3, 1e6 or 1e9 times as much.
+EPOCH_S = (9.46e8, 4.1e9)
+EPOCH_UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
+# A temperature column whose every reading lies here is in kelvin: no actuator stays at 200 degC or more
+# for a whole log (the hottest insulation class is rated 180-220 degC), while 200-500 K is -73 to 227 degC.
+KELVIN_READINGS = (200.0, 500.0)
+KELVIN_JUMP = (263.15, 283.15)  # a step this large between two readings is a switch between degC and K
+
+
+def canonical_with_units(frame: pd.DataFrame, source: str, given: Mapping[str, str], channel: dict,
+                          notes: list, stated: dict) -> pd.DataFrame:
+    """A canonical log whose headers carry units (``time [s]``, ``effort [N m]``, ``temperature [degC]``):
+    columns renamed to their canonical names, inputs' units taken from the header (an option still wins);
+    the time's and temperatures' units go to ``stated`` (:func:`convert_stated`)."""
+    renames, units = canonical_headers(frame.columns, REQUIRED + OPTIONAL)
+    if not renames:
+        return frame
+    frame = frame.rename(columns=renames)
+    for name, unit in units.items():
+        if name in SCALED:
+            if name not in given:
+                channel[name] = unit
+        elif name == "time" or UNITS.get(name) == "degC":
+            stated[name] = unit
+    return frame
+
+
+def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, notes: list) -> pd.DataFrame:
+    """Time in ms/min/h and temperatures in K, as their headers state, converted (said in the notes); any
+    other unit of these refused."""
+    for name, unit in stated.items():
+        if name not in frame.columns:
+            continue
+        if name == "time":
+            if unit not in TIME_SCALES:
+                raise LogError(f"{source}: the time column's header gives the unit {unit!r}, which this suite does "
+                               f"not read; expected one of {', '.join(TIME_SCALES)}")
+            if unit != "s" and pd.api.types.is_numeric_dtype(frame[name]):
+                frame[name] = frame[name] * TIME_SCALES[unit]
+                notes.append(f"{source}: time read in {unit} (as stated), converted to s")
+        elif unit == "K":
+            frame[name] = pd.to_numeric(frame[name], errors="coerce") - 273.15
+            notes.append(f"{source}: {name} read in K (as stated), converted to degC")
+        elif unit not in CELSIUS:
+            raise LogError(f"{source}: the {name} column's header gives the unit {unit!r}, which this suite does not "
+                           f"read; expected degC or K")
+    return frame
+
+
+def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
+    """The time's and temperatures' units the mapped columns' headers give (``stamp [ms]``, ``T_winding [K]``)."""
+    out = {}
+    for name, column in mapping.items():
+        if name == "time" or UNITS.get(name) == "degC":
+            unit = header_unit(column.partition(TIME_OF)[0])
+            if unit:
+                out[name] = unit
+    return out
+
+
+def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numeric_time: bool, source: str,
+                     notes: list) -> None:
+    """Unit mistakes a log's numbers show, where no header states the unit: time counted in milliseconds (or
+    micro-, nanoseconds) since 1970, converted; time steps too long for seconds, said; temperatures in
+    kelvin, converted.  Each said in the notes with the numbers that show it."""
+    t = out["time"]
+    if "time" not in stated and numeric_time and t.size:
+        lo, hi = float(np.min(t)), float(np.max(t))
+        for unit, scale in EPOCH_UNITS:
+            if EPOCH_S[0] <= lo * scale and hi * scale <= EPOCH_S[1] and not EPOCH_S[0] <= lo <= EPOCH_S[1]:
+                day = pd.Timestamp(lo * scale, unit="s").strftime("%Y-%m-%d")
+                out["time"] = t * scale
+                notes.append(f"{source}: time reads {lo:.13g} at its first sample, which is {day} counted in {unit} "
+                             f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map "
+                             f"time=COLUMN:s)")
+                break
+        else:
+            if hi - lo >= 2 * 86400.0:  # only a log of days is looked at step by step
+                step = float(np.median(np.diff(np.unique(t))))
+                if step >= 100.0:
+                        notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
+                                 f"the time column counts milliseconds, state it: a header 'time [ms]' or --map "
+                                 f"time=COLUMN:ms")
+    for name in out:
+        if UNITS.get(name) != "degC" or name in stated:
+            continue
+        values = out[name]
+        lo, hi = float(np.min(values)), float(np.max(values))
+        if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
+            out[name] = values - 273.15
+            notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} throughout, which no actuator stays at in "
+                         f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header "
+                         f"'{name} [degC]' or --map {name}=COLUMN:degC)")
+
+
+def refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:
+    """A temperature jumping by about 273 K between two readings: part of the log is in kelvin."""
+    for column in g.columns:
+        if UNITS.get(column) != "degC":
+            continue
+        values = g[column].to_numpy()
+        jump = np.abs(np.diff(values))
+        switch = (jump >= KELVIN_JUMP[0]) & (jump <= KELVIN_JUMP[1])
+        if switch.any():
+            k = int(np.flatnonzero(switch)[0])
+            t = g["time"].to_numpy()
+            raise LogError(f"{source}: {column} of actuator {name!r} jumps by {values[k + 1] - values[k]:+.1f} K at "
+                           f"row {g.index[k + 1]} (t = {t[k]:g} s to {t[k + 1]:g} s): part of the log reads kelvin, "
+                           f"part degC; expected one unit throughout (convert one part)")

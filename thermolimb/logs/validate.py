@@ -1,0 +1,217 @@
+"""Validating a frame into a :class:`~.series.ThermalLog`: canonical or wide columns, units stated or given
+away, missing values, time that must increase, readings no actuator gives, each refused in one sentence
+naming the file, the column and what is expected."""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from ..util.frozen import FrozenMapping
+from ..util.lazy import pandas as pd
+from . import extras
+from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
+from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
+from .series import MIN_SAMPLES, ThermalLog
+from .table import LogError, refuse_duplicates, shown_names, time_seconds
+from .units import NOT_GIVEN, channel_units
+from .wide import apply_mapping, split_units
+
+# no working actuator's winding, housing or air reads outside this: readings beyond are not degC
+TEMPERATURE_RANGE_C = (-100.0, 500.0)
+VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
+
+
+def from_frame(
+    frame: pd.DataFrame,
+    source: str = "<memory>",
+    mapping: Mapping[str, str] | None = None,
+    velocity_unit: str | None = None,
+    actuator_name: str = "actuator",
+    drop_incomplete: bool = False,
+    units: Mapping[str, str | None] | None = None,
+    copy: bool = True,
+) -> ThermalLog:
+    """Validate a data frame (canonical, or wide with ``mapping``) into a :class:`ThermalLog`.
+
+    Samples with only a time stamp are left out (they hold nothing); a sample
+    missing some values is an error unless ``drop_incomplete``.  ``units``
+    gives channels' units the frame does not (see :mod:`thermolimb.logs.units`).
+    ``copy=False`` lets the log share the frame's float columns instead of copying them: for a frame the
+    caller hands over (a large log read once), not one it goes on changing.
+    """
+    mapping, from_map = split_units(mapping)
+    if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
+        raise LogError(f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}")
+    given = {**{k: v for k, v in (units or {}).items() if v}, **from_map}
+    if velocity_unit is not None:
+        given["velocity"] = velocity_unit
+    channel = channel_units(mapping, given)
+    notes = []
+    stated = {**(mapped_stated(mapping) if mapping else {}),
+              **{k: v for k, v in given.items() if k == "time" or UNITS.get(k) == "degC"}}
+    refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
+    if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
+        notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
+                     f"suite converts ({', '.join(VELOCITY_UNITS)}); taken as not given -- name it with --velocity-unit")
+        channel["velocity"] = NOT_GIVEN
+    if mapping:
+        frame = apply_mapping(frame, mapping, source, actuator_name, drop_incomplete)
+        notes += frame.attrs.get("notes", [])
+    else:
+        frame = canonical_with_units(frame, source, given, channel, notes, stated)
+    frame = convert_stated(frame, stated, source, notes)
+    missing = [c for c in REQUIRED if c not in frame.columns]
+    if missing:
+        hint = "" if mapping else "; name them with --map canonical=column"
+        raise LogError(
+            f"{source}: missing column(s) {', '.join(missing)} (expected {', '.join(REQUIRED)}); "
+            f"the file has {shown_names(frame.columns)}{hint}"
+        )
+    keep = [c for c in REQUIRED + OPTIONAL if c in frame.columns]
+    frame = frame.reset_index(drop=True)
+    measured = [c for c in keep if c not in ("time", "actuator")]
+    empty = frame[measured].isna().all(axis=1).to_numpy()
+    if empty.any():
+        notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
+        frame = frame.loc[~empty].reset_index(drop=True)
+    if drop_incomplete:
+        incomplete = frame[measured].isna().any(axis=1).to_numpy()
+        if incomplete.any():
+            notes.append(f"{source}: {int(incomplete.sum())} incomplete sample(s) left out (--drop-incomplete), first "
+                         f"at row {int(np.flatnonzero(incomplete)[0])}; the inputs before them are held")
+            frame = frame.loc[~incomplete].reset_index(drop=True)
+    if frame.empty:
+        raise LogError(f"{source}: the log has no rows with measurements")
+    names = _as_text(frame["actuator"])
+    blank = frame["actuator"].isna().to_numpy() | _blank(names)
+    if blank.any():
+        row = int(np.flatnonzero(blank)[0])
+        raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
+    # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
+    out = {"time": np.array(time_seconds(frame["time"], source, "time"), copy=copy), "actuator": names}
+    numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
+    if not numeric_time:
+        notes.append(f"{source}: time stamps turned into seconds from the first sample")
+    for c in keep:
+        if c in ("time", "actuator"):
+            continue
+        if pd.api.types.is_float_dtype(frame[c]):
+            out[c] = frame[c].to_numpy(float, copy=copy)
+            continue
+        values = pd.to_numeric(frame[c], errors="coerce")
+        bad = values.isna() & frame[c].notna()
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
+                           f"expected {UNITS[c]}")
+        out[c] = values.to_numpy(float, copy=copy)
+    explicit = {k: v for k, v in mapping.items() if k.startswith(EXTRA)}
+    extra_values, extra_units, extra_notes = extras.collect(frame, given, explicit, source)
+    notes += extra_notes
+    for c, values in out.items():
+        if c == "actuator":
+            continue
+        nan = ~np.isfinite(values)
+        if nan.any():
+            row = int(np.flatnonzero(nan)[0])
+            raise LogError(
+                f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), "
+                f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
+                f"with --drop-incomplete)"
+            )
+    plausible_units(out, stated, numeric_time, source, notes)
+    for c in (c for c in out if UNITS.get(c) == "degC"):
+        values = out[c]
+        outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
+        if outside.any():
+            row = int(np.flatnonzero(outside)[0])
+            raise LogError(
+                f"{source}: column {c!r} reads {values[row]:g} at row {row}; expected degC between "
+                f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} (a log in kelvin, in tenths of a degree "
+                f"or in raw counts needs converting first)"
+            )
+    if "velocity" in out and channel["velocity"] in VELOCITY_UNITS and VELOCITY_UNITS[channel["velocity"]] != 1.0:
+        out["velocity"] = out["velocity"] * VELOCITY_UNITS[channel["velocity"]]
+        channel["velocity"] = "m/s" if channel["velocity"] == "m/s" else "rad/s"
+    for name, values in extra_values.items():
+        out[EXTRA + name] = values
+        channel[EXTRA + name] = extra_units[name] or NOT_GIVEN
+    out = pd.DataFrame(out, copy=False)
+    parts = []
+    for name, g in _by_actuator(out):
+        t = g["time"].to_numpy()
+        steps = np.diff(t)
+        if np.any(steps <= 0):
+            k = int(np.flatnonzero(steps <= 0)[0])
+            raise LogError(
+                f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
+                f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
+            )
+        if len(g) < MIN_SAMPLES:
+            raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
+        refuse_unit_switch(g, name, source)
+        parts.append(g)
+    whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
+    return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))
+
+
+def _by_actuator(frame: pd.DataFrame):
+    """``(name, rows)`` of each actuator in order of appearance; a frame of one actuator is its own rows (no
+    copy: a large log read for one actuator is not held twice)."""
+    first = frame["actuator"].iloc[0]
+    if (frame["actuator"] == first).all():
+        return [(first, frame)]
+    return frame.groupby("actuator", sort=False, observed=True)
+
+
+def log_from_arrays(
+    time_s: np.ndarray,
+    names: tuple[str, ...],
+    effort: np.ndarray,
+    temperature_C: np.ndarray,
+    velocity: np.ndarray | None = None,
+    current_A: np.ndarray | None = None,
+    ambient_C: np.ndarray | None = None,
+    source: str = "<memory>",
+    housing_C: np.ndarray | None = None,
+    extra: Mapping[str, np.ndarray] | None = None,
+) -> ThermalLog:
+    """Build a canonical log from ``(n_samples, n_actuators)`` arrays (``ambient_C``: ``(n_samples,)``);
+    ``extra``: more channels by column header (unit in brackets, ``fan [%]``), each ``(n_samples, n_actuators)``."""
+    n, m = effort.shape
+    data = {
+        "time": np.tile(time_s, m),
+        "actuator": np.repeat(np.asarray(names, dtype=object), n),
+        "effort": effort.T.ravel(),
+        "temperature": temperature_C.T.ravel(),
+    }
+    if velocity is not None:
+        data["velocity"] = velocity.T.ravel()
+    if current_A is not None:
+        data["current"] = current_A.T.ravel()
+    if ambient_C is not None:
+        data["ambient"] = np.tile(ambient_C, m)
+    if housing_C is not None:
+        data["housing"] = housing_C.T.ravel()
+    for column, values in (extra or {}).items():
+        data[column] = np.asarray(values).T.ravel()
+    return from_frame(pd.DataFrame(data), source=source)
+
+
+def _as_text(column: pd.Series) -> pd.Series:
+    """A column as text.  A categorical one (a large log read in pieces) stays categorical, with its few
+    categories turned into text: converting row by row would make a string per row (144 MB for 2 M rows)."""
+    if not isinstance(column.dtype, pd.CategoricalDtype):
+        return column.astype(str)
+    return column.cat.rename_categories([str(c) for c in column.cat.categories])
+
+
+def _blank(names: pd.Series) -> np.ndarray:
+    """Where a column of actuator names (:func:`_as_text`) is missing or blank."""
+    if isinstance(names.dtype, pd.CategoricalDtype):
+        codes = names.cat.codes.to_numpy()
+        empty = np.array([c.strip() == "" for c in names.cat.categories] + [True])
+        return empty[codes]
+    return (names.isna() | (names.str.strip() == "")).to_numpy()

@@ -1,0 +1,96 @@
+"""Wide files onto the canonical long format: columns named by a mapping, a joint pattern over several
+joints' columns, or channels on time bases of their own (:mod:`.align`)."""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+from ..util.lazy import pandas as pd
+from . import extras
+from .align import align, series_of
+from .mapping import EXTRA, REQUIRED, TIME_OF, expand_joints, is_pattern
+from .table import LogError, first_stamp, shown_names, time_seconds
+from .units import split_unit
+
+
+def split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
+    """``{channel: "COLUMN:UNIT"}`` -> ``({channel: COLUMN}, {channel: UNIT})`` (see :func:`~.units.split_unit`)."""
+    columns, units = {}, {}
+    for key, value in (mapping or {}).items():
+        columns[key], unit = split_unit(value)
+        if unit:
+            units[key] = unit
+    return columns, units
+
+
+def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
+                   drop_incomplete: bool = False) -> pd.DataFrame:
+    if is_pattern(mapping):
+        parts = []
+        joints = expand_joints(frame.columns, mapping, source)
+        per_joint, shared = extras.joint_extras(frame.columns, {k: v for k, v in mapping.items() if k != "actuator"},
+                                                [j for j, _, _ in joints])
+        for j, name, cols in joints:
+            part = pd.DataFrame({k: frame[v] for k, v in cols.items()})
+            part.insert(1, "actuator", name)
+            for stem, column in per_joint[j].items():
+                part[EXTRA + stem] = frame[column].to_numpy()
+            for column in shared:
+                part[EXTRA + column] = frame[column].to_numpy()
+            parts.append(part)
+        return pd.concat(parts, ignore_index=True)
+    if any(TIME_OF in v for v in mapping.values()):
+        return _aligned(frame, mapping, source, actuator_name, drop_incomplete)
+    absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
+    if absent:
+        k, v = next(iter(absent.items()))
+        raise LogError(
+            f"{source}: --map {k}={v} names column {v!r}, which the file does not have; "
+            f"its columns are {shown_names(frame.columns)}"
+        )
+    unmapped = [c for c in REQUIRED if c != "actuator" and c not in mapping]
+    if unmapped:
+        raise LogError(
+            f"{source}: --map does not name the column(s) for {', '.join(unmapped)}; add "
+            f"{','.join(c + '=COLUMN' for c in unmapped)} with COLUMN among {shown_names(frame.columns)}"
+        )
+    out = pd.DataFrame({k: frame[v] for k, v in mapping.items()})
+    for column in extras.unmapped(frame.columns, mapping):
+        out[EXTRA + column] = frame[column]
+    if "actuator" not in out.columns:
+        out["actuator"] = actuator_name
+    return out
+
+
+def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
+             drop_incomplete: bool) -> pd.DataFrame:
+    """A wide file whose channels have time columns of their own, put on the temperature's samples."""
+    if is_pattern(mapping):
+        raise LogError(f"{source}: --map cannot mix joint patterns ({{j}}) with per-channel time columns (@)")
+    if "temperature" not in mapping or ("time" not in mapping and TIME_OF not in mapping["temperature"]):
+        raise LogError(f"{source}: with per-channel time columns, --map names temperature=COLUMN@TIME_COLUMN "
+                       f"(or time=COLUMN for the channels without their own)")
+    columns, notes = {}, []
+    targets = {key: value.partition(TIME_OF) for key, value in mapping.items() if key not in ("time", "actuator")}
+    stamps = [first_stamp(frame[t or mapping["time"]]) for _, _, t in targets.values()
+              if (t or mapping.get("time")) in frame.columns]
+    origin = min((s for s in stamps if s is not None), default=None)
+    for key, (column, _, time_column) in targets.items():
+        value = mapping[key]
+        time_column = time_column or mapping.get("time")
+        if time_column is None:
+            raise LogError(f"{source}: --map {key}={value} has no time column; write {key}={column}@TIME_COLUMN or "
+                           f"give time=COLUMN")
+        for c in (column, time_column):
+            if c not in frame.columns:
+                raise LogError(f"{source}: --map {key}={value} names column {c!r}, which the file does not have; "
+                               f"its columns are {shown_names(frame.columns)}")
+        columns[key] = series_of(time_seconds(frame[time_column].dropna(), source, time_column, origin),
+                                 pd.to_numeric(frame.loc[frame[time_column].notna(), column], errors="coerce"),
+                                 source, key, drop_incomplete, notes)
+    aligned, more = align(columns.pop("temperature"), columns, source)
+    notes += more
+    out = pd.DataFrame(aligned)
+    out.insert(1, "actuator", actuator_name)
+    out.attrs["notes"] = notes
+    return out

@@ -1,0 +1,62 @@
+"""Writing a thermal log: CSV or Parquet (whole, or a piece at a time) and ROS 2 MCAP, each whole or not at all.
+
+A format is added here, in :data:`WRITERS` (reading: :mod:`.reading`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Iterable
+
+from ..util.atomic import atomic_path
+from ..util.lazy import pandas as pd
+from .bag_writer import write_mcap
+from .mapping import EXTRA
+from .series import ThermalLog
+from .table import kind_of
+from .units import NOT_GIVEN
+
+
+def write_log(log: ThermalLog, path: str | Path) -> Path:
+    """Write CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`), whole or not at all."""
+    path = Path(path)
+    if path.suffix.lower() == ".mcap":
+        return write_mcap(log, path)
+    return write_pieces([log], path)
+
+
+def file_frame(log: ThermalLog) -> pd.DataFrame:
+    """The frame as a file holds it: extra channels under their headers, with units."""
+    return log.frame.rename(columns={EXTRA + name: _header(name, log.units.get(EXTRA + name))
+                                     for name in log.extras})
+
+
+def write_pieces(pieces: Iterable[ThermalLog], path: str | Path) -> Path:
+    """Write consecutive pieces of one log (the same actuators and columns, later times in each) as one CSV or
+    Parquet file, each piece as it comes, the file whole or not at all.  It reads back as the whole log (a log's
+    rows are grouped by actuator on reading); only one piece is held at a time."""
+    path = Path(path)
+    kind = kind_of(path)
+    with atomic_path(path) as tmp:
+        if kind == "csv":
+            for i, piece in enumerate(pieces):
+                file_frame(piece).to_csv(tmp, index=False, header=i == 0, mode="w" if i == 0 else "a")
+            return path
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        writer = None
+        try:
+            for piece in pieces:
+                table = pa.Table.from_pandas(file_frame(piece), preserve_index=False)
+                writer = writer or pq.ParquetWriter(tmp, table.schema)
+                writer.write_table(table.cast(writer.schema))
+        finally:
+            if writer is not None:
+                writer.close()
+    return path
+
+
+def _header(name: str, unit: str | None) -> str:
+    """An extra channel's column header, with its unit when known (read back to the same name and unit)."""
+    return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
