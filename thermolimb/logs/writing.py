@@ -20,9 +20,7 @@ from .units import NOT_GIVEN
 def write_log(log: ThermalLog, path: str | Path) -> Path:
     """Write CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`), whole or not at all."""
     path = Path(path)
-    if path.suffix.lower() == ".mcap":
-        return write_mcap(log, path)
-    return write_pieces([log], path)
+    return WRITERS["mcap" if path.suffix.lower() == ".mcap" else kind_of(path)](log, path)
 
 
 def file_frame(log: ThermalLog) -> pd.DataFrame:
@@ -60,3 +58,10 @@ def write_pieces(pieces: Iterable[ThermalLog], path: str | Path) -> Path:
 def _header(name: str, unit: str | None) -> str:
     """An extra channel's column header, with its unit when known (read back to the same name and unit)."""
     return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
+
+
+def _write_table(log: ThermalLog, path: Path) -> Path:
+    return write_pieces([log], path)
+
+
+WRITERS = {"mcap": write_mcap, "csv": _write_table, "parquet": _write_table}
