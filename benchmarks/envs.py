@@ -29,7 +29,7 @@ def make(env_id):
     return gym.make(env_id, max_time_s=1e9)
 
 
-def single(env_id: str, steps: int) -> tuple[float, float]:
+def single(env_id: str, steps: int) -> tuple[float, float, dict]:
     env = make(env_id)
     env.reset(seed=0)
     start = time.perf_counter()
@@ -39,7 +39,7 @@ def single(env_id: str, steps: int) -> tuple[float, float]:
     wall = time.perf_counter() - start
     sim = info["time_s"]
     env.close()
-    return steps / wall, sim / wall
+    return steps / wall, sim / wall, info
 
 
 def vector(env_id: str, steps: int) -> tuple[float, float]:
@@ -52,14 +52,15 @@ def vector(env_id: str, steps: int) -> tuple[float, float]:
     wall = time.perf_counter() - start
     sim = float(np.sum(infos["time_s"]))
     envs.close()
-    return 2 * steps / wall, sim / wall
+    return 2 * steps / wall, sim / wall, {}
 
 
-def fastest(measure, env_id: str, steps: int, repeats: int) -> tuple[float, float, list[float]]:
-    """The fastest of ``repeats`` runs of ``measure``: (steps/s, simulated/wall, every run's simulated/wall)."""
+def fastest(measure, env_id: str, steps: int, repeats: int) -> tuple[float, float, list[float], dict]:
+    """The fastest of ``repeats`` runs of ``measure``: (steps/s, simulated/wall, every run's simulated/wall, its
+    last info)."""
     runs = [measure(env_id, steps) for _ in range(repeats)]
     best = max(runs, key=lambda r: r[1])
-    return best[0], best[1], [r[1] for r in runs]
+    return best[0], best[1], [r[1] for r in runs], best[2]
 
 
 def main(argv=None) -> dict:
@@ -71,8 +72,8 @@ def main(argv=None) -> dict:
     record = {"method": f"fastest of {args.repeats} runs of {args.steps} steps, each from a fresh reset"}
     print(record["method"])
     for env_id in (HEXAPOD_ID, HUMANOID_ID):
-        sps, rtf, runs = fastest(single, env_id, args.steps, args.repeats)
-        vsps, vrtf, vruns = fastest(vector, env_id, args.steps, args.repeats)
+        sps, rtf, runs, info = fastest(single, env_id, args.steps, args.repeats)
+        vsps, vrtf, vruns, _ = fastest(vector, env_id, args.steps, args.repeats)
         record[env_id] = {"steps_per_s": sps, "sim_per_wall": rtf, "vector2_steps_per_s": vsps,
                           "vector2_sim_per_wall": vrtf, "vector_gain": vsps / sps,
                           "sim_per_wall_runs": runs, "vector2_sim_per_wall_runs": vruns}
@@ -80,6 +81,11 @@ def main(argv=None) -> dict:
         print(f"{env_id}: one process {sps:5.2f} steps/s, {rtf:4.1f}x real time (target >= {target:.0f}x; runs "
               f"{min(runs):.1f}-{max(runs):.1f}x); two-process AsyncVectorEnv {vsps:5.2f} steps/s, {vrtf:4.1f}x: "
               f"{vsps / sps:.2f}x the single throughput (target >= 1.6x)")
+        if "stance_solver" in info:
+            record[env_id]["stance_solver"] = info["stance_solver"]
+            record[env_id]["stance_fallbacks"] = info["stance_fallbacks"]
+            print(f"  stance forces of the last control period: {info['stance_solver']}; control periods solved by "
+                  f"a fallback: {info['stance_fallbacks']}")
     if args.json:
         print(json.dumps(record))
     return record

@@ -83,7 +83,7 @@ def main(argv=None) -> dict:
     for a in leg_actuators("right"):
         T[ACTUATORS.index(a)] = 78.0
     potential = ThermalPotential.from_measurement(datasheet_bank(VALKYRIE), T)
-    fast_solver = FastThermalIK(body)
+    fast_solver = FastThermalIK(body, solver="daqp")
     record = {"modes": {}}
     for mode in CONTACT_MODES:
         start = q_double if mode == "double" else single_support(body, q_double, mode)
@@ -101,7 +101,8 @@ def main(argv=None) -> dict:
                                  "steps_to_converge": naive.iterations,
                                  "naive_contact_drift_m": naive.contact_drift_m, "fast_violations": v,
                                  "like_for_like_s": same_mode.wall_s, "like_for_like_potential": same_mode.potential,
-                                 "like_for_like_speedup": naive.wall_s / same_mode.wall_s}
+                                 "like_for_like_speedup": naive.wall_s / same_mode.wall_s,
+                                 "fast_solver": fast.solver, "fast_qp_failures": len(fast.qp_failures)}
         print(f"{mode:7s} naive {naive.wall_s * 1e3:7.0f} ms ({naive.iterations} it) potential {naive.potential:10.0f} "
               f"| fast {fast.wall_s * 1e3:6.1f} ms ({fast.iterations} it) potential {same:10.0f} with Gamma(q), "
               f"{fast.potential:10.0f} with its own torques and forces "
@@ -115,6 +116,8 @@ def main(argv=None) -> dict:
               f"{naive.iterations / 100:.2f} s of control at 100 Hz to reach the descent's end")
         print(f"        naive contact drift {naive.contact_drift_m * 1e3:.2f} mm; fast violations "
               + ", ".join(f"{k} {val:.1e}" for k, val in v.items()))
+        print(f"        fast QPs solved by {fast.solver}; {len(fast.qp_failures)} not solved (steps rejected, the trust "
+              f"region halved)" + (f": {fast.qp_failures[0]}" if fast.qp_failures else ""))
     record["profiles"] = _profiles(body, q_double, fast_solver, args.profiles)
     if args.json:
         print(json.dumps({"modes": {m: {k: r[k] for k in ("naive_s", "fast_s", "speedup", "naive_potential",

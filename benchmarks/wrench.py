@@ -19,6 +19,7 @@
 from __future__ import annotations
 
 import argparse
+from collections import Counter
 import json
 import time
 
@@ -63,18 +64,19 @@ def walk(strategy: str, payload_kg: float, seconds: float):
             tau, state, _ = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg,
                                          walking=False)
             reading = sim.step(tau)
-        norm = []
+        norm, solvers = [], Counter()
         start = time.perf_counter()
         steps = int(seconds * cfg.control_hz)
         for _ in range(steps):
-            tau, state, _ = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg)
+            tau, state, info = control_step(reading, state, DAISY, gait, strategy, cfg.control_dt_s, payload_kg)
+            solvers[info["solution"].label] += 1
             reading = sim.step(tau)
             norm.append(np.abs(tau) / DAISY.continuous_effort_Nm)
         wall = time.perf_counter() - start
     norm = np.array(norm)
     stride = int(gait.period_s * cfg.control_hz)
     per_step_peak = [norm[k : k + stride].max() for k in range(0, len(norm) - stride + 1, stride)]
-    return seconds / wall, float(np.mean(per_step_peak)), float(norm.mean())
+    return seconds / wall, float(np.mean(per_step_peak)), float(norm.mean()), solvers
 
 
 def main(argv=None) -> dict:
@@ -85,7 +87,7 @@ def main(argv=None) -> dict:
     rng = np.random.default_rng(0)
     problems = [random_problem(rng) for _ in range(args.stances)]
 
-    t_exact, t_nair, t_oneshot, gaps, short = [], [], [], [], 0
+    t_exact, t_nair, t_oneshot, gaps, short, exact_solvers = [], [], [], [], 0, Counter()
     for k, p in enumerate(problems):
         te, exact = timed(lambda: minimax(p), repeat=REPEATS)  # every method timed alike: best of REPEATS
         ts, nair = timed(lambda: nair_trust_constr(p), repeat=REPEATS)
@@ -93,6 +95,7 @@ def main(argv=None) -> dict:
         t_nair.append(ts)
         if k < ONE_SHOT_SAMPLE:  # Nair et al.'s one-shot default (quasi-Newton Hessian) is slow: a sample
             t_oneshot.append(timed(lambda: nair_trust_constr(p, zero_hessian=False), repeat=REPEATS)[0])
+        exact_solvers[exact.label] += 1
         gaps.append(exact.peak - nair.peak)
         short += nair.peak > exact.peak + 1e-3
     exact_us = float(np.median(t_exact) * 1e6)
@@ -122,8 +125,8 @@ def main(argv=None) -> dict:
         static[payload] = {name: (float(np.max(p.normalised(s.forces_N))), float(np.mean(p.normalised(s.forces_N))))
                            for name, s in (("vertical_only", v), ("minimax", m))}
 
-    rtf, peak_mm, mean_mm = walk("minimax", 2.0, 10.0)
-    _, peak_v, mean_v = walk("vertical_only", 2.0, 10.0)
+    rtf, peak_mm, mean_mm, walk_solvers = walk("minimax", 2.0, 10.0)
+    _, peak_v, mean_v, _ = walk("vertical_only", 2.0, 10.0)
 
     print(f"{len(problems)} random tripod stances (payload 0-5 kg)")
     print(f"  Nair et al. trust-constr, one-shot (its default)   median {oneshot_ms:8.2f} ms  ({len(t_oneshot)} stances)")
@@ -134,11 +137,13 @@ def main(argv=None) -> dict:
     print(f"  largest (exact - Nair et al.) peak {max_gap:+.2e} (must be <= 1e-6); trust-constr stopped short of the "
           f"optimum (by > 1e-3) on {short} of {len(problems)}")
     print(f"  warm-started control step  median {warm_us:6.1f} us (target <= 50 us)")
+    print(f"  what solved the exact LP: {', '.join(f'{k}: {n}' for k, n in exact_solvers.most_common())}")
     for payload, row in static.items():
         (pv, mv), (pm, mm) = row["vertical_only"], row["minimax"]
         print(f"nominal tripod, {payload:.0f} kg: peak normalised torque vertical-only {pv:.3f}, minimax {pm:.3f} "
               f"({100 * (pm / pv - 1):+.1f} %); mean {mv:.3f} -> {mm:.3f} ({100 * (mm / mv - 1):+.1f} %)")
     print(f"walking with 2 kg, optimiser every 20 ms step: {rtf:.1f} x real time in DIRECT mode (target >= 5 x)")
+    print(f"  what solved each control step: {', '.join(f'{k}: {n}' for k, n in walk_solvers.most_common())}")
     print(f"  per-step peak normalised torque: vertical-only {peak_v:.3f}, minimax {peak_mm:.3f} "
           f"({100 * (peak_mm / peak_v - 1):+.1f} %; target -15 %)")
     print(f"  mean normalised torque:          vertical-only {mean_v:.3f}, minimax {mean_mm:.3f} "
@@ -147,7 +152,8 @@ def main(argv=None) -> dict:
               "speedup": nair_ms * 1e3 / exact_us, "speedup_one_shot": oneshot_ms * 1e3 / exact_us,
               "max_peak_gap": max_gap, "trust_constr_short": short, "warm_us": warm_us, "walk_rtf": rtf,
               "static_tripod": static, "walk2kg_peak": {"vertical_only": peak_v, "minimax": peak_mm},
-              "walk2kg_mean": {"vertical_only": mean_v, "minimax": mean_mm}}
+              "walk2kg_mean": {"vertical_only": mean_v, "minimax": mean_mm},
+              "solvers": {"random_stances": dict(exact_solvers), "walk2kg": dict(walk_solvers)}}
     if args.json:
         print(json.dumps({k: record[k] for k in ("trust_constr_ms", "exact_us", "speedup", "max_peak_gap")}))
     return record

@@ -50,6 +50,9 @@ class Gains:
     smoothing_1_N2: float = 1e-3  # proximal weight of the control-rate minimax (see wrench.minimax)
     friction: float = 0.6  # friction pyramid the distribution respects (None: Nair et al.'s unconstrained friction)
     min_normal_N: float = 2.0  # keep every stance foot loaded
+    # the stance programs' solver, named, and the one that takes over should it fail (said in each solution)
+    solver: str = "daqp"
+    fallback: str | None = "highs"
 
 
 @dataclass(frozen=True)
@@ -119,12 +122,9 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
     problem = StanceProblem.from_statics(params, {i: statics[i] for i in legs}, payload_kg=payload_kg, wrench=wrench,
                                          friction=gains.friction, min_normal_N=gains.min_normal_N,
                                          world_R_body=reading.world_R_body)
-    total = sum(weights.values())
     bank, horizon_s = (thermal.bank, thermal.horizon_s) if thermal is not None else (None, 0.0)
-    solutions = [(w / total, distribute(problem, k, state.last, bank, reading.temperature_C, horizon_s,
-                                        gains.smoothing_1_N2)) for k, w in weights.items()]
-    solution = solutions[0][1] if len(solutions) == 1 else replace(
-        solutions[0][1], forces_N=sum(w * sol.forces_N for w, sol in solutions), solver="blend")
+    solution = distribute(problem, weights, state.last, bank, reading.temperature_C, horizon_s, gains.smoothing_1_N2,
+                          gains.solver, gains.fallback)
 
     torques = np.zeros(18)
     # a stance leg's torques: its share of the wrench with its gravity (the problem's T f + g, computed once),

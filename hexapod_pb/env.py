@@ -152,6 +152,8 @@ class HexapodLoadCarryEnv(RigEnv):
 
     def _info(self, terms: dict) -> dict:
         reading = self.loop.reading
+        solution = self.loop.solution
         return {"reward_terms": terms, "time_s": self.sim.time_s, "distance_m": float(reading.body_position_m[0]),
                 "max_temperature_C": float(reading.temperature_C.max()), "fell": self.fallen,
-                "payload_kg": self.payload_kg}
+                "payload_kg": self.payload_kg, "stance_solver": None if solution is None else solution.label,
+                "stance_fallbacks": self.loop.fallbacks}

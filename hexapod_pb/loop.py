@@ -9,6 +9,8 @@ measured).  The controller itself stays a pure function
 
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 
 from . import cpg
@@ -16,6 +18,7 @@ from .controller import ControllerState, Gains, ThermalContext, control_step
 from .params import DAISY, FALLEN_BODY_HEIGHT_M, SETTLE_S, DaisyParams
 from .readings import Reading
 from .sim import HexapodSim
+from .wrench import StanceSolution
 
 
 class ControlLoop:
@@ -37,6 +40,9 @@ class ControlLoop:
         self.state = ControllerState(cpg.initial_state(None, self.gait))
         self.reading: Reading = sim.read()
         self.torques_Nm = np.zeros(len(params.effort_limit_Nm))  # what the controller commanded last
+        self.solution: StanceSolution | None = None  # the stance forces of the last control period
+        self.solvers: Counter[str] = Counter()  # control periods per stance solution's label (what solved it)
+        self.fallbacks = 0  # control periods whose stance forces a fallback solver produced
 
     @property
     def fallen(self) -> bool:
@@ -44,11 +50,19 @@ class ControlLoop:
 
     def step(self, forces, walking: bool = True, gait: cpg.CPGParams | None = None) -> Reading:
         """One control period: the controller's torques from the last reading, held on the rig."""
-        self.torques_Nm, self.state, _ = control_step(
+        self.torques_Nm, self.state, info = control_step(
             self.reading, self.state, self.params, gait or self.gait, forces, self.sim.config.control_dt_s,
             self.payload_kg, self.gains, self.thermal, walking=walking)
+        self.solution = info["solution"]
+        self.solvers[self.solution.label] += 1
+        self.fallbacks += self.solution.fell_back
         self.reading = self.sim.step(self.torques_Nm)
         return self.reading
+
+    def solver_note(self) -> str:
+        """What solved the stance forces, in control periods (the run's log carries it)."""
+        counts = ", ".join(f"{label}: {n}" for label, n in self.solvers.most_common())
+        return f"stance forces ({sum(self.solvers.values())} control periods): {counts}"
 
     def settle(self, forces) -> Reading:
         """Stand still for ``SETTLE_S`` with ``forces``: the start every measured run shares."""

@@ -8,7 +8,7 @@ time until an actuator first reaches its winding limit (``None`` if never).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -39,7 +39,8 @@ class ScenarioResult:
     fell: bool
     time_to_limit_s: float | None
     stride_steps: int
-    log: ThermalLog
+    log: ThermalLog  # the rig's thermal log; its notes say what solved the stance forces
+    solvers: dict[str, int] = field(default_factory=dict)  # control periods per stance solution's label
 
     def per_stride(self, which: str = "commanded") -> tuple[float, float]:
         """Mean over strides of the stride's peak normalised torque, and the overall mean normalised torque."""
@@ -53,7 +54,8 @@ class ScenarioResult:
         peak_s, mean_s = self.per_stride("sensed")
         return {"peak_norm_torque": peak, "mean_norm_torque": mean, "peak_norm_torque_sensed": peak_s,
                 "mean_norm_torque_sensed": mean_s, "max_temperature_C": float(self.measured_C.max()),
-                "time_to_limit_s": self.time_to_limit_s, "distance_m": self.distance_m, "fell": self.fell}
+                "time_to_limit_s": self.time_to_limit_s, "distance_m": self.distance_m, "fell": self.fell,
+                "solvers": dict(self.solvers)}
 
 
 def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0, ambient_C: float = 25.0,
@@ -92,5 +94,6 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
                 break
         distance = float(reading.body_position_m[0] - start[0])
         log = sim.thermal_log()
+    log = replace(log, notes=log.notes + (loop.solver_note(),))
     return ScenarioResult(scenario, strategy, t, cmd, sensed, measured, winding, distance, fell, time_to_limit,
-                          int(round(gait.period_s * config.control_hz)), log)
+                          int(round(gait.period_s * config.control_hz)), log, dict(loop.solvers))

@@ -35,12 +35,13 @@ import time
 import warnings
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from typing import Mapping
 
 import numpy as np
 from scipy.optimize import LinearConstraint, minimize
 
 from thermolimb.model import FirstOrderBank
-from thermolimb.util.programs import INFINITE, Program, Solution, solve
+from thermolimb.optimization.programs import INFINITE, Program, Solution, SolverError, solve
 
 from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
@@ -134,14 +135,35 @@ class StanceProblem:
 
 @dataclass(frozen=True)
 class StanceSolution:
-    """A distribution of ground forces and what it costs; ``residuals`` certify it."""
+    """A distribution of ground forces and what it costs; ``residuals`` certify it.
+
+    ``strategy`` says how the forces were chosen, ``solver`` what produced them (``"daqp"``, ``"highs"``,
+    ``"trust-constr"``, ``"closed form"``) and ``fallback_from``, when the solver named first failed, what
+    it reported; a blend keeps each strategy's solution in ``parts``.
+    """
 
     problem: StanceProblem
     forces_N: np.ndarray  # (n, 3) on each stance foot, body frame
+    strategy: str
     solver: str
     solve_time_s: float
     iterations: int = 0
     program: Solution | None = field(default=None, repr=False)  # the solved program, with its certificate
+    fallback_from: str | None = None
+    parts: tuple["StanceSolution", ...] = field(default=(), repr=False)
+
+    @property
+    def label(self) -> str:
+        """``"minimax by daqp"``, ``"minimax by highs (daqp stalled, exit flag -2)"``; a blend's parts, joined."""
+        if self.parts:
+            return "; ".join(part.label for part in self.parts)
+        fallback = f" ({self.fallback_from})" if self.fallback_from else ""
+        return f"{self.strategy} by {self.solver}{fallback}"
+
+    @property
+    def fell_back(self) -> bool:
+        """Whether a fallback solver produced this solution (or one of a blend's parts)."""
+        return self.fallback_from is not None or any(part.fell_back for part in self.parts)
 
     @property
     def active(self) -> np.ndarray | None:
@@ -159,7 +181,7 @@ class StanceSolution:
 
     def residuals(self) -> dict[str, float]:
         """Equilibrium error (N, N m), friction-cone and unilateral violations (N); for a solved program also
-        its certificate (:meth:`~thermolimb.util.programs.Program.residuals`: bounds, stationarity,
+        its certificate (:meth:`~thermolimb.optimization.programs.Program.residuals`: bounds, stationarity,
         complementarity, duality gap)."""
         p = self.problem
         f = self.forces_N
@@ -192,7 +214,7 @@ def vertical_only(problem: StanceProblem) -> StanceSolution:
     f = np.zeros((p.n, 3))
     f[:, 2] = normal
     f[:, :2] = p.wrench[:2] / p.n
-    return StanceSolution(p, f, "vertical_only", time.perf_counter() - start)
+    return StanceSolution(p, f, "vertical_only", "closed form", time.perf_counter() - start)
 
 
 # ----------------------------------------------------------- Nair et al.'s way
@@ -230,7 +252,8 @@ def nair_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
         warnings.simplefilter("ignore", UserWarning)
         result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
                           constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)
-    return StanceSolution(p, forces(result.x), "trust-constr", time.perf_counter() - start, int(result.nit))
+    return StanceSolution(p, forces(result.x), "nair_trust_constr", "trust-constr", time.perf_counter() - start,
+                          int(result.nit))
 
 
 # ------------------------------------------------------------ exact minimax
@@ -266,20 +289,24 @@ def _epigraph(problem: StanceProblem) -> Program:
     return Program(c, A, bu, bl, n_eq=6, name="the stance LP")
 
 
-# The exact programs are solved by daqp (dual active set, about 10 us here) with eps_prox for an LP's proximal
-# iterations; should it stall, by HiGHS, and the solution's solver says so ("highs (daqp stalled, exit flag -2)").
-LP_SOLVER = dict(solver="daqp", fallback="highs", eps_prox=1e-6)
+# daqp's proximal iterations for an LP (it has no Hessian to regularise)
+DAQP_LP_OPTIONS = {"eps_prox": 1e-6}
+
+
+def _options(solver: str) -> dict:
+    return DAQP_LP_OPTIONS if solver == "daqp" else {}
 
 
 MOMENT_ARM_M = 0.3  # weights moment errors against force errors in the closest achievable wrench
 
 
-def closest_achievable(problem: StanceProblem) -> StanceProblem:
+def closest_achievable(problem: StanceProblem, solver: str = "daqp", fallback: str | None = None) -> StanceProblem:
     """The same problem with its wrench replaced by the nearest one the contacts can supply.
 
     Minimises ``|E f - w|_1`` (moments divided by a 0.3 m arm) subject to the
-    friction pyramid and unilateral constraints; returns ``problem`` itself
-    when its wrench is already achievable.
+    friction pyramid and unilateral constraints, by ``solver`` (``fallback``
+    only if named); returns ``problem`` itself when its wrench is already
+    achievable.
     """
     p = problem
     nf = 3 * p.n
@@ -291,7 +318,8 @@ def closest_achievable(problem: StanceProblem) -> StanceProblem:
     bu = np.concatenate([p.wrench, np.full(6, INFINITE), contact_bu])
     bl = np.concatenate([np.full(6, -INFINITE), p.wrench, contact_bl])
     c = np.r_[np.zeros(nf), weights]
-    x = solve(Program(c, A, bu, bl, name="the closest achievable wrench's LP"), **LP_SOLVER).x
+    x = solve(Program(c, A, bu, bl, name="the closest achievable wrench's LP"), solver, fallback,
+              **_options(solver)).x
     if np.max(x[nf:]) < 1e-6:
         return p
     return replace(p, wrench=p.equilibrium @ x[:nf])
@@ -312,6 +340,8 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
     through the body, makes the forces alternate from one control step to the
     next; the proximal term picks the near-optimal one closest to the last
     step (Nair et al.'s one trust-region iteration per step plays that role).
+    Should daqp fail on that QP and ``fallback`` be named, the plain LP is
+    solved by ``fallback`` and the solution says so.
     """
     lp = problem.minimax_program
     nf = 3 * problem.n
@@ -326,25 +356,34 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
         c = lp.cost.copy()
         c[:nf] = -smoothing_1_N2 * prev
         qp = replace(lp, cost=c, hessian=H, name="the smoothed stance QP")
-        found = solve(qp, "daqp", fallback=None)
-        return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "daqp-smoothed", time.perf_counter() - start,
-                              found.iterations, found)
-    options = {"eps_prox": 1e-6} if solver == "daqp" else {}
+        try:
+            found = solve(qp, "daqp")
+            return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "minimax_smoothed", found.solver,
+                                  time.perf_counter() - start, found.iterations, found)
+        except SolverError as stalled:
+            if fallback is None:
+                raise
+            found = solve(lp, fallback, **_options(fallback))
+            return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "minimax", found.solver,
+                                  time.perf_counter() - start, found.iterations, found,
+                                  fallback_from=f"daqp {stalled.args[1]} on the smoothed QP")
     active = warm.active if warm is not None else None
-    found = solve(lp, solver, fallback=fallback, active=active, **options)
-    return StanceSolution(problem, found.x[:nf].reshape(-1, 3), found.solver, time.perf_counter() - start,
-                          found.iterations, found)
+    found = solve(lp, solver, fallback=fallback, active=active, **_options(solver))
+    return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "minimax", found.solver, time.perf_counter() - start,
+                          found.iterations, found, found.fallback_from)
 
 
-def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
+def minimax_lex(problem: StanceProblem, slack: float = 1e-6, first: StanceSolution | None = None,
+                solver: str = "daqp", fallback: str | None = None) -> StanceSolution:
     """Second stage: least squared normalised torque among distributions within ``slack`` of the optimal peak.
 
-    A QP over the forces alone: ``min |W f + o|^2`` with ``W = diag(1/s) T``,
+    A QP over the forces alone (daqp): ``min |W f + o|^2`` with ``W = diag(1/s) T``,
     ``o = g / s``, subject to equilibrium, the contact constraints and
-    ``|T f + g| <= peak* (1 + slack) s``.
+    ``|T f + g| <= peak* (1 + slack) s``.  ``first``: the minimax already
+    solved for this problem (else solved here by ``solver``, ``fallback``).
     """
     p = problem
-    first = minimax(p, fallback="highs")
+    first = first or minimax(p, solver, fallback=fallback)
     nf = 3 * p.n
     start = time.perf_counter()
     W = p.torque_map / p.torque_scale_Nm[:, None]
@@ -356,16 +395,18 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6) -> StanceSolution:
     A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
     bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
     bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
-    found = solve(Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"))
-    return StanceSolution(p, found.x.reshape(-1, 3), "daqp-lex", first.solve_time_s + time.perf_counter() - start,
-                          found.iterations, found)
+    found = solve(Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"), "daqp")
+    return StanceSolution(p, found.x.reshape(-1, 3), "minimax_lex", found.solver,
+                          first.solve_time_s + time.perf_counter() - start, found.iterations, found,
+                          first.fallback_from)
 
 
 # ------------------------------------------------------------ thermal-aware
 
 
 def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float,
-                    tol_K: float = 1e-3, max_cuts: int = 30) -> StanceSolution:
+                    tol_K: float = 1e-3, max_cuts: int = 30, first: StanceSolution | None = None,
+                    solver: str = "daqp", fallback: str | None = None) -> StanceSolution:
     """Minimise the peak *predicted* temperature of the stance legs' actuators ``horizon_s`` ahead.
 
     With Eq. 25 each predicted temperature is a convex quadratic of its
@@ -373,14 +414,18 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
     these is solved by Kelley's cutting planes on the LP: each round adds the
     tangent of every ``T_j`` at the current torques, until the model's peak is
     within ``tol_K`` of the true one.  ``bank`` and ``temperature_C`` are the
-    stance joints' (3n) identified models and measured temperatures.
+    stance joints' (3n) identified models and measured temperatures;
+    ``first``: the torque minimax already solved for this problem (the
+    first point), else solved here.  Every LP by ``solver`` (``fallback``
+    only if named).
     """
     p = problem
     nf = 3 * p.n
     a, b, cq = bank.ahead_coefficients(temperature_C, horizon_s)
     E = p.equilibrium
     start = time.perf_counter()
-    sol = minimax(p, fallback="highs")  # a good first point: the torque minimax
+    sol = first or minimax(p, solver, fallback=fallback)  # a good first point: the torque minimax
+    fell_back = {sol.fallback_from} - {None}
     cuts_A, cuts_b = [], []
     # what every round shares: the wrench balance, the contact rows and the torques within 3x their scale (a trust
     # region for the cuts)
@@ -404,48 +449,73 @@ def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C:
         A = np.vstack([balance, *cuts_A, fixed_A])
         bu = np.concatenate([p.wrench, *cuts_b, fixed_bu])
         bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -INFINITE), fixed_bl])
-        found = solve(Program(c, A, bu, bl, n_eq=6, name="the thermal minimax's cutting-plane LP"), **LP_SOLVER)
+        found = solve(Program(c, A, bu, bl, n_eq=6, name="the thermal minimax's cutting-plane LP"), solver, fallback,
+                      **_options(solver))
+        fell_back |= {found.fallback_from} - {None}
         x = found.x
-        sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal-cuts", 0.0, rounds, found)
+        sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal_aware", found.solver, 0.0, rounds, found)
         tau = p.torques(sol.forces_N)
         true_peak = float(np.max(a + b * tau + cq * tau**2))
         if true_peak - x[-1] <= tol_K:
             break
-    return replace(sol, solve_time_s=time.perf_counter() - start, iterations=rounds)
+    return replace(sol, solve_time_s=time.perf_counter() - start, iterations=rounds,
+                   fallback_from="; ".join(sorted(fell_back)) or None)
 
 
-def distribute(problem: StanceProblem, strategy: str, warm: StanceSolution | None = None,
+def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm: StanceSolution | None = None,
                bank: FirstOrderBank | None = None, temperature_C: np.ndarray | None = None, horizon_s: float = 20.0,
-               smoothing_1_N2: float = 0.0) -> StanceSolution:
-    """Stance forces by ``strategy`` (one of :data:`STRATEGIES`), for the nearest wrench the contacts can supply.
+               smoothing_1_N2: float = 0.0, solver: str = "daqp", fallback: str | None = None) -> StanceSolution:
+    """Stance forces by ``strategy`` (one of :data:`STRATEGIES`, or ``{name: weight}`` to blend them: a convex
+    combination of balanced distributions is balanced), for the nearest wrench the contacts can supply.
 
     ``warm``: the previous control step's solution (its forces smooth the
     minimax, its active set starts the solver); ``bank``, ``temperature_C``
     (all 18 joints) and ``horizon_s``: what ``thermal_aware`` predicts with.
-    Should daqp stall, HiGHS solves the plain LP and the solution's
-    ``solver`` says so.
+    Every program is solved by ``solver``, and by ``fallback`` only when it is
+    named and ``solver`` fails: the solution's ``solver`` and ``fallback_from``
+    say what ran.  Each program is solved once per call, also in a blend (the
+    closest wrench once; the torque minimax once, shared by ``minimax``,
+    ``minimax_lex`` and ``thermal_aware``'s first point).
     """
-    if strategy not in STRATEGIES:
-        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
-    if strategy == "vertical_only":
-        return vertical_only(problem)
-    problem = closest_achievable(problem)
-    previous = np.zeros((problem.n, 3))
-    if warm is not None:
-        last = dict(zip(warm.problem.legs, warm.forces_N))
-        previous = np.array([last.get(i, np.zeros(3)) for i in problem.legs])
-    if strategy == "minimax":
-        try:
-            return minimax(problem, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback="highs")
-        except RuntimeError as stalled:  # the proximal QP stalled: the plain LP by HiGHS never does on a feasible one
-            fallback = minimax(problem, solver="highs")
-            return replace(fallback, solver=f"highs (fallback: {stalled})")
-    if strategy == "minimax_lex":
-        return minimax_lex(problem)
-    if bank is None or temperature_C is None:
+    weights = {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    unknown = [k for k in weights if k not in STRATEGIES]
+    if unknown or not weights:
+        raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if "thermal_aware" in weights and (bank is None or temperature_C is None):
         raise ValueError("the thermal_aware strategy needs identified models (bank) and the joints' temperatures")
-    joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in problem.legs])
-    return thermal_minimax(problem, bank.subset(joints), np.asarray(temperature_C)[joints], horizon_s)
+    achievable = problem if set(weights) == {"vertical_only"} else closest_achievable(problem, solver, fallback)
+    plain: list[StanceSolution] = []  # the torque minimax of `achievable`, solved at most once
+
+    def torque_minimax() -> StanceSolution:
+        if not plain:
+            plain.append(minimax(achievable, solver, fallback=fallback))
+        return plain[0]
+
+    def one(name: str) -> StanceSolution:
+        if name == "vertical_only":
+            return vertical_only(problem)
+        if name == "minimax":
+            if smoothing_1_N2 <= 0:
+                return torque_minimax()
+            previous = np.zeros((achievable.n, 3))
+            if warm is not None:
+                last = dict(zip(warm.problem.legs, warm.forces_N))
+                previous = np.array([last.get(i, np.zeros(3)) for i in achievable.legs])
+            return minimax(achievable, solver, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback=fallback)
+        if name == "minimax_lex":
+            return minimax_lex(achievable, first=torque_minimax())
+        joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in achievable.legs])
+        return thermal_minimax(achievable, bank.subset(joints), np.asarray(temperature_C)[joints], horizon_s,
+                               first=torque_minimax(), solver=solver, fallback=fallback)
+
+    parts = [(w, one(name)) for name, w in weights.items()]
+    if len(parts) == 1:
+        return parts[0][1]
+    total = sum(w for w, _ in parts)
+    first = parts[0][1]
+    return StanceSolution(first.problem, sum(w / total * part.forces_N for w, part in parts), "blend",
+                          ", ".join(sorted({part.solver for _, part in parts})),
+                          sum(part.solve_time_s for _, part in parts), parts=tuple(part for _, part in parts))
 
 
 def _contact_rows(p: StanceProblem):

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
-from thermolimb.util.programs import INFINITE, Program, SolverError, solve
+from thermolimb.optimization.programs import INFINITE, Program, SolverError, solve
 
 from .actuators import effort_limits, effort_matrix
 from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
@@ -59,12 +59,24 @@ class FastIKResult:
     wall_s: float
     history: list[float] = field(default_factory=list)
     contact_drift_m: float = 0.0  # largest sole displacement from the start (m)
+    solver: str = "daqp"  # what solved its QPs
+    # each QP the solver could not solve (infeasible at that trust region, or stalled): the step was rejected
+    # and the trust region halved; the solver's own words
+    qp_failures: tuple[str, ...] = ()
 
 
 class FastThermalIK:
-    """Reusable solver for one robot (caches the model's constant data)."""
+    """Reusable solver for one robot (caches the model's constant data).
 
-    def __init__(self, body: WholeBody):
+    ``solver`` names the QP solver (daqp: HiGHS here solves linear programs only, so a QP has no fallback);
+    a QP it cannot solve rejects that step, and the result lists each failure in ``qp_failures``.
+    """
+
+    def __init__(self, body: WholeBody, solver: str = "daqp"):
+        if solver != "daqp":
+            raise ValueError(f"the thermal IK solves quadratic programs: its solver is daqp, got {solver!r}")
+        self.solver = solver
+        self.failures: list[str] = []  # the current solve's QP failures
         self.body = body
         p = body.params
         self.robot_limits_q = np.array([body.params.limits(j) for j in JOINTS])  # the URDF's (like-for-like mode)
@@ -149,8 +161,9 @@ class FastThermalIK:
                           np.concatenate([b[2] for b in blocks]), n_eq=n_eq, hessian=H, bounds=bounds,
                           name="the thermal IK's QP")
         try:
-            return solve(program, "daqp").x
-        except SolverError:
+            return solve(program, self.solver).x
+        except SolverError as failed:  # said in the result's qp_failures; the caller rejects the step
+            self.failures.append(str(failed))
             return None
 
     def _inner_qp(self, q, E, mode, objective, Gamma):
@@ -230,6 +243,7 @@ class FastThermalIK:
         contacts and the joint limits held (:mod:`humanoid_pb.like_for_like`); the result's torques, wrenches
         and potential are then Eq. 23's."""
         start = time.perf_counter()
+        self.failures = []
         body = self.body
         if self.actuator_limits is None:
             self.actuator_limits = effort_limits(body.params)
@@ -238,7 +252,8 @@ class FastThermalIK:
             q, history, iterations = gauss_newton(self, q0.copy(), mode, objective, targets)
             Gamma, F = min_norm_balance(body, q, mode)[:2]
             return FastIKResult(mode, q, history[-1], Gamma, F.reshape(-1, 6), iterations,
-                                time.perf_counter() - start, history, contact_drift(body, q0, q, mode))
+                                time.perf_counter() - start, history, contact_drift(body, q0, q, mode), self.solver,
+                                tuple(self.failures))
         q = q0.copy()
         # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which costs
         # a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound
@@ -247,7 +262,8 @@ class FastThermalIK:
         na = len(JOINTS)
         found = self.optimum_at(q, mode, objective, balance[:na], balance[na:], rounds=1)
         if found is None:
-            raise ValueError(f"no balanced torques within the contact constraints at the start in mode {mode!r}")
+            raise ValueError(f"no balanced torques within the contact constraints at the start in mode {mode!r} "
+                             f"({self.failures[-1]})")
         f, Gamma, F = found
         history = [f]
         iterations = 0
@@ -277,4 +293,4 @@ class FastThermalIK:
             f, Gamma, F = polished
             history.append(f)
         return FastIKResult(mode, q, f, Gamma, F.reshape(-1, 6), iterations, time.perf_counter() - start, history,
-                            contact_drift(body, q0, q, mode))
+                            contact_drift(body, q0, q, mode), self.solver, tuple(self.failures))

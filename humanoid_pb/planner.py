@@ -43,7 +43,7 @@ class ContactModePlanner:
         self.body = body
         self.objective = objective
         self.max_iter = max_iter
-        self.solver = FastThermalIK(body)
+        self.ik = FastThermalIK(body, solver="daqp")
         self.limits = effort_limits(body.params)
 
     def cost(self, bank: FirstOrderBank | None, temperature_C: np.ndarray):
@@ -59,7 +59,7 @@ class ContactModePlanner:
         """The mode whose optimised configuration scores lowest (for a robot that then holds that configuration)."""
         cost = self.cost(bank, temperature_C)
         starts = self.starts(q_nominal)
-        results = {m: self.solver.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
+        results = {m: self.ik.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
         return Plan(best_mode(results), results)
 
     def plan_nominal(self, q_nominal: np.ndarray, bank: FirstOrderBank | None,

@@ -15,6 +15,7 @@ from hexapod_pb.thermal import datasheet_bank
 from hexapod_pb.wrench import (
     STRATEGIES,
     StanceProblem,
+    distribute,
     minimax,
     minimax_lex,
     nair_trust_constr,
@@ -86,7 +87,7 @@ def test_thermal_minimax_lowers_the_hottest_prediction():
     temperature[1] = 90.0  # one shoulder already hot
     hot = thermal_minimax(problem, bank, temperature, 20.0)
     plain = minimax(problem)
-    assert hot.residuals()["equilibrium"] < 1e-6 and hot.solver == "thermal-cuts" and hot.iterations >= 1
+    assert hot.residuals()["equilibrium"] < 1e-6 and hot.strategy == "thermal_aware" and hot.iterations >= 1
     assert np.max(bank.ahead(temperature, hot.torques_Nm, 20.0)) < np.max(bank.ahead(temperature, plain.torques_Nm, 20.0))
 
 
@@ -165,7 +166,7 @@ def test_every_solver_balances_the_wrench_it_was_given(seed):
         assert sol.residuals()["equilibrium"] < 1e-6, sol.solver
     for sol in (nair_way, minimax(problem, solver="highs"), minimax(problem), minimax_lex(problem)):
         assert 0.0 < sol.solve_time_s < 5.0, sol.solver
-    assert minimax_lex(problem).solver == "daqp-lex" and minimax(problem, solver="highs").solver == "highs"
+    assert minimax_lex(problem).label == "minimax_lex by daqp" and minimax(problem, solver="highs").solver == "highs"
 
 
 def test_the_default_wrench_carries_robot_and_payload():
@@ -197,7 +198,7 @@ def test_a_stalled_dual_active_set_falls_back_to_highs_with_the_same_optimum(mon
     optimum (the LP's value; its minimiser need not be unique), the label says so, and both certify optimality."""
     import daqp
 
-    from thermolimb.util.programs import SolverError, solve
+    from thermolimb.optimization.programs import SolverError, solve
 
     problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(1)), TRIPOD,
                                                payload_kg=2.0, include_leg_gravity=False)
@@ -206,7 +207,8 @@ def test_a_stalled_dual_active_set_falls_back_to_highs_with_the_same_optimum(mon
     assert by_daqp.solver == "daqp"
     monkeypatch.setattr(daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
     by_highs = solve(lp, "daqp", fallback="highs")
-    assert by_highs.solver == "highs (daqp stalled, exit flag -2)"  # the fallback is said
+    assert by_highs.solver == "highs" and by_highs.fallback_from == "daqp stalled, exit flag -2"  # said
+    assert by_highs.label == "highs (daqp stalled, exit flag -2)"
     with pytest.raises(SolverError, match="daqp could not solve the stance LP"):
         solve(lp, "daqp")  # and never taken unless named
     assert lp.cost @ by_highs.x == pytest.approx(lp.cost @ by_daqp.x, rel=1e-6)
@@ -235,3 +237,44 @@ def test_every_program_certifies_its_optimum_and_a_wrong_point_fails_the_certifi
     assert r["bounds"] < 1e-9 and r["duality_gap"] > 0.09
 
 
+
+
+def test_a_blend_solves_each_program_once_and_says_what_solved_each_part(monkeypatch):
+    """Blending minimax, its second stage and the thermal minimax solves the closest-wrench LP once and the torque
+    minimax LP once (shared as the others' first point); the blend keeps each part's solver."""
+    import hexapod_pb.wrench as wrench
+    from thermolimb.optimization.programs import solve
+
+    solved = []
+
+    def counted(program, *args, **kwargs):  # the real solver, each call's program named
+        solved.append(program.name)
+        return solve(program, *args, **kwargs)
+
+    monkeypatch.setattr(wrench, "solve", counted)
+    q = random_stance(np.random.default_rng(2))
+    problem = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=2.0, friction=0.6, min_normal_N=2.0)
+    bank = datasheet_bank(25.0).subset(np.arange(18))
+    blend = distribute(problem, {"minimax": 0.5, "minimax_lex": 0.3, "thermal_aware": 0.2}, bank=bank,
+                       temperature_C=np.full(18, 40.0), solver="daqp", fallback="highs")
+    assert solved.count("the closest achievable wrench's LP") == 1
+    assert solved.count("the stance LP") == 1
+    assert [part.strategy for part in blend.parts] == ["minimax", "minimax_lex", "thermal_aware"]
+    assert blend.label == "minimax by daqp; minimax_lex by daqp; thermal_aware by daqp" and not blend.fell_back
+    assert blend.residuals()["equilibrium"] < 1e-6  # a convex combination of balanced distributions
+
+
+def test_a_stalled_solver_falls_back_only_when_named_and_the_step_says_so(monkeypatch):
+    """The controller names daqp and HiGHS: a stall reaches the solution's label; without a fallback it raises."""
+    import daqp
+
+    from thermolimb.optimization.programs import SolverError
+
+    problem = StanceProblem.from_configuration(DAISY, random_stance(np.random.default_rng(4)), TRIPOD,
+                                               payload_kg=2.0, friction=0.6, min_normal_N=2.0)
+    monkeypatch.setattr(daqp, "solve", lambda *args, **kwargs: (None, None, -2, {}))
+    found = distribute(problem, "minimax", smoothing_1_N2=1e-3, solver="daqp", fallback="highs")
+    assert found.solver == "highs" and found.fell_back
+    assert found.label == "minimax by highs (daqp stalled, exit flag -2 on the smoothed QP)"
+    with pytest.raises(SolverError):
+        distribute(problem, "minimax", solver="daqp", fallback=None)

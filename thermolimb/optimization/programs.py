@@ -11,8 +11,10 @@ QPs (``humanoid_pb.fast_ik``).  Here they have one form,
 
 * the caller names the solver: ``"daqp"`` (a dual active-set method, microseconds
   on these sizes, warm-startable) or ``"highs"`` (``scipy.optimize.linprog``, LPs
-  only); a fallback from one to the other happens only when asked for and the
-  solution's ``solver`` says so (``"highs (daqp stalled, exit flag -2)"``);
+  only); a fallback from one to the other happens only when asked for, and the
+  solution says which solver produced it and why the named one did not
+  (``solver="highs"``, ``fallback_from="daqp stalled, exit flag -2"``; its
+  ``label``: ``"highs (daqp stalled, exit flag -2)"``);
 * every solution carries its residuals: the worst bound violation, and with
   multipliers (LPs and QPs by daqp, LPs by HiGHS) the KKT stationarity,
   complementarity and the duality gap ``primal - dual``.
@@ -106,13 +108,20 @@ class Program:
 
 @dataclass(frozen=True)
 class Solution:
-    """A program's solution: ``x``, which solver found it, its iterations, multipliers and residuals."""
+    """A program's solution: ``x``, which solver found it (and, after a fallback, why the one named first did
+    not), its iterations, multipliers and residuals."""
 
     x: np.ndarray
     solver: str
     iterations: int
     duals: np.ndarray | None = field(repr=False)
     program: Program = field(repr=False)
+    fallback_from: str | None = None  # the solver named first and what it reported, when a fallback solved
+
+    @property
+    def label(self) -> str:
+        """``"daqp"``, or after a fallback ``"highs (daqp stalled, exit flag -2)"``."""
+        return self.solver if self.fallback_from is None else f"{self.solver} ({self.fallback_from})"
 
     @cached_property
     def residuals(self) -> dict[str, float]:
@@ -142,7 +151,8 @@ def senses(program: Program, active: np.ndarray | None = None) -> np.ndarray:
 
 def solve(program: Program, solver: str = "daqp", fallback: str | None = None,
           active: np.ndarray | None = None, **options) -> Solution:
-    """Solve ``program`` by ``solver``; should it fail and ``fallback`` be named, by that, and the label says so.
+    """Solve ``program`` by ``solver``; should it fail and ``fallback`` be named, by that, and the solution's
+    ``fallback_from`` says why.
 
     ``active``: a previous solution's :attr:`Solution.active` (daqp warm start);
     ``options`` go to daqp (e.g. ``eps_prox`` for an LP's proximal iterations).
@@ -160,7 +170,7 @@ def solve(program: Program, solver: str = "daqp", fallback: str | None = None,
             found = _SOLVE[fallback](program, None, {})
         except SolverError as also:
             raise SolverError(f"{failed}; {also}") from None
-        return replace(found, solver=f"{fallback} ({solver} {failed.args[1]})")
+        return replace(found, fallback_from=f"{solver} {failed.args[1]}")
 
 
 def _daqp(program: Program, active, options) -> Solution:
