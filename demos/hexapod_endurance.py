@@ -109,7 +109,8 @@ PAGE = DemoPage(
                page=PAGE)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     grid = QUICK if quick else FULL
-    bank, _, measured_ambient = calibrate(grid["calibration_s"])
+    calibration = calibrate(grid["calibration_s"])
+    bank, measured_ambient = calibration.bank, calibration.ambient_C
     cells, plans = [], {}
     for ambient in grid["ambients_C"]:
         models = at_ambient(bank, ambient)

@@ -17,17 +17,19 @@ from pathlib import Path
 
 import numpy as np
 
-from humanoid_pb.actuators import datasheet_bank, effort_limits
-from humanoid_pb.calibration import calibrate
+from humanoid_pb.thermal import datasheet_bank
+from humanoid_pb.model.actuation import effort_limits
+from humanoid_pb.experiments.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
-from humanoid_pb.fast_ik import FastThermalIK
-from humanoid_pb.params import RECOVERED_C, VALKYRIE, WARNING_C
-from humanoid_pb.poses import crouch_angles, single_support, standing
-from humanoid_pb.potential import MinimumEffort
-from humanoid_pb.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
+from humanoid_pb.ik.fast_ik import FastThermalIK
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.limits import LIMITS
+from humanoid_pb.ik.poses import crouch_angles, single_support, standing
+from humanoid_pb.ik.potential import MinimumEffort
+from humanoid_pb.experiments.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
 from humanoid_pb.scenarios import SCENARIOS, scenario
 from humanoid_pb.sim import HumanoidSim
-from humanoid_pb.statics import WholeBody
+from humanoid_pb.model.statics import WholeBody
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
 from thermolimb.identification.regression import lowpass
 from thermolimb.plotting.fits import plt, save
@@ -93,7 +95,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     limit_s = 120.0 if quick else 240.0  # Jorgensen et al.: the warning "in less than two minutes"
     summary, details = {}, {}
     for name in SCENARIOS:
-        bank, _ = calibrate(90.0 if quick else 180.0, quiet=quiet, scenario=name)
+        bank = calibrate(90.0 if quick else 180.0, quiet=quiet, scenario=name).bank
         runs = {s: run_recovery(s, bank, max_heat_s=limit_s, max_recovery_s=limit_s, quiet=quiet, scenario=name)
                 for s in STRATEGIES}
         summary[name] = {s: runs[s].summary() for s in STRATEGIES}
@@ -200,8 +202,8 @@ def _plot_fig7(runs, name, path):
     rate_ax.set_xlabel("time since the warning (s)")
     rate_ax.set_ylabel("rate (K/s)")
     rate_ax.set_xlim(left=-10.0)
-    hottest.axhline(WARNING_C, color="tab:red", ls="--", lw=1, label=f"warning, {WARNING_C:.0f} °C")
-    hottest.axhline(RECOVERED_C, color="tab:green", ls="--", lw=1, label=f"recovered, {RECOVERED_C:.0f} °C")
+    hottest.axhline(LIMITS.warning_C, color="tab:red", ls="--", lw=1, label=f"warning, {LIMITS.warning_C:.0f} °C")
+    hottest.axhline(LIMITS.recovered_C, color="tab:green", ls="--", lw=1, label=f"recovered, {LIMITS.recovered_C:.0f} °C")
     hottest.set_title(f"{name}: (b) hottest actuator of the robot")
     hottest.set_xlabel("time since the warning (s)")
     hottest.set_ylabel("temperature (°C)")

@@ -1,5 +1,5 @@
 """Demo ``humanoid-switching-map``: where thermal-aware recovery beats minimum effort, over the hottest actuator
-group and the stance height (:mod:`humanoid_pb.switching_map`).
+group and the stance height (:mod:`humanoid_pb.experiments.switching_map`).
 
 Each measured cell runs Jorgensen et al.'s recovery experiment in PyBullet for a robot
 whose group is the thermally weakest, in a crouch of that depth: both
@@ -15,8 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from humanoid_pb.statics import WholeBody
-from humanoid_pb.switching_map import AGREEMENT, DEPTHS_RAD, GROUPS, agreeing_groups, measure_cell, predict_cell
+from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.experiments.switching_map import (
+    AGREEMENT,
+    DEPTHS_RAD,
+    GROUPS,
+    agreeing_groups,
+    measure_cell,
+    predict_cell,
+)
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
 from thermolimb.plotting.fits import plt, save
 

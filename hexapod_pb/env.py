@@ -16,6 +16,7 @@ from thermolimb.envs.base import RigEnv, checked_range
 from . import cpg
 from .controller import ThermalContext
 from .loop import ControlLoop
+from .limits import LIMITS
 from .params import DAISY
 from .sim import HexapodSim, SimConfig
 from .thermal import datasheet_bank
@@ -60,9 +61,10 @@ class HexapodLoadCarryEnv(RigEnv):
     Reward, every term in ``info["reward_terms"]``: ``distance`` = metres made
     good along x over the step times ``distance_weight_per_m``; ``overheat`` =
     ``-overheat_weight_per_K`` per kelvin of the hottest winding reading above
-    ``overheat_from_C``; ``fall`` = ``-fall_penalty`` once.  Terminated when an
-    actuator reaches its winding limit (``ActuatorSpec.winding_limit_C``,
-    155 degC for the X8) or the robot falls; truncated after ``max_time_s``.
+    ``overheat_from_C`` (default 35 K below the winding limit, 120 degC:
+    :mod:`hexapod_pb.limits`); ``fall`` = ``-fall_penalty`` once.  Terminated
+    when an actuator reaches its winding limit (155 degC for the X8) or the
+    robot falls; truncated after ``max_time_s``.
 
     Parameters
     ----------
@@ -82,7 +84,8 @@ class HexapodLoadCarryEnv(RigEnv):
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None,
                  payload_range_kg: tuple[float, float] = (0.0, 5.0), ambient_range_C: tuple[float, float] = (20.0, 35.0),
                  initial_temperature_range_C: tuple[float, float] = (40.0, 110.0), distance_weight_per_m: float = 1.0,
-                 overheat_weight_per_K: float = 0.05, overheat_from_C: float = 120.0, fall_penalty: float = 100.0):
+                 overheat_weight_per_K: float = 0.05, overheat_from_C: float = LIMITS.overheat_from_C,
+                 fall_penalty: float = 100.0):
         super().__init__(max_time_s, decision_s, render_mode)
         self.payload_range_kg = checked_range("payload_range_kg", payload_range_kg, 0.0, 50.0)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
@@ -106,7 +109,7 @@ class HexapodLoadCarryEnv(RigEnv):
                               seed=int(rng.integers(2**31)))
         self.sim.plant.set_temperatures(rng.uniform(*self.initial_temperature_range_C, 18))
         self.loop = ControlLoop(self.sim, DAISY, cpg.CPGParams(), self.payload_kg,
-                                thermal=ThermalContext(datasheet_bank(ambient)))
+                                thermal=ThermalContext(datasheet_bank(ambient_C=ambient)))
         self.fallen = False
         return self._observation(), self._info({})
 
@@ -125,7 +128,7 @@ class HexapodLoadCarryEnv(RigEnv):
                 break
         reading = loop.reading
         hottest = float(reading.temperature_C.max())
-        at_limit = bool(np.any(reading.temperature_C >= self.sim.plant.winding_limits_C))
+        at_limit = bool(np.any(reading.temperature_C >= LIMITS.winding_limits_C))
         terms = {"distance": self.distance_weight_per_m * float(reading.body_position_m[0] - start_x),
                  "overheat": -self.overheat_weight_per_K * max(0.0, hottest - self.overheat_from_C),
                  "fall": -self.fall_penalty if self.fallen else 0.0}

@@ -18,6 +18,7 @@ from thermolimb.util.progress import progress
 
 from . import cpg
 from .controller import Gains, ThermalContext
+from .limits import LIMITS
 from .loop import ControlLoop
 from .params import DAISY
 from .sim import HexapodSim, SimConfig
@@ -66,7 +67,7 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
         raise ValueError(f"unknown scenario {scenario!r}; expected one of {', '.join(SCENARIOS)}")
     walking, payload = SCENARIOS[scenario]
     if strategy == "thermal_aware" and thermal is None:
-        thermal = ThermalContext(datasheet_bank(ambient_C))
+        thermal = ThermalContext(datasheet_bank(ambient_C=ambient_C))
     config = SimConfig(payload_kg=payload, ambient_C=ambient_C)
     gait = cpg.CPGParams()
     scale = DAISY.continuous_effort_Nm
@@ -86,7 +87,7 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
             sensed[k] = np.abs(reading.torque_Nm) / scale
             measured[k] = reading.temperature_C
             winding[k] = sim.plant.winding_C
-            if time_to_limit is None and np.any(measured[k] >= sim.plant.winding_limits_C):
+            if time_to_limit is None and np.any(measured[k] >= LIMITS.winding_limits_C):
                 time_to_limit = float(reading.time_s)
             if loop.fallen:
                 fell = True

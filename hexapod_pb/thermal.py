@@ -1,16 +1,24 @@
-"""Thermal models of the hexapod's 18 actuators, for the thermal-aware distribution.
+"""The hexapod's 18 actuators as thermal models: their datasheets (HEBI X8-9 and X8-16, one per joint, JOINTS
+order) and Jorgensen et al.'s Eq. 5 from them, for the thermal-aware distribution before the robot has a log.
 
-:func:`datasheet_bank` gives Eq. 5 from the actuator data: winding and
-housing lumped, the body as the slow "ambient".
+The humanoid's :mod:`humanoid_pb.thermal` has the same shape: ``actuator_specs(params)`` and
+``datasheet_bank(params, ambient_C)``; each robot's ``calibrate`` returns a
+:class:`~thermolimb.identification.bank.Calibration`.
 """
 
 from __future__ import annotations
 
 from thermolimb.model import FirstOrderBank
+from thermolimb.plant import ActuatorSpec
 
 from .params import DAISY, DaisyParams
 
 
-def datasheet_bank(ambient_C: float = 25.0, params: DaisyParams = DAISY) -> FirstOrderBank:
+def actuator_specs(params: DaisyParams = DAISY) -> list[ActuatorSpec]:
+    """One spec per joint (JOINTS order): the X8 of each leg's base, shoulder and elbow."""
+    return list(params.joint_actuators)
+
+
+def datasheet_bank(params: DaisyParams = DAISY, ambient_C: float = 25.0) -> FirstOrderBank:
     """Eq. 5 parameters of every joint's actuator, winding and housing lumped (two nodes) on the slow body."""
-    return FirstOrderBank.from_specs(params.joint_actuators, ambient_C, lumped_nodes=2)
+    return FirstOrderBank.from_specs(actuator_specs(params), ambient_C, lumped_nodes=2)

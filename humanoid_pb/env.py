@@ -15,11 +15,12 @@ from thermolimb.envs.base import RigEnv, checked_range
 from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
-from .actuators import effort_limits
-from .calibration import calibrate
+from .model.actuation import effort_limits
+from .experiments.calibration import calibrate
 from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, leg_joint
-from .executor import Executor
-from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, VALKYRIE, WARNING_C
+from .control.executor import Executor
+from .params import FALLEN_PELVIS_HEIGHT_M, VALKYRIE
+from .limits import LIMITS
 from .readings import roll_pitch_rad
 from .scenarios import DEFAULT
 from .scenarios import scenario as get_scenario
@@ -75,10 +76,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     Reward (each term in ``info["reward_terms"]``, the reward is their sum):
     ``cooling`` = ``cooling_weight_per_K`` x the fall of the hottest
     actuator's temperature over the step (K); ``warning`` =
-    ``-warning_weight`` per actuator above ``WARNING_C`` (75 degC), averaged
+    ``-warning_weight`` per actuator above the warning level (``LIMITS.warning_C``, 75 degC), averaged
     over the step; ``fall`` = ``-fall_penalty`` once; ``effort`` =
     ``-effort_weight`` x the mean squared normalised effort.  Terminated when
-    every actuator is below ``RECOVERED_C`` (70 degC) or the robot falls;
+    every actuator is below the recovered level (``LIMITS.recovered_C``, 70 degC) or the robot falls;
     truncated after ``max_time_s``.  ``reset(seed=...)`` rebuilds the world,
     so the same seed and actions give the same trajectory; ``reset`` takes no
     options (the ranges are the constructor's).
@@ -140,7 +141,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
 
     def calibration_run(self, duration_s: float, seed: int = 0):
         """Models identified from a calibration run of this robot (its own actuators, whatever its datasheet
-        says): what a thermal-aware policy plans with.  Returns ``(bank, log)``."""
+        says): what a thermal-aware policy plans with (a :class:`~thermolimb.identification.bank.Calibration`)."""
         return calibrate(duration_s, seed, specs=self.actuator_specs, scenario=self.scenario)
 
     # ------------------------------------------------------------------ gym API
@@ -172,8 +173,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         warning = 0.0
         for _ in range(steps):
             self.reading = self.executor.tick(self.reading)
-            warning += np.sum(self.reading.temperature_C > WARNING_C) / steps
-            if self.hot_recovery_s is None and self.reading.temperature_C[self.hot_leg].max() < RECOVERED_C:
+            warning += np.sum(self.reading.temperature_C > LIMITS.warning_C) / steps
+            if self.hot_recovery_s is None and self.reading.temperature_C[self.hot_leg].max() < LIMITS.recovered_C:
                 self.hot_recovery_s = self.sim.time_s
             if self.reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 self.fallen = True
@@ -185,7 +186,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
             "fall": -self.fall_penalty if self.fallen else 0.0,
             "effort": -self.effort_weight * float(np.mean(efforts**2)),
         }
-        recovered = bool(self.reading.temperature_C.max() < RECOVERED_C)
+        recovered = bool(self.reading.temperature_C.max() < LIMITS.recovered_C)
         terminated = recovered or self.fallen
         truncated = self._end_step(terminated)
         return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms, recovered)

@@ -14,9 +14,6 @@ from thermolimb.util.frozen import FrozenMapping
 
 from .constants import joint_kind
 
-# Jorgensen et al.'s recovery experiment: actuators above WARNING_C are hot; recovered when all are below RECOVERED_C
-WARNING_C = 75.0
-RECOVERED_C = 70.0
 FALLEN_PELVIS_HEIGHT_M = 0.6  # the pelvis below this height: the robot has fallen
 
 

@@ -15,16 +15,16 @@ import numpy as np
 from thermolimb.envs.policies import constant_policy
 
 from .constants import CONTACT_MODES
-from .planner import ContactModePlanner
+from .control.planner import ContactModePlanner
 
-CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.calibration.calibrate)
+CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.experiments.calibration.calibrate)
 _BANKS = {}
 
 
 def _identified(env, specs, duration_s: float, seed: int):
     key = (specs, duration_s, seed)
     if key not in _BANKS:
-        _BANKS[key] = env.calibration_run(duration_s, seed)[0]
+        _BANKS[key] = env.calibration_run(duration_s, seed).bank
     return _BANKS[key]
 
 

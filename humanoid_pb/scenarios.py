@@ -1,9 +1,9 @@
 """Recovery scenarios: the stance the humanoid balances in, and how its actuators are sized thermally.
 
 ``ankle``
-    The stance of :func:`~humanoid_pb.poses.crouch_angles` (0.3 rad: knees bent
+    The stance of :func:`~humanoid_pb.ik.poses.crouch_angles` (0.3 rad: knees bent
     0.6 rad, the pelvis 3.7 cm below straight legs) and one sizing rule for every
-    actuator (:mod:`humanoid_pb.actuators`'s derivation).  On one leg the stance
+    actuator (:mod:`humanoid_pb.thermal`'s derivation).  On one leg the stance
     ankle's push rods are the hottest (24.7 % of their limit, the knee 24.3 %),
     and double support unloads them almost completely: a case where switching to
     the cool foot does not pay.
@@ -95,7 +95,7 @@ class Scenario:
         return c * limit * np.sqrt(resistance_ohm / self.loss_at_continuous_W)
 
 
-COPPER_LOSS_AT_30_PCT_W = 40.0  # the uniform rule, derived in humanoid_pb.actuators from TIME_TO_WARNING_S
+COPPER_LOSS_AT_30_PCT_W = 40.0  # the uniform rule, derived in humanoid_pb.thermal from TIME_TO_WARNING_S
 UNIFORM = FrozenMapping(dict.fromkeys(TYPES, 0.3))
 SCENARIOS = {
     "ankle": Scenario("ankle", 0.3, COPPER_LOSS_AT_30_PCT_W, UNIFORM,

@@ -15,15 +15,16 @@ import numpy as np
 from thermolimb.plant import ActuatorSpec, PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
 
-from . import actuators
+from . import thermal
+from .model import actuation
 from .constants import ACTUATORS, FEET, JOINTS
 from .params import VALKYRIE, ValkyrieParams
-from .poses import crouch_angles
+from .ik.poses import crouch_angles
 from .readings import Reading
 from .scenarios import DEFAULT, Scenario
 from .scenarios import scenario as get_scenario
-from .statics import WholeBody
-from .urdf_model import urdf_path
+from .model.statics import WholeBody
+from .model.urdf_model import urdf_path
 
 
 class HumanoidSim(BulletRig):
@@ -31,7 +32,7 @@ class HumanoidSim(BulletRig):
 
     ``scenario`` (:mod:`humanoid_pb.scenarios`) sizes the actuators (unless ``specs`` are given) and sets the
     stance (``stance_angles``): where the robot starts without ``joint_angles``, and what the
-    :class:`~humanoid_pb.executor.Executor` holds."""
+    :class:`~humanoid_pb.control.executor.Executor` holds."""
 
     def __init__(self, joint_angles: np.ndarray | None = None, params: ValkyrieParams = VALKYRIE,
                  config: RigConfig = RigConfig(physics_hz=1000.0, control_hz=50.0),
@@ -47,7 +48,7 @@ class HumanoidSim(BulletRig):
         angles = self.stance_angles if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
-        specs = actuators.actuator_specs(params, self.scenario) if specs is None else list(specs)
+        specs = thermal.actuator_specs(params, self.scenario) if specs is None else list(specs)
         super().__init__(urdf_path(), JOINTS, FEET, ACTUATORS, specs, limits, config,
                          base, plant_effects=plant_effects, seed=seed, protection=protection)
         self.set_joint_positions(angles)
@@ -60,13 +61,13 @@ class HumanoidSim(BulletRig):
 
     # ------------------------------------------------------------- rig hooks
     def actuator_efforts(self, q, torques_Nm):
-        return actuators.efforts(self.rods, q, torques_Nm)
+        return actuation.efforts(self.rods, q, torques_Nm)
 
     def actuator_velocities(self, q, qd):
-        return actuators.velocities(self.rods, q, qd)
+        return actuation.velocities(self.rods, q, qd)
 
     def torques_at_fraction(self, torques_Nm, actuator_fraction):
-        return torques_Nm * actuators.joint_fractions(actuator_fraction)
+        return torques_Nm * actuation.joint_fractions(actuator_fraction)
 
     # --------------------------------------------------------------- sensing
     def read(self) -> Reading:
@@ -89,6 +90,6 @@ class HumanoidSim(BulletRig):
         return super().render([pos[0], pos[1], 0.9], 4.0, yaw_deg, -10.0, width, height, fov_deg=40.0)  # head to feet
 
     def command(self, cmd) -> Reading:
-        """One control step with an :class:`~humanoid_pb.balance.ImpedanceCommand`."""
+        """One control step with an :class:`~humanoid_pb.control.balance.ImpedanceCommand`."""
         self.step_impedance(cmd.feedforward_Nm, cmd.q_des, cmd.kp_Nm_rad, cmd.kd_Nm_s_rad)
         return self.read()

@@ -254,7 +254,7 @@ def test_a_blend_solves_each_program_once_and_says_what_solved_each_part(monkeyp
     monkeypatch.setattr(wrench, "solve", counted)
     q = random_stance(np.random.default_rng(2))
     problem = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=2.0, friction=0.6, min_normal_N=2.0)
-    bank = datasheet_bank(25.0).subset(np.arange(18))
+    bank = datasheet_bank(ambient_C=25.0).subset(np.arange(18))
     blend = distribute(problem, {"minimax": 0.5, "minimax_lex": 0.3, "thermal_aware": 0.2}, bank=bank,
                        temperature_C=np.full(18, 40.0), solver="daqp", fallback="highs")
     assert solved.count("the closest achievable wrench's LP") == 1

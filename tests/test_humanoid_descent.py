@@ -3,12 +3,13 @@
 import numpy as np
 import pytest
 
-from humanoid_pb.actuators import datasheet_bank, effort_limits
+from humanoid_pb.thermal import datasheet_bank
+from humanoid_pb.model.actuation import effort_limits
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
-from humanoid_pb.descent import naive_descent, potential_of
+from humanoid_pb.ik.descent import naive_descent, potential_of
 from humanoid_pb.params import VALKYRIE
-from humanoid_pb.potential import MinimumEffort, ThermalPotential
-from humanoid_pb.statics import WholeBody
+from humanoid_pb.ik.potential import MinimumEffort, ThermalPotential
+from humanoid_pb.model.statics import WholeBody
 
 
 @pytest.fixture(scope="module")
@@ -18,7 +19,7 @@ def body():
 
 @pytest.fixture(scope="module")
 def q0(body):
-    from humanoid_pb.poses import crouch_angles, standing
+    from humanoid_pb.ik.poses import crouch_angles, standing
 
     return standing(body, crouch_angles())
 
@@ -44,7 +45,7 @@ def test_descent_lowers_the_potential_and_keeps_contacts_fixed(body, q0, mode):
 
 
 def test_thermal_aware_and_minimum_effort_agree_when_cool_and_differ_when_one_leg_is_hot(body, q0):
-    from humanoid_pb.planner import best_mode
+    from humanoid_pb.control.planner import best_mode
 
     def choose(potential):  # Eq. 33 over Jorgensen et al.'s descent from one start
         return best_mode({m: naive_descent(body, q0, m, potential, max_iter=40) for m in CONTACT_MODES})
@@ -61,8 +62,8 @@ def test_thermal_aware_and_minimum_effort_agree_when_cool_and_differ_when_one_le
 
 @pytest.mark.parametrize("mode", CONTACT_MODES)
 def test_fast_ik_keeps_contacts_exact_and_is_never_worse_than_the_seeds_descent(body, mode):
-    from humanoid_pb.fast_ik import FastThermalIK
-    from humanoid_pb.poses import crouch_angles, single_support, standing
+    from humanoid_pb.ik.fast_ik import FastThermalIK
+    from humanoid_pb.ik.poses import crouch_angles, single_support, standing
 
     q_double = standing(body, crouch_angles())
     start = q_double if mode == "double" else single_support(body, q_double, mode)
@@ -88,7 +89,7 @@ def test_fast_ik_keeps_contacts_exact_and_is_never_worse_than_the_seeds_descent(
 
 def test_one_step_per_control_tick_retraces_the_descent(body, q0):
     """Jorgensen et al.'s final form runs one bounded step (Eqs. 30-32) per control step: iterated, it is the descent."""
-    from humanoid_pb.descent import descent_step
+    from humanoid_pb.ik.descent import descent_step
 
     pot = ThermalPotential.from_measurement(bank(), hot_right_leg())
     whole = naive_descent(body, q0, "left", pot, max_iter=12)
@@ -106,8 +107,8 @@ def test_eq23_torques_are_the_minimum_norm_balance(body, q0, mode):
     with free contact wrenches, and the like-for-like mode's analytic derivative matches finite differences."""
     import pinocchio as pin
 
-    from humanoid_pb.like_for_like import efforts_and_jacobian, min_norm_balance
-    from humanoid_pb.poses import single_support
+    from humanoid_pb.ik.like_for_like import efforts_and_jacobian, min_norm_balance
+    from humanoid_pb.ik.poses import single_support
 
     rng = np.random.default_rng(3)
     start = q0 if mode == "double" else single_support(body, q0, mode)
@@ -131,8 +132,8 @@ def test_the_like_for_like_mode_ends_no_higher_than_the_descent_on_its_own_objec
     """The descent's problem solved by the fast method's like-for-like mode, from the same start, on random
     temperature profiles in every mode: no higher under Eq. 23's Gamma(q), contacts held exactly, joints within
     the robot's limits."""
-    from humanoid_pb.fast_ik import FastThermalIK
-    from humanoid_pb.poses import single_support
+    from humanoid_pb.ik.fast_ik import FastThermalIK
+    from humanoid_pb.ik.poses import single_support
 
     solver = FastThermalIK(body)
     pot = ThermalPotential.from_measurement(bank(), np.random.default_rng(seed).uniform(30.0, 85.0, len(ACTUATORS)))

@@ -5,10 +5,10 @@ import pytest
 
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS
 from humanoid_pb.params import VALKYRIE, ValkyrieParams
-from humanoid_pb.poses import crouch_angles, standing
-from humanoid_pb.pushrods import RodPair
-from humanoid_pb.statics import WholeBody
-from humanoid_pb.urdf_model import generate, urdf_path
+from humanoid_pb.ik.poses import crouch_angles, standing
+from humanoid_pb.model.pushrods import RodPair
+from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.model.urdf_model import generate, urdf_path
 from thermolimb.constants import GRAVITY_M_S2
 
 
@@ -18,7 +18,7 @@ def body():
 
 
 def test_committed_urdf_matches_the_generator():
-    assert urdf_path().read_text() == generate(), "run: python -m humanoid_pb.urdf_model"
+    assert urdf_path().read_text() == generate(), "run: python -m humanoid_pb.model.urdf_model"
 
 
 def test_mass_is_valkyries(body):
@@ -82,13 +82,13 @@ def test_parameters_are_frozen_all_the_way_down():
 
 
 def test_calibration_to_jorgensen_et_al_follows_from_statics(body):
-    """The derivation in humanoid_pb.actuators: on one leg the stance ankle's rods are the hottest (then the knee,
-    then the hip roll), and on the datasheet models they reach the 75 degC warning from 25 degC in about 100 s (the
-    seed: under two minutes), with a 40 s time constant (Jorgensen et al.'s 20 s horizon is RC/2)."""
-    from humanoid_pb.actuators import OPERATING_LIMIT_C, TIME_TO_WARNING_S, actuator_specs, datasheet_bank
+    """The derivation in humanoid_pb.thermal: on one leg the stance ankle's rods are the hottest (then the knee,
+    then the hip roll), and on the datasheet models they reach the 75 degC warning from 25 degC in about 100 s
+    (Jorgensen et al.: under two minutes), with a 40 s time constant (Jorgensen et al.'s 20 s horizon is RC/2)."""
+    from humanoid_pb.limits import LIMITS
+    from humanoid_pb.thermal import TIME_TO_WARNING_S, actuator_specs, datasheet_bank
     from humanoid_pb.constants import leg_actuators
-    from humanoid_pb.params import WARNING_C
-    from humanoid_pb.poses import single_support
+    from humanoid_pb.ik.poses import single_support
     from thermolimb.plant import ThermalProtection
 
     q = single_support(body, standing(body, crouch_angles()), "right")
@@ -100,17 +100,17 @@ def test_calibration_to_jorgensen_et_al_follows_from_statics(body):
     assert order[2:4] == ["right_knee", "right_hip_roll"]
     assert set(order[:4]) <= set(leg_actuators("right"))
     hottest = rise_K.max()
-    time_to_warning_s = bank.RC_s[0] * np.log(hottest / (hottest - (WARNING_C - 25.0)))
+    time_to_warning_s = bank.RC_s[0] * np.log(hottest / (hottest - (LIMITS.warning_C - 25.0)))
     assert time_to_warning_s == pytest.approx(TIME_TO_WARNING_S, rel=0.05)
     assert np.all(bank.RC_s == 40.0)
     limits = {s.winding_limit_C for s in actuator_specs(VALKYRIE)}
-    assert limits == {OPERATING_LIMIT_C + ThermalProtection().margin_K}  # derating starts at 90 degC
+    assert limits == {LIMITS.operating_C + ThermalProtection().margin_K}  # derating starts at 90 degC
 
 
 def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
     """The analytic rod-length Jacobian against central differences of the lengths, and Eq. 24 as a matrix
     against the rod forces solved pair by pair, at random joint angles."""
-    from humanoid_pb.actuators import effort_matrix, efforts, rod_pairs
+    from humanoid_pb.model.actuation import effort_matrix, efforts, rod_pairs
 
     rods = rod_pairs(VALKYRIE)
     rng = np.random.default_rng(0)
@@ -127,8 +127,8 @@ def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
 
 def test_potential_derivatives_are_eq_26s():
     """The Newton model the fast IK uses: value, gradient and Hessian of Eq. 26 against central differences."""
-    from humanoid_pb.actuators import datasheet_bank
-    from humanoid_pb.potential import ThermalPotential
+    from humanoid_pb.thermal import datasheet_bank
+    from humanoid_pb.ik.potential import ThermalPotential
 
     rng = np.random.default_rng(4)
     T = rng.uniform(35.0, 85.0, len(ACTUATORS))
@@ -156,9 +156,10 @@ def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_ma
     margins are an assumption that does not decide the case)."""
     from dataclasses import replace
 
-    from humanoid_pb.actuators import TIME_TO_WARNING_S, datasheet_bank, effort_limits
-    from humanoid_pb.params import WARNING_C
-    from humanoid_pb.poses import single_support
+    from humanoid_pb.thermal import TIME_TO_WARNING_S, datasheet_bank
+    from humanoid_pb.model.actuation import effort_limits
+    from humanoid_pb.limits import LIMITS
+    from humanoid_pb.ik.poses import single_support
     from humanoid_pb.scenarios import SCENARIOS, UNIFORM
 
     walking = SCENARIOS["walking"]
@@ -176,12 +177,12 @@ def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_ma
     assert ACTUATORS[int(np.argmax(rise_K))] == "right_knee"
     runner_up = np.sort(rise_K)[-2]
     assert runner_up < 0.5 * rise_K[knee]
-    time_to_warning_s = bank.RC_s[knee] * np.log(rise_K[knee] / (rise_K[knee] - (WARNING_C - 25.0)))
+    time_to_warning_s = bank.RC_s[knee] * np.log(rise_K[knee] / (rise_K[knee] - (LIMITS.warning_C - 25.0)))
     assert time_to_warning_s == pytest.approx(TIME_TO_WARNING_S, rel=0.05)
 
 
 def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
-    from humanoid_pb.actuators import actuator_specs
+    from humanoid_pb.thermal import actuator_specs
     from humanoid_pb.scenarios import UNIFORM, Scenario, scenario
 
     assert actuator_specs(VALKYRIE) == actuator_specs(VALKYRIE, "ankle")
@@ -199,8 +200,9 @@ def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
 def test_a_switching_map_cell_makes_its_group_the_hottest_at_the_warning(body, group, depth):
     """The map's sizing rule: heating on the right leg (first order, Eq. 5 on the cell's datasheet models) brings
     one of the group's actuators to 75 degC first, in the time asked for, every other actuator well below."""
-    from humanoid_pb.actuators import datasheet_bank, effort_limits
-    from humanoid_pb.switching_map import GROUPS, map_scenario, stance_fractions
+    from humanoid_pb.thermal import datasheet_bank
+    from humanoid_pb.model.actuation import effort_limits
+    from humanoid_pb.experiments.switching_map import GROUPS, map_scenario, stance_fractions
 
     sc = map_scenario(group, depth, body, time_to_warning_s=60.0)
     bank = datasheet_bank(VALKYRIE, scenario=sc)
@@ -213,7 +215,7 @@ def test_a_switching_map_cell_makes_its_group_the_hottest_at_the_warning(body, g
 
 
 def test_the_switching_map_refuses_unknown_groups_and_depths(body):
-    from humanoid_pb.switching_map import map_scenario
+    from humanoid_pb.experiments.switching_map import map_scenario
 
     with pytest.raises(ValueError, match="no actuator group 'elbow'; expected one of ankle rods, knee"):
         map_scenario("elbow", 0.3, body)
@@ -224,7 +226,7 @@ def test_the_switching_map_refuses_unknown_groups_and_depths(body):
 def test_switching_map_predictions_fill_in_only_where_they_meet_the_measurements():
     """A group's predictions are shown only if they meet every measured cell of it within 10 %; a cell where
     minimum effort had not recovered by the end agrees only with a prediction at least its bound."""
-    from humanoid_pb.switching_map import Cell, agreeing_groups
+    from humanoid_pb.experiments.switching_map import Cell, agreeing_groups
 
     def cell(group, depth, source, ta, me, watched=None):
         return Cell(group, depth, source, {"thermal_aware": ta, "minimum_effort": me}, {},

@@ -3,17 +3,18 @@
 import numpy as np
 import pytest
 
-from humanoid_pb.actuators import datasheet_bank
-from humanoid_pb.calibration import calibrate
+from humanoid_pb.thermal import datasheet_bank
+from humanoid_pb.experiments.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, leg_actuators
-from humanoid_pb.params import RECOVERED_C, VALKYRIE, WARNING_C
-from humanoid_pb.recovery import run_recovery
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.limits import LIMITS
+from humanoid_pb.experiments.recovery import run_recovery
 
 
 @pytest.fixture(scope="module")
 def bank():
     """Models identified from the robot's own 90 s calibration log (only the slow tests use it)."""
-    return calibrate(90.0)[0]
+    return calibrate(90.0).bank
 
 
 @pytest.mark.slow
@@ -30,7 +31,7 @@ def test_recovers_from_the_warning_zone_without_falling(bank, strategy):
     assert not run.fell
     assert run.recovery_s is not None
     T = np.array(run.temperature_C)
-    assert T[-1].max() < RECOVERED_C <= WARNING_C
+    assert T[-1].max() < LIMITS.recovered_C <= LIMITS.warning_C
 
 
 def test_same_seed_same_run():
@@ -50,7 +51,7 @@ def test_env_policy_plans_with_models_of_the_robot_it_drives():
     import gymnasium as gym
 
     from humanoid_pb import ENV_ID
-    from humanoid_pb.actuators import actuator_specs
+    from humanoid_pb.thermal import actuator_specs
     from humanoid_pb.policies import POLICIES
 
     worn = tuple(replace(s, winding_resistance_ohm=1.25 * s.winding_resistance_ohm) for s in actuator_specs(VALKYRIE))
@@ -67,25 +68,25 @@ def test_env_policy_plans_with_models_of_the_robot_it_drives():
     leg = [ACTUATORS.index(a) for a in leg_actuators("right") + leg_actuators("left")]
     ratio = np.median(identified.betaR_K_per_effort2[leg] / sheet.betaR_K_per_effort2[leg])
     assert ratio == pytest.approx(1.25, rel=0.15)
-    assert not env.unwrapped.fallen and info["recovered"] and end_C < RECOVERED_C < start_C
+    assert not env.unwrapped.fallen and info["recovered"] and end_C < LIMITS.recovered_C < start_C
 
 
 def test_first_order_cooling_times_and_the_steady_state_a_ratio_needs():
-    from humanoid_pb.recovery import first_order_cooling_s, steady_needed_for_ratio
+    from humanoid_pb.experiments.recovery import first_order_cooling_s, steady_needed_for_ratio
 
-    fast = first_order_cooling_s(WARNING_C, RECOVERED_C, 25.0, 40.0)
+    fast = first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, 25.0, 40.0)
     assert fast == pytest.approx(40.0 * np.log(50.0 / 45.0))
     needed = steady_needed_for_ratio(2.0, 25.0)
-    assert 45.0 < needed < RECOVERED_C
-    assert first_order_cooling_s(WARNING_C, RECOVERED_C, needed, 40.0) == pytest.approx(2 * fast)
-    assert first_order_cooling_s(WARNING_C, RECOVERED_C, 71.0, 40.0) == np.inf  # held above 70 it never recovers
+    assert 45.0 < needed < LIMITS.recovered_C
+    assert first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, needed, 40.0) == pytest.approx(2 * fast)
+    assert first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, 71.0, 40.0) == np.inf  # held above 70 it never recovers
 
 
 def test_double_support_unloads_the_hot_ankle_rods_as_fully_as_lifting_the_leg():
     """Why contact switching does not pay on this robot (the recovery demo reports the same numbers)."""
-    from humanoid_pb.poses import crouch_angles, single_support, standing
-    from humanoid_pb.recovery import cooling_bound
-    from humanoid_pb.statics import WholeBody
+    from humanoid_pb.ik.poses import crouch_angles, single_support, standing
+    from humanoid_pb.experiments.recovery import cooling_bound
+    from humanoid_pb.model.statics import WholeBody
 
     body = WholeBody()
     q = standing(body, crouch_angles())
@@ -94,16 +95,16 @@ def test_double_support_unloads_the_hot_ankle_rods_as_fully_as_lifting_the_leg()
                            "right": ("right", single_support(body, q, "right"))})
     assert bound["double"]["effort_fraction"] < 0.02 and bound["left"]["effort_fraction"] < 0.02
     assert bound["double"]["warning_to_recovered_s"] == pytest.approx(bound["left"]["warning_to_recovered_s"], rel=0.05)
-    assert bound["right"]["effort_fraction"] > 0.2 and bound["right"]["steady_C"] > WARNING_C
+    assert bound["right"]["effort_fraction"] > 0.2 and bound["right"]["steady_C"] > LIMITS.warning_C
     assert bound["right"]["warning_to_recovered_s"] == np.inf  # on the hot foot it never cools
 
 
 def test_the_environments_planner_steps_off_a_hot_leg_held_in_a_crouch():
     """With the right leg hot, holding the nominal crouch keeps its knee loaded: the thermal objective stands on
     the cool (left) foot, minimum effort stays in double support; with every actuator cool both stay in double."""
-    from humanoid_pb.planner import ContactModePlanner
-    from humanoid_pb.poses import crouch_angles, standing
-    from humanoid_pb.statics import WholeBody
+    from humanoid_pb.control.planner import ContactModePlanner
+    from humanoid_pb.ik.poses import crouch_angles, standing
+    from humanoid_pb.model.statics import WholeBody
 
     body = WholeBody()
     q = standing(body, crouch_angles())
@@ -120,9 +121,9 @@ def test_the_weight_goes_from_one_foot_to_the_other_and_into_the_planned_posture
     """The move the thermal-aware strategy makes when it leaves the hot leg: from balancing on the right foot,
     through the crouch, onto the left foot in the posture the planner found there (at 1.5 s per weight shift
     and lift this fell in both scenarios)."""
-    from humanoid_pb.executor import Executor
-    from humanoid_pb.planner import ContactModePlanner
-    from humanoid_pb.recovery import FALLEN_PELVIS_HEIGHT_M
+    from humanoid_pb.control.executor import Executor
+    from humanoid_pb.control.planner import ContactModePlanner
+    from humanoid_pb.experiments.recovery import FALLEN_PELVIS_HEIGHT_M
     from humanoid_pb.sim import HumanoidSim
 
     with HumanoidSim(seed=0, scenario=scenario) as sim:
@@ -133,7 +134,7 @@ def test_the_weight_goes_from_one_foot_to_the_other_and_into_the_planned_posture
         for _ in range(int(15.0 / sim.config.control_dt_s)):
             reading = executor.tick(reading)
         temperatures = np.full(len(ACTUATORS), 40.0)
-        temperatures[[ACTUATORS.index(a) for a in leg_actuators("right")]] = WARNING_C
+        temperatures[[ACTUATORS.index(a) for a in leg_actuators("right")]] = LIMITS.warning_C
         plan = ContactModePlanner(sim.body, "thermal").plan(executor.q_nominal, datasheet_bank(VALKYRIE),
                                                             temperatures)
         left = plan.results["left"]

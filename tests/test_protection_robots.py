@@ -50,8 +50,8 @@ def humanoid_excess_K(estimator: str, duration_s: float = 30.0) -> float:
     under the limit (where derating starts: 1 K inside its margin) once the weight is on it, over ``duration_s``
     from then."""
     from humanoid_pb.constants import ACTUATORS, leg_actuators
-    from humanoid_pb.executor import ENTRY_S, Executor
-    from humanoid_pb.poses import crouch_angles
+    from humanoid_pb.control.executor import ENTRY_S, Executor
+    from humanoid_pb.ik.poses import crouch_angles
     from humanoid_pb.sim import HumanoidSim
 
     hot = np.array([a in leg_actuators("right") for a in ACTUATORS])

@@ -6,8 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.identification.bank import identify_bank
-from thermolimb.logs import ThermalLog
+from thermolimb.identification.bank import Calibration, identify_bank, measured_ambient_C
 from thermolimb.model import FirstOrderBank
 
 from .. import cpg
@@ -21,17 +20,13 @@ MIN_RISE_K = 0.5  # a joint whose log shows less mean Joule rise (five sensor st
 WINDING_RC_S = 1.0  # an X8 winding's own time constant is 1.4 s: the fastest an identified RC may be
 
 
-def calibrate(duration_s: float, payload_kg: float = 20.0, seed: int = 0) -> tuple[FirstOrderBank, ThermalLog, float]:
-    """The robot's own log: walking then standing with ``payload_kg`` at 25 degC; Eq. 5 identified from it.
-
-    Returns the bank (JOINTS order), the log and the ambient the robot
-    measured when it started cold (its thermistors' mean first reading).
-    """
+def calibrate(duration_s: float, seed: int = 0, *, payload_kg: float = 20.0) -> Calibration:
+    """The robot's own log: walking then standing with ``payload_kg`` at 25 degC; Eq. 5 identified from it
+    (the bank in JOINTS order), and the ambient the robot measured when it started cold."""
     gait = cpg.CPGParams()
     config = SimConfig(payload_kg=payload_kg, ambient_C=25.0)
     with HexapodSim(config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
         loop = ControlLoop(sim, DAISY, gait, payload_kg)
-        measured_ambient = float(np.mean(loop.reading.temperature_C))
         n = int(round(duration_s * config.control_hz))
         for k in range(n):
             # walk, stand, walk, stand: efforts that change, so every walking joint is identifiable
@@ -41,7 +36,7 @@ def calibrate(duration_s: float, payload_kg: float = 20.0, seed: int = 0) -> tup
     # effort_bias term trades off against betaR on this log and extrapolates wildly
     bank = identify_bank(log, JOINTS, DAISY.effort_limit_Nm, min_rc_s=WINDING_RC_S, model="joule",
                          min_rise_K=MIN_RISE_K)
-    return bank, log, measured_ambient
+    return Calibration(bank, log, measured_ambient_C(log))
 
 
 def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:

@@ -10,7 +10,7 @@ from thermolimb.model import FirstOrderBank
 
 from ..constants import JOINTS
 from ..controller import ThermalContext
-from ..params import DAISY
+from ..limits import LIMITS
 from .cycle import MAX_YAW_DRIFT_DEG_PER_MIN, PROTECTION, measure_cycle
 from .gait import GAIT_CHOICES, NOMINAL_GAIT, Gait
 from .planning import plan_gait
@@ -53,7 +53,7 @@ class CellResult:
 
 def derating_threshold_C() -> np.ndarray:
     """Winding temperature (degC) at which each actuator's protection starts to derate."""
-    limits = np.array([spec.winding_limit_C for spec in DAISY.joint_actuators])
+    limits = LIMITS.winding_limits_C
     return limits - PROTECTION.margin_K
 
 

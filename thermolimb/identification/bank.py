@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
@@ -10,6 +11,21 @@ from ..logs import ThermalLog
 from ..model import FirstOrderBank, ThermalModel
 from .output_error import OutputError
 from .regression import IdentifiabilityError
+
+@dataclass(frozen=True)
+class Calibration:
+    """What a robot's calibration run gives its planners: the models identified from its log, the log, and the
+    ambient it measured cold (degC; its thermistors' mean first reading).  Every robot's ``calibrate`` returns one."""
+
+    bank: FirstOrderBank
+    log: ThermalLog
+    ambient_C: float
+
+
+def measured_ambient_C(log: ThermalLog) -> float:
+    """The ambient a robot measures cold: the mean of its actuators' first temperature readings (degC)."""
+    return float(np.mean([log.series(name).temperature_C[0] for name in log.actuators]))
+
 
 MIN_RC_S = 5.0  # default: a time constant below this is not physical for a humanoid's windings: not identified
 

@@ -2,7 +2,7 @@
 
 Both robots solve small dense programs every control step: the hexapod's
 stance-wrench LPs and QPs (``hexapod_pb.wrench``), the humanoid's thermal IK
-QPs (``humanoid_pb.fast_ik``).  Here they have one form,
+QPs (``humanoid_pb.ik.fast_ik``).  Here they have one form,
 
     min  1/2 x'Hx + c'x   subject to   lower <= A x <= upper,   the first ``n_eq`` rows equalities,
                                        and bounds on the leading variables (daqp's simple bounds)

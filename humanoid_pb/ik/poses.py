@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from .constants import JOINTS, SIDES, leg_joint
-from .statics import WholeBody
+from ..constants import JOINTS, SIDES, leg_joint
+from ..model.statics import WholeBody
 
 LIFT_M = 0.05
 

@@ -20,10 +20,9 @@ import numpy as np
 
 from thermolimb.model import FirstOrderBank
 
-from .params import RECOVERED_C
+from ..limits import LIMITS
 
-STILL_HOT_C = RECOVERED_C  # an actuator still to recover weighs HOT_WEIGHT times more
-HOT_WEIGHT = 100.0
+HOT_WEIGHT = 100.0  # an actuator still to recover (above LIMITS.still_hot_C) weighs this much more
 
 
 @dataclass(frozen=True)
@@ -35,7 +34,7 @@ class ThermalPotential:
 
     @classmethod
     def from_measurement(cls, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float | None = None,
-                         hot_C: float = STILL_HOT_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
+                         hot_C: float = LIMITS.still_hot_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
         """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over actuators)."""
         temperature_C = np.asarray(temperature_C, float)
         horizon = float(np.median(bank.RC_s)) / 2.0 if horizon_s is None else float(horizon_s)

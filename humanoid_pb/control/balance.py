@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import ARM_JOINTS, JOINTS, WAIST_JOINTS
-from .statics import WholeBody
+from ..constants import ARM_JOINTS, JOINTS, WAIST_JOINTS
+from ..model.statics import WholeBody
 
 
 @dataclass(frozen=True)

@@ -31,11 +31,11 @@ import pinocchio as pin
 
 from thermolimb.optimization.programs import INFINITE, Program, SolverError, solve
 
-from .actuators import effort_limits, effort_matrix
-from .constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
+from ..model.actuation import effort_limits, effort_matrix
+from ..constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
 from .descent import contact_drift
 from .like_for_like import gauss_newton, min_norm_balance, sole_forces
-from .statics import WholeBody
+from ..model.statics import WholeBody
 
 MU = 0.6  # friction pyramid
 MU_YAW_M = 0.05  # yaw friction moment per newton of normal force
@@ -240,7 +240,7 @@ class FastThermalIK:
         """The configuration of least ``objective`` reachable from ``q0`` with the contacts of ``mode`` held.
 
         ``like_for_like``: solve Jorgensen et al.'s descent's own problem instead -- Eq. 23's torques, only the
-        contacts and the joint limits held (:mod:`humanoid_pb.like_for_like`); the result's torques, wrenches
+        contacts and the joint limits held (:mod:`humanoid_pb.ik.like_for_like`); the result's torques, wrenches
         and potential are then Eq. 23's."""
         start = time.perf_counter()
         self.failures = []

@@ -4,21 +4,19 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from thermolimb.identification.bank import identify_bank
-from thermolimb.logs import ThermalLog
-from thermolimb.model import FirstOrderBank
+from thermolimb.identification.bank import Calibration, identify_bank, measured_ambient_C
 from thermolimb.plant import ActuatorSpec
 from thermolimb.util.progress import progress
 
-from .actuators import effort_limits
-from .constants import ACTUATORS
-from .executor import Executor
-from .scenarios import DEFAULT, Scenario
-from .sim import HumanoidSim
+from ..model.actuation import effort_limits
+from ..constants import ACTUATORS
+from ..control.executor import Executor
+from ..scenarios import DEFAULT, Scenario
+from ..sim import HumanoidSim
 
 
-def calibrate(duration_s: float, seed: int = 0, quiet: bool = True, specs: Sequence[ActuatorSpec] | None = None,
-              scenario: str | Scenario = DEFAULT) -> tuple[FirstOrderBank, ThermalLog]:
+def calibrate(duration_s: float, seed: int = 0, *, quiet: bool = True, specs: Sequence[ActuatorSpec] | None = None,
+              scenario: str | Scenario = DEFAULT) -> Calibration:
     """A calibration run (double support, then each foot, in turn) and the models identified from its log.
 
     ``specs``: the robot's actuators if they are not the datasheet's (the
@@ -37,4 +35,4 @@ def calibrate(duration_s: float, seed: int = 0, quiet: bool = True, specs: Seque
                 k += 1
             reading = ex.tick(reading)
         log = sim.thermal_log()
-    return identify_bank(log, ACTUATORS, effort_limits(sim.params)), log
+    return Calibration(identify_bank(log, ACTUATORS, effort_limits(sim.params)), log, measured_ambient_C(log))

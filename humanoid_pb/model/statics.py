@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .actuators import efforts as actuator_efforts
-from .actuators import rod_pairs
-from .constants import FOOT_SIDE, JOINTS, SIDES, mode_feet, sole_frame
-from .params import VALKYRIE, ValkyrieParams
+from .actuation import efforts as actuator_efforts
+from .actuation import rod_pairs
+from ..constants import FOOT_SIDE, JOINTS, SIDES, mode_feet, sole_frame
+from ..params import VALKYRIE, ValkyrieParams
 from .urdf_model import urdf_path
 
 

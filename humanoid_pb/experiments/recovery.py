@@ -19,13 +19,14 @@ import numpy as np
 from thermolimb.model import FirstOrderBank
 from thermolimb.util.progress import progress
 
-from .actuators import effort_limits
-from .constants import ACTUATORS, leg_actuators
-from .executor import Executor
-from .params import FALLEN_PELVIS_HEIGHT_M, RECOVERED_C, WARNING_C
-from .planner import ContactModePlanner
-from .scenarios import DEFAULT, Scenario
-from .sim import HumanoidSim
+from ..model.actuation import effort_limits
+from ..constants import ACTUATORS, leg_actuators
+from ..control.executor import Executor
+from ..params import FALLEN_PELVIS_HEIGHT_M
+from ..limits import LIMITS
+from ..control.planner import ContactModePlanner
+from ..scenarios import DEFAULT, Scenario
+from ..sim import HumanoidSim
 
 DWELL_S = 8.0  # minimum time in a mode before the next decision
 DECIDE_EVERY_S = 2.0
@@ -49,7 +50,7 @@ class RecoveryRun:
         if self.warning_at_s is None:
             return None
         t = np.array(self.time_s)
-        below = np.array(self.temperature_C)[:, indices].max(axis=1) < RECOVERED_C
+        below = np.array(self.temperature_C)[:, indices].max(axis=1) < LIMITS.recovered_C
         after = np.flatnonzero(below & (t >= self.warning_at_s))
         return float(t[after[0]] - self.warning_at_s) if after.size else None
 
@@ -88,14 +89,14 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
                 run.fell = True
                 break
             if not recovering:
-                if T.max() >= WARNING_C:
+                if T.max() >= LIMITS.warning_C:
                     recovering, run.warning_at_s, next_decision = True, t, t
                 elif t > max_heat_s:
                     break
                 continue
-            if run.hot_leg_recovery_s is None and T[hot_leg].max() < RECOVERED_C:
+            if run.hot_leg_recovery_s is None and T[hot_leg].max() < LIMITS.recovered_C:
                 run.hot_leg_recovery_s = t - run.warning_at_s
-            if T.max() < RECOVERED_C:
+            if T.max() < LIMITS.recovered_C:
                 run.recovery_s = t - run.warning_at_s
                 break
             if t >= next_decision and not ex.moving and t - ex.settled_since >= (DWELL_S if run.decisions else 0.0):
@@ -118,8 +119,8 @@ def first_order_cooling_s(start_C: float, end_C: float, steady_C: np.ndarray, rc
     return np.where(steady_C < end_C, t, np.inf)
 
 
-def steady_needed_for_ratio(ratio: float, fastest_steady_C: float, start_C: float = WARNING_C,
-                            end_C: float = RECOVERED_C) -> float:
+def steady_needed_for_ratio(ratio: float, fastest_steady_C: float, start_C: float = LIMITS.warning_C,
+                            end_C: float = LIMITS.recovered_C) -> float:
     """The steady temperature (degC) a slower mode must hold for its cooling from ``start_C`` to ``end_C`` to take
     ``ratio`` times as long as towards ``fastest_steady_C`` (same RC): solves ln(a'/b') = ratio ln(a/b)."""
     x = ((start_C - fastest_steady_C) / (end_C - fastest_steady_C)) ** ratio
@@ -138,5 +139,5 @@ def cooling_bound(body, bank: FirstOrderBank, hot_actuator: str, configurations:
         steady = bank.equilibrium_C(efforts)
         out[name] = {"mode": mode, "effort_fraction": float(abs(efforts[i]) / effort_limits(body.params)[i]),
                      "steady_C": float(steady[i]),
-                     "warning_to_recovered_s": float(first_order_cooling_s(WARNING_C, RECOVERED_C, steady[i], bank.RC_s[i]))}
+                     "warning_to_recovered_s": float(first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, steady[i], bank.RC_s[i]))}
     return out

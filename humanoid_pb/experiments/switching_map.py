@@ -39,14 +39,16 @@ import numpy as np
 
 from thermolimb.util.frozen import FrozenMapping
 
-from .actuators import VALKYRIE_NETWORK, datasheet_bank, effort_limits
-from .constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
-from .params import RECOVERED_C, VALKYRIE, WARNING_C
-from .planner import ContactModePlanner
-from .poses import crouch_angles, single_support, standing
+from ..thermal import VALKYRIE_NETWORK, datasheet_bank
+from ..model.actuation import effort_limits
+from ..constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
+from ..params import VALKYRIE
+from ..limits import LIMITS
+from ..control.planner import ContactModePlanner
+from ..ik.poses import crouch_angles, single_support, standing
 from .recovery import first_order_cooling_s, run_recovery
-from .scenarios import UNIFORM, Scenario
-from .statics import WholeBody
+from ..scenarios import UNIFORM, Scenario
+from ..model.statics import WholeBody
 
 GROUPS = {
     "ankle rods": tuple(a for a in ACTUATORS if "_ankle_rod_" in a),
@@ -67,7 +69,7 @@ def warning_loss_W(time_to_warning_s: float) -> float:
     """Winding loss that takes a first-order winding (the plant's node: 40 s, 2 K/W) from the ambient to the
     warning in ``time_to_warning_s``: (75 - 25) / (1 - exp(-t / RC)) / R."""
     c, r = VALKYRIE_NETWORK.capacity_J_per_K[0], VALKYRIE_NETWORK.resistance_K_per_W[0]
-    return (WARNING_C - AMBIENT_C) / (1.0 - np.exp(-time_to_warning_s / (c * r))) / r
+    return (LIMITS.warning_C - AMBIENT_C) / (1.0 - np.exp(-time_to_warning_s / (c * r))) / r
 
 
 def hot_set(group: str) -> tuple[str, ...]:
@@ -155,7 +157,7 @@ def predict_cell(group: str, depth_rad: float, body: WholeBody | None = None,
     steady = bank.equilibrium_C(body.statics(q_single, HEAT_SIDE).efforts)
     t = np.arange(0.0, 1200.0, 0.1)
     heating = steady[None, :] + (AMBIENT_C - steady[None, :]) * np.exp(-t[:, None] / bank.RC_s[None, :])
-    reached = np.flatnonzero(heating.max(axis=1) >= WARNING_C)
+    reached = np.flatnonzero(heating.max(axis=1) >= LIMITS.warning_C)
     if not reached.size:
         return Cell(group, depth_rad, "first order", dict.fromkeys(STRATEGIES), {}, dict.fromkeys(STRATEGIES, False),
                     None)
@@ -166,8 +168,8 @@ def predict_cell(group: str, depth_rad: float, body: WholeBody | None = None,
         plan = ContactModePlanner(body, objective).plan(q_double, bank, at_warning)
         held = plan.results[plan.mode]
         steady_after = bank.equilibrium_C(body.efforts(held.q, held.torques_Nm))
-        times = first_order_cooling_s(at_warning[watched], RECOVERED_C, steady_after[watched], bank.RC_s[watched])
-        times = np.where(at_warning[watched] <= RECOVERED_C, 0.0, times)
+        times = first_order_cooling_s(at_warning[watched], LIMITS.recovered_C, steady_after[watched], bank.RC_s[watched])
+        times = np.where(at_warning[watched] <= LIMITS.recovered_C, 0.0, times)
         safe[strategy] = float(times.max()) if np.isfinite(times.max()) else None
         modes[strategy] = [plan.mode]
     return Cell(group, depth_rad, "first order", safe, modes, dict.fromkeys(STRATEGIES, False), float(t[reached[0]]))

@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
-from .constants import FOOT_SIDE, mode_feet
-from .statics import WholeBody
+from ..constants import FOOT_SIDE, mode_feet
+from ..model.statics import WholeBody
 
 
 @dataclass(frozen=True)
