@@ -23,7 +23,7 @@ from thermolimb.model import FirstOrderBank
 
 from . import cpg
 from .constants import LEGS
-from .kinematics import inverse_kinematics, joint_axes, nominal_foot
+from .kinematics import inverse_kinematics, joint_axes, nominal_feet
 from .legs import leg_statics
 from .params import GRAVITY_M_S2, DaisyParams
 from .readings import Reading
@@ -103,7 +103,7 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
         raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
     if "thermal_aware" in weights and thermal is None:
         raise ValueError("the thermal_aware strategy needs a ThermalContext (identified models)")
-    nominal = np.array([nominal_foot(params, i) for i in range(len(LEGS))])
+    nominal = nominal_feet(params)
     cpg_state = cpg.step(state.cpg_state, gait, dt_s) if walking else state.cpg_state
     planned_stance = cpg.stance(cpg_state, gait) if walking else np.ones(len(LEGS), bool)
     targets = cpg.foot_targets(cpg_state, gait, nominal) if walking else nominal

@@ -13,8 +13,11 @@ height from the shoulder axis:
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
+from .constants import LEGS
 from .params import DaisyParams
 
 
@@ -83,6 +86,16 @@ def inverse_kinematics(params: DaisyParams, leg: int, body_p_foot: np.ndarray) -
     q_elbow = -np.arccos(cos_e)
     q_shoulder = np.arctan2(z, r) - np.arctan2(L2 * np.sin(q_elbow), L1 + L2 * np.cos(q_elbow))
     return np.array([q_base, q_shoulder, q_elbow])
+
+
+def nominal_feet(params: DaisyParams) -> np.ndarray:
+    """Every leg's standing foot position (legs x 3, body frame), computed once per set of parameters."""
+    return _nominal_feet(params).copy()
+
+
+@lru_cache(maxsize=8)
+def _nominal_feet(params: DaisyParams) -> np.ndarray:
+    return np.array([nominal_foot(params, i) for i in range(len(LEGS))])
 
 
 def nominal_foot(params: DaisyParams, leg: int) -> np.ndarray:

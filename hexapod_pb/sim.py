@@ -82,7 +82,7 @@ class HexapodSim(BulletRig):
 
     def foot_jacobian_world(self, leg: int) -> np.ndarray:
         """PyBullet's linear Jacobian (3 x 3) of a foot with respect to its leg's joints (fixed base only)."""
-        q = [s[0] for s in self.client.getJointStates(self.robot, self.joint_index)]
+        q = [float(v) for v in self.joint_states()[0]]
         zeros = [0.0] * len(q)
         lin, _ = self.client.calculateJacobian(self.robot, self.foot_index[leg], [0, 0, 0], q, zeros, zeros)
         lin = np.array(lin)

@@ -45,6 +45,7 @@ class HumanoidSim(BulletRig):
         self.stance_angles = crouch_angles(self.scenario.crouch_depth_rad)
         self.body = body or WholeBody(params)
         self.rods = self.body.rods
+        self._jacobians: tuple[bytes | None, dict] = (None, {})
         angles = self.stance_angles if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
@@ -60,11 +61,19 @@ class HumanoidSim(BulletRig):
         return np.array([0.0, 0.0, -min(p.translation[2] for p in soles.values())])
 
     # ------------------------------------------------------------- rig hooks
+    def _rod_jacobians(self, q: np.ndarray) -> dict[str, np.ndarray]:
+        """The rod pairs' Jacobians at ``q``, computed once per configuration (a period's end is the next one's
+        start: its efforts, speeds and protection share them)."""
+        key = np.asarray(q, float).tobytes()
+        if self._jacobians[0] != key:
+            self._jacobians = (key, actuation.rod_jacobians(self.rods, q))
+        return self._jacobians[1]
+
     def actuator_efforts(self, q, torques_Nm):
-        return actuation.efforts(self.rods, q, torques_Nm)
+        return actuation.efforts(self.rods, q, torques_Nm, self._rod_jacobians(q))
 
     def actuator_velocities(self, q, qd):
-        return actuation.velocities(self.rods, q, qd)
+        return actuation.velocities(self.rods, q, qd, self._rod_jacobians(q))
 
     def torques_at_fraction(self, torques_Nm, actuator_fraction):
         return torques_Nm * actuation.joint_fractions(actuator_fraction)

@@ -118,6 +118,7 @@ class BulletRig:
         self.plant = ThermalPlant(self.actuators, specs, effects=plant_effects, ambient_C=config.ambient_C,
                                   rng=self.rng, protection=protection)
         self.time_s = 0.0
+        self._joint_states = None  # (q, qd) read since the last physics step: read once, whoever asks
         self.applied_Nm = np.zeros(len(self.joints))
         self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
         self._log = {key: deque(maxlen=config.log_capacity)
@@ -151,12 +152,22 @@ class BulletRig:
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
-        states = self.client.getJointStates(self.robot, self.joint_index)
-        return np.array([s[0] for s in states]), np.array([s[1] for s in states])
+        """Joint angles (rad) and rates (rad/s), read from PyBullet once per physics state: the period's end, the
+        robot's reading and the next period's start share one read."""
+        if self._joint_states is None:
+            states = self.client.getJointStates(self.robot, self.joint_index)
+            self._joint_states = np.array([s[0] for s in states]), np.array([s[1] for s in states])
+        q, qd = self._joint_states
+        return q.copy(), qd.copy()
 
     def set_joint_positions(self, q: np.ndarray) -> None:
         for j, angle in zip(self.joint_index, q):
             self.client.resetJointState(self.robot, j, float(angle), 0.0)
+        self._joint_states = None
+
+    def _physics_step(self) -> None:
+        self.client.stepSimulation()
+        self._joint_states = None
 
     def base_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(position, world_R_base, linear velocity, angular velocity)``, world frame."""
@@ -218,7 +229,7 @@ class BulletRig:
         forces = self.applied_Nm.tolist()
         for _ in range(self.config.substeps):
             c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=forces)
-            c.stepSimulation()
+            self._physics_step()
         self._after_control_period()
 
     def step_impedance(self, feedforward_Nm: np.ndarray, q_des: np.ndarray, kp_Nm_rad: np.ndarray,
@@ -241,7 +252,7 @@ class BulletRig:
         for _ in range(self.config.substeps):
             tau = self.torques_at_fraction(loop(*self.joint_states()), fraction)
             c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
-            c.stepSimulation()
+            self._physics_step()
             total += tau
         self.applied_Nm = total / self.config.substeps
         self._after_control_period()

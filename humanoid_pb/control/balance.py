@@ -73,4 +73,4 @@ def balance_command(body: WholeBody, q_pin: np.ndarray, q_des: np.ndarray, mode:
                     gains: BalanceGains = BalanceGains()) -> ImpedanceCommand:
     """Hold the measured configuration in ``mode`` (Eq. 23) and pull towards ``q_des`` (joint impedance)."""
     kp, kd = gains.vectors()
-    return ImpedanceCommand(body.statics(q_pin, mode).torques_Nm, np.asarray(q_des, float), kp, kd)
+    return ImpedanceCommand(body.balancing_torques(q_pin, mode)[0], np.asarray(q_des, float), kp, kd)

@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from .balance import Motion, balance_command
-from ..ik.poses import single_support, standing
+from ..ik.poses import standing, support_pose
 from ..sim import HumanoidSim
 
 SHIFT_S = 1.5  # foot placement, a shift back to the middle, a move inside double support, each
@@ -30,7 +30,7 @@ class Executor:
         self.hold_torques: np.ndarray | None = None  # the IK's balancing torques at the goal, fed forward there
 
     def support_angles(self, side: str, lift_m: float) -> np.ndarray:
-        return self.body.joint_angles(single_support(self.body, self.q_nominal, side, lift_m=lift_m))
+        return self.body.joint_angles(support_pose(self.body, self.q_nominal, side, lift_m))
 
     def go(self, mode: str, goal_angles: np.ndarray | None = None, goal_torques: np.ndarray | None = None) -> None:
         """Plan the motion to ``mode`` (through the nominal crouch) ending in ``goal_angles``.

@@ -16,7 +16,7 @@ from thermolimb.model import FirstOrderBank
 from ..model.actuation import effort_limits
 from ..constants import CONTACT_MODES, SIDES
 from ..ik.fast_ik import FastThermalIK
-from ..ik.poses import single_support
+from ..ik.poses import support_pose
 from ..ik.potential import MinimumEffort, ThermalPotential
 
 OBJECTIVES = ("thermal", "effort")
@@ -53,7 +53,7 @@ class ContactModePlanner:
 
     def starts(self, q_nominal: np.ndarray) -> dict:
         """Each mode's nominal configuration: the crouch, and the weight over either foot with the other lifted."""
-        return {"double": q_nominal, **{s: single_support(self.body, q_nominal, s) for s in SIDES}}
+        return {"double": q_nominal, **{s: support_pose(self.body, q_nominal, s) for s in SIDES}}
 
     def plan(self, q_nominal: np.ndarray, bank: FirstOrderBank | None, temperature_C: np.ndarray) -> Plan:
         """The mode whose optimised configuration scores lowest (for a robot that then holds that configuration)."""

@@ -26,25 +26,36 @@ _A = {name: i for i, name in enumerate(ACTUATORS)}
 _MOTORS = [(a, _J[a]) for a in ACTUATORS if "_rod_" not in a]
 
 
-def efforts(rods: dict[str, RodPair], angles: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
-    """Eq. 24: actuator efforts (ACTUATORS order; N m for motors, N for rods) from joint torques (JOINTS order)."""
+def rod_jacobians(rods: dict[str, RodPair], angles: np.ndarray) -> dict[str, np.ndarray]:
+    """Each rod pair's length Jacobian (2 x 2: rod lengths by pitch and roll) at joint ``angles``: what the
+    efforts and speeds at one configuration share."""
+    return {pair: rods[pair].length_jacobian(angles[_J[pitch]], angles[_J[roll]])
+            for pair, (pitch, roll) in ROD_PAIRS.items()}
+
+
+def efforts(rods: dict[str, RodPair], angles: np.ndarray, torques_Nm: np.ndarray,
+            jacobians: dict[str, np.ndarray] | None = None) -> np.ndarray:
+    """Eq. 24: actuator efforts (ACTUATORS order; N m for motors, N for rods) from joint torques (JOINTS order);
+    ``jacobians``: :func:`rod_jacobians` at ``angles``, when already computed."""
+    jacobians = jacobians or rod_jacobians(rods, angles)
     out = np.empty(len(ACTUATORS))
     for a, j in _MOTORS:
         out[_A[a]] = torques_Nm[j]
     for pair, (pitch, roll) in ROD_PAIRS.items():
         tau = np.array([torques_Nm[_J[pitch]], torques_Nm[_J[roll]]])
-        out[[_A[rod] for rod in rod_actuators(pair)]] = rods[pair].rod_forces_N(angles[_J[pitch]], angles[_J[roll]], tau)
+        out[[_A[rod] for rod in rod_actuators(pair)]] = np.linalg.solve(jacobians[pair].T, tau)
     return out
 
 
-def velocities(rods: dict[str, RodPair], angles: np.ndarray, qd: np.ndarray) -> np.ndarray:
+def velocities(rods: dict[str, RodPair], angles: np.ndarray, qd: np.ndarray,
+               jacobians: dict[str, np.ndarray] | None = None) -> np.ndarray:
     """Actuator speeds: joint rates for motors, rod length rates (m/s) for rods."""
+    jacobians = jacobians or rod_jacobians(rods, angles)
     out = np.empty(len(ACTUATORS))
     for a, j in _MOTORS:
         out[_A[a]] = qd[j]
     for pair, (pitch, roll) in ROD_PAIRS.items():
-        J = rods[pair].length_jacobian(angles[_J[pitch]], angles[_J[roll]])
-        out[[_A[rod] for rod in rod_actuators(pair)]] = J @ np.array([qd[_J[pitch]], qd[_J[roll]]])
+        out[[_A[rod] for rod in rod_actuators(pair)]] = jacobians[pair] @ np.array([qd[_J[pitch]], qd[_J[roll]]])
     return out
 
 

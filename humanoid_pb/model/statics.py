@@ -51,6 +51,7 @@ class WholeBody:
         self.S_a = np.zeros((len(JOINTS), self.nv))
         self.S_a[np.arange(len(JOINTS)), self.v_index] = 1.0
         self.rods = rod_pairs(params)
+        self.solved: dict = {}  # results of pure functions of this body, kept (see humanoid_pb.ik.poses.support_pose)
 
     # ------------------------------------------------------------ configuration
     def configuration(self, base_position_m, base_quaternion_xyzw, joint_angles_rad) -> np.ndarray:
@@ -92,14 +93,20 @@ class WholeBody:
         Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)
         return A_inv, Jc_bar, np.eye(self.nv) - Jc_bar @ Jc
 
-    def statics(self, q: np.ndarray, mode: str) -> Statics:
-        """Eqs. 21, 23 and 24 at configuration ``q`` in contact ``mode``."""
+    def balancing_torques(self, q: np.ndarray, mode: str) -> tuple[np.ndarray, np.ndarray]:
+        """Eqs. 21 and 23 at configuration ``q`` in contact ``mode``: the joint torques that hold the robot still
+        there and the sole wrenches (feet x 6) they leave, without the actuators' efforts (what the balance
+        controller needs every control period)."""
         g = self.gravity(q)
         A_inv, Jc_bar, Nc = self.contact_null_space(q, self.contact_jacobian(q, mode))
         X = self.S_a @ Nc
         X_bar = A_inv @ X.T @ np.linalg.pinv(X @ A_inv @ X.T)
         gamma = X_bar.T @ Nc.T @ g
-        wrenches = (Jc_bar.T @ (g - self.S_a.T @ gamma)).reshape(-1, 6)
+        return gamma, (Jc_bar.T @ (g - self.S_a.T @ gamma)).reshape(-1, 6)
+
+    def statics(self, q: np.ndarray, mode: str) -> Statics:
+        """Eqs. 21, 23 and 24 at configuration ``q`` in contact ``mode``."""
+        gamma, wrenches = self.balancing_torques(q, mode)
         return Statics(mode, gamma, self.efforts(q, gamma), wrenches)
 
     def efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:

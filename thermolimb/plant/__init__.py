@@ -27,7 +27,8 @@ from .network import (
                       DriverSpec,
                       ThermalNetwork,
 )
-from .plant import ThermalPlant, ThermalProtection
+from .plant import ThermalPlant
+from .protection import ThermalProtection
 from .profiles import PROFILES, Profile
 from .run import PlantRun, run_profile, run_profile_in_pieces, simulate_profile, simulate_profile_in_pieces
 

@@ -21,8 +21,9 @@ import numpy as np
 
 from .effects import SCHEDULED, PlantEffects
 from .network import ActuatorSpec
-from .observer import WindingObserver
+from .protection import ThermalProtection, scale_efforts
 from .schedules import ScheduledChannel
+from .sensors import Thermistors
 from .zoh import zero_order_hold
 
 
@@ -39,42 +40,6 @@ class Block:
     estimated_C: np.ndarray | None
     ambient_C: np.ndarray
     current_A: np.ndarray
-
-
-@dataclass(frozen=True)
-class ThermalProtection:
-    """Derating near the winding limit, as HEBI firmware caps output power.
-
-    The allowed effort fraction falls linearly from 1 at ``margin_K`` below an
-    actuator's winding limit (``ActuatorSpec.winding_limit_C``) to
-    ``min_fraction`` at the limit.  ``estimator`` says which temperature it
-    acts on: ``"observer"`` (default) the winding estimated by a
-    :class:`~thermolimb.plant.observer.WindingObserver` from the measured current and
-    thermistor, plus ``sigmas`` of its uncertainty; ``"measured"`` the lagged
-    thermistor reading itself, which lets the true winding overshoot.  With
-    the observer the current is also capped so that the winding predicted at
-    the end of the next interval stays ``guard_K`` plus ``sigmas`` below
-    the limit (see :meth:`ThermalPlant.derate`).
-    """
-
-    margin_K: float = 15.0
-    min_fraction: float = 0.0
-    estimator: str = "observer"
-    sigmas: float = 2.0
-    guard_K: float = 4.0  # what the observer's model may miss over one control period (measured: a few K)
-
-    def __post_init__(self):
-        if self.estimator not in ("observer", "measured"):
-            raise ValueError(f"ThermalProtection estimator must be 'observer' or 'measured', got {self.estimator!r}")
-        if not self.margin_K > 0:
-            raise ValueError(f"ThermalProtection needs margin_K > 0, got {self.margin_K}")
-        if not 0.0 <= self.min_fraction <= 1.0:
-            raise ValueError(f"ThermalProtection needs 0 <= min_fraction <= 1, got {self.min_fraction}")
-
-    def fraction(self, temperature_C: np.ndarray, limit_C: np.ndarray) -> np.ndarray:
-        """Allowed fraction of the commanded effort, per actuator."""
-        frac = (np.asarray(limit_C) - np.asarray(temperature_C)) / self.margin_K
-        return np.clip(frac, self.min_fraction, 1.0)
 
 
 class ThermalPlant:
@@ -124,8 +89,8 @@ class ThermalPlant:
         self.winding_limits_C = np.array([spec.winding_limit_C for spec in self.specs])
         self.observer = None
         self._applied_fraction = np.ones(len(self.specs))  # the share of current protection allowed last
-        self._rng = rng
-        self._unused_noise = np.empty(0)  # drawn by a block that was cut short, read first (see free_block)
+        self._rng = rng  # the schedules' draws (the sensors draw their noise from the same generator)
+        self.sensors = Thermistors(effects, rng)
         self._build_network()
         self._schedules = self._make_schedules(scheduled)
         self.time_s = 0.0
@@ -135,12 +100,7 @@ class ThermalPlant:
         self.current_A = np.zeros(self.n)
         self._measure()
         if protection.estimator == "observer":
-            lag = effects.sensor_lag.time_constant_s if effects.sensor_lag is not None else None
-            noise = effects.sensor_noise.std_K if effects.sensor_noise is not None else 0.0
-            step = effects.quantisation.step_K if effects.quantisation is not None else 0.0
-            alpha = effects.winding_tempco.alpha_per_K if effects.winding_tempco is not None else 0.0
-            self.observer = WindingObserver(self.specs, lag, start, np.sqrt(noise**2 + step**2 / 12 + 0.01**2),
-                                            copper_alpha_per_K=alpha)
+            self.observer = self.sensors.observer(self.specs, start)
 
     # ----------------------------------------------------------------- layout
     @property
@@ -384,26 +344,8 @@ class ThermalPlant:
         self._measured_driver = readings[self.n :]
 
     def read(self, true_C: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
-        """What a thermistor on these temperatures reports: the plant's sensor noise and quantisation, as switched
-        on (``noise``: the standard normals to use, drawn already)."""
-        fx = self.effects
-        readings = np.asarray(true_C, float)
-        if fx.sensor_noise is not None:
-            if noise is None:
-                noise = self._standard_normal(readings.size).reshape(readings.shape)
-            readings = readings + fx.sensor_noise.std_K * noise
-        if fx.quantisation is not None:
-            step = fx.quantisation.step_K
-            readings = np.round(readings / step) * step
-        return readings
-
-    def _standard_normal(self, count: int) -> np.ndarray:
-        """The generator's next ``count`` standard normals; those a block drew but did not use come first, so a
-        run reads the same noise whether it is stepped one interval at a time or in blocks."""
-        taken, self._unused_noise = self._unused_noise[:count], self._unused_noise[count:]
-        if taken.size == count:
-            return taken
-        return np.concatenate([taken, self._rng.standard_normal(count - taken.size)])
+        """What a thermistor on these temperatures reports (:meth:`.sensors.Thermistors.read`)."""
+        return self.sensors.read(true_C, noise)
 
     # ---------------------------------------------------------------- blocks
     @property
@@ -444,7 +386,7 @@ class ThermalPlant:
             x = Phi @ x + inputs[i]
             states[i + 1] = x
         sensed = np.concatenate([self._sensor, self._driver[self._has_driver]])
-        noise = self._standard_normal(k * len(sensed)).reshape(k, -1) if self.effects.sensor_noise else None
+        noise = self.sensors.standard_normal(k * len(sensed)).reshape(k, -1) if self.effects.sensor_noise else None
         readings = self.read(states[1:, sensed], noise)
         measured = np.vstack([self._measured_core, readings[:, : self.n]])
         if self.observer is not None:
@@ -455,9 +397,10 @@ class ThermalPlant:
             def cap(below):
                 return self.observer.fraction_cap(est[:k], Phis, commanded, below, ambient[:k], dt_s)
 
-            fraction = self._share(est[:k, :, 0] + self.protection.sigmas * std, std, cap)
+            fraction = self.protection.share(est[:k, :, 0] + self.protection.sigmas * std, self.winding_limits_C,
+                                             std, cap)
         else:
-            fraction = self._share(measured[:k], None, None)
+            fraction = self.protection.share(measured[:k], self.winding_limits_C)
         acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))
         done = int(acting[0]) if acting.size else k
         self._x = states[done].copy()
@@ -465,7 +408,7 @@ class ThermalPlant:
         self._measured_core = measured[done].copy()
         self._measured_driver = readings[done - 1, self.n :].copy() if done else self._measured_driver
         if noise is not None:
-            self._unused_noise = np.concatenate([noise[done:].ravel(), self._unused_noise])
+            self.sensors.put_back(noise[done:])
         if self.observer is not None:
             self.observer.set_state(est[done], cov[done])
         if done:
@@ -513,9 +456,7 @@ class ThermalPlant:
     @property
     def protected_C(self) -> np.ndarray:
         """The winding temperature thermal protection acts on (degC): estimated plus its margin, or measured."""
-        if self.observer is None:
-            return self._measured_core.copy()
-        return self.observer.winding_C + self.protection.sigmas * self.observer.winding_std_K
+        return self.protection.acted_on_C(self._measured_core, self.observer)
 
     def derating(self) -> np.ndarray:
         """Fraction of the commanded effort thermal protection allows each actuator now."""
@@ -541,28 +482,19 @@ class ThermalPlant:
             current = np.sqrt(self._current_sq(effort, speed, 1.0))
             ambient = self.ambient_at(self.time_s)
 
-            def cap(below):
+            def current_cap(below):
                 return self.observer.current_fraction_cap(current, below, ambient, dt_s, speed)
 
-        std = self.observer.winding_std_K if self.observer is not None else None
-        self._applied_fraction = self._share(self.protected_C, std, cap)
-        return self._applied_fraction
+            cap = current_cap
 
-    def _share(self, protected_C: np.ndarray, std_K: np.ndarray | None, cap) -> np.ndarray:
-        """Protection's share from the temperature it acts on and, given ``cap`` (the observer's current cap as a
-        function of the temperature the winding must stay below), the limit less ``guard_K`` and ``sigmas``
-        standard deviations: for one interval, or every interval of a block (:meth:`free_block`)."""
-        fraction = self.protection.fraction(protected_C, self.winding_limits_C)
-        if cap is None:
-            return fraction
-        margin = self.protection.guard_K + self.protection.sigmas * std_K
-        return np.minimum(fraction, cap(self.winding_limits_C - margin))
+        std = self.observer.winding_std_K if self.observer is not None else None
+        self._applied_fraction = self.protection.share(self.protected_C, self.winding_limits_C, std, cap)
+        return self._applied_fraction
 
     def scale_efforts(self, effort: np.ndarray, fraction: np.ndarray) -> np.ndarray:
         """Efforts whose motor share (all of it, less a series-elastic bias) is scaled by ``fraction``."""
-        effort = np.asarray(effort, dtype=float)
         bias = self.effects.effort_bias.bias_effort if self.effects.effort_bias is not None else 0.0
-        return bias + (effort - bias) * fraction
+        return scale_efforts(effort, fraction, bias)
 
     def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
         """Efforts after thermal protection (:meth:`protection_fraction` applied by :meth:`scale_efforts`)."""
