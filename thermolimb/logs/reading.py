@@ -17,7 +17,7 @@ from ..util.memory import release_freed
 from .bags import is_bag, read_bag
 from .mapping import EXTRA, parse_mapping
 from .series import ThermalLog
-from .table import LogError, key_values, kind_of, read_table, rows_where
+from .table import LogError, column_names, key_values, kind_of, read_table, rows_where
 from .units import SCALED, base_name, channel_units
 from .validate import from_frame
 from .wide import split_units
@@ -132,16 +132,19 @@ READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table}
 def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLog:
     """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
     sep, decimal, options = request.sep, request.decimal, request.options(path)
-    order = key_values(path, _is_actuator, sep, decimal)
-    if order is None:
+    columns = column_names(path, sep, decimal)
+    key = next((c for c in columns if base_name(c) == "actuator"), None)
+    if key is None:  # a wide file of one actuator: read whole
         return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
+    order = key_values(path, key, sep, decimal)
     missing = [n for n in names if n not in order]
     if missing:
         raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")
     beside = {order[j] for n in names for j in (order.index(n) - 1, order.index(n) + 1) if 0 <= j < len(order)}
     beside = beside - set(names) if request.neighbours else set()
-    groups = [(set(names), None)] + ([(beside, lambda c: base_name(c) in ("time", "temperature"))] if beside else [])
-    frames = rows_where(path, _is_actuator, groups, sep, decimal)
+    near_columns = {c for c in columns if base_name(c) in ("time", "temperature")}
+    groups = [(set(names), None)] + ([(beside, near_columns)] if beside else [])
+    frames = rows_where(path, key, groups, sep, decimal)
     log = from_frame(frames.pop(0), copy=False, **options)  # popped: the log takes the rows as read
     near_temperatures = {}
     if beside:
@@ -152,7 +155,3 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
         near_temperatures = {n: around._temperature_of(n) for n in around.actuators}
     release_freed()  # the pieces' pages
     return replace(log, order=tuple(order), neighbours=FrozenMapping(near_temperatures))
-
-
-def _is_actuator(column: str) -> bool:
-    return base_name(column) == "actuator"

@@ -63,10 +63,24 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -
     return frame
 
 
+def column_names(path: Path, sep: str | None = None, decimal: str | None = None) -> list[str]:
+    """The file's column names as its header gives them (stripped), without reading its rows."""
+    if _kind_checked(path) == "parquet":
+        import pyarrow.parquet as pq
+
+        try:
+            return list(pq.ParquetFile(path).schema_arrow.names)
+        except (ValueError, OSError) as exc:
+            raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
+    options, _ = _csv_options(path, sep, decimal)
+    header = pd.read_csv(path, nrows=0, **options)
+    return [str(c).strip() for c in header.columns]
+
+
 def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None, columns=None,
                  rows: int = CHUNK_ROWS):
-    """The file's rows in frames of at most ``rows`` rows, with only the ``columns`` kept (a function of a
-    column's name, or ``None`` for all): what a large file is read through, in constant memory."""
+    """The file's rows in frames of at most ``rows`` rows, with only the ``columns`` kept (a set of names, or
+    ``None`` for all): what a large file is read through, in constant memory."""
     if _kind_checked(path) == "parquet":
         for batch in _parquet_batches(path, columns, rows):
             yield batch.to_pandas()
@@ -74,32 +88,28 @@ def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None,
     yield from _csv_chunks(path, sep, decimal, columns, rows)
 
 
-def key_values(path: Path, key, sep: str | None = None, decimal: str | None = None) -> list[str] | None:
-    """The distinct values (as text) of the column ``key`` picks (a function of a column's name), in the
-    order they first appear, read in pieces; ``None`` when no column is the key."""
+def key_values(path: Path, key: str, sep: str | None = None, decimal: str | None = None) -> list[str]:
+    """The distinct values (as text) of the column named ``key``, in the order they first appear, read in
+    pieces."""
     order: dict[str, None] = {}
     if _kind_checked(path) == "parquet":
         import pyarrow as pa
         import pyarrow.compute as pc
 
-        for batch in _parquet_batches(path, key, CHUNK_ROWS):
-            if not batch.num_columns:
-                return None
+        for batch in _parquet_batches(path, {key}, CHUNK_ROWS):
             values = pc.unique(pc.drop_null(pc.cast(batch.column(0), pa.string())))
             order.update(dict.fromkeys(values.to_pylist()))
         pa.default_memory_pool().release_unused()
         return list(order)
-    for chunk in _csv_chunks(path, sep, decimal, key, CHUNK_ROWS):
-        if chunk.shape[1] == 0:
-            return None
+    for chunk in _csv_chunks(path, sep, decimal, {key}, CHUNK_ROWS):
         order.update(dict.fromkeys(str(a) for a in pd.unique(chunk.iloc[:, 0].dropna().astype(str))))
     return list(order)
 
 
-def rows_where(path: Path, key, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
-    """For each group ``(values, columns)``: the rows whose ``key`` column (a function of a column's name)
-    holds one of ``values`` (compared as text), with the columns ``columns`` picks (``None``: all), as one
-    frame whose key column is categorical (its categories: ``values``).  Read in pieces (Parquet: a row group
+def rows_where(path: Path, key: str, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
+    """For each group ``(values, columns)``: the rows whose column named ``key`` holds one of ``values``
+    (compared as text), with the ``columns`` named (a set; ``None``: all), as one frame whose key column is
+    categorical (its categories: ``values``).  Read in pieces (Parquet: a row group
     and a column at a time, selected in Arrow) and joined a column at a time, so that the memory is that of
     the rows kept and one column more, not the file's."""
     if _kind_checked(path) == "parquet":
@@ -115,14 +125,14 @@ def _csv_pieces(path: Path, key, groups, sep, decimal) -> tuple[list[dict[str, l
     attrs: dict = {}
     for chunk in _csv_chunks(path, sep, decimal, None, CHUNK_ROWS):
         attrs = chunk.attrs
-        name = next(c for c in chunk.columns if key(c))
+        name = key
         who = chunk[name].astype(str)
         for (values, columns), piece, sorted_values in zip(groups, pieces, categories):
             keep = who.isin(values).to_numpy()
             for c in chunk.columns:
                 if c == name:
                     piece.setdefault(c, []).append(pd.Categorical(who[keep], categories=sorted_values))
-                elif columns is None or columns(c):
+                elif columns is None or c in columns:
                     piece.setdefault(c, []).append(chunk[c].to_numpy()[keep])
         del chunk, who
     return pieces, attrs
@@ -137,7 +147,7 @@ def _parquet_pieces(path: Path, key, groups) -> list[dict[str, list]]:
     try:
         f = pq.ParquetFile(path, pre_buffer=False)
         names = f.schema_arrow.names
-        name = next(n for n in names if key(n))
+        name = key
         sets = [pa.array(sorted(values), pa.string()) for values, _ in groups]
         for i in range(f.metadata.num_row_groups):
             who = pc.cast(f.read_row_group(i, columns=[name]).column(0), pa.string())
@@ -149,7 +159,7 @@ def _parquet_pieces(path: Path, key, groups) -> list[dict[str, list]]:
             for c in names:
                 if c == name:
                     continue
-                wanted = [j for j, (_, columns) in enumerate(groups) if columns is None or columns(c)]
+                wanted = [j for j, (_, columns) in enumerate(groups) if columns is None or c in columns]
                 if not wanted:
                     continue
                 column = f.read_row_group(i, columns=[c]).column(0)
@@ -190,7 +200,7 @@ def _parquet_batches(path: Path, columns, rows: int):
 
     try:
         f = pq.ParquetFile(path, pre_buffer=False)
-        names = [n for n in f.schema_arrow.names if columns is None or columns(n)]
+        names = [n for n in f.schema_arrow.names if columns is None or n in columns]
         yield from f.iter_batches(batch_size=rows, columns=names)
     except (ValueError, OSError) as exc:
         raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
@@ -198,7 +208,7 @@ def _parquet_batches(path: Path, columns, rows: int):
 
 def _csv_chunks(path: Path, sep, decimal, columns, rows: int):
     options, duplicates = _csv_options(path, sep, decimal)
-    usecols = (lambda c: columns(str(c).strip())) if columns is not None else None
+    usecols = (lambda c: str(c).strip() in columns) if columns is not None else None
     try:
         for chunk in pd.read_csv(path, chunksize=rows, usecols=usecols, **options):
             chunk.columns = [str(c).strip() for c in chunk.columns]
