@@ -54,5 +54,6 @@ def files_in(folder) -> dict:
 def say_written(before: dict, folder, also=()) -> None:
     """``wrote PATH`` on standard error for each file of ``folder`` that changed since ``before``, and ``also``."""
     after = files_in(folder)
-    for path in [p for p, stamp in after.items() if before.get(p) != stamp] + [Path(p) for p in also]:
+    written = [p for p, stamp in after.items() if before.get(p) != stamp] + [Path(p) for p in also]
+    for path in dict.fromkeys(written):  # a page written into the plots' folder is said once
         print(f"wrote {path}", file=sys.stderr)

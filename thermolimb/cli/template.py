@@ -86,7 +86,7 @@ class LogCommand:
         from ..model.terms import DEFAULT_MODEL, parse_model
 
         given = args.model if isinstance(args.model, list) else [args.model]
-        models = [parse_model(m) for m in given if m] or [tuple(DEFAULT_MODEL)]
+        models = [parse_model(m) for m in given] if args.model is not None else [tuple(DEFAULT_MODEL)]
         datasheet = _checked_datasheet(args.datasheet, models)
         self.check(args)
         if self.fleet and args.fleet:
