@@ -8,9 +8,10 @@ from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
+from ..workbench.diagnosis.stability import MIN_FREQUENCY, REPLICATES, Stability
 from .output import format_params
 from .template import LogCommand, Run
-from .types import output_file
+from .types import SEED, integer, number, output_file
 
 
 class Diagnose(LogCommand):
@@ -41,6 +42,16 @@ class Diagnose(LogCommand):
                        help="open the vocabulary: try the log's extra channels as heat, conductance or boundary, and "
                             "propose a form the catalog lacks when nothing else helps (labelled 'discovered'); with "
                             "--auto, such changes are taken under the same gates as catalog effects")
+        g = p.add_argument_group("stability of a verdict")
+        g.add_argument("--stability", type=integer(0, 1000), default=REPLICATES, metavar="K",
+                       help=f"before recommending a change, repeat the search on K perturbed replicates of the log "
+                            f"(rows trimmed at either end, the split moved, other starts) and recommend it only if "
+                            f"enough of them take it (default {REPLICATES}; 0 turns the check off)")
+        g.add_argument("--min-frequency", type=number(0.0, 1.0, low_open=True), default=MIN_FREQUENCY, metavar="F",
+                       help=f"the share of replicates that must take a change for it to be recommended (default "
+                            f"{MIN_FREQUENCY})")
+        g.add_argument("--stability-seed", type=SEED, default=0, metavar="N",
+                       help="seed of the replicates' perturbations (the same seed gives the same frequencies)")
         p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
                        help="with --discover: write the generated terms of the recommended (with --auto: the final) "
                             "model as a Python file of Term classes, to read, rename, keep and load with --terms")
@@ -48,19 +59,23 @@ class Diagnose(LogCommand):
     def check(self, args):
         if args.propose and not args.discover:
             raise UsageError("--propose writes what --discover finds; add --discover")
+        if args.stability == 1:
+            raise UsageError("--stability needs at least 2 replicates (or 0 to turn the check off)")
         if args.fleet and args.discover:
             raise UsageError("--discover works on the logs of one command, not with --fleet; diagnose a run of "
                              "interest with --discover, then load what it proposes in the fleet with --terms")
 
     def analyse(self, run: Run, name, series, held_out):
         args, model = run.args, run.models[0]
+        stability = (Stability(args.stability, args.min_frequency, args.stability_seed) if args.stability
+                     else None)
         if args.auto:
             d, steps = auto_diagnose(series, model, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
-                                     discover=args.discover, datasheet=run.datasheet)
+                                     discover=args.discover, datasheet=run.datasheet, stability=stability)
             final = steps[-1].base
         else:
             d = diagnose(series, model, refit=args.refit, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
-                         discover=args.discover, datasheet=run.datasheet)
+                         discover=args.discover, datasheet=run.datasheet, stability=stability)
             steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
         run.kept.append((name, final))  # each actuator's final model, for --propose
@@ -87,18 +102,27 @@ def describe_diagnosis(d) -> str:
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
              f"fit {b['fit_percent']:.1f} % ({d.base.scheme})"]
     lines += format_params(d.base)
-    lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s}  status")
+    if d.floor is not None:
+        lines.append(f"  {d.floor.sentence(b['rmse_K'])}")
+    k = d.stability["replicates"] if d.stability else None
+    lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status")
     for c in d.candidates:
         if not c.refitted:
-            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s}  {c.status}: {c.not_refitted_because}")
+            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s} {'':>6s}  {c.status}: {c.not_refitted_because}")
             continue
-        lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f}  {c.status}")
+        taken = f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None else ""
+        lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
+                     f"{c.status}")
         for pname, v in c.params.items():
             lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g} {v['unit']}")
         lines.append(f"      {c.evidence}")
     evidence = d.base.evidence
     if not evidence.rankable:
         lines.append("  recommended: none (the evidence above is too thin to carry a recommendation)")
+    elif d.at_floor:
+        lines.append("  recommended: none (the model is already at the sensor's floor)")
+    elif d.unstable is not None:
+        lines.append(f"  recommended: none ({d.unstable.label} helps but is {d.unstable.unstable_because})")
     else:
         warn = f" (on {evidence.verdict} evidence: a hint)" if d.recommended and evidence.thin else ""
         lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}{warn}")

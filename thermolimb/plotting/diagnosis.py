@@ -10,8 +10,8 @@ import numpy as np
 from ..workbench.diagnosis.diagnose import Diagnosis
 from .fits import overlay, plot_comparison, plt, save
 
-STATUS_COLOURS = {"helps": "tab:green", "does not help": "tab:blue", "implausible": "tab:red",
-                  "unidentifiable": "tab:purple", "refit failed": "0.5"}
+STATUS_COLOURS = {"helps": "tab:green", "unstable": "tab:orange", "does not help": "tab:blue",
+                  "implausible": "tab:red", "unidentifiable": "tab:purple", "refit failed": "0.5"}
 
 
 def plot_residuals(d: Diagnosis, path: Path) -> Path:
@@ -68,13 +68,17 @@ def candidates_figure(d: Diagnosis):
     for y, c in enumerate(refitted[::-1]):
         mark = "  ← recommended" if c is d.recommended else ""
         why = f": {c.failure}" if c.failure else ""
-        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{mark}{why}", va="center", fontsize=8)
+        taken = (f", taken {round(c.selection_frequency * d.stability['replicates'])}/{d.stability['replicates']}"
+                 if c.selection_frequency is not None else "")
+        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{taken}{mark}{why}", va="center",
+                fontsize=8)
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
     lo, hi = ax.get_xlim()
     ax.set_xlim(lo, hi + 0.4 * (hi - lo))  # room for the labels right of the bars
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
-    thin = "" if d.base.evidence.rankable else " (evidence too thin)"
+    thin = ("" if d.base.evidence.rankable else " (evidence too thin)") or (" (at the sensor's floor)" if d.at_floor
+                                                                          else "")
     ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
                  f"{d.recommended.label if d.recommended else 'none'}{thin}", fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
@@ -87,18 +91,45 @@ def candidates_figure(d: Diagnosis):
     return fig
 
 
-def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
-    fig, ax = plt.subplots(figsize=(8, 3.5))
+def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]]:
+    """The waterfall's bars: each step taken (with how often its replicates took it), then, where the walk
+    stopped at a change that helps but is unstable, that change (``kind`` "unstable")."""
+    def taken(s):
+        f = s.get("selection_frequency")
+        return "" if f is None else f" (taken {round(100 * f)} %)"
+
+    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") + taken(s) for s in steps[1:]]
     rmse = [s["rmse_K"] for s in steps]
-    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") for s in steps[1:]]
+    kinds = ["flagged" if s["flags"] else "taken" for s in steps]
+    tail = steps[-1].get("unstable")
+    if tail:
+        labels.append(f"{tail['change']} (taken {round(tail['selection_frequency'] * tail['replicates'])} of "
+                      f"{tail['replicates']}: not taken)")
+        rmse.append(tail["rmse_K"])
+        kinds.append("unstable")
+    return labels, rmse, kinds
+
+
+def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
+    fig, ax = plt.subplots(figsize=(8, 3.8))
+    labels, rmse, kinds = waterfall_bars(steps)
     # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not overlap
     labels = [textwrap.fill(label.replace("_", "_ "), 18).replace("_ ", "_") for label in labels]
-    ax.bar(np.arange(len(rmse)), rmse, color=["tab:red" if s["flags"] else "tab:blue" for s in steps])
+    colours = {"taken": "tab:blue", "flagged": "tab:red", "unstable": "white"}
+    ax.bar(np.arange(len(rmse)), rmse, color=[colours[k] for k in kinds],
+           edgecolor=["tab:orange" if k == "unstable" else "none" for k in kinds],
+           linewidth=1.2)
     for i, v in enumerate(rmse):
         ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
+    floor = steps[-1].get("floor_K")
+    if floor:
+        ax.axhline(floor, color="0.4", ls="--", lw=0.8, label=f"sensor's floor, {floor:.3f} K")
+        ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(np.arange(len(rmse)), labels, rotation=0, fontsize=7)
     ax.set_ylabel("validation RMSE (K)")
-    ax.set_title(f"{actuator}: validation error at each step of the search (red: fitted values flagged)", fontsize=10)
+    notes = ["red: fitted values flagged"] + (["orange outline: helps, but unstable over the replicates, not taken"]
+                                               if "unstable" in kinds else [])
+    ax.set_title(f"{actuator}: validation error at each step of the search\n({'; '.join(notes)})", fontsize=9)
     return save(fig, path)
 
 

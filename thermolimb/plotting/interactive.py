@@ -126,9 +126,17 @@ def waterfall_figure(steps: list[dict], actuator: str):
     """Validation RMSE at each step of the stepwise search."""
     import plotly.graph_objects as go
 
-    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") for s in steps[1:]]
-    rmse = [s["rmse_K"] for s in steps]
-    fig = go.Figure(go.Bar(x=labels, y=rmse, text=[f"{v:.3f} K" for v in rmse], textposition="outside"))
+    from .diagnosis import waterfall_bars
+
+    labels, rmse, kinds = waterfall_bars(steps)
+    colours = {"taken": "#1f77b4", "flagged": "#d62728", "unstable": "white"}  # matplotlib's tab:blue, tab:red
+    fig = go.Figure(go.Bar(x=labels, y=rmse, text=[f"{v:.3f} K" for v in rmse], textposition="outside",
+                           marker={"color": [colours[k] for k in kinds],
+                                   "line": {"color": ["#ff7f0e" if k == "unstable" else "rgba(0,0,0,0)"
+                                                      for k in kinds], "width": 2}}))
+    floor = steps[-1].get("floor_K")
+    if floor:
+        fig.add_hline(y=floor, line_dash="dash", line_color="gray", annotation_text=f"sensor's floor, {floor:.3f} K")
     fig.update_layout(height=380, title=f"{actuator}: validation RMSE at each step of the search",
                       yaxis_title="validation RMSE (K)", margin={"t": 60, "b": 80})
     return fig
@@ -153,7 +161,8 @@ def add_diagnosis(page: InteractivePage, d, steps=()) -> None:
              + thinning_note(d.base))
     page.add(f"{d.actuator}: what the diagnosis tried", candidates_figure(d),
              "Each refitted change to the model and how much it lowers the held-out error; an effect is recommended "
-             "when it gains at least 10 % and is plausible and identifiable.")
+             "when it gains at least 10 % and is plausible and identifiable, the model is not yet at the sensor's "
+             "floor, and the search takes it in enough of the perturbed replicates (taken k/K).")
     if d.auto:
         page.add(f"{d.actuator}: the search, step by step", waterfall_figure(d.auto, d.actuator),
                  "Validation RMSE after each change the search took.")

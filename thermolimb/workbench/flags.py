@@ -15,6 +15,8 @@ import numpy as np
 
 from ..logs import ActuatorSeries
 from ..model.model import ThermalModel
+from .excitation import excitation
+from .floor import FLOOR_FACTOR, sensor_floor
 
 OFFSET_MARGIN_K = 10.0  # an offset further than this (or half the logged range) from the reference is flagged
 LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many log durations is extrapolated
@@ -25,10 +27,12 @@ OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")
 
 
 def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries],
-                    held: Sequence[str] = ()) -> list[str]:
+                    held: Sequence[str] = (), train_rmse_K: float | None = None) -> list[str]:
     """One sentence per fitted value that looks like an artefact of the log rather than physics (values
-    ``held``, not fitted, are the user's or the ambient's and are not judged)."""
+    ``held``, not fitted, are the user's or the ambient's and are not judged).  A value the log does not pin
+    down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``)."""
     flags = []
+    cause = _Cause(series, train_rmse_K)
     units = series[0].units if series else {}
     duration = max(s.duration_s for s in series)
     dt = min(s.median_dt_s for s in series)
@@ -45,7 +49,7 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
                 flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
                              f"({dt:.3g} s): the log cannot show it")
             else:
-                flags += [flag for flag in (_uncertain(p, v, stderr.get(p.name), units),) if flag]
+                flags += [flag for flag in (_uncertain(p, v, stderr.get(p.name), units, cause),) if flag]
             continue
         if p.lower == 0.0 and v <= 1e-6 * scale and not p.nuisance:
             flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term "
@@ -57,7 +61,7 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
                 at_bound = True
                 flags.append(f"{p.name} = {v:.3g} {p.unit_in(units)} is at its bound {bound:g}: the fit wants more than "
                              f"this term can give; another effect is missing")
-        flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units)
+        flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units, cause)
         if flag:
             flags.append(flag)
     if not any(t in model.terms for t in OFFSET_REDEFINED_BY) and "T_offset_C" not in held:
@@ -67,16 +71,46 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
     return flags
 
 
-def _uncertain(p, value: float, stderr: float | None, units) -> str | None:
-    """A value whose standard error exceeds ``MAX_RELATIVE_STDERR`` of it: the log does not pin it down.
-    (Temperatures are left out: their relative error depends on where 0 degC is.)"""
+class _Cause:
+    """Why standard errors are large, worked out once per fit and only when one is (:func:`uncertainty_cause`)."""
+
+    def __init__(self, series, train_rmse_K):
+        self.series, self.train_rmse_K, self._said = series, train_rmse_K, None
+
+    def __call__(self, excitation_needed: str) -> str:
+        if self._said is None:
+            self._said = uncertainty_cause(self.series, self.train_rmse_K)
+        misfit, counts = self._said
+        if misfit:
+            return misfit
+        return f"so the log does not pin it down (identifying it needs {excitation_needed}; the log holds {counts})"
+
+
+def uncertainty_cause(series, train_rmse_K: float | None) -> tuple[str | None, str]:
+    """``(sentence, counts)``: the sentence, when the log excites the model (:mod:`.excitation`) and the model
+    still fits it far worse than the sensor's floor (:mod:`.floor`) -- then the model misses something, and
+    the standard errors are large for that reason, not for lack of excitation; otherwise ``None``."""
+    shown = excitation(series)
+    if train_rmse_K is None or not shown.ample:
+        return None, shown.words()
+    floor = sensor_floor(series)  # the readings' own noise: an upper bound, so that a misfit is not overstated
+    if floor.floor_K <= 0 or train_rmse_K <= FLOOR_FACTOR * floor.floor_K:
+        return None, shown.words()
+    return (f"large because the model misses something, not for lack of excitation: its training error, "
+            f"{train_rmse_K:.3f} K, is {train_rmse_K / floor.floor_K:.0f} times the sensor's floor of "
+            f"{floor.floor_K:.3f} K, while the log holds {shown.words()} -- run diagnose", shown.words())
+
+
+def _uncertain(p, value: float, stderr: float | None, units, cause) -> str | None:
+    """A value whose standard error exceeds ``MAX_RELATIVE_STDERR`` of it: the log does not pin it down, and
+    why.  (Temperatures are left out: their relative error depends on where 0 degC is.)"""
     if stderr is None or not np.isfinite(stderr) or p.unit == "degC" or value == 0.0:
         return None
     relative = stderr / abs(value)
     if relative <= MAX_RELATIVE_STDERR:
         return None
     return (f"{p.name} = {value:.3g} ± {stderr:.2g} {p.unit_in(units)}: its standard error is {100 * relative:.0f} % of "
-            f"it, so the log does not pin it down (identifying it needs {p.excitation})")
+            f"it, {cause(p.excitation)}")
 
 
 def _offset_flag(offset_C: float, series: Sequence[ActuatorSeries]) -> str | None:

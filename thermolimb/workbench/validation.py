@@ -234,11 +234,13 @@ def validate_model(
         final, train_series = make().fit(series), series
     train = tuple(_segment(final.model_, s) for s in train_series)
     held = list(getattr(final, "fixed", None) or [])
+    train_metrics = _metrics(train)
     return FitReport(
         actuator=series[0].actuator, method=final.method, model=final.model_, stderr=final.stderr_,
-        train=_metrics(train), validation=_metrics(valid), train_segments=train, validation_segments=valid,
+        train=train_metrics, validation=_metrics(valid), train_segments=train, validation_segments=valid,
         estimator=final, train_series=tuple(train_series),
-        flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held)),
+        flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
+                                    train_rmse_K=train_metrics["rmse_K"])),
         scheme=scheme.describe(held_out=bool(validate_on)),
     )
 

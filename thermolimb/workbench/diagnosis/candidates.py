@@ -43,7 +43,9 @@ DROP_IMPROVEMENT = 0.05
 MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence on the training part)
 CONFOUNDED_FRACTION = 1e-3  # a signature with less than this share of its own is confounded
 COLLINEAR = 0.999  # heat sources whose regressors correlate at least this much cannot be told apart
-TIME_SCALES = 5  # points of the time-scale scan
+TIME_SCALES = 5  # time scales a log can show, where non-nuisance times (a sensor lag) start their refits
+SCAN_POINTS = 7  # values of a nuisance parameter the score scans (and the refit's profile holds)
+SCAN_SPAN = 2.0  # the longest time scanned, in log lengths: a mass slower than the log still bends its curve
 REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time scales
 WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this level
 
@@ -81,11 +83,15 @@ class Candidate:
     evidence: str = ""
     report: object = field(default=None, repr=False)
     starts: list[dict] = field(default_factory=list, repr=False)  # where refits start
+    scan: list[tuple[dict, dict]] = field(default_factory=list, repr=False)  # (nuisance values, start there)
     channel: str | None = None  # the extra channel a "channel" candidate reads
     channel_unit: str | None = None
     formula: str | None = None  # a generated term's heat in symbols
     source: str | None = field(default=None, repr=False)  # a generated term's Python source (--propose)
     skipped: str | None = None  # why a candidate worth a refit was not refitted
+    selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
+    stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
+    unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
 
     @property
     def adds(self) -> bool:
@@ -142,6 +148,8 @@ class Candidate:
             return "implausible"
         if self.identifiable is False:
             return "unidentifiable"
+        if self.unstable_because:
+            return "unstable"
         return "helps" if self.helps else "does not help"
 
     def to_json(self) -> dict:
@@ -152,6 +160,7 @@ class Candidate:
             "implausible_because": self.implausible_because, "confounded": self.confounded,
             "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
             "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
+            "selection_frequency": self.selection_frequency,
             # every value of the refitted model (the term's own are in params), which its sentences may name
             "model_params": None if self.report is None else dict(self.report.model.params),
         }
@@ -211,20 +220,25 @@ def time_scales_s(series: list[ActuatorSeries]) -> np.ndarray:
     return np.geomspace(lo, hi, TIME_SCALES)
 
 
+def scan_values(p, series: list[ActuatorSeries]) -> np.ndarray:
+    """Values of a nuisance parameter to scan: for a time, from three sampling intervals to ``SCAN_SPAN`` log
+    lengths, log-spaced; otherwise a tenth to ten times its typical size."""
+    if p.unit == "s":
+        lo = 3.0 * min(s.median_dt_s for s in series)
+        hi = max(SCAN_SPAN * max(s.duration_s for s in series), 2.0 * lo)
+        values = np.geomspace(lo, hi, SCAN_POINTS)
+    else:
+        values = p.typical * np.geomspace(0.1, 10.0, SCAN_POINTS)
+    return np.clip(values, p.lower, p.upper)
+
+
 def _grid(term, series) -> list[dict]:
-    """Values of the term's nuisance parameters to scan: time scales for times, multiples of typical otherwise."""
+    """Points of the term's nuisance parameters to scan (:func:`scan_values`, stepped together)."""
     nuisance = [p for p in term.parameters if p.nuisance]
     if not nuisance:
         return [{}]
-    scales = time_scales_s(series)
-    out = []
-    for k in range(TIME_SCALES):
-        point = {}
-        for p in nuisance:
-            value = scales[k] if p.unit == "s" else p.typical * (0.1, 0.3, 1.0, 3.0, 10.0)[k]
-            point[p.name] = float(np.clip(value, p.lower, p.upper))
-        out.append(point)
-    return out
+    values = {p.name: scan_values(p, series) for p in nuisance}
+    return [{name: float(v[k]) for name, v in values.items()} for k in range(SCAN_POINTS)]
 
 
 def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None:
@@ -271,6 +285,8 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
                                                              stride, at_null)
         own_share = np.fmax(own_share, share)
         scored.append((score, p_value, r2, {**dict(base.params), **step, **fixed}, partner))
+    nuisance = [p.name for p in term.parameters if p.nuisance]
+    cand.scan = [({n: start[n] for n in nuisance}, start) for *_, start, _ in scored]
     scored.sort(key=lambda x: (x[4] is None, -x[0]))
     cand.score, cand.p_value, cand.partial_r2 = scored[0][0], scored[0][1], scored[0][2]
     cand.starts = [s[3] for s in scored[:REFIT_STARTS]]

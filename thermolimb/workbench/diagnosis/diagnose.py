@@ -22,30 +22,29 @@ are fitted, validated and gated like catalog effects.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 
-from ...identification import IdentifiabilityError, OutputError
+from ...identification import OutputError
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
-from ...model.model import model_parameters
 from ...model.terms import TERMS, parse_model
 from ...model.units import NOT_GIVEN
 from ...util.progress import progress
 from ..validation import FitReport, Scheme, validate_model, identifiable_submodel
-from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, judge, score_candidate
+from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .evidence import describe, describe_discovered
+from ..floor import SensorFloor, sensor_floor
+from .refit import refit
 from .residuals import ResidualAnalysis, analyse_residuals
+from .stability import Stability, selection_frequencies
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
-# evaluations to screen a refit's starts, each with its Jacobian: (parameters + 1) simulations each (it was 2 per
-# parameter, which with the Jacobians scipy does not count made some 60 simulations a start)
-SCREEN_EVALUATIONS = 2
 
 
 @dataclass
@@ -59,6 +58,14 @@ class Diagnosis:
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
     proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
+    floor: SensorFloor | None = None  # what the readings can resolve
+    stability: dict | None = None  # the replicates' verdicts, when the best change was checked for stability
+    unstable: Candidate | None = None  # the best change, when it helps but is not taken often enough
+
+    @property
+    def at_floor(self) -> bool:
+        """The model already explains the log to within the sensor's floor: nothing more is recommended."""
+        return self.floor is not None and self.floor.reached(self.base.validation["rmse_K"])
 
     def to_json(self) -> dict:
         out = {
@@ -76,6 +83,9 @@ class Diagnosis:
             "recommended_change": None if self.recommended is None else self.recommended.label,
             "recommended_model": None if self.recommended is None else list(self.recommended.model),
             "residuals": self.residuals.to_json(),
+            "floor": None if self.floor is None else self.floor.to_json(self.base.validation["rmse_K"]),
+            "stability": self.stability,
+            "unstable": None if self.unstable is None else self.unstable.label,
         }
         if self.auto is not None:
             out["auto"] = self.auto
@@ -98,7 +108,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
              validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
              skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset(),
              base: FitReport | None = None, discover: bool = False,
-             datasheet: dict[str, float] | None = None) -> Diagnosis:
+             datasheet: dict[str, float] | None = None, stability: Stability | None = None,
+             contenders: Sequence[Candidate] | None = None, extra_starts: dict[str, dict] | None = None) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making.
 
     Held-out errors come from ``scheme`` (default: the ``split`` rule, or
@@ -113,6 +124,10 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     and the residual has structure, a discovered form (module docstring).
     ``datasheet``: values held where the log cannot identify them (``RC_s``; see
     :func:`~thermolimb.workbench.validation.identifiable_submodel`).
+    ``stability``: before the best change is recommended, the search is repeated on perturbed replicates of
+    the log and the change must be taken in enough of them (:mod:`.stability`).  A model already within the
+    sensor's floor (:mod:`.floor`) is recommended no change.  ``contenders`` (with ``extra_starts`` by label):
+    only these changes are tried, afresh -- what a replicate does.
     """
     model = parse_model(model)
     series = list(series)
@@ -128,20 +143,33 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     first = base.train_segments[0]
     analysis = analyse_residuals(train[0], first.simulated_C)
 
-    candidates = candidate_models(model, series[0])
-    if discover:
-        candidates += _channel_candidates(model, train, series + list(validate_on))
-    candidates = [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
+    if contenders is None:
+        candidates = candidate_models(model, series[0])
+        if discover:
+            candidates += _channel_candidates(model, train, series + list(validate_on))
+        candidates = [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
+    else:
+        candidates = list(contenders)
     for cand in candidates:
         score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
-    for cand in progress(_worth_refitting(candidates, refit), desc="refits", disable=quiet):
-        _refit(cand, series, scheme, validate_on, base, base_bic)
+    warm = extra_starts or {}
+    floor = sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
+    # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
+    worth = (_worth_refitting(candidates, refit) if contenders is None
+             else [c for c in candidates if c.confounded is None])
+    if floor.reached(base.validation["rmse_K"]):  # nothing can be told apart: nothing is refitted
+        for cand in worth:
+            cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
+        worth = []
+    for cand in progress(worth, desc="refits", disable=quiet):
+        _refit(cand, series, scheme, validate_on, base, base_bic, warm.get(cand.label))
     for cand in candidates:
         if not cand.evidence:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
     proposal = None
-    if discover and not (candidates and candidates[0].eligible) and analysis.structured:
+    if (contenders is None and discover and not (candidates and candidates[0].eligible) and analysis.structured
+            and not floor.reached(base.validation["rmse_K"])):
         proposal = propose(base.model, train, jacobian, residual, stride=stride)
         if proposal is not None and frozenset(model + (proposal.term,)) not in visited:
             cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
@@ -155,8 +183,34 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
             candidates = sorted(candidates + [cand], key=_rank)
     best = candidates[0] if candidates and candidates[0].eligible else None
     recommended = best if base.evidence.rankable else None  # a handful of held-out readings recommends nothing
-    return Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended,
-                     proposal=proposal)
+    d = Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, proposal=proposal,
+                  floor=floor)
+    if d.at_floor:
+        d.recommended = None
+    elif recommended is not None and stability is not None:
+        _check_stability(d, series, scheme, validate_on, stability, datasheet)
+    return d
+
+
+def _check_stability(d: Diagnosis, series, scheme, validate_on, stability: Stability, datasheet) -> None:
+    """The replicates' verdicts (:mod:`.stability`): the best change stays recommended only if taken often enough;
+    each contender's evidence says how often it was taken and what varied."""
+    frequencies = selection_frequencies(d, series, scheme, validate_on, stability, datasheet)
+    k = stability.replicates
+    varied = stability.varied(None if validate_on else scheme)
+    d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
+                   "varied": varied, "frequencies": frequencies}
+    for c in d.candidates:
+        if c.selection_frequency is None:
+            continue
+        taken = round(c.selection_frequency * k)
+        verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
+        c.stability_sentence = f"taken in {taken} of {k} replicates ({varied}){verdict}"
+        c.evidence = f"{c.evidence} {c.stability_sentence[0].upper()}{c.stability_sentence[1:]}.".strip()
+    best = d.recommended
+    if best.selection_frequency < stability.min_frequency:
+        best.unstable_because = best.stability_sentence
+        d.unstable, d.recommended = best, None
 
 
 def _channel_candidates(model, train, every) -> list[Candidate]:
@@ -204,35 +258,12 @@ def _identifiable_base(series, model, scheme, validate_on, initial, datasheet=No
                                  model, series, datasheet=datasheet)
 
 
-def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float) -> None:
-    """Screen the starts by a short fit on the training data, refit from the best, judge it on held-out data."""
-    keep = {p.name for p in model_parameters(cand.model)}
-    starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
-    errors = []
-    if len(starts) > 1:
-        screened = []
-        for start in starts:
-            try:
-                est = OutputError(model=cand.model, initial=start, max_iterations=SCREEN_EVALUATIONS,
-                                  fixed=base.held or None)
-                est.fit(list(base.train_series))
-                screened.append((float(est.optimizer_result_.cost), est.params_))
-            except IdentifiabilityError as exc:
-                errors.append(str(exc))
-        starts = [start for _, start in sorted(screened, key=lambda x: x[0])]
-    report = None
-    for start in starts:  # the best screened start first; the next when its refit ends where a parameter has no effect
-        try:
-            report = replace(_evaluate(series, cand.model, scheme, validate_on, start, base.held),
-                             set_aside=base.set_aside)
-            break
-        except IdentifiabilityError as exc:
-            errors.append(str(exc))
-    if report is None:
-        cand.identifiable = False
-        cand.failure = f"not identifiable from this log: {errors[0]}"
-        return
-    judge(cand, report, base.validation["rmse_K"], base_bic)
+def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float,
+           warm: dict | None = None) -> None:
+    """Refit a candidate by :func:`.refit.refit` (a deterministic profile over its nonlinear parameter, then
+    the next start while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
+    refit(cand, base, base_bic, lambda model, initial, fixed: _evaluate(series, model, scheme, validate_on, initial,
+                                                                        fixed), warm)
 
 
 def _rank(c: Candidate):
@@ -245,7 +276,8 @@ def _rank(c: Candidate):
 def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
                   max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
                   validate_on: Sequence[ActuatorSeries] = (), discover: bool = False,
-                  datasheet: dict[str, float] | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
+                  datasheet: dict[str, float] | None = None,
+                  stability: Stability | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
     """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
 
     The first diagnosis carries the walk in ``auto``: per step the model, its
@@ -253,21 +285,21 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
     """
     scheme = scheme or Scheme(split=split, folds=cv)
     steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on, discover=discover,
-                      datasheet=datasheet)]
+                      datasheet=datasheet, stability=stability)]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
     while len(steps) <= max_steps:
         d = steps[-1]
         confounded |= {c.label for c in d.candidates if c.confounded}
-        move = next((c for c in d.candidates if c.eligible and frozenset(c.model) not in visited), None)
-        if move is None or not d.base.evidence.rankable:
+        move = d.recommended  # eligible, on rankable evidence, above the floor and stable when checked
+        if move is None or frozenset(move.model) in visited:
             break
         visited.add(frozenset(move.model))
         moves.append(move)
         steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
                               skip=frozenset(confounded), visited=frozenset(visited), base=move.report,
-                              discover=discover))
+                              discover=discover, stability=stability))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]
@@ -277,10 +309,18 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
 
 def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:
     out = {"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
-           "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags)}
+           "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags),
+           "floor_K": None if d.floor is None else d.floor.floor_K}
     if move is not None:
         b = before.base.validation["rmse_K"]
-        out.update(change=move.label, from_rmse_K=b, improvement=move.improvement, delta_bic=move.delta_bic)
+        out.update(change=move.label, from_rmse_K=b, improvement=move.improvement, delta_bic=move.delta_bic,
+                   selection_frequency=move.selection_frequency)
         out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
-                      f"BIC {move.delta_bic:+.1f}")
+                      f"BIC {move.delta_bic:+.1f}" + (f", {move.stability_sentence}" if move.stability_sentence else ""))
+    if d.unstable is not None:  # where the walk stopped: a change that helps, not taken often enough
+        c = d.unstable
+        out["unstable"] = {"change": c.label, "rmse_K": c.rmse_K, "selection_frequency": c.selection_frequency,
+                           "replicates": d.stability["replicates"], "why": c.unstable_because}
+    if d.at_floor:
+        out["at_floor"] = d.floor.sentence(d.base.validation["rmse_K"])
     return out

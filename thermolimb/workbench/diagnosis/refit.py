@@ -1,0 +1,183 @@
+"""Refitting a candidate change so that where it ends does not depend on where it starts.
+
+A candidate's refit is a nonlinear least-squares fit of the free run; most of
+its parameters enter the simulated temperature almost linearly (heat sizes,
+offsets), and a few do not: a mass's or a sensor's time constant, a gain on a
+conductance (airflow, a fan's duty, the neighbours' conduction, copper's
+temperature coefficient).  A local fit started wherever a quick screen ranked
+first can end in a different basin when the log changes in its last digits
+(a few rows trimmed), which is what made verdicts on real logs flip.
+
+So the refit searches that one nonlinear parameter globally and
+deterministically, then refines:
+
+1. **Profile.**  The candidate's most nonlinear parameter (:func:`profiled_parameter`:
+   a time constant first, else a parameter that changes the conductance) is
+   held at each of :data:`PROFILE_POINTS` log-spaced values the log can show
+   (:func:`profile_grid`), and the other parameters are fitted briefly from the
+   score test's best start.  A profile is a one-dimensional global search: it
+   looks at every basin along the parameter instead of the one a start falls in,
+   at the cost of a few short fits (argued against trying every start fully,
+   which costs two to three diagnoses, and a reparameterisation, which would
+   have to be found term by term and for users' terms too).
+2. **Refine.**  Every parameter is fitted from the best profile point; a
+   second point whose short fit came within :data:`COMPETING` of the best is
+   refined too, and the refit with the lower training error is kept (two
+   basins of nearly equal error are both looked at to the end).
+3. **Fallback.**  If a refit cannot identify a parameter, or the effect
+   collapses to its null or a time constant runs to a bound, the next profile
+   point is refined, up to :data:`MAX_REFINES` refits, before the candidate is
+   said to fail.
+
+A term with no nonlinear parameter is refitted from its starts, the best
+screened first, with the same fallback.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ...identification import IdentifiabilityError, OutputError
+from ...model.model import model_parameters
+from ...model.terms import TERMS, Parameter
+from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
+
+PROFILE_POINTS = SCAN_POINTS  # values of the profiled parameter, log-spaced
+PROFILE_EVALUATIONS = 4  # trust-region iterations of each profile point's short fit
+COMPETING = 1.25  # a second profile point is refined too when its short fit's error is within this of the best's
+MAX_REFINES = 2  # refits in full at most: a refit that fails or collapses passes to the next point
+SCREEN_EVALUATIONS = 2  # of each start's short fit, for a term with nothing to profile
+GAIN_RANGE = (0.03, 30.0)  # a gain is profiled over these multiples of its typical size
+
+
+def profiled_parameter(term, params: dict, series) -> Parameter | None:
+    """The term's parameter to search globally: a time constant (unit s; the nuisance one first), else the
+    first parameter that changes the conductance to ambient (the ``gain`` a term's contribution returns moves
+    with it), else ``None``."""
+    times = sorted((p for p in term.parameters if p.unit == "s"), key=lambda p: not p.nuisance)
+    if times:
+        return times[0]
+    signals = series.signals
+    base = {**params, **{p.name: p.typical for p in term.parameters}}
+    try:
+        _, gain = term().contribution(base, signals)
+    except (KeyError, TypeError, ValueError, ArithmeticError):  # a term that needs more than the base has
+        return None
+    for p in term.parameters:
+        moved = {**base, p.name: 2.0 * p.typical if p.typical else 1.0}
+        try:
+            _, other = term().contribution(moved, signals)
+        except (KeyError, TypeError, ValueError, ArithmeticError):
+            continue
+        if np.any(np.asarray(other) != np.asarray(gain)):
+            return p
+    return None
+
+
+def profile_grid(param: Parameter, train) -> np.ndarray:
+    """The values a profile holds ``param`` at: the time scales the score scans for a time
+    (:func:`~.candidates.scan_values`), multiples of the typical size for a gain; within the parameter's bounds,
+    never at its null."""
+    if param.unit == "s":
+        values = scan_values(param, train)
+    else:
+        size = abs(param.typical) or 1.0
+        values = np.sign(param.typical or 1.0) * size * np.geomspace(*GAIN_RANGE, PROFILE_POINTS)
+    span = param.upper - param.lower if np.isfinite(param.upper - param.lower) else np.abs(values).max()
+    values = np.clip(values, param.lower + 1e-6 * span, param.upper - 1e-6 * span)
+    return np.unique(values[values != param.null])
+
+
+def ordered_starts(cand: Candidate, base, train) -> list[tuple[float, dict]]:
+    """Where the full refit may start, best first, each with its short fit's training cost (``inf`` when not
+    screened): the profile's points, or for a term with nothing to profile, its starts screened the same way."""
+    keep = {p.name for p in model_parameters(cand.model)}
+    starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
+    held = dict(base.held or {})
+    term = TERMS[cand.effect] if cand.adds else None
+    param = profiled_parameter(term, dict(base.model.params), train[0]) if term is not None else None
+    if param is not None and param.name not in held:
+        # each point starts where the score's linearised step put the other parameters for that value, if it
+        # scanned it (a nuisance time), else from the best start
+        scanned = {round(f[param.name], 9): start for f, start in cand.scan if param.name in f}
+        # a size at its null leaves the profiled parameter without effect (a mass of no share has no time
+        # constant): such a start takes the size's typical value instead
+        absent = {p.name: p.typical for p in term.parameters if p is not param and not p.nuisance}
+        points = []
+        for value in profile_grid(param, train):
+            start = scanned.get(round(float(value), 9), starts[0])
+            start = {k: v for k, v in start.items() if k in keep}
+            start.update({k: v for k, v in absent.items()
+                          if abs(start.get(k, v) - _null(term, k)) <= 1e-9 * max(abs(v), 1e-12)})
+            points.append(({**start, param.name: float(value)}, {**held, param.name: float(value)}))
+        evaluations = PROFILE_EVALUATIONS
+    elif len(starts) > 1:
+        points = [(start, held) for start in starts]
+        evaluations = SCREEN_EVALUATIONS
+    else:
+        return [(np.inf, start) for start in starts]
+    screened = []
+    for initial, fixed in points:
+        try:
+            est = OutputError(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
+            est.fit(list(train))
+        except IdentifiabilityError:
+            continue
+        screened.append((float(est.optimizer_result_.cost), len(screened), dict(est.params_)))
+    return [(cost, params) for cost, _, params in sorted(screened, key=lambda x: x[:2])] or \
+        [(np.inf, start) for start in starts]
+
+
+def _null(term, name: str) -> float:
+    return next(p.null for p in term.parameters if p.name == name)
+
+
+def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = None) -> None:
+    """Refit ``cand`` (profile, refine, fall back; module docstring) and judge it on held-out data.
+
+    ``evaluate(model, initial, fixed)`` fits and validates a model the way the diagnosis does.  ``warm``: where
+    the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`); refined
+    from there too, and the refit with the lowest training error of all is kept.
+    """
+    found = []
+    if warm is not None:  # also refined from where the whole log's refit ended; the better of all is kept
+        keep = {p.name for p in model_parameters(cand.model)}
+        try:
+            report = replace(evaluate(cand.model, {k: v for k, v in warm.items() if k in keep}, base.held),
+                             set_aside=base.set_aside)
+            if not cand.adds or refit_failure(TERMS[cand.effect], report.model.params) is None:
+                found.append(report)
+        except IdentifiabilityError:
+            pass
+    starts = ordered_starts(cand, base, list(base.train_series))
+    errors, collapsed, profiled = [], None, 0
+    best_cost = starts[0][0]
+    for cost, start in starts[:MAX_REFINES]:
+        if profiled and not cost <= COMPETING * best_cost:
+            break  # a refit found the effect, and no other basin competes with it
+        try:
+            report = replace(evaluate(cand.model, start, base.held), set_aside=base.set_aside)
+        except IdentifiabilityError as exc:
+            errors.append(str(exc))
+            continue
+        why = refit_failure(TERMS[cand.effect], report.model.params) if cand.adds else None
+        if why is not None:
+            collapsed = collapsed or report  # the first refit that found no such effect, if none does better
+            continue
+        found.append(report)
+        profiled += 1
+    if found:  # the refined basins' best by training error (held-out data judges the change, not the start),
+        # a physically plausible one first (a second mass that came out faster than the winding is the two
+        # masses' roles swapped: another basin, not another effect)
+        term = TERMS[cand.effect]() if cand.adds else None
+        best = min(found, key=lambda r: (term is not None and term.implausible(r.model.params) is not None,
+                                         float(r.train_residual_K @ r.train_residual_K)))
+        judge(cand, best, base.validation["rmse_K"], base_bic)
+        return
+    if collapsed is not None:
+        judge(cand, collapsed, base.validation["rmse_K"], base_bic)
+        return
+    cand.identifiable = False
+    cand.failure = f"not identifiable from this log: {errors[0]}"

@@ -1,0 +1,175 @@
+"""How sure a verdict is: the share of perturbed replicates of the log in which the search takes the same change.
+
+A recommendation must be a property of the log's physics, not of its last
+rows or of a split's exact place.  So before a change is recommended, the
+search is repeated on :attr:`Stability.replicates` replicates of the log,
+each perturbed in ways that must not matter:
+
+* **trims**: each run loses a few rows at its end (up to :data:`TRIM_ROWS`),
+  as a colleague cutting the same recording would.  Not at its start: a run
+  is simulated from its first reading with its slower masses in proportion
+  to it (as if the actuator were in a steady state there), and a log that
+  starts cold and heats within seconds, cut a few seconds in, starts where
+  that does not hold -- a different problem for the model, not a
+  perturbation that must not matter (measured: on the X8 plant's logs a
+  5-row cut at the start triples the slow mass's best training error);
+* **the validation split moved** by up to :data:`SPLIT_JITTER` of each run's
+  span (under a split scheme), so that no verdict hangs on where held-out
+  data begins;
+* **other starts**: every contender's refit starts from its fitted values
+  scaled by factors drawn from a log-normal of :data:`START_JITTER` (the
+  profile search of :mod:`.refit` should make them irrelevant; this checks
+  it); the base model starts where the full search left it.
+
+In each replicate the search runs as in the full diagnosis on the changes
+that contend -- every change the full search refitted that was eligible or
+came within half of the held-out gate: the base model is refitted on the
+replicate, each contender scored (score test, confounding), refitted from
+where the full search left it with the starts jittered (and searched afresh
+by :mod:`.refit`'s profile if that refit fails) and judged (held-out gain,
+BIC, plausibility, identifiability, the sensor's floor); the replicate takes
+the best eligible contender, or none.
+A change's **selection frequency** is the share of replicates that take it;
+it is recommended only if that share is at least
+:attr:`Stability.min_frequency` (0.8 by default), and ``--auto`` walks only
+such steps.
+
+This is stability selection (Meinshausen and Buhlmann, 2010: keep what a
+selection procedure picks on most perturbed subsamples), with perturbations
+chosen for free-run thermal models: subsampling or the block bootstrap
+(Kunsch, 1989) would cut a run into pieces that each need their own initial
+state and break the thermal memory the model is about; trims and a moved
+split keep every run continuous.  Replicates are seeded (the same seed gives
+the same frequencies) and run on the process pool.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ...logs import ActuatorSeries
+from ...logs.series import MIN_SAMPLES
+from ...util.parallel import run_jobs
+from .candidates import MIN_IMPROVEMENT, Candidate
+
+REPLICATES = 10
+MIN_FREQUENCY = 0.8
+TRIM_ROWS = 5  # at most, at either end of a run
+SPLIT_JITTER = 0.03
+START_JITTER = 0.2  # the standard deviation of the log of the factor each start's values are scaled by
+
+
+@dataclass(frozen=True)
+class Stability:
+    """How many replicates, the share a change needs, their seed, and the local workers that run them."""
+
+    replicates: int = REPLICATES
+    min_frequency: float = MIN_FREQUENCY
+    seed: int = 0
+    workers: int = 2
+
+    def __post_init__(self):
+        if not (isinstance(self.replicates, (int, np.integer)) and self.replicates >= 2):
+            raise ValueError(f"stability needs at least 2 replicates, got {self.replicates!r}")
+        if not 0.0 < self.min_frequency <= 1.0:
+            raise ValueError(f"the minimum selection frequency must be in (0, 1], got {self.min_frequency!r}")
+
+    def varied(self, scheme) -> str:
+        """What the replicates varied, in words (said beside every frequency)."""
+        parts = [f"each run trimmed by up to {TRIM_ROWS} rows at its end"]
+        if scheme is not None and not scheme.folds and not scheme.by_run:
+            parts.append(f"the split moved by up to {SPLIT_JITTER:.2f}")
+        parts.append(f"the refits' starts scaled by up to about {100 * (np.exp(2 * START_JITTER) - 1):.0f} %")
+        return ", ".join(parts)
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """One replicate: rows trimmed off each run's start and end, the split fraction, and the starts' seed."""
+
+    trims: tuple[tuple[int, int], ...]
+    held_trims: tuple[tuple[int, int], ...]
+    split: float
+    start_seed: int
+
+    def trimmed(self, series, trims) -> list[ActuatorSeries]:
+        return [s.slice(a, s.n - b) for s, (a, b) in zip(series, trims)]
+
+    def jitter(self, starts: list[dict]) -> list[dict]:
+        """Each start's values scaled by one log-normal factor per value (sign kept)."""
+        rng = np.random.default_rng(self.start_seed)
+        return [{k: float(v * np.exp(rng.normal(0.0, START_JITTER))) for k, v in start.items()} for start in starts]
+
+
+def perturbations(stability: Stability, series, validate_on, scheme) -> list[Perturbation]:
+    """The seeded replicates' perturbations (module docstring)."""
+    rng = np.random.default_rng([stability.seed, 20260])
+
+    def trims(runs):
+        out = []
+        for s in runs:
+            most = min(TRIM_ROWS, max((s.n - MIN_SAMPLES) // 4, 0))  # a short run keeps what it needs
+            out.append((0, int(rng.integers(0, most + 1))))
+        return tuple(out)
+
+    out = []
+    for _ in range(stability.replicates):
+        split = scheme.split
+        if not scheme.folds and not scheme.by_run and not validate_on:
+            split = float(np.clip(scheme.split + rng.uniform(-SPLIT_JITTER, SPLIT_JITTER), 0.05, 0.95))
+        out.append(Perturbation(trims(series), trims(validate_on), split, int(rng.integers(2**31))))
+    return out
+
+
+def contenders(candidates: list[Candidate]) -> list[Candidate]:
+    """The changes a replicate re-judges: refitted, not confounded, and eligible or within half of the
+    held-out gate (a change far from it cannot become the best eligible one by a few rows)."""
+    return [c for c in candidates if c.refitted and c.confounded is None and c.failure is None
+            and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT)]
+
+
+def selection_frequencies(diagnosis, series, scheme, validate_on, stability: Stability,
+                          datasheet=None) -> dict[str, float]:
+    """``{label: share of replicates taking it}`` over the contenders, and ``"none"`` for replicates taking
+    nothing; fills each contender's ``selection_frequency``."""
+    chosen = contenders(diagnosis.candidates)
+    if not chosen:
+        return {"none": 1.0}
+    specs = [_spec(c) for c in chosen]
+    initial = dict(diagnosis.base.model.params)
+    jobs = [(list(series), list(validate_on), scheme, diagnosis.model, initial, specs, p, datasheet)
+            for p in perturbations(stability, list(series), list(validate_on), scheme)]
+    taken = run_jobs(_replicate, jobs, backend="process" if stability.workers > 1 else "serial",
+                     workers=stability.workers)
+    counts: dict[str, int] = {}
+    for label in taken:
+        counts[label or "none"] = counts.get(label or "none", 0) + 1
+    frequencies = {label: counts.get(label, 0) / len(taken) for label in [c.label for c in chosen] + ["none"]}
+    for c in chosen:
+        c.selection_frequency = frequencies[c.label]
+    return frequencies
+
+
+def _spec(c: Candidate) -> dict:
+    """What a replicate needs to rebuild a contender (its fitted values start the replicate's starts)."""
+    fitted = dict(c.report.model.params) if c.report is not None else {}
+    return {"effect": c.effect, "model": c.model, "kind": c.kind, "replaces": c.replaces, "also_drops": c.also_drops,
+            "channel": c.channel, "channel_unit": c.channel_unit, "formula": c.formula, "fitted": fitted}
+
+
+def _replicate(series, validate_on, scheme, model, initial, specs, perturbation: Perturbation, datasheet) -> str | None:
+    """One replicate's search on the contenders: the label it takes, or ``None`` (module docstring)."""
+    from .diagnose import diagnose  # the search itself; this module is imported by it
+
+    runs = perturbation.trimmed(series, perturbation.trims)
+    held = perturbation.trimmed(validate_on, perturbation.held_trims)
+    replicate_scheme = replace(scheme, split=perturbation.split)
+    candidates = [Candidate(s["effect"], tuple(s["model"]), kind=s["kind"], replaces=s["replaces"],
+                            also_drops=tuple(s["also_drops"]), channel=s["channel"], channel_unit=s["channel_unit"],
+                            formula=s["formula"]) for s in specs]
+    jittered = perturbation.jitter([s["fitted"] for s in specs])
+    d = diagnose(runs, model, scheme=replicate_scheme, validate_on=held, initial=initial, datasheet=datasheet,
+                 contenders=candidates, extra_starts=dict(zip([c.label for c in candidates], jittered)))
+    return None if d.recommended is None else d.recommended.label
