@@ -37,6 +37,7 @@ from thermolimb.model.terms import TERMS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS, HIDDEN_CASES
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.stability import Stability
 from thermolimb.workbench.validation import fit_and_validate
 
 CHANNEL_CASES = {"fan_cooling": "fan", "holding_brake": "brake", "driver_conduction": "driver"}
@@ -55,7 +56,7 @@ def generated_in(model) -> list[str]:
 
 def walk(series, discover: bool) -> tuple[dict, float]:
     start = time.perf_counter()
-    first, steps = auto_diagnose(series, discover=discover)
+    first, steps = auto_diagnose(series, discover=discover, stability=STABILITY[0])
     seconds = time.perf_counter() - start
     return {"rmse_K": first.auto[-1]["rmse_K"], "base_K": first.auto[0]["rmse_K"], "model": list(steps[-1].model),
             "walk": [s.get("change", "start") for s in first.auto],
@@ -122,12 +123,19 @@ def cost() -> dict:
             "ratio": with_discovery / without}
 
 
+# the stability check every walk makes (--stability K replicates, as thermolimb diagnose; 0: off)
+STABILITY: list = [None]
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--skip-catalog", action="store_true", help="leave out the ten three-node catalog cases")
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    parser.add_argument("--stability", type=int, default=10, metavar="K",
+                        help="replicates of the stability check, as thermolimb diagnose's default (0: off)")
     args = parser.parse_args(argv)
+    STABILITY[0] = Stability(args.stability) if args.stability else None
     rows = []
     for seed in args.seeds:
         rows.append(field_weakening(seed))

@@ -24,6 +24,7 @@ from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import TERMS
 from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.stability import Stability
 
 UR3_JOINTS = ("J1", "J2", "J4")  # three of the six: the shoulder and elbow carry load, J4 a wrist
 
@@ -35,7 +36,7 @@ def _generated(model) -> list[str]:
 def _walk(series, validate_on=(), discover=False) -> dict:
     start = time.perf_counter()
     try:
-        first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover)
+        first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover, stability=STABILITY[0])
     except ThermolimbError as exc:  # the log cannot carry Jorgensen et al.'s model: said, not hidden
         nan = float("nan")
         return {"base_K": nan, "final_K": nan, "model": [], "generated": [], "walk": [], "proposals": [],
@@ -73,10 +74,17 @@ def _row(log, actuator, scheme, extras, catalog, found) -> dict:
     return r
 
 
+# the stability check every walk makes (--stability K replicates, as thermolimb diagnose; 0: off)
+STABILITY: list = [None]
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    parser.add_argument("--stability", type=int, default=10, metavar="K",
+                        help="replicates of the stability check, as thermolimb diagnose's default (0: off)")
     args = parser.parse_args(argv)
+    STABILITY[0] = Stability(args.stability) if args.stability else None
     rows = []
     print(f"{'log':10s} {'actuator':8s} {'scheme':34s} {'base K':>7s} {'catalog K':>9s} {'discover K':>10s}  "
           f"taken by discovery", flush=True)

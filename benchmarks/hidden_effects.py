@@ -26,6 +26,7 @@ from dataclasses import replace
 from thermolimb.plant import NETWORKS, X8_9, AmbientVariation, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS, HIDDEN_CASES
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.stability import Stability
 from thermolimb.workbench.validation import fit_and_validate
 
 
@@ -33,7 +34,7 @@ def x8_cases(seed: int) -> list[dict]:
     rows = []
     for name, case in HIDDEN_CASES.items():
         start = time.perf_counter()
-        first, steps = auto_diagnose([case.log(seed).series("knee")])
+        first, steps = auto_diagnose([case.log(seed).series("knee")], stability=STABILITY[0])
         rows.append({"case": name, "term": case.term, "seed": seed, "found": case.found_in(steps[-1].model),
                      "before_K": first.auto[0]["rmse_K"], "after_K": first.auto[-1]["rmse_K"],
                      "walk": [s.get("change", "start") for s in first.auto], "final": list(steps[-1].model),
@@ -48,7 +49,7 @@ def step_tests(seeds) -> list[dict]:
                                PlantEffects.from_names("sensor_noise,quantisation"), seed=seed,
                                network=NETWORKS["second_order"]).log
         series = [log.series("knee")]
-        _, steps = auto_diagnose(series)
+        _, steps = auto_diagnose(series, stability=STABILITY[0])
         final = steps[-1].model
         first_order = fit_and_validate(series, "joule").validation["rmse_K"]
         restarted = fit_and_validate(series, final, restart_at_split=True).validation["rmse_K"]
@@ -73,7 +74,7 @@ def richer_base(seed: int) -> list[dict]:
         log = simulate_profile("random", 3600.0, 0.5, ["knee"], [X8_9], fx, seed=seed,
                                network=NETWORKS["second_order"]).log
         start = time.perf_counter()
-        first, steps = auto_diagnose([log.series("knee")])
+        first, steps = auto_diagnose([log.series("knee")], stability=STABILITY[0])
         last = next((c for c in steps[-1].candidates if c.kind == "add" and c.effect in TERMS_OF[effect]), None)
         rows.append({"effect": effect, "seed": seed, "found": any(t in steps[-1].model for t in TERMS_OF[effect]),
                      "before_K": first.auto[0]["rmse_K"], "after_K": first.auto[-1]["rmse_K"],
@@ -85,11 +86,18 @@ def richer_base(seed: int) -> list[dict]:
     return rows
 
 
+# the stability check every walk makes (--stability K replicates, as thermolimb diagnose; 0: off)
+STABILITY: list = [None]
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    parser.add_argument("--stability", type=int, default=10, metavar="K",
+                        help="replicates of the stability check, as thermolimb diagnose's default (0: off)")
     args = parser.parse_args(argv)
+    STABILITY[0] = Stability(args.stability) if args.stability else None
     cases = [row for seed in args.seeds for row in x8_cases(seed)]
     print(f"{'case':18s} {'seed':>4s} {'found':>5s} {'before K':>9s} {'after K':>8s}  walk")
     for r in cases:

@@ -19,6 +19,7 @@ from thermolimb.model.terms import DEFAULT_MODEL
 from thermolimb.plotting.diagnosis import plot_diagnosis
 from thermolimb.plotting.interactive import InteractivePage, add_diagnosis
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.stability import Stability
 
 NAME = "pmsm-real-data"
 
@@ -54,12 +55,12 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     for number in (24, 46):
         log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
         series = [log.series(f"profile{number}")]
-        first, steps = auto_diagnose(series, quiet=quiet)
+        first, steps = auto_diagnose(series, quiet=quiet, stability=Stability())  # as thermolimb diagnose does
         plot_diagnosis(first, out, f"profile{number}")
         add_diagnosis(page, first, steps)
         entry = {"split": {"waterfall": first.auto, "recommended_model": first.to_json()["recommended_model"]}}
         if number == 24:
-            cv, _ = auto_diagnose(series, cv=4, quiet=quiet)
+            cv, _ = auto_diagnose(series, cv=4, quiet=quiet, stability=Stability())
             entry["cv4"] = {"waterfall": cv.auto}
         summary["profiles"][f"profile{number}"] = entry
     page.write(out / "interactive.html")

@@ -20,6 +20,7 @@ from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.identification import IdentifiabilityError
 from thermolimb.plotting.diagnosis import plot_diagnosis
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.diagnosis.stability import Stability
 from thermolimb.workbench.validation import Scheme
 
 NAME = "real-logs"
@@ -64,12 +65,12 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
                  "notes": [n for log in logs for n in log.notes], "actuators": {}}
         for name in names:
             runs = [r for log in logs for r in log.runs(name)]
-            first, _ = auto_diagnose(runs, quiet=quiet)
+            first, _ = auto_diagnose(runs, quiet=quiet, stability=Stability())  # as thermolimb diagnose does
             plot_diagnosis(first, out, f"{key}_{name}")
             record = {"runs": len(runs), "split": _walk(first)}
             if len(runs) > 1 and not quick:
                 try:
-                    cross, _ = auto_diagnose(runs, quiet=quiet, scheme=Scheme(by_run=True))
+                    cross, _ = auto_diagnose(runs, quiet=quiet, scheme=Scheme(by_run=True), stability=Stability())
                     record["leave_one_run_out"] = _walk(cross)
                 except IdentifiabilityError as exc:
                     record["leave_one_run_out"] = {"refused": str(exc)}

@@ -84,6 +84,7 @@ def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backen
     assert a != perturbations(Stability(seed=4), runs, [], Scheme())
     assert all(start == 0 and 0 <= end <= 5 for p in a for start, end in p.trims)
     assert all(abs(p.split - 0.7) <= 0.1 for p in a)
+    assert min(p.split for p in a) < 0.66 and max(p.split for p in a) > 0.74  # stratified over the range
     d = diagnose(runs)
     serial = selection_frequencies(d, runs, Scheme(), [], Stability(replicates=4, workers=1))
     pooled = selection_frequencies(d, runs, Scheme(), [], Stability(replicates=4, workers=2))

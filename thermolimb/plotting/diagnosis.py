@@ -75,7 +75,7 @@ def candidates_figure(d: Diagnosis):
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
     lo, hi = ax.get_xlim()
-    ax.set_xlim(lo, hi + 0.4 * (hi - lo))  # room for the labels right of the bars
+    ax.set_xlim(lo, hi + 0.6 * (hi - lo))  # room for the labels right of the bars
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
     thin = ("" if d.base.evidence.rankable else " (evidence too thin)") or (" (at the sensor's floor)" if d.at_floor
                                                                           else "")
