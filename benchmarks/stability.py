@@ -29,6 +29,7 @@ from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.plant.effects import FanCooling, Schedule
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
+from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.validation import Scheme
 
 # one-mass plant effects and the terms that name them (None: nothing hidden, nothing to take)
@@ -89,7 +90,11 @@ def perturbed(runs, k: int):
 def walk(runs, discover: bool, k: int) -> dict:
     series, scheme, stability = perturbed(runs, k)
     start = time.perf_counter()
-    first, steps = auto_diagnose(series, scheme=scheme, discover=discover, stability=stability)
+    try:
+        first, steps = auto_diagnose(series, scheme=scheme, discover=discover, stability=stability)
+    except ThermolimbError as exc:  # a perturbed copy too short to split: said, and counted as a different end
+        return {"final": None, "refused": str(exc), "walk": [], "rmse_K": [], "frequencies": [], "unstable": None,
+                "at_floor": False, "seconds": time.perf_counter() - start}
     tail = first.auto[-1].get("unstable")
     return {"final": sorted(steps[-1].model), "walk": [s.get("change", "start") for s in first.auto],
             "rmse_K": [round(s["rmse_K"], 4) for s in first.auto],
@@ -129,11 +134,15 @@ def main(argv=None) -> dict:
         same = sum(w["final"] == walks[0]["final"] for w in walks[1:]) / k
         row = {"log": name, "kind": "real" if hidden is None else "plant", "walks": walks, "same_share": same}
         if hidden is not None:
-            found = [any(any(t == h or t.startswith(h) or h in t for t in w["final"]) for h in hidden) if hidden
-                     else not [t for t in w["final"] if t not in ("joule", "effort_bias")] for w in walks]
+            found = [any(any(t == h or t.startswith(h) or h in t for t in w["final"] or []) for h in hidden) if hidden
+                     else w["final"] is not None and not [t for t in w["final"] if t not in ("joule", "effort_bias")]
+                     for w in walks]
             row["right_share"] = sum(found) / len(found)
         rows.append(row)
         w = walks[0]
+        if w["final"] is None:
+            print(f"{name:42s} refused: {w['refused']}", flush=True)
+            continue
         steps = "  ->  ".join(f"{c} {r:.3f} K" + (f" [{f:.1f}]" if f is not None else "")
                               for c, r, f in zip(w["walk"], w["rmse_K"], [None] + w["frequencies"]))
         tail = f"; unstable: {w['unstable']}" if w["unstable"] else ("; at the floor" if w["at_floor"] else "")

@@ -123,8 +123,12 @@ def test_real_pmsm_data_points_to_current_heating(quick_runs):
     for name, entry in summary["profiles"].items():
         waterfall = entry["split"]["waterfall"]  # from the default start
         assert waterfall[0]["model"] == ["joule", "effort_bias"]
-        assert "current_heating" in waterfall[-1]["model"] and "joule" not in waterfall[-1]["model"], name
-        assert waterfall[-1]["rmse_K"] < 0.5 * waterfall[0]["rmse_K"], name
+        # the current's heat is taken, or shown as the change that helps but is not stable enough to take
+        # (profile 46: the swap in 6 of 10 replicates, dropping the bias in 3)
+        last = waterfall[-1]
+        assert ("current_heating" in last["model"] and "joule" not in last["model"]) or \
+            "current_heating" in last.get("unstable", {}).get("change", ""), name
+        assert last["rmse_K"] < 0.5 * waterfall[0]["rmse_K"], name
     assert "speed_losses" in summary["profiles"]["profile46"]["split"]["waterfall"][-1]["model"]
     cv = summary["profiles"]["profile24"]["cv4"]["waterfall"]
     assert "current_heating" in cv[-1]["model"] and cv[-1]["rmse_K"] < 0.5 * cv[0]["rmse_K"]

@@ -151,6 +151,12 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
                 found.append(report)
         except IdentifiabilityError:
             pass
+        term = TERMS[cand.effect] if cand.adds else None
+        if found and (term is None or profiled_parameter(term, dict(base.model.params), base.train_series[0]) is None):
+            # a change with nothing nonlinear to search (a drop, a swap, a heat that is linear in its size) has
+            # one basin: the refit from where the whole log's ended is it
+            judge(cand, found[0], base.validation["rmse_K"], base_bic)
+            return
     starts = ordered_starts(cand, base, list(base.train_series))
     errors, collapsed, profiled = [], None, 0
     best_cost = starts[0][0]

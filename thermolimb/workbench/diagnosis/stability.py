@@ -54,6 +54,7 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
+from ...util.errors import ThermolimbError
 from ...util.parallel import run_jobs
 from .candidates import MIN_IMPROVEMENT, Candidate
 
@@ -178,6 +179,9 @@ def _replicate(series, validate_on, scheme, model, initial, specs, perturbation:
                             also_drops=tuple(s["also_drops"]), channel=s["channel"], channel_unit=s["channel_unit"],
                             formula=s["formula"]) for s in specs]
     jittered = perturbation.jitter([s["fitted"] for s in specs])
-    d = diagnose(runs, model, scheme=replicate_scheme, validate_on=held, initial=initial, datasheet=datasheet,
-                 contenders=candidates, extra_starts=dict(zip([c.label for c in candidates], jittered)))
+    try:
+        d = diagnose(runs, model, scheme=replicate_scheme, validate_on=held, initial=initial, datasheet=datasheet,
+                     contenders=candidates, extra_starts=dict(zip([c.label for c in candidates], jittered)))
+    except ThermolimbError:  # a replicate the log is too short to split, or that identifies nothing: it takes none
+        return None
     return None if d.recommended is None else d.recommended.label
