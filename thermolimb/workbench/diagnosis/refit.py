@@ -90,14 +90,16 @@ def profile_grid(param: Parameter, train) -> np.ndarray:
     return np.unique(values[values != param.null])
 
 
-def ordered_starts(cand: Candidate, base, train) -> list[tuple[float, dict]]:
+def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool = True) -> list[tuple[float, dict]]:
     """Where the full refit may start, best first, each with its short fit's training cost (``inf`` when not
-    screened): the profile's points, or for a term with nothing to profile, its starts screened the same way."""
+    screened): the profile's points, or for a term with nothing to profile, its starts screened the same way.
+    ``param``: the profiled parameter when the caller has it (``True``: find it here)."""
     keep = {p.name for p in model_parameters(cand.model)}
     starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
     held = dict(base.held or {})
     term = TERMS[cand.effect] if cand.adds else None
-    param = profiled_parameter(term, dict(base.model.params), train[0]) if term is not None else None
+    if param is True:
+        param = profiled_parameter(term, dict(base.model.params), train[0]) if term is not None else None
     if param is not None and param.name not in held:
         # each point starts where the score's linearised step put the other parameters for that value, if it
         # scanned it (a nuisance time), else from the best start
@@ -141,44 +143,44 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`); refined
     from there too, and the refit with the lowest training error of all is kept.
     """
-    found = []
-    if warm is not None:  # also refined from where the whole log's refit ended; the better of all is kept
-        keep = {p.name for p in model_parameters(cand.model)}
+    term = TERMS[cand.effect] if cand.adds else None
+    param = profiled_parameter(term, dict(base.model.params), base.train_series[0]) if term is not None else None
+    keep = {p.name for p in model_parameters(cand.model)}
+    errors, collapsed, found = [], None, []
+
+    def attempt(start: dict, searched: bool = True) -> bool:
+        """Refine from ``start``; keep the report if it found the effect (a collapse is kept, to report, only
+        from the search's own starts). Whether it did."""
+        nonlocal collapsed
         try:
-            report = replace(evaluate(cand.model, {k: v for k, v in warm.items() if k in keep}, base.held),
+            report = replace(evaluate(cand.model, {k: v for k, v in start.items() if k in keep}, base.held),
                              set_aside=base.set_aside)
-            if not cand.adds or refit_failure(TERMS[cand.effect], report.model.params) is None:
-                found.append(report)
-        except IdentifiabilityError:
-            pass
-        term = TERMS[cand.effect] if cand.adds else None
-        if found and (term is None or profiled_parameter(term, dict(base.model.params), base.train_series[0]) is None):
-            # a change with nothing nonlinear to search (a drop, a swap, a heat that is linear in its size) has
-            # one basin: the refit from where the whole log's ended is it
-            judge(cand, found[0], base.validation["rmse_K"], base_bic)
-            return
-    starts = ordered_starts(cand, base, list(base.train_series))
-    errors, collapsed, profiled = [], None, 0
-    best_cost = starts[0][0]
-    for cost, start in starts[:MAX_REFINES]:
-        if profiled and not cost <= COMPETING * best_cost:
-            break  # a refit found the effect, and no other basin competes with it
-        try:
-            report = replace(evaluate(cand.model, start, base.held), set_aside=base.set_aside)
         except IdentifiabilityError as exc:
-            errors.append(str(exc))
-            continue
-        why = refit_failure(TERMS[cand.effect], report.model.params) if cand.adds else None
-        if why is not None:
-            collapsed = collapsed or report  # the first refit that found no such effect, if none does better
-            continue
+            if searched:
+                errors.append(str(exc))
+            return False
+        if term is not None and refit_failure(term, report.model.params) is not None:
+            if searched:
+                collapsed = collapsed or report  # the first refit that found no such effect, if none does better
+            return False
         found.append(report)
-        profiled += 1
+        return True
+
+    # from where the whole log's refit ended, when given: a change with nothing nonlinear to search (a drop, a
+    # swap, a heat linear in its size) has one basin, and that refit is it; otherwise it joins the search
+    if warm is not None and attempt(warm, searched=False) and param is None:
+        judge(cand, found[0], base.validation["rmse_K"], base_bic)
+        return
+    starts = ordered_starts(cand, base, list(base.train_series), param)
+    profiled = 0
+    for cost, start in starts[:MAX_REFINES]:
+        if profiled and not cost <= COMPETING * starts[0][0]:
+            break  # a refit found the effect, and no other basin competes with it
+        profiled += attempt(start)
     if found:  # the refined basins' best by training error (held-out data judges the change, not the start),
         # a physically plausible one first (a second mass that came out faster than the winding is the two
         # masses' roles swapped: another basin, not another effect)
-        term = TERMS[cand.effect]() if cand.adds else None
-        best = min(found, key=lambda r: (term is not None and term.implausible(r.model.params) is not None,
+        best = min(found, key=lambda r: (term is not None and term().implausible(r.model.params) is not None,
                                          float(r.train_residual_K @ r.train_residual_K)))
         judge(cand, best, base.validation["rmse_K"], base_bic)
         return

@@ -60,7 +60,7 @@ from .candidates import MIN_IMPROVEMENT, Candidate
 
 REPLICATES = 10
 MIN_FREQUENCY = 0.8
-TRIM_ROWS = 5  # at most, at either end of a run
+TRIM_ROWS = 5  # at most, off the end of a run
 SPLIT_JITTER = 0.1  # more than a colleague would move it: a verdict that holds over this holds nearby
 START_JITTER = 0.2  # the standard deviation of the log of the factor each start's values are scaled by
 
@@ -91,7 +91,8 @@ class Stability:
 
 @dataclass(frozen=True)
 class Perturbation:
-    """One replicate: rows trimmed off each run's start and end, the split fraction, and the starts' seed."""
+    """One replicate: rows trimmed off each run (start, end: the start is never cut), the split fraction, and the
+    starts' seed."""
 
     trims: tuple[tuple[int, int], ...]
     held_trims: tuple[tuple[int, int], ...]
