@@ -30,6 +30,9 @@ class Diagnose(LogCommand):
     discovers = True
     json_help = "print the diagnosis as one JSON object"
     plot_help = "write the diagnosis plots into DIR"
+    saves = True
+    save_help = ("write each actuator's final model (with --auto: the walk's last; else the recommended change's, or "
+                 "the model as given) to a model file (JSON; docs/model-file.md)")
 
     def add_options(self, p):
         p.add_argument("--auto", action="store_true",
@@ -79,6 +82,7 @@ class Diagnose(LogCommand):
             steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
         run.kept.append((name, final))  # each actuator's final model, for --propose
+        run.final[name] = final
         if args.plot:
             from ..plotting.diagnosis import plot_diagnosis
 

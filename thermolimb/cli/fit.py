@@ -25,6 +25,7 @@ class Fit(LogCommand):
     fleet = True
     json_help = "print one JSON object per actuator (a list when several actuators are fitted)"
     plot_help = "write fit_<actuator>.png plots into DIR"
+    saves = True
 
     def add_options(self, p):
         p.add_argument("--method", default="output_error", choices=list(ESTIMATORS),
@@ -36,6 +37,7 @@ class Fit(LogCommand):
         args, model = run.args, run.models[0]
         report = validate_model(series, model, run.scheme, validate_on=held_out, method=args.method, reduce=True,
                                 datasheet=run.datasheet)
+        run.final[name] = report
         if args.plot:
             from ..plotting.fits import plot_fit
 

@@ -8,7 +8,7 @@ from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import UsageError
 from ..util.parallel import BACKENDS
 from ..workbench.validation import Scheme
-from .types import assignments, folds, fraction, integer, output_dir, output_file
+from .types import assignments, folds, fraction, integer, number, output_dir, output_file
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
 
@@ -17,8 +17,8 @@ def add_quiet(p):
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
-def add_log_input(p):
-    p.add_argument("logs", nargs="+", metavar="LOG",
+def add_log_input(p, required: bool = True):
+    p.add_argument("logs", nargs="+" if required else "*", metavar="LOG",
                    help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several logs (runs) of the same actuators are fitted jointly, "
                         "each run simulated from its own first reading")
     p.add_argument("--map", default=None, metavar="CANONICAL=COLUMN,...",
@@ -89,6 +89,14 @@ def add_outputs(p, json_help: str, plot_help: str):
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help=plot_help)
     p.add_argument("--html", type=output_file, default=None, metavar="FILE",
                    help="write an interactive page (zoomable, panels linked in time; self-contained, works offline)")
+
+
+def add_save(p, help_text: str):
+    """``--save MODEL.json`` and the limit it stores, ``--limit-C``."""
+    p.add_argument("--save", type=output_file, default=None, metavar="MODEL.json", help=help_text)
+    p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
+                   help="with --save: the actuator's winding limit (degC), stored in the model file; predict and "
+                        "monitor use it when no --threshold is given")
 
 
 def add_fleet(p):

@@ -20,6 +20,7 @@ from .options import (
     add_models,
     add_outputs,
     add_quiet,
+    add_save,
     add_terms,
     add_validation,
     scheme_of,
@@ -38,6 +39,7 @@ class Run:
     datasheet: dict[str, float]
     page: object = None  # the --html page the analyses fill, or None
     kept: list = field(default_factory=list)  # what a command keeps across actuators for its finish()
+    final: dict = field(default_factory=dict)  # each actuator's final fit report, for --save
 
 
 class LogCommand:
@@ -51,6 +53,8 @@ class LogCommand:
     many_models = False  # --model repeated (compare)
     fleet = False  # --fleet: every actuator and run of many logs on its own
     discovers = False  # whether an analysis may add the neighbours' coupling (then their temperatures are read)
+    saves = False  # --save MODEL.json: the analysis's final model of each actuator (run.final)
+    save_help = "write the fitted model of each actuator to a model file (JSON; docs/model-file.md)"
     json_help = "print one JSON object per actuator (a list when several actuators)"
     plot_help = "write plots into DIR"
 
@@ -62,6 +66,8 @@ class LogCommand:
         self.add_options(p)
         add_validation(p)
         add_outputs(p, self.json_help, self.plot_help)
+        if self.saves:
+            add_save(p, self.save_help)
         if self.fleet:
             add_fleet(p)
         add_quiet(p)
@@ -89,6 +95,10 @@ class LogCommand:
         models = [parse_model(m) for m in given] if args.model is not None else [tuple(DEFAULT_MODEL)]
         datasheet = _checked_datasheet(args.datasheet, models)
         self.check(args)
+        if getattr(args, "save", None) and getattr(args, "fleet", False):
+            raise UsageError("--save writes the model of one command's logs, not of a --fleet; fit a run with --save")
+        if getattr(args, "limit_C", None) is not None and not getattr(args, "save", None):
+            raise UsageError("--limit-C is stored in the model file; add --save MODEL.json")
         if self.fleet and args.fleet:
             from .fleet import run_fleet
 
@@ -121,8 +131,17 @@ class LogCommand:
             print_json(records[0] if len(records) == 1 else records)
         if run.page is not None:
             run.page.write(args.html)
-        say_written(before, args.plot, [args.html] if run.page is not None else [])
+        saved = [save_models(args, run.final)] if getattr(args, "save", None) else []
+        say_written(before, args.plot, ([args.html] if run.page is not None else []) + saved)
         return 0
+
+
+def save_models(args, final: dict):
+    """Write ``--save``: every actuator's final report as a model file (with ``--limit-C``, its limit)."""
+    from ..model.saved import ModelFile, saved_from_report
+
+    models = {name: saved_from_report(report, args.logs, args.limit_C) for name, report in final.items()}
+    return ModelFile(models).save(args.save)
 
 
 def _checked_datasheet(values: dict[str, float], models) -> dict[str, float]:

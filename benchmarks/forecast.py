@@ -1,0 +1,192 @@
+"""How well a saved model says when a joint reaches a temperature, on a plant richer than the model.
+
+Plant: an X8-9 on the two-node network (a winding on a heavier housing) with speed losses, copper's
+temperature coefficient and a thermistor lagging 15 s (0.05 K noise, 0.1 degC steps in the calibration log).
+Per seed:
+
+1. a 2 h calibration log (random holds and motions, 1 Hz);
+2. two models identified on it and saved to a model file, then loaded back: the default model
+   (``fit``) and the model ``diagnose --auto`` ends with (its stability check off here, for time);
+3. held duties (loads 0.8, 1.0, 1.2, 1.5 of the continuous effort, at rest and at 2 rad/s) from rest and from a
+   warm state (10 min at the continuous effort, which the forecast is given as its history, as a monitor
+   has it), each run on the plant itself; the thresholds are the plant's
+   noise-free thermistor reading 60 s and 900 s after the start, so the true crossing is known;
+4. the forecast of each case by each model (``thermolimb.forecast``, 90 % intervals): the relative error of
+   the time to the threshold, and whether the interval covers the true time;
+5. beside it, the two rules firmware uses, on the same cases: an I2t limit tuned on the calibration log (its
+   continuous effort and budget from the log's first-order fit), whose trip time is compared like a forecast,
+   and a thermistor threshold, for which the winding's excess over the threshold when the thermistor reads
+   it is reported (what a thermistor-only rule lets through).
+
+Part 2, real logs: the PMSM profiles and the UR3's runs, a model saved on the first half of each, the
+second half forecast from its first reading, thresholds at the readings 60 s and 900 s in: coverage and
+median relative error.
+
+    python benchmarks/forecast.py [--seeds 0 1 2] [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from thermolimb.forecast import crossing_s, forecast
+from thermolimb.logs import ActuatorSeries
+from thermolimb.model.saved import ModelFile, saved_from_report
+from thermolimb.model.signals import Signals
+from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
+from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.validation import validate_model
+
+LOADS = (0.8, 1.0, 1.2, 1.5)
+SPEEDS_RAD_S = (0.0, 2.0)
+HORIZONS_S = (60.0, 900.0)
+WARM_S = 600.0
+HOLD_S = 1800.0
+DT_S = 1.0
+RICHER = ("speed_losses", "winding_tempco", "sensor_lag")
+SPEC = replace(X8_9, network=NETWORKS["second_order"])
+
+
+def calibration(seed: int):
+    fx = PlantEffects.from_names(("sensor_noise", "quantisation") + RICHER)
+    return simulate_profile("random", 7200.0, DT_S, ["knee"], [SPEC], fx, seed=seed).log.series("knee")
+
+
+def saved_models(series, folder: Path) -> dict:
+    """The default fit and the --auto walk's last model, saved and loaded back as a user's would be."""
+    default = validate_model([series], "joule,effort_bias")
+    _, steps = auto_diagnose([series], quiet=True, stability=None)
+    out = {}
+    for label, report in (("default", default), ("auto", steps[-1].base)):
+        path = folder / f"{label}.json"
+        ModelFile({"knee": saved_from_report(report, [])}).save(path)
+        out[label] = ModelFile.load(path)["knee"]
+    return out
+
+
+def held_case(load: float, speed: float, warm: bool):
+    """The plant under a held duty: the inputs from the forecast's start, the true (noise-free) thermistor
+    reading and winding, and the start's reading and trend."""
+    plant = ThermalPlant(["knee"], [SPEC], PlantEffects.from_names(RICHER))
+    effort = np.array([load * SPEC.continuous_effort])
+    readings = [plant.measured_C[0]]
+    if warm:
+        for _ in range(int(WARM_S / DT_S)):
+            plant.step(np.array([SPEC.continuous_effort]), np.zeros(1), DT_S)
+            readings.append(plant.measured_C[0])
+    start = plant.measured_C[0]
+    history = None
+    if warm:  # what a monitor has seen: the warm-up's inputs and readings
+        n = len(readings)
+        history = ActuatorSeries("knee", Signals(np.arange(n) * DT_S, np.full(n, SPEC.continuous_effort),
+                                                 np.zeros(n)), np.array(readings))
+    n = int(HOLD_S / DT_S) + 1
+    sensor, winding = np.empty(n), np.empty(n)
+    sensor[0], winding[0] = start, plant.winding_C[0]
+    for k in range(1, n):
+        plant.step(effort, np.array([speed]), DT_S)
+        sensor[k], winding[k] = plant.measured_C[0], plant.winding_C[0]
+    t = np.arange(n) * DT_S
+    signals = Signals(t, np.full(n, effort[0]), np.full(n, speed))
+    return signals, sensor, winding, start, history, effort[0]
+
+
+def i2t_trip_s(saved, threshold_C: float, effort: float, warm: bool) -> float | None:
+    """An I2t limit tuned from the calibration log's first-order fit: it trips when the accumulated
+    (F^2 - F_c^2) dt (never below zero) reaches the budget B, with F_c^2 the effort whose steady rise reaches
+    the threshold and B = RC (threshold - offset) / betaR; a warm start has accumulated the warm-up's share."""
+    p = saved.model.params
+    fc2 = (threshold_C - p["T_offset_C"]) / p["betaR_K_per_effort2"]
+    budget = p["RC_s"] * fc2
+    accumulated = max(0.0, (SPEC.continuous_effort**2 - fc2) * WARM_S) if warm else 0.0
+    if accumulated >= budget:
+        return 0.0
+    excess = effort**2 - fc2
+    return None if excess <= 0 else (budget - accumulated) / excess
+
+
+def plant_cases(seed: int) -> list[dict]:
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        series = calibration(seed)
+        models = saved_models(series, Path(folder))
+    for warm in (False, True):
+        for load in LOADS:
+            for speed in SPEEDS_RAD_S:
+                signals, sensor, winding, start, history, effort = held_case(load, speed, warm)
+                t = signals.time_s
+                for horizon in HORIZONS_S:
+                    threshold = float(np.interp(horizon, t, sensor))
+                    if threshold <= start + 0.2:
+                        continue
+                    truth = crossing_s(t, sensor, threshold)
+                    row = {"seed": seed, "load": load, "speed_rad_s": speed, "warm": warm, "horizon_s": horizon,
+                           "threshold_C": threshold, "true_s": truth}
+                    for label, saved in models.items():
+                        f = forecast(saved, signals, start, threshold, seed=seed, history=history)
+                        low, high = f.interval_s
+                        row[label] = {"predicted_s": f.time_to_threshold_s, "interval_s": [low, high],
+                                      "covered": low is not None and low <= truth and (high is None or truth <= high),
+                                      "error": None if f.time_to_threshold_s is None
+                                      else abs(f.time_to_threshold_s - truth) / truth}
+                    trip = i2t_trip_s(models["default"], threshold, effort, warm)
+                    row["i2t"] = {"predicted_s": trip, "error": None if trip is None else abs(trip - truth) / truth}
+                    cross = crossing_s(t, sensor, threshold)
+                    row["thermistor_winding_excess_K"] = float(np.interp(cross, t, winding) - threshold)
+                    rows.append(row)
+    return rows
+
+
+def summary(rows: list[dict], label: str) -> dict:
+    out = {}
+    for horizon in HORIZONS_S:
+        these = [r for r in rows if r["horizon_s"] == horizon]
+        errors = [r[label]["error"] for r in these]
+        finite = [e for e in errors if e is not None]
+        out[f"{horizon:.0f}s"] = {"cases": len(these), "never_reached": sum(e is None for e in errors),
+                                  "median_error": float(np.median([1.0 if e is None else e for e in errors]))
+                                  if errors else None,
+                                  "worst_error": max(finite) if finite else None}
+        if label != "i2t":
+            out[f"{horizon:.0f}s"]["coverage"] = float(np.mean([r[label]["covered"] for r in these]))
+    return out
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    rows = [row for seed in args.seeds for row in plant_cases(seed)]
+    result = {"seeds": args.seeds, "rows": rows,
+              "summary": {label: summary(rows, label) for label in ("default", "auto", "i2t")},
+              "thermistor_winding_excess_K": {
+                  "median": float(np.median([r["thermistor_winding_excess_K"] for r in rows])),
+                  "max": float(np.max([r["thermistor_winding_excess_K"] for r in rows]))},
+              "seconds": time.perf_counter() - start}
+    print(f"plant: {len(rows)} crossings over seeds {args.seeds} ({result['seconds']:.0f} s)")
+    for label, name in (("default", "default model (fit)"), ("auto", "diagnose --auto model"),
+                        ("i2t", "I2t rule, tuned")):
+        for horizon, s in result["summary"][label].items():
+            cov = f"  coverage {100 * s['coverage']:.0f} %" if "coverage" in s else ""
+            worst = "" if s["worst_error"] is None else f", worst {100 * s['worst_error']:.0f} %"
+            print(f"  {name:24s} horizon {horizon:>5s}: median error {100 * s['median_error']:.1f} %{worst}, "
+                  f"never reached {s['never_reached']}/{s['cases']}{cov}")
+    ex = result["thermistor_winding_excess_K"]
+    print(f"  thermistor threshold: the winding is {ex['median']:.1f} K (median, worst {ex['max']:.1f} K) above the "
+          f"threshold when the thermistor reads it")
+    if args.json:
+        print(json.dumps(result, allow_nan=False))
+    return result
+
+
+if __name__ == "__main__":
+    main()

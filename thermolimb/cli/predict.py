@@ -1,0 +1,149 @@
+"""``thermolimb predict``: how long until each joint reaches a temperature, from a saved model."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..util.atomic import file_stem
+from ..util.errors import UsageError
+from .options import add_log_input, add_quiet, add_terms
+from .output import files_in, print_json, say, say_written
+from .reading import load_terms, read_logs, runs_of, say_notes
+from .types import SEED, integer, number, output_dir
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "predict", help="forecast when each actuator reaches a temperature, with an interval, from a model file",
+        description="Free-run the saved model from the LOG's first reading (or --start-C) under the LOG's inputs, "
+                    "or under a plan held for --duration (--hold, no LOG), and say when the predicted temperature "
+                    "first reaches --threshold, with an interval at --level that combines the parameters' "
+                    "uncertainty and the model error seen on held-out data (docs/model-file.md). Times in s, "
+                    "temperatures in degC.")
+    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
+    add_log_input(p, required=False)
+    add_terms(p)
+    p.add_argument("--threshold", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
+                   help="the temperature to reach (degC; default: the limit stored in the model file)")
+    p.add_argument("--level", type=number(0.0, 1.0, low_open=True), default=0.9,
+                   help="the interval's level (default 0.9)")
+    p.add_argument("--start-C", dest="start_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
+                   help="start from this temperature instead of the log's first reading (required with --hold)")
+    p.add_argument("--hold", default=None, metavar="EFFORT[,VELOCITY]",
+                   help="a plan instead of a log: the effort (in the model's unit) and velocity held for --duration")
+    p.add_argument("--duration", type=number(0.0, 1e7, low_open=True, unit="s"), default=None, metavar="S",
+                   help="with --hold: how long the plan is held (s)")
+    p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=None,
+                   metavar="C", help="with --hold, for a model that reads the ambient temperature")
+    p.add_argument("--draws", type=integer(0, 10000), default=64,
+                   help="parameter draws for the interval (default 64; 0: model error only)")
+    p.add_argument("--seed", type=SEED, default=0, help="seed of the parameter draws")
+    p.add_argument("--json", action="store_true", help="print one JSON object per actuator (a list when several)")
+    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR",
+                   help="write predict_<actuator>.png (the band, the threshold, the readings) into DIR")
+    add_quiet(p)
+    p.set_defaults(func=run, discovers=False)
+    return p
+
+
+def run(args) -> int:
+    from ..forecast import forecast, hold_signals
+    from ..model.saved import ModelFile
+
+    load_terms(args)
+    models = ModelFile.load(args.model_file)
+    if args.hold is None and not args.logs:
+        raise UsageError("predict needs a LOG to run the model over, or a plan: --hold EFFORT[,VELOCITY] "
+                         "--duration S --start-C C")
+    if args.hold is not None and args.logs:
+        raise UsageError("--hold is a plan instead of a log; give one or the other")
+    if (args.duration is not None or args.ambient_C is not None) and args.hold is None:
+        raise UsageError("--duration and --ambient-C describe a --hold plan; add --hold EFFORT[,VELOCITY]")
+    results = []
+    if args.hold is not None:
+        effort, velocity = _hold(args.hold)
+        if args.duration is None or args.start_C is None:
+            raise UsageError("--hold needs --duration S and --start-C C (a plan has no first reading)")
+        names = [args.actuator] if args.actuator else list(models.actuators)
+        for name in names:
+            saved = models[name]
+            signals = hold_signals(args.duration, effort, velocity, args.ambient_C, saved.model.columns)
+            results.append(forecast(saved, signals, args.start_C, _threshold(args, saved), args.level,
+                                    args.draws, args.seed))
+    else:
+        logs = read_logs(args.logs, args)
+        names = [args.actuator] if args.actuator else list(logs[0].actuators)
+        say_notes(logs, names)
+        for name in names:
+            saved = _model_for(models, name, logs, args)
+            for series in runs_of(logs, name):
+                _same_units(saved, series, args.model_file)
+                start = series.temperature_C[0] if args.start_C is None else args.start_C
+                rate = series.rate_K_per_s() if args.start_C is None else 0.0
+                results.append(forecast(saved, series.signals, start, _threshold(args, saved),
+                                        args.level, args.draws, args.seed, rate, series.temperature_C))
+    before = files_in(args.plot)
+    if args.plot:
+        from ..plotting.forecast import plot_forecast
+
+        for f in results:
+            plot_forecast(f, Path(args.plot) / f"predict_{file_stem(f.actuator)}.png")
+    if args.json:
+        records = [f.to_json() for f in results]
+        print_json(records[0] if len(records) == 1 else records)
+    else:
+        for f in results:
+            print(f.sentence())
+            if f.measured_crossing_s is not None:
+                print(f"  the log's readings reach it at {f.measured_crossing_s:.0f} s: "
+                      f"{'inside' if f.covers_measured else 'outside'} the interval")
+            if f.model_error_K == 0.0:
+                print("  the model file holds no held-out residual: the interval covers the parameters' "
+                      "uncertainty only")
+    say_written(before, args.plot)
+    return 0
+
+
+def _hold(text: str) -> tuple[float, float | None]:
+    import math
+
+    parts = text.split(",")
+    try:
+        values = [float(v) for v in parts]
+    except ValueError:
+        values = []
+    if len(parts) not in (1, 2) or len(values) != len(parts) or not all(math.isfinite(v) for v in values):
+        raise UsageError(f"--hold expects EFFORT or EFFORT,VELOCITY (finite numbers), got {text!r}")
+    return values[0], values[1] if len(values) == 2 else None
+
+
+def _threshold(args, saved) -> float:
+    if args.threshold is not None:
+        return args.threshold
+    if saved.limit_C is None:
+        raise UsageError(f"the model of {saved.actuator} stores no limit; give --threshold C")
+    return saved.limit_C
+
+
+def _model_for(models, name: str, logs, args):
+    if name in models.actuators:
+        return models[name]
+    if len(models.actuators) == 1 and len(logs[0].actuators) == 1:
+        only = next(iter(models.actuators))
+        say(f"the log's actuator {name!r} is predicted with the model file's only model, {only!r}")
+        return models[only]
+    raise UsageError(f"{args.model_file} has no model of actuator {name!r} (it has "
+                     f"{', '.join(models.actuators)}); choose one with --actuator")
+
+
+def _same_units(saved, series, source) -> None:
+    """The log's effort (and other channel) units must be those the model was fitted in."""
+    for channel, unit in saved.channel_units.items():
+        given = series.units.get(channel)
+        if channel in ("effort", "velocity") and given and unit and given != unit:
+            raise UsageError(f"the model in {source} was fitted on {channel} in {unit}; this log gives {channel} in "
+                             f"{given}; convert it (--{channel}-unit) or refit")
+    missing = [c for c in saved.model.columns if not series.signals.has(c)]
+    if missing:
+        raise UsageError(f"the model of {saved.actuator} reads the log column {missing[0]!r}, which this log "
+                         f"does not have")
