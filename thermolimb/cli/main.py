@@ -12,9 +12,9 @@ import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
-from . import compare, demo, diagnose, fit, inspect, predict, simulate, strategies
+from . import compare, demo, diagnose, fit, inspect, monitor, predict, simulate, strategies
 
-COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, strategies, demo)
+COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, strategies, demo)
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.
 USER_ERRORS = (ThermolimbError,)

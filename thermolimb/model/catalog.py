@@ -250,6 +250,7 @@ class SlowMass(Term):
 
     fraction: str
     tau: str
+    carries_state = True  # its node's temperature carries over between pieces of a run (ThermalModel.simulate)
 
     def implausible(self, p):
         if p[self.tau] <= p["RC_s"]:
@@ -264,9 +265,10 @@ class SlowMass(Term):
         """How many times its still-air conductance to ambient this mass has (1: none moves it)."""
         return 1.0
 
-    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C):
+    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None):
         phi = p[self.fraction]
         if phi == 0.0:
+            self.state = None
             return equilibrium_C
         # the heat's rise above the boundary builds up phi across this mass; the boundary itself (ambient)
         # reaches the winding only through it; airflow divides this mass's rise and its time constant alike
@@ -274,9 +276,11 @@ class SlowMass(Term):
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
         a = np.exp(-s.interval_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
-        # the slow mass starts in proportion, as if the initial temperature were a steady state
-        start = boundary_C[0] + phi * (initial_C - boundary_C[0])
+        # the slow mass starts in proportion, as if the initial temperature were a steady state, unless it
+        # carries on from where an earlier piece of the run left it
+        start = boundary_C[0] + phi * (initial_C - boundary_C[0]) if state is None else state
         frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
+        self.state = float(frame[-1])
         return frame + (1.0 - phi) * heat
 
 

@@ -153,7 +153,8 @@ class ThermalModel:
         return self.forcing(s)[0]
 
     def simulate(self, s: Signals, initial_temperature_C: float, method: str = "exact",
-                 initial_rate_K_per_s: float = 0.0) -> np.ndarray:
+                 initial_rate_K_per_s: float = 0.0, state: Mapping[str, float] | None = None,
+                 keep: dict | None = None) -> np.ndarray:
         """Free-run temperatures at every sample time, from ``initial_temperature_C``, inputs only.
 
         ``initial_rate_K_per_s`` is how fast the measured temperature was
@@ -165,22 +166,36 @@ class ThermalModel:
         interval); ``method="euler"`` is forward Euler as Jorgensen et al. used.
         Terms with states of their own (a second mass, a lagging sensor) shape
         the equilibrium and the output around the winding's recursion.
+
+        A run in pieces (a monitor following a log): ``keep``, a dict, receives the state the simulation
+        ends in (the winding, each slow mass, the output); passed back as ``state`` for the next piece,
+        whose first sample is this piece's last, the run carries on exactly as one simulation of the whole
+        would (``initial_temperature_C`` and the rate are then unused).
         """
         if method not in ("exact", "euler"):
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
         terms = self._terms()
-        start = initial_temperature_C
-        for term in terms:
-            start = term.initial_winding(self.params, start, initial_rate_K_per_s)
+        if state is None:
+            start = initial_temperature_C
+            for term in terms:
+                start = term.initial_winding(self.params, start, initial_rate_K_per_s)
+            output_start = initial_temperature_C
+        else:
+            start, output_start = state["winding"], state["output"]
         u, lam, boundary, gain = self._forcing(s)
-        shaped = self._shape(s, terms, u, start, boundary)
+        shaped = self._shape(s, terms, u, start, boundary, state)
         winding = self._winding(s, shaped, lam, start, method)
         share = float(np.prod([term.winding_share(self.params) for term in terms]))
         if share < 1.0 and np.any(gain != 0.0):
-            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method)
+            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method, state)
+        out = winding
         for term in terms:
-            winding = term.shape_output(self.params, s, winding, initial_temperature_C)
-        return winding
+            out = term.shape_output(self.params, s, out, output_start)
+        if keep is not None:
+            keep.clear()
+            keep.update({"winding": float(winding[-1]), "output": float(out[-1])})
+            keep.update({t.name: t.state for t in terms if t.carries_state and getattr(t, "state", None) is not None})
+        return out
 
     def free_run(self, series, initial_rate_K_per_s: float | None = None, method: str = "exact",
                  initial_temperature_C: float | None = None) -> np.ndarray:
@@ -211,7 +226,7 @@ class ThermalModel:
             winding[k + 1] = a[k] * winding[k] + b[k]
         return winding
 
-    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method):
+    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method, state=None):
         """Slow masses with a temperature-dependent heat (copper resistance, neighbours, airflow).
 
         The first pass fed the masses the heat of a winding already at its
@@ -225,15 +240,19 @@ class ThermalModel:
         rc = self.params["RC_s"]
         for _ in range(COUPLING_PASSES):
             heat = heat_at_rest + gain * winding
-            frames = self._shape(s, terms, boundary + heat, start, boundary) - boundary - share * heat
+            frames = self._shape(s, terms, boundary + heat, start, boundary, state) - boundary - share * heat
             restoring = np.maximum(1.0 - share * gain, _MIN_RESTORING)
             target = (boundary + frames + share * heat_at_rest) / restoring
             winding = self._winding(s, target, restoring / rc, start, method)
         return winding
 
-    def _shape(self, s: Signals, terms, u: np.ndarray, initial_C: float, boundary: np.ndarray) -> np.ndarray:
+    def _shape(self, s: Signals, terms, u: np.ndarray, initial_C: float, boundary: np.ndarray,
+               state: Mapping[str, float] | None = None) -> np.ndarray:
         for term in terms:
-            u = term.shape_equilibrium(self.params, s, u, initial_C, boundary)
+            if state is not None and term.carries_state:
+                u = term.shape_equilibrium(self.params, s, u, initial_C, boundary, state=state.get(term.name))
+            else:
+                u = term.shape_equilibrium(self.params, s, u, initial_C, boundary)
         return u
 
     def _shaped_forcing(self, s: Signals, terms, initial_C: float) -> tuple[np.ndarray, np.ndarray]:

@@ -61,6 +61,9 @@ class Term:
     boundary: ClassVar[bool] = False
     requires: ClassVar[tuple[str, ...]] = ()  # terms this one builds on (a third mass needs a second)
     generated: ClassVar[bool] = False  # written by a diagnosis (thermolimb.model.generated), not offered by the catalog
+    # a term with a thermal state of its own (a slow mass) takes ``state=`` in shape_equilibrium, the value an
+    # earlier piece of the run ended with, and leaves its last value in ``self.state``
+    carries_state: ClassVar[bool] = False
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""

@@ -1,0 +1,156 @@
+"""The model file and the forecast: a saved model predicts what the fitted one did, to the last digit; a
+forecast's interval covers the true crossing on a plant richer than the model; bad files and asks are one
+clear sentence."""
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.forecast import crossing_s, forecast, hold_signals
+from thermolimb.model import ThermalModel
+from thermolimb.model.saved import ModelFile, ModelFileError, saved_from_report
+from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
+from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.validation import validate_model
+
+SPEC = replace(X8_9, network=NETWORKS["second_order"])
+RICHER = ("speed_losses", "winding_tempco", "sensor_lag")
+
+
+@pytest.fixture(scope="module")
+def richer_log():
+    """1 h of a winding on a heavier housing, with speed losses, copper's tempco and a lagging sensor."""
+    fx = PlantEffects.from_names(("sensor_noise", "quantisation") + RICHER)
+    return simulate_profile("random", 3600.0, 1.0, ["knee"], [SPEC], fx, seed=5).log
+
+
+@pytest.fixture(scope="module")
+def saved_auto(richer_log, tmp_path_factory):
+    """The model diagnose --auto ends with, saved to a file and loaded back."""
+    _, steps = auto_diagnose([richer_log.series("knee")], quiet=True, stability=None)
+    path = tmp_path_factory.mktemp("model") / "knee.json"
+    saved = saved_from_report(steps[-1].base, [], limit_C=100.0)
+    ModelFile({"knee": saved}).save(path)
+    return saved, path
+
+
+def test_a_saved_model_predicts_exactly_what_the_fitted_one_did(saved_auto, richer_log):
+    saved, path = saved_auto
+    loaded = ModelFile.load(path)["knee"]
+    assert loaded.model.terms == saved.model.terms
+    assert all(loaded.model.params[k] == saved.model.params[k] for k in saved.model.params)  # bit for bit
+    series = richer_log.series("knee")
+    assert np.array_equal(loaded.model.free_run(series), saved.model.free_run(series))
+    assert np.array_equal(loaded.covariance, saved.covariance) and np.array_equal(loaded.jackknife, saved.jackknife)
+    assert loaded.limit_C == 100.0 and loaded.residual == saved.residual
+    assert ThermalModel.load(path).params == saved.model.params
+
+
+def test_the_cli_saves_a_file_with_its_provenance_and_units(tmp_path, capsys):
+    log, model = tmp_path / "log.csv", tmp_path / "m.json"
+    assert main(["simulate", "--profile", "random", "--duration", "1800", "--dt", "1", "--network", "first_order",
+                 "--seed", "2", "--out", str(log), "--quiet"]) == 0
+    assert main(["fit", str(log), "--actuator", "knee", "--save", str(model), "--limit-C", "90", "--quiet"]) == 0
+    document = json.loads(model.read_text())
+    entry = document["actuators"][0]
+    assert document["format"] == "thermolimb-model" and document["version"] == 1
+    assert entry["params"]["betaR_K_per_effort2"]["unit"] == "K/(N m)^2"
+    assert entry["provenance"]["files"][0]["name"] == "log.csv" and len(entry["provenance"]["files"][0]["sha256"]) == 64
+    assert entry["provenance"]["samples"] > 1000 and entry["limit_C"] == 90.0
+    assert entry["residual"]["samples"] > 100 and entry["jackknife"] is not None
+    assert "wrote" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.update(version=7), "model file version 7 is not one this thermolimb reads"),
+    (lambda d: d.update(format="other"), "not a thermolimb model file"),
+    (lambda d: d["actuators"][0].pop("residual"), "missing field residual"),
+    (lambda d: d["actuators"][0].update(terms=["joule", "copper"]), "term 'copper' is not registered"),
+    (lambda d: d["actuators"][0]["covariance"].update(matrix=[[1.0]]), "\"covariance\" must hold"),
+    (lambda d: d["actuators"][0].update(limit_C="hot"), "\"limit_C\" must be a number"),
+])
+def test_a_bad_model_file_is_one_sentence(saved_auto, tmp_path, capsys, edit, message):
+    document = json.loads(saved_auto[1].read_text())
+    edit(document)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(document))
+    with pytest.raises(ModelFileError, match=None) as caught:
+        ModelFile.load(bad)
+    assert message in str(caught.value)
+    assert main(["predict", str(bad), "--hold", "10", "--duration", "60", "--start-C", "30"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_not_json_is_one_sentence(tmp_path):
+    path = tmp_path / "m.json"
+    path.write_text("time,effort\n1,2\n")
+    with pytest.raises(ModelFileError, match="not a JSON model file"):
+        ModelFile.load(path)
+
+
+def test_the_interval_covers_the_true_crossing_on_a_richer_plant(saved_auto):
+    """A held duty on the plant itself (noise-free thermistor), forecast from rest by the saved model."""
+    saved = ModelFile.load(saved_auto[1])["knee"]
+    plant = ThermalPlant(["knee"], [SPEC], PlantEffects.from_names(RICHER))
+    n, effort = 1201, 1.2 * SPEC.continuous_effort
+    sensor = [plant.measured_C[0]]
+    for _ in range(n - 1):
+        plant.step(np.array([effort]), np.zeros(1), 1.0)
+        sensor.append(plant.measured_C[0])
+    sensor = np.array(sensor)
+    signals = hold_signals(1200.0, effort, 0.0, step_s=1.0, columns=saved.model.columns)
+    covered = 0
+    for horizon in (60, 300, 900):
+        threshold = float(sensor[horizon])
+        f = forecast(saved, signals, float(sensor[0]), threshold, measured_C=sensor)
+        truth = crossing_s(signals.time_s, sensor, threshold)
+        low, high = f.interval_s
+        assert low is not None and low < f.time_to_threshold_s
+        assert high is None or f.time_to_threshold_s < high
+        covered += f.covers_measured
+        assert abs(truth - horizon) < 1.0
+    assert covered >= 2  # a 90 % interval: most of three
+
+
+def test_predict_a_plan_from_the_command_line(saved_auto, capsys):
+    path = saved_auto[1]
+    assert main(["predict", str(path), "--hold", "20,0", "--duration", "3600", "--start-C", "30", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["threshold_C"] == 100.0  # the stored limit
+    low, high = record["interval_s"]
+    assert record["time_to_threshold_s"] is not None and low <= record["time_to_threshold_s"]
+    assert high is None or record["time_to_threshold_s"] <= high
+
+
+def test_predict_over_a_log_with_a_plot(saved_auto, richer_log, tmp_path, capsys):
+    log = tmp_path / "run.csv"
+    richer_log.write(log)
+    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "40", "--plot", str(tmp_path),
+                 "--quiet"]) == 0
+    out = capsys.readouterr()
+    assert "knee:" in out.out and "90 % interval" in out.out or "stays below" in out.out
+    assert (tmp_path / "predict_knee.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--hold", "10,0", "--duration", "60", "--start-C", "120"], "is not above the start"),
+    (["--hold", "ten", "--duration", "60", "--start-C", "30"], "--hold expects EFFORT or EFFORT,VELOCITY"),
+    (["--hold", "10", "--start-C", "30"], "--hold needs --duration S and --start-C C"),
+    ([], "predict needs a LOG"),
+])
+def test_predict_refuses_in_one_sentence(saved_auto, capsys, argv, message):
+    assert main(["predict", str(saved_auto[1])] + argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_log_without_the_models_columns_is_one_sentence(saved_auto, tmp_path, capsys):
+    log = tmp_path / "no_velocity.csv"
+    log.write_text("time,actuator,effort,temperature\n" + "".join(f"{t},knee,5.0,{30 + 0.01 * t}\n" for t in range(300)))
+    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "50"]) == 2
+    err = capsys.readouterr().err
+    assert "reads the log column 'velocity'" in err and len(err.strip().splitlines()) == 1

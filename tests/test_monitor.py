@@ -1,0 +1,168 @@
+"""The monitor: a model run in pieces carries on exactly; following a CSV another process appends to writes an
+MCAP of ROS 2 messages that rosbags reads back; Foxglove's server speaks to a real WebSocket client."""
+
+import json
+import re
+import subprocess
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.model import Signals, ThermalModel, model_parameters
+from thermolimb.model.saved import ModelFile
+from thermolimb.monitor import CsvFollower, Session, time_to_limit_s
+from thermolimb.monitor.layout import SHIPPED_ACTUATORS, layout_text
+
+TERMS = ("joule", "effort_bias", "second_node", "third_node", "sensor_lag", "speed_losses")
+WRITER = """
+import sys, time
+src, dst, every, pause = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+lines = open(src).read().splitlines(True)
+with open(dst, "w") as f:
+    f.write(lines[0])
+    for i, line in enumerate(lines[1:]):
+        f.write(line)
+        if i % every == 0:
+            f.flush()
+            time.sleep(pause)
+"""
+
+
+def test_a_run_in_pieces_carries_on_exactly():
+    params = {p.name: p.typical for p in model_parameters(TERMS)}
+    params.update(frame_fraction=0.4, body_fraction=0.3, RC_s=40.0)
+    model = ThermalModel(TERMS, params)
+    rng = np.random.default_rng(1)
+    n = 2000
+    s = Signals(np.arange(n) * 0.5, rng.uniform(0, 10, n), rng.uniform(0, 3, n))
+    whole = model.simulate(s, 30.0, initial_rate_K_per_s=0.01)
+    state, keep, parts = None, {}, []
+    for lo, hi in zip([0, 5, 700, 701, 1500], [5, 700, 701, 1500, n - 1]):
+        out = model.simulate(s.slice(lo, hi + 1), 30.0, initial_rate_K_per_s=0.01, state=state, keep=keep)
+        parts.append(out if not parts else out[1:])
+        state = dict(keep)
+    assert np.max(np.abs(np.concatenate(parts) - whole)) < 1e-9
+    assert set(state) == {"winding", "output", "second_node", "third_node"}
+
+
+def test_time_to_limit_is_first_order():
+    assert time_to_limit_s(50.0, 100.0, 0.01, 75.0) == pytest.approx(np.log(2) / 0.01)
+    assert time_to_limit_s(50.0, 70.0, 0.01, 75.0) is None
+    assert time_to_limit_s(80.0, 70.0, 0.01, 75.0) == 0.0
+
+
+@pytest.fixture(scope="module")
+def model_and_log(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("monitor")
+    cal, run, model = folder / "cal.csv", folder / "run.csv", folder / "model.json"
+    assert main(["simulate", "--profile", "random", "--duration", "2400", "--dt", "1", "--network", "first_order",
+                 "--seed", "4", "--out", str(cal), "--quiet"]) == 0
+    assert main(["simulate", "--profile", "squat", "--duration", "600", "--dt", "1", "--network", "first_order",
+                 "--seed", "5", "--out", str(run), "--quiet"]) == 0
+    assert main(["fit", str(cal), "--save", str(model), "--limit-C", "60", "--quiet"]) == 0
+    return model, run
+
+
+def test_the_monitor_follows_a_file_another_process_appends_to(model_and_log, tmp_path):
+    from rosbags.highlevel import AnyReader
+
+    model, run = model_and_log
+    live, out = tmp_path / "live.csv", tmp_path / "out.mcap"
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(run), str(live), "30", "0.02"])
+    time.sleep(0.1)
+    try:
+        done = subprocess.run([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
+                               str(live), "--mcap", str(out), "--idle-exit", "1.5", "--publish-hz", "1"],
+                              capture_output=True, text=True, timeout=120)
+    finally:
+        writer.wait(timeout=60)
+    assert done.returncode == 0, done.stderr
+    rows = len(run.read_text().splitlines()) - 1
+    counts, types, levels = Counter(), {}, set()
+    with AnyReader([out]) as reader:
+        for connection, _, raw in reader.messages():
+            counts[connection.topic] += 1
+            types[connection.topic] = connection.msgtype
+            if connection.topic == "/diagnostics":
+                levels |= {s.level for s in reader.deserialize(raw, connection.msgtype).status}
+    assert types["/thermolimb/knee/winding_temperature"] == "sensor_msgs/msg/Temperature"
+    assert types["/diagnostics"] == "diagnostic_msgs/msg/DiagnosticArray"
+    per_actuator = rows // 3
+    # one publication per second of log time (1 Hz log): every sample after the first
+    assert counts["/thermolimb/knee/winding_temperature"] == per_actuator - 1
+    assert counts["/diagnostics"] == per_actuator - 1
+    assert levels <= {0, 1, 2}
+    assert not list(tmp_path.glob(".out.mcap*"))  # no temporary left behind
+
+
+def test_json_lines_and_the_estimate_follows_the_readings(model_and_log, capsys):
+    model, run = model_and_log
+    session = Session(ModelFile.load(model), {}, [], publish_every_s=0.0)
+    follower = CsvFollower(run)
+    estimates = session.feed(follower.poll())
+    assert {e.actuator for e in estimates} == {"knee", "hip", "ankle"}
+    for e in estimates:
+        assert abs(e.winding_C - e.measured_C) < 3.0 and 0 < e.winding_std_K < 1.0
+        assert 0.0 <= e.derating <= 1.0
+    assert main(["monitor", str(model), "--follow", str(run), "--json-lines", "--idle-exit", "0.2",
+                 "--publish-hz", "0.01"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    records = [json.loads(line) for line in lines]
+    assert len(records) >= 2 and set(records[-1]["actuators"]) == {"knee", "hip", "ankle"}
+
+
+def test_the_live_view_speaks_foxglove_to_a_real_client(model_and_log, tmp_path):
+    pytest.importorskip("foxglove")
+    websocket = pytest.importorskip("websocket")
+    model, run = model_and_log
+    live = tmp_path / "live.csv"
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(run), str(live), "3", "0.05"])
+    monitor = subprocess.Popen([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
+                                str(live), "--foxglove", "0", "--idle-exit", "2"], stderr=subprocess.PIPE, text=True)
+    try:
+        port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", monitor.stderr.readline()).group(1))
+        ws = websocket.create_connection(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"], timeout=10)
+        assert ws.subprotocol == "foxglove.sdk.v1"
+        channels, messages = {}, []
+        deadline = time.time() + 20
+        while time.time() < deadline and len(messages) < 10:
+            opcode, data = ws.recv_data()
+            if opcode == 1 and json.loads(data)["op"] == "advertise":
+                channels.update({c["id"]: c["topic"] for c in json.loads(data)["channels"]})
+                ws.send(json.dumps({"op": "subscribe",
+                                    "subscriptions": [{"id": cid, "channelId": cid} for cid in channels]}))
+            elif opcode == 2 and data[0] == 1:  # message data: opcode, subscription id, time, payload
+                messages.append((channels[int.from_bytes(data[1:5], "little")], json.loads(data[13:])))
+        ws.close()
+    finally:
+        writer.kill()
+        monitor.wait(timeout=30)
+    assert {"/diagnostics", "/thermolimb/knee/winding_temperature", "/thermolimb/hip/measured_temperature"} <= \
+        set(channels.values())
+    assert len(messages) >= 10
+    topic, payload = next((t, p) for t, p in messages if t.endswith("winding_temperature"))
+    assert 0.0 < payload["temperature"] < 200.0 and payload["variance"] >= 0.0
+
+
+def test_the_shipped_layout_is_the_generated_one():
+    from importlib.resources import files
+
+    shipped = files("thermolimb.data").joinpath("foxglove_layout.json").read_text()
+    assert shipped == layout_text(SHIPPED_ACTUATORS)
+    assert "/thermolimb/knee/winding_temperature.temperature" in shipped and "/diagnostics" in shipped
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--follow", "{run}"], "monitor needs somewhere to publish"),
+    (["--follow", "{run}", "--mcap", "{run}"], "is the log being followed"),
+])
+def test_monitor_refuses_in_one_sentence(model_and_log, capsys, argv, message):
+    model, run = model_and_log
+    assert main(["monitor", str(model)] + [a.format(run=run) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1

@@ -1,0 +1,106 @@
+"""``thermolimb monitor``: follow a running robot's log with a saved model and publish what it estimates."""
+
+from __future__ import annotations
+
+import sys
+
+from ..util.errors import UsageError
+from .options import add_terms
+from .output import say
+from .reading import load_terms
+from .types import integer, number, output_file
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "monitor", help="follow a log as it is written: winding estimates, time to the limit, derating, live",
+        description="Follow a canonical CSV log (time,actuator,effort,temperature[,velocity,current,ambient]) while "
+                    "another program appends to it; for each actuator run the saved model with a Kalman filter on "
+                    "its readings (the winding temperature and its uncertainty), the time to the limit at the "
+                    "current effort and the protection's derating; publish them as ROS 2 messages to an MCAP, live "
+                    "to Foxglove, or as JSON lines. Ends on Ctrl-C, SIGTERM or --idle-exit, every output complete. "
+                    "Topics and messages: docs/model-file.md.")
+    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
+    p.add_argument("--follow", required=True, metavar="LOG", help="the CSV log to follow")
+    p.add_argument("--actuator", default=None, metavar="NAME",
+                   help="the actuator of a CSV without an actuator column")
+    add_terms(p)
+    p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
+                   help="the winding limit of every actuator (default: each model's stored limit)")
+    p.add_argument("--measurement-std-K", dest="measurement_std_K", type=number(0.0, 10.0, low_open=True),
+                   default=0.1, metavar="K", help="the thermistor's noise, 1 sigma, quantisation included (default 0.1)")
+    p.add_argument("--mcap", type=output_file, default=None, metavar="OUT.mcap",
+                   help="write sensor_msgs/Temperature per actuator and diagnostic_msgs/DiagnosticArray to OUT.mcap")
+    p.add_argument("--foxglove", type=integer(0, 65535), nargs="?", const=8765, default=None, metavar="PORT",
+                   help="serve the same channels live on Foxglove's WebSocket protocol (default port 8765; extra "
+                        "'live')")
+    p.add_argument("--layout", type=output_file, default=None, metavar="FILE",
+                   help="also write a Foxglove layout for these actuators' channels to FILE (import it in Foxglove)")
+    p.add_argument("--json-lines", action="store_true", help="one JSON object per publication on standard output")
+    p.add_argument("--publish-hz", type=number(0.0, 10000.0, low_open=True), default=20.0, metavar="HZ",
+                   help="at most this many publications per second of log time (default 20)")
+    p.add_argument("--poll-s", type=number(0.001, 60.0), default=0.05, metavar="S",
+                   help="how often the log is checked for new rows (default 0.05 s)")
+    p.add_argument("--idle-exit", type=number(0.0, 1e6, low_open=True), default=None, metavar="S",
+                   help="end when the log has not grown for S seconds")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    from ..model.saved import ModelFile
+    from ..monitor import CsvFollower, Session, follow
+    from ..monitor.outputs import FoxgloveOutput, JsonLinesOutput, McapOutput
+
+    load_terms(args)
+    models = ModelFile.load(args.model_file)
+    if not (args.mcap or args.foxglove is not None or args.json_lines):
+        raise UsageError("monitor needs somewhere to publish: --mcap OUT.mcap, --foxglove [PORT] or --json-lines")
+    if args.mcap and _same_file(args.mcap, args.follow):
+        raise UsageError(f"--mcap {args.mcap} is the log being followed; write the MCAP elsewhere")
+    names = list(models.actuators)
+    if args.layout:
+        from ..monitor.layout import layout_text
+        from ..util.atomic import atomic_path
+
+        with atomic_path(args.layout) as tmp:
+            tmp.write_text(layout_text(names))
+        print(f"wrote {args.layout}", file=sys.stderr)
+    limits = {n: args.limit_C for n in names} if args.limit_C is not None else {}
+    outputs = []
+    try:
+        if args.mcap:
+            outputs.append(McapOutput(args.mcap, names))
+        if args.foxglove is not None:
+            fox = FoxgloveOutput(args.foxglove, names)
+            outputs.append(fox)
+            say(f"Foxglove: open ws://127.0.0.1:{fox.port} (layout: {_layout()})")
+        if args.json_lines:
+            outputs.append(JsonLinesOutput())
+    except BaseException:
+        for out in outputs:
+            out.close()
+        raise
+    session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz)
+    try:
+        follow(session, CsvFollower(args.follow, args.actuator), args.poll_s, args.idle_exit)
+    except KeyboardInterrupt:
+        say(f"stopped after {session.samples} samples; outputs complete")
+    if args.mcap:
+        print(f"wrote {args.mcap}", file=sys.stderr)
+    return 0
+
+
+def _same_file(a, b) -> bool:
+    import os
+
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def _layout() -> str:
+    from importlib.resources import files
+
+    return str(files("thermolimb.data").joinpath("foxglove_layout.json"))

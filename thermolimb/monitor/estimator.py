@@ -1,0 +1,124 @@
+"""The monitor's estimate for each actuator, one piece of the log at a time: the winding temperature, the time
+left before its limit at the current effort, and the protection's derating.
+
+For each actuator the identified model (a :class:`~thermolimb.model.saved.SavedModel`) runs free over the
+log's inputs, carried exactly from piece to piece (:meth:`ThermalModel.simulate`'s ``state``), and a Kalman
+filter corrects it with each reading.  What the filter estimates is the model's error: a disturbance ``b`` on
+the winding that the winding forgets with its own time constant (``b' = a b + w``, ``a = exp(-dt / RC)``),
+read through the sensor (``y = model output + b + v``).  This is the plant's winding observer
+(:class:`~thermolimb.plant.observer.WindingObserver`) on the identified model instead of the plant's network:
+the model supplies the physics, the readings hold it to the robot.  The process noise is set from the model
+file's held-out residual (its RMSE is the size of what the model misses), the measurement noise from the
+log's resolution.
+
+The forecast holds the current inputs: the model's steady state under them (its forcing ``u``) and its rate
+``lam`` give ``t = ln((T - u) / (L - u)) / lam`` from the estimate ``T`` to the limit ``L``; with slow masses,
+whose share of the rise builds up later, this is the soonest the winding can get there.  The derating is
+:class:`~thermolimb.plant.protection.ThermalProtection`'s on the estimate plus two standard deviations.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.saved import SavedModel
+from ..model.signals import Signals
+from ..plant.protection import ThermalProtection
+
+OK, WARN, ERROR = 0, 1, 2
+LEVELS = {OK: "OK", WARN: "WARN", ERROR: "ERROR"}
+WARN_WITHIN_S = 120.0  # WARN when the forecast reaches the limit sooner than this
+DEFAULT_MEASUREMENT_STD_K = 0.1
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """One actuator's state after a piece of log, at its last sample."""
+
+    actuator: str
+    time_s: float
+    measured_C: float
+    winding_C: float
+    winding_std_K: float
+    time_to_limit_s: float | None  # None: never at the current effort
+    derating: float  # the share of effort protection allows (1: none taken)
+    level: int  # OK, WARN, ERROR
+    limit_C: float
+
+    @property
+    def status(self) -> str:
+        return LEVELS[self.level]
+
+    def message(self) -> str:
+        if self.level == ERROR:
+            return f"winding at {self.winding_C:.1f} degC, at or above its {self.limit_C:g} degC limit"
+        ttl = "not at this effort" if self.time_to_limit_s is None else f"in {self.time_to_limit_s:.0f} s"
+        return f"winding {self.winding_C:.1f} degC; reaches {self.limit_C:g} degC {ttl}"
+
+    def to_json(self) -> dict:
+        return {"actuator": self.actuator, "time_s": self.time_s, "measured_C": self.measured_C,
+                "winding_C": self.winding_C, "winding_std_K": self.winding_std_K,
+                "time_to_limit_s": self.time_to_limit_s, "derating": self.derating, "status": self.status,
+                "limit_C": self.limit_C}
+
+
+class ActuatorMonitor:
+    """One actuator's model state and filter, fed piece by piece (each piece starts at the last one's end)."""
+
+    def __init__(self, saved: SavedModel, limit_C: float, measurement_std_K: float = DEFAULT_MEASUREMENT_STD_K,
+                 protection: ThermalProtection = ThermalProtection(), sigmas: float = 2.0):
+        if not np.isfinite(limit_C):
+            raise ValueError(f"the limit of {saved.actuator} must be a finite degC, got {limit_C}")
+        self.saved = saved
+        self.model = saved.model
+        self.limit_C = float(limit_C)
+        self.protection = protection
+        self.sigmas = sigmas
+        self.r = measurement_std_K**2
+        miss = saved.residual.rmse_K if saved.residual is not None else 0.5
+        # the disturbance's stationary spread is the model's held-out error: q = miss^2 (1 - a^2) per step
+        self.miss_K = max(miss, measurement_std_K)
+        self.state: dict | None = None
+        self.bias = 0.0
+        self.P = self.miss_K**2
+        self.last: Estimate | None = None
+
+    def update(self, signals: Signals, measured_C: np.ndarray) -> Estimate:
+        """Advance over ``signals`` (its first sample is the previous piece's last, except on the first piece)."""
+        keep: dict = {}
+        first = self.state is None
+        sim = self.model.simulate(signals, float(measured_C[0]), state=self.state, keep=keep)
+        self.state = keep
+        decay = np.exp(-np.diff(signals.time_s) / self.model.params["RC_s"]).tolist()
+        innovation = (np.asarray(measured_C, float) - sim).tolist()
+        bias, P, r, q = (0.0, self.r, self.r, self.miss_K**2) if first else (self.bias, self.P, self.r, self.miss_K**2)
+        for k in range(0 if first else 1, signals.n):
+            if k > 0:
+                a = decay[k - 1]
+                bias *= a
+                P = a * a * P + q * (1.0 - a * a)
+            gain = P / (P + r)
+            bias += gain * (innovation[k] - bias)
+            P *= 1.0 - gain
+        self.bias, self.P = bias, P
+        winding = keep["winding"] + bias  # the model's winding, less what the readings say it misses
+        std = float(np.sqrt(self.P))
+        u, lam = self.model.forcing(signals.slice(signals.n - 1, signals.n))
+        ttl = time_to_limit_s(winding, float(u[-1]), float(lam[-1]), self.limit_C)
+        derate = float(self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0])
+        level = ERROR if winding >= self.limit_C else (
+            WARN if derate < 1.0 or (ttl is not None and ttl < WARN_WITHIN_S) else OK)
+        self.last = Estimate(self.saved.actuator, float(signals.time_s[-1]), float(measured_C[-1]), float(winding),
+                             std, ttl, derate, level, self.limit_C)
+        return self.last
+
+
+def time_to_limit_s(temperature_C: float, steady_C: float, rate_per_s: float, limit_C: float) -> float | None:
+    """First-order time from ``temperature_C`` to ``limit_C`` heading for ``steady_C`` at ``rate_per_s``."""
+    if temperature_C >= limit_C:
+        return 0.0
+    if steady_C <= limit_C or rate_per_s <= 0:
+        return None
+    return float(np.log((steady_C - temperature_C) / (steady_C - limit_C)) / rate_per_s)

@@ -1,0 +1,129 @@
+"""The monitor's loop: follow a log, update each actuator's estimate, publish, end cleanly."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model.saved import ModelFile
+from ..model.signals import Signals
+from ..util.errors import UsageError
+from .estimator import ActuatorMonitor, Estimate
+from .follow import as_arrays
+
+CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C"}
+
+
+@dataclass
+class Session:
+    """Per actuator, the monitor and the last sample (each piece starts from it); the outputs."""
+
+    models: ModelFile
+    limits: dict[str, float]
+    outputs: list
+    measurement_std_K: float = 0.1
+    publish_every_s: float = 0.0  # at most one publication per this much log time (0: every piece)
+    monitors: dict[str, ActuatorMonitor] = field(default_factory=dict)
+    carry: dict[str, dict] = field(default_factory=dict)
+    published_at: float = -np.inf
+    samples: int = 0
+    publications: int = 0
+
+    def feed(self, pieces: dict) -> list[Estimate]:
+        """Update each actuator that has new rows, publishing once per ``publish_every_s`` of log time (a piece
+        that spans several such periods, as a log already written when the monitor starts, is taken period by
+        period, so that what is published does not depend on how often the file was polled).  The estimates."""
+        windows: dict[float, dict[str, dict]] = {}
+        for name, piece in pieces.items():
+            arrays = as_arrays(piece)
+            before = self.carry.get(name)
+            if before is not None:
+                arrays = {k: np.concatenate([before[k], v]) for k, v in arrays.items() if k in before}
+            if arrays["time"].size < 2:
+                self.carry[name] = arrays  # one sample: wait for the next
+                continue
+            self.samples += arrays["time"].size - (0 if before is None else 1)
+            self.carry[name] = {k: v[-1:] for k, v in arrays.items()}
+            for key, lo, hi in _periods(arrays["time"], self.publish_every_s):
+                windows.setdefault(key, {})[name] = {k: v[lo:hi] for k, v in arrays.items()}
+        estimates = []
+        for key in sorted(windows):
+            for name, arrays in windows[key].items():
+                estimates.append(self._update(name, arrays))
+            last = [m.last for m in self.monitors.values() if m.last is not None]
+            if max(e.time_s for e in last) - self.published_at >= self.publish_every_s:
+                self.publish(last)
+        return estimates
+
+    def _update(self, name: str, arrays: dict) -> Estimate:
+        monitor = self.monitors.get(name) or self._monitor(name)
+        signals = Signals(arrays["time"], arrays["effort"], **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays})
+        missing = [c for c in monitor.model.columns if not signals.has(c)]
+        if missing:
+            raise UsageError(f"the model of {name} reads the log column {missing[0]!r}, which the followed log does "
+                             f"not have")
+        return monitor.update(signals, arrays["temperature"])
+
+    def publish(self, estimates: list[Estimate]) -> None:
+        names = {n: ",".join(m.model.terms) for n, m in self.monitors.items()}
+        for out in self.outputs:
+            out.publish(estimates, names)
+        self.published_at = max(e.time_s for e in estimates)
+        self.publications += 1
+
+    def _monitor(self, name: str) -> ActuatorMonitor:
+        if name not in self.models.actuators:
+            raise UsageError(f"the followed log has actuator {name!r}, which the model file does not hold (it has "
+                             f"{', '.join(self.models.actuators)})")
+        limit = self.limits.get(name, self.models[name].limit_C)
+        if limit is None:
+            raise UsageError(f"the model of {name} stores no limit; give --limit-C C")
+        self.monitors[name] = ActuatorMonitor(self.models[name], limit, self.measurement_std_K)
+        return self.monitors[name]
+
+    def close(self) -> None:
+        """Publish what the last publication missed, then close every output (each complete)."""
+        last = [m.last for m in self.monitors.values() if m.last is not None]
+        try:
+            if last and max(e.time_s for e in last) > self.published_at:
+                self.publish(last)
+        finally:
+            for out in self.outputs:
+                out.close()
+
+
+def _periods(time_s: np.ndarray, period_s: float):
+    """``(period, lo, hi)``: the stretches of ``time_s`` within each publication period, each from the last
+    sample of the one before (a piece carries on from its predecessor's last sample)."""
+    if period_s <= 0:
+        yield 0.0, 0, time_s.size
+        return
+    index = np.floor(time_s / period_s)
+    cuts = np.flatnonzero(np.diff(index) > 0) + 1
+    lo = 0
+    for cut in list(cuts) + [time_s.size - 1]:
+        hi = int(cut) + 1
+        if hi - lo >= 2:
+            yield float(index[hi - 1]), lo, hi
+            lo = hi - 1
+
+
+def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float | None = None,
+           clock=time.monotonic, sleep=time.sleep) -> None:
+    """Poll ``follower`` until interrupted (Ctrl-C, SIGTERM) or, with ``idle_exit_s``, until the log has not grown
+    for that long; the outputs are closed complete either way."""
+    grew = clock()
+    try:
+        while True:
+            pieces = follower.poll()
+            if pieces:
+                session.feed(pieces)
+                grew = clock()
+            elif idle_exit_s is not None and clock() - grew >= idle_exit_s:
+                break
+            else:
+                sleep(poll_s)
+    finally:
+        session.close()
