@@ -47,7 +47,7 @@ def test_a_run_in_pieces_carries_on_exactly():
         parts.append(out if not parts else out[1:])
         state = dict(keep)
     assert np.max(np.abs(np.concatenate(parts) - whole)) < 1e-9
-    assert set(state) == {"winding", "output", "second_node", "third_node"}
+    assert {"winding", "output", "second_node", "third_node"} <= set(state)
 
 
 def test_time_to_limit_is_first_order():

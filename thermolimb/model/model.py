@@ -168,7 +168,8 @@ class ThermalModel:
         the equilibrium and the output around the winding's recursion.
 
         A run in pieces (a monitor following a log): ``keep``, a dict, receives the state the simulation
-        ends in (the winding, each slow mass, the output); passed back as ``state`` for the next piece,
+        ends in (the winding, each slow mass, the output; and the last sample's steady state ``steady_C`` and
+        rate ``rate_per_s``, the forcing's, for a forecast); passed back as ``state`` for the next piece,
         whose first sample is this piece's last, the run carries on exactly as one simulation of the whole
         would (``initial_temperature_C`` and the rate are then unused).
         """
@@ -193,7 +194,8 @@ class ThermalModel:
             out = term.shape_output(self.params, s, out, output_start)
         if keep is not None:
             keep.clear()
-            keep.update({"winding": float(winding[-1]), "output": float(out[-1])})
+            keep.update({"winding": float(winding[-1]), "output": float(out[-1]),
+                         "steady_C": float(u[-1]), "rate_per_s": float(np.broadcast_to(lam, u.shape)[-1])})
             keep.update({t.name: t.state for t in terms if t.carries_state and getattr(t, "state", None) is not None})
         return out
 

@@ -34,6 +34,7 @@ _MIN_LOG_A = -MAX_DECAY_PER_CHUNK  # one step may decay at most this much (a >= 
 # k * 0.1 s has steps that differ by rounding; taking their mean changes x by at most about 1e-9 of its size.
 CONSTANT_A = 1e-9
 MAX_CHUNKS = 64  # beyond this many chunks the associative scan is faster
+SHORT = 8  # a recursion this short runs as a plain loop (a monitor's piece of a sample or two): no call overhead
 
 
 def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
@@ -45,6 +46,11 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
     """
     b = np.asarray(b, dtype=float)
     a = np.asarray(a, dtype=float)
+    if b.shape[0] <= SHORT and np.all((a >= 0.0) & (a <= 1.0)) and (a.ndim == 0 or a.shape == b.shape):
+        out = [float(x0)]
+        for ak, bk in zip(np.broadcast_to(a, b.shape).tolist(), b.tolist()):
+            out.append(ak * out[-1] + bk)
+        return np.array(out)
     if a.ndim == 0 and 0.0 <= a <= 1.0:
         return _constant_factor(float(a), b, float(x0))
     n = a.shape[0]

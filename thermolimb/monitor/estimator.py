@@ -105,8 +105,7 @@ class ActuatorMonitor:
         self.bias, self.P = bias, P
         winding = keep["winding"] + bias  # the model's winding, less what the readings say it misses
         std = float(np.sqrt(self.P))
-        u, lam = self.model.forcing(signals.slice(signals.n - 1, signals.n))
-        ttl = time_to_limit_s(winding, float(u[-1]), float(lam[-1]), self.limit_C)
+        ttl = time_to_limit_s(winding, keep["steady_C"], keep["rate_per_s"], self.limit_C)
         derate = float(self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0])
         level = ERROR if winding >= self.limit_C else (
             WARN if derate < 1.0 or (ttl is not None and ttl < WARN_WITHIN_S) else OK)
