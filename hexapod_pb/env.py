@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
-from thermolimb.envs.base import RigEnv, checked_range
+from thermolimb.envs.base import RigEnv, checked_port, checked_range
 
 from . import cpg
 from .controller import ThermalContext
@@ -75,6 +75,9 @@ class HexapodLoadCarryEnv(RigEnv):
         each actuator's starting temperature (degC) from.
     distance_weight_per_m, overheat_weight_per_K, overheat_from_C, fall_penalty
         The reward's weights (see above).
+    live
+        A port: stream every episode's world live to Foxglove on the monitor's channels (winding estimates,
+        time to the limit, derating; :mod:`thermolimb.monitor.live`; extra 'live').  ``None``: no stream.
 
     ``reset(options=...)`` takes no options: the ranges are the constructor's.
     """
@@ -85,8 +88,9 @@ class HexapodLoadCarryEnv(RigEnv):
                  payload_range_kg: tuple[float, float] = (0.0, 5.0), ambient_range_C: tuple[float, float] = (20.0, 35.0),
                  initial_temperature_range_C: tuple[float, float] = (40.0, 110.0), distance_weight_per_m: float = 1.0,
                  overheat_weight_per_K: float = 0.05, overheat_from_C: float = LIMITS.overheat_from_C,
-                 fall_penalty: float = 100.0):
+                 fall_penalty: float = 100.0, live: int | None = None):
         super().__init__(max_time_s, decision_s, render_mode)
+        self.live = checked_port(live)
         self.payload_range_kg = checked_range("payload_range_kg", payload_range_kg, 0.0, 50.0)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
         self.initial_temperature_range_C = checked_range("initial_temperature_range_C", initial_temperature_range_C,

@@ -11,7 +11,7 @@ from typing import Sequence
 import numpy as np
 from gymnasium import spaces
 
-from thermolimb.envs.base import RigEnv, checked_range
+from thermolimb.envs.base import RigEnv, checked_port, checked_range
 from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
@@ -104,6 +104,9 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         Housings start up to this much above ambient (K).
     cooling_weight_per_K, warning_weight, fall_penalty, effort_weight
         The reward's weights (above).
+    live
+        A port: stream every episode's world live to Foxglove on the monitor's channels (winding estimates,
+        time to the limit, derating; :mod:`thermolimb.monitor.live`; extra 'live').  ``None``: no stream.
     """
 
     OUTCOME = "recovery_s"
@@ -113,8 +116,9 @@ class HumanoidThermalRecoveryEnv(RigEnv):
                  ambient_range_C: tuple[float, float] = (20.0, 30.0), hot_range_C: tuple[float, float] = (72.0, 80.0),
                  cool_range_C: tuple[float, float] = (35.0, 50.0), housing_warming_K: float = HOUSING_WARMING_K,
                  cooling_weight_per_K: float = 1.0, warning_weight: float = 0.5, fall_penalty: float = 100.0,
-                 effort_weight: float = 0.01, scenario: str = DEFAULT):
+                 effort_weight: float = 0.01, scenario: str = DEFAULT, live: int | None = None):
         super().__init__(max_time_s, DECISION_S, render_mode)
+        self.live = checked_port(live)
         self.scenario = get_scenario(scenario)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
         self.hot_range_C = checked_range("hot_range_C", hot_range_C, -40.0, 150.0)

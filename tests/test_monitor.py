@@ -166,3 +166,35 @@ def test_monitor_refuses_in_one_sentence(model_and_log, capsys, argv, message):
     assert main(["monitor", str(model)] + [a.format(run=run) for a in argv]) == 2
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_environment_streams_its_world_on_the_same_channels():
+    pytest.importorskip("foxglove")
+    websocket = pytest.importorskip("websocket")
+    import gymnasium as gym
+
+    from hexapod_pb import ENV_ID
+    from thermolimb.monitor.live import live_view
+
+    with pytest.raises(ValueError, match="live must be None or a port number"):
+        gym.make(ENV_ID, live=-1)
+    env = gym.make(ENV_ID, live=0, max_time_s=5.0)
+    try:
+        env.reset(seed=0)
+        env.step(env.action_space.sample())
+        ws = websocket.create_connection(f"ws://127.0.0.1:{live_view(0).port}", subprotocols=["foxglove.sdk.v1"],
+                                         timeout=10)
+        channels = {}
+        while "/diagnostics" not in channels.values() or len(channels) < 37:
+            opcode, data = ws.recv_data()
+            if opcode == 1 and json.loads(data)["op"] == "advertise":
+                channels.update({c["id"]: c["topic"] for c in json.loads(data)["channels"]})
+        ws.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": c, "channelId": c} for c in channels]}))
+        env.step(env.action_space.sample())
+        opcode, data = ws.recv_data()
+        ws.close()
+    finally:
+        env.close()
+    # 18 actuators, each an estimated and a measured temperature, and the diagnostics
+    assert len(channels) == 37 and "/thermolimb/left_front_base/winding_temperature" in channels.values()
+    assert opcode == 2 and data[0] == 1 and {"temperature", "status"} & set(json.loads(data[13:]))

@@ -123,6 +123,9 @@ class BulletRig:
         self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
         self._log = {key: deque(maxlen=config.log_capacity)
                      for key in ("time", "effort", "velocity", "temperature", "ambient")}
+        from .monitor.live import from_environment
+
+        self.stream = from_environment()  # a live view of the plant (thermolimb.monitor.live), when asked for
 
     # ------------------------------------------------------------- robot hooks
     def actuator_efforts(self, q: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
@@ -269,6 +272,8 @@ class BulletRig:
         self._log["ambient"].append(self.plant.ambient_C)
         self.plant.step(efforts, velocities, self.config.control_dt_s)
         self.time_s += self.config.control_dt_s
+        if self.stream is not None:
+            self.stream.publish(self)
 
     def thermal_log(self) -> ThermalLog:
         """What the robot logged so far (the latest ``log_capacity`` control steps, if bounded), in the canonical

@@ -9,7 +9,7 @@ from pathlib import Path
 from ..demo_registry import demo_names, in_tour_order, load_demos, run_demo
 from ..report import build_report
 from .output import print_json
-from .types import output_dir
+from .types import integer, output_dir
 
 
 def add_parser(sub):
@@ -23,6 +23,9 @@ def add_parser(sub):
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default out)")
     p.add_argument("--json", action="store_true", help="print the summary record(s)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--live", type=integer(0, 65535), nargs="?", const=8765, default=None, metavar="PORT",
+                   help="stream the simulated robots live to Foxglove on the monitor's channels (default port 8765; "
+                        "extra 'live')")
     p.set_defaults(func=run)
 
     r = sub.add_parser("report", help="build OUT/index.html from the demos' results",
@@ -44,6 +47,12 @@ def run(args) -> int:
             print(f"demo {name}: skipped (needs {', '.join(demos[name].missing)}: "
                   f"pip install 'thermolimb[{demos[name].extra}]')")
         names = [n for n in names if not demos[n].missing]
+    if args.live is not None:
+        import os
+
+        from ..monitor.live import ENV_VARIABLE
+
+        os.environ[ENV_VARIABLE] = str(args.live)
     summaries = {}
     for name in names:
         start = time.perf_counter()

@@ -9,6 +9,15 @@ import gymnasium as gym
 import numpy as np
 
 
+def checked_port(live) -> int | None:
+    """``live``: ``None``, or the port of the live view (0: any free port), or a ValueError naming it."""
+    if live is None:
+        return None
+    if isinstance(live, bool) or not isinstance(live, int) or not 0 <= live <= 65535:
+        raise ValueError(f"live must be None or a port number 0..65535 (0: any free port), got {live!r}")
+    return live
+
+
 def checked_range(name: str, value, lowest: float, highest: float) -> tuple[float, float]:
     """A reset range ``(low, high)`` with ``lowest <= low <= high <= highest``, or a ValueError naming it."""
     try:
@@ -51,6 +60,7 @@ class RigEnv(gym.Env):
         self.sim = None
         self.steps = 0
         self._ended = False
+        self.live = None  # a port: the world of every episode streamed live (thermolimb.monitor.live)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         if options is not None:
@@ -78,6 +88,10 @@ class RigEnv(gym.Env):
     def _begin_step(self, action) -> np.ndarray:
         if self.sim is None:
             raise RuntimeError("call reset() before step()")
+        if self.live is not None and self.sim.stream is None:
+            from ..monitor.live import RigStream, live_view
+
+            self.sim.stream = RigStream(live_view(self.live))
         if self._ended:
             raise RuntimeError("the episode has ended (terminated or truncated); call reset() before step()")
         space = self.action_space
