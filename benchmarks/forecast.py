@@ -37,10 +37,9 @@ from pathlib import Path
 import numpy as np
 
 from thermolimb.forecast import crossing_s, forecast
-from thermolimb.logs import ActuatorSeries
 from thermolimb.model.saved import ModelFile, saved_from_report
-from thermolimb.model.signals import Signals
-from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
+from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
+from thermolimb.plant.duties import held_duty
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.validation import validate_model
 
@@ -71,33 +70,6 @@ def saved_models(series, folder: Path) -> dict:
     return out
 
 
-def held_case(load: float, speed: float, warm: bool):
-    """The plant under a held duty: the inputs from the forecast's start, the true (noise-free) thermistor
-    reading and winding, and the start's reading and trend."""
-    plant = ThermalPlant(["knee"], [SPEC], PlantEffects.from_names(RICHER))
-    effort = np.array([load * SPEC.continuous_effort])
-    readings = [plant.measured_C[0]]
-    if warm:
-        for _ in range(int(WARM_S / DT_S)):
-            plant.step(np.array([SPEC.continuous_effort]), np.zeros(1), DT_S)
-            readings.append(plant.measured_C[0])
-    start = plant.measured_C[0]
-    history = None
-    if warm:  # what a monitor has seen: the warm-up's inputs and readings
-        n = len(readings)
-        history = ActuatorSeries("knee", Signals(np.arange(n) * DT_S, np.full(n, SPEC.continuous_effort),
-                                                 np.zeros(n)), np.array(readings))
-    n = int(HOLD_S / DT_S) + 1
-    sensor, winding = np.empty(n), np.empty(n)
-    sensor[0], winding[0] = start, plant.winding_C[0]
-    for k in range(1, n):
-        plant.step(effort, np.array([speed]), DT_S)
-        sensor[k], winding[k] = plant.measured_C[0], plant.winding_C[0]
-    t = np.arange(n) * DT_S
-    signals = Signals(t, np.full(n, effort[0]), np.full(n, speed))
-    return signals, sensor, winding, start, history, effort[0]
-
-
 def i2t_trip_s(saved, threshold_C: float, effort: float, warm: bool) -> float | None:
     """An I2t limit tuned from the calibration log's first-order fit: it trips when the accumulated
     (F^2 - F_c^2) dt (never below zero) reaches the budget B, with F_c^2 the effort whose steady rise reaches
@@ -120,7 +92,9 @@ def plant_cases(seed: int) -> list[dict]:
     for warm in (False, True):
         for load in LOADS:
             for speed in SPEEDS_RAD_S:
-                signals, sensor, winding, start, history, effort = held_case(load, speed, warm)
+                duty = held_duty(SPEC, PlantEffects.from_names(RICHER), load * SPEC.continuous_effort, speed,
+                                 HOLD_S, DT_S, SPEC.continuous_effort, WARM_S if warm else 0.0)
+                signals, sensor, winding, start = duty.signals, duty.sensor_C, duty.winding_C, duty.start_C
                 t = signals.time_s
                 for horizon in HORIZONS_S:
                     threshold = float(np.interp(horizon, t, sensor))
@@ -130,13 +104,13 @@ def plant_cases(seed: int) -> list[dict]:
                     row = {"seed": seed, "load": load, "speed_rad_s": speed, "warm": warm, "horizon_s": horizon,
                            "threshold_C": threshold, "true_s": truth}
                     for label, saved in models.items():
-                        f = forecast(saved, signals, start, threshold, seed=seed, history=history)
+                        f = forecast(saved, signals, start, threshold, seed=seed, history=duty.history)
                         low, high = f.interval_s
                         row[label] = {"predicted_s": f.time_to_threshold_s, "interval_s": [low, high],
                                       "covered": low is not None and low <= truth and (high is None or truth <= high),
                                       "error": None if f.time_to_threshold_s is None
                                       else abs(f.time_to_threshold_s - truth) / truth}
-                    trip = i2t_trip_s(models["default"], threshold, effort, warm)
+                    trip = i2t_trip_s(models["default"], threshold, duty.effort, warm)
                     row["i2t"] = {"predicted_s": trip, "error": None if trip is None else abs(trip - truth) / truth}
                     cross = crossing_s(t, sensor, threshold)
                     row["thermistor_winding_excess_K"] = float(np.interp(cross, t, winding) - threshold)

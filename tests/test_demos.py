@@ -157,3 +157,15 @@ def test_endurance_summary_has_the_cells_the_issue_names(quick_runs):
     assert stand["vertical_only"]["time_to_derate_s"] < 3600.0
     planned = stand["thermal_gait"]["time_to_derate_s"]
     assert planned is None or planned >= 2 * stand["vertical_only"]["time_to_derate_s"]
+
+
+def test_forecast_demo_saves_forecasts_and_monitors(quick_runs):
+    summary = quick(quick_runs, "forecast")
+    folder = quick_runs[0] / "forecast"
+    assert (folder / "model_auto.json").is_file() and (folder / "monitor.mcap").stat().st_size > 10_000
+    auto, default = summary["coverage"]["auto"], summary["coverage"]["default"]
+    # the model the workbench finds answers better than Jorgensen et al.'s on a plant richer than both
+    assert auto["median_error"] < 0.5 * default["median_error"]
+    assert auto["covered"] >= 0.75 * auto["cases"]
+    m = summary["monitor"]
+    assert m["rmse_K"] < m["thermistor_rmse_K"] and m["true_within_2sd"] > 0.8

@@ -109,7 +109,8 @@ def register_demo(name: str, description: str, requires: tuple[str, ...] = (), p
 
 ENTRY_POINT_GROUP = "thermolimb.demos"
 # the order a newcomer reads the suite's demos in (the report and `thermolimb demo` list them so); others follow by name
-TOUR = ("thermal-fit", "diagnose", "custom-effect", "discovery", "real-logs", "pmsm-real-data", "fleet-drift", "hexapod-walk",
+TOUR = ("thermal-fit", "diagnose", "custom-effect", "discovery", "real-logs", "pmsm-real-data", "fleet-drift", "forecast",
+        "hexapod-walk",
         "strategies", "hexapod-endurance", "humanoid-recovery", "ppo-agent")
 
 

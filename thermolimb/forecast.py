@@ -80,7 +80,7 @@ class Forecast:
     def sentence(self) -> str:
         """The answer in words, with the units and the level."""
         low, high = self.interval_s
-        where = f"{self.threshold_C:g} degC from {self.start_C:.1f} degC"
+        where = f"{self.threshold_C:.1f} degC from {self.start_C:.1f} degC"
         if self.time_to_threshold_s is None:
             head = (f"{self.actuator}: the prediction stays below {where} over {self.horizon_s:.0f} s "
                     f"(peak {np.max(self.predicted_C):.1f} degC)")

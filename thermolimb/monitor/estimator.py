@@ -9,7 +9,8 @@ read through the sensor (``y = model output + b + v``).  This is the plant's win
 (:class:`~thermolimb.plant.observer.WindingObserver`) on the identified model instead of the plant's network:
 the model supplies the physics, the readings hold it to the robot.  The process noise is set from the model
 file's held-out residual (its RMSE is the size of what the model misses), the measurement noise from the
-log's resolution.
+log's resolution.  The estimate's standard deviation adds to the filter's the uncertainty of a lagging sensor's
+time constant times the temperature's rate of change (how far ahead of the reading the winding runs).
 
 The forecast holds the current inputs: the model's steady state under them (its forcing ``u``) and its rate
 ``lam`` give ``t = ln((T - u) / (L - u)) / lam`` from the estimate ``T`` to the limit ``L``; with slow masses,
@@ -80,6 +81,12 @@ class ActuatorMonitor:
         miss = saved.residual.rmse_K if saved.residual is not None else 0.5
         # the disturbance's stationary spread is the model's held-out error: q = miss^2 (1 - a^2) per step
         self.miss_K = max(miss, measurement_std_K)
+        # a lagging sensor's time constant is uncertain: the winding's distance ahead of the reading, tau dT/dt,
+        # is uncertain by sigma_tau |dT/dt| (the jackknife's spread when the file has it)
+        names = [p.name for p in saved.model.parameters]
+        spread = saved.jackknife if saved.jackknife is not None else saved.covariance
+        self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
+                            if "sensor_tau_s" in names else 0.0)
         self.state: dict | None = None
         self.bias = 0.0
         self.P = self.miss_K**2
@@ -104,7 +111,8 @@ class ActuatorMonitor:
             P *= 1.0 - gain
         self.bias, self.P = bias, P
         winding = keep["winding"] + bias  # the model's winding, less what the readings say it misses
-        std = float(np.sqrt(self.P))
+        slope = (sim[-1] - sim[-2]) / (signals.time_s[-1] - signals.time_s[-2]) if signals.n > 1 else 0.0
+        std = float(np.sqrt(self.P + (self.sigma_tau_s * slope) ** 2))
         ttl = time_to_limit_s(winding, keep["steady_C"], keep["rate_per_s"], self.limit_C)
         derate = float(self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0])
         level = ERROR if winding >= self.limit_C else (

@@ -18,7 +18,7 @@ def plot_forecast(f, path: Path) -> Path:
     ax.plot(minutes, f.predicted_C, color="tab:blue", lw=1.5, label="predicted")
     if f.measured_C is not None:
         ax.plot(minutes, f.measured_C, color="black", lw=0.8, label="measured")
-    ax.axhline(f.threshold_C, color="tab:red", ls="--", lw=1, label=f"threshold {f.threshold_C:g} degC")
+    ax.axhline(f.threshold_C, color="tab:red", ls="--", lw=1, label=f"threshold {f.threshold_C:.1f} degC")
     low, high = f.interval_s
     if f.time_to_threshold_s is not None:
         ax.axvline(f.time_to_threshold_s / 60.0, color="tab:blue", ls=":", lw=1)

@@ -153,11 +153,13 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     for cand in candidates:
         score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
     warm = extra_starts or {}
-    floor = sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
+    # the floor is the whole log's, decided once: a replicate (contenders given) is above it by construction
+    floor = (sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
+             if contenders is None else None)
     # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
     worth = (_worth_refitting(candidates, refit) if contenders is None
              else [c for c in candidates if c.confounded is None])
-    if floor.reached(base.validation["rmse_K"]):  # nothing can be told apart: nothing is refitted
+    if floor is not None and floor.reached(base.validation["rmse_K"]):  # nothing can be told apart: nothing refitted
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
@@ -169,7 +171,7 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     candidates.sort(key=_rank)
     proposal = None
     if (contenders is None and discover and not (candidates and candidates[0].eligible) and analysis.structured
-            and not floor.reached(base.validation["rmse_K"])):
+            and not _at_floor(floor, base)):
         proposal = propose(base.model, train, jacobian, residual, stride=stride)
         if proposal is not None and frozenset(model + (proposal.term,)) not in visited:
             cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
@@ -190,6 +192,10 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     elif recommended is not None and stability is not None:
         _check_stability(d, series, scheme, validate_on, stability, datasheet)
     return d
+
+
+def _at_floor(floor, base) -> bool:
+    return floor is not None and floor.reached(base.validation["rmse_K"])
 
 
 def _check_stability(d: Diagnosis, series, scheme, validate_on, stability: Stability, datasheet) -> None:

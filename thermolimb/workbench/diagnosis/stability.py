@@ -30,7 +30,8 @@ came within half of the held-out gate: the base model is refitted on the
 replicate, each contender scored (score test, confounding), refitted from
 where the full search left it with the starts jittered (and searched afresh
 by :mod:`.refit`'s profile if that refit fails) and judged (held-out gain,
-BIC, plausibility, identifiability, the sensor's floor); the replicate takes
+BIC, plausibility, identifiability; the sensor's floor is the whole log's,
+decided once, as a perturbation that must not matter must not move it); the replicate takes
 the best eligible contender, or none.
 A change's **selection frequency** is the share of replicates that take it;
 it is recommended only if that share is at least
