@@ -81,7 +81,10 @@ def _main_thread() -> bool:
 
 
 def _run(args) -> int:
+    from .clobber import check_outputs
+
     try:
+        check_outputs(args)
         code = int(args.func(args) or 0)
         sys.stdout.flush()  # a full disk or a closed pipe behind standard output shows here, not at exit
         return code

@@ -51,9 +51,16 @@ def files_in(folder) -> dict:
     return {p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()}
 
 
-def say_written(before: dict, folder, also=()) -> None:
-    """``wrote PATH`` on standard error for each file of ``folder`` that changed since ``before``, and ``also``."""
+def say_written(before: dict, folder, also=(), existed=()) -> None:
+    """``wrote PATH`` on standard error for each file of ``folder`` that changed since ``before``, and ``also``;
+    ``replaced PATH`` for one that was there before (in ``before``, or one of ``existed``)."""
     after = files_in(folder)
     written = [p for p, stamp in after.items() if before.get(p) != stamp] + [Path(p) for p in also]
+    earlier = set(before) | {Path(p) for p in existed}
     for path in dict.fromkeys(written):  # a page written into the plots' folder is said once
-        print(f"wrote {path}", file=sys.stderr)
+        print(f"{'replaced' if path in earlier else 'wrote'} {path}", file=sys.stderr)
+
+
+def existing(*paths) -> list[Path]:
+    """Those of ``paths`` (``None`` skipped) that exist now: what a write will replace."""
+    return [Path(p) for p in paths if p is not None and Path(p).exists()]

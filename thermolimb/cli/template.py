@@ -25,7 +25,7 @@ from .options import (
     add_validation,
     scheme_of,
 )
-from .output import files_in, html_page, print_json, say_written
+from .output import existing, files_in, html_page, print_json, say_written
 from .reading import load_terms, read_logs, runs_of, say_notes
 
 
@@ -117,6 +117,7 @@ class LogCommand:
         names = [args.actuator] if args.actuator else list(logs[0].actuators)
         say_notes(logs + held, names)
         before = files_in(args.plot)
+        existed = existing(args.html, getattr(args, "save", None))
         records = []
         for name in names:
             missing = [log for log in logs + held if name not in log.actuators]
@@ -132,7 +133,7 @@ class LogCommand:
         if run.page is not None:
             run.page.write(args.html)
         saved = [save_models(args, run.final)] if getattr(args, "save", None) else []
-        say_written(before, args.plot, ([args.html] if run.page is not None else []) + saved)
+        say_written(before, args.plot, ([args.html] if run.page is not None else []) + saved, existed)
         return 0
 
 

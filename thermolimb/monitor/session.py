@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass, field
 
@@ -28,6 +29,7 @@ class Session:
     monitors: dict[str, ActuatorMonitor] = field(default_factory=dict)
     carry: dict[str, dict] = field(default_factory=dict)
     published_at: float = -np.inf
+    ignored: set = field(default_factory=set)  # the log's actuators the model file does not hold
     samples: int = 0
     publications: int = 0
 
@@ -37,6 +39,12 @@ class Session:
         period, so that what is published does not depend on how often the file was polled).  The estimates."""
         windows: dict[float, dict[str, dict]] = {}
         for name, piece in pieces.items():
+            if name not in self.models.actuators:
+                if name not in self.ignored:
+                    self.ignored.add(name)
+                    print(f"note: the followed log's actuator {name!r} is not in the model file; it is not "
+                          f"watched", file=sys.stderr)
+                continue
             arrays = as_arrays(piece)
             before = self.carry.get(name)
             if before is not None:
@@ -74,9 +82,6 @@ class Session:
         self.publications += 1
 
     def _monitor(self, name: str) -> ActuatorMonitor:
-        if name not in self.models.actuators:
-            raise UsageError(f"the followed log has actuator {name!r}, which the model file does not hold (it has "
-                             f"{', '.join(self.models.actuators)})")
         limit = self.limits.get(name, self.models[name].limit_C)
         if limit is None:
             raise UsageError(f"the model of {name} stores no limit; give --limit-C C")

@@ -159,7 +159,7 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
     worth = (_worth_refitting(candidates, refit) if contenders is None
              else [c for c in candidates if c.confounded is None])
-    if floor is not None and floor.reached(base.validation["rmse_K"]):  # nothing can be told apart: nothing refitted
+    if _at_floor(floor, base):  # nothing can be told apart: nothing is refitted
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
