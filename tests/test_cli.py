@@ -149,3 +149,23 @@ def test_diagnose_auto_draws_every_step_over_the_measurement(tmp_path, capsys):
     assert (tmp_path / "plots" / "steps_knee.png").stat().st_size > 10_000
     page = (tmp_path / "page.html").read_text()
     assert all(",".join(step["model"]) in page for step in steps)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["fit", "{log}", "--table", "{tmp}"], "--table works with --fleet"),
+    (["fit", "{log}", "--workers", "2"], "--workers works with --fleet"),
+    (["diagnose", "{log}", "--backend", "serial"], "--backend works with --fleet"),
+    (["fit", "{log}", "--cv", "3", "--split", "0.5"], "--split and --cv are two ways to validate"),
+    (["compare", "{log}", "--actuator", "knee", "--actuator", "hip"], "--actuator given twice ('knee' and 'hip')"),
+    (["fit", "{log}", "--limit-C", "90"], "--limit-C is stored in the model file; add --save"),
+])
+def test_a_flag_that_would_do_nothing_is_refused(argv, message, sim_log, tmp_path, capsys):
+    argv = [a.format(log=sim_log, tmp=tmp_path / "t.csv") for a in argv]
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # refused while parsing, as argparse refuses
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "t.csv").exists()

@@ -3,12 +3,28 @@ scheme).  Reading the logs they name is :mod:`.reading`'s; printing, :mod:`.outp
 
 from __future__ import annotations
 
+import argparse
+
 from ..logs import VELOCITY_UNITS
 from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import UsageError
 from ..util.parallel import BACKENDS
 from ..workbench.validation import Scheme
 from .types import assignments, folds, fraction, integer, number, output_dir, output_file
+
+DEFAULT_SPLIT = 0.7
+
+
+class Once(argparse.Action):
+    """An option given at most once: a second ``--actuator`` would silently win over the first."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if getattr(namespace, f"_given_{self.dest}", False):
+            parser.error(f"{option_string} given twice ({getattr(namespace, self.dest)!r} and {values!r}); give one "
+                         f"(to fit several actuators, leave it out: every actuator is fitted)")
+        setattr(namespace, f"_given_{self.dest}", True)
+        setattr(namespace, self.dest, values)
+
 
 SEPARATORS = {"comma": ",", "semicolon": ";", "tab": "\t", "bar": "|"}
 
@@ -39,7 +55,7 @@ def add_log_input(p, required: bool = True):
                    help="decimal mark in a CSV (default: found from the file; ',' in ';'-separated files that use it)")
     p.add_argument("--drop-incomplete", action="store_true",
                    help="leave out samples with a missing value (and say how many) instead of refusing the file")
-    p.add_argument("--actuator", default=None, metavar="NAME",
+    p.add_argument("--actuator", default=None, metavar="NAME", action=Once,
                    help="actuator to use (default: every actuator in the log); names the actuator of a wide "
                         "single-actuator file, so that several such files fit jointly")
 
@@ -62,8 +78,8 @@ def add_models(p, help: str, repeated: bool = False):
 
 
 def add_validation(p):
-    p.add_argument("--split", type=fraction, default=0.7,
-                   help="fraction of each run's time span used to fit (default 0.7)")
+    p.add_argument("--split", type=fraction, default=None,
+                   help=f"fraction of each run's time span used to fit (default {DEFAULT_SPLIT})")
     p.add_argument("--cv", type=folds, default=None, metavar="K|runs",
                    help="blocked cross-validation over K contiguous folds, or 'runs': leave one run out")
     p.add_argument("--validate-on", nargs="+", default=None, metavar="LOG",
@@ -79,7 +95,10 @@ def add_validation(p):
 def scheme_of(args) -> Scheme:
     if args.validate_on and args.cv:
         raise UsageError("--validate-on and --cv are two ways to validate; give one")
-    return Scheme(split=args.split, folds=args.cv if isinstance(args.cv, int) else None,
+    if args.split is not None and args.cv:
+        raise UsageError("--split and --cv are two ways to validate (a split, or folds); give one")
+    split = DEFAULT_SPLIT if args.split is None else args.split
+    return Scheme(split=split, folds=args.cv if isinstance(args.cv, int) else None,
                   by_run=args.cv == "runs", restart_at_split=args.restart_at_split)
 
 

@@ -97,6 +97,13 @@ class LogCommand:
         self.check(args)
         if getattr(args, "save", None) and getattr(args, "fleet", False):
             raise UsageError("--save writes the model of one command's logs, not of a --fleet; fit a run with --save")
+        if self.fleet and not args.fleet:
+            given = [flag for flag, value in (("--table", args.table), ("--workers", args.workers),
+                                              ("--address", args.address)) if value is not None]
+            given += ["--backend"] if args.backend != "process" else []
+            if given:
+                raise UsageError(f"{given[0]} works with --fleet (many logs, each actuator and run on its own); add "
+                                 f"--fleet or leave {given[0]} out")
         if getattr(args, "limit_C", None) is not None and not getattr(args, "save", None):
             raise UsageError("--limit-C is stored in the model file; add --save MODEL.json")
         if self.fleet and args.fleet:
