@@ -10,6 +10,8 @@ and :meth:`LogCommand.analyse`.
 
 from __future__ import annotations
 
+import contextlib
+import sys
 from dataclasses import dataclass, field
 
 from ..logs import LogError
@@ -131,7 +133,9 @@ class LogCommand:
             if missing:
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
-            record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
+            # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
+            with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
+                record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
             records.append(record)
             if not args.json:
                 print(text)

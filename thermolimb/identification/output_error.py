@@ -18,6 +18,7 @@ from typing import Mapping
 import numpy as np
 
 from ..model.model import ThermalModel, model_parameters
+from ..model.guard import instance
 from ..model.terms import TERMS
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
@@ -73,7 +74,7 @@ class OutputError(ThermalEstimator):
         given = {**(self.initial or {}), **(self.fixed or {})}
         if any(p.name not in given for p in params):
             first = series[0]
-            linear = tuple(n for n in terms if TERMS[n]().features(first.signals, first.temperature_C) is not None)
+            linear = tuple(n for n in terms if instance(n).features(first.signals, first.temperature_C) is not None)
             if any(TERMS[n].is_heat_source for n in linear):
                 try:
                     start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)

@@ -22,6 +22,7 @@ import numpy as np
 from ..logs import ActuatorSeries
 from ..model.model import model_parameters
 from ..model.signals import Signals
+from ..model.guard import instance
 from ..model.terms import TERMS, Parameter
 from ..util.errors import ThermolimbError
 from .thinning import fit_stride
@@ -95,7 +96,7 @@ def term_features(terms: Sequence[str], s: Signals, temperature_C: np.ndarray) -
     """The regressors of every term, side by side, in parameter order."""
     blocks = []
     for name in terms:
-        f = TERMS[name]().features(s, temperature_C)
+        f = instance(name).features(s, temperature_C)
         if f is None:
             raise IdentifiabilityError(
                 f"term '{name}' is not linear in its parameters; identify it by output error"

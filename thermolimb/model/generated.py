@@ -183,6 +183,9 @@ def load_term_file(path) -> list[str]:
     path = Path(path)
     if not path.is_file():
         raise ModelSpecError(f"--terms {path}: no such file; expected a Python file of terms")
+    if path.suffix != ".py":  # refused before anything in it runs: a log or a table given by mistake
+        raise ModelSpecError(f"--terms {path}: not a Python file (.py); expected a Python file of terms, such as the "
+                             f"one diagnose --propose writes")
     before = {name: cls for name, cls in TERMS.items()}
     try:
         runpy.run_path(str(path), run_name=f"thermolimb_terms_{identifier(path.stem)}")

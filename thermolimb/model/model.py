@@ -14,6 +14,7 @@ from typing import Mapping
 import numpy as np
 
 from ..util.frozen import FrozenMapping
+from .guard import instance
 from .scan import first_order_scan
 from .signals import Signals
 from .terms import TERMS, Parameter, parse_model
@@ -146,7 +147,7 @@ class ThermalModel:
         return u, lam, np.broadcast_to(boundary, u.shape), 1.0 - restoring
 
     def _terms(self):
-        return [TERMS[name]() for name in self.terms]
+        return [instance(name) for name in self.terms]
 
     def equilibrium_C(self, s: Signals) -> np.ndarray:
         """Steady-state temperature if each sample's inputs were held forever (Eq. 5 with dT/dt = 0)."""

@@ -110,15 +110,26 @@ class Term:
 
 
 TERMS: dict[str, type[Term]] = {}
+BUILT_IN = "thermolimb.model.catalog"  # the module of the built-in terms, which no other term may replace
 
 
 def register_term(cls: type[Term]) -> type[Term]:
     """Class decorator: add a term to the catalog under ``cls.name``."""
     if not getattr(cls, "name", None):
         raise ValueError(f"{cls.__name__} needs a 'name' to be registered")
+    earlier = TERMS.get(cls.name)
+    if earlier is not None and earlier.__module__ == BUILT_IN and cls.__module__ != BUILT_IN:
+        raise ValueError(f"term '{cls.name}' would replace the built-in term of that name ({earlier.description}); "
+                         f"give yours another name")
     clashes = {p.name for p in cls.parameters} & ({"RC_s", "T_offset_C"} | _parameter_names_except(cls.name))
     if clashes:
         raise ValueError(f"term '{cls.name}' reuses parameter names {sorted(clashes)} of another term")
+    for p in cls.parameters:
+        numbers = (p.lower, p.upper, p.typical)
+        if any(isinstance(v, bool) or not isinstance(v, (int, float)) or v != v for v in numbers) \
+                or not p.lower < p.upper or not p.lower <= p.typical <= p.upper:
+            raise ValueError(f"term '{cls.name}': parameter {p.name} needs lower < upper and lower <= typical <= "
+                             f"upper, got lower {p.lower!r}, upper {p.upper!r}, typical {p.typical!r}")
     TERMS[cls.name] = cls
     return cls
 

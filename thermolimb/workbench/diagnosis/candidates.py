@@ -34,6 +34,7 @@ import numpy as np
 from ...identification.metrics import ar1_variance_factor, information_criteria
 from ...logs import ActuatorSeries
 from ...model.model import ThermalModel, model_parameters
+from ...model.guard import instance
 from ...model.terms import TERMS
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
@@ -89,6 +90,7 @@ class Candidate:
     formula: str | None = None  # a generated term's heat in symbols
     source: str | None = field(default=None, repr=False)  # a generated term's Python source (--propose)
     skipped: str | None = None  # why a candidate worth a refit was not refitted
+    broken: str | None = None  # a user's term that broke its contract while being tried: set aside, and why
     selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
@@ -113,7 +115,8 @@ class Candidate:
     @property
     def not_refitted_because(self) -> str:
         """Why a candidate has no refit: confounded, failed, outdone by a stronger form, or its score test."""
-        return self.confounded or self.failure or self.skipped or f"score test p = {self.p_value:.2g}"
+        return (self.broken or self.confounded or self.failure or self.skipped
+                or f"score test p = {self.p_value:.2g}")
 
     @property
     def refitted(self) -> bool:
@@ -132,12 +135,14 @@ class Candidate:
     @property
     def eligible(self) -> bool:
         """It helps, and is physically plausible, identifiable, not confounded, and its refit did not fail."""
-        return (self.helps and self.confounded is None and self.failure is None
+        return (self.helps and self.confounded is None and self.failure is None and self.broken is None
                 and self.plausible is not False and self.identifiable is not False)
 
     @property
     def status(self) -> str:
         """One word for tables and plots."""
+        if self.broken:
+            return "set aside"
         if self.confounded:
             return "confounded"
         if not self.refitted:
@@ -166,6 +171,8 @@ class Candidate:
         }
         if self.skipped:
             out["skipped"] = self.skipped
+        if self.broken:
+            out["set_aside"] = self.broken
         if self.replaces:
             out["replaces"] = self.replaces
             out["also_drops"] = list(self.also_drops)
@@ -243,7 +250,7 @@ def _grid(term, series) -> list[dict]:
 
 def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None:
     """Why a swapped heat source cannot be told from the one it replaces on this log, or ``None``."""
-    a, b = TERMS[cand.replaces](), TERMS[cand.effect]()
+    a, b = instance(cand.replaces), instance(cand.effect)
     xa = np.concatenate([np.ravel(a.features(s.signals, s.temperature_C)) for s in series])
     xb = np.concatenate([np.ravel(b.features(s.signals, s.temperature_C)) for s in series])
     if np.ptp(xa) == 0 or np.ptp(xb) == 0:

@@ -30,6 +30,7 @@ import numpy as np
 from ...identification import OutputError
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
+from ...model.guard import TermError
 from ...model.terms import TERMS, parse_model
 from ...model.units import NOT_GIVEN
 from ...util.progress import progress
@@ -151,20 +152,20 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     else:
         candidates = list(contenders)
     for cand in candidates:
-        score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
+        _guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
     warm = extra_starts or {}
     # the floor is the whole log's, decided once: a replicate (contenders given) is above it by construction
     floor = (sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
              if contenders is None else None)
     # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
-    worth = (_worth_refitting(candidates, refit) if contenders is None
-             else [c for c in candidates if c.confounded is None])
+    worth = (_worth_refitting([c for c in candidates if c.broken is None], refit) if contenders is None
+             else [c for c in candidates if c.confounded is None and c.broken is None])
     if _at_floor(floor, base):  # nothing can be told apart: nothing is refitted
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
     for cand in progress(worth, desc="refits", disable=quiet):
-        _refit(cand, series, scheme, validate_on, base, base_bic, warm.get(cand.label))
+        _guarded(cand, _refit, cand, series, scheme, validate_on, base, base_bic, warm.get(cand.label))
     for cand in candidates:
         if not cand.evidence:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
@@ -262,6 +263,17 @@ def _identifiable_base(series, model, scheme, validate_on, initial, datasheet=No
     :func:`~thermolimb.workbench.validation.identifiable_submodel`)."""
     return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, validate_on, initial, held),
                                  model, series, datasheet=datasheet)
+
+
+def _guarded(cand: Candidate, step, *args) -> None:
+    """``step(*args)`` for a candidate; a user's term that breaks its contract in it sets the candidate aside
+    with the reason (:class:`~thermolimb.model.guard.TermError`), and the diagnosis goes on."""
+    try:
+        step(*args)
+    except TermError as exc:
+        cand.broken = str(exc)
+        cand.rmse_K = None
+        cand.evidence = f"set aside: {exc}"
 
 
 def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float,
