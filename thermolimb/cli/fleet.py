@@ -30,7 +30,7 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
     ``--datasheet``, already checked)."""
     from ..plotting.drift import plot_drift
     from ..workbench.drift import drift, format_drift
-    from ..workbench.fleet import expand_paths, fit_fleet_files, format_rows, rows_table
+    from ..workbench.fleet import UNREADABLE, expand_paths, fit_fleet_files, format_rows, rows_table
 
     table_kind = Path(args.table).suffix.lower() if args.table else None
     if args.table and is_stream(args.table) and table_kind != ".json":
@@ -50,7 +50,15 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
                                   datasheet=datasheet)
     for note in notes:
         say(note)
-    records = drift(rows)
+    failed = [r for r in rows if r["actuator"] == UNREADABLE]
+    if failed:
+        say(f"{len(failed)} of {len(paths)} files could not be read (rows marked {UNREADABLE}); the others were "
+            f"analysed")
+    rows_ok = [r for r in rows if r["actuator"] != UNREADABLE]
+    if not rows_ok:
+        raise UsageError(f"no log could be read: {failed[0]['source']}: {failed[0]['error']}")
+    status = 1 if failed else 0
+    records = drift(rows_ok)
     if args.plot:
         plot_drift(records, Path(args.plot) / "drift.png")
     if args.table:
@@ -61,9 +69,9 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
 
             write_text(args.table, pd.DataFrame(rows_table(rows)).to_csv(index=False))
     if args.json:
-        print_json({"rows": rows, "drift": records})
-        return 0
+        print_json({"rows": rows, "drift": records, "files_failed": len(failed)})
+        return status
     print(format_rows(rows))
     print()
     print(format_drift(records) if records else "drift: no actuator has two or more fitted runs")
-    return 0
+    return status

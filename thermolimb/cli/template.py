@@ -15,7 +15,8 @@ import sys
 from dataclasses import dataclass, field
 
 from ..logs import LogError
-from ..util.errors import UsageError
+from ..model.guard import TermError
+from ..util.errors import ThermolimbError, UsageError
 from .options import (
     add_fleet,
     add_log_input,
@@ -27,7 +28,7 @@ from .options import (
     add_validation,
     scheme_of,
 )
-from .output import existing, files_in, html_page, print_json, say_written
+from .output import existing, files_in, html_page, print_json, say, say_written
 from .reading import load_terms, read_logs, runs_of, say_notes
 
 
@@ -127,25 +128,37 @@ class LogCommand:
         say_notes(logs + held, names)
         before = files_in(args.plot)
         existed = existing(args.html, getattr(args, "save", None))
-        records = []
+        records, failed = [], []
         for name in names:
             missing = [log for log in logs + held if name not in log.actuators]
             if missing:
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
-            # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
-            with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-                record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
+            try:
+                # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
+                with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
+                    record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
+            except ThermolimbError as exc:
+                # every actuator of the log: one the log cannot tell about is said, and the others go on
+                if args.actuator or len(names) == 1 or isinstance(exc, (UsageError, TermError)):
+                    raise
+                failed.append(name)
+                record, text = {"actuator": name, "error": str(exc)}, f"{name}: not analysed: {exc}"
             records.append(record)
             if not args.json:
                 print(text)
+        if len(failed) == len(names):
+            raise ThermolimbError(records[0]["error"])
+        if failed:
+            say(f"{len(failed)} of {len(names)} actuators could not be analysed ({', '.join(failed)}); the others "
+                f"were")
         if args.json:
             print_json(records[0] if len(records) == 1 else records)
         if run.page is not None:
             run.page.write(args.html)
         saved = [save_models(args, run.final)] if getattr(args, "save", None) else []
         say_written(before, args.plot, ([args.html] if run.page is not None else []) + saved, existed)
-        return 0
+        return 1 if failed else 0
 
 
 def save_models(args, final: dict):

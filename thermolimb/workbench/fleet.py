@@ -147,6 +147,15 @@ def _one_blas_thread():
     return _CONTROLLER.limit(limits=BLAS_THREADS)
 
 
+UNREADABLE = "(file)"  # the actuator and run of a row that stands for a whole file that could not be read
+
+
+def unreadable_row(path, err: Exception) -> dict:
+    """A file that could not be read, as a row of the fleet's table: its source and why."""
+    return {"source": str(path), "actuator": UNREADABLE, "run": Path(path).name, "samples": 0, "duration_s": 0.0,
+            "error": f"not read: {err}"}
+
+
 def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool,
              datasheet: dict | None = None) -> dict:
     series = job.series
@@ -206,7 +215,10 @@ def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str,
     """Read one log in the worker and analyse its actuators ``names`` (all when ``None``): ``(rows, notes)``."""
     from ..logs import read_log
 
-    log = read_log(path, **read)
+    try:
+        log = read_log(path, **read)
+    except (ThermolimbError, OSError) as err:  # one bad file is a row with its error; the others go on
+        return [unreadable_row(path, err)], []
     with _one_blas_thread():
         rows = [_analyse(job, model, scheme, method, diagnose, datasheet) for job in fleet_jobs([log], names)]
     return rows, list(log.notes)
@@ -234,7 +246,11 @@ def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Schem
     for path in paths:
         names = list(actuators) if actuators else None
         if chunks > 1:
-            names = names or list(read_log(path, **read).actuators)
+            try:
+                names = names or list(read_log(path, **read).actuators)
+            except (ThermolimbError, OSError):
+                names = None  # the worker reads it again and reports it as a row
+        if chunks > 1 and names:
             size = -(-len(names) // chunks)
             groups = [names[i:i + size] for i in range(0, len(names), size)]
         else:
