@@ -163,4 +163,4 @@ class HexapodLoadCarryEnv(RigEnv):
         return {"reward_terms": terms, "time_s": self.sim.time_s, "distance_m": float(reading.body_position_m[0]),
                 "max_temperature_C": float(reading.temperature_C.max()), "fell": self.fallen,
                 "payload_kg": self.payload_kg, "stance_solver": None if solution is None else solution.label,
-                "stance_fallbacks": self.loop.fallbacks}
+                "stance_fallbacks": self.loop.fallbacks, **self.sim.plant_faults()}

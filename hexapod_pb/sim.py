@@ -21,6 +21,7 @@ import numpy as np
 
 from thermolimb.plant import PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
+from thermolimb.util.errors import check_range
 
 from .constants import FEET, JOINTS, LEGS, PAYLOAD_LINK
 from .kinematics import inverse_kinematics, nominal_foot
@@ -37,8 +38,7 @@ class SimConfig(RigConfig):
 
     def __post_init__(self):
         super().__post_init__()
-        if self.payload_kg < 0:
-            raise ValueError(f"payload_kg must be >= 0, got {self.payload_kg}")
+        check_range("SimConfig", "payload_kg", self.payload_kg, 0.0, 100.0, "kg")
 
 
 class HexapodSim(BulletRig):

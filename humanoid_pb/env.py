@@ -246,4 +246,5 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     def _info(self, terms: dict, recovered: bool = False) -> dict:
         return {"reward_terms": terms, "time_s": self.sim.time_s, "mode": self.executor.mode,
                 "hot_side": self.hot_side, "max_temperature_C": float(self.reading.temperature_C.max()),
-                "recovered": recovered, "fell": self.fallen, "hot_recovery_s": self.hot_recovery_s}
+                "recovered": recovered, "fell": self.fallen, "hot_recovery_s": self.hot_recovery_s,
+                **self.sim.plant_faults()}

@@ -24,6 +24,7 @@ import numpy as np
 from .constants import GRAVITY_M_S2
 from .logs import ThermalLog, log_from_arrays
 from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
+from .util.errors import check_range
 
 
 @contextlib.contextmanager
@@ -61,8 +62,12 @@ class RigConfig:
     log_capacity: int | None = None  # control steps the in-memory log keeps (the latest); None: all of them
 
     def __post_init__(self):
-        if not (self.physics_hz > 0 and self.control_hz > 0):
-            raise ValueError("physics_hz and control_hz must be positive")
+        owner = type(self).__name__
+        check_range(owner, "physics_hz", self.physics_hz, 1.0, 100_000.0, "Hz")
+        check_range(owner, "control_hz", self.control_hz, 0.01, 100_000.0, "Hz")
+        check_range(owner, "foot_friction", self.foot_friction, 0.0, 10.0)
+        check_range(owner, "torque_noise_Nm", self.torque_noise_Nm, 0.0, 100.0, "N m")
+        check_range(owner, "ambient_C", self.ambient_C, -60.0, 150.0, "degC")
         if self.log_capacity is not None and self.log_capacity < 2:
             raise ValueError(f"log_capacity must be None or at least 2 control steps, got {self.log_capacity}")
         ratio = self.physics_hz / self.control_hz
@@ -274,6 +279,13 @@ class BulletRig:
         self.time_s += self.config.control_dt_s
         if self.stream is not None:
             self.stream.publish(self)
+
+    def plant_faults(self) -> dict:
+        """The drives' faults and saturations so far, for an environment's ``info``: ``actuator_faults`` (the
+        actuators a non-finite command faulted) and ``saturated_steps`` (control periods each held at its peak)."""
+        plant = self.plant
+        return {"actuator_faults": [n for n, f in zip(plant.names, plant.faulted) if f],
+                "saturated_steps": {n: int(c) for n, c in zip(plant.names, plant.saturations) if c}}
 
     def thermal_log(self) -> ThermalLog:
         """What the robot logged so far (the latest ``log_capacity`` control steps, if bounded), in the canonical

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..util.errors import check_range
+
 
 @dataclass(frozen=True)
 class ThermalNetwork:
@@ -108,6 +110,10 @@ class ActuatorSpec:
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
+        check_range(f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0, "degC")
+        if self.continuous_effort > self.effort_limit:
+            raise ValueError(f"ActuatorSpec({self.model}): continuous_effort = {self.continuous_effort:g} is above "
+                             f"effort_limit = {self.effort_limit:g}; an actuator holds at most its peak")
 
     def first_order(self, lumped_nodes: int = 1) -> tuple[float, float]:
         """Jorgensen et al.'s Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (their Eqs. 2-5).

@@ -19,12 +19,18 @@ from typing import Sequence
 
 import numpy as np
 
+from ..util.errors import check_range
+
 from .effects import SCHEDULED, PlantEffects
 from .network import ActuatorSpec
 from .protection import ThermalProtection, scale_efforts
 from .schedules import ScheduledChannel
 from .sensors import Thermistors
 from .zoh import zero_order_hold
+
+
+AMBIENT_RANGE_C = (-60.0, 150.0)
+TEMPERATURE_RANGE_C = (-60.0, 400.0)  # what a winding, a housing or a sensor may be set to (degC)
 
 
 @dataclass(frozen=True)
@@ -81,6 +87,9 @@ class ThermalPlant:
                              f"pass rng=np.random.default_rng(seed)")
         if effects.driver_conduction is not None and any(spec.driver is None for spec in specs):
             raise ValueError("driver_conduction needs every actuator to have a driver board (ActuatorSpec.driver)")
+        check_range("ThermalPlant", "ambient_C", ambient_C, AMBIENT_RANGE_C[0], AMBIENT_RANGE_C[1], "degC")
+        if initial_C is not None:
+            check_range("ThermalPlant", "initial_C", initial_C, *TEMPERATURE_RANGE_C, "degC")
         self.names = tuple(names)
         self.specs = tuple(specs)
         self.effects = effects
@@ -98,6 +107,9 @@ class ThermalPlant:
         self._x = np.full(self._n_states, start)
         self._discretised: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.current_A = np.zeros(self.n)
+        self._peak = np.array([spec.effort_limit for spec in self.specs])
+        self.faulted = np.zeros(self.n, bool)  # a non-finite command faulted the actuator (cleared by clear_faults)
+        self.saturations = np.zeros(self.n, int)  # steps whose effort was held at the actuator's peak
         self._measure()
         if protection.estimator == "observer":
             self.observer = self.sensors.observer(self.specs, start)
@@ -293,10 +305,8 @@ class ThermalPlant:
         """Put each actuator's winding and sensor at ``temperature_C`` (degC) and its other nodes (housing, body,
         driver) at ``rest_C`` (default the same: an actuator soaked through).  A winding heated for a minute or
         two sits on a housing that has barely warmed: give ``rest_C`` near ambient for that."""
-        temperature_C = np.broadcast_to(np.asarray(temperature_C, float), (self.n,))
-        rest_C = temperature_C if rest_C is None else np.broadcast_to(np.asarray(rest_C, float), (self.n,))
-        if not (np.all(np.isfinite(temperature_C)) and np.all(np.isfinite(rest_C))):
-            raise ValueError("set_temperatures needs finite temperatures (degC)")
+        temperature_C = self._per_actuator("temperature_C", temperature_C)
+        rest_C = temperature_C if rest_C is None else self._per_actuator("rest_C", rest_C)
         for i in range(self.n):
             nodes = self._winding[i] + np.arange(self.specs[i].network.n_nodes)
             self._x[nodes] = rest_C[i]
@@ -307,6 +317,20 @@ class ThermalPlant:
         self._measure()
         if self.observer is not None:
             self.observer.reset(temperature_C)
+
+    def _per_actuator(self, name: str, value) -> np.ndarray:
+        """One temperature for every actuator, or one per actuator -- not a list of another length -- each within
+        :data:`TEMPERATURE_RANGE_C`."""
+        arr = np.asarray(value, float)
+        if arr.ndim > 1 or (arr.ndim == 1 and arr.shape[0] != self.n):
+            raise ValueError(f"set_temperatures: {name} needs one temperature or {self.n} (one per actuator: "
+                             f"{', '.join(self.names)}), got {arr.shape[0] if arr.ndim == 1 else arr.shape}")
+        arr = np.broadcast_to(arr, (self.n,))
+        bad = [i for i in range(self.n) if not TEMPERATURE_RANGE_C[0] <= arr[i] <= TEMPERATURE_RANGE_C[1]]
+        if bad:
+            raise ValueError(f"set_temperatures: {name} of {self.names[bad[0]]} = {float(arr[bad[0]])!r} is outside the range "
+                             f"expected, {TEMPERATURE_RANGE_C[0]:g} to {TEMPERATURE_RANGE_C[1]:g} degC")
+        return arr
 
     @property
     def state(self) -> np.ndarray:
@@ -325,10 +349,14 @@ class ThermalPlant:
 
     # ------------------------------------------------------------------ steps
     def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:
-        """Advance by ``dt_s`` seconds with efforts (N m or N) and velocities held."""
-        if not dt_s > 0:
-            raise ValueError(f"dt_s must be positive, got {dt_s}")
-        velocity = np.zeros(self.n) if velocity is None else velocity
+        """Advance by ``dt_s`` seconds with efforts (N m or N) and velocities held.
+
+        As a drive does: an effort beyond an actuator's peak is held at the peak (and counted in
+        :attr:`saturations`); a command that is not a finite number faults that actuator -- no torque, a flag in
+        :attr:`faulted` until :meth:`clear_faults` -- instead of poisoning the state."""
+        if not (np.isfinite(dt_s) and dt_s > 0):
+            raise ValueError(f"dt_s must be a positive, finite number of seconds, got {dt_s}")
+        effort, velocity = self.commanded(effort, velocity)
         q = self.heat_W(effort, velocity)
         Phi, Gamma = self._discretisation(dt_s)
         ambient = self.ambient_at(self.time_s)
@@ -337,6 +365,23 @@ class ThermalPlant:
         self._measure()
         if self.observer is not None:
             self.observer.update(self.current_A, self._measured_core, ambient, dt_s, velocity)
+
+    def commanded(self, effort, velocity) -> tuple[np.ndarray, np.ndarray]:
+        """What the drives make of a command: non-finite values fault their actuator (zero effort and speed from
+        then on), efforts beyond the peak are saturated at it and counted."""
+        effort = np.array(np.broadcast_to(np.asarray(effort, float), (self.n,)))
+        velocity = np.zeros(self.n) if velocity is None else np.array(np.broadcast_to(np.asarray(velocity, float),
+                                                                                      (self.n,)))
+        self.faulted |= ~(np.isfinite(effort) & np.isfinite(velocity))
+        effort[self.faulted] = 0.0
+        velocity[self.faulted] = 0.0
+        over = np.abs(effort) > self._peak
+        self.saturations += over
+        return np.clip(effort, -self._peak, self._peak), velocity
+
+    def clear_faults(self) -> None:
+        """Re-enable faulted actuators (as a drive's fault reset does)."""
+        self.faulted[:] = False
 
     def _measure(self):
         readings = self.read(np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]]))
@@ -370,6 +415,9 @@ class ThermalPlant:
             raise ValueError("free_block needs a plant whose heat does not depend on its state or a schedule")
         effort = np.asarray(effort, float)
         velocity = np.asarray(velocity, float)
+        if not (np.all(np.isfinite(effort)) and np.all(np.isfinite(velocity))):
+            raise ValueError("free_block needs finite efforts and velocities; step() faults an actuator given a "
+                             "command that is not a finite number")
         k = effort.shape[0]
         times = self.time_s + dt_s * np.arange(k + 1)
         ambient = np.array([self.ambient_at(t) for t in times])

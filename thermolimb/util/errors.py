@@ -24,3 +24,17 @@ class ThermolimbError(ValueError):
 
 class UsageError(ThermolimbError):
     """An option or argument out of its range, named with what is expected."""
+
+
+def check_range(owner: str, name: str, value, low: float, high: float, unit: str = "") -> float:
+    """``value`` as a float within ``[low, high]``, or a ValueError naming ``owner.name``, the value and the range."""
+    import math
+
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if isinstance(value, bool) or not (math.isfinite(number) and low <= number <= high):
+        unit = f" {unit}" if unit else ""
+        raise ValueError(f"{owner}: {name} = {value!r} is outside the range expected, {low:g} to {high:g}{unit}")
+    return number
