@@ -92,6 +92,7 @@ class Candidate:
     skipped: str | None = None  # why a candidate worth a refit was not refitted
     broken: str | None = None  # a user's term that broke its contract while being tried: set aside, and why
     selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
+    selected_as: dict = field(default_factory=dict)  # how the replicates that took its effect took it, by label
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
 

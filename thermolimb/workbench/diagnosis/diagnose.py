@@ -212,7 +212,10 @@ def _check_stability(d: Diagnosis, series, scheme, validate_on, stability: Stabi
             continue
         taken = round(c.selection_frequency * k)
         verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
-        c.stability_sentence = f"taken in {taken} of {k} replicates ({varied}){verdict}"
+        split = ""
+        if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
+            split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
+        c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
         c.evidence = f"{c.evidence} {c.stability_sentence[0].upper()}{c.stability_sentence[1:]}.".strip()
     best = d.recommended
     if best.selection_frequency < stability.min_frequency:

@@ -33,7 +33,10 @@ by :mod:`.refit`'s profile if that refit fails) and judged (held-out gain,
 BIC, plausibility, identifiability; the sensor's floor is the whole log's,
 decided once, as a perturbation that must not matter must not move it); the replicate takes
 the best eligible contender, or none.
-A change's **selection frequency** is the share of replicates that take it;
+A change's **selection frequency** is the share of replicates that take it --
+or a change that brings in the same terms (an effect added, or swapped in for
+a base term: near-equivalent fits of the same physics, between which the
+replicates may split; the sentence says how they split);
 it is recommended only if that share is at least
 :attr:`Stability.min_frequency` (0.8 by default), and ``--auto`` walks only
 such steps.
@@ -159,9 +162,20 @@ def selection_frequencies(diagnosis, series, scheme, validate_on, stability: Sta
     for label in taken:
         counts[label or "none"] = counts.get(label or "none", 0) + 1
     frequencies = {label: counts.get(label, 0) / len(taken) for label in [c.label for c in chosen] + ["none"]}
+    # an effect is what is selected, as in stability selection: near-equivalent changes that bring in the same
+    # terms (adding current_heating, or swapping joule for it) count together
+    keys = {c.label: effect_key(c, diagnosis.model) for c in chosen}
     for c in chosen:
-        c.selection_frequency = frequencies[c.label]
+        alike = {label: counts.get(label, 0) for label, key in keys.items() if key == keys[c.label]}
+        c.selection_frequency = sum(alike.values()) / len(taken)
+        c.selected_as = {label: n for label, n in alike.items() if n}
     return frequencies
+
+
+def effect_key(c: Candidate, base: tuple[str, ...]) -> tuple:
+    """What a change does to the physics: the terms it brings in, or, for a pure drop, the terms it removes."""
+    added = frozenset(c.model) - frozenset(base)
+    return ("add", added) if added else ("drop", frozenset(base) - frozenset(c.model))
 
 
 def _spec(c: Candidate) -> dict:
