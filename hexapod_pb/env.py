@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
-from thermolimb.envs.base import RigEnv, checked_port, checked_range
+from thermolimb.envs.base import RigEnv, checked_finite, checked_port, checked_range
 
 from . import cpg
 from .controller import ThermalContext
@@ -98,6 +98,8 @@ class HexapodLoadCarryEnv(RigEnv):
         self.distance_weight_per_m = float(distance_weight_per_m)
         self.overheat_weight_per_K = float(overheat_weight_per_K)
         self.overheat_from_C = float(overheat_from_C)
+        checked_finite(distance_weight_per_m=distance_weight_per_m, overheat_weight_per_K=overheat_weight_per_K,
+                       overheat_from_C=overheat_from_C, fall_penalty=fall_penalty)
         self.fall_penalty = float(fall_penalty)
         self.action_space = spaces.Box(0.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(18, -50.0), np.zeros(18), np.full(3, -10.0), 0.0].astype(np.float32)

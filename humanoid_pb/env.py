@@ -11,7 +11,7 @@ from typing import Sequence
 import numpy as np
 from gymnasium import spaces
 
-from thermolimb.envs.base import RigEnv, checked_port, checked_range
+from thermolimb.envs.base import RigEnv, checked_finite, checked_port, checked_range
 from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
@@ -126,6 +126,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         if not 0.0 <= housing_warming_K <= 100.0:
             raise ValueError(f"housing_warming_K must be within 0..100 K, got {housing_warming_K!r}")
         self.housing_warming_K = float(housing_warming_K)
+        checked_finite(cooling_weight_per_K=cooling_weight_per_K, warning_weight=warning_weight,
+                       fall_penalty=fall_penalty, effort_weight=effort_weight)
         self.cooling_weight_per_K = float(cooling_weight_per_K)
         self.warning_weight = float(warning_weight)
         self.fall_penalty = float(fall_penalty)

@@ -18,6 +18,14 @@ def checked_port(live) -> int | None:
     return live
 
 
+def checked_finite(**values) -> None:
+    """Reward weights, penalties and thresholds: each a finite number, or a ValueError naming it."""
+    for name, value in values.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+
+
 def checked_range(name: str, value, lowest: float, highest: float) -> tuple[float, float]:
     """A reset range ``(low, high)`` with ``lowest <= low <= high <= highest``, or a ValueError naming it."""
     try:
@@ -97,12 +105,15 @@ class RigEnv(gym.Env):
         space = self.action_space
         if isinstance(space, gym.spaces.Discrete):
             value = np.asarray(action)
-            if value.shape != () or not np.issubdtype(value.dtype, np.number) or not np.isfinite(value) \
+            if value.shape != () or value.dtype.kind not in "biuf" or not np.isfinite(value) \
                     or value != np.round(value) or not space.contains(int(value)):
                 raise ValueError(f"action must be a whole number from {space.start} to {space.start + space.n - 1}, "
                                  f"got {action!r}")
             return np.asarray(int(value))
-        value = np.asarray(action, dtype=float)
+        raw = np.asarray(action)
+        if raw.dtype.kind not in "biuf":
+            raise ValueError(f"action must hold real numbers, got {raw.dtype} ({action!r:.80})")
+        value = raw.astype(float)
         if value.shape != space.shape:
             raise ValueError(f"action must have shape {space.shape}, got {value.shape}")
         if not np.all(np.isfinite(value)):
