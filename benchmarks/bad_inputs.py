@@ -3,6 +3,7 @@
     python benchmarks/bad_inputs.py            # the table of outcomes and the counts
     python benchmarks/bad_inputs.py --json     # one record per input
     python benchmarks/bad_inputs.py --second-round   # only the second round's 51 inputs
+    python benchmarks/bad_inputs.py --third-round    # only the third round's inputs
 
 Every input runs in its own process (so that a hang is a timeout, not a stuck
 benchmark) in a scratch folder holding a small valid log and its broken
@@ -37,6 +38,13 @@ the command succeeds and the target keeps its type), and interrupts: Ctrl-C
 twice at random moments to the whole process group, SIGTERM and SIGKILL to a
 fleet's main process (``clear`` when every repetition ends within 20 s with its
 status and leaves no worker running).
+
+The third round: outputs aimed at the command's own inputs (through links too), users' broken terms (eight
+kinds of bug, a built-in's name, bounds the wrong way round, a CSV given as a terms file), flags that would do
+nothing, one bad file in a fleet and one unidentifiable actuator of a bag (``clear`` when the command finishes
+the rest, says how many failed and exits 1), and the plant's and robots' APIs given impossible values or poisoned
+commands (``clear`` when refused in one line, or, for a NaN or 1e6 N m effort, when the drive faults or saturates
+and the state stays finite).
 
 Environments' bad actions (NaN, out of range, stepping after the end) are
 ``clear`` when the step raises an error of one line and the environment still
@@ -130,6 +138,66 @@ def write_fixtures(d: Path) -> None:
     (d / "corrupt" / "diagnose").mkdir()
     (d / "corrupt" / "diagnose" / "summary.json").write_text("{not json")
     write_round_two(d, good)
+    write_round_three(d, good)
+
+
+BROKEN_TERMS = textwrap.dedent('''
+    import sys
+    import numpy as np
+    from thermolimb.model import Parameter, Term, register_term
+
+    def make(name, body, lower=-10.0, upper=10.0):
+        register_term(type(name, (Term,), {"name": name, "description": "broken " + name, "columns": ("effort",),
+                                           "parameters": (Parameter(name + "_K", "K", lower, upper, 1.0, "a gain"),),
+                                           "contribution": body}))
+
+    make("b_raises", lambda self, p, s: 1 / 0)
+    make("b_nan", lambda self, p, s: (np.full(s.n, np.nan), 0.0))
+    make("b_inf", lambda self, p, s: (np.full(s.n, np.inf), 0.0))
+    make("b_shape", lambda self, p, s: (np.zeros(3), 0.0))
+    make("b_none", lambda self, p, s: None)
+    make("b_missing", lambda self, p, s: (p["b_missing_K"] * s.channel("torque_sensor"), 0.0))
+    make("b_nan_gain", lambda self, p, s: (0.0, float("nan")))
+    make("b_exits", lambda self, p, s: sys.exit(3))
+    make("b_prints", lambda self, p, s: (print("hello") or p["b_prints_K"] * np.abs(s.effort), 0.0))
+''')
+
+
+def write_round_three(d: Path, good: pd.DataFrame) -> None:
+    """The third round's inputs: recordings an output could land on, users' broken terms, term-file mix-ups."""
+    for name in ("victim_html.csv", "victim_save.csv", "victim_table.csv", "victim_link_target.csv",
+                 "victim_follow.csv", "victim_hard.csv"):
+        good.to_csv(d / name, index=False)
+    (d / "victim_link.csv").symlink_to("victim_link_target.csv")
+    os.link(d / "victim_hard.csv", d / "victim_hard_link.csv")
+    (d / "victim_terms.py").write_text("from thermolimb.model import Term\n")
+    (d / "broken_terms.py").write_text(BROKEN_TERMS)
+    (d / "clash_terms.py").write_text(textwrap.dedent('''
+        from thermolimb.model import Term, register_term
+        @register_term
+        class Mine(Term):
+            name = "joule"
+            description = "my own joule"
+    '''))
+    (d / "bounds_terms.py").write_text(textwrap.dedent('''
+        from thermolimb.model import Parameter, Term, register_term
+        @register_term
+        class Upside(Term):
+            name = "upside"
+            description = "bounds the wrong way round"
+            parameters = (Parameter("upside_K", "K", 5.0, -5.0, 1.0, "a gain"),)
+    '''))
+    folder = d / "fleet_with_bad"
+    folder.mkdir()
+    good.to_csv(folder / "a.csv", index=False)
+    good.to_csv(folder / "b.csv", index=False)
+    (folder / "c.csv").write_bytes(bytes(range(256)) * 40)
+    bad = good.copy()
+    bad.loc[20:30, "time"] = 3.0
+    bad.to_csv(folder / "d.csv", index=False)
+    model = d / "model.json"
+    subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "fit", str(d / "good.csv"), "--save", str(model),
+                    "--quiet"], capture_output=True)
 
 
 def write_round_two(d: Path, good: pd.DataFrame) -> None:
@@ -192,7 +260,9 @@ UNREADABLE = ("empty.csv", "junk.csv", "junk.parquet", "junk.mcap", "truncated.b
               "nothing*.csv")
 READ_ONLY = "/proc/thermolimb"  # a read-only place even for root (permission bits do not bind root)
 CLEAR, WORD = "refuse", "word"  # expected: exit 2, or exit 0 with a word on stderr (a regex)
+PARTIAL = "partial"  # expected: exit 1 (some parts failed, the rest done) with a word on stderr
 SECOND: set[str] = set()  # the names of the second round's inputs (filled as the case lists are built)
+THIRD: set[str] = set()  # the third round's
 
 
 def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
@@ -204,6 +274,9 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
 
     def word(name, pattern, *argv):
         cases.append((name, list(argv), WORD, pattern))
+
+    def partial(name, pattern, *argv):
+        cases.append((name, list(argv), PARTIAL, pattern))
 
     # logs as users bring them
     for log in ("no_temperature.csv", "misnamed.csv", "nan_effort.csv", "nan_time.csv", "time_backwards.csv",
@@ -268,7 +341,44 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     first = len(cases)
     round_two_cases(refuse, word)
     SECOND.update(c[0] for c in cases[first:])
+    first = len(cases)
+    round_three_cases(refuse, word, partial)
+    THIRD.update(c[0] for c in cases[first:])
     return cases
+
+
+def round_three_cases(refuse, word, partial) -> None:
+    """Outputs onto inputs, users' broken terms, flags that would do nothing, one bad part of a whole."""
+    refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv")
+    refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv")
+    refuse("fit --fleet --table onto a log it reads", "fit", "victim_table.csv", "--fleet", "--quiet", "--table",
+           "victim_table.csv")
+    refuse("fit --html onto a symbolic link to the log", "fit", "victim_link_target.csv", "--quiet", "--html",
+           "victim_link.csv")
+    refuse("fit --html onto a hard link to the log", "fit", "victim_hard.csv", "--quiet", "--html",
+           "victim_hard_link.csv")
+    refuse("diagnose --propose onto its --terms file", "diagnose", "good.csv", "--quiet", "--discover", "--terms",
+           "victim_terms.py", "--propose", "victim_terms.py")
+    refuse("monitor --mcap onto the followed log", "monitor", "model.json", "--follow", "victim_follow.csv", "--mcap",
+           "victim_follow.csv", "--idle-exit", "0.5")
+    for term in ("b_raises", "b_nan", "b_inf", "b_shape", "b_none", "b_missing", "b_nan_gain", "b_exits"):
+        refuse(f"fit a broken term ({term})", "fit", "good.csv", "--quiet", "--actuator", "knee", "--terms",
+               "broken_terms.py", "--model", f"joule,{term}")
+    word("diagnose sets broken terms aside and goes on", r"set aside", "diagnose", "good.csv", "--quiet",
+         "--actuator", "knee", "--terms", "broken_terms.py", "--stability", "0")
+    word("fit --json with a term that prints: the JSON stays JSON", r'^\[?\s*\{', "fit", "good.csv", "--quiet",
+         "--json", "--actuator", "knee", "--terms", "broken_terms.py", "--model", "joule,b_prints")
+    refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py")
+    refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py")
+    refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv")
+    refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv")
+    refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2")
+    refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6")
+    refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip")
+    partial("a fleet over a folder with an unreadable file and one whose time goes back",
+            r"2 of 4 files could not be read", "fit", "fleet_with_bad", "--fleet", "--quiet")
+    partial("fit every actuator of the bag: one not identifiable, the others fitted", r"could not be analysed", "fit",
+            str(BAG), "--quiet")
 
 
 def round_two_cases(refuse, word) -> None:
@@ -380,6 +490,13 @@ def env_cases() -> list[tuple[str, list[str]]]:
                                                                             "options"]))
         cases.append((f"{short} a reset range the wrong way round", [env_id, json.dumps(
             {"ambient_range_C": [30.0, 20.0]}), "null", "no"]))
+    first = len(cases)
+    for env_id, weights in ((HEX, ("fall_penalty", "overheat_weight_per_K", "distance_weight_per_m")),
+                            (HUM, ("effort_weight", "cooling_weight_per_K", "warning_weight"))):
+        short = env_id.split("/")[1]
+        for weight, value in zip(weights, (float("nan"), float("inf"), float("-inf"))):
+            cases.append((f"{short} {weight}={value}", [env_id, json.dumps({weight: value}), "null", "no"]))
+    THIRD.update(c[0] for c in cases[first:])
     return cases
 
 
@@ -512,13 +629,13 @@ def run_cli(d: Path, name: str, argv: list[str], expected: str, pattern: str | N
     lines = err.splitlines()
     record = {"input": name, "exit": done.returncode, "seconds": round(seconds, 2),
               "message": lines[-1] if lines else ""}
-    if "Traceback" in err or done.returncode not in (0, 2):
+    if "Traceback" in err or done.returncode not in ((0, 1, 2) if expected == PARTIAL else (0, 2)):
         outcome = "traceback"
     elif done.returncode == 2:
         outcome = "clear" if len(lines) == 1 and not new else "left behind"
         if new:
             record["written"] = new
-    elif expected == WORD and re.search(pattern, done.stdout + done.stderr):
+    elif expected in (WORD, PARTIAL) and re.search(pattern, done.stdout + done.stderr):
         outcome = "clear"
     else:
         outcome = "silent"
@@ -669,6 +786,48 @@ def run_interrupt(d: Path, name: str, argv: list[str], how: str, repetitions: in
 API_SNIPPET = textwrap.dedent("""
     import json, pickle, sys, copy
     case = sys.argv[1]
+    def poison(case):
+        import numpy as np
+        from dataclasses import replace
+        from thermolimb.plant import ThermalPlant, X8_9
+        from thermolimb.rig import RigConfig
+        what = case.split(" ", 1)[1]
+        nan, inf = float("nan"), float("inf")
+        makers = {"ambient_C=nan": lambda: ThermalPlant(["a"], [X8_9], ambient_C=nan),
+                  "ambient_C=-273": lambda: ThermalPlant(["a"], [X8_9], ambient_C=-273.0),
+                  "ambient_C=5000": lambda: ThermalPlant(["a"], [X8_9], ambient_C=5000.0),
+                  "initial_C=-inf": lambda: ThermalPlant(["a"], [X8_9], initial_C=-inf),
+                  "set_temperatures one of three": lambda: ThermalPlant(["a", "b", "c"], [X8_9] * 3).set_temperatures([40.0]),
+                  "set_temperatures -400": lambda: ThermalPlant(["a"], [X8_9]).set_temperatures(-400.0),
+                  "winding_limit_C=0": lambda: replace(X8_9, winding_limit_C=0.0),
+                  "continuous above peak": lambda: replace(X8_9, continuous_effort=2 * X8_9.effort_limit),
+                  "step dt=nan": lambda: ThermalPlant(["a"], [X8_9]).step(np.ones(1), None, nan),
+                  "foot_friction=-1": lambda: RigConfig(foot_friction=-1.0),
+                  "physics_hz=nan": lambda: RigConfig(physics_hz=nan),
+                  "torque_noise_Nm=-1": lambda: RigConfig(torque_noise_Nm=-1.0),
+                  "ambient_C=inf": lambda: RigConfig(ambient_C=inf)}
+        if what == "payload_kg=nan":
+            from hexapod_pb.sim import SimConfig
+            return SimConfig(payload_kg=nan)
+        if what in makers:
+            return makers[what]()
+        plant = ThermalPlant(["a", "b"], [X8_9, X8_9])
+        if what == "step with a NaN and an inf effort: faulted, the state finite":
+            for _ in range(30):
+                plant.step(np.array([nan, inf]), None, 1.0)
+            assert plant.faulted.all() and np.all(np.isfinite(plant.state)), "poisoned"
+            return "ok"
+        if what == "step 1e6 N m: saturated at the peak":
+            for _ in range(600):
+                plant.step(np.array([1e6, 0.0]), None, 1.0)
+            assert plant.winding_C[0] < 400.0 and plant.saturations[0] == 600, plant.winding_C
+            return "ok"
+        if what == "complex action":
+            import gymnasium as gym, hexapod_pb
+            env = gym.make("thermolimb/HexapodLoadCarry-v0").unwrapped
+            env.reset(seed=0)
+            return env.step(np.array([0.5, 0.5, 0.5, 0.5j]))
+        raise AssertionError("unknown case " + what)
     def run():
         from thermolimb.logs import read_log
         if case == "read_log(mapping='effort=effort')":
@@ -690,6 +849,8 @@ API_SNIPPET = textwrap.dedent("""
             for obj in (report, report.estimator, report.model):
                 assert pickle.loads(pickle.dumps(obj)) is not None
             return "pickled"
+        if case.startswith("plant ") or case.startswith("robot "):
+            return poison(case)
         import gymnasium as gym, hexapod_pb, humanoid_pb
         env = gym.make(case.split()[-1])
         env.reset(seed=0)
@@ -708,6 +869,15 @@ API_CASES = (("read_log(mapping='effort=effort')", "raise"), ("read_log(mapping=
              ("pickle a fitted OutputError, FitReport and ThermalModel", "pass"),
              (f"pickle a live {HEX}", "raise"), (f"deepcopy a live {HUM}", "raise"))
 SECOND.update(f"API: {case}" for case, _ in API_CASES)
+THIRD_API = tuple((f"plant {what}", "raise") for what in (
+    "ambient_C=nan", "ambient_C=-273", "ambient_C=5000", "initial_C=-inf", "set_temperatures one of three",
+    "set_temperatures -400", "winding_limit_C=0", "continuous above peak", "step dt=nan")) + tuple(
+    (f"robot {what}", "raise") for what in ("foot_friction=-1", "physics_hz=nan", "torque_noise_Nm=-1",
+                                              "ambient_C=inf", "payload_kg=nan", "complex action")) + (
+    ("plant step with a NaN and an inf effort: faulted, the state finite", "pass"),
+    ("plant step 1e6 N m: saturated at the peak", "pass"))
+API_CASES = API_CASES + THIRD_API
+THIRD.update(f"API: {case}" for case, _ in THIRD_API)
 
 
 def run_api(d: Path, case: str, expected: str) -> dict:
@@ -735,12 +905,14 @@ def main() -> None:
     parser.add_argument("--json", action="store_true", help="print one record per input")
     parser.add_argument("--only", default="", help="run only inputs whose name contains this")
     parser.add_argument("--second-round", action="store_true", help="run only the second round's inputs")
+    parser.add_argument("--third-round", action="store_true", help="run only the third round's inputs")
     args = parser.parse_args()
     cli, envs, faults, special, interrupts = (cli_cases(), env_cases(), fault_cases(), special_cases(),
                                               interrupt_cases())
 
     def chosen(name: str) -> bool:
-        return args.only in name and (not args.second_round or name in SECOND)
+        return (args.only in name and (not args.second_round or name in SECOND)
+                and (not args.third_round or name in THIRD))
 
     records = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -761,13 +933,16 @@ def main() -> None:
     kinds = ("clear", "traceback", "silent", "left behind", "hang", "skipped")
     counts = Counter(r["outcome"] for r in records)
     second = Counter(r["outcome"] for r in records if r["input"] in SECOND)
+    third = Counter(r["outcome"] for r in records if r["input"] in THIRD)
     if args.json:
-        print(json.dumps({"counts": counts, "second_round": second, "inputs": records}, indent=1))
+        print(json.dumps({"counts": counts, "second_round": second, "third_round": third, "inputs": records},
+                         indent=1))
         return
     for r in records:
         print(f"{r['outcome']:12s} {r['input'][:70]:70s} {r.get('message', '')[:110]}")
     print(f"{len(records)} bad inputs: " + ", ".join(f"{k} {counts[k]}" for k in kinds))
     print(f"of them {sum(second.values())} of the second round: " + ", ".join(f"{k} {second[k]}" for k in kinds))
+    print(f"of them {sum(third.values())} of the third round: " + ", ".join(f"{k} {third[k]}" for k in kinds))
 
 if __name__ == "__main__":
     main()
