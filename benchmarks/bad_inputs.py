@@ -195,6 +195,9 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     bad = good.copy()
     bad.loc[20:30, "time"] = 3.0
     bad.to_csv(folder / "d.csv", index=False)
+    for names, file in ((("NA", "None"), "names_na.csv"), (("1", "01"), "names_1_01.csv"), (("nan", "null"), "names_nan.csv")):
+        pd.concat([good[good.actuator == "knee"].assign(actuator=n) for n in names]).to_csv(d / file, index=False)
+    good[good.actuator == "knee"].drop(columns="actuator").to_csv(d / "one_joint.csv", index=False)
     model = d / "model.json"
     subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "fit", str(d / "good.csv"), "--save", str(model),
                     "--quiet"], capture_output=True)
@@ -269,8 +272,8 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     """(name, argv, expected, regex of the word on stdout or stderr) for the command line."""
     cases = []
 
-    def refuse(name, *argv):
-        cases.append((name, list(argv), CLEAR, None))
+    def refuse(name, *argv, reason=None):
+        cases.append((name, list(argv), CLEAR, reason))
 
     def word(name, pattern, *argv):
         cases.append((name, list(argv), WORD, pattern))
@@ -349,32 +352,43 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
 
 def round_three_cases(refuse, word, partial) -> None:
     """Outputs onto inputs, users' broken terms, flags that would do nothing, one bad part of a whole."""
-    refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv")
-    refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv")
+    refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv",
+           reason="never replaces an input")
+    refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv",
+           reason="never replaces an input")
     refuse("fit --fleet --table onto a log it reads", "fit", "victim_table.csv", "--fleet", "--quiet", "--table",
-           "victim_table.csv")
+           "victim_table.csv", reason="never replaces an input")
     refuse("fit --html onto a symbolic link to the log", "fit", "victim_link_target.csv", "--quiet", "--html",
-           "victim_link.csv")
+           "victim_link.csv", reason="never replaces an input")
     refuse("fit --html onto a hard link to the log", "fit", "victim_hard.csv", "--quiet", "--html",
-           "victim_hard_link.csv")
+           "victim_hard_link.csv", reason="never replaces an input")
     refuse("diagnose --propose onto its --terms file", "diagnose", "good.csv", "--quiet", "--discover", "--terms",
-           "victim_terms.py", "--propose", "victim_terms.py")
+           "victim_terms.py", "--propose", "victim_terms.py", reason="never replaces an input")
     refuse("monitor --mcap onto the followed log", "monitor", "model.json", "--follow", "victim_follow.csv", "--mcap",
-           "victim_follow.csv", "--idle-exit", "0.5")
+           "victim_follow.csv", "--idle-exit", "0.5", reason="never replaces an input")
     for term in ("b_raises", "b_nan", "b_inf", "b_shape", "b_none", "b_missing", "b_nan_gain", "b_exits"):
         refuse(f"fit a broken term ({term})", "fit", "good.csv", "--quiet", "--actuator", "knee", "--terms",
-               "broken_terms.py", "--model", f"joule,{term}")
+               "broken_terms.py", "--model", f"joule,{term}", reason=f"term '{term}'")
     word("diagnose sets broken terms aside and goes on", r"set aside", "diagnose", "good.csv", "--quiet",
          "--actuator", "knee", "--terms", "broken_terms.py", "--stability", "0")
     word("fit --json with a term that prints: the JSON stays JSON", r'^\[?\s*\{', "fit", "good.csv", "--quiet",
          "--json", "--actuator", "knee", "--terms", "broken_terms.py", "--model", "joule,b_prints")
-    refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py")
-    refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py")
-    refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv")
-    refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv")
-    refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2")
-    refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6")
-    refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip")
+    refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py", reason="built-in")
+    refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py", reason="lower < upper")
+    refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv", reason="not a Python file")
+    refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv", reason="works with --fleet")
+    refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
+    refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
+    refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    for file, first, second in (("names_na.csv", "NA", "None"), ("names_1_01.csv", "1", "01"),
+                                ("names_nan.csv", "nan", "null")):
+        word(f"fit actuators named {first} and {second}: two actuators, by their names",
+             rf"(?m)^{first}: model.*\n(.*\n)*{second}: model", "fit", file, "--quiet")
+    refuse("--map with a unit it does not know (effort:furlong)", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
+           "--map", "time=time,effort=effort:furlong,temperature=temperature", reason="not a unit")
+    refuse("--map one column as both effort and temperature", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
+           "--map", "time=time,effort=effort,temperature=effort", reason="to both")
+    refuse("--map a pattern with {j} twice", "fit", "good.csv", "--quiet", "--map", "effort=e{j}{j},temperature=temperature", reason="uses \\{j\\} 2 times")
     partial("a fleet over a folder with an unreadable file and one whose time goes back",
             r"2 of 4 files could not be read", "fit", "fleet_with_bad", "--fleet", "--quiet")
     partial("fit every actuator of the bag: one not identifiable, the others fitted", r"could not be analysed", "fit",
@@ -631,6 +645,8 @@ def run_cli(d: Path, name: str, argv: list[str], expected: str, pattern: str | N
               "message": lines[-1] if lines else ""}
     if "Traceback" in err or done.returncode not in ((0, 1, 2) if expected == PARTIAL else (0, 2)):
         outcome = "traceback"
+    elif done.returncode == 2 and (expected != CLEAR or (pattern and not re.search(pattern, err))):
+        outcome = "wrong reason"  # refused what is legal, or refused for another reason than the input's fault
     elif done.returncode == 2:
         outcome = "clear" if len(lines) == 1 and not new else "left behind"
         if new:
@@ -930,7 +946,7 @@ def main() -> None:
         finally:
             if can_fill:
                 subprocess.run(["umount", str(d / FULL)], capture_output=True)
-    kinds = ("clear", "traceback", "silent", "left behind", "hang", "skipped")
+    kinds = ("clear", "wrong reason", "traceback", "silent", "left behind", "hang", "skipped")
     counts = Counter(r["outcome"] for r in records)
     second = Counter(r["outcome"] for r in records if r["input"] in SECOND)
     third = Counter(r["outcome"] for r in records if r["input"] in THIRD)

@@ -1,7 +1,10 @@
 """An output never lands on a file the same command reads (a recording is the one thing a user cannot make
 again): refused in one sentence, exit 2, nothing written; an output that replaces something else says so."""
 
+import json
 import os
+
+import numpy as np
 
 import pytest
 
@@ -49,3 +52,28 @@ def test_an_output_that_replaces_another_file_says_replaced(folder, capsys):
     assert f"wrote {out}" in capsys.readouterr().err
     assert main(argv) == 0
     assert f"replaced {out}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("names", [("NA", "None"), ("1", "01"), ("nan", "null")])
+def test_actuator_names_are_names(tmp_path, names, capsys):
+    """NA, None and nan are names, not missing values; 1 and 01 are two actuators."""
+    rows = ["time,actuator,effort,temperature"]
+    for name in names:
+        rows += [f"{t},{name},{5 + 3 * np.sin(t / 20):.3f},{30 + 0.02 * t + 0.5 * np.sin(t / 30):.3f}"
+                 for t in range(300)]
+    (tmp_path / "log.csv").write_text("\n".join(rows) + "\n")
+    assert main(["fit", str(tmp_path / "log.csv"), "--quiet", "--json"]) == 0
+    assert [r["actuator"] for r in json.loads(capsys.readouterr().out)] == list(names)
+
+
+@pytest.mark.parametrize("mapping, message", [
+    ("time=time,effort=effort:furlong,temperature=temperature", "'furlong' is not a unit this suite knows"),
+    ("time=time,effort=effort,temperature=effort", "maps column 'effort' to both effort and temperature"),
+    ("effort=e{j}{j},temperature=temperature", "uses {j} 2 times"),
+])
+def test_a_map_mistake_is_named_for_what_it_is(tmp_path, mapping, message, capsys):
+    rows = ["time,effort,temperature"] + [f"{t},{5 + np.sin(t / 9):.3f},{30 + 0.01 * t:.3f}" for t in range(300)]
+    (tmp_path / "one.csv").write_text("\n".join(rows) + "\n")
+    assert main(["fit", str(tmp_path / "one.csv"), "--actuator", "a", "--map", mapping, "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1

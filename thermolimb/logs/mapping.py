@@ -49,6 +49,12 @@ def parse_mapping(text: str | None) -> dict[str, str]:
             raise LogError(f"--map names {key!r} twice ({mapping[key]!r} and {value!r}); give each channel one column")
         if not value:
             raise LogError(f"--map {key}= names no column; expected {key}=COLUMN")
+        if value.count(JOINT) > 1:
+            raise LogError(f"--map {key}={value} uses {JOINT} {value.count(JOINT)} times; a pattern names the joint "
+                           f"number once (e.g. {key}=Current_J{JOINT})")
+        twice = [k for k, v in mapping.items() if v == value and k != "actuator"]
+        if twice and key != "actuator":
+            raise LogError(f"--map maps column {value!r} to both {twice[0]} and {key}; each column is one channel")
         mapping[key] = value
     return mapping
 

@@ -242,6 +242,14 @@ def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict
     counts = Counter(name.strip() for name in header)
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
                    skip_blank_lines=True)
+    names = [name.strip() for name in header]
+    if "actuator" in names:
+        # an actuator named NA, None or nan is a name, not a missing value, and 1 and 01 are two actuators
+        from pandas._libs.parsers import STR_NA_VALUES
+
+        options.update(keep_default_na=False, dtype={"actuator": str},
+                       na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
+                       | {"actuator": [""]})
     return options, {name: k for name, k in counts.items() if k > 1 and name}
 
 

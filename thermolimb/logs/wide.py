@@ -10,7 +10,7 @@ from . import extras
 from .align import align, series_of
 from .mapping import EXTRA, REQUIRED, TIME_OF, expand_joints, is_pattern
 from .table import LogError, first_stamp, shown_names, time_seconds
-from .units import split_unit
+from .units import KNOWN, split_unit
 
 
 def split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
@@ -44,6 +44,10 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
     absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
     if absent:
         k, v = next(iter(absent.items()))
+        column, sep, unit = str(v).rpartition(":")
+        if sep and column in frame.columns:  # a column of the file, and after its colon a unit this suite lacks
+            raise LogError(f"{source}: --map {k}={v}: {unit!r} is not a unit this suite knows; known units: "
+                           f"{', '.join(KNOWN)}")
         raise LogError(
             f"{source}: --map {k}={v} names column {v!r}, which the file does not have; "
             f"its columns are {shown_names(frame.columns)}"
