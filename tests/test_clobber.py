@@ -5,7 +5,6 @@ import json
 import os
 
 import numpy as np
-
 import pytest
 
 from thermolimb.cli.main import main
