@@ -52,9 +52,12 @@ def parse_mapping(text: str | None) -> dict[str, str]:
         if value.count(JOINT) > 1:
             raise LogError(f"--map {key}={value} uses {JOINT} {value.count(JOINT)} times; a pattern names the joint "
                            f"number once (e.g. {key}=Current_J{JOINT})")
+        # an input may be read twice (a power logged as effort is also the power), but the measured temperature
+        # and the time are columns of their own
         twice = [k for k, v in mapping.items() if v == value and k != "actuator"]
-        if twice and key != "actuator":
-            raise LogError(f"--map maps column {value!r} to both {twice[0]} and {key}; each column is one channel")
+        if twice and key != "actuator" and {"temperature", "time"} & {key, twice[0]}:
+            raise LogError(f"--map maps column {value!r} to both {twice[0]} and {key}; the measured temperature and "
+                           f"the time each need a column of their own")
         mapping[key] = value
     return mapping
 
