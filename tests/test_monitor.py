@@ -100,6 +100,64 @@ def test_the_monitor_follows_a_file_another_process_appends_to(model_and_log, tm
     assert not list(tmp_path.glob(".out.mcap*"))  # no temporary left behind
 
 
+MCAP_WRITER = """
+import sys, time
+import numpy as np
+from mcap.writer import CompressionType, Writer
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from thermolimb.logs import read_log
+from thermolimb.logs.bag_writer import THERMAL_DEFINITION, THERMAL_TYPE
+log = read_log(sys.argv[1])
+store = get_typestore(Stores.ROS2_HUMBLE)
+store.register(get_types_from_msg(THERMAL_DEFINITION, THERMAL_TYPE))
+names = list(log.actuators)
+series = [log.series(n) for n in names]
+JS, TH = store.types["sensor_msgs/msg/JointState"], store.types[THERMAL_TYPE]
+H, T = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+with open(sys.argv[2], "wb") as f:
+    w = Writer(f, chunk_size=2048, compression=CompressionType.NONE)  # a recorder's chunks, small
+    w.start("ros2", "test")
+    ids = {}
+    for topic, msgtype in (("/joint_states", JS.__msgtype__), ("/thermal", THERMAL_TYPE)):
+        ids[topic] = w.register_channel(topic, "cdr", w.register_schema(msgtype, "ros2msg",
+                                                                        store.generate_msgdef(msgtype)[0].encode()))
+    for k in range(series[0].n):
+        ns = int(1.7e18 + series[0].time_s[k] * 1e9)
+        header = H(stamp=T(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+        joint = JS(header=header, name=names, position=np.zeros(len(names)),
+                   velocity=np.array([s.signals.velocity[k] for s in series]),
+                   effort=np.array([s.signals.effort[k] for s in series]))
+        w.add_message(ids["/joint_states"], ns, store.serialize_cdr(joint, JS.__msgtype__), ns)
+        thermal = TH(name=names, temperature=np.array([s.temperature_C[k] for s in series]), current=np.zeros(0),
+                     housing=np.zeros(0))
+        w.add_message(ids["/thermal"], ns, store.serialize_cdr(thermal, THERMAL_TYPE), ns)
+        if k % 20 == 0:
+            f.flush()
+            time.sleep(0.02)
+    w.finish()
+"""
+
+
+def test_the_monitor_follows_an_mcap_being_recorded(model_and_log, tmp_path):
+    from rosbags.highlevel import AnyReader
+
+    model, run = model_and_log
+    live, out = tmp_path / "live.mcap", tmp_path / "out.mcap"
+    writer = subprocess.Popen([sys.executable, "-c", MCAP_WRITER, str(run), str(live)])
+    time.sleep(0.2)
+    try:
+        done = subprocess.run([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
+                               str(live), "--mcap", str(out), "--idle-exit", "1.5", "--publish-hz", "1"],
+                              capture_output=True, text=True, timeout=120)
+    finally:
+        writer.wait(timeout=60)
+    assert done.returncode == 0, done.stderr
+    samples = (len(run.read_text().splitlines()) - 1) // 3
+    with AnyReader([out]) as reader:
+        counts = Counter(connection.topic for connection, _, _ in reader.messages())
+    assert counts["/thermolimb/hip/winding_temperature"] == samples - 1 and counts["/diagnostics"] == samples - 1
+
+
 def test_json_lines_and_the_estimate_follows_the_readings(model_and_log, capsys):
     model, run = model_and_log
     session = Session(ModelFile.load(model), {}, [], publish_every_s=0.0)

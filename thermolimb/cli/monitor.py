@@ -14,14 +14,19 @@ from .types import integer, number, output_file
 def add_parser(sub):
     p = sub.add_parser(
         "monitor", help="follow a log as it is written: winding estimates, time to the limit, derating, live",
-        description="Follow a canonical CSV log (time,actuator,effort,temperature[,velocity,current,ambient]) while "
-                    "another program appends to it; for each actuator run the saved model with a Kalman filter on "
+        description="Follow a log while another program writes it -- a canonical CSV (time,actuator,effort,"
+                    "temperature[,velocity,current,ambient]) or an MCAP / ROS 2 bag being recorded (--map); for each actuator run the saved model with a Kalman filter on "
                     "its readings (the winding temperature and its uncertainty), the time to the limit at the "
                     "current effort and the protection's derating; publish them as ROS 2 messages to an MCAP, live "
                     "to Foxglove, or as JSON lines. Ends on Ctrl-C, SIGTERM or --idle-exit, every output complete. "
                     "Topics and messages: docs/model-file.md.")
     p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
-    p.add_argument("--follow", required=True, metavar="LOG", help="the CSV log to follow")
+    p.add_argument("--follow", required=True, metavar="LOG",
+                   help="the log to follow: a canonical CSV, or an MCAP (or a ROS 2 bag folder) being recorded")
+    p.add_argument("--map", default=None, metavar="CANONICAL=/TOPIC.FIELD,...",
+                   help="for an MCAP: which topics' fields are effort, velocity and temperature (default the layout "
+                        "thermolimb writes: effort=/joint_states.effort,velocity=/joint_states.velocity,"
+                        "temperature=/thermal.temperature; {j} in a topic for one topic per joint)")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="the actuator of a CSV without an actuator column")
     add_terms(p)
@@ -49,7 +54,7 @@ def add_parser(sub):
 
 def run(args) -> int:
     from ..model.saved import ModelFile
-    from ..monitor import CsvFollower, Session, follow
+    from ..monitor import Session, follow
     from ..monitor.outputs import FoxgloveOutput, JsonLinesOutput, McapOutput
 
     load_terms(args)
@@ -83,12 +88,26 @@ def run(args) -> int:
         raise
     session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz)
     try:
-        follow(session, CsvFollower(args.follow, args.actuator), args.poll_s, args.idle_exit)
+        follow(session, _follower(args), args.poll_s, args.idle_exit)
     except KeyboardInterrupt:
         say(f"stopped after {session.samples} samples; outputs complete")
     if args.mcap:
         print(f"wrote {args.mcap}", file=sys.stderr)
     return 0
+
+
+def _follower(args):
+    from pathlib import Path
+
+    from ..monitor import CsvFollower
+    from ..monitor.follow_mcap import McapFollower
+
+    path = Path(args.follow)
+    if path.suffix.lower() == ".mcap" or path.is_dir():
+        return McapFollower(path, args.map)
+    if args.map:
+        raise UsageError("--map names the topics of an MCAP; a followed CSV is read in the canonical format")
+    return CsvFollower(path, args.actuator)
 
 
 def _same_file(a, b) -> bool:
