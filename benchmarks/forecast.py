@@ -37,10 +37,11 @@ from pathlib import Path
 import numpy as np
 
 from thermolimb.forecast import crossing_s, forecast
-from thermolimb.model.saved import ModelFile, saved_from_report
+from thermolimb.model.saved import ModelFile
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.plant.duties import held_duty
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.saving import saved_from_report
 from thermolimb.workbench.validation import validate_model
 
 LOADS = (0.8, 1.0, 1.2, 1.5)

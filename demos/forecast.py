@@ -19,7 +19,7 @@ import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.forecast import crossing_s, forecast
-from thermolimb.model.saved import ModelFile, saved_from_report
+from thermolimb.model.saved import ModelFile
 from thermolimb.monitor import CsvFollower, Session
 from thermolimb.monitor.follow import Piece
 from thermolimb.monitor.outputs import McapOutput
@@ -29,6 +29,7 @@ from thermolimb.plotting.forecast import plot_forecast
 from thermolimb.plotting.monitor import plot_monitor
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
+from thermolimb.workbench.saving import saved_from_report
 from thermolimb.workbench.validation import validate_model
 
 NAME = "forecast"

@@ -38,7 +38,7 @@ class SimConfig(RigConfig):
 
     def __post_init__(self):
         super().__post_init__()
-        check_range("SimConfig", "payload_kg", self.payload_kg, 0.0, 100.0, "kg")
+        check_range("SimConfig", "payload_kg", self.payload_kg, 0.0, 1000.0, "kg")
 
 
 class HexapodSim(BulletRig):

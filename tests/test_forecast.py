@@ -11,9 +11,10 @@ import pytest
 from thermolimb.cli.main import main
 from thermolimb.forecast import crossing_s, forecast, hold_signals
 from thermolimb.model import ThermalModel
-from thermolimb.model.saved import ModelFile, ModelFileError, saved_from_report
+from thermolimb.model.saved import ModelFile, ModelFileError
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
 from thermolimb.workbench.diagnosis import auto_diagnose
+from thermolimb.workbench.saving import saved_from_report
 from thermolimb.workbench.validation import validate_model
 
 SPEC = replace(X8_9, network=NETWORKS["second_order"])

@@ -217,7 +217,7 @@ def test_the_shipped_layout_is_the_generated_one():
 
 @pytest.mark.parametrize("argv, message", [
     (["--follow", "{run}"], "monitor needs somewhere to publish"),
-    (["--follow", "{run}", "--mcap", "{run}"], "is the log being followed"),
+    (["--follow", "{run}", "--mcap", "{run}"], "an output never replaces an input"),
 ])
 def test_monitor_refuses_in_one_sentence(model_and_log, capsys, argv, message):
     model, run = model_and_log

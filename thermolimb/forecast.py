@@ -6,7 +6,7 @@ combines the two ways the answer can be wrong:
 
 * **the parameters** are uncertain: ``draws`` parameter vectors are drawn (seeded) from the blocked
   jackknife's covariance the model file stores (the model refitted with each fifth of the log left out;
-  :func:`~thermolimb.model.saved.jackknife_covariance`), each simulated; their spread at each instant is one
+  :func:`~thermolimb.workbench.saving.jackknife_covariance`), each simulated; their spread at each instant is one
   part of the band.  The fit's own covariance assumes the model is true and is several times too narrow on a
   plant richer than the model; the refits' spread is not;
 * **the model** misses physics: a richer plant (a heavier housing, speed losses, copper's tempco) leaves an

@@ -61,8 +61,6 @@ def run(args) -> int:
     models = ModelFile.load(args.model_file)
     if not (args.mcap or args.foxglove is not None or args.json_lines):
         raise UsageError("monitor needs somewhere to publish: --mcap OUT.mcap, --foxglove [PORT] or --json-lines")
-    if args.mcap and _same_file(args.mcap, args.follow):
-        raise UsageError(f"--mcap {args.mcap} is the log being followed; write the MCAP elsewhere")
     names = list(models.actuators)
     if args.layout:
         from ..monitor.layout import layout_text
@@ -108,15 +106,6 @@ def _follower(args):
     if args.map:
         raise UsageError("--map names the topics of an MCAP; a followed CSV is read in the canonical format")
     return CsvFollower(path, args.actuator)
-
-
-def _same_file(a, b) -> bool:
-    import os
-
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return os.path.realpath(a) == os.path.realpath(b)
 
 
 def _layout() -> str:

@@ -39,9 +39,11 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    from ..envs import env_info
     from ..envs.episodes import run_episodes
     from ..envs.tables import episodes_json, format_table, plot_table, table
 
+    env_info(args.env)  # an unknown environment is said before anything else (a lowered --workers, say)
     episodes = run_episodes(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
                         address=args.address, max_time_s=args.max_time, scenario=args.scenario)
     rows = table(episodes)

@@ -163,7 +163,8 @@ class LogCommand:
 
 def save_models(args, final: dict):
     """Write ``--save``: every actuator's final report as a model file (with ``--limit-C``, its limit)."""
-    from ..model.saved import ModelFile, saved_from_report
+    from ..model.saved import ModelFile
+    from ..workbench.saving import saved_from_report
 
     models = {name: saved_from_report(report, args.logs, args.limit_C) for name, report in final.items()}
     return ModelFile(models).save(args.save)

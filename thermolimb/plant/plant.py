@@ -107,7 +107,7 @@ class ThermalPlant:
         self._x = np.full(self._n_states, start)
         self._discretised: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.current_A = np.zeros(self.n)
-        self._peak = np.array([spec.effort_limit for spec in self.specs])
+        self.peak_effort = np.array([spec.effort_limit for spec in self.specs])  # N m or N: what a drive holds at most
         self.faulted = np.zeros(self.n, bool)  # a non-finite command faulted the actuator (cleared by clear_faults)
         self.saturations = np.zeros(self.n, int)  # steps whose effort was held at the actuator's peak
         self._measure()
@@ -375,9 +375,9 @@ class ThermalPlant:
         self.faulted |= ~(np.isfinite(effort) & np.isfinite(velocity))
         effort[self.faulted] = 0.0
         velocity[self.faulted] = 0.0
-        over = np.abs(effort) > self._peak
+        over = np.abs(effort) > self.peak_effort
         self.saturations += over
-        return np.clip(effort, -self._peak, self._peak), velocity
+        return np.clip(effort, -self.peak_effort, self.peak_effort), velocity
 
     def clear_faults(self) -> None:
         """Re-enable faulted actuators (as a drive's fault reset does)."""
