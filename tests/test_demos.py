@@ -27,7 +27,10 @@ def quick(quick_runs, name: str) -> dict:
     return done[name]
 
 
-@pytest.mark.parametrize("name", DEMOS)
+LONG = ("hexapod-endurance", "humanoid-recovery", "humanoid-switching-map")  # a minute or more each: slow
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in LONG else n for n in DEMOS])
 def test_demo_quick(name, quick_runs):
     summary = quick(quick_runs, name)
     out = quick_runs[0]
@@ -44,6 +47,7 @@ def test_demo_quick(name, quick_runs):
         assert (out / src).is_file(), src  # every figure the section shows exists
 
 
+@pytest.mark.slow  # every demo's figures, the long ones included
 def test_every_figure_keeps_its_captions_promise(quick_runs):
     """What a caption tells the reader (a dashed 75 °C line, error bars, the measurement in black) is drawn, and
     no axis is labelled with a raw identifier; read from each PNG's own inventory of what it draws."""
@@ -145,6 +149,7 @@ def test_real_logs_demo_runs_the_loop_on_every_bundled_log(quick_runs):
     assert "neighbor_coupling" in j3["final_model"] and j3["after_K"] < 0.5 * j3["before_K"]
 
 
+@pytest.mark.slow
 def test_endurance_summary_has_the_cells_the_issue_names(quick_runs):
     cells = quick(quick_runs, "hexapod-endurance")["cells"]
     assert {c["mode"] for c in cells} == {"walk", "stand"}
