@@ -32,7 +32,8 @@ def add_parser(sub):
                    help="local process pool (default) or Ray tasks (optional extra 'ray')")
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
     p.add_argument("--workers", type=integer(1, 1024), default=2, help="processes of the local pool (default 2)")
-    p.add_argument("--plot", type=output_dir, default="out/strategies", metavar="DIR", help="folder for the plot (default out/strategies)")
+    p.add_argument("--plot", type=output_dir, default="strategies", metavar="DIR",
+                   help="folder for the plot (default strategies/ here: never the report's out/, which make demo writes)")
     p.add_argument("--json", action="store_true", help="print the table and every episode as JSON")
     add_quiet(p)
     p.set_defaults(func=run)
