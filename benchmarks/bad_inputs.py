@@ -198,6 +198,20 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     for names, file in ((("NA", "None"), "names_na.csv"), (("1", "01"), "names_1_01.csv"), (("nan", "null"), "names_nan.csv")):
         pd.concat([good[good.actuator == "knee"].assign(actuator=n) for n in names]).to_csv(d / file, index=False)
     good[good.actuator == "knee"].drop(columns="actuator").to_csv(d / "one_joint.csv", index=False)
+    long = pd.DataFrame({"time": np.arange(3000.0), "actuator": "knee",
+                         "effort": 5 + 4 * np.sign(np.sin(np.arange(3000.0) / 150))})
+    rise = np.zeros(3000)
+    for k in range(1, 3000):
+        rise[k] = rise[k - 1] + (0.3 * long["effort"].iloc[k - 1] ** 2 - rise[k - 1]) / 200.0
+    long["temperature"] = np.round(25 + rise, 2)
+    long.assign(temperature=np.minimum(long["temperature"], np.percentile(long["temperature"], 80).round(2))).to_csv(
+        d / "pinned.csv", index=False)
+    stuck = long["temperature"].to_numpy().copy()
+    stuck[1000:2200] = stuck[1000]
+    long.assign(temperature=stuck).to_csv(d / "stuck.csv", index=False)
+    rest = long.assign(effort=long["effort"] * (np.arange(3000) >= 400))  # at rest for its first 400 s
+    rest.assign(temperature=np.where(np.arange(3000) < 400, 25.0, rest["temperature"]) * 1.8 + 32,
+                ambient=25.0).to_csv(d / "fahrenheit.csv", index=False)
     model = d / "model.json"
     subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "fit", str(d / "good.csv"), "--save", str(model),
                     "--quiet"], capture_output=True)
@@ -380,6 +394,12 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
     refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
     refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",
+         "pinned.csv", "--quiet")
+    word("a sensor stuck at one value: said with its span, left out", r"stuck at .* left out", "fit", "stuck.csv",
+         "--quiet")
+    word("a temperature column in degF beside an ambient in degC", r"looks like degF", "fit", "fahrenheit.csv",
+         "--quiet")
     for file, first, second in (("names_na.csv", "NA", "None"), ("names_1_01.csv", "1", "01"),
                                 ("names_nan.csv", "nan", "null")):
         word(f"fit actuators named {first} and {second}: two actuators, by their names",

@@ -14,6 +14,7 @@ from . import extras
 from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
 from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
 from .series import MIN_SAMPLES, ThermalLog
+from .suspect import fahrenheit_note, leave_out
 from .table import LogError, refuse_duplicates, shown_names, time_seconds
 from .units import NOT_GIVEN, channel_units
 from .wide import apply_mapping, split_units
@@ -152,6 +153,11 @@ def from_frame(
         if len(g) < MIN_SAMPLES:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         refuse_unit_switch(g, name, source)
+        g = leave_out(g, name, source, notes, MIN_SAMPLES)
+        note = fahrenheit_note(g["temperature"].to_numpy(), g["effort"].to_numpy(),
+                               g["ambient"].to_numpy() if "ambient" in g else None, source, name)
+        if note:
+            notes.append(note)
         parts.append(g)
     whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))

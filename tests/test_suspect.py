@@ -1,0 +1,69 @@
+"""Readings a sensor cannot have meant are found, said with their span, and left out of fitting and validation
+(or the actuator refused when too little is left); a temperature in degF beside an ambient in degC is flagged;
+the bundled real logs, honest sensors all, are left alone."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from thermolimb.logs import read_log
+from thermolimb.logs.table import LogError
+from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
+from thermolimb.workbench.validation import fit_and_validate
+
+
+@pytest.fixture(scope="module")
+def frame():
+    spec = replace(X8_9, network=NETWORKS["first_order"])
+    log = simulate_profile("random", 7200.0, 1.0, ["knee"], [spec], PlantEffects.from_names("sensor_noise,quantisation"),
+                           seed=1).log
+    return log.frame.copy()
+
+
+def _fit(frame, tmp_path, name):
+    path = tmp_path / name
+    frame.to_csv(path, index=False)
+    log = read_log(path)
+    return log, fit_and_validate(log.runs("knee"), "joule,effort_bias")
+
+
+def test_a_sensor_at_its_ceiling_is_left_out_and_the_fit_recovers(frame, tmp_path):
+    t = frame["temperature"].to_numpy()
+    _, clean = _fit(frame, tmp_path, "clean.csv")
+    ceiling = round(float(np.percentile(t, 85)), 1)
+    log, pinned = _fit(frame.assign(temperature=np.minimum(t, ceiling)), tmp_path, "pinned.csv")
+    note = next(n for n in log.notes if "ceiling" in n)
+    assert f"pinned at its highest reading, {ceiling:g} degC" in note and "left out of fitting and validation" in note
+    beta = pinned.model.params["betaR_K_per_effort2"] / clean.model.params["betaR_K_per_effort2"]
+    assert 0.9 < beta < 1.1  # the ceiling no longer reads as less heating (it read 32 % low before)
+
+
+def test_a_stuck_sensor_is_left_out_with_its_span(frame, tmp_path):
+    t = frame["temperature"].to_numpy().copy()
+    t[3000:5000] = t[3000]
+    log, fit = _fit(frame.assign(temperature=t), tmp_path, "stuck.csv")
+    assert any("stuck at" in n and "from 2999 s to 4999 s" in n for n in log.notes)
+    assert fit.validation["rmse_K"] < 0.1
+
+
+def test_too_little_left_is_refused(frame, tmp_path):
+    t = frame["temperature"].to_numpy().copy()
+    t[5:] = t[5]
+    (tmp_path / "dead.csv").write_text(frame.assign(temperature=t).to_csv(index=False))
+    with pytest.raises(LogError, match="after leaving out the readings a sensor cannot have meant"):
+        read_log(tmp_path / "dead.csv")
+
+
+def test_fahrenheit_beside_an_ambient_in_celsius_is_flagged(frame, tmp_path):
+    path = tmp_path / "f.csv"
+    frame.assign(temperature=frame["temperature"] * 1.8 + 32, ambient=25.0).to_csv(path, index=False)
+    assert any("looks like degF" in n for n in read_log(path).notes)
+
+
+def test_the_bundled_real_logs_are_left_alone():
+    from thermolimb.data import REAL_LOGS
+
+    for key in REAL_LOGS:
+        for log in REAL_LOGS[key].read():
+            assert not [n for n in log.notes if "cannot have meant" in n or "left out of fitting" in n or "degF" in n]

@@ -1,0 +1,96 @@
+"""Readings a sensor cannot have meant: a thermistor pinned at a ceiling, one stuck at a value, a temperature
+column in Fahrenheit.
+
+A sensor that saturates reads its ceiling while heat still comes in; one that hangs repeats a value while the
+effort moves; both spans would be fitted as if the winding had stopped heating.  :func:`leave_out` finds such
+spans in one actuator's samples, says each with its span, and leaves its rows out (the log splits into runs
+there, as at a pause), or refuses the actuator when too little is left.  The rules are conservative -- a
+reading repeated *exactly* over many samples while the effort moves over most of its range -- so that a
+coarse but honest sensor (1 degC steps at rest) is not caught.  :func:`fahrenheit_note` says when a
+temperature column reads like degF beside an ambient in degC.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .table import LogError
+
+STUCK_MIN_SAMPLES = 200  # a value repeated this many times in a row, at least...
+STUCK_MIN_SHARE = 0.25  # ...and over this share of the actuator's samples, while the effort moves
+EFFORT_MOVES = 0.5  # the effort in the span covers at least this share of the log's effort range
+CEILING_MIN_SAMPLES = 30  # the maximum held this long, at least...
+CEILING_MIN_SHARE = 0.03  # ...and over this share of the samples, with more heat coming in than on average
+CEILING_STRETCH = 3  # then every stretch of this many samples at the ceiling is left out
+
+
+def _plateaus(values: np.ndarray) -> list[tuple[int, int]]:
+    """``(start, stop)`` of every run of exactly repeated values."""
+    change = np.flatnonzero(np.diff(values) != 0.0) + 1
+    edges = np.concatenate([[0], change, [values.size]])
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+
+
+def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple[int, int, str]]:
+    """``(start, stop, why)`` of the spans a sensor cannot have meant (module docstring)."""
+    n = temperature_C.size
+    effort_range = float(np.ptp(effort)) or 1.0
+    heat = effort * effort
+    spans = []
+    top = float(np.max(temperature_C))
+    plateaus = _plateaus(temperature_C)
+    at_top = [(a, b) for a, b in plateaus if temperature_C[a] == top]
+    # a ceiling, once one long plateau at the top shows it, holds every stretch the readings sit on it
+    ceiling = any(b - a >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)
+                  and float(np.mean(heat[a:b])) > float(np.mean(heat)) for a, b in at_top)
+    for a, b in plateaus:
+        if ceiling and temperature_C[a] == top and b - a >= CEILING_STRETCH:
+            spans.append((a, b, f"pinned at its highest reading, {top:g} degC, while heat came in (a sensor at its "
+                                f"ceiling)"))
+        elif b - a >= max(STUCK_MIN_SAMPLES, STUCK_MIN_SHARE * n) and float(np.ptp(effort[a:b])) >= \
+                EFFORT_MOVES * effort_range:
+            spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
+                                f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
+    return spans
+
+
+def leave_out(group, name: str, source: str, notes: list[str], min_samples: int):
+    """``group`` (one actuator's rows) without its suspect spans, each said; refused when too little is left."""
+    t = group["time"].to_numpy()
+    spans = suspect_spans(t, group["temperature"].to_numpy(), group["effort"].to_numpy())
+    if not spans:
+        return group
+    keep = np.ones(len(group), bool)
+    by_kind: dict[str, list[tuple[int, int]]] = {}
+    for a, b, why in spans:
+        keep[a:b] = False
+        by_kind.setdefault(why, []).append((a, b))
+    for why, where in by_kind.items():
+        a, b = where[0]
+        more = f" and {len(where) - 1} more stretches" if len(where) > 1 else ""
+        notes.append(f"{source}: actuator {name!r}: the temperature reading is {why}, from {t[a]:g} s to "
+                     f"{t[b - 1]:g} s{more} ({sum(y - x for x, y in where)} samples): left out of fitting and "
+                     f"validation")
+    left = int(keep.sum())
+    if left < min_samples:
+        raise LogError(f"{source}: actuator {name!r}: after leaving out the readings a sensor cannot have meant "
+                       f"({len(group) - left} of {len(group)} samples), {left} remain; at least {min_samples} are "
+                       f"needed")
+    return group[keep]
+
+
+def fahrenheit_note(temperature_C: np.ndarray, effort: np.ndarray, ambient_C: np.ndarray | None, source: str,
+                    name: str) -> str | None:
+    """A note when the readings at rest sit near 59-86 (15-30 degC in degF) while a logged ambient in degC
+    reads 15-30: the temperature column is likely in degF."""
+    if ambient_C is None:
+        return None
+    rest = np.abs(effort) <= 0.05 * (float(np.max(np.abs(effort))) or 1.0)
+    if rest.sum() < 10:
+        return None
+    at_rest, air = float(np.median(temperature_C[rest])), float(np.median(ambient_C))
+    if 59.0 <= at_rest <= 86.0 and 15.0 <= air <= 30.0 and abs((at_rest - 32.0) / 1.8 - air) < 4.0:
+        return (f"{source}: actuator {name!r}: the temperature reads {at_rest:.1f} at rest where the ambient reads "
+                f"{air:.1f} degC: it looks like degF ({at_rest:.1f} degF = {(at_rest - 32) / 1.8:.1f} degC); "
+                f"convert it, degC = (degF - 32) / 1.8, or state its unit")
+    return None
