@@ -257,3 +257,27 @@ def test_inspect_prints_topics_and_the_suggested_map(capsys):
     assert main(["inspect", str(BAG)]) == 0
     out = capsys.readouterr().out
     assert "/wx200/temperatures/joint_group" in out and "suggested: --map effort=/wx200/joint_states.effort" in out
+
+
+def test_a_schemaless_or_cut_off_mcap_is_said_for_what_it_is(tmp_path, capsys):
+    from mcap.writer import CompressionType, Writer
+
+    from thermolimb.cli.main import main
+
+    path = tmp_path / "schemaless.mcap"
+    with open(path, "wb") as f:
+        w = Writer(f, compression=CompressionType.NONE)
+        w.start("ros2", "test")
+        channel = w.register_channel("/joint_states", "cdr", 0)  # no schema
+        for k in range(50):
+            w.add_message(channel, k * 10**9, b"\x00\x01\x00\x00", k * 10**9)
+        w.finish()
+    assert main(["fit", str(path), "--quiet"]) == 2
+    assert "no message schema (a schemaless MCAP)" in capsys.readouterr().err
+    whole = tmp_path / "whole.mcap"
+    assert main(["simulate", "--duration", "600", "--dt", "1", "--out", str(whole), "--quiet"]) == 0
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(whole.read_bytes()[: whole.stat().st_size // 2])
+    assert main(["fit", str(cut), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "ends before its summary" in err and len(err.strip().splitlines()) == 1

@@ -71,12 +71,34 @@ def _open(path: Path):
     try:
         reader.open()
     except Exception as err:  # rosbags raises its own errors, struct and OS errors for damaged files
+        if "__schemaless__" in str(err):
+            raise LogError(SCHEMALESS.format(path=path)) from None
+        if path.suffix.lower() == ".mcap" and _ends_early(path):
+            raise LogError(f"{path}: the MCAP ends before its summary, at byte {path.stat().st_size} (a recording "
+                           f"cut off by a crash or power loss?); reading the chunks it completed is not supported yet"
+                           ) from None
         raise LogError(f"{path}: cannot be read as a ROS bag ({type(err).__name__}: {err}); expected an intact "
                        f"ROS 1 bag or ROS 2 bag (SQLite or MCAP)") from None
     try:
         yield reader
     finally:
         reader.close()
+
+
+SCHEMALESS = ("{path}: its channels carry no message schema (a schemaless MCAP); messages are decoded by their "
+              "definitions: record with schemas (ros2 bag record writes them)")
+
+
+def _ends_early(path: Path) -> bool:
+    """Whether an MCAP starts as one but lacks its closing magic (written in part)."""
+    magic = b"\x89MCAP0\r\n"
+    try:
+        with open(path, "rb") as f:
+            head = f.read(len(magic))
+            f.seek(max(0, path.stat().st_size - len(magic)))
+            return head == magic and f.read() != magic
+    except OSError:
+        return False
 
 
 def _messages(reader, path: Path, connections):
@@ -86,6 +108,8 @@ def _messages(reader, path: Path, connections):
     except LogError:
         raise
     except Exception as err:
+        if "__schemaless__" in str(err):
+            raise LogError(SCHEMALESS.format(path=path)) from None
         raise LogError(f"{path}: a message could not be read ({type(err).__name__}: {err}); the bag looks "
                        f"truncated or damaged") from None
 
