@@ -212,9 +212,43 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     rest = long.assign(effort=long["effort"] * (np.arange(3000) >= 400))  # at rest for its first 400 s
     rest.assign(temperature=np.where(np.arange(3000) < 400, 25.0, rest["temperature"]) * 1.8 + 32,
                 ambient=25.0).to_csv(d / "fahrenheit.csv", index=False)
+    _cut_recording(d / "crash.mcap")
     model = d / "model.json"
     subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "fit", str(d / "good.csv"), "--save", str(model),
                     "--quiet"], capture_output=True)
+
+
+def _cut_recording(path: Path) -> None:
+    """A recorder's MCAP (small chunks) cut off at 60 % of its bytes, as a crash or power loss leaves it."""
+    from mcap.writer import CompressionType, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    joint, reading = store.types["sensor_msgs/msg/JointState"], store.types["sensor_msgs/msg/Temperature"]
+    header, stamp = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    whole = path.with_suffix(".whole")
+    with open(whole, "wb") as f:
+        w = Writer(f, chunk_size=4096, compression=CompressionType.NONE)
+        w.start("ros2", "battery")
+        ids = {}
+        for topic, cls in (("/joint_states", joint), ("/knee/temperature", reading)):
+            schema = w.register_schema(cls.__msgtype__, "ros2msg", store.generate_msgdef(cls.__msgtype__)[0].encode())
+            ids[topic] = w.register_channel(topic, "cdr", schema)
+        temperature = 30.0
+        for k in range(2000):
+            ns = int(1.7e18) + k * 10**9
+            h = header(stamp=stamp(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            effort = 5.0 + 4.0 * np.sign(np.sin(k / 120))
+            temperature += (25 + 0.3 * effort**2 - temperature) / 150
+            w.add_message(ids["/joint_states"], ns, store.serialize_cdr(joint(
+                header=h, name=["knee"], position=np.zeros(1), velocity=np.zeros(1), effort=np.array([effort])),
+                joint.__msgtype__), ns)
+            w.add_message(ids["/knee/temperature"], ns, store.serialize_cdr(reading(
+                header=h, temperature=round(temperature, 2), variance=0.0), reading.__msgtype__), ns)
+        w.finish()
+    data = whole.read_bytes()
+    path.write_bytes(data[: int(0.6 * len(data))])
+    whole.unlink()
 
 
 def write_round_two(d: Path, good: pd.DataFrame) -> None:
@@ -394,6 +428,8 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
     refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
     refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    word("an MCAP cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
+         "fit", "crash.mcap", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
     word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",
          "pinned.csv", "--quiet")
     word("a sensor stuck at one value: said with its span, left out", r"stuck at .* left out", "fit", "stuck.csv",

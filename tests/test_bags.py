@@ -281,3 +281,43 @@ def test_a_schemaless_or_cut_off_mcap_is_said_for_what_it_is(tmp_path, capsys):
     assert main(["fit", str(cut), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "ends before its summary" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_recording_cut_off_by_a_crash_is_read_to_its_last_complete_chunk(tmp_path, capsys):
+    import numpy as np
+    from mcap.writer import CompressionType, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from thermolimb.cli.main import main
+    from thermolimb.logs import read_log
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    JS, TM = store.types["sensor_msgs/msg/JointState"], store.types["sensor_msgs/msg/Temperature"]
+    H, T = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    path = tmp_path / "crash.mcap"
+    with open(path, "wb") as f:
+        w = Writer(f, chunk_size=4096, compression=CompressionType.NONE)
+        w.start("ros2", "test")
+        ids = {}
+        for topic, cls in (("/joint_states", JS), ("/knee/temperature", TM)):
+            schema = w.register_schema(cls.__msgtype__, "ros2msg", store.generate_msgdef(cls.__msgtype__)[0].encode())
+            ids[topic] = w.register_channel(topic, "cdr", schema)
+        temperature = 30.0
+        for k in range(2000):
+            ns = int(1.7e18) + k * 10**9
+            header = H(stamp=T(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            effort = 5.0 + 4.0 * np.sign(np.sin(k / 120))
+            temperature += (25 + 0.3 * effort**2 - temperature) / 150
+            w.add_message(ids["/joint_states"], ns, store.serialize_cdr(JS(
+                header=header, name=["knee"], position=np.zeros(1), velocity=np.zeros(1), effort=np.array([effort])),
+                JS.__msgtype__), ns)
+            w.add_message(ids["/knee/temperature"], ns, store.serialize_cdr(TM(
+                header=header, temperature=round(temperature, 2), variance=0.0), TM.__msgtype__), ns)
+        w.finish()
+    data = path.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: int(0.6 * len(data))])
+    log = read_log(cut, mapping={"effort": "/joint_states.effort", "temperature": "/{j}/temperature.temperature"})
+    assert any("ends before its summary" in n and "read up to its last complete chunk" in n for n in log.notes)
+    series = log.series("knee")
+    assert 900 < series.n < 1300  # about 60 % of the 2000 samples: the chunks written before the cut

@@ -33,6 +33,7 @@ import numpy as np
 
 from .align import align, series_of
 from .mapping import EXTRA, JOINT
+from .mcap_stream import PartialMcap, ends_early
 from .table import LogError
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -73,10 +74,13 @@ def _open(path: Path):
     except Exception as err:  # rosbags raises its own errors, struct and OS errors for damaged files
         if "__schemaless__" in str(err):
             raise LogError(SCHEMALESS.format(path=path)) from None
-        if path.suffix.lower() == ".mcap" and _ends_early(path):
-            raise LogError(f"{path}: the MCAP ends before its summary, at byte {path.stat().st_size} (a recording "
-                           f"cut off by a crash or power loss?); reading the chunks it completed is not supported yet"
-                           ) from None
+        if path.suffix.lower() == ".mcap" and ends_early(path):
+            partial = PartialMcap(path)  # what the recording completed, read as far as it goes
+            try:
+                yield partial
+            finally:
+                partial.close()
+            return
         raise LogError(f"{path}: cannot be read as a ROS bag ({type(err).__name__}: {err}); expected an intact "
                        f"ROS 1 bag or ROS 2 bag (SQLite or MCAP)") from None
     try:
@@ -87,18 +91,6 @@ def _open(path: Path):
 
 SCHEMALESS = ("{path}: its channels carry no message schema (a schemaless MCAP); messages are decoded by their "
               "definitions: record with schemas (ros2 bag record writes them)")
-
-
-def _ends_early(path: Path) -> bool:
-    """Whether an MCAP starts as one but lacks its closing magic (written in part)."""
-    magic = b"\x89MCAP0\r\n"
-    try:
-        with open(path, "rb") as f:
-            head = f.read(len(magic))
-            f.seek(max(0, path.stat().st_size - len(magic)))
-            return head == magic and f.read() != magic
-    except OSError:
-        return False
 
 
 def _messages(reader, path: Path, connections):
@@ -319,6 +311,8 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
     path = Path(path)
     notes = []
     with _open(path) as reader:
+        if getattr(reader, "note", None):
+            notes.append(reader.note)
         infos = _topic_infos(reader, path)
         if not mapping:
             mapping, reasons = suggest_mapping(infos)

@@ -1,11 +1,8 @@
 """Follow an MCAP (or a ROS 2 bag folder holding one) while it is being recorded.
 
-An MCAP is a sequence of records, each ``opcode (1 byte), length (8 bytes), content``; a recorder appends
-them as it goes (messages inside chunks, a chunk written when full).  The follower frames the records itself,
-keeps the offset of the last complete one, and decodes each new complete record with the ``mcap`` package's
-:class:`~mcap.stream_reader.StreamReader` (a chunk gives its messages); ROS 2 messages (CDR) are deserialised
-with ``rosbags``, their definitions read from the file's schemas.  A chunk is seen when the recorder has
-written it whole: ``ros2 bag record`` writes one every few hundred kilobytes, so the monitor lags by a chunk.
+The records are read as far as they are written (:class:`~thermolimb.logs.mcap_stream.McapStream`): a chunk
+is seen when the recorder has written it whole (``ros2 bag record`` writes one every few hundred kilobytes), so
+the monitor lags by a chunk.
 
 Which fields are efforts, velocities and temperatures is a mapping in the syntax of the bag readers
 (``effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature``; the
@@ -17,19 +14,15 @@ with the latest effort and velocity held (zero-order hold).
 
 from __future__ import annotations
 
-import io
-import os
 import re
-import struct
 from pathlib import Path
 
 from ..logs import LogError
 from ..logs.bag_writer import MAPPING as SUITE_LAYOUT
 from ..logs.mapping import parse_mapping
+from ..logs.mcap_stream import McapStream
 from .follow import Piece
 
-MAGIC = b"\x89MCAP0\r\n"
-HEADER = struct.Struct("<BQ")
 CHANNELS = ("effort", "velocity", "temperature")
 
 
@@ -48,80 +41,26 @@ class McapFollower:
     def __init__(self, path: str | Path, mapping: str | None = None):
         self.source = Path(path)
         self.mapping = _targets(parse_mapping(mapping or SUITE_LAYOUT))
-        self.offset = 0
-        self.schemas: dict[int, object] = {}
-        self.channels: dict[int, tuple[str, str]] = {}  # id -> (topic, message type)
+        self.stream: McapStream | None = None
         self.latest: dict[str, dict[str, float]] = {"effort": {}, "velocity": {}}
         self.last_time: dict[str, float] = {}
-        from rosbags.typesys import Stores, get_typestore
-
-        self.store = get_typestore(Stores.ROS2_HUMBLE)
 
     def poll(self) -> dict[str, Piece]:
-        path = mcap_file(self.source)
-        try:
-            size = os.path.getsize(path)
-        except FileNotFoundError:
-            return {}
-        if size <= self.offset:
-            return {}
-        with open(path, "rb") as f:
-            f.seek(self.offset)
-            data = f.read(size - self.offset)
-        start = 0
-        if self.offset == 0:
-            if len(data) < len(MAGIC):
+        if self.stream is None:
+            path = mcap_file(self.source)
+            if not path.exists():
                 return {}
-            if not data.startswith(MAGIC):
-                raise LogError(f"{path}: not an MCAP file (its first bytes are not the MCAP magic)")
-            start = len(MAGIC)
+            self.stream = McapStream(path)
         pieces: dict[str, Piece] = {}
-        end = start
-        while end + HEADER.size <= len(data):
-            _, length = HEADER.unpack_from(data, end)
-            if end + HEADER.size + length > len(data):
-                break  # the recorder has not finished this record yet
-            end += HEADER.size + length
-        if end > start:
-            self._decode(data[start:end], pieces)
-        self.offset += end
+        for topic, msgtype, ns, raw in self.stream.read():
+            self._message(topic, msgtype, raw, ns * 1e-9, pieces)
         return pieces
-
-    def _decode(self, records: bytes, pieces: dict[str, Piece]) -> None:
-        from mcap.records import Channel, Message, Schema
-
-        for record in _records(records):
-            if isinstance(record, Schema):
-                self.schemas[record.id] = record
-            elif isinstance(record, Channel):
-                schema = self.schemas.get(record.schema_id)
-                if schema is not None and schema.encoding == "ros2msg":
-                    self._register(schema)
-                self.channels[record.id] = (record.topic, schema.name if schema is not None else "")
-            elif isinstance(record, Message) and record.channel_id in self.channels:
-                topic, msgtype = self.channels[record.channel_id]
-                self._message(topic, msgtype, record.data, record.log_time * 1e-9, pieces)
-
-    def _register(self, schema) -> None:
-        from rosbags.typesys import get_types_from_msg
-
-        if schema.name in self.store.types:
-            return
-        text = schema.data.decode()
-        types = {}
-        for i, block in enumerate(re.split(r"\n=+\nMSG: ", text)):  # a definition and the ones it uses
-            if i == 0:
-                types.update(get_types_from_msg(block, schema.name))
-            else:
-                name, _, body = block.partition("\n")
-                types.update(get_types_from_msg(body, name.strip()))
-        self.store.register(types)
 
     def _message(self, topic: str, msgtype: str, data: bytes, time_s: float, pieces: dict[str, Piece]) -> None:
         wanted = [(key, t) for key, t in self.mapping.items() if t.matches(topic)]
         if not wanted:
             return
-        msg = self.store.deserialize_cdr(data, msgtype)
+        msg = self.stream.deserialize(data, msgtype)
         for key, target in wanted:
             values = target.values(msg, topic, self.source)
             if key in self.latest:
@@ -137,19 +76,6 @@ class McapFollower:
                 piece.temperature_C.append(float(temperature))
                 if "velocity" in self.mapping:
                     piece.channels.setdefault("velocity", []).append(self.latest["velocity"].get(name, 0.0))
-
-
-def _records(data: bytes):
-    """The records of whole top-level records ``data`` (a chunk's messages among them)."""
-    from mcap.exceptions import EndOfFile
-    from mcap.stream_reader import StreamReader
-
-    reader = StreamReader(io.BytesIO(data), skip_magic=True).records
-    while True:
-        try:
-            yield next(reader)
-        except (StopIteration, EndOfFile):  # the end of the records given: the rest is not written yet
-            return
 
 
 class _Target:
