@@ -213,6 +213,14 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     rest.assign(temperature=np.where(np.arange(3000) < 400, 25.0, rest["temperature"]) * 1.8 + 32,
                 ambient=25.0).to_csv(d / "fahrenheit.csv", index=False)
     _cut_recording(d / "crash.mcap")
+    knee = good[good.actuator == "knee"]
+    grouped = knee.assign(effort=[f"{1000 * e:,.1f}".replace(",", "X").replace(".", ",").replace("X", ".")
+                                  for e in knee["effort"]], temperature=knee["temperature"].map(lambda v: f"{v:.2f}".replace(".", ",")))
+    grouped.to_csv(d / "thousands.csv", index=False, sep=";")
+    stamps = pd.Timestamp("2026-01-01") + pd.to_timedelta(knee["time"], unit="s")
+    mixed = [s.strftime("%Y-%m-%dT%H:%M:%S") if k < 150 else s.strftime("%d/%m/%Y %H:%M:%S")
+             for k, s in enumerate(stamps)]
+    knee.assign(time=mixed).to_csv(d / "mixed_dates.csv", index=False)
     model = d / "model.json"
     subprocess.run([sys.executable, "-m", "thermolimb.cli.main", "fit", str(d / "good.csv"), "--save", str(model),
                     "--quiet"], capture_output=True)
@@ -428,6 +436,10 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
     refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
     refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    refuse("numbers with thousands separators (1.000,0)", "fit", "thousands.csv", "--quiet",
+           reason="thousands separators")
+    refuse("time stamps that change format halfway", "fit", "mixed_dates.csv", "--quiet",
+           reason="changes format at row 150")
     word("an MCAP cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
          "fit", "crash.mcap", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
     word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",

@@ -353,6 +353,15 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
     try:
         stamps = pd.to_datetime(values, utc=True, format="ISO8601")
     except (ValueError, TypeError):
+        each = pd.to_datetime(values, utc=True, format="ISO8601", errors="coerce")
+        bad = np.flatnonzero((each.isna() & present).to_numpy())
+        good = np.flatnonzero(each.notna().to_numpy())
+        if good.size and bad.size:  # most rows are timestamps: the first that is not changes the format
+            row = int(bad[0])
+            before = int(good[good < row][-1]) if np.any(good < row) else int(good[0])
+            raise LogError(f"{source}: time column {column!r} changes format at row {row} ({values.iloc[row]!r}, "
+                           f"where row {before} reads {values.iloc[before]!r}); expected one format of time stamp "
+                           f"throughout (ISO-8601, 2022-10-26T08:17:21.8Z)") from None
         row = int(np.flatnonzero((numeric.isna() & present).to_numpy())[0])
         raise LogError(
             f"{source}: time column {column!r} is not a number of seconds, a timestamp or an elapsed time at row "

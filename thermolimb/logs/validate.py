@@ -4,6 +4,7 @@ naming the file, the column and what is expected."""
 
 from __future__ import annotations
 
+import re
 from typing import Mapping
 
 import numpy as np
@@ -105,6 +106,10 @@ def from_frame(
         bad = values.isna() & frame[c].notna()
         if bad.any():
             row = int(np.flatnonzero(bad.to_numpy())[0])
+            value = str(frame[c].iloc[row]).strip()
+            if _THOUSANDS.match(value):
+                raise LogError(f"{source}: column {c!r} writes numbers with thousands separators ({value!r} at row "
+                               f"{row}); expected plain numbers in {UNITS[c]}: export without the separators")
             raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
                            f"expected {UNITS[c]}")
         out[c] = values.to_numpy(float, copy=copy)
@@ -161,6 +166,10 @@ def from_frame(
         parts.append(g)
     whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))
+
+
+# 1.000,0 / 12.345.678,9 (a point groups, a comma is the decimal) or 1,000.0 (the other way round)
+_THOUSANDS = re.compile(r"^[-+]?\d{1,3}(\.\d{3})+(,\d+)?$|^[-+]?\d{1,3}(,\d{3})+(\.\d+)?$")
 
 
 def _by_actuator(frame: pd.DataFrame):
