@@ -209,6 +209,9 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     stuck = long["temperature"].to_numpy().copy()
     stuck[1000:2200] = stuck[1000]
     long.assign(temperature=stuck).to_csv(d / "stuck.csv", index=False)
+    dropped = long["temperature"].to_numpy().copy()
+    dropped[[500, 1500, 1501, 2500]] = [0.0, -40.0, -40.0, 255.0]
+    long.assign(temperature=dropped).to_csv(d / "dropouts.csv", index=False)
     rest = long.assign(effort=long["effort"] * (np.arange(3000) >= 400))  # at rest for its first 400 s
     rest.assign(temperature=np.where(np.arange(3000) < 400, 25.0, rest["temperature"]) * 1.8 + 32,
                 ambient=25.0).to_csv(d / "fahrenheit.csv", index=False)
@@ -444,6 +447,7 @@ def round_three_cases(refuse, word, partial) -> None:
          "fit", "crash.mcap", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
     word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",
          "pinned.csv", "--quiet")
+    word("a sensor that drops out for a sample or two: said, left out", r"dropout", "fit", "dropouts.csv", "--quiet")
     word("a sensor stuck at one value: said with its span, left out", r"stuck at .* left out", "fit", "stuck.csv",
          "--quiet")
     word("a temperature column in degF beside an ambient in degC", r"looks like degF", "fit", "fahrenheit.csv",

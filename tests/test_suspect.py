@@ -67,3 +67,14 @@ def test_the_bundled_real_logs_are_left_alone():
     for key in REAL_LOGS:
         for log in REAL_LOGS[key].read():
             assert not [n for n in log.notes if "cannot have meant" in n or "left out of fitting" in n or "degF" in n]
+
+
+def test_dropouts_are_left_out(frame, tmp_path):
+    t = frame["temperature"].to_numpy().copy()
+    t[1000] = 0.0
+    t[2000:2002] = -40.0
+    t[3000] = 255.0
+    log, fit = _fit(frame.assign(temperature=t), tmp_path, "dropouts.csv")
+    note = next(n for n in log.notes if "dropout" in n)
+    assert "and 2 more stretches (4 samples)" in note
+    assert fit.validation["rmse_K"] < 0.1

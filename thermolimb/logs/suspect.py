@@ -22,6 +22,8 @@ EFFORT_MOVES = 0.5  # the effort in the span covers at least this share of the l
 CEILING_MIN_SAMPLES = 30  # the maximum held this long, at least...
 CEILING_MIN_SHARE = 0.03  # ...and over this share of the samples, with more heat coming in than on average
 CEILING_STRETCH = 3  # then every stretch of this many samples at the ceiling is left out
+DROPOUT_K = 10.0  # a reading this far from both its neighbours' median, and back: a dropout...
+DROPOUT_MAX_SAMPLES = 3  # ...lasting at most this many samples
 
 
 def _plateaus(values: np.ndarray) -> list[tuple[int, int]]:
@@ -51,7 +53,34 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
                 EFFORT_MOVES * effort_range:
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
-    return spans
+    spans += [(a, b, "a dropout (a reading far from both its neighbours, and back)") for a, b in
+              dropouts(temperature_C)]
+    return sorted(spans)
+
+
+def dropouts(values: np.ndarray) -> list[tuple[int, int]]:
+    """Stretches of at most :data:`DROPOUT_MAX_SAMPLES` readings more than :data:`DROPOUT_K` kelvin from the
+    readings on both sides of them (a sensor reading 0, a sentinel, or a spike, for a moment)."""
+    n = values.size
+    w = DROPOUT_MAX_SAMPLES
+    if n < 2 * w + 3:
+        return []
+    out = []
+    k = w
+    while k < n - w:
+        if abs(values[k] - values[k - 1]) > DROPOUT_K:
+            before = float(np.median(values[max(0, k - w):k]))
+            for length in range(1, w + 1):
+                if k + length >= n:
+                    break
+                after = float(values[k + length])  # the first reading back
+                inside = values[k:k + length]
+                if abs(after - before) < DROPOUT_K / 2 and np.all(np.abs(inside - before) > DROPOUT_K):
+                    out.append((k, k + length))
+                    k += length
+                    break
+        k += 1
+    return out
 
 
 def leave_out(group, name: str, source: str, notes: list[str], min_samples: int):
