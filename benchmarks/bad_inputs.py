@@ -216,6 +216,7 @@ def write_round_three(d: Path, good: pd.DataFrame) -> None:
     rest.assign(temperature=np.where(np.arange(3000) < 400, 25.0, rest["temperature"]) * 1.8 + 32,
                 ambient=25.0).to_csv(d / "fahrenheit.csv", index=False)
     _cut_recording(d / "crash.mcap")
+    _cut_ros1(d / "crash.bag")
     knee = good[good.actuator == "knee"]
     grouped = knee.assign(effort=[f"{1000 * e:,.1f}".replace(",", "X").replace(".", ",").replace("X", ".")
                                   for e in knee["effort"]], temperature=knee["temperature"].map(lambda v: f"{v:.2f}".replace(".", ",")))
@@ -257,6 +258,37 @@ def _cut_recording(path: Path) -> None:
             w.add_message(ids["/knee/temperature"], ns, store.serialize_cdr(reading(
                 header=h, temperature=round(temperature, 2), variance=0.0), reading.__msgtype__), ns)
         w.finish()
+    data = whole.read_bytes()
+    path.write_bytes(data[: int(0.6 * len(data))])
+    whole.unlink()
+
+
+def _cut_ros1(path: Path) -> None:
+    """A ROS 1 recorder's bag (small chunks) cut off at 60 % of its bytes."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    joint, reading = store.types["sensor_msgs/msg/JointState"], store.types["sensor_msgs/msg/Temperature"]
+    header, stamp = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    whole = path.with_suffix(".whole.bag")
+    writer = Writer(whole)
+    writer.chunk_threshold = 4096
+    writer.open()
+    cj = writer.add_connection("/joint_states", joint.__msgtype__, typestore=store)
+    ct = writer.add_connection("/knee/temperature", reading.__msgtype__, typestore=store)
+    temperature = 30.0
+    for k in range(2000):
+        ns = int(1.7e18) + k * 10**9
+        h = header(seq=k, stamp=stamp(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+        effort = 5.0 + 4.0 * np.sign(np.sin(k / 120))
+        temperature += (25 + 0.3 * effort**2 - temperature) / 150
+        writer.write(cj, ns, store.serialize_ros1(joint(header=h, name=["knee"], position=np.zeros(1),
+                                                        velocity=np.zeros(1), effort=np.array([effort])),
+                                                  joint.__msgtype__))
+        writer.write(ct, ns, store.serialize_ros1(reading(header=h, temperature=round(temperature, 2), variance=0.0),
+                                                  reading.__msgtype__))
+    writer.close()
     data = whole.read_bytes()
     path.write_bytes(data[: int(0.6 * len(data))])
     whole.unlink()
@@ -439,6 +471,8 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
     refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
     refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    word("a ROS 1 bag cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
+         "fit", "crash.bag", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
     refuse("numbers with thousands separators (1.000,0)", "fit", "thousands.csv", "--quiet",
            reason="thousands separators")
     refuse("time stamps that change format halfway", "fit", "mixed_dates.csv", "--quiet",

@@ -243,7 +243,7 @@ def test_truncated_or_missing_bags_exit_2_with_one_sentence(tmp_path, capsys):
     truncated = tmp_path / "cut.bag"
     truncated.write_bytes(BAG.read_bytes()[:100_000])
     assert main(["fit", str(truncated)]) == 2
-    assert "cannot be read as a ROS bag" in capsys.readouterr().err
+    assert "the bag ends before its index, at byte 100000" in capsys.readouterr().err  # the real reason
     junk = tmp_path / "junk.mcap"
     junk.write_bytes(b"not a bag at all" * 100)
     assert main(["diagnose", str(junk)]) == 2
@@ -321,3 +321,38 @@ def test_a_recording_cut_off_by_a_crash_is_read_to_its_last_complete_chunk(tmp_p
     assert any("ends before its summary" in n and "read up to its last complete chunk" in n for n in log.notes)
     series = log.series("knee")
     assert 900 < series.n < 1300  # about 60 % of the 2000 samples: the chunks written before the cut
+
+
+def test_a_ros1_bag_cut_off_by_a_crash_is_read_to_its_last_complete_chunk(tmp_path):
+    import numpy as np
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from thermolimb.logs import read_log
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    JS, TM = store.types["sensor_msgs/msg/JointState"], store.types["sensor_msgs/msg/Temperature"]
+    H, T = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    whole = tmp_path / "whole.bag"
+    writer = Writer(whole)
+    writer.chunk_threshold = 4096  # a recorder's chunks, small
+    writer.open()
+    joint = writer.add_connection("/joint_states", JS.__msgtype__, typestore=store)
+    reading = writer.add_connection("/knee/temperature", TM.__msgtype__, typestore=store)
+    temperature = 30.0
+    for k in range(2000):
+        ns = int(1.7e18) + k * 10**9
+        header = H(seq=k, stamp=T(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+        effort = 5.0 + 4.0 * np.sign(np.sin(k / 120))
+        temperature += (25 + 0.3 * effort**2 - temperature) / 150
+        writer.write(joint, ns, store.serialize_ros1(JS(header=header, name=["knee"], position=np.zeros(1),
+                                                        velocity=np.zeros(1), effort=np.array([effort])),
+                                                     JS.__msgtype__))
+        writer.write(reading, ns, store.serialize_ros1(TM(header=header, temperature=round(temperature, 2),
+                                                          variance=0.0), TM.__msgtype__))
+    writer.close()
+    cut = tmp_path / "cut.bag"
+    cut.write_bytes(whole.read_bytes()[: int(0.6 * whole.stat().st_size)])
+    log = read_log(cut, mapping={"effort": "/joint_states.effort", "temperature": "/{j}/temperature.temperature"})
+    assert any("ends before its index" in n and "read up to its last complete chunk" in n for n in log.notes)
+    assert 900 < log.series("knee").n < 1300

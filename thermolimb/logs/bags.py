@@ -33,6 +33,8 @@ import numpy as np
 
 from .align import align, series_of
 from .mapping import EXTRA, JOINT
+from .bag1_partial import PartialBag1
+from .bag1_partial import ends_early as bag1_ends_early
 from .mcap_stream import PartialMcap, ends_early
 from .table import LogError
 
@@ -74,8 +76,12 @@ def _open(path: Path):
     except Exception as err:  # rosbags raises its own errors, struct and OS errors for damaged files
         if "__schemaless__" in str(err):
             raise LogError(SCHEMALESS.format(path=path)) from None
+        partial = None
         if path.suffix.lower() == ".mcap" and ends_early(path):
             partial = PartialMcap(path)  # what the recording completed, read as far as it goes
+        elif path.suffix.lower() == ".bag" and bag1_ends_early(path):
+            partial = PartialBag1(path)
+        if partial is not None:
             try:
                 yield partial
             finally:
