@@ -79,3 +79,30 @@ def test_an_environment_reports_faults_in_info():
         assert len(info["actuator_faults"]) == 18
     finally:
         env.close()
+
+
+def test_protection_fails_safe_on_a_nan_reading():
+    from thermolimb.plant import ThermalProtection
+
+    protection = ThermalProtection(min_fraction=0.1)
+    share = protection.fraction(np.array([np.nan, 60.0, 200.0]), np.array([155.0, 155.0, 155.0]))
+    assert list(share) == [0.1, 1.0, 0.1]
+
+
+def test_a_faulted_drive_is_in_the_rig_log():
+    import gymnasium as gym
+
+    from hexapod_pb import ENV_ID
+
+    env = gym.make(ENV_ID, max_time_s=2.0)
+    try:
+        env.reset(seed=0)
+        env.step(env.action_space.sample())
+        sim = env.unwrapped.sim
+        sim.plant.step(np.r_[np.nan, np.zeros(17)], None, 0.02)
+        env.step(env.action_space.sample())
+        log = sim.thermal_log()
+        assert "fault" in log.extras
+        assert log.series(sim.actuators[0]).signals.extra["fault"][-1] == 1.0
+    finally:
+        env.close()

@@ -127,7 +127,7 @@ class BulletRig:
         self.applied_Nm = np.zeros(len(self.joints))
         self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
         self._log = {key: deque(maxlen=config.log_capacity)
-                     for key in ("time", "effort", "velocity", "temperature", "ambient")}
+                     for key in ("time", "effort", "velocity", "temperature", "ambient", "fault")}
         from .monitor.live import from_environment
 
         self.stream = from_environment()  # a live view of the plant (thermolimb.monitor.live), when asked for
@@ -276,6 +276,7 @@ class BulletRig:
         self._log["temperature"].append(self.plant.measured_C)
         self._log["ambient"].append(self.plant.ambient_C)
         self.plant.step(efforts, velocities, self.config.control_dt_s)
+        self._log["fault"].append(self.plant.faulted.astype(float))  # a drive faulted by a non-finite command
         self.time_s += self.config.control_dt_s
         if self.stream is not None:
             self.stream.publish(self)
@@ -292,9 +293,11 @@ class BulletRig:
         format (one row per actuator and control step)."""
         if len(self._log["time"]) < 2:
             raise ValueError("the simulation has not run long enough to make a log")
+        faults = np.array(self._log["fault"])
         return log_from_arrays(np.array(self._log["time"]), self.actuators, np.array(self._log["effort"]),
                                np.array(self._log["temperature"]), velocity=np.array(self._log["velocity"]),
-                               ambient_C=np.array(self._log["ambient"]), source=f"{type(self).__name__} simulation")
+                               ambient_C=np.array(self._log["ambient"]), source=f"{type(self).__name__} simulation",
+                               extra={"fault [1]": faults} if faults.any() else None)
 
     def close(self) -> None:
         if self.client is not None:

@@ -45,9 +45,10 @@ class ThermalProtection:
             raise ValueError(f"ThermalProtection needs 0 <= min_fraction <= 1, got {self.min_fraction}")
 
     def fraction(self, temperature_C: np.ndarray, limit_C: np.ndarray) -> np.ndarray:
-        """Allowed fraction of the commanded effort, per actuator."""
+        """Allowed fraction of the commanded effort, per actuator; a temperature that is not a number (a sensor
+        that failed) is taken as at the limit: the protection fails safe."""
         frac = (np.asarray(limit_C) - np.asarray(temperature_C)) / self.margin_K
-        return np.clip(frac, self.min_fraction, 1.0)
+        return np.clip(np.where(np.isnan(frac), self.min_fraction, frac), self.min_fraction, 1.0)
 
     def acted_on_C(self, measured_C: np.ndarray, observer) -> np.ndarray:
         """The winding temperature protection acts on (degC): the observer's estimate plus ``sigmas`` of its
