@@ -29,7 +29,7 @@ $(TEST_STAMP): setup.cfg pyproject.toml | $(BIN)/python
 install: $(DEMO_STAMP)
 
 demo: $(DEMO_STAMP)
-	$(BIN)/thermolimb demo all --quick --out $(OUT)
+	$(BIN)/thermolimb demo all --quick --quiet --out $(OUT)
 	$(BIN)/thermolimb report $(OUT)
 
 # every core (pytest-xdist); a test file stays on one worker (--dist loadfile), so the demos' tests share each

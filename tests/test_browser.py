@@ -19,8 +19,10 @@ from thermolimb.report import build_report
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")
-pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER),
-                                reason="no Chromium here: apt install chromium chromium-driver (as .ci/run does)")
+MISSING = [name for name, found in (("chromium", CHROMIUM), ("chromium-driver (chromedriver)", CHROMEDRIVER))
+           if not found]
+pytestmark = pytest.mark.skipif(bool(MISSING), reason=f"{' and '.join(MISSING)} not installed here: apt install "
+                                                      f"{' '.join(m.split()[0] for m in MISSING)} (as .ci/run does)")
 FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-dev-shm-usage")
 
