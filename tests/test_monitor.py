@@ -68,19 +68,25 @@ def model_and_log(tmp_path_factory):
     return model, run
 
 
+def _monitor_while_written(model, live, out, writer_args, head_start_s):
+    """``thermolimb monitor --follow live --mcap out`` while another process (``python -c writer_args``) writes
+    ``live``: the monitor's completed process."""
+    writer = subprocess.Popen([sys.executable, "-c", *writer_args])
+    time.sleep(head_start_s)
+    try:
+        return subprocess.run([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
+                               str(live), "--mcap", str(out), "--idle-exit", "1.5", "--publish-hz", "1"],
+                              capture_output=True, text=True, timeout=120)
+    finally:
+        writer.wait(timeout=60)
+
+
 def test_the_monitor_follows_a_file_another_process_appends_to(model_and_log, tmp_path):
     from rosbags.highlevel import AnyReader
 
     model, run = model_and_log
     live, out = tmp_path / "live.csv", tmp_path / "out.mcap"
-    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(run), str(live), "30", "0.02"])
-    time.sleep(0.1)
-    try:
-        done = subprocess.run([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
-                               str(live), "--mcap", str(out), "--idle-exit", "1.5", "--publish-hz", "1"],
-                              capture_output=True, text=True, timeout=120)
-    finally:
-        writer.wait(timeout=60)
+    done = _monitor_while_written(model, live, out, [WRITER, str(run), str(live), "30", "0.02"], 0.1)
     assert done.returncode == 0, done.stderr
     rows = len(run.read_text().splitlines()) - 1
     counts, types, levels = Counter(), {}, set()
@@ -143,14 +149,7 @@ def test_the_monitor_follows_an_mcap_being_recorded(model_and_log, tmp_path):
 
     model, run = model_and_log
     live, out = tmp_path / "live.mcap", tmp_path / "out.mcap"
-    writer = subprocess.Popen([sys.executable, "-c", MCAP_WRITER, str(run), str(live)])
-    time.sleep(0.2)
-    try:
-        done = subprocess.run([str(Path(sys.executable).parent / "thermolimb"), "monitor", str(model), "--follow",
-                               str(live), "--mcap", str(out), "--idle-exit", "1.5", "--publish-hz", "1"],
-                              capture_output=True, text=True, timeout=120)
-    finally:
-        writer.wait(timeout=60)
+    done = _monitor_while_written(model, live, out, [MCAP_WRITER, str(run), str(live)], 0.2)
     assert done.returncode == 0, done.stderr
     samples = (len(run.read_text().splitlines()) - 1) // 3
     with AnyReader([out]) as reader:

@@ -11,11 +11,11 @@ deserialised with ``rosbags`` from the definitions the connections carry.
 from __future__ import annotations
 
 import bz2
-import re
 import struct
 from dataclasses import dataclass
 from pathlib import Path
 
+from .mcap_stream import register_definition
 from .table import LogError
 
 MAGIC = b"#ROSBAG V2.0\n"
@@ -105,8 +105,6 @@ class PartialBag1:
                      f"{(self.end_time - self.start_time) / 1e9:g} s of messages")
 
     def _chunk(self, data: bytes, by_id: dict[int, _Connection]) -> None:
-        from rosbags.typesys import get_types_from_msg
-
         offset = 0
         while offset < len(data):
             fields, body, offset = _record(data, offset)
@@ -120,16 +118,7 @@ class PartialBag1:
                     info[name] = value
                     k += 4 + length
                 msgtype = _ros2_name(info[b"type"].decode())
-                if msgtype not in self.store.types:
-                    types = {}
-                    for i, block in enumerate(re.split(r"\n=+\nMSG: ", info[b"message_definition"].decode())):
-                        if i == 0:
-                            types.update(get_types_from_msg(block, msgtype))
-                        else:  # a type the definition uses
-                            name, _, text = block.partition("\n")
-                            if _ros2_name(name.strip()) not in self.store.types:
-                                types.update(get_types_from_msg(text, _ros2_name(name.strip())))
-                    self.store.register(types)
+                register_definition(self.store, msgtype, info[b"message_definition"].decode(), _ros2_name)
                 by_id.setdefault(conn_id, _Connection(fields[b"topic"].decode(), msgtype))
             elif op == b"\x02":  # a message
                 conn = by_id[_U32.unpack(fields[b"conn"])[0]]
@@ -145,6 +134,3 @@ class PartialBag1:
 
     def deserialize(self, raw: bytes, msgtype: str):
         return self.store.deserialize_ros1(raw, msgtype)
-
-    def close(self) -> None:
-        pass

@@ -81,11 +81,8 @@ def _open(path: Path):
             partial = PartialMcap(path)  # what the recording completed, read as far as it goes
         elif path.suffix.lower() == ".bag" and bag1_ends_early(path):
             partial = PartialBag1(path)
-        if partial is not None:
-            try:
-                yield partial
-            finally:
-                partial.close()
+        if partial is not None:  # read whole already: nothing to close
+            yield partial
             return
         raise LogError(f"{path}: cannot be read as a ROS bag ({type(err).__name__}: {err}); expected an intact "
                        f"ROS 1 bag or ROS 2 bag (SQLite or MCAP)") from None

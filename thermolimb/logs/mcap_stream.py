@@ -35,6 +35,25 @@ def ends_early(path: Path) -> bool:
         return False
 
 
+def register_definition(store, msgtype: str, text: str, name=lambda n: n) -> None:
+    """Register ``msgtype`` and the types its definition carries after it (``===`` then ``MSG: pkg/Type``
+    blocks, as recorders write them) with a ``rosbags`` type store; ``name`` turns a written type name into the
+    store's (a ROS 1 ``pkg/Type`` into ``pkg/msg/Type``)."""
+    from rosbags.typesys import get_types_from_msg
+
+    if msgtype in store.types:
+        return
+    types = {}
+    for i, block in enumerate(re.split(r"\n=+\nMSG: ", text)):
+        if i == 0:
+            types.update(get_types_from_msg(block, msgtype))
+            continue
+        written, _, body = block.partition("\n")
+        if name(written.strip()) not in store.types:
+            types.update(get_types_from_msg(body, name(written.strip())))
+    store.register(types)
+
+
 def _records(data: bytes):
     """The records of whole top-level records ``data`` (a chunk's messages among them)."""
     from mcap.exceptions import EndOfFile
@@ -108,18 +127,7 @@ class McapStream:
         return out
 
     def _register(self, schema) -> None:
-        from rosbags.typesys import get_types_from_msg
-
-        if schema.name in self.store.types:
-            return
-        types = {}
-        for i, block in enumerate(re.split(r"\n=+\nMSG: ", schema.data.decode())):  # a definition and its parts
-            if i == 0:
-                types.update(get_types_from_msg(block, schema.name))
-            else:
-                name, _, body = block.partition("\n")
-                types.update(get_types_from_msg(body, name.strip()))
-        self.store.register(types)
+        register_definition(self.store, schema.name, schema.data.decode())
 
     def deserialize(self, raw: bytes, msgtype: str):
         return self.store.deserialize_cdr(raw, msgtype)
@@ -162,6 +170,3 @@ class PartialMcap:
 
     def deserialize(self, raw: bytes, msgtype: str):
         return self.stream.deserialize(raw, msgtype)
-
-    def close(self) -> None:
-        pass

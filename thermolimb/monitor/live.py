@@ -26,34 +26,14 @@ ENV_VARIABLE = "THERMOLIMB_LIVE"
 PUBLISH_EVERY_S = 0.1  # of simulated time
 HORIZON_S = 3600.0  # the forecast's horizon (s); beyond it: never at this effort
 
-_VIEWS: dict[int, "LiveView"] = {}
+_VIEWS: dict[int, FoxgloveOutput] = {}
 _REFUSED: set[str] = set()
 
 
-class LiveView(FoxgloveOutput):
-    """A Foxglove server whose channels are made for each actuator the first time it is published."""
-
-    def __init__(self, port: int):
-        super().__init__(port, [])
-
-    def publish(self, estimates, models) -> None:
-        import foxglove
-
-        from .outputs import TEMPERATURE_SCHEMA, topic
-
-        for e in estimates:
-            if e.actuator not in self.winding:
-                self.winding[e.actuator] = foxglove.Channel(topic(e.actuator, "winding_temperature"),
-                                                            schema=TEMPERATURE_SCHEMA)
-                self.measured[e.actuator] = foxglove.Channel(topic(e.actuator, "measured_temperature"),
-                                                             schema=TEMPERATURE_SCHEMA)
-        super().publish(estimates, models)
-
-
-def live_view(port: int) -> LiveView:
+def live_view(port: int) -> FoxgloveOutput:
     """The process's Foxglove server on ``port`` (made on the first call)."""
     if port not in _VIEWS:
-        _VIEWS[port] = LiveView(port)
+        _VIEWS[port] = FoxgloveOutput(port, [])  # its channels come with the actuators it is given
         print(f"note: live view: open ws://127.0.0.1:{_VIEWS[port].port} in Foxglove", file=sys.stderr)
     return _VIEWS[port]
 

@@ -133,7 +133,8 @@ DIAGNOSTICS_SCHEMA = {
 
 class FoxgloveOutput:
     """A live view: the Foxglove SDK's WebSocket server (``pip install thermolimb[live]``), JSON-encoded
-    messages with the ROS 2 messages' fields on the same topics as the MCAP."""
+    messages with the ROS 2 messages' fields on the same topics as the MCAP; an actuator's channels are made
+    when it is first published (a simulated world's actuators come with it)."""
 
     def __init__(self, port: int, actuators: list[str], host: str = "127.0.0.1"):
         try:
@@ -144,10 +145,19 @@ class FoxgloveOutput:
             raise UsageError("--foxglove needs the Foxglove SDK: pip install 'thermolimb[live]' "
                              "(the package foxglove-sdk)") from None
         self.server = foxglove.start_server(name="thermolimb monitor", host=host, port=port)
-        channel = foxglove.Channel
-        self.winding = {a: channel(topic(a, "winding_temperature"), schema=TEMPERATURE_SCHEMA) for a in actuators}
-        self.measured = {a: channel(topic(a, "measured_temperature"), schema=TEMPERATURE_SCHEMA) for a in actuators}
-        self.diagnostics = channel("/diagnostics", schema=DIAGNOSTICS_SCHEMA)
+        self.winding, self.measured = {}, {}
+        for a in actuators:
+            self._channels(a)
+        self.diagnostics = foxglove.Channel("/diagnostics", schema=DIAGNOSTICS_SCHEMA)
+
+    def _channels(self, actuator: str) -> None:
+        """The actuator's channels, made the first time it is seen (a simulation's actuators come with its world)."""
+        if actuator not in self.winding:
+            import foxglove
+
+            self.winding[actuator] = foxglove.Channel(topic(actuator, "winding_temperature"), schema=TEMPERATURE_SCHEMA)
+            self.measured[actuator] = foxglove.Channel(topic(actuator, "measured_temperature"),
+                                                       schema=TEMPERATURE_SCHEMA)
 
     @property
     def port(self) -> int:
@@ -155,6 +165,7 @@ class FoxgloveOutput:
 
     def publish(self, estimates: list[Estimate], models: dict[str, str]) -> None:
         for e in estimates:
+            self._channels(e.actuator)
             ns = stamp_ns(e.time_s)
             header = {"stamp": {"sec": ns // 10**9, "nanosec": ns % 10**9}, "frame_id": e.actuator}
             self.winding[e.actuator].log({"header": header, "temperature": e.winding_C,
