@@ -49,7 +49,7 @@ PAGE = DemoPage(
 
 
 @register_demo(NAME, "hexapod carrying loads: torques, peaks and means per strategy, temperatures over a long carry",
-               page=PAGE)
+               page=PAGE, cost_s=19)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     duration = 15.0 if quick else 1200.0  # the long carry: 20 minutes
     results = {(s, k): run_scenario(s, k, duration, quiet=quiet) for s in SCENARIOS for k in STRATEGIES}

@@ -46,7 +46,7 @@ PAGE = DemoPage(
 
 
 @register_demo(NAME, "real PMSM test-bench data: what torque-squared heating misses, and what closes the gap",
-               page=PAGE)
+               page=PAGE, cost_s=11)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {"source": "Paderborn University 'Electric Motor Temperature' data, CC BY-SA 4.0",
                "base_model": list(DEFAULT_MODEL), "profiles": {}}

@@ -68,7 +68,7 @@ PAGE = DemoPage(
 
 
 @register_demo(NAME, "a briefly trained PPO agent on the hexapod against the fixed strategies (extra 'rl')",
-               requires=("stable_baselines3", "torch"), page=PAGE)
+               requires=("stable_baselines3", "torch"), page=PAGE, cost_s=17)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     timesteps = 512 if quick else 20_000
     model = train(timesteps)

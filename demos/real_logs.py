@@ -55,7 +55,7 @@ PAGE = DemoPage(
 
 
 @register_demo(NAME, "real UR3, Dynamixel and BLDC-bench logs: what Jorgensen et al.'s model misses and what the search adds",
-               page=PAGE)
+               page=PAGE, cost_s=9)
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}
     for key, real in REAL_LOGS.items():

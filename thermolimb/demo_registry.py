@@ -17,6 +17,7 @@ import argparse
 import importlib
 import importlib.util
 import json
+import time
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from pathlib import Path
@@ -87,6 +88,7 @@ class Demo:
     requires: tuple[str, ...] = ()  # optional packages (an extra) the demo imports
     page: DemoPage | None = None
     extra: str = "rl"  # the extra that installs ``requires``
+    cost_s: float = 5.0  # about how long the quick run takes on one core: ``demo all`` starts the longest first
 
     @property
     def missing(self) -> tuple[str, ...]:
@@ -97,11 +99,12 @@ DEMOS: dict[str, Demo] = {}
 
 
 def register_demo(name: str, description: str, requires: tuple[str, ...] = (), page: DemoPage | None = None,
-                  extra: str = "rl"):
-    """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``."""
+                  extra: str = "rl", cost_s: float = 5.0):
+    """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``; ``cost_s``: about how long its
+    quick run takes on one core (``demo all`` starts the longest first)."""
 
     def wrap(func):
-        DEMOS[name] = Demo(name, description, func, tuple(requires), page, extra)
+        DEMOS[name] = Demo(name, description, func, tuple(requires), page, extra, cost_s)
         return func
 
     return wrap
@@ -147,6 +150,13 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
             if record is not None:
                 write_text(folder / filename, json.dumps(record, indent=2))
     return summary
+
+
+def timed_demo(name: str, out: Path, quick: bool, quiet: bool) -> tuple[dict, float]:
+    """:func:`run_demo` and how long it took (s): what ``demo all`` runs on each worker."""
+    start = time.perf_counter()
+    summary = run_demo(name, out, quick=quick, quiet=quiet)
+    return summary, time.perf_counter() - start
 
 
 def demo_main(name: str, argv=None) -> dict:

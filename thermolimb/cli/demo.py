@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import time
+import os
 from pathlib import Path
 
-from ..demo_registry import demo_names, in_tour_order, load_demos, run_demo
+from ..demo_registry import demo_names, in_tour_order, load_demos, timed_demo
 from ..report import build_report
+from ..util.parallel import Runner, worker_limit
 from .output import print_json
 from .types import integer, output_dir
 
@@ -23,6 +24,8 @@ def add_parser(sub):
     p.add_argument("--out", type=output_dir, default="out", help="output folder (default out)")
     p.add_argument("--json", action="store_true", help="print the summary record(s)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--workers", type=integer(1, 256), default=None,
+                   help="demos run side by side on this many processes (default: every core; 1 with --live)")
     p.add_argument("--live", type=integer(0, 65535), nargs="?", const=8765, default=None, metavar="PORT",
                    help="stream the simulated robots live to Foxglove on the monitor's channels (default port 8765; "
                         "extra 'live')")
@@ -48,19 +51,22 @@ def run(args) -> int:
                   f"pip install 'thermolimb[{demos[name].extra}]')")
         names = [n for n in names if not demos[n].missing]
     if args.live is not None:
-        import os
-
         from ..monitor.live import ENV_VARIABLE
 
         os.environ[ENV_VARIABLE] = str(args.live)
+    # the longest first, so that the pool ends soonest; one process when streaming live (one port) or one demo
+    order = sorted(names, key=lambda n: -demos[n].cost_s)
+    workers = 1 if args.live is not None else (args.workers or worker_limit(os.cpu_count() or 1)[0])
+    workers = min(workers, len(names))
     summaries = {}
-    for name in names:
-        start = time.perf_counter()
-        summaries[name] = run_demo(name, Path(args.out), quick=args.quick, quiet=args.quiet)
-        if not args.json:
-            print(f"demo {name}: wrote {Path(args.out) / name} in {time.perf_counter() - start:.1f} s")
+    with Runner("process" if workers > 1 else "serial", workers) as runner:
+        jobs = [(name, Path(args.out), args.quick, args.quiet) for name in order]
+        for i, (summary, seconds) in runner.as_completed(timed_demo, jobs):
+            summaries[order[i]] = summary
+            if not args.json:
+                print(f"demo {order[i]}: wrote {Path(args.out) / order[i]} in {seconds:.1f} s", flush=True)
     if args.json:
-        print_json(summaries if len(names) > 1 else summaries[names[0]])
+        print_json({n: summaries[n] for n in names} if len(names) > 1 else summaries[names[0]])
     return 0
 
 
