@@ -61,12 +61,20 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    ends = {key: summary[key][-1]["rmse_K"] for key in ("catalog_only", "with_user_effect", "with_current_logged")}
+    return (f"In this run the held-out error falls from {kelvin(summary['catalog_only'][0]['rmse_K'])} to "
+            f"{kelvin(ends['catalog_only'])} with the catalogue alone, to {kelvin(ends['with_user_effect'])} with the "
+            f"user's effect, and to {kelvin(ends['with_current_logged'])} with the current logged.")
+
+
 PAGE = DemoPage(
     about="Heating that grows with a power of speed, which no catalogue term has. The stepwise search runs three "
           "times: with the catalogue alone, with a user-written effect registered in a few lines, and with the "
           "current logged. Look at the waterfall: the catalogue gets part of the way, the user's effect reaches "
           "the noise floor, and logging the current makes the question moot.",
-    headline=_headline)
+    headline=_headline,
+    finding=_finding)
 
 
 @register_demo(NAME, "a user-written effect, registered in a few lines, ranked by diagnose like the built-ins",

@@ -36,13 +36,22 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    d, hidden, found = summary["diagnosis"], summary["hidden_effects"], summary["found"]
+    end = d["auto"][-1]["rmse_K"] if d.get("auto") else d["base"]["rmse_K"]
+    return (f"In this run the stepwise search finds {sum(h in found for h in hidden)} of the {len(hidden)} effects "
+            f"hidden in the plant ({', '.join(hidden)}), and the held-out error falls from "
+            f"{kelvin(d['base']['rmse_K'])} to {kelvin(end)}.")
+
+
 PAGE = DemoPage(
     about="A two-hour plant log of three actuators with two effects Jorgensen et al.'s model lacks (speed losses and "
           "heat from the neighbours). The diagnosis of the hip reads the residual, tries every change, validates "
           "each on held-out data and recommends one; the search repeats while a change helps. Look for the "
           "significant cross-correlation with |velocity| and the neighbours' temperatures, and the waterfall "
           "falling to the sensor noise.",
-    headline=_headline)
+    headline=_headline,
+    finding=_finding)
 
 
 @register_demo(NAME, "a log with hidden effects: residual analysis, ranked candidates, the waterfall",

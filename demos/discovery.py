@@ -17,6 +17,7 @@ from pathlib import Path
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.logs import from_frame
 from thermolimb.model.terms import TERMS
+from thermolimb.model.units import spaced
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.plotting.diagnosis import plot_diagnosis
@@ -42,8 +43,15 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     rows.append(("validation RMSE, the plant's law refitted", kelvin(summary["true_law_K"]),
                  "current and brake logged: current_heating + the brake's heat"))
     for name, p in summary["generated_params"].items():
-        rows.append((f"fitted {name}", f"{p['value']:.4g} ± {p['stderr']:.2g} {p['unit']}", "in the written term file"))
+        rows.append((f"fitted parameter {name}", f"{p['value']:.4g} ± {p['stderr']:.2g}{spaced(p['unit'])}", "in the written term file"))
     return rows
+
+
+def _finding(summary: dict) -> str:
+    cat, disc = summary["catalog_only"], summary["with_discovery"]
+    return (f"In this run --discover brings the held-out error from {kelvin(disc[0]['rmse_K'])} to "
+            f"{kelvin(disc[-1]['rmse_K'])}, against {kelvin(cat[-1]['rmse_K'])} with the catalogue alone and "
+            f"{kelvin(summary['true_law_K'])} for the plant's own law refitted.")
 
 
 PAGE = DemoPage(
@@ -53,6 +61,7 @@ PAGE = DemoPage(
           "the waterfall: which step names the brake, which step is a discovered form, and how close the end is to "
           "the plant's own law refitted. The term file below is what --propose hands the user.",
     headline=_headline,
+    finding=_finding,
     captions={"waterfall_knee.png": "Validation RMSE after each step of diagnose --auto --discover (red: a fitted "
                                     "value is flagged); channel and discovered terms are named as such."})
 

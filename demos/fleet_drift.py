@@ -74,6 +74,13 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
             ("rows fitted", f"{plant['rows']} plant, {ur3['rows']} UR3", "one per actuator and run, process pool")]
 
 
+def _finding(summary: dict) -> str:
+    plant = summary["plant"]
+    flagged = [a for a, r in plant["drift"].items() if r["flagged"]]
+    return (f"In this run the drift test flags {', '.join(flagged) or 'no actuator'} of {len(plant['drift'])} on the "
+            f"plant fleet, where the fan fails on {plant['failing']} only.")
+
+
 PAGE = DemoPage(
     about="A fleet fitted at once: every actuator's every run identified on its own over the process pool, then "
           "each actuator's RC, βR and offset compared across its runs. On the plant fleet one actuator's fan "
@@ -82,6 +89,7 @@ PAGE = DemoPage(
           "neighbours, changing tasks), so movement beyond the standard errors is a prompt to look, not a "
           "diagnosis of a fault.",
     headline=_headline,
+    finding=_finding,
     captions={"drift_plant.png": "Plant fleet: each actuator's estimates run by run (2-σ bars); flagged actuators "
                                  "named in red.",
               "drift_ur3.png": "UR3: each joint's estimates over the two parts of the log."})
@@ -93,10 +101,11 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     logs = plant_fleet(4, 1800.0 if quick else 3600.0)
     rows = fit_fleet(logs, MODEL)
     records = drift(rows)
-    plot_drift(records, out / "drift_plant.png")
-    ur3_rows = fit_fleet(REAL_LOGS["ur3"].read(), MODEL)
+    plot_drift(records, out / "drift_plant.png", effort_unit=logs[0].units.get("effort"))
+    ur3_logs = REAL_LOGS["ur3"].read()
+    ur3_rows = fit_fleet(ur3_logs, MODEL)
     ur3 = drift(ur3_rows)
-    plot_drift(ur3, out / "drift_ur3.png")
+    plot_drift(ur3, out / "drift_ur3.png", effort_unit=ur3_logs[0].units.get("effort"))
     return {"plant": {"failing": FAILING, "resistance_factor": RESISTANCE_FACTOR, "rows": len(rows),
                       "drift": _summary(records)},
             "ur3": {"rows": len(ur3_rows), "drift": _summary(ur3)},

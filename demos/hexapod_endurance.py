@@ -98,6 +98,22 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    parts = []
+    for key, label in (("best_walking", "walking"), ("best_standing", "standing")):
+        best = summary["details"].get(key)
+        if best:
+            horizon_h = summary["cells"][0]["horizon_s"] / 3600
+            then = (f"after {_fmt_time(best['strategy_s'])}" if best["strategy_s"] is not None
+                    else f"not within the {horizon_h:.0f} h horizon")
+            parts.append(f"{label} with {best['payload_kg']:.0f} kg at {best['ambient_C']:.0f} °C vertical-only "
+                         f"forces derate after {_fmt_time(best['vertical_only_s'])}, "
+                         f"{best['strategy'].replace('_', ' ')} {then}")
+    if not parts:
+        return "In this run no cell derates within the horizon under vertical-only forces: nothing to gain here."
+    return "In this run " + "; ".join(parts) + "."
+
+
 PAGE = DemoPage(
     about="Time until the first actuator derates (its winding 15 K below the 155 °C limit) for the hexapod "
           "walking or standing with a payload at each ambient of the grid (the quick run: walking with 25 kg and "
@@ -107,6 +123,7 @@ PAGE = DemoPage(
           "strategy does there; crosses mark payloads the robot cannot carry that way, hollow circles gaits that "
           "lose their heading (not periodic: their times are from the first strides only).",
     headline=_headline,
+    finding=_finding,
     captions={"envelope.png": "Time to the first derating per payload, ambient and mode; the top of each panel is "
                               "the horizon (nothing derates).",
               "periodic_check.png": "The hottest winding (cycle mean) of a whole PyBullet run and of its first "

@@ -71,6 +71,24 @@ def _bound_rows(name: str, bound: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    parts, benefit = [], False
+    for name in (n for n in SCENARIOS if n in summary):
+        ta, me = summary[name]["thermal_aware"]["hot_leg_recovery_s"], summary[name]["minimum_effort"]["hot_leg_recovery_s"]
+        benefit |= ta is not None and (me is None or me > 1.1 * ta)
+        parts.append(f"in the {name} scenario the hot leg is below 70 °C after {seconds(ta)} thermal-aware against "
+                     f"{seconds(me)} with minimum effort")
+    text = "In this run " + "; ".join(parts)
+    if benefit:
+        return text + "."
+    held = [b["steady_C"] for name in summary if name in SCENARIOS
+            for b in summary["details"][name]["first_order"]["configurations"].values()]
+    return (text + ": no benefit, because every mode it could switch to leaves the hot actuator cooling towards "
+            f"nearly the same steady temperature ({min(held):.1f} to {max(held):.1f} °C, rows below). Switching pays "
+            "where one mode unloads the hot group far more than the others: see humanoid-switching-map's hip-pitch "
+            "cells.")
+
+
 PAGE = DemoPage(
     about="Jorgensen et al.'s recovery experiment on the humanoid, in two scenarios (humanoid_pb/scenarios.py): 'ankle', "
           "the crouch where the stance ankle's push rods run hottest and double support unloads them, and "
@@ -80,6 +98,7 @@ PAGE = DemoPage(
           "minimum effort, from the same warning state. Look at the hot leg's time to 70 °C, its cooling rate, "
           "and the contact modes each strategy chose.",
     headline=_headline,
+    finding=_finding,
     captions={"fig6_": "Jorgensen et al.'s Fig. 6 for one scenario: for each strategy, (e) the norms of the left leg's, "
                        "right leg's and torso's actuator temperatures against the time since the warning (vertical "
                        "lines: the warning, then the hot leg's and every actuator's recovery, as the legend says), "

@@ -59,11 +59,21 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    import numpy as np
+
+    best = max(summary["strategies"], key=lambda r: r["return"][0])
+    return (f"In this run PPO after {summary['timesteps']} steps returns {np.mean(summary['ppo_returns']):.3g}, "
+            f"against {best['return'][0]:.3g} for the best fixed strategy ({best['strategy']}): a brief training, "
+            f"not expected to beat it.")
+
+
 PAGE = DemoPage(
     about="A PPO agent (Stable-Baselines3) trained briefly on the hexapod environment, against the fixed "
           "strategies on the same seeds. It shows the environment works for learning agents; a short training "
           "run is not expected to beat the model-based strategies.",
     headline=_headline,
+    finding=_finding,
     captions={"ppo_vs_strategies.png": "Episode return of the agent and of each fixed strategy."})
 
 
@@ -82,6 +92,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     names = ["ppo"] + [r["strategy"] for r in baselines]
     means = [float(np.mean(agent))] + [r["return"][0] for r in baselines]
     ax.bar(names, means)
+    ax.set_ylabel("episode return (mean over seeds)")
     ax.set_title(f"hexapod, 6 s episodes: return after {timesteps} PPO steps (decisions every {DECISION_S} s)", fontsize=9)
     save(fig, out / "ppo_vs_strategies.png")
     return {"timesteps": timesteps, "ppo_returns": agent, "strategies": baselines}

@@ -28,12 +28,31 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _finding(summary: dict) -> str:
+    parts = []
+    for env_id, record in summary.items():
+        rows = {r["strategy"]: r for r in record["table"]}
+        n = max(r["episodes"] for r in rows.values())
+        if "thermal_aware" in rows and "minimum_effort" in rows:  # the humanoid: who recovers, how fast
+            ta, me = rows["thermal_aware"]["recovery_s"], rows["minimum_effort"]["recovery_s"]
+            parts.append(f"the humanoid's thermal-aware strategy recovers in {ta[2]} of {n} episodes "
+                         f"(mean {ta[0]:.1f} s)" if ta[2] else "the humanoid's thermal-aware strategy never recovers")
+            parts[-1] += (f", minimum effort in {me[2]} of {n}" + (f" (mean {me[0]:.1f} s)" if me[2] else ""))
+        else:  # the hexapod: no actuator heats in a short episode, so the return is the distance
+            best = max(rows.values(), key=lambda r: r["distance_m"][0] or 0.0)
+            parts.append(f"the hexapod walks farthest with {best['strategy']} ({best['distance_m'][0]:.2f} m in "
+                         f"{record['max_time_s']:.0f} s; no actuator nears its limit that soon, so the return is the "
+                         f"distance)")
+    return "In this run " + "; ".join(parts) + "."
+
+
 PAGE = DemoPage(
     about="Every strategy of both Gymnasium environments over seeded episodes: the hexapod carrying a load and "
           "the humanoid recovering from hot actuators, minimum effort against thermal-aware, with a random "
           "policy as the floor. Look at the return and the outcome that matters (distance, recovery time) with "
           "their spread over seeds.",
     headline=_headline,
+    finding=_finding,
     captions={"HexapodLoadCarry-v0.png": "Return and outcome per strategy, hexapod: the mean over seeded episodes "
                                          "(n above each bar), with ± std bars when two or more episodes ran.",
               "HumanoidThermalRecovery-v0.png": "Return and outcome per strategy, humanoid: the mean over seeded "

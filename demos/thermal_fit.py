@@ -23,6 +23,8 @@ NAME = "thermal-fit"
 DT_S = 0.5
 AMBIENT_C = 25.0
 METHODS = ("jorgensen_gd", "least_squares", "output_error")
+METHOD_WORDS = {"jorgensen_gd": "Jorgensen et al.'s gradient descent", "least_squares": "least squares",
+                "output_error": "output error"}
 CHANNELS = ("knee", "knee/driver")
 
 
@@ -36,9 +38,15 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     for channel, methods in summary["channels"].items():
         oe, gd = methods["output_error"]["prediction"], methods["jorgensen_gd"]["prediction"]
         rows.append((f"{channel}: prediction RMSE, output error", kelvin(oe["rmse_K"]),
-                     f"Jorgensen et al.'s gradient descent {kelvin(gd['rmse_K'])}; fit {oe['fit_percent']:.0f} % "
-                     f"against {gd['fit_percent']:.0f} %"))
+                     f"Jorgensen et al.'s gradient descent {kelvin(gd['rmse_K'])}; largest error "
+                     f"{kelvin(oe['max_abs_K'])} against {kelvin(gd['max_abs_K'])}"))
     return rows
+
+
+def _finding(summary: dict) -> str:
+    oe, gd = (summary["channels"]["knee"][m]["prediction"] for m in ("output_error", "jorgensen_gd"))
+    return (f"In this run the output-error model predicts the knee's winding over the squats, from effort alone, to "
+            f"{kelvin(oe['rmse_K'])} RMSE, against {kelvin(gd['rmse_K'])} for Jorgensen et al.'s gradient descent.")
 
 
 PAGE = DemoPage(
@@ -48,6 +56,7 @@ PAGE = DemoPage(
           "winding and driver temperatures over the whole experiment, and how the three identification methods "
           "compare.",
     headline=_headline,
+    finding=_finding,
     captions={"fig5_prediction.png": "Measured temperature during the squats (black) and each method's free-run "
                                      "prediction from effort alone, winding above and driver below.",
               "methods.png": "Prediction error of each identification method on both channels."})
@@ -90,18 +99,21 @@ def _plot_fig5(log, predictions, path):
         ax.plot(t_min, ser.temperature_C, color="0.3", lw=1, label="measured")
         for method, style in zip(METHODS, (":", "--", "-")):
             pred = predictions[channel, method]
-            ax.plot(t_min, pred, ls=style, lw=1.2, label=f"predicted ({method})")
+            ax.plot(t_min, pred, ls=style, lw=1.2, label=f"predicted, {METHOD_WORDS[method]}")
             axes[1, col].plot(t_min, np.gradient(lowpass(pred, 0.015, DT_S), DT_S) * 60.0, ls=style, lw=1)
         ax.set_title(f"{channel}: predicted from 25 °C using effort only")
         ax.set_ylabel("temperature (°C)")
-        ax.legend(fontsize=7)
         axes[1, col].plot(t_min, measured_rate * 60.0, color="0.3", lw=1)
         axes[1, col].set_ylabel("rate (K/min, 0.015 Hz low-pass)")
         axes[2, col].plot(t_min, ser.signals.effort, color="0.6", lw=0.5, label="raw")
         axes[2, col].plot(t_min, lowpass(ser.signals.effort, 1.0, DT_S), color="k", lw=0.8, label="1 Hz low-pass")
         axes[2, col].set_ylabel("effort (N m)")
         axes[2, col].set_xlabel("time (min)")
-        axes[2, col].legend(fontsize=7)
+    # one legend for the figure, under it: the curves fill every panel
+    handles = axes[0, 0].get_legend_handles_labels()[0] + axes[2, 0].get_legend_handles_labels()[0]
+    labels = axes[0, 0].get_legend_handles_labels()[1] + ["effort, raw", "effort, 1 Hz low-pass"]
+    fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=3, fontsize=8, frameon=False)
+    fig.tight_layout()
     save(fig, path)
 
 
@@ -110,7 +122,7 @@ def _plot_methods(summary, path):
     width = 0.25
     for i, method in enumerate(METHODS):
         rmse = [summary["channels"][c][method]["prediction"]["rmse_K"] for c in CHANNELS]
-        ax.bar(np.arange(len(CHANNELS)) + (i - 1) * width, rmse, width, label=method)
+        ax.bar(np.arange(len(CHANNELS)) + (i - 1) * width, rmse, width, label=METHOD_WORDS[method])
     ax.set_xticks(np.arange(len(CHANNELS)), CHANNELS)
     ax.set_ylabel("prediction RMSE (K)")
     ax.set_title("squat experiment predicted from effort only: error by identification method")

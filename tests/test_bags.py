@@ -288,7 +288,6 @@ def test_a_recording_cut_off_by_a_crash_is_read_to_its_last_complete_chunk(tmp_p
     from mcap.writer import CompressionType, Writer
     from rosbags.typesys import Stores, get_typestore
 
-    from thermolimb.cli.main import main
     from thermolimb.logs import read_log
 
     store = get_typestore(Stores.ROS2_HUMBLE)

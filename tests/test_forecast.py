@@ -15,7 +15,6 @@ from thermolimb.model.saved import ModelFile, ModelFileError
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.saving import saved_from_report
-from thermolimb.workbench.validation import validate_model
 
 SPEC = replace(X8_9, network=NETWORKS["second_order"])
 RICHER = ("speed_losses", "winding_tempco", "sensor_lag")

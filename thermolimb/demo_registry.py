@@ -36,11 +36,14 @@ class DemoPage:
     ``headline(summary)``: the few numbers that matter, as rows
     ``(quantity, value with unit, what it is compared with)``.
     ``captions``: figure file name -> caption.
+    ``finding(summary)``: the section's first sentence, built from the run's numbers: what this run shows, or
+    why it shows nothing.
     """
 
     about: str
     headline: Callable[[dict], list[tuple[str, str, str]]]
     captions: Mapping[str, str] = field(default_factory=dict)
+    finding: Callable[[dict], str] | None = None
 
 
 # Captions of the figures a diagnosis writes (``plot_diagnosis``), by file-name prefix.

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import html
 import json
+import re
 from pathlib import Path
 
 from .demo_registry import caption, in_tour_order, load_demos
+from .model.terms import TERMS, effect_label
 from .util.atomic import write_text
 from .util.errors import UsageError
 
@@ -34,6 +36,32 @@ def _load(path: Path):
         raise UsageError(f"{path} cannot be read as JSON ({exc}); run that demo again") from None
 
 
+def readable(text: str) -> str:
+    """Effect identifiers in ``text`` with the words a reader knows before them: ``+ speed_losses`` ->
+    ``+ speed losses (speed_losses)``; a comma-joined model, ``joule,effort_bias`` -> ``Joule heating from effort,
+    effort bias (joule,effort_bias)``."""
+    known = sorted(TERMS, key=len, reverse=True)
+    word = r"(?:discovered_\w+?|" + "|".join(map(re.escape, known)) + r")(?![\w])"
+    pattern = re.compile(rf"(?<![\w(])({word}(?:,{word})*)")
+
+    def one(m: re.Match) -> str:
+        names = m.group(1).split(",")
+        if any(re.search(r"_c\d+$", n) for n in names):  # a generated term's parameter, not a term
+            return m.group(1)
+        return f"{', '.join(effect_label(n) for n in names)} ({m.group(1)})"
+
+    return pattern.sub(one, text)
+
+
+def _finding(demo, summary: dict) -> str:
+    try:
+        text = demo.page.finding(summary)
+    except (KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as exc:
+        return (f"<p class='missing'>This run's summary.json does not have the shape this version of the demo writes "
+                f"(missing {html.escape(str(exc))}); run the demo again.</p>")
+    return f"<p class='finding'><strong>{html.escape(readable(text))}</strong></p>"
+
+
 def _headline_table(demo, summary: dict, folder: Path) -> str:
     try:
         rows = demo.page.headline(summary)
@@ -43,8 +71,8 @@ def _headline_table(demo, summary: dict, folder: Path) -> str:
     if not rows:
         return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} holds none of the numbers this demo's "
                 f"headline shows; run the demo again.</p>")
-    body = "".join(f"<tr><td>{html.escape(q)}</td><td class='value'>{html.escape(v)}</td><td>{html.escape(c)}</td></tr>"
-                   for q, v, c in rows)
+    body = "".join(f"<tr><td>{html.escape(readable(q))}</td><td class='value'>{html.escape(readable(v))}</td>"
+                   f"<td>{html.escape(readable(c))}</td></tr>" for q, v, c in rows)
     return ("<table class='headline'><thead><tr><th>quantity</th><th>value</th><th>compared with</th></tr></thead>"
             f"<tbody>{body}</tbody></table>")
 
@@ -58,6 +86,8 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     if demo is not None:
         parts.append(f"<p><em>{html.escape(demo.description)}</em></p>")
     if demo is not None and demo.page is not None:
+        if demo.page.finding is not None:
+            parts.append(_finding(demo, summary))
         parts.append(f"<p>{html.escape(demo.page.about)}</p>")
         parts.append(_headline_table(demo, summary, folder))
     page = demo.page if demo is not None else None

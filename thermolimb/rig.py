@@ -123,6 +123,7 @@ class BulletRig:
         self.plant = ThermalPlant(self.actuators, specs, effects=plant_effects, ambient_C=config.ambient_C,
                                   rng=self.rng, protection=protection)
         self.time_s = 0.0
+        self.control_steps = 0  # time_s is this many control periods (a product, not a sum that drifts)
         self._joint_states = None  # (q, qd) read since the last physics step: read once, whoever asks
         self.applied_Nm = np.zeros(len(self.joints))
         self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
@@ -277,7 +278,8 @@ class BulletRig:
         self._log["ambient"].append(self.plant.ambient_C)
         self.plant.step(efforts, velocities, self.config.control_dt_s)
         self._log["fault"].append(self.plant.faulted.astype(float))  # a drive faulted by a non-finite command
-        self.time_s += self.config.control_dt_s
+        self.control_steps += 1
+        self.time_s = round(self.control_steps * self.config.control_dt_s, 9)
         if self.stream is not None:
             self.stream.publish(self)
 

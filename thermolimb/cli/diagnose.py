@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
+from ..model.units import spaced
 from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
@@ -95,7 +97,7 @@ class Diagnose(LogCommand):
 
     def finish(self, run: Run):
         if run.args.propose:
-            write_proposal(Path(run.args.propose), run.kept)
+            print(write_proposal(Path(run.args.propose), run.kept), file=sys.stderr)
 
 
 add_parser = Diagnose().add_parser
@@ -118,7 +120,7 @@ def describe_diagnosis(d) -> str:
         lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
                      f"{c.status}")
         for pname, v in c.params.items():
-            lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g} {v['unit']}")
+            lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g}{spaced(v['unit'])}")
         lines.append(f"      {c.evidence}")
     evidence = d.base.evidence
     if not evidence.rankable:

@@ -23,7 +23,7 @@ from ..logs import ActuatorSeries
 from ..model.model import model_parameters
 from ..model.signals import Signals
 from ..model.guard import instance
-from ..model.terms import TERMS, Parameter
+from ..model.terms import Parameter
 from ..util.errors import ThermolimbError
 from .thinning import fit_stride
 

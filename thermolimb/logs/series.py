@@ -172,10 +172,10 @@ class ThermalLog:
         """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own reading."""
         whole = self.series(actuator)
         cuts = gaps(whole.time_s)
-        if not cuts:
-            return [whole]
-        edges = [0] + cuts + [whole.n]
         stem = Path(self.source).stem if self.source != "<memory>" else "log"
+        if not cuts:  # named as a cut run would be, so that runs of several files stay apart
+            return [replace(whole, run=f"{stem}#1")]
+        edges = [0] + cuts + [whole.n]
         pieces = [whole.slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
         return [replace(p, run=f"{stem}#{k + 1}") for k, p in enumerate(pieces) if p.n >= MIN_SAMPLES]
 

@@ -41,6 +41,7 @@ class Joule(LinearTerm):
     """Effort-squared heating: Jorgensen et al.'s ``beta*R*F^2`` (Eq. 5)."""
 
     name = "joule"
+    label = "Joule heating from effort"
     description = "Joule heating from effort squared (the base heat source)"
     parameters = (
         Parameter("betaR_K_per_effort2", "K/({effort})^2", 0.0, np.inf, 0.1,
@@ -58,6 +59,7 @@ class EffortBias(LinearTerm):
     """Linear effort term from a series-elastic effort bias: ``-beta_bias*R*F`` (Eq. 5)."""
 
     name = "effort_bias"
+    label = "effort bias"
     description = "linear effort term (series-elastic bias of the torque-current map)"
     parameters = (
         Parameter("beta_biasR_K_per_effort", "K/({effort})", -np.inf, np.inf, 0.1,
@@ -74,6 +76,7 @@ class CurrentHeating(LinearTerm):
     """Joule heat from the measured current, which also sees current that makes no torque."""
 
     name = "current_heating"
+    label = "Joule heating from current"
     description = "Joule heating from measured current squared"
     parameters = (
         Parameter("currentR_K_per_A2", "K/({current})^2", 0.0, np.inf, 0.01,
@@ -92,6 +95,7 @@ class PowerHeating(LinearTerm):
     """Heat in proportion to measured electrical input power (benches that log power, not torque)."""
 
     name = "power_heating"
+    label = "heating from electrical power"
     description = "heating in proportion to electrical input power (its losses are a share of it)"
     parameters = (
         Parameter("powerR_K_per_W", "K/({power})", 0.0, np.inf, 0.1,
@@ -115,6 +119,7 @@ class HousingBoundary(LinearTerm):
     """
 
     name = "housing_boundary"
+    label = "housing as the boundary"
     description = "the winding's boundary is the measured housing temperature (a second sensor)"
     parameters = (
         Parameter("housing_gain", "1", 0.0, 1.5, 0.9,
@@ -132,6 +137,7 @@ class WindingTempco(Term):
     """Copper resistance rising with temperature: the Joule terms times ``1 + alpha (T - 25 degC)``."""
 
     name = "winding_tempco"
+    label = "copper's temperature coefficient"
     description = "copper resistance rising with winding temperature"
     parameters = (
         Parameter("alpha_per_K", "1/K", -0.01, 0.02, 0.004,
@@ -154,6 +160,7 @@ class SpeedLosses(Term):
     """Friction and iron losses that grow with speed: ``k1 |v| + k2 v^2``."""
 
     name = "speed_losses"
+    label = "speed losses"
     description = "friction and iron losses growing with speed"
     parameters = (
         Parameter("speed_K_per_rad_s", "K/({velocity})", 0.0, np.inf, 1.0,
@@ -181,6 +188,7 @@ class NeighborCoupling(Term):
     """
 
     name = "neighbor_coupling"
+    label = "heat from neighbours"
     description = "conduction from the other actuators, from their measured temperatures"
     parameters = (
         Parameter("neighbor_ratio", "1", 0.0, 10.0, 0.1,
@@ -202,6 +210,7 @@ class AmbientVariation(LinearTerm):
     """The offset follows the logged ambient (the base model keeps it constant)."""
 
     name = "ambient_variation"
+    label = "ambient variation"
     description = "offset follows the logged ambient temperature"
     parameters = (
         Parameter("ambient_gain", "1", -1.0, 3.0, 1.0,
@@ -229,6 +238,7 @@ class MotionCooling(Term):
     """Cooling improves with speed: the loss to ambient times ``1 + h |v|``."""
 
     name = "motion_cooling"
+    label = "cooling by motion"
     description = "cooling that improves with speed (airflow)"
     parameters = (_airflow_parameter("cooling_per_rad_s", "the conductance to ambient", "warm"),)
     columns = ("velocity",)
@@ -299,6 +309,7 @@ class SecondNode(SlowMass):
     """A second, slower thermal mass (a housing or frame) between the winding and ambient."""
 
     name = "second_node"
+    label = "a second thermal mass"
     description = "a second, slower thermal mass"
     fraction, tau = "frame_fraction", "frame_tau_s"
     parameters = _slow_mass_parameters(fraction, tau, "slow")
@@ -314,6 +325,7 @@ class HousingMotionCooling(Term):
     to ambient times ``1 + h |v|``, which shrinks its share of the rise and its time constant alike."""
 
     name = "housing_motion_cooling"
+    label = "the housing cooled by motion"
     description = "cooling of the housing (the second mass) that improves with speed (airflow)"
     parameters = (_airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),)
     columns = ("velocity",)
@@ -325,6 +337,7 @@ class ThirdNode(SlowMass):
     """A third thermal mass: actuators whose housing and body both store heat (three time scales)."""
 
     name = "third_node"
+    label = "a third thermal mass"
     description = "a third thermal mass (housing and body both store heat)"
     fraction, tau = "body_fraction", "body_tau_s"
     parameters = _slow_mass_parameters(fraction, tau, "third")
@@ -336,6 +349,7 @@ class SensorLag(Term):
     """The thermistor lags the winding: ``tau_s dT_s/dt = T - T_s``."""
 
     name = "sensor_lag"
+    label = "sensor lag"
     description = "the thermistor lags the winding"
     parameters = (
         Parameter("sensor_tau_s", "s", 0.0, 600.0, 10.0, "time constant of the thermistor",

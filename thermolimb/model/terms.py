@@ -53,6 +53,7 @@ class Term:
 
     name: ClassVar[str]
     description: ClassVar[str]
+    label: ClassVar[str] = ""  # a few words a reader knows ("speed losses"); the name with spaces if not given
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     columns: ClassVar[tuple[str, ...]] = ("effort",)
     is_heat_source: ClassVar[bool] = False
@@ -139,6 +140,17 @@ def unregister_term(name: str) -> None:
     if name not in TERMS:
         raise KeyError(f"no registered term {name!r}")
     del TERMS[name]
+
+
+def effect_label(name: str) -> str:
+    """The words a reader knows for a term: its ``label``, "a discovered form" for a generated one, else its
+    name with spaces."""
+    term = TERMS.get(name)
+    if term is not None and term.label:
+        return term.label
+    if name.startswith("discovered_") or (term is not None and term.generated):
+        return "a discovered form"
+    return name.replace("_", " ")
 
 
 def _parameter_names_except(name: str) -> set[str]:

@@ -27,3 +27,8 @@ def render(template: str, units: Mapping[str, str] | None) -> str:
     text = re.sub(r"\{([^{}]+)\}", one, template)
     text = re.sub(r"\(([A-Za-z%\d]+)\)", r"\1", text)  # K/(mA)^2 -> K/mA^2; K/(N m)^2 keeps its brackets
     return re.sub(r"/1(\^[\d.]+)?$", "", text) or "1"  # per dimensionless unit: K/1 -> K
+
+
+def spaced(unit: str) -> str:
+    """A unit to write after a number: `` K``, or nothing for a dimensionless parameter (unit ``1``)."""
+    return "" if unit in ("1", "") else f" {unit}"

@@ -32,7 +32,8 @@ class Thermistors:
             readings = readings + fx.sensor_noise.std_K * noise
         if fx.quantisation is not None:
             step = fx.quantisation.step_K
-            readings = np.round(readings / step) * step
+            # a whole number of steps, written as the step's decimals read (24.9, not 24.900000000000002)
+            readings = np.round(np.round(readings / step) * step, max(0, int(np.ceil(-np.log10(step)))) + 6)
         return readings
 
     def standard_normal(self, count: int) -> np.ndarray:

@@ -26,7 +26,7 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
     overlay(d.base, top, err)
     v = d.base.validation
     top.set_title(f"{d.actuator}: measured temperature and the free run of model {','.join(d.model)}\n"
-                  f"validation (shaded) RMSE {v['rmse_K']:.3f} K, fit {v['fit_percent']:.1f} %; {d.base.scheme}",
+                  f"validation (shaded) RMSE {v['rmse_K']:.3f} K, largest error {v['max_abs_K']:.3f} K; {d.base.scheme}",
                   fontsize=10)
     err.set_title("residual: where the model fails", fontsize=9)
     err.set_xlabel("time (s; runs one after another)")
@@ -45,7 +45,7 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
         axc.plot(c.lags_s, c.values, color="tab:blue", lw=0.8)
         outside = np.abs(np.asarray(c.values)) > c.band
         axc.plot(np.asarray(c.lags_s)[outside], np.asarray(c.values)[outside], ".", color="tab:red", ms=2)
-        axc.set_title(f"residual vs {name}: cross-correlation (red: lags outside Bartlett's band)", fontsize=9)
+        axc.set_title(f"residual vs {name}: cross-correlation\n(red: lags outside Bartlett's band)", fontsize=9)
         axc.set_xlabel("lag (s)")
     fig.tight_layout()
     return save(fig, path)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.units import render
 from ..workbench.drift import DRIFT_PARAMS
 from .fits import plt, save
 
@@ -23,8 +24,9 @@ def _range(values: list[float]) -> tuple[float, float]:
     return float(np.min(values)), float(np.max(values))
 
 
-def plot_drift(records: list[dict], path: str | Path) -> Path:
+def plot_drift(records: list[dict], path: str | Path, effort_unit: str | None = None) -> Path:
     """Each actuator's estimates run by run (2-sigma bars), actuators side by side; flagged names in red.
+    ``effort_unit``: the log's, for βR's axis (K per effort unit squared).
 
     The vertical range follows the estimates, not their bars, so that one
     unidentified run (huge bars) does not flatten the others; with ten or
@@ -60,7 +62,10 @@ def plot_drift(records: list[dict], path: str | Path) -> Path:
         if shown:
             pad = 0.15 * (hi - lo) if hi > lo else 0.1 * abs(hi) + 1e-9
             ax.set_ylim(lo - pad, hi + pad)
-        ax.set_ylabel(LABELS.get(p, p))
+        label = LABELS.get(p, p)
+        if p == "betaR_K_per_effort2" and effort_unit:
+            label = f"βR, rise per effort² ({render('K/({effort})^2', {'effort': effort_unit})})"
+        ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     axes[-1].set_xticks(range(len(records)))
     axes[-1].set_xticklabels([r["actuator"] for r in records], rotation=45 if len(records) > 8 else 0)

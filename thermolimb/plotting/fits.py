@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -26,6 +27,7 @@ def save(fig, path: Path) -> Path:
     for text in fig.findobj(Text):  # a name of any length (an actuator's) keeps the figure drawable and readable
         if len(text.get_text()) > LABEL_WORD_LIMIT:
             text.set_text(bounded(text.get_text(), LABEL_WORD_LIMIT))
+    wrap_to_figure(fig)
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=110, bbox_inches="tight", format=kind,
@@ -35,23 +37,43 @@ def save(fig, path: Path) -> Path:
     return path
 
 
-def _offsets(segments) -> dict[str, float]:
-    """Time shift per run, so that runs that each start at 0 s are drawn one after another."""
+def wrap_to_figure(fig) -> None:
+    """Wrap every text that runs past the figure's right edge (a long note, a failed refit's reason) to the room
+    it has, so that a figure stays as wide as it was drawn and a page's column shows it legibly.  Texts that
+    start beyond the edge (a legend placed outside the axes) are left alone."""
+    renderer = fig.canvas.get_renderer()
+    right = fig.bbox.x1
+    for text in fig.findobj(Text):
+        content = text.get_text()
+        if not content or "$" in content or not text.get_visible() or text.get_rotation() != 0:
+            continue
+        box = text.get_window_extent(renderer)
+        room = right - box.x0
+        if box.x1 <= right + 1 or room < 0.2 * fig.bbox.width or box.width <= 0:
+            continue
+        longest = max(len(line) for line in content.split("\n"))
+        width = max(24, int(longest * room / box.width * 0.95))
+        text.set_text("\n".join(textwrap.fill(line, width, subsequent_indent="  ", break_on_hyphens=False)
+                                for line in content.split("\n")))
+
+
+def run_offsets(segments) -> dict[str, float]:
+    """Time shift per run, so that runs are drawn one after another with a small gap: runs that each start at
+    0 s apart, and hours between two parts of a day's log closed."""
     offsets, end = {}, None
     for seg in segments:
         if seg.run in offsets:
             continue
         start = float(seg.time_s[0])
-        shift = 0.0 if end is None or start > end else end - start + 0.02 * max(end, 1.0)
-        offsets[seg.run] = shift
-        end = max(end or -float("inf"), float(seg.time_s[-1]) + shift)
+        offsets[seg.run] = 0.0 if end is None else end + 0.02 * max(end, 1.0) - start
+        end = max(float(s.time_s[-1]) for s in segments if s.run == seg.run) + offsets[seg.run]
     return offsets
 
 
 def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) -> None:
     """Measured temperature and the model's free run, validation shaded; the error and effort beneath if given."""
     segments = list(report.train_segments) + list(report.validation_segments)
-    shift = _offsets(sorted(segments, key=lambda s: (s.run, float(s.time_s[0]))))
+    shift = run_offsets(sorted(segments, key=lambda s: (s.run, float(s.time_s[0]))))
     for part, color, segs in (("training", "tab:blue", report.train_segments),
                               ("validation", "tab:orange", report.validation_segments)):
         for i, seg in enumerate(segs):
@@ -92,7 +114,7 @@ def plot_fit(report: FitReport, path: Path) -> Path:
     v = report.validation
     axes[0].set_title(
         f"{report.actuator}: model {','.join(report.model.terms)} ({report.method}); validation (shaded) "
-        f"RMSE {v['rmse_K']:.2f} K, max {v['max_abs_K']:.2f} K, fit {v['fit_percent']:.1f} %\n{report.scheme}",
+        f"RMSE {v['rmse_K']:.2f} K, largest error {v['max_abs_K']:.2f} K\n{report.scheme}",
         fontsize=10)
     axes[2].set_ylabel(f"effort ({effort_unit(report)})")
     axes[2].set_xlabel("time (s; runs one after another)")

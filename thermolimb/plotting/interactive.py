@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..util.atomic import write_text
+from .diagnosis import STATUS_COLOURS
+from .fits import run_offsets
 
 MAX_POINTS = 50_000
 COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf")
@@ -74,11 +76,13 @@ def temperature_figure(reports: list, actuator: str):
     first = reports[0][1]
     segments = sorted(list(first.train_segments) + list(first.validation_segments),
                       key=lambda s: (s.run, float(s.time_s[0])))
+    shift = run_offsets(segments)  # runs one after another, as the PNG draws them
     for k, seg in enumerate(segments):
         step = _thin(len(seg.time_s))
-        fig.add_scatter(x=seg.time_s[::step], y=seg.measured_C[::step], row=1, col=1, name="measured",
+        t = seg.time_s + shift[seg.run]
+        fig.add_scatter(x=t[::step], y=seg.measured_C[::step], row=1, col=1, name="measured",
                         line={"color": "black", "width": 1}, legendgroup="measured", showlegend=k == 0)
-        fig.add_scatter(x=seg.time_s[::step], y=seg.effort[::step], row=3, col=1, name="effort",
+        fig.add_scatter(x=t[::step], y=seg.effort[::step], row=3, col=1, name="effort",
                         line={"color": "gray", "width": 0.8}, legendgroup="effort", showlegend=k == 0)
     for i, (label, report) in enumerate(reports):
         color = COLORS[i % len(COLORS)]
@@ -86,21 +90,29 @@ def temperature_figure(reports: list, actuator: str):
             for k, seg in enumerate(_segments(report, part)):
                 step = _thin(len(seg.time_s))
                 name = f"{label} ({part})"
-                fig.add_scatter(x=seg.time_s[::step], y=seg.simulated_C[::step], row=1, col=1, name=name,
+                t = seg.time_s + shift.get(seg.run, 0.0)
+                fig.add_scatter(x=t[::step], y=seg.simulated_C[::step], row=1, col=1, name=name,
                                 legendgroup=name, showlegend=k == 0, line={"color": color, "width": 1.4, "dash": dash})
-                fig.add_scatter(x=seg.time_s[::step], y=(seg.measured_C - seg.simulated_C)[::step], row=2, col=1,
+                fig.add_scatter(x=t[::step], y=(seg.measured_C - seg.simulated_C)[::step], row=2, col=1,
                                 name=f"{name} residual", legendgroup=name, showlegend=False,
                                 line={"color": color, "width": 1, "dash": dash})
     for seg in first.validation_segments:
-        fig.add_vrect(x0=float(seg.time_s[0]), x1=float(seg.time_s[-1]), fillcolor="orange", opacity=0.08,
+        fig.add_vrect(x0=float(seg.time_s[0]) + shift[seg.run], x1=float(seg.time_s[-1]) + shift[seg.run], fillcolor="orange", opacity=0.08,
                       line_width=0)
     fig.update_yaxes(title_text="temperature (°C)", row=1, col=1)
     fig.update_yaxes(title_text="measured − model (K)", row=2, col=1)
     fig.update_yaxes(title_text=f"effort ({first.channel_units.get('effort', 'unit not given')})", row=3, col=1)
-    fig.update_xaxes(title_text="time (s)", row=3, col=1)
+    fig.update_xaxes(title_text="time (s; runs one after another)", row=3, col=1)
     fig.update_layout(height=720, title=f"{actuator}: measured and model temperature (validation shaded)",
                       hovermode="x unified", margin={"t": 60, "l": 70, "r": 20, "b": 50})
     return fig
+
+
+def _hex(colour: str) -> str:
+    """A Matplotlib colour as the PNGs draw it, for Plotly (the same step in the same colour on both)."""
+    from matplotlib.colors import to_hex
+
+    return to_hex(colour)
 
 
 def candidates_figure(d):
@@ -111,7 +123,7 @@ def candidates_figure(d):
     labels = [c.label + ("  ← recommended" if c is d.recommended else "") for c in refitted]
     fig = go.Figure(go.Bar(x=[100 * c.improvement for c in refitted], y=labels, orientation="h",
                            text=[f"{c.status}, {c.rmse_K:.3f} K" for c in refitted], textposition="outside",
-                           marker_color=["#2ca02c" if c is d.recommended else "#1f77b4" for c in refitted]))
+                           marker_color=[_hex(STATUS_COLOURS.get(c.status, "tab:blue")) for c in refitted]))
     fig.add_vline(x=10.0, line_dash="dot", line_color="green", annotation_text="10 % needed")
     gains = [100 * c.improvement for c in refitted] or [0.0]
     low, high = min(min(gains), 0.0), max(max(gains), 10.0)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from ...model.generated import module_source
@@ -11,9 +10,9 @@ from ...util.atomic import write_text
 from ..validation import FitReport
 
 
-def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> None:
+def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> str:
     """The generated terms of each actuator's final model, as one Python file with their fitted values; nothing
-    is written when there are none (said on stderr)."""
+    is written when there are none.  Returns the sentence saying which."""
     classes, fitted = {}, []
     for name, report in finals:
         for term in report.model.terms:
@@ -23,13 +22,11 @@ def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> None:
                 fitted += [f"#   {name}: {p.name} = {report.model.params[p.name]:.6g} ± "
                            f"{float(report.stderr[p.name]):.2g} {report.unit(p)}" for p in cls.parameters]
     if not classes:
-        print(f"--propose {path}: nothing written: no channel or discovered term is in the final model",
-              file=sys.stderr)
-        return
+        return f"--propose {path}: nothing written: no channel or discovered term is in the final model"
     doc = (f"Terms proposed by `thermolimb diagnose --discover`: {', '.join(classes)}. Load them with "
            f"`--terms {path.name}` and name them in --model; rename a class and its name to keep it.")
     text = module_source(doc, list(classes.values()))
     text = text.replace("\nimport numpy", "\n# fitted values (validation scheme of that run):\n" + "\n".join(fitted)
                         + "\n\nimport numpy", 1)
     write_text(path, text)
-    print(f"wrote {path}", file=sys.stderr)
+    return f"wrote {path}"
