@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..demo_registry import demo_names, in_tour_order, load_demos, timed_demo
 from ..report import build_report
+from ..util.errors import UsageError
 from ..util.parallel import Runner, worker_limit
 from .output import print_json
 from .types import integer, output_dir
@@ -44,6 +45,8 @@ def run(args) -> int:
         for name in in_tour_order(demos):
             print(f"{name:22s} {demos[name].description}")
         return 0
+    if args.name != "all" and args.name not in demos:
+        raise UsageError(f"unknown demo {args.name!r}; available: {', '.join(in_tour_order(demos))}")
     names = in_tour_order(demos) if args.name == "all" else [args.name]
     if args.name == "all":
         for name in [n for n in names if demos[n].missing]:

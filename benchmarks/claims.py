@@ -1,0 +1,139 @@
+"""Re-run a declared sample of the numbers README.md and docs/ state, and compare.
+
+Each claim names the page, the words the page says (which must still be there:
+a page edited without its claim here is caught too), the command the page names,
+and the numbers to read from the command's output.  A claim holds when the page
+still says it and every number comes back within its tolerance.
+
+    python benchmarks/claims.py            # every claim (about 4 minutes on two cores)
+    python benchmarks/claims.py --list     # the claims, without running them
+    python benchmarks/claims.py --only tour-walk,bag-diagnose
+
+Exit status 1 when a claim does not hold.  The commands run in a scratch folder,
+with the suite's own command line (``python -m thermolimb.cli.main``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+THERMOLIMB = [sys.executable, "-m", "thermolimb.cli.main"]
+UR3 = ROOT / "thermolimb/data/real/ur3-cobotops/dataset_02052023.csv"
+UR3_MAP = "time=Timestamp,effort=Current_J{j},temperature=Temperature_*{j},velocity=Speed_J{j}"
+BAG = ROOT / "thermolimb/data/real/interbotix-wx200/waist_diagnostics.bag"
+
+
+@dataclass(frozen=True)
+class Claim:
+    name: str
+    page: str  # path from the repository's root
+    says: str  # words the page says, whitespace-insensitive
+    commands: tuple[tuple[str, ...], ...]  # run in order in one scratch folder; the last one's output is read
+    pattern: str  # a regular expression on the last command's output (stdout and stderr)
+    expected: tuple  # a float per group (compared within ``tolerance``), or a string (compared as written)
+    tolerance: float = 0.02  # relative
+
+
+TOUR_LOG = ("simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
+            "--effects", "sensor_noise,quantisation,speed_losses", "--out", "run.csv", "--quiet")
+
+CLAIMS = (
+    Claim("tour-walk", "README.md",
+          "validation RMSE 7.056 K → 0.059 K",
+          (TOUR_LOG, ("diagnose", "run.csv", "--actuator", "knee", "--auto", "--quiet")),
+          r"start\s+-> joule,effort_bias: ([\d.]+) K.*?\+ speed_losses\s+-> joule,effort_bias,speed_losses: ([\d.]+) K"
+          r".*?taken in (\d+) of 10",
+          (7.056, 0.059, 10.0)),
+    Claim("tour-predict", "README.md",
+          "reaches 90.0 degC from 30.0 degC in 91 s (90 % interval 90 s to 92 s)",
+          (TOUR_LOG, ("diagnose", "run.csv", "--actuator", "knee", "--auto", "--save", "knee.json", "--limit-C", "90",
+                      "--quiet"),
+           ("predict", "knee.json", "--hold", "20,1", "--duration", "3600", "--start-C", "30")),
+          r"reaches 90\.0 degC from 30\.0 degC in (\d+) s \(90 % interval (\d+) s to (\d+) s\)",
+          (91.0, 90.0, 92.0), tolerance=0.03),
+    Claim("bag-diagnose", "docs/logs.md",
+          "takes nothing: dropping the effort bias helps on the held-out part (0.599 → 0.510 K",
+          (("diagnose", str(BAG), "--actuator", "waist", "--quiet"),),
+          r"validation RMSE ([\d.]+) K against.*?- effort_bias\s+([\d.]+).*?recommended: (\w+)",
+          (0.599, 0.510, "none")),
+    Claim("ur3-j5-walk", "docs/workbench.md",
+          "| J5 (wrist 3) | 0.306 → 0.055 |",
+          (("diagnose", str(UR3), "--drop-incomplete", "--map", UR3_MAP, "--actuator", "J5", "--auto", "--quiet"),),
+          r"start\s+-> joule,effort_bias: ([\d.]+) K.*?\+ neighbor_coupling\s+->[^:]*: ([\d.]+) K"
+          r".*?\+ second_node\s+->[^:]*: ([\d.]+) K",
+          (0.306, 0.107, 0.055)),
+    Claim("brake-propose", "docs/workbench.md",
+          "validation RMSE 6.038 K → 0.060 K",
+          (("simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
+            "--effects", "sensor_noise,quantisation,holding_brake", "--out", "brake.csv", "--quiet"),
+           ("diagnose", "brake.csv", "--actuator", "knee", "--auto", "--discover", "--quiet")),
+          r"start\s+-> joule,effort_bias: ([\d.]+) K.*\+ brake_heat[^:]*: ([\d.]+) K",
+          (6.038, 0.060)),
+)
+
+
+def normalise(text: str) -> str:
+    return re.sub(r"\s+", " ", text)
+
+
+def check(claim: Claim, folder: Path) -> dict:
+    page = normalise((ROOT / claim.page).read_text(encoding="utf-8"))
+    on_page = normalise(claim.says) in page
+    start = time.perf_counter()
+    output = ""
+    for command in claim.commands:
+        done = subprocess.run([*THERMOLIMB, *command], cwd=folder, capture_output=True, text=True)
+        output = done.stdout + done.stderr
+        if done.returncode not in (0, 1):
+            break
+    seconds = time.perf_counter() - start
+    match = re.search(claim.pattern, output, re.S)
+    got = match.groups() if match else ()
+    agree = bool(match) and all(
+        (abs(float(g) - e) <= claim.tolerance * abs(e) + 1e-12) if isinstance(e, float) else g == e
+        for g, e in zip(got, claim.expected))
+    return {"claim": claim.name, "page": claim.page, "on_page": on_page, "expected": claim.expected,
+            "measured": got or ("(not in the output: " + output.strip().splitlines()[-1][:120] + ")"
+                                if output.strip() else ("(no output)",)),
+            "holds": on_page and agree, "seconds": seconds}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--list", action="store_true", help="list the claims and exit")
+    parser.add_argument("--only", default=None, help="comma-separated claim names")
+    args = parser.parse_args(argv)
+    claims = CLAIMS
+    if args.only:
+        wanted = set(args.only.split(","))
+        unknown = wanted - {c.name for c in CLAIMS}
+        if unknown:
+            parser.error(f"unknown claims {sorted(unknown)}; known: {', '.join(c.name for c in CLAIMS)}")
+        claims = tuple(c for c in CLAIMS if c.name in wanted)
+    if args.list:
+        for c in claims:
+            print(f"{c.name:14s} {c.page:20s} {c.says}")
+        return 0
+    failed = 0
+    print(f"{'claim':14s} {'page':20s} {'on page':8s} {'holds':6s} {'time':>6s}  expected -> measured")
+    for claim in claims:
+        with tempfile.TemporaryDirectory() as scratch:
+            r = check(claim, Path(scratch))
+        failed += not r["holds"]
+        expected = ", ".join(str(e) for e in r["expected"])
+        print(f"{r['claim']:14s} {r['page']:20s} {str(r['on_page']):8s} {str(r['holds']):6s} {r['seconds']:5.0f}s  "
+              f"{expected} -> {', '.join(r['measured'])}", flush=True)
+    print(f"{len(claims) - failed} of {len(claims)} claims hold")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
