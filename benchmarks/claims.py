@@ -36,7 +36,9 @@ class Claim:
     name: str
     page: str  # path from the repository's root
     says: str  # words the page says, whitespace-insensitive
-    commands: tuple[tuple[str, ...], ...]  # run in order in one scratch folder; the last one's output is read
+    # run in order in one scratch folder, the last one's output read: the suite's command line, or
+    # ("BENCHMARK", "name.py", args...) for a script of benchmarks/
+    commands: tuple[tuple[str, ...], ...]
     pattern: str  # a regular expression on the last command's output (stdout and stderr)
     expected: tuple  # a float per group (compared within ``tolerance``), or a string (compared as written)
     tolerance: float = 0.02  # relative
@@ -70,6 +72,20 @@ CLAIMS = (
           r"start\s+-> joule,effort_bias: ([\d.]+) K.*?\+ neighbor_coupling\s+->[^:]*: ([\d.]+) K"
           r".*?\+ second_node\s+->[^:]*: ([\d.]+) K",
           (0.306, 0.107, 0.055)),
+    Claim("humanoid-strategies", "docs/environments.md",
+          "thermal-aware recovers in 9.75 ± 1.15 s against 18.75 ± 9.59 s",
+          (("compare-strategies", "--env", "thermolimb/HumanoidThermalRecovery-v0", "--episodes", "6", "--seed", "0",
+            "--strategies", "thermal_aware,minimum_effort"),),
+          r"thermal_aware\s+([\d.]+) ± [\d.]+ \(6\)\s+([\d.]+) ± ([\d.]+) \(6\).*?"
+          r"minimum_effort\s+([\d.]+) ± [\d.]+ \(6\)\s+([\d.]+) ± ([\d.]+) \(6\)",
+          (7.06, 9.75, 1.15, 6.06, 18.75, 9.59)),
+    Claim("soak-protection", "docs/reliability.md",
+          "| 219, 181, 276 °C | 225, 184, 228 °C |",
+          (("BENCHMARK", "protection.py"),),
+          r"seed 0, protection on the measured: hottest true winding \[([\d.]+), ([\d.]+), ([\d.]+)\].*?"
+          r"seed 0, protection on the observer: hottest true winding \[([\d.]+), ([\d.]+), ([\d.]+)\].*?"
+          r"seed 1, protection on the measured: hottest true winding \[([\d.]+), ([\d.]+), ([\d.]+)\]",
+          (218.7, 180.7, 276.1, 153.0, 152.6, 152.9, 224.8, 184.0, 228.4), tolerance=0.005),
     Claim("brake-propose", "docs/workbench.md",
           "validation RMSE 6.038 K → 0.060 K",
           (("simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
@@ -90,7 +106,10 @@ def check(claim: Claim, folder: Path) -> dict:
     start = time.perf_counter()
     output = ""
     for command in claim.commands:
-        done = subprocess.run([*THERMOLIMB, *command], cwd=folder, capture_output=True, text=True)
+        # a benchmark of this folder, or the suite's command line
+        argv = ([sys.executable, str(ROOT / "benchmarks" / command[1]), *command[2:]] if command[0] == "BENCHMARK"
+                else [*THERMOLIMB, *command])
+        done = subprocess.run(argv, cwd=folder, capture_output=True, text=True)
         output = done.stdout + done.stderr
         if done.returncode not in (0, 1):
             break
@@ -120,16 +139,16 @@ def main(argv=None) -> int:
         claims = tuple(c for c in CLAIMS if c.name in wanted)
     if args.list:
         for c in claims:
-            print(f"{c.name:14s} {c.page:20s} {c.says}")
+            print(f"{c.name:20s} {c.page:20s} {c.says}")
         return 0
     failed = 0
-    print(f"{'claim':14s} {'page':20s} {'on page':8s} {'holds':6s} {'time':>6s}  expected -> measured")
+    print(f"{'claim':20s} {'page':20s} {'on page':8s} {'holds':6s} {'time':>6s}  expected -> measured")
     for claim in claims:
         with tempfile.TemporaryDirectory() as scratch:
             r = check(claim, Path(scratch))
         failed += not r["holds"]
         expected = ", ".join(str(e) for e in r["expected"])
-        print(f"{r['claim']:14s} {r['page']:20s} {str(r['on_page']):8s} {str(r['holds']):6s} {r['seconds']:5.0f}s  "
+        print(f"{r['claim']:20s} {r['page']:20s} {str(r['on_page']):8s} {str(r['holds']):6s} {r['seconds']:5.0f}s  "
               f"{expected} -> {', '.join(r['measured'])}", flush=True)
     print(f"{len(claims) - failed} of {len(claims)} claims hold")
     return 1 if failed else 0

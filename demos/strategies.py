@@ -54,10 +54,11 @@ PAGE = DemoPage(
     headline=_headline,
     finding=_finding,
     captions={"HexapodLoadCarry-v0.png": "Return and outcome per strategy, hexapod: the mean over seeded episodes "
-                                         "(n above each bar), with ± std bars when two or more episodes ran.",
+                                         "(n under each name: the episodes the bar holds), with ± std bars when two "
+                                         "or more episodes ran.",
               "HumanoidThermalRecovery-v0.png": "Return and outcome per strategy, humanoid: the mean over seeded "
-                                                "episodes (n above each bar), with ± std bars when two or more "
-                                                "episodes ran."})
+                                                "episodes (n under each name: the episodes the bar holds), with ± std "
+                                                "bars when two or more episodes ran."})
 
 
 @register_demo(NAME, "minimum-effort against thermal-aware (and baselines) in both Gymnasium environments",

@@ -67,19 +67,21 @@ def plot_table(rows, env_id, path: Path) -> Path:
     names = [r["strategy"] for r in rows]
     readable = {"recovery_s": "time to recover (s)", "distance_m": "distance (m)"}
     for ax, key, title in ((axes[0], "return", "episode return"), (axes[1], outcome, readable.get(outcome, outcome))):
+        ticks = []
         for k, r in enumerate(rows):
             mean, std, n = r[key]
+            # how many episodes each bar holds, under its name (off the bars and their error bars)
+            ticks.append(f"{names[k]}\n(n = {n}" + (f" of {r['episodes']})" if n != r["episodes"] else ")"))
             if mean is None:  # never reached in any episode: said, not drawn as a zero bar
                 ax.bar(k, 0.0, color="none")
                 ax.annotate("not reached", (k, 0.0), ha="center", va="bottom", fontsize=8, color="0.4")
                 continue
             # a spread needs two episodes or more: one episode gets no error bar
             ax.bar(k, mean, yerr=std if n >= 2 else None, capsize=4, color="tab:blue")
-            ax.annotate(f"n = {n}", (k, mean), ha="center", va="bottom", fontsize=7, color="0.3",
-                        xytext=(0, 2), textcoords="offset points")
-        ax.set_xticks(range(len(names)), names)
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xticks(range(len(names)), ticks)
         spread = any(r[key][2] >= 2 for r in rows if r[key][0] is not None)
         ax.set_title(f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"), fontsize=9)
-        ax.tick_params(axis="x", labelsize=8, rotation=15)
+        ax.tick_params(axis="x", labelsize=8)
     fig.suptitle(env_id, fontsize=10)
     return save(fig, path)
