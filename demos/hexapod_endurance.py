@@ -34,7 +34,7 @@ FULL = {"payloads_kg": (0.0, 20.0, 25.0, 30.0, 40.0, 60.0, 80.0, 100.0), "ambien
 # the quick run: one payload per mode where the strategies part (walking 25 kg: vertical-only derates within the
 # horizon, the others not; standing 80 kg: every strategy derates, at times an order of magnitude apart)
 QUICK = {"payloads_kg": {"walk": (25.0,), "stand": (80.0,)}, "ambients_C": (40.0,), "horizon_s": 8 * 3600.0,
-         "window_s": 4 * 3600.0, "calibration_s": 120.0, "check_s": 60.0,
+         "window_s": 4 * 3600.0, "calibration_s": 90.0, "check_s": 40.0,
          "choices": {"duty_factor": (0.55,), "foot_reach_m": (0.16,), "body_height_m": (0.13,),
                      "pause_share": (0.0, 0.1)}}
 CHECK_CELL = {"payload_kg": 20.0, "ambient_C": 40.0, "mode": "walk", "strategy": "vertical_only"}
@@ -197,7 +197,9 @@ def _plot_envelope(cells: list[dict], grid: dict, path: Path) -> None:
             ax.set_title(f"{mode}, ambient {ambient:.0f} °C (x: cannot carry it)", fontsize=10)
             ax.set_ylabel("time to first derating (h)")
             ax.set_xlabel("payload (kg)")
+            ax.set_xticks(sorted(payloads(grid, mode)))  # the payloads measured; strategies side by side at each
     axes[0, 0].legend(fontsize=8, loc="lower left")
+    fig.tight_layout()
     save(fig, path)
 
 

@@ -182,7 +182,7 @@ def _after(run, delay_s):
 
 def _plot_fig6(runs, name, path):
     """Jorgensen et al.'s Fig. 6 (e) and (f), one column per strategy: group norms over the mode sequence."""
-    fig, axes = plt.subplots(2, len(runs), figsize=(6.5 * len(runs), 6.5), sharex="col",
+    fig, axes = plt.subplots(2, len(runs), figsize=(5.5 * len(runs), 6.5), sharex="col",
                              gridspec_kw={"height_ratios": [3, 1]})
     code = {"right": 0, "double": 1, "left": 2}
     for k, (s, r) in enumerate(runs.items()):
@@ -208,7 +208,7 @@ def _plot_fig6(runs, name, path):
 def _plot_fig7(runs, name, path):
     """Jorgensen et al.'s Fig. 7 (a): the hot leg's norm rate, both strategies aligned at the warning; (b) the hottest
     actuator against the thresholds."""
-    fig, (rate_ax, hottest) = plt.subplots(1, 2, figsize=(13, 4))
+    fig, (rate_ax, hottest) = plt.subplots(1, 2, figsize=(11, 4))
     for s, r in runs.items():
         words = s.replace("_", " ")
         t, rate = _norm_rate(r)

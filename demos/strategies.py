@@ -66,8 +66,8 @@ PAGE = DemoPage(
 def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     summary = {}
     # the quick run: two seeds per strategy (a spread, however thin), episodes long enough for the humanoid's
-    # thermal-aware recovery (about 10 s) and for the hexapod to walk a metre
-    for env_id, max_time in ((hexapod_pb.ENV_ID, 6.0 if quick else 60.0), (humanoid_pb.ENV_ID, 20.0 if quick else 90.0)):
+    # thermal-aware recovery (about 10 s) and for the hexapod to walk half a metre
+    for env_id, max_time in ((hexapod_pb.ENV_ID, 4.0 if quick else 60.0), (humanoid_pb.ENV_ID, 15.0 if quick else 90.0)):
         episodes = run_episodes(env_id, 2 if quick else 5, seed=0, max_time_s=max_time)
         rows = table(episodes)
         plot_table(rows, env_id, out / f"{env_id.split('/')[-1]}.png")

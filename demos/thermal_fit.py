@@ -90,7 +90,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
 
 
 def _plot_fig5(log, predictions, path):
-    fig, axes = plt.subplots(3, 2, figsize=(12, 8), sharex=True)
+    fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True)
     for col, channel in enumerate(CHANNELS):
         ser = log.series(channel)
         t_min = ser.time_s / 60.0

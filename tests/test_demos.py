@@ -4,6 +4,7 @@ import json
 import re
 
 import pytest
+from PIL import Image
 from captions import broken_promises, code_names
 
 from thermolimb.demo_registry import caption, load_demos, run_demo
@@ -12,6 +13,7 @@ from thermolimb.report import build_report
 from thermolimb.util.errors import UsageError
 
 DEMOS = sorted(load_demos())
+COLUMN_PX = 1288
 
 
 @pytest.fixture(scope="module")
@@ -45,6 +47,8 @@ def test_demo_quick(name, quick_runs):
     assert values and all(v.strip() for v in values), values  # a headline table with rows, every value given
     for src in re.findall(r"<img src='([^']+)'", section):
         assert (out / src).is_file(), src  # every figure the section shows exists
+        with Image.open(out / src) as image:  # and fits the report's column unscaled (1320 px less its padding)
+            assert image.width <= COLUMN_PX, (src, image.width)
 
 
 @pytest.mark.slow  # every demo's figures, the long ones included

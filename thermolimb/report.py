@@ -20,8 +20,10 @@ from .model.terms import TERMS, effect_label
 from .util.atomic import write_text
 from .util.errors import UsageError
 
-STYLE = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:auto;padding:1em;line-height:1.45;color:#222}"
-         "h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
+# the column is as wide as the widest figure the demos draw (1.3k px at 110 dpi), so none is scaled down;
+# paragraphs keep a reading width
+STYLE = ("body{font-family:system-ui,sans-serif;max-width:1320px;margin:auto;padding:1em;line-height:1.45;color:#222}"
+         "p{max-width:1000px}h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
          "table.headline{border-collapse:collapse;margin:0.6em 0 1em;font-size:14px}"
          "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
          "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
@@ -42,7 +44,7 @@ def readable(text: str) -> str:
     effort bias (joule,effort_bias)``."""
     known = sorted(TERMS, key=len, reverse=True)
     word = r"(?:discovered_\w+?|" + "|".join(map(re.escape, known)) + r")(?![\w])"
-    pattern = re.compile(rf"(?<![\w(])({word}(?:,{word})*)")
+    pattern = re.compile(rf"(?<![\w])({word}(?:,{word})*)")
 
     def one(m: re.Match) -> str:
         names = m.group(1).split(",")
@@ -130,5 +132,12 @@ def build_report(out: Path) -> Path:
                               for f in folders) + "</ul>"]
     for folder in folders:
         parts += _section(folder, out, demos)
+    for name in in_tour_order(n for n in demos if n not in by_name and demos[n].missing):
+        parts += [f"<h2 id='{html.escape(name)}'>{html.escape(name)}</h2>",
+                  f"<p><em>{html.escape(demos[name].description)}</em></p>",
+                  f"<p class='missing'>Not run here: it needs {html.escape(', '.join(demos[name].missing))}, which "
+                  f"this environment lacks (<code>pip install 'thermolimb[{html.escape(demos[name].extra)}]'</code>, "
+                  f"then <code>thermolimb demo {html.escape(name)} --quick --out {html.escape(str(out))}</code> and "
+                  "the report again).</p>"]
     parts.append("</body></html>")
     return write_text(out / "index.html", "\n".join(parts))
