@@ -106,7 +106,7 @@ add_parser = Diagnose().add_parser
 def describe_diagnosis(d) -> str:
     b = d.base.validation
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
-             f"fit {b['fit_percent']:.1f} % ({d.base.scheme})"]
+             f"largest error {b['max_abs_K']:.3f} K ({d.base.scheme})"]
     lines += format_params(d.base)
     if d.floor is not None:
         lines.append(f"  {d.floor.sentence(b['rmse_K'])}")

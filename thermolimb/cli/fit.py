@@ -58,5 +58,7 @@ def _describe(report) -> str:
     lines = [f"{report.actuator}: model {','.join(report.model.terms)} by {report.method}",
              f"  train       RMSE {t['rmse_K']:.3f} K  max {t['max_abs_K']:.3f} K  fit {t['fit_percent']:.1f} %",
              f"  validation  RMSE {v['rmse_K']:.3f} K  max {v['max_abs_K']:.3f} K  fit {v['fit_percent']:.1f} %"
-             f"  ({report.scheme})"]
+             f"  ({report.scheme})",
+             "  (fit % = 100 (1 - |measured - model| / |measured - its mean|): 100 % exact, 0 % no better than the "
+             "mean, below 0 worse)"]
     return "\n".join(lines + format_params(report))

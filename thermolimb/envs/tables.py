@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import asdict
 from pathlib import Path
 
@@ -71,7 +72,9 @@ def plot_table(rows, env_id, path: Path) -> Path:
         for k, r in enumerate(rows):
             mean, std, n = r[key]
             # how many episodes each bar holds, under its name (off the bars and their error bars)
-            ticks.append(f"{names[k]}\n(n = {n}" + (f" of {r['episodes']})" if n != r["episodes"] else ")"))
+            # "always double\nsupport": no label runs into the next
+            words = textwrap.fill(names[k].replace("_", " "), 14)
+            ticks.append(f"{words}\n(n = {n}" + (f" of {r['episodes']})" if n != r["episodes"] else ")"))
             if mean is None:  # never reached in any episode: said, not drawn as a zero bar
                 ax.bar(k, 0.0, color="none")
                 ax.annotate("not reached", (k, 0.0), ha="center", va="bottom", fontsize=8, color="0.4")
