@@ -5,7 +5,7 @@ a page edited without its claim here is caught too), the command the page names,
 and the numbers to read from the command's output.  A claim holds when the page
 still says it and every number comes back within its tolerance.
 
-    python benchmarks/claims.py            # every claim (about 4 minutes on two cores)
+    python benchmarks/claims.py            # every claim (about 15 minutes on two cores)
     python benchmarks/claims.py --list     # the claims, without running them
     python benchmarks/claims.py --only tour-walk,bag-diagnose
 
@@ -54,6 +54,15 @@ CLAIMS = (
           r"start\s+-> joule,effort_bias: ([\d.]+) K.*?\+ speed_losses\s+-> joule,effort_bias,speed_losses: ([\d.]+) K"
           r".*?taken in (\d+) of 10",
           (7.056, 0.059, 10.0)),
+    Claim("tour-three-mass", "README.md",
+          "6.673 K → `+ speed_losses` 2.286 K → `+ neighbor_coupling` 1.888 K → `+ second_node` 1.556 K → "
+          "`+ third_node` 0.810 K",
+          (tuple(a for a in TOUR_LOG if a not in ("--network", "first_order")),
+           ("diagnose", "run.csv", "--actuator", "knee", "--auto", "--quiet")),
+          r"start\s+-> joule,effort_bias: ([\d.]+) K.*?\+ speed_losses\s+->[^:]*: ([\d.]+) K"
+          r".*?\+ neighbor_coupling\s+->[^:]*: ([\d.]+) K.*?\+ second_node\s+->[^:]*: ([\d.]+) K"
+          r".*?\+ third_node\s+->[^:]*: ([\d.]+) K",
+          (6.673, 2.286, 1.888, 1.556, 0.810)),
     Claim("tour-predict", "README.md",
           "reaches 90.0 degC from 30.0 degC in 91 s (90 % interval 90 s to 92 s)",
           (TOUR_LOG, ("diagnose", "run.csv", "--actuator", "knee", "--auto", "--save", "knee.json", "--limit-C", "90",
@@ -93,6 +102,21 @@ CLAIMS = (
            ("diagnose", "brake.csv", "--actuator", "knee", "--auto", "--discover", "--quiet")),
           r"start\s+-> joule,effort_bias: ([\d.]+) K.*\+ brake_heat[^:]*: ([\d.]+) K",
           (6.038, 0.060)),
+    Claim("filtering-bias", "docs/measurements.md",
+          "it returns RC = 60 s for a true 80 s",
+          (("BENCHMARK", "identification.py"),),
+          r"RC_s\s+true\s+80\s+paper\s+([\d.]+)\s+consistent LS\s+([\d.]+)\s+output error\s+([\d.]+)",
+          (60.0, 80.1, 80.0)),
+    Claim("minimax-walking", "docs/hexapod.md",
+          "the per-stride peak falls only **8.8 %** (1.056 → 0.964)",
+          (("BENCHMARK", "wrench.py"),),
+          r"per-step peak normalised torque: vertical-only ([\d.]+), minimax ([\d.]+) \(-([\d.]+) %",
+          (1.056, 0.964, 8.8), tolerance=0.01),
+    Claim("thermal-ik-left", "docs/humanoid.md",
+          "the fast method ends lower (left 1.9811 M vs 1.9823 M",
+          (("BENCHMARK", "thermal_ik.py"),),
+          r"left\s+naive.*?potential\s+(\d+) \| fast.*?potential\s+(\d+) with Gamma",
+          (1982300.0, 1981100.0), tolerance=0.0001),
 )
 
 

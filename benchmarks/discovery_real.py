@@ -19,7 +19,7 @@ import argparse
 import json
 import time
 
-from thermolimb.data import PMSM_MAP, REAL_LOGS, WX200_BAG, pmsm_profile
+from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, WX200_BAG, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import TERMS
 from thermolimb.util.errors import ThermolimbError
@@ -57,7 +57,7 @@ def _runs() -> dict[str, dict[str, list]]:
         out[key] = {a: [log.series(a) for log in logs] for a in logs[0].actuators}
     bag = WX200_BAG.read()[0]
     out["wx200-bag"] = {a: [bag.series(a)] for a in bag.actuators}
-    pmsm = [read_log(pmsm_profile(n), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm", actuator_name="pmsm")
+    pmsm = [read_log(pmsm_profile(n), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS, actuator_name="pmsm")
             for n in (24, 46)]
     out["pmsm"] = {"pmsm": [log.series("pmsm") for log in pmsm]}
     return out

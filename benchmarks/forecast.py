@@ -124,12 +124,12 @@ def real_logs() -> list[dict]:
     off, for time), saved and loaded; the second half forecast from its first reading under its own inputs.
     The thresholds are the highest reading within the first quarter and within three quarters of the second
     half (when at least 0.5 K above its first reading): the readings' own first crossing is the truth."""
-    from thermolimb.data import PMSM_MAP, REAL_LOGS, pmsm_profile
+    from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
     from thermolimb.logs import parse_mapping, read_log
 
     logs = []
     for number in (24, 46):
-        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
+        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS)
         logs += [(f"PMSM profile {number}", run) for run in log.runs(log.actuators[0])]
     ur3 = REAL_LOGS["ur3"].read()[0]
     logs += [(f"UR3 {joint}{run.run_label}", run) for joint in ur3.actuators for run in ur3.runs(joint)]

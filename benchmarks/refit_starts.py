@@ -16,7 +16,7 @@ import json
 
 import numpy as np
 
-from thermolimb.data import PMSM_MAP, REAL_LOGS, pmsm_profile
+from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
@@ -29,7 +29,7 @@ from thermolimb.workbench.validation import Scheme
 def logs() -> list[tuple[str, list]]:
     ur3 = REAL_LOGS["ur3"].read()[0]
     out = [(f"UR3 {j}", ur3.runs(j)) for j in ("J2", "J4", "J5")]
-    log = read_log(pmsm_profile(46), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
+    log = read_log(pmsm_profile(46), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS)
     out.append(("PMSM profile 46", log.runs(log.actuators[0])))
     fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses")
     plant = simulate_profile("random", 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=0,

@@ -23,7 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.data import PMSM_MAP, REAL_LOGS, WX200_BAG, pmsm_profile
+from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, WX200_BAG, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
@@ -53,7 +53,7 @@ def real_logs(quick: bool) -> list[tuple[str, list, bool]]:
     out.append(("WidowX-200 waist, ROS 1 bag", WX200_BAG.read()[0].runs("waist"), False))
     out.append(("BLDC bench, two runs", [r for log in REAL_LOGS["bldc"].read() for r in log.runs("bldc")], False))
     for number in (24, 46):
-        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
+        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS)
         out.append((f"PMSM profile {number}", log.runs(log.actuators[0]), False))
     return out
 

@@ -93,7 +93,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     check = details.get("periodic_check")
     if check:
         rows.append(("propagation against a whole PyBullet run",
-                     f"{check['max_abs_difference_K']:.1f} K at most, {check['final_difference_K']:+.1f} K at the end",
+                     f"{check['max_abs_difference_K']:.2g} K at most, {check['final_difference_K']:+.2g} K at the end",
                      f"{check['duration_s'] / 60:.0f} min, hottest winding averaged per cycle"))
     return rows
 
@@ -190,8 +190,9 @@ def _plot_envelope(cells: list[dict], grid: dict, path: Path) -> None:
                 turning = [(xx, h) for xx, h, c in zip(x, hours, rows) if not c["fell"] and not c["holds_heading"]]
                 if turning:
                     ax.plot(*zip(*turning), "o", mfc="white", mec=line.get_color(), ms=7)
-            ax.axhline(horizon / 3600, color="k", ls=":", lw=0.8)
-            ax.axhline(1.0, color="0.6", ls="--", lw=0.8)
+            ax.axhline(horizon / 3600, color="k", ls=":", lw=0.8,
+                       label=f"horizon, {horizon / 3600:.0f} h: points on it never derate within it")
+            ax.axhline(1.0, color="0.6", ls="--", lw=0.8, label="1 h")
             ax.set_yscale("log")
             ax.set_ylim(FLOOR_H / 1.5, horizon / 3600 * 1.5)
             ax.set_title(f"{mode}, ambient {ambient:.0f} °C (x: cannot carry it)", fontsize=10)

@@ -54,7 +54,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
                   f"minimum effort {seconds(me['recovery_s'])}"),
                  (f"{name}: contact modes chosen", ", ".join(ta["modes_chosen"]) or "none",
                   "minimum effort: " + (", ".join(me["modes_chosen"]) or "none")),
-                 (f"{name}: fell", f"thermal-aware {ta['fell']}, minimum effort {me['fell']}",
+                 (f"{name}: fell", f"thermal-aware: {'yes' if ta['fell'] else 'no'}, minimum effort: {'yes' if me['fell'] else 'no'}",
                   "the robot must never fall")]
         rows += _bound_rows(name, summary["details"][name]["first_order"])
     return rows

@@ -49,15 +49,23 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
         safe = cell["hot_set_safe_s"]
         rows.append((f"{cell['group']}, crouch {cell['depth_rad']:.2f} rad: minimum effort / thermal-aware",
                      _ratio_text(cell),
-                     f"hot set below 70 °C after {seconds(safe['minimum_effort'])} against "
-                     f"{seconds(safe['thermal_aware'])}; modes chosen {', '.join(cell['modes']['thermal_aware']) or 'none'} "
+                     f"hot set below 70 °C: minimum effort {_below(safe['minimum_effort'])}, thermal-aware "
+                     f"{_below(safe['thermal_aware'])}; modes chosen {', '.join(cell['modes']['thermal_aware']) or 'none'} "
                      f"/ {', '.join(cell['modes']['minimum_effort']) or 'none'}; fell: "
-                     f"{cell['fell']['thermal_aware']} / {cell['fell']['minimum_effort']}"))
+                     f"{_yes_no(cell['fell']['thermal_aware'])} / {_yes_no(cell['fell']['minimum_effort'])}"))
     for group, ok in summary["prediction_agrees"].items():
         rows.append((f"{group}: first order within {AGREEMENT:.0%} of every measured cell", "yes" if ok else "no",
                      "predictions fill the unmeasured cells between the measured ones" if ok
-                     else "unmeasured cells are left empty"))
+                     else "unmeasured cells show the prediction in parentheses, on grey: unconfirmed"))
     return rows
+
+
+def _below(value) -> str:
+    return "not by the end of the run" if value is None else f"after {seconds(value)}"
+
+
+def _yes_no(flag: bool) -> str:
+    return "yes" if flag else "no"
 
 
 def _finding(summary: dict) -> str:

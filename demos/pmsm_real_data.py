@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from thermolimb.data import PMSM_MAP, pmsm_profile
+from thermolimb.data import PMSM_MAP, PMSM_UNITS, pmsm_profile
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model.terms import DEFAULT_MODEL
@@ -60,7 +60,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     page = InteractivePage("pmsm-real-data demo: a real motor on a test bench",
                            "Profiles 24 and 46 of the Paderborn PMSM data: Jorgensen et al.'s model and the search's last.")
     for number in (24, 46):
-        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), velocity_unit="rpm")
+        log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS)
         series = [log.series(f"profile{number}")]
         first, steps = auto_diagnose(series, quiet=quiet, stability=Stability())  # as thermolimb diagnose does
         plot_diagnosis(first, out, f"profile{number}")

@@ -136,7 +136,8 @@ class HexapodLoadCarryEnv(RigEnv):
         hottest = float(reading.temperature_C.max())
         at_limit = bool(np.any(reading.temperature_C >= LIMITS.winding_limits_C))
         terms = {"distance": self.distance_weight_per_m * float(reading.body_position_m[0] - start_x),
-                 "overheat": -self.overheat_weight_per_K * max(0.0, hottest - self.overheat_from_C),
+                 # 0.0 minus a penalty: no "-0.0" in info when there is none
+                 "overheat": 0.0 - self.overheat_weight_per_K * max(0.0, hottest - self.overheat_from_C),
                  "fall": -self.fall_penalty if self.fallen else 0.0}
         terminated = self.fallen or at_limit
         truncated = self._end_step(terminated)

@@ -188,7 +188,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         efforts = self.sim.last_efforts / self.limits
         terms = {
             "cooling": self.cooling_weight_per_K * float(before - self.reading.temperature_C.max()),
-            "warning": -self.warning_weight * float(warning),
+            "warning": 0.0 - self.warning_weight * float(warning),  # no "-0.0" in info when there is none
             "fall": -self.fall_penalty if self.fallen else 0.0,
             "effort": -self.effort_weight * float(np.mean(efforts**2)),
         }

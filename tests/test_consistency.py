@@ -27,6 +27,7 @@ matplotlib.use("Agg")
 from thermolimb.cli.diagnose import describe_diagnosis  # noqa: E402
 from thermolimb.data import PMSM_MAP, REAL_LOGS, WX200_BAG, WX200_EXPORT, pmsm_profile  # noqa: E402
 from thermolimb.logs import read_log  # noqa: E402
+from thermolimb.model.terms import readable  # noqa: E402
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile  # noqa: E402
 from thermolimb.plotting.diagnosis import candidates_figure  # noqa: E402
 from thermolimb.workbench.diagnosis import auto_diagnose  # noqa: E402
@@ -124,8 +125,8 @@ def check_one_story(d) -> int:
     for c in d.candidates:
         if c.failure:
             assert c.failure in drawn, (c.label, c.failure)
-        elif not c.refitted:
-            assert c.label in drawn, c.label
+        elif not c.refitted:  # named in words, with its identifier beside them
+            assert readable(c.label) in drawn, c.label
     matplotlib.pyplot.close(figure)
     return len(list(_numbers(text)))
 

@@ -25,6 +25,7 @@ from typing import Callable, Mapping
 
 from .util.atomic import check_output_dir, made_folder, write_text
 from .util.errors import UsageError
+from .util.numbers import plus_minus
 from .util.jsonutil import to_jsonable
 
 
@@ -80,7 +81,7 @@ def mean_std(triple, unit: str = "", digits: int = 3) -> str:
     mean, std, n = triple
     if mean is None or not n:
         return "—"
-    return f"{mean:.{digits}g} ± {std:.2g}{(' ' + unit) if unit else ''} (n = {n})"
+    return f"{plus_minus(mean, std, digits)}{(' ' + unit) if unit else ''} (n = {n})"
 
 
 @dataclass(frozen=True)

@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import html
 import json
-import re
 from pathlib import Path
 
 from .demo_registry import caption, in_tour_order, load_demos
-from .model.terms import TERMS, effect_label
+from .model.terms import readable
 from .util.atomic import write_text
 from .util.errors import UsageError
 
@@ -36,23 +35,6 @@ def _load(path: Path):
         return json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise UsageError(f"{path} cannot be read as JSON ({exc}); run that demo again") from None
-
-
-def readable(text: str) -> str:
-    """Effect identifiers in ``text`` with the words a reader knows before them: ``+ speed_losses`` ->
-    ``+ speed losses (speed_losses)``; a comma-joined model, ``joule,effort_bias`` -> ``Joule heating from effort,
-    effort bias (joule,effort_bias)``."""
-    known = sorted(TERMS, key=len, reverse=True)
-    word = r"(?:discovered_\w+?|" + "|".join(map(re.escape, known)) + r")(?![\w])"
-    pattern = re.compile(rf"(?<![\w])({word}(?:,{word})*)")
-
-    def one(m: re.Match) -> str:
-        names = m.group(1).split(",")
-        if any(re.search(r"_c\d+$", n) for n in names):  # a generated term's parameter, not a term
-            return m.group(1)
-        return f"{', '.join(effect_label(n) for n in names)} ({m.group(1)})"
-
-    return pattern.sub(one, text)
 
 
 def _finding(demo, summary: dict) -> str:

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from ..model.units import spaced
+from ..util.numbers import plus_minus
 from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from ..workbench.diagnosis import auto_diagnose, diagnose
@@ -120,7 +121,7 @@ def describe_diagnosis(d) -> str:
         lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
                      f"{c.status}")
         for pname, v in c.params.items():
-            lines.append(f"      {pname} = {v['value']:.4g} ± {v['stderr']:.2g}{spaced(v['unit'])}")
+            lines.append(f"      {pname} = {plus_minus(v['value'], v['stderr'], 4)}{spaced(v['unit'])}")
         lines.append(f"      {c.evidence}")
     evidence = d.base.evidence
     if not evidence.rankable:

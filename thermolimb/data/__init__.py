@@ -9,6 +9,8 @@ from pathlib import Path
 from ..util.errors import UsageError
 
 PMSM_MAP = "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
+# the columns' units as the dataset's README states them (its header has none); the velocity is converted to rad/s
+PMSM_UNITS = {"effort_unit": "N m", "velocity_unit": "rpm"}
 
 
 def pmsm_profile(number: int) -> Path:

@@ -18,6 +18,8 @@ estimator, ``thermolimb fit`` and ``thermolimb diagnose`` can use it.
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass
 from typing import ClassVar, Mapping
 
@@ -151,6 +153,23 @@ def effect_label(name: str) -> str:
     if name.startswith("discovered_") or (term is not None and term.generated):
         return "a discovered form"
     return name.replace("_", " ")
+
+
+def readable(text: str) -> str:
+    """Effect identifiers in ``text`` with the words a reader knows before them: ``+ speed_losses`` ->
+    ``+ speed losses (speed_losses)``; a comma-joined model, ``joule,effort_bias`` -> ``Joule heating from effort,
+    effort bias (joule,effort_bias)``."""
+    known = sorted(TERMS, key=len, reverse=True)
+    word = r"(?:discovered_\w+?|" + "|".join(map(re.escape, known)) + r")(?![\w])"
+    pattern = re.compile(rf"(?<![\w])({word}(?:,{word})*)")
+
+    def one(m: re.Match) -> str:
+        names = m.group(1).split(",")
+        if any(re.search(r"_c\d+$", n) for n in names):  # a generated term's parameter, not a term
+            return m.group(1)
+        return f"{', '.join(effect_label(n) for n in names)} ({m.group(1)})"
+
+    return pattern.sub(one, text)
 
 
 def _parameter_names_except(name: str) -> set[str]:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.terms import readable
 from ..workbench.diagnosis.diagnose import Diagnosis
 from .fits import overlay, plot_comparison, plt, save
 
@@ -25,7 +26,7 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
     err = fig.add_subplot(grid[1, :], sharex=top)
     overlay(d.base, top, err)
     v = d.base.validation
-    top.set_title(f"{d.actuator}: measured temperature and the free run of model {','.join(d.model)}\n"
+    top.set_title(f"{d.actuator}: measured temperature and the free run of the model, {readable(','.join(d.model))}\n"
                   f"validation (shaded) RMSE {v['rmse_K']:.3f} K, largest error {v['max_abs_K']:.3f} K; {d.base.scheme}",
                   fontsize=10)
     err.set_title("residual: where the model fails", fontsize=9)
@@ -61,7 +62,8 @@ def candidates_figure(d: Diagnosis):
     refitted = [c for c in d.candidates if c.refitted]
     others = [c for c in d.candidates if not c.refitted]
     fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
-    labels = [c.label for c in refitted][::-1]
+    # each change in words with its identifier, wrapped so that the axes keep their width
+    labels = [textwrap.fill(readable(c.label), 42) for c in refitted][::-1]
     gains = [100 * c.improvement for c in refitted][::-1]
     colours = [STATUS_COLOURS.get(c.status, "tab:blue") for c in refitted][::-1]
     ax.barh(labels, gains, color=colours)
@@ -79,13 +81,13 @@ def candidates_figure(d: Diagnosis):
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
     thin = ("" if d.base.evidence.rankable else " (evidence too thin)") or (" (at the sensor's floor)" if d.at_floor
                                                                           else "")
-    ax.set_title(f"{d.actuator}: changes to model {','.join(d.model)} tried; recommended: "
-                 f"{d.recommended.label if d.recommended else 'none'}{thin}", fontsize=10)
+    ax.set_title(textwrap.fill(f"{d.actuator}: changes to the model, {readable(','.join(d.model))}, tried; recommended: "
+                               f"{readable(d.recommended.label) if d.recommended else 'none'}{thin}", 110), fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
               fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     if others:
-        text = "\n".join(f"{c.label}: {c.status} ({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
+        text = "\n".join(f"{readable(c.label)}: {c.status} ({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
                          for c in others)
         fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
     return fig
@@ -114,7 +116,7 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.8))
     labels, rmse, kinds = waterfall_bars(steps)
     # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not overlap
-    labels = [textwrap.fill(label.replace("_", "_ "), 18).replace("_ ", "_") for label in labels]
+    labels = [textwrap.fill(readable(label).replace("_", "_ "), 20).replace("_ ", "_") for label in labels]
     colours = {"taken": "tab:blue", "flagged": "tab:red", "unstable": "white"}
     ax.bar(np.arange(len(rmse)), rmse, color=[colours[k] for k in kinds],
            edgecolor=["tab:orange" if k == "unstable" else "none" for k in kinds],

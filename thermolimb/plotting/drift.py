@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.units import render
+from ..util.numbers import significant
 from ..workbench.drift import DRIFT_PARAMS
 from .fits import plt, save
 
@@ -51,22 +52,26 @@ def plot_drift(records: list[dict], path: str | Path, effort_unit: str | None = 
             ax.hlines(q["mean"], i - 0.35, i + 0.35, color="red" if q["moved"] else "0.4", lw=1)
             shown += list(v)
         lo, hi = _range(shown)
+        beyond = 0  # values written beside the edge's triangles, staggered so that neighbours' do not overlap
         for xk, vk, sk, color, label in points:
             if lo <= vk <= hi:
                 ax.errorbar(xk, vk, yerr=2.0 * sk, fmt="o", color=color, ms=4, capsize=2, lw=1, label=label or None)
             else:  # beyond the shown range: a triangle on the edge, with the value
                 edge = hi if vk > hi else lo
                 ax.plot(xk, edge, "^" if vk > hi else "v", color=color, ms=7, clip_on=False)
-                ax.annotate(f"{vk:.3g}", (xk, edge), textcoords="offset points", xytext=(4, -10 if vk > hi else 4),
-                            fontsize=7)
+                step = 9 * (beyond % 2)
+                beyond += 1
+                ax.annotate(significant(vk, 4), (xk, edge), textcoords="offset points",
+                            xytext=(4, -10 - step if vk > hi else 4 + step), fontsize=7)
         if shown:
             pad = 0.15 * (hi - lo) if hi > lo else 0.1 * abs(hi) + 1e-9
             ax.set_ylim(lo - pad, hi + pad)
         label = LABELS.get(p, p)
         if p == "betaR_K_per_effort2" and effort_unit:
-            label = f"βR, rise per effort² ({render('K/({effort})^2', {'effort': effort_unit})})"
+            label = f"βR, rise per effort²\n({render('K/({effort})^2', {'effort': effort_unit})})"
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
+    fig.align_ylabels(axes)
     axes[-1].set_xticks(range(len(records)))
     axes[-1].set_xticklabels([r["actuator"] for r in records], rotation=45 if len(records) > 8 else 0)
     for label, r in zip(axes[-1].get_xticklabels(), records):

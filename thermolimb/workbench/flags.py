@@ -16,6 +16,7 @@ import numpy as np
 from ..logs import ActuatorSeries
 from ..model.model import ThermalModel
 from ..model.units import spaced
+from ..util.numbers import plus_minus
 from .excitation import excitation
 from .floor import FLOOR_FACTOR, sensor_floor
 
@@ -110,7 +111,7 @@ def _uncertain(p, value: float, stderr: float | None, units, cause) -> str | Non
     relative = stderr / abs(value)
     if relative <= MAX_RELATIVE_STDERR:
         return None
-    return (f"{p.name} = {value:.3g} ± {stderr:.2g}{spaced(p.unit_in(units))}: its standard error is {100 * relative:.0f} % of "
+    return (f"{p.name} = {plus_minus(value, stderr)}{spaced(p.unit_in(units))}: its standard error is {100 * relative:.0f} % of "
             f"it, {cause(p.excitation)}")
 
 

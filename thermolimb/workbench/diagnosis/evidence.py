@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ...model.terms import TERMS
 from ...model.units import spaced
+from ...util.numbers import plus_minus
 from .candidates import SCORE_P_VALUE, Candidate
 from .residuals import ResidualAnalysis
 
@@ -87,7 +88,7 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
 
 def _fitted(c: Candidate) -> str:
     """The fitted sizes of a generated term, with their units and uncertainty."""
-    return ", ".join(f"{name} = {p['value']:.3g} ± {p['stderr']:.2g}{spaced(p['unit'])}" for name, p in c.params.items())
+    return ", ".join(f"{name} = {plus_minus(p['value'], p['stderr'])}{spaced(p['unit'])}" for name, p in c.params.items())
 
 
 def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:

@@ -1,0 +1,20 @@
+"""Numbers as a reader writes them."""
+
+from __future__ import annotations
+
+import math
+
+
+def significant(x: float, digits: int = 2) -> str:
+    """``x`` to ``digits`` significant figures as ``format(x, 'g')`` writes it, except that a number between
+    ``10**digits`` and a million is written to the unit (``360``, where ``format(360.4, '.2g')`` gives
+    ``3.6e+02``; ``8123``, not ``8100``, which would claim digits it does not have)."""
+    text = f"{x:.{digits}g}"
+    if "e" in text and math.isfinite(x) and 1.0 <= abs(x) < 1e6:
+        return f"{x:.0f}"
+    return text
+
+
+def plus_minus(value: float, stderr: float, digits: int = 3) -> str:
+    """``value ± stderr``, the value to ``digits`` and its standard error to two significant figures."""
+    return f"{significant(value, digits)} ± {significant(stderr, 2)}"
