@@ -3,7 +3,7 @@
 Every cell is measured in PyBullet and propagated over hours through the
 plant's exact cycle map (:mod:`hexapod_pb.endurance`); the thermal-aware
 strategies plan with models identified from the robot's own calibration log.
-One cell is also run whole in PyBullet (20 minutes; 2 in ``--quick``) and the
+One cell is also run whole in PyBullet (20 minutes; 40 s in ``--quick``) and the
 propagation compared with it.
 """
 
@@ -77,7 +77,9 @@ def best_gain(cells: list[dict]) -> dict | None:
 
 
 def _fmt_time(seconds) -> str:
-    return "none within the horizon" if seconds is None else f"{seconds / 60:.0f} min"
+    if seconds is None:
+        return "none within the horizon"
+    return f"{seconds:.0f} s" if seconds < 120.0 else f"{seconds / 60:.0f} min"
 
 
 def _headline(summary: dict) -> list[tuple[str, str, str]]:
@@ -94,7 +96,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
     if check:
         rows.append(("propagation against a whole PyBullet run",
                      f"{check['max_abs_difference_K']:.2g} K at most, {check['final_difference_K']:+.2g} K at the end",
-                     f"{check['duration_s'] / 60:.0f} min, hottest winding averaged per cycle"))
+                     f"{_fmt_time(check['duration_s'])}, hottest winding averaged per cycle"))
     return rows
 
 

@@ -34,7 +34,8 @@ class PeriodicCheck:
         return float(self.propagated_hottest_C[-1] - self.pybullet_hottest_C[-1])
 
     def summary(self) -> dict:
-        return {"duration_s": self.duration_s, "max_abs_difference_K": self.max_abs_difference_K,
+        # the duration to the microsecond: whole control periods, not their floating-point sum
+        return {"duration_s": round(self.duration_s, 6), "max_abs_difference_K": self.max_abs_difference_K,
                 "final_difference_K": self.final_difference_K,
                 "final_pybullet_C": float(self.pybullet_hottest_C[-1]),
                 "final_propagated_C": float(self.propagated_hottest_C[-1])}

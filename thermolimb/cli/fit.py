@@ -59,6 +59,6 @@ def _describe(report) -> str:
              f"  train       RMSE {t['rmse_K']:.3f} K  max {t['max_abs_K']:.3f} K  fit {t['fit_percent']:.1f} %",
              f"  validation  RMSE {v['rmse_K']:.3f} K  max {v['max_abs_K']:.3f} K  fit {v['fit_percent']:.1f} %"
              f"  ({report.scheme})",
-             "  (fit % = 100 (1 - |measured - model| / |measured - its mean|): 100 % exact, 0 % no better than the "
+             "  (fit % = 100 (1 - ‖measured - model‖ / ‖measured - its mean‖), norms over the samples: 100 % exact, 0 % no better than the "
              "mean, below 0 worse)"]
     return "\n".join(lines + format_params(report))

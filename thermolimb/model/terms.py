@@ -145,12 +145,12 @@ def unregister_term(name: str) -> None:
 
 
 def effect_label(name: str) -> str:
-    """The words a reader knows for a term: its ``label``, "a discovered form" for a generated one, else its
+    """The words a reader knows for a term: its ``label``, "a discovered form" for a discovered one, else its
     name with spaces."""
     term = TERMS.get(name)
     if term is not None and term.label:
         return term.label
-    if name.startswith("discovered_") or (term is not None and term.generated):
+    if name.startswith("discovered_"):  # a channel's generated term (brake_heat) keeps its name, in words
         return "a discovered form"
     return name.replace("_", " ")
 
@@ -169,7 +169,8 @@ def readable(text: str) -> str:
             return m.group(1)
         return f"{', '.join(effect_label(n) for n in names)} ({m.group(1)})"
 
-    return pattern.sub(one, text)
+    # a discovered form's label already says so: "+ discovered_x (discovered)" is not told twice
+    return re.sub(r"(a discovered form \(discovered_\w+\)) \(discovered\)", r"\1", pattern.sub(one, text))
 
 
 def _parameter_names_except(name: str) -> set[str]:

@@ -104,7 +104,8 @@ class Candidate:
     @property
     def label(self) -> str:
         if self.kind == "channel":
-            return f"+ {self.effect} ({self.channel} [{self.channel_unit}])"
+            unit = "" if self.channel_unit in (None, "", "1") else f", in {self.channel_unit}"  # "1": a plain number
+            return f"+ {self.effect} (from the channel {self.channel}{unit})"
         if self.kind == "discovered":
             return f"+ {self.effect} (discovered)"
         if self.kind == "drop":
