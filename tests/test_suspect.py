@@ -78,3 +78,25 @@ def test_dropouts_are_left_out(frame, tmp_path):
     note = next(n for n in log.notes if "dropout" in n)
     assert "and 2 more stretches (4 samples)" in note
     assert fit.validation["rmse_K"] < 0.1
+
+
+def test_a_winding_heated_by_fast_pulses_is_not_a_dropout(tmp_path):
+    """The X8 winding node heats 10-30 K within two seconds under a pulse and cools as fast (the hidden-effects
+    case that runs hot): at 1 Hz that is a ramp, not a reading far from steady neighbours.  The same readings
+    with real dropouts injected still have those found, and only those."""
+    from thermolimb.plant.cases import HIDDEN_CASES
+
+    log = HIDDEN_CASES["winding_tempco"].log(0, duration_s=1800.0)
+    assert not [n for n in log.notes if "left out" in n]
+    frame = log.frame
+    knee = frame[frame["actuator"] == "knee"].copy()
+    t = knee["temperature"].to_numpy().copy()
+    # where the readings are steady for a few samples on either side: a sensor dropping to 0 there
+    steady = [k for k in range(10, t.size - 10) if np.all(np.abs(np.diff(t[k - 4:k + 5])) < 1.0)]
+    assert len(steady) >= 2
+    t[steady[0]] = 0.0
+    t[steady[-1]] = -40.0
+    path = tmp_path / "pulses.csv"
+    knee.assign(temperature=t).to_csv(path, index=False)
+    notes = [n for n in read_log(path).notes if "dropout" in n]
+    assert len(notes) == 1 and "and 1 more stretches (2 samples)" in notes[0], notes

@@ -54,13 +54,19 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
     spans += [(a, b, "a dropout (a reading far from both its neighbours, and back)") for a, b in
-              dropouts(temperature_C)]
+              dropouts(temperature_C, heat)]
     return sorted(spans)
 
 
-def dropouts(values: np.ndarray) -> list[tuple[int, int]]:
+def dropouts(values: np.ndarray, heat: np.ndarray | None = None) -> list[tuple[int, int]]:
     """Stretches of at most :data:`DROPOUT_MAX_SAMPLES` readings more than :data:`DROPOUT_K` kelvin from the
-    readings on both sides of them (a sensor reading 0, a sentinel, or a spike, for a moment)."""
+    readings on both sides of them (a sensor reading 0, a sentinel, or a spike, for a moment).
+
+    A dropout is a discontinuity: the readings are steady up to the jump and steady again after the jump back
+    (each of the :data:`DROPOUT_MAX_SAMPLES` steps on either side under half of :data:`DROPOUT_K`).  A winding
+    heated by effort pulses moves as fast, but its steps around the largest ones are large too, so it is not
+    taken for one.  Nor is a rise while more heat comes in (``heat``, the effort squared, at least twice its
+    median around the stretch): at a coarse sampling a short pulse can show as one high reading."""
     n = values.size
     w = DROPOUT_MAX_SAMPLES
     if n < 2 * w + 3:
@@ -68,19 +74,36 @@ def dropouts(values: np.ndarray) -> list[tuple[int, int]]:
     out = []
     k = w
     while k < n - w:
-        if abs(values[k] - values[k - 1]) > DROPOUT_K:
+        if abs(values[k] - values[k - 1]) > DROPOUT_K and _steady(values[max(0, k - w - 1):k]):
             before = float(np.median(values[max(0, k - w):k]))
             for length in range(1, w + 1):
                 if k + length >= n:
                     break
                 after = float(values[k + length])  # the first reading back
                 inside = values[k:k + length]
-                if abs(after - before) < DROPOUT_K / 2 and np.all(np.abs(inside - before) > DROPOUT_K):
+                steady_after = _steady(values[k + length:k + length + w + 1])
+                if abs(after - before) < DROPOUT_K / 2 and np.all(np.abs(inside - before) > DROPOUT_K) \
+                        and steady_after and not _heated(values, heat, k, k + length, before):
                     out.append((k, k + length))
                     k += length
                     break
         k += 1
     return out
+
+
+def _steady(values: np.ndarray) -> bool:
+    return bool(np.all(np.abs(np.diff(values)) < DROPOUT_K / 2))
+
+
+def _heated(values: np.ndarray, heat: np.ndarray | None, a: int, b: int, before: float) -> bool:
+    """The readings ``a:b`` rose while the heat coming in over the intervals leading to them (an input holds
+    from its sample to the next, so reading ``k`` follows ``heat[k - 1]``) was at least twice its median on both
+    sides of the stretch."""
+    if heat is None or not np.all(values[a:b] > before):
+        return False
+    w = DROPOUT_MAX_SAMPLES
+    around = np.concatenate([heat[max(0, a - 1 - w):a - 1], heat[b - 1:b - 1 + w]])
+    return around.size > 0 and float(np.mean(heat[a - 1:b - 1])) >= 2.0 * float(np.median(around))
 
 
 def leave_out(group, name: str, source: str, notes: list[str], min_samples: int):
