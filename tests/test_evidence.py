@@ -12,6 +12,7 @@ from conftest import first_order_log, first_order_truth
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG
 from thermolimb.identification import IdentifiabilityError
+from thermolimb.util.numbers import significant
 from thermolimb.logs import read_log
 from thermolimb.plant import X8_9, PlantEffects, simulate_profile
 from thermolimb.workbench.evidence import MIN_SAMPLES_TO_RANK, THIN_SAMPLES, Evidence
@@ -138,7 +139,7 @@ def test_evidence_verdicts_follow_their_stated_thresholds(n, span_s, rc_s, verdi
     evidence = Evidence.of([_segment(n, span_s)], rc_s)
     assert evidence.verdict == verdict
     sentence = evidence.sentence()
-    assert sentence.startswith(f"evidence: {n} validation samples over {span_s:.3g} s")
+    assert sentence.startswith(f"evidence: {n} validation samples over {significant(span_s, 3)} s")
     assert ("too thin" in sentence) == (verdict == "too thin") and ("thin (" in sentence) == (verdict == "thin")
 
 

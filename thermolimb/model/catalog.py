@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..constants import COPPER_REFERENCE_C
+from ..util.numbers import significant
 from .scan import first_order_scan
 from .signals import Signals
 from .terms import Parameter, Term, register_term
@@ -264,8 +265,8 @@ class SlowMass(Term):
 
     def implausible(self, p):
         if p[self.tau] <= p["RC_s"]:
-            return (f"{self.tau} = {p[self.tau]:.3g} s is not slower than the winding's RC_s = {p['RC_s']:.3g} s "
-                    f"fitted with it")
+            return (f"{self.tau} = {significant(p[self.tau], 3)} s is not slower than the winding's "
+                    f"RC_s = {significant(p['RC_s'], 3)} s fitted with it")
         return super().implausible(p)
 
     def winding_share(self, p):

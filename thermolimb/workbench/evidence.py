@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..util.numbers import significant
+
 MIN_SAMPLES_TO_RANK = 10
 THIN_SAMPLES = 30
 THIN_TIME_CONSTANTS = 1.0
@@ -56,8 +58,9 @@ class Evidence:
     def sentence(self) -> str:
         """``evidence: 6 validation samples over 31 s (1.2 time constants of RC_s = 25.7 s), 3 distinct readings:
         too thin to rank ...``"""
-        head = (f"evidence: {self.samples} validation samples over {self.span_s:.3g} s ({self.time_constants:.1f} "
-                f"time constants of RC_s = {self.time_constant_s:.3g} s), {self.distinct_readings} distinct readings")
+        head = (f"evidence: {self.samples} validation samples over {significant(self.span_s, 3)} s "
+                f"({self.time_constants:.1f} time constants of RC_s = {significant(self.time_constant_s, 3)} s), "
+                f"{self.distinct_readings} distinct readings")
         if not self.rankable:
             return (f"{head}: too thin to rank models or recommend a change (at least {MIN_SAMPLES_TO_RANK} "
                     f"held-out samples needed; a longer log, or a larger --split share held out)")

@@ -16,7 +16,7 @@ import numpy as np
 from ..logs import ActuatorSeries
 from ..model.model import ThermalModel
 from ..model.units import spaced
-from ..util.numbers import plus_minus
+from ..util.numbers import plus_minus, significant
 from .excitation import excitation
 from .floor import FLOOR_FACTOR, sensor_floor
 
@@ -45,8 +45,8 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         scale = abs(p.typical) if p.typical else 1.0
         if p.unit == "s":
             if v > LONG_TIME_CONSTANT * duration:
-                flags.append(f"{p.name} = {v:.3g} s is longer than {LONG_TIME_CONSTANT:g}x the log ({duration:.0f} s): "
-                             f"the log shows the start of a change, not its time constant")
+                flags.append(f"{p.name} = {significant(v, 3)} s is longer than {LONG_TIME_CONSTANT:g}x the log "
+                             f"({duration:.0f} s): the log shows the start of a change, not its time constant")
             elif v < SHORT_TIME_CONSTANT * dt:
                 flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
                              f"({dt:.3g} s): the log cannot show it")
