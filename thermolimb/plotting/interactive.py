@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.terms import readable
 from ..util.atomic import write_text
 from .diagnosis import STATUS_COLOURS
 from .fits import run_offsets
@@ -120,7 +121,7 @@ def candidates_figure(d):
     import plotly.graph_objects as go
 
     refitted = [c for c in d.candidates if c.refitted]
-    labels = [c.label + ("  ← recommended" if c is d.recommended else "") for c in refitted]
+    labels = [readable(c.label) + ("  ← recommended" if c is d.recommended else "") for c in refitted]
     fig = go.Figure(go.Bar(x=[100 * c.improvement for c in refitted], y=labels, orientation="h",
                            text=[f"{c.status}, {c.rmse_K:.3f} K" for c in refitted], textposition="outside",
                            marker_color=[_hex(STATUS_COLOURS.get(c.status, "tab:blue")) for c in refitted]))
@@ -141,6 +142,7 @@ def waterfall_figure(steps: list[dict], actuator: str):
     from .diagnosis import waterfall_bars
 
     labels, rmse, kinds = waterfall_bars(steps)
+    labels = [readable(label) for label in labels]  # as the PNG names them
     colours = {"taken": "#1f77b4", "flagged": "#d62728", "unstable": "white"}  # matplotlib's tab:blue, tab:red
     fig = go.Figure(go.Bar(x=labels, y=rmse, text=[f"{v:.3f} K" for v in rmse], textposition="outside",
                            marker={"color": [colours[k] for k in kinds],
