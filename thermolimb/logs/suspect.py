@@ -26,11 +26,11 @@ DROPOUT_K = 10.0  # a reading this far from both its neighbours' median, and bac
 DROPOUT_MAX_SAMPLES = 3  # ...lasting at most this many samples
 
 
-def _plateaus(values: np.ndarray) -> list[tuple[int, int]]:
-    """``(start, stop)`` of every run of exactly repeated values."""
+def _plateaus(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(starts, stops)`` of every run of exactly repeated values, as arrays (a noisy log of millions of samples
+    has about as many runs: no Python object per run)."""
     change = np.flatnonzero(np.diff(values) != 0.0) + 1
-    edges = np.concatenate([[0], change, [values.size]])
-    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+    return np.concatenate([[0], change]), np.concatenate([change, [values.size]])
 
 
 def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple[int, int, str]]:
@@ -40,17 +40,19 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     heat = effort * effort
     spans = []
     top = float(np.max(temperature_C))
-    plateaus = _plateaus(temperature_C)
-    at_top = [(a, b) for a, b in plateaus if temperature_C[a] == top]
+    starts, stops = _plateaus(temperature_C)
+    lengths = stops - starts
+    at_top = temperature_C[starts] == top
     # a ceiling, once one long plateau at the top shows it, holds every stretch the readings sit on it
-    ceiling = any(b - a >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)
-                  and float(np.mean(heat[a:b])) > float(np.mean(heat)) for a, b in at_top)
-    for a, b in plateaus:
-        if ceiling and temperature_C[a] == top and b - a >= CEILING_STRETCH:
+    long_at_top = np.flatnonzero(at_top & (lengths >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)))
+    ceiling = any(float(np.mean(heat[starts[i]:stops[i]])) > float(np.mean(heat)) for i in long_at_top)
+    pinned = ceiling & at_top & (lengths >= CEILING_STRETCH)
+    for i in np.flatnonzero(pinned | (lengths >= max(STUCK_MIN_SAMPLES, STUCK_MIN_SHARE * n))):
+        a, b = int(starts[i]), int(stops[i])
+        if pinned[i]:
             spans.append((a, b, f"pinned at its highest reading, {top:g} degC, while heat came in (a sensor at its "
                                 f"ceiling)"))
-        elif b - a >= max(STUCK_MIN_SAMPLES, STUCK_MIN_SHARE * n) and float(np.ptp(effort[a:b])) >= \
-                EFFORT_MOVES * effort_range:
+        elif float(np.ptp(effort[a:b])) >= EFFORT_MOVES * effort_range:
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
     spans += [(a, b, "a dropout (a reading far from both its neighbours, and back)") for a, b in
@@ -72,9 +74,12 @@ def dropouts(values: np.ndarray, heat: np.ndarray | None = None) -> list[tuple[i
     if n < 2 * w + 3:
         return []
     out = []
-    k = w
-    while k < n - w:
-        if abs(values[k] - values[k - 1]) > DROPOUT_K and _steady(values[max(0, k - w - 1):k]):
+    after_last = w  # where the next dropout may start
+    # only where a reading jumps: a log of millions of samples has few such places
+    for k in (np.flatnonzero(np.abs(np.diff(values)) > DROPOUT_K) + 1).tolist():
+        if k < after_last or k >= n - w:
+            continue
+        if _steady(values[max(0, k - w - 1):k]):
             before = float(np.median(values[max(0, k - w):k]))
             for length in range(1, w + 1):
                 if k + length >= n:
@@ -85,9 +90,8 @@ def dropouts(values: np.ndarray, heat: np.ndarray | None = None) -> list[tuple[i
                 if abs(after - before) < DROPOUT_K / 2 and np.all(np.abs(inside - before) > DROPOUT_K) \
                         and steady_after and not _heated(values, heat, k, k + length, before):
                     out.append((k, k + length))
-                    k += length
+                    after_last = k + length + 1
                     break
-        k += 1
     return out
 
 
