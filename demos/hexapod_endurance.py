@@ -185,13 +185,14 @@ def _plot_envelope(cells: list[dict], grid: dict, path: Path) -> None:
                 x = np.array([c["payload_kg"] for c in rows]) + (k - 2) * 0.6
                 hours = [np.nan if c["fell"] else (c["time_to_derate_s"] or horizon) / 3600 for c in rows]
                 # lines only where the payload grid is fine enough to read a trend between its points
-                line, = ax.plot(x, hours, "o-" if len(rows) >= 4 else "o", ms=4, lw=1.2,
+                # one colour per strategy in every panel (a marker-only plot below must not move the cycle)
+                line, = ax.plot(x, hours, "o-" if len(rows) >= 4 else "o", ms=4, lw=1.2, color=f"C{k}",
                                 label=strategy.replace("_", " "))
                 fell = [xx for xx, c in zip(x, rows) if c["fell"]]
                 ax.plot(fell, [FLOOR_H] * len(fell), "x", color=line.get_color(), ms=7)
                 turning = [(xx, h) for xx, h, c in zip(x, hours, rows) if not c["fell"] and not c["holds_heading"]]
                 if turning:
-                    ax.plot(*zip(*turning), "o", mfc="white", mec=line.get_color(), ms=7)
+                    ax.plot(*zip(*turning), "o", color=line.get_color(), mfc="white", ms=7)
             ax.axhline(horizon / 3600, color="k", ls=":", lw=0.8,
                        label=f"horizon, {horizon / 3600:.0f} h: points on it never derate within it")
             ax.axhline(1.0, color="0.6", ls="--", lw=0.8, label="1 h")
