@@ -12,6 +12,7 @@ torques become actuator efforts (one-to-one by default; push rods otherwise).
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import os
 import sys
 from collections import deque
@@ -40,6 +41,9 @@ def silenced(fd: int = 1):
         os.dup2(devnull, fd)
         yield
     finally:
+        # C's own buffer too: where the standard output is a file or a pipe, what PyBullet printed ("argv[0]=")
+        # would otherwise be written later, on our stream
+        ctypes.CDLL(None).fflush(None)
         os.dup2(saved, fd)
         os.close(devnull)
         os.close(saved)

@@ -167,10 +167,10 @@ def readable(text: str) -> str:
         names = m.group(1).split(",")
         if any(re.search(r"_c\d+$", n) for n in names):  # a generated term's parameter, not a term
             return m.group(1)
-        words = [effect_label(n) for n in names]
-        if all(w == n.replace("_", " ") for w, n in zip(words, names)):  # no words beyond the name (a user's term)
+        named = [n for n in names if (TERMS[n].label if n in TERMS else None) or n.startswith("discovered_")]
+        if not named:  # no words beyond the name (a user's term, a channel's): the name alone
             return m.group(1)
-        return f"{', '.join(words)} ({m.group(1)})"
+        return f"{', '.join(effect_label(n) for n in names)} ({m.group(1)})"
 
     # a discovered form's label already says so: "+ discovered_x (discovered)" is not told twice
     return re.sub(r"(a discovered form \(discovered_\w+\)) \(discovered\)", r"\1", pattern.sub(one, text))

@@ -63,7 +63,7 @@ def candidates_figure(d: Diagnosis):
     others = [c for c in d.candidates if not c.refitted]
     fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
     # each change in words with its identifier, wrapped so that the axes keep their width
-    labels = [textwrap.fill(readable(c.label), 42) for c in refitted][::-1]
+    labels = [textwrap.fill(readable(c.label), 30) for c in refitted][::-1]
     gains = [100 * c.improvement for c in refitted][::-1]
     colours = [STATUS_COLOURS.get(c.status, "tab:blue") for c in refitted][::-1]
     ax.barh(labels, gains, color=colours)
@@ -82,7 +82,7 @@ def candidates_figure(d: Diagnosis):
     thin = ("" if d.base.evidence.rankable else " (evidence too thin)") or (" (at the sensor's floor)" if d.at_floor
                                                                           else "")
     ax.set_title(textwrap.fill(f"{d.actuator}: changes to the model, {readable(','.join(d.model))}, tried; recommended: "
-                               f"{readable(d.recommended.label) if d.recommended else 'none'}{thin}", 110), fontsize=10)
+                               f"{readable(d.recommended.label) if d.recommended else 'none'}{thin}", 95), fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
               fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
