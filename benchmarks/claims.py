@@ -5,7 +5,7 @@ a page edited without its claim here is caught too), the command the page names,
 and the numbers to read from the command's output.  A claim holds when the page
 still says it and every number comes back within its tolerance.
 
-    python benchmarks/claims.py            # every claim (about 15 minutes on two cores)
+    python benchmarks/claims.py            # every claim (about 8 minutes on two cores)
     python benchmarks/claims.py --list     # the claims, without running them
     python benchmarks/claims.py --only tour-walk,bag-diagnose
 
