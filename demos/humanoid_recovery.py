@@ -30,7 +30,7 @@ from humanoid_pb.experiments.recovery import cooling_bound, run_recovery, steady
 from humanoid_pb.scenarios import SCENARIOS, scenario
 from humanoid_pb.sim import HumanoidSim
 from humanoid_pb.model.statics import WholeBody
-from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
+from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds, yes_no
 from thermolimb.identification.regression import lowpass
 from thermolimb.plotting.fits import plt, save
 
@@ -54,7 +54,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
                   f"minimum effort {seconds(me['recovery_s'])}"),
                  (f"{name}: contact modes chosen", ", ".join(ta["modes_chosen"]) or "none",
                   "minimum effort: " + (", ".join(me["modes_chosen"]) or "none")),
-                 (f"{name}: fell", f"thermal-aware: {'yes' if ta['fell'] else 'no'}, minimum effort: {'yes' if me['fell'] else 'no'}",
+                 (f"{name}: fell", f"thermal-aware: {yes_no(ta['fell'])}, minimum effort: {yes_no(me['fell'])}",
                   "the robot must never fall")]
         rows += _bound_rows(name, summary["details"][name]["first_order"])
     return rows

@@ -24,7 +24,7 @@ from humanoid_pb.experiments.switching_map import (
     measure_cell,
     predict_cell,
 )
-from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds
+from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds, yes_no
 from thermolimb.plotting.fits import plt, save
 
 NAME = "humanoid-switching-map"
@@ -52,7 +52,7 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
                      f"hot set below 70 °C: minimum effort {_below(safe['minimum_effort'])}, thermal-aware "
                      f"{_below(safe['thermal_aware'])}; modes chosen {', '.join(cell['modes']['thermal_aware']) or 'none'} "
                      f"/ {', '.join(cell['modes']['minimum_effort']) or 'none'}; fell: "
-                     f"{_yes_no(cell['fell']['thermal_aware'])} / {_yes_no(cell['fell']['minimum_effort'])}"))
+                     f"{yes_no(cell['fell']['thermal_aware'])} / {yes_no(cell['fell']['minimum_effort'])}"))
     for group, ok in summary["prediction_agrees"].items():
         rows.append((f"{group}: first order within {AGREEMENT:.0%} of every measured cell", "yes" if ok else "no",
                      "predictions fill the unmeasured cells between the measured ones" if ok
@@ -62,10 +62,6 @@ def _headline(summary: dict) -> list[tuple[str, str, str]]:
 
 def _below(value) -> str:
     return "not by the end of the run" if value is None else f"after {seconds(value)}"
-
-
-def _yes_no(flag: bool) -> str:
-    return "yes" if flag else "no"
 
 
 def _finding(summary: dict) -> str:

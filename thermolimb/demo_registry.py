@@ -76,6 +76,11 @@ def seconds(value) -> str:
     return "not reached" if value is None else f"{value:.1f} s"
 
 
+def yes_no(flag: bool) -> str:
+    """A flag as a headline says it."""
+    return "yes" if flag else "no"
+
+
 def mean_std(triple, unit: str = "", digits: int = 3) -> str:
     """``[mean, std, n]`` as ``mean ± std unit (n)``; ``—`` when nothing was measured."""
     mean, std, n = triple

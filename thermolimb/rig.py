@@ -28,6 +28,9 @@ from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
 from .util.errors import check_range
 
 
+_LIBC = ctypes.CDLL(None)  # the process's C library: its fflush empties what C code buffered
+
+
 @contextlib.contextmanager
 def silenced(fd: int = 1):
     """Keep what C code prints on file descriptor ``fd`` off ours: PyBullet prints its build time on the standard
@@ -43,7 +46,7 @@ def silenced(fd: int = 1):
     finally:
         # C's own buffer too: where the standard output is a file or a pipe, what PyBullet printed ("argv[0]=")
         # would otherwise be written later, on our stream
-        ctypes.CDLL(None).fflush(None)
+        _LIBC.fflush(None)
         os.dup2(saved, fd)
         os.close(devnull)
         os.close(saved)

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from thermolimb.model import FirstOrderBank
+from thermolimb.util.numbers import to_microsecond
 
 from ..constants import JOINTS
 from ..controller import ThermalContext
@@ -40,9 +41,9 @@ class CellResult:
     def holds_heading(self) -> bool:
         return self.yaw_drift_deg_per_min <= MAX_YAW_DRIFT_DEG_PER_MIN
 
-    def row(self) -> dict:  # times to the simulation's resolution (a sum of periods is 19462.760000000002 s)
+    def row(self) -> dict:
         return {"payload_kg": self.payload_kg, "ambient_C": self.ambient_C, "mode": self.mode,
-                "strategy": self.strategy, "time_to_derate_s": _to_step(self.time_to_derate_s),
+                "strategy": self.strategy, "time_to_derate_s": to_microsecond(self.time_to_derate_s),
                 "horizon_s": self.horizon_s,
                 "distance_per_s_m": self.distance_per_s_m, "fell": self.fell, "hottest": self.hottest,
                 "hottest_C": self.hottest_C, "steady_hottest_C": self.steady_hottest_C,
@@ -106,8 +107,3 @@ def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, hor
         winding = (JOINTS[int(np.argmax(w))], float(np.max(w)))
     return CellResult(float(payload_kg), float(ambient_C), mode, strategy, crossing, float(horizon_s),
                       0.0 if fell else float(np.mean(distances)), fell, winding[0], winding[1], steady, drift, windows, gait)
-
-
-def _to_step(seconds: float | None) -> float | None:
-    """A time to the microsecond, far below any control period: what the simulation can tell."""
-    return None if seconds is None else round(seconds, 6)

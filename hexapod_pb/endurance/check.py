@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from thermolimb.util.numbers import to_microsecond
+
 from ..constants import JOINTS
 from ..params import DAISY
 from ..sim import HexapodSim, SimConfig
@@ -34,8 +36,7 @@ class PeriodicCheck:
         return float(self.propagated_hottest_C[-1] - self.pybullet_hottest_C[-1])
 
     def summary(self) -> dict:
-        # the duration to the microsecond: whole control periods, not their floating-point sum
-        return {"duration_s": round(self.duration_s, 6), "max_abs_difference_K": self.max_abs_difference_K,
+        return {"duration_s": to_microsecond(self.duration_s), "max_abs_difference_K": self.max_abs_difference_K,
                 "final_difference_K": self.final_difference_K,
                 "final_pybullet_C": float(self.pybullet_hottest_C[-1]),
                 "final_propagated_C": float(self.propagated_hottest_C[-1])}

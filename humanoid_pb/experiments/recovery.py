@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from thermolimb.model import FirstOrderBank
+from thermolimb.util.numbers import to_microsecond
 from thermolimb.util.progress import progress
 
 from ..model.actuation import effort_limits
@@ -52,7 +53,7 @@ class RecoveryRun:
         t = np.array(self.time_s)
         below = np.array(self.temperature_C)[:, indices].max(axis=1) < LIMITS.recovered_C
         after = np.flatnonzero(below & (t >= self.warning_at_s))
-        return round(float(t[after[0]] - self.warning_at_s), 6) if after.size else None  # to the step
+        return to_microsecond(t[after[0]] - self.warning_at_s) if after.size else None
 
     def summary(self) -> dict:
         return {"recovery_s": self.recovery_s, "hot_leg_recovery_s": self.hot_leg_recovery_s, "fell": self.fell,
@@ -95,9 +96,9 @@ def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: 
                     break
                 continue
             if run.hot_leg_recovery_s is None and T[hot_leg].max() < LIMITS.recovered_C:
-                run.hot_leg_recovery_s = round(t - run.warning_at_s, 6)  # to the control step, not float noise
+                run.hot_leg_recovery_s = to_microsecond(t - run.warning_at_s)
             if T.max() < LIMITS.recovered_C:
-                run.recovery_s = round(t - run.warning_at_s, 6)
+                run.recovery_s = to_microsecond(t - run.warning_at_s)
                 break
             if t >= next_decision and not ex.moving and t - ex.settled_since >= (DWELL_S if run.decisions else 0.0):
                 plan = planner.plan(ex.q_nominal, bank, T)

@@ -60,7 +60,7 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     return sorted(spans)
 
 
-def dropouts(values: np.ndarray, heat: np.ndarray | None = None) -> list[tuple[int, int]]:
+def dropouts(values: np.ndarray, heat: np.ndarray) -> list[tuple[int, int]]:
     """Stretches of at most :data:`DROPOUT_MAX_SAMPLES` readings more than :data:`DROPOUT_K` kelvin from the
     readings on both sides of them (a sensor reading 0, a sentinel, or a spike, for a moment).
 
@@ -99,11 +99,11 @@ def _steady(values: np.ndarray) -> bool:
     return bool(np.all(np.abs(np.diff(values)) < DROPOUT_K / 2))
 
 
-def _heated(values: np.ndarray, heat: np.ndarray | None, a: int, b: int, before: float) -> bool:
+def _heated(values: np.ndarray, heat: np.ndarray, a: int, b: int, before: float) -> bool:
     """The readings ``a:b`` rose while the heat coming in over the intervals leading to them (an input holds
     from its sample to the next, so reading ``k`` follows ``heat[k - 1]``) was at least twice its median on both
     sides of the stretch."""
-    if heat is None or not np.all(values[a:b] > before):
+    if not np.all(values[a:b] > before):
         return False
     w = DROPOUT_MAX_SAMPLES
     around = np.concatenate([heat[max(0, a - 1 - w):a - 1], heat[b - 1:b - 1 + w]])

@@ -100,12 +100,13 @@ def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]
         f = s.get("selection_frequency")
         return "" if f is None else f" (taken {round(100 * f)} %)"
 
-    labels = ["start: " + ",".join(steps[0]["model"])] + [s.get("change", "") + taken(s) for s in steps[1:]]
+    labels = [readable("start: " + ",".join(steps[0]["model"]))] + [readable(s.get("change", "")) + taken(s)
+                                                                     for s in steps[1:]]
     rmse = [s["rmse_K"] for s in steps]
     kinds = ["flagged" if s["flags"] else "taken" for s in steps]
     tail = steps[-1].get("unstable")
     if tail:
-        labels.append(f"{tail['change']} (taken {round(tail['selection_frequency'] * tail['replicates'])} of "
+        labels.append(f"{readable(tail['change'])} (taken {round(tail['selection_frequency'] * tail['replicates'])} of "
                       f"{tail['replicates']}: not taken)")
         rmse.append(tail["rmse_K"])
         kinds.append("unstable")
@@ -116,7 +117,7 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.8))
     labels, rmse, kinds = waterfall_bars(steps)
     # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not overlap
-    labels = [textwrap.fill(readable(label).replace("_", "_ "), 20).replace("_ ", "_") for label in labels]
+    labels = [textwrap.fill(label.replace("_", "_ "), 20).replace("_ ", "_") for label in labels]
     colours = {"taken": "tab:blue", "flagged": "tab:red", "unstable": "white"}
     ax.bar(np.arange(len(rmse)), rmse, color=[colours[k] for k in kinds],
            edgecolor=["tab:orange" if k == "unstable" else "none" for k in kinds],

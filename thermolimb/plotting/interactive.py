@@ -141,8 +141,7 @@ def waterfall_figure(steps: list[dict], actuator: str):
 
     from .diagnosis import waterfall_bars
 
-    labels, rmse, kinds = waterfall_bars(steps)
-    labels = [readable(label) for label in labels]  # as the PNG names them
+    labels, rmse, kinds = waterfall_bars(steps)  # named as the PNG names them
     colours = {"taken": "#1f77b4", "flagged": "#d62728", "unstable": "white"}  # matplotlib's tab:blue, tab:red
     fig = go.Figure(go.Bar(x=labels, y=rmse, text=[f"{v:.3f} K" for v in rmse], textposition="outside",
                            marker={"color": [colours[k] for k in kinds],

@@ -15,6 +15,12 @@ def significant(x: float, digits: int = 2) -> str:
     return text
 
 
+def to_microsecond(seconds: float | None) -> float | None:
+    """A simulated time to the microsecond, far below any control period: a sum of periods without its
+    floating-point noise (19462.76, not 19462.760000000002)."""
+    return None if seconds is None else round(float(seconds), 6)
+
+
 def plus_minus(value: float, stderr: float, digits: int = 3) -> str:
     """``value ± stderr``, the value to ``digits`` and its standard error to two significant figures."""
     return f"{significant(value, digits)} ± {significant(stderr, 2)}"
