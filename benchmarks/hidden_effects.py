@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from dataclasses import replace
 
 from thermolimb.plant import NETWORKS, X8_9, AmbientVariation, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS, HIDDEN_CASES
@@ -70,7 +69,7 @@ def richer_base(seed: int) -> list[dict]:
     for effect in RICHER_BASE_EFFECTS:
         fx = PlantEffects.from_names(["sensor_noise", "quantisation", effect])
         if effect == "ambient_variation":
-            fx = replace(fx, ambient_variation=AmbientVariation(amplitude_K=4.0, period_s=1500.0, drift_K_per_h=3.0))
+            fx = fx.replace(ambient_variation=AmbientVariation(amplitude_K=4.0, period_s=1500.0, drift_K_per_h=3.0))
         log = simulate_profile("random", 3600.0, 0.5, ["knee"], [X8_9], fx, seed=seed,
                                network=NETWORKS["second_order"]).log
         start = time.perf_counter()

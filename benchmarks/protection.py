@@ -21,7 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.plant import EFFECT_TYPES, X8_9, X8_16, PlantEffects, ThermalPlant, ThermalProtection, run_profile
+from thermolimb.plant import PLANT_EFFECTS, X8_9, X8_16, PlantEffects, ThermalPlant, ThermalProtection, run_profile
 from thermolimb.plant.profiles import PROFILES
 
 SPECS = (X8_9, X8_16, X8_9)
@@ -48,7 +48,7 @@ def tracking(seed: int) -> dict:
 def soak(seed: int, estimator: str) -> dict:
     rng = np.random.default_rng(seed)
     profile = PROFILES["random"](36000.0, 1.0, 3, rng)
-    plant = ThermalPlant(["a", "b", "c"], SPECS, PlantEffects.from_names(",".join(EFFECT_TYPES)), rng=rng,
+    plant = ThermalPlant(["a", "b", "c"], SPECS, PlantEffects.from_names(",".join(PLANT_EFFECTS)), rng=rng,
                          protection=ThermalProtection(estimator=estimator))
     start = time.perf_counter()
     true = drive(plant, profile, 3.0)[0]

@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from dataclasses import replace
 
 import numpy as np
 
@@ -27,7 +26,7 @@ from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, WX200_BAG, pmsm_pro
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.plant.effects import FanCooling, Schedule
+from thermolimb.effects import FanCooling, Schedule
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
 from thermolimb.util.errors import ThermolimbError
@@ -68,9 +67,9 @@ def plant_logs(quick: bool) -> list[tuple[str, list, bool, tuple]]:
                                network=NETWORKS["first_order"]).log
         out.append((f"plant: {case}", log.runs("knee"), False, () if PLANT_CASES[case] is None else (case,)))
     for gain in (() if quick else PUMP_GAINS):
-        fx = replace(PlantEffects.from_names("sensor_noise,quantisation"),
-                     fan_cooling=FanCooling(gain=gain, column="pump [%]",
-                                            schedule=Schedule((0.0, 0.2, 0.6, 1.0), hold_s=(400.0, 1200.0))))
+        fx = PlantEffects.from_names("sensor_noise,quantisation").replace(
+            fan_cooling=FanCooling(gain=gain, column="pump [%]", schedule=Schedule((0.0, 0.2, 0.6, 1.0),
+                                                                                   hold_s=(400.0, 1200.0))))
         log = simulate_profile("random", 2 * 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=0,
                                network=NETWORKS["first_order"], load_scale=2.0).log
         out.append((f"plant: pump scales conductance, gain {gain}", log.runs("knee"), True, ("pump_conductance",)))

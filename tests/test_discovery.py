@@ -19,7 +19,7 @@ from thermolimb.logs import from_frame, read_log
 from thermolimb.model import TERMS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.plant.effects import DriverConduction, FanCooling, HoldingBrake
+from thermolimb.effects import DriverConduction, FanCooling, HoldingBrake
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 
 R_TOTAL = sum(NETWORKS["first_order"].resistance_K_per_W)  # K/W, winding to ambient

@@ -206,7 +206,7 @@ def test_autocorrelation_band_and_lags_are_the_textbook_ones():
 def test_sensor_lag_is_exact_for_a_winding_that_moves_linearly():
     """First-order hold: a ramp seen through tau dTs/dt = T - Ts is T(t) - r tau (1 - exp(-t/tau)), on a uniform
     time grid (one interval) and on an uneven one."""
-    from thermolimb.model.catalog import SensorLag
+    from thermolimb.effects.sensor_lag import SensorLagTerm as SensorLag
     from thermolimb.model.signals import Signals
 
     uniform = np.arange(0.0, 300.0, 2.0)
@@ -239,7 +239,7 @@ def test_tempco_scales_the_current_heating_too():
     from types import SimpleNamespace
 
     from thermolimb.constants import COPPER_REFERENCE_C
-    from thermolimb.model.catalog import WindingTempco
+    from thermolimb.effects.winding_tempco import WindingTempcoTerm as WindingTempco
 
     s = SimpleNamespace(effort=np.array([2.0, 4.0]), current_A=np.array([3.0, 1.0]))
     p = {"betaR_K_per_effort2": 0.5, "currentR_K_per_A2": 0.2, "alpha_per_K": 0.0039}

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from thermolimb.plant import (
-    EFFECT_TYPES,
+    PLANT_EFFECTS,
     FIRST_ORDER_NETWORK,
     X8_9,
     X8_16,
@@ -110,7 +110,7 @@ def test_peak_current_at_a_slow_control_rate_stops_on_the_limit(dt_s):
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_ten_hour_soak_with_every_effect_never_lets_the_winding_exceed_its_limit(seed):
-    effects = PlantEffects.from_names(",".join(EFFECT_TYPES))
+    effects = PlantEffects.from_names(",".join(PLANT_EFFECTS))
     specs = [X8_9, X8_16, X8_9]
 
     def soak(estimator):

@@ -11,14 +11,13 @@ Both robots may sink once protection takes their torque away: that is the
 protection working, and what happens to the windings is what is checked.
 """
 
-from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from thermolimb.plant import PlantEffects, SensorLag, ThermalProtection
 
-LAGGING_THERMISTOR = replace(PlantEffects.realistic_sensor(), sensor_lag=SensorLag(time_constant_s=15.0))
+LAGGING_THERMISTOR = PlantEffects.realistic_sensor().replace(sensor_lag=SensorLag(time_constant_s=15.0))
 
 
 def hexapod_excess_K(estimator: str, duration_s: float = 20.0) -> float:

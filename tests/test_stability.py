@@ -13,7 +13,7 @@ from thermolimb.cli.main import main
 from thermolimb.data import REAL_LOGS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.plant.effects import SpeedLosses
+from thermolimb.plant import SpeedLosses
 from thermolimb.workbench.diagnosis import diagnose
 from thermolimb.workbench.diagnosis.refit import ordered_starts, refit
 from thermolimb.workbench.diagnosis.stability import Stability, perturbations, selection_frequencies
@@ -24,7 +24,7 @@ from thermolimb.workbench.validation import Scheme, validate_model
 def plant(effects: str, seed: int = 0, duration_s: float = 3600.0, speed_scale: float | None = None):
     fx = PlantEffects.from_names(f"sensor_noise,quantisation{',' + effects if effects else ''}")
     if speed_scale is not None:
-        fx = replace(fx, speed_losses=SpeedLosses(*(speed_scale * np.array(list(vars(SpeedLosses()).values())))))
+        fx = fx.replace(speed_losses=SpeedLosses(*(speed_scale * np.array(list(vars(SpeedLosses()).values())))))
     return simulate_profile("random", duration_s, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
                             network=NETWORKS["first_order"]).log
 

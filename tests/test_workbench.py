@@ -13,7 +13,7 @@ import pytest
 
 from thermolimb.cli.main import main
 from thermolimb.model import ThermalModel
-from thermolimb.model.catalog import SecondNode
+from thermolimb.effects.slow_masses import SecondNode
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose

@@ -5,6 +5,7 @@ environments.  The robots' environments register when their package is
 imported (``import hexapod_pb``, ``import humanoid_pb``).
 """
 
+from . import effects  # noqa: F401  (registers the catalog's terms and the plant's effects)
 from .util.paths import urdf_dir
 
 __version__ = "0.1.0"

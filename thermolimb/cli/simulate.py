@@ -11,7 +11,7 @@ from ..logs import write_pieces
 from ..logs.table import kind_of
 from ..plant import (
     ACTUATOR_SPECS,
-    EFFECT_TYPES,
+    PLANT_EFFECTS,
     NETWORKS,
     PROFILES,
     PlantEffects,
@@ -48,7 +48,7 @@ def add_parser(sub):
                    help="thermal network of every actuator (default x8: winding/housing/body, HEBI numbers)")
     p.add_argument("--effects", default="sensor_noise,quantisation", metavar="NAME,...",
                    help=f"plant effects to switch on, or 'none' (default sensor_noise,quantisation); "
-                        f"known: {', '.join(EFFECT_TYPES)}")
+                        f"known: {', '.join(PLANT_EFFECTS)}")
     p.add_argument("--load-scale", type=number(0.0, 100.0), default=1.0,
                    help="multiply every effort (a heavier payload), before the effort limits (default 1)")
     p.add_argument("--ambient", type=AMBIENT_C, default=25.0,

@@ -12,9 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..util.errors import ThermolimbError
-from .terms import TERMS, Term
-
-TRUSTED_MODULES = ("thermolimb.model.catalog",)
+from .terms import TERMS, Term, is_built_in
 
 
 class TermError(ThermolimbError):
@@ -26,7 +24,7 @@ class TermError(ThermolimbError):
 
 
 def is_users(cls: type[Term]) -> bool:
-    return cls.__module__ not in TRUSTED_MODULES and not getattr(cls, "generated", False)
+    return not is_built_in(cls) and not getattr(cls, "generated", False)
 
 
 def instance(name: str) -> Term:

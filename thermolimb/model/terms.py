@@ -112,8 +112,25 @@ class Term:
         return None
 
 
+class LinearTerm(Term):
+    """A term whose rise is its one parameter times a regressor built from the log (linear in that parameter)."""
+
+    def regressor(self, s: Signals) -> np.ndarray:
+        raise NotImplementedError  # abstract
+
+    def contribution(self, p, s):
+        return p[self.parameters[0].name] * self.regressor(s), 0.0
+
+    def features(self, s, temperature_C):
+        return self.regressor(s)[:, None]
+
+
 TERMS: dict[str, type[Term]] = {}
-BUILT_IN = "thermolimb.model.catalog"  # the module of the built-in terms, which no other term may replace
+BUILT_IN = "thermolimb.effects."  # the package of the built-in terms, which no other term may replace
+
+
+def is_built_in(cls: type[Term]) -> bool:
+    return cls.__module__.startswith(BUILT_IN)
 
 
 def register_term(cls: type[Term]) -> type[Term]:
@@ -121,7 +138,7 @@ def register_term(cls: type[Term]) -> type[Term]:
     if not getattr(cls, "name", None):
         raise ValueError(f"{cls.__name__} needs a 'name' to be registered")
     earlier = TERMS.get(cls.name)
-    if earlier is not None and earlier.__module__ == BUILT_IN and cls.__module__ != BUILT_IN:
+    if earlier is not None and is_built_in(earlier) and not is_built_in(cls):
         raise ValueError(f"term '{cls.name}' would replace the built-in term of that name ({earlier.description}); "
                          f"give yours another name")
     clashes = {p.name for p in cls.parameters} & ({"RC_s", "T_offset_C"} | _parameter_names_except(cls.name))

@@ -1,18 +1,22 @@
-"""The thermal plant: the rig's "hardware" that heats every simulated actuator."""
+"""The thermal plant: the rig's "hardware" that heats every simulated actuator.
 
-from .effects import (
-                      EFFECT_TYPES,
-                      AmbientVariation,
-                      EffortBias,
-                      FieldWeakening,
-                      MotionCooling,
-                      NeighborCoupling,
-                      PlantEffects,
-                      Quantisation,
-                      SensorLag,
-                      SensorNoise,
-                      SpeedLosses,
-                      WindingTempco,
+Its effects (speed losses, copper's tempco, a lagging sensor, a fan, ...) are the plant side of
+:mod:`thermolimb.effects`, re-exported here for the plant's users.
+"""
+
+from ..effects import (
+                       PLANT_EFFECTS,
+                       AmbientVariation,
+                       EffortBias,
+                       FieldWeakening,
+                       MotionCooling,
+                       NeighborCoupling,
+                       PlantEffects,
+                       Quantisation,
+                       SensorLag,
+                       SensorNoise,
+                       SpeedLosses,
+                       WindingTempco,
 )
 from .network import (
                       ACTUATOR_SPECS,
@@ -34,7 +38,7 @@ from .run import PlantRun, run_profile, run_profile_in_pieces, simulate_profile,
 
 __all__ = [
     "ACTUATOR_SPECS", "ActuatorSpec", "AmbientVariation", "MotionCooling", "WindingTempco", "DriverSpec",
-    "EFFECT_TYPES", "FIRST_ORDER_NETWORK", "FieldWeakening", "SpeedLosses", "NETWORKS", "NeighborCoupling",
+    "PLANT_EFFECTS", "FIRST_ORDER_NETWORK", "FieldWeakening", "SpeedLosses", "NETWORKS", "NeighborCoupling",
     "PROFILES", "PlantEffects", "PlantRun", "Profile", "Quantisation", "SECOND_ORDER_NETWORK", "SensorNoise",
     "EffortBias", "ThermalNetwork", "ThermalPlant", "ThermalProtection", "SensorLag", "X5_NETWORK",
     "X8_16", "X8_9", "X8_NETWORK", "run_profile", "run_profile_in_pieces", "simulate_profile",

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..effects import PlantEffects
 from ..logs import ActuatorSeries
 from ..model.signals import Signals
-from .effects import PlantEffects
 from .plant import ThermalPlant
 
 

@@ -78,6 +78,73 @@ NETWORKS = {"x8": X8_NETWORK, "x5": X5_NETWORK, "first_order": FIRST_ORDER_NETWO
             "second_order": SECOND_ORDER_NETWORK}
 
 
+@dataclass
+class Layout:
+    """Where each actuator's nodes sit in the plant's state, and the network effects wire into (``A`` changes in
+    place while effects wire it): node indices per actuator (``driver`` is -1 without a board), the system
+    matrix, each node's inverse capacity (0 for a massless sensor node), the ambient's input and each outer
+    node's conductance to ambient."""
+
+    winding: np.ndarray
+    housing: np.ndarray
+    outer: np.ndarray
+    sensor: np.ndarray
+    driver: np.ndarray
+    A: np.ndarray
+    inv_capacity: np.ndarray
+    b_amb: np.ndarray
+    outer_conductance: np.ndarray
+
+    @property
+    def n_states(self) -> int:
+        return self.A.shape[0]
+
+    @classmethod
+    def build(cls, specs, effects) -> "Layout":
+        """The network of ``specs`` side by side, each chain's winding first, then a node per lagging thermistor
+        (when an effect asks for one) and per driver board; then every effect that is on wires its part."""
+        idx = 0
+        winding, housing, outer, sensor, driver = [], [], [], [], []
+        blocks = []
+        for spec in specs:
+            net = spec.network
+            winding.append(idx)
+            housing.append(idx + 1 if net.n_nodes > 1 else idx)
+            outer.append(idx + net.n_nodes - 1)
+            blocks.append((idx, spec))
+            idx += net.n_nodes
+        lagging = any(fx.sensor_node for fx in effects.active)  # each thermistor is a node of its own
+        for i in range(len(specs)):
+            sensor.append(idx if lagging else winding[i])
+            idx += int(lagging)
+        for spec in specs:
+            driver.append(idx if spec.driver is not None else -1)
+            idx += int(spec.driver is not None)
+        A = np.zeros((idx, idx))
+        inv_capacity = np.zeros(idx)  # heat input (W) -> dT/dt; zero for massless sensor nodes
+        b_amb = np.zeros(idx)
+        outer_conductance = np.zeros(len(specs))
+        for i, (start, spec) in enumerate(blocks):
+            net = spec.network
+            m = net.n_nodes
+            A[start : start + m, start : start + m] = net.system_matrix()
+            C = np.asarray(net.capacity_J_per_K)
+            inv_capacity[start : start + m] = 1.0 / C
+            outer_conductance[i] = 1.0 / net.resistance_K_per_W[-1]
+            b_amb[outer[i]] += outer_conductance[i] / C[-1]
+            if spec.driver is not None:
+                d = driver[i]
+                g = 1.0 / spec.driver.resistance_K_per_W
+                A[d, d] = -g / spec.driver.capacity_J_per_K
+                b_amb[d] = g / spec.driver.capacity_J_per_K
+                inv_capacity[d] = 1.0 / spec.driver.capacity_J_per_K
+        net = cls(np.array(winding), np.array(housing), np.array(outer), np.array(sensor), np.array(driver), A,
+                  inv_capacity, b_amb, outer_conductance)
+        for fx in effects.active:
+            fx.wire(net)
+        return net
+
+
 @dataclass(frozen=True)
 class DriverSpec:
     """The motor driver (H-bridge) board: the same current heats it (seed Fig. 2).

@@ -77,7 +77,7 @@ class CycleMap:
         self.ambient_C = plant.ambient_C
         Phi, Gamma = plant._discretisation(self.dt_s)
         n_states = Phi.shape[0]
-        self.winding_index = plant._winding.copy()
+        self.winding_index = plant.layout.winding.copy()
         step_M, step_c = np.empty((self.steps, n_states, n_states)), np.empty((self.steps, n_states))
         for k in range(self.steps):
             constant, per_kelvin = plant.heat_affine(efforts[k], velocities[k])

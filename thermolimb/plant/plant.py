@@ -9,20 +9,21 @@ node and a thermistor node.  The whole plant is one linear network
 integrated *exactly* for inputs held over each control interval (zero-order
 hold through the matrix exponential), so it is stable at any control rate.
 Effects whose heat depends on the state (copper resistance, motion cooling)
-enter through ``q`` evaluated at the start of each interval.
+enter through ``q`` evaluated at the start of each interval.  Each effect that is
+on acts through its hooks (:class:`~thermolimb.effects.PlantEffect`): the plant
+iterates them and names none.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Sequence
 
 import numpy as np
 
+from ..effects import PlantEffects
 from ..util.errors import check_range
-
-from .effects import SCHEDULED, PlantEffects
-from .network import ActuatorSpec
+from .network import ActuatorSpec, Layout
 from .protection import ThermalProtection, scale_efforts
 from .schedules import ScheduledChannel
 from .sensors import Thermistors
@@ -31,21 +32,6 @@ from .zoh import zero_order_hold
 
 AMBIENT_RANGE_C = (-60.0, 150.0)
 TEMPERATURE_RANGE_C = (-60.0, 400.0)  # what a winding, a housing or a sensor may be set to (degC)
-
-
-@dataclass(frozen=True)
-class Block:
-    """What :meth:`ThermalPlant.free_block` advanced: ``steps`` intervals, and per interval the efforts applied,
-    the true winding, the measured and estimated temperatures and the ambient at its start, and the current
-    over it."""
-
-    steps: int
-    effort: np.ndarray
-    true_winding_C: np.ndarray
-    measured_C: np.ndarray
-    estimated_C: np.ndarray | None
-    ambient_C: np.ndarray
-    current_A: np.ndarray
 
 
 class ThermalPlant:
@@ -80,13 +66,12 @@ class ThermalPlant:
             raise ValueError(f"ThermalPlant needs one spec per actuator name, got {len(names)} names and {len(specs)} specs")
         if len(set(names)) != len(names):
             raise ValueError(f"actuator names must be unique, got {list(names)}")
-        scheduled = [name for name in SCHEDULED if getattr(effects, name) is not None]
-        if (effects.sensor_noise is not None or scheduled) and rng is None:
-            random = (["sensor_noise"] if effects.sensor_noise else []) + scheduled
+        random = [fx.name for fx in effects.active if fx.draws_random]
+        if random and rng is None:
             raise ValueError(f"{', '.join(random)} {'is' if len(random) == 1 else 'are'} on and draw random numbers: "
                              f"pass rng=np.random.default_rng(seed)")
-        if effects.driver_conduction is not None and any(spec.driver is None for spec in specs):
-            raise ValueError("driver_conduction needs every actuator to have a driver board (ActuatorSpec.driver)")
+        for fx in effects.active:
+            fx.check(specs)
         check_range("ThermalPlant", "ambient_C", ambient_C, AMBIENT_RANGE_C[0], AMBIENT_RANGE_C[1], "degC")
         if initial_C is not None:
             check_range("ThermalPlant", "initial_C", initial_C, *TEMPERATURE_RANGE_C, "degC")
@@ -100,8 +85,13 @@ class ThermalPlant:
         self._applied_fraction = np.ones(len(self.specs))  # the share of current protection allowed last
         self._rng = rng  # the schedules' draws (the sensors draw their noise from the same generator)
         self.sensors = Thermistors(effects, rng)
-        self._build_network()
-        self._schedules = self._make_schedules(scheduled)
+        self.layout = Layout.build(self.specs, effects)
+        self._n_states = self.layout.n_states
+        self._effort_per_amp = np.array([s.effort_per_amp for s in self.specs])
+        self._resistance_ohm = np.array([s.winding_resistance_ohm for s in self.specs])
+        self._driver_ohm = np.array([s.driver.loss_resistance_ohm if s.driver else 0.0 for s in self.specs])
+        self._has_driver = self.layout.driver >= 0
+        self._schedules = self._make_schedules()
         self.time_s = 0.0
         start = self.ambient0_C if initial_C is None else float(initial_C)
         self._x = np.full(self._n_states, start)
@@ -119,137 +109,48 @@ class ThermalPlant:
     def n(self) -> int:
         return len(self.names)
 
-    def _build_network(self):
-        idx = 0
-        winding, housing, outer, sensor, driver = [], [], [], [], []
-        blocks = []
-        for spec in self.specs:
-            net = spec.network
-            winding.append(idx)
-            housing.append(idx + 1 if net.n_nodes > 1 else idx)
-            outer.append(idx + net.n_nodes - 1)
-            blocks.append((idx, spec))
-            idx += net.n_nodes
-        for i in range(self.n):
-            if self.effects.sensor_lag is not None:
-                sensor.append(idx)
-                idx += 1
-            else:
-                sensor.append(winding[i])
-        for spec in self.specs:
-            if spec.driver is not None:
-                driver.append(idx)
-                idx += 1
-            else:
-                driver.append(-1)
-        n_states = idx
-        A = np.zeros((n_states, n_states))
-        inv_capacity = np.zeros(n_states)  # heat input (W) -> dT/dt; zero for massless sensor nodes
-        b_amb = np.zeros(n_states)
-        outer_conductance = np.zeros(self.n)
-        for i, (start, spec) in enumerate(blocks):
-            net = spec.network
-            m = net.n_nodes
-            A[start : start + m, start : start + m] = net.system_matrix()
-            C = np.asarray(net.capacity_J_per_K)
-            inv_capacity[start : start + m] = 1.0 / C
-            outer_conductance[i] = 1.0 / net.resistance_K_per_W[-1]
-            b_amb[outer[i]] += outer_conductance[i] / C[-1]
-            if spec.driver is not None:
-                d = driver[i]
-                g = 1.0 / spec.driver.resistance_K_per_W
-                A[d, d] = -g / spec.driver.capacity_J_per_K
-                b_amb[d] = g / spec.driver.capacity_J_per_K
-                inv_capacity[d] = 1.0 / spec.driver.capacity_J_per_K
-        if self.effects.sensor_lag is not None:
-            rate = 1.0 / self.effects.sensor_lag.time_constant_s
-            for i in range(self.n):
-                A[sensor[i], sensor[i]] = -rate
-                A[sensor[i], winding[i]] = rate
-        if self.effects.driver_conduction is not None:
-            g = self.effects.driver_conduction.conductance_W_per_K
-            for w, d in zip(winding, driver):
-                for p, q in ((w, d), (d, w)):
-                    A[p, p] -= g * inv_capacity[p]
-                    A[p, q] += g * inv_capacity[p]
-        if self.effects.neighbor_coupling is not None and self.n > 1:
-            g = self.effects.neighbor_coupling.conductance_W_per_K
-            for i in range(self.n - 1):
-                a, b = outer[i], outer[i + 1]
-                for p, q in ((a, b), (b, a)):
-                    A[p, p] -= g * inv_capacity[p]
-                    A[p, q] += g * inv_capacity[p]
-        self._A, self._inv_capacity, self._b_amb = A, inv_capacity, b_amb
-        self._n_states = n_states
-        self._winding = np.array(winding)
-        self._housing = np.array(housing)
-        self._outer = np.array(outer)
-        self._sensor = np.array(sensor)
-        self._driver = np.array(driver)
-        self._outer_conductance = outer_conductance
-        self._effort_per_amp = np.array([s.effort_per_amp for s in self.specs])
-        self._resistance_ohm = np.array([s.winding_resistance_ohm for s in self.specs])
-        self._driver_ohm = np.array([s.driver.loss_resistance_ohm if s.driver else 0.0 for s in self.specs])
-        self._has_driver = self._driver >= 0
-
-    def _make_schedules(self, scheduled: list[str]) -> dict[str, ScheduledChannel]:
+    def _make_schedules(self) -> dict[str, ScheduledChannel]:
         """The random schedules of the effects that log a channel, from one generator drawn off the plant's."""
-        if not scheduled:
+        plans = [(key, schedule) for fx in self.effects.active for key, schedule in fx.schedules().items()]
+        if not plans:
             return {}
         rng = np.random.default_rng(self._rng.integers(2**63))
-        fx = self.effects
-        plans = {"fan_cooling": [("fan", fx.fan_cooling and fx.fan_cooling.schedule)],
-                 "holding_brake": [("brake", fx.holding_brake and fx.holding_brake.schedule)],
-                 "driver_conduction": [("driver_load", fx.driver_conduction and fx.driver_conduction.schedule)],
-                 "decoy_channels": [("supply", fx.decoy_channels and fx.decoy_channels.supply),
-                                    ("led", fx.decoy_channels and fx.decoy_channels.led)]}
-        return {key: ScheduledChannel(schedule, self.n, rng) for name in scheduled for key, schedule in plans[name]}
+        return {key: ScheduledChannel(schedule, self.n, rng) for key, schedule in plans}
+
+    def schedule(self, key: str) -> np.ndarray:
+        """Each actuator's level of the schedule ``key`` (a fan's duty, a brake's state) now."""
+        return self._schedules[key].at(self.time_s)
 
     def logged_channels(self) -> dict[str, np.ndarray]:
         """The extra channels the switched-on effects log, by column name (unit in the name), per actuator, now."""
-        fx, t, out = self.effects, self.time_s, {}
-        if fx.fan_cooling is not None:
-            out[fx.fan_cooling.column] = fx.fan_cooling.scale * self._schedules["fan"].at(t)
-        if fx.holding_brake is not None:
-            out[fx.holding_brake.column] = fx.holding_brake.scale * self._schedules["brake"].at(t)
-        if fx.driver_conduction is not None:
-            out[fx.driver_conduction.column] = self._measured_driver.copy()
-        if fx.decoy_channels is not None:
-            out["supply [V]"] = self._schedules["supply"].at(t)
-            out["led [1]"] = self._schedules["led"].at(t)
-        return out
+        return {column: values for fx in self.effects.active for column, values in fx.logged(self).items()}
 
     def _discretisation(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Exact ZOH matrices ``(Phi, Gamma)`` with ``x+ = Phi x + Gamma [q; T_amb]``."""
         key = round(dt_s, 12)
         if key not in self._discretised:
-            inputs = np.column_stack([np.diag(self._inv_capacity), self._b_amb])
-            self._discretised[key] = zero_order_hold(self._A, inputs, dt_s)
+            inputs = np.column_stack([np.diag(self.layout.inv_capacity), self.layout.b_amb])
+            self._discretised[key] = zero_order_hold(self.layout.A, inputs, dt_s)
         return self._discretised[key]
 
     # ----------------------------------------------------------------- inputs
     def ambient_at(self, time_s: float) -> float:
         """Ambient temperature (degC) at ``time_s``."""
-        var = self.effects.ambient_variation
-        if var is None:
-            return self.ambient0_C
-        return float(
-            self.ambient0_C
-            + var.drift_K_per_h * time_s / 3600.0
-            + var.amplitude_K * np.sin(2.0 * np.pi * time_s / var.period_s)
-        )
+        for fx in self.effects.active:
+            moved = fx.ambient_C(self.ambient0_C, time_s)
+            if moved is not None:
+                return moved
+        return self.ambient0_C
 
     def _current_sq(self, effort: np.ndarray, speed: np.ndarray, field_share) -> np.ndarray:
-        """Squared motor current (A^2): torque current from the effort (less a series-elastic bias) and
-        field-weakening current above the base speed, scaled by ``field_share`` (thermal protection caps the
-        whole current; the motor then falls short of that speed, which this kinematic plant does not model)."""
-        fx = self.effects
-        torque_effort = effort - fx.effort_bias.bias_effort if fx.effort_bias else effort
+        """Squared motor current (A^2): torque current from the effort (less what the effects leave out of it, a
+        series-elastic bias) and current that makes no torque (field weakening above a base speed), the latter
+        scaled by ``field_share``."""
+        torque_effort, i_d = effort, 0.0
+        for fx in self.effects.active:
+            torque_effort = fx.torque_effort(torque_effort)
+            i_d = i_d + fx.extra_current_A(speed, field_share)
         i_q = torque_effort / self._effort_per_amp
-        i_d = 0.0
-        if fx.field_weakening is not None:
-            fw = fx.field_weakening
-            i_d = fw.current_A_per_rad_s * np.maximum(speed - fw.base_speed_rad_s, 0.0) * field_share
         return i_q**2 + i_d**2
 
     def heat_W(self, effort: np.ndarray, velocity: np.ndarray) -> np.ndarray:
@@ -268,7 +169,7 @@ class ThermalPlant:
         outer node), which keeps the plant a linear network for held inputs.
         Also updates :attr:`current_A`.
         """
-        fx = self.effects
+        net = self.layout
         speed = np.abs(np.asarray(velocity, dtype=float))
         current_sq = self._current_sq(np.asarray(effort, dtype=float), speed, self._applied_fraction)
         self.current_A = np.sqrt(current_sq)
@@ -276,29 +177,13 @@ class ThermalPlant:
         constant = np.zeros(shape)
         per_kelvin = np.zeros(shape)
         joule = current_sq * self._resistance_ohm
-        if fx.winding_tempco is not None:
-            tc = fx.winding_tempco
-            constant[..., self._winding] += joule * (1.0 - tc.alpha_per_K * tc.reference_C)
-            per_kelvin[..., self._winding] += joule * tc.alpha_per_K
-        else:
-            constant[..., self._winding] += joule
-        if fx.speed_losses is not None:
-            sl = fx.speed_losses
-            constant[..., self._winding] += sl.iron_W_per_rad2_s2 * speed**2
-            constant[..., self._housing] += sl.friction_W_per_rad_s * speed
-        if fx.motion_cooling is not None:
-            extra_g = self._outer_conductance * fx.motion_cooling.gain_per_rad_s * speed
-            constant[..., self._outer] += extra_g * self.ambient_at(self.time_s)
-            per_kelvin[..., self._outer] -= extra_g
-        constant[..., self._driver[self._has_driver]] += (current_sq * self._driver_ohm)[..., self._has_driver]
-        if fx.fan_cooling is not None:
-            extra_g = self._outer_conductance * fx.fan_cooling.gain * self._schedules["fan"].at(self.time_s)
-            constant[..., self._outer] += extra_g * self.ambient_at(self.time_s)
-            per_kelvin[..., self._outer] -= extra_g
-        if fx.holding_brake is not None:
-            constant[..., self._winding] += fx.holding_brake.coil_W * self._schedules["brake"].at(self.time_s)
-        if fx.driver_conduction is not None:
-            constant[..., self._driver] += self._schedules["driver_load"].at(self.time_s)
+        if not any([fx.place_joule(net, joule, constant, per_kelvin) for fx in self.effects.active]):
+            constant[..., net.winding] += joule
+        constant[..., net.driver[self._has_driver]] += (current_sq * self._driver_ohm)[..., self._has_driver]
+        at = SimpleNamespace(speed=speed, time_s=self.time_s, ambient_C=self.ambient_at(self.time_s),
+                             schedules=self._schedules)
+        for fx in self.effects.active:
+            fx.heat(net, at, constant, per_kelvin)
         return constant, per_kelvin
 
     def set_temperatures(self, temperature_C: np.ndarray, rest_C: np.ndarray | None = None) -> None:
@@ -307,13 +192,14 @@ class ThermalPlant:
         two sits on a housing that has barely warmed: give ``rest_C`` near ambient for that."""
         temperature_C = self._per_actuator("temperature_C", temperature_C)
         rest_C = temperature_C if rest_C is None else self._per_actuator("rest_C", rest_C)
+        net = self.layout
         for i in range(self.n):
-            nodes = self._winding[i] + np.arange(self.specs[i].network.n_nodes)
+            nodes = net.winding[i] + np.arange(self.specs[i].network.n_nodes)
             self._x[nodes] = rest_C[i]
-            self._x[self._winding[i]] = temperature_C[i]
-            self._x[self._sensor[i]] = temperature_C[i]
-            if self._driver[i] >= 0:
-                self._x[self._driver[i]] = rest_C[i]
+            self._x[net.winding[i]] = temperature_C[i]
+            self._x[net.sensor[i]] = temperature_C[i]
+            if net.driver[i] >= 0:
+                self._x[net.driver[i]] = rest_C[i]
         self._measure()
         if self.observer is not None:
             self.observer.reset(temperature_C)
@@ -345,7 +231,7 @@ class ThermalPlant:
         self._x = state.copy()
         self._measure()
         if self.observer is not None:
-            self.observer.reset(self._x[self._winding])
+            self.observer.reset(self._x[self.layout.winding])
 
     # ------------------------------------------------------------------ steps
     def step(self, effort: np.ndarray, velocity: np.ndarray | None, dt_s: float) -> None:
@@ -384,7 +270,8 @@ class ThermalPlant:
         self.faulted[:] = False
 
     def _measure(self):
-        readings = self.read(np.concatenate([self._x[self._sensor], self._x[self._driver[self._has_driver]]]))
+        net = self.layout
+        readings = self.read(np.concatenate([self._x[net.sensor], self._x[net.driver[self._has_driver]]]))
         self._measured_core = readings[: self.n]
         self._measured_driver = readings[self.n :]
 
@@ -395,82 +282,17 @@ class ThermalPlant:
     # ---------------------------------------------------------------- blocks
     @property
     def steps_in_blocks(self) -> bool:
-        """Whether :meth:`free_block` applies: no effect makes the heat depend on the state or on a schedule
-        (copper resistance, airflow, a fan, a brake, a board's load), so held inputs give a fixed linear map."""
-        fx = self.effects
-        return (fx.winding_tempco is None and fx.motion_cooling is None and not self._schedules
+        """Whether :func:`~thermolimb.plant.blocks.free_block` applies: no effect makes the heat depend on the state
+        or on a schedule (copper resistance, airflow, a fan, a brake, a board's load): held inputs give a fixed
+        linear map."""
+        return (not any(fx.state_dependent for fx in self.effects.active) and not self._schedules
                 and (self.observer is None or self.observer.alpha == 0.0))
-
-    def free_block(self, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> "Block":
-        """Advance over the rows of ``effort`` and ``velocity`` (``(k, m)``, each held ``dt_s``) for as long as
-        thermal protection would not act, and say how many intervals that was.
-
-        The same intervals as :meth:`derate` then :meth:`step` each time: the network's exact map, the sensors'
-        noise (the same draws), the observer's update; protection is then checked at every interval's start as
-        :meth:`protection_fraction` would, and the block is cut before the first interval it would have
-        derated or capped (its state, the observer's and the unused noise put back).  What it saves is the
-        per-interval bookkeeping of a step: the network advances in one loop of matrix products.
-        """
-        if not self.steps_in_blocks:
-            raise ValueError("free_block needs a plant whose heat does not depend on its state or a schedule")
-        effort = np.asarray(effort, float)
-        velocity = np.asarray(velocity, float)
-        if not (np.all(np.isfinite(effort)) and np.all(np.isfinite(velocity))):
-            raise ValueError("free_block needs finite efforts and velocities; step() faults an actuator given a "
-                             "command that is not a finite number")
-        k = effort.shape[0]
-        times = self.time_s + dt_s * np.arange(k + 1)
-        ambient = np.array([self.ambient_at(t) for t in times])
-        before = self.current_A, self._applied_fraction
-        self._applied_fraction = np.ones(self.n)
-        applied = self.scale_efforts(effort, np.ones(self.n))
-        constant, _ = self.heat_affine(applied, velocity)
-        current, self.current_A = self.current_A, before[0]
-        Phi, Gamma = self._discretisation(dt_s)
-        inputs = np.concatenate([constant, ambient[:-1, None]], axis=1) @ Gamma.T
-        states = np.empty((k + 1, self._n_states))
-        states[0] = x = self._x
-        for i in range(k):
-            x = Phi @ x + inputs[i]
-            states[i + 1] = x
-        sensed = np.concatenate([self._sensor, self._driver[self._has_driver]])
-        noise = self.sensors.standard_normal(k * len(sensed)).reshape(k, -1) if self.effects.sensor_noise else None
-        readings = self.read(states[1:, sensed], noise)
-        measured = np.vstack([self._measured_core, readings[:, : self.n]])
-        if self.observer is not None:
-            est, cov, Phis = self.observer.run(current, readings[:, : self.n], ambient, dt_s, velocity)
-            std = np.sqrt(np.maximum(cov[:k, :, 0, 0], 0.0))
-            commanded = np.sqrt(self._current_sq(effort, np.abs(velocity), 1.0))
-
-            def cap(below):
-                return self.observer.fraction_cap(est[:k], Phis, commanded, below, ambient[:k], dt_s)
-
-            fraction = self.protection.share(est[:k, :, 0] + self.protection.sigmas * std, self.winding_limits_C,
-                                             std, cap)
-        else:
-            fraction = self.protection.share(measured[:k], self.winding_limits_C)
-        acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))
-        done = int(acting[0]) if acting.size else k
-        self._x = states[done].copy()
-        self.time_s = float(times[done])
-        self._measured_core = measured[done].copy()
-        self._measured_driver = readings[done - 1, self.n :].copy() if done else self._measured_driver
-        if noise is not None:
-            self.sensors.put_back(noise[done:])
-        if self.observer is not None:
-            self.observer.set_state(est[done], cov[done])
-        if done:
-            self.current_A = current[done - 1].copy()
-        else:
-            self._applied_fraction = before[1]
-        return Block(done, applied[:done], states[:done][:, self._winding], measured[:done],
-                     est[:done, :, 0] if self.observer is not None else None, ambient[:done], current[:done])
 
     # ---------------------------------------------------------------- outputs
     @property
     def winding_C(self) -> np.ndarray:
         """True winding temperatures (degC)."""
-        return self._x[self._winding].copy()
+        return self._x[self.layout.winding].copy()
 
     def node_C(self, node: str) -> np.ndarray:
         """True temperature of a named network node (e.g. ``"housing"``) of every actuator."""
@@ -479,7 +301,7 @@ class ThermalPlant:
             names = spec.network.node_names
             if node not in names:
                 raise KeyError(f"actuator {self.names[i]} ({spec.model}) has no node {node!r}; it has {names}")
-            out.append(self._x[self._winding[i] + names.index(node)])
+            out.append(self._x[self.layout.winding[i] + names.index(node)])
         return np.array(out)
 
     @property
@@ -541,8 +363,7 @@ class ThermalPlant:
 
     def scale_efforts(self, effort: np.ndarray, fraction: np.ndarray) -> np.ndarray:
         """Efforts whose motor share (all of it, less a series-elastic bias) is scaled by ``fraction``."""
-        bias = self.effects.effort_bias.bias_effort if self.effects.effort_bias is not None else 0.0
-        return scale_efforts(effort, fraction, bias)
+        return scale_efforts(effort, fraction, self.effects.bias_effort)
 
     def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
         """Efforts after thermal protection (:meth:`protection_fraction` applied by :meth:`scale_efforts`)."""

@@ -7,10 +7,11 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
+from ..effects import PlantEffects
 from ..logs import ThermalLog, log_from_arrays
 from ..util.errors import UsageError
 from ..util.progress import progress
-from .effects import PlantEffects
+from .blocks import free_block
 from .network import ActuatorSpec, ThermalNetwork
 from .plant import ThermalPlant
 from .profiles import PROFILES, Profile
@@ -40,7 +41,7 @@ def run_profile(plant: ThermalPlant, profile: Profile, include_drivers: bool = F
     thermal protection; the log records what was applied.  ``housing_sensor``
     logs a second thermistor on each actuator's housing node (column ``housing``).
     While protection leaves the actuators alone the plant advances in blocks of
-    up to ``BLOCK_STEPS`` intervals (:meth:`~ThermalPlant.free_block`, where the
+    up to ``BLOCK_STEPS`` intervals (:func:`~.blocks.free_block`, where the
     plant allows it); ``in_blocks=False`` steps every interval alone, which gives
     the same run to rounding, more slowly.
     """
@@ -141,8 +142,8 @@ def _run_window(plant, t, first, stop, commanded, velocity, n_drivers, housing_s
 
 
 def _record_block(plant, commanded, velocity, dt, k, effort, winding, measured, estimated, ambient, current) -> int:
-    """One :meth:`~ThermalPlant.free_block` from sample ``k``, written into the run's arrays; its length."""
-    block = plant.free_block(commanded, velocity, dt)
+    """One :func:`~.blocks.free_block` from sample ``k``, written into the run's arrays; its length."""
+    block = free_block(plant, commanded, velocity, dt)
     rows = slice(k, k + block.steps)
     effort[rows], winding[rows], measured[rows] = block.effort, block.true_winding_C, block.measured_C
     ambient[rows], current[rows] = block.ambient_C, block.current_A

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .effects import Schedule
+from ..effects import Schedule
 
 
 class ScheduledChannel:
-    """One schedule per actuator: a level held for a random time, then another (see :class:`.effects.Schedule`).
+    """One schedule per actuator: a level held for a random time, then another (see :class:`thermolimb.effects.Schedule`).
 
     Levels are drawn as time passes, so a schedule needs no duration; plant
     time only moves forward, and the same generator gives the same schedules.

@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .effects import PlantEffects
+from ..effects import PlantEffects
 from .network import ActuatorSpec
 from .observer import WindingObserver
 

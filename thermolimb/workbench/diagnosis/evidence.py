@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
+from ...effects import EFFECTS, HOT_AND_COOL, PHASES
 from ...model.terms import TERMS
 from ...model.units import spaced
 from ...util.numbers import plus_minus
 from .candidates import SCORE_P_VALUE, Candidate
 from .residuals import ResidualAnalysis
 
-# Which residual cross-correlation speaks for which effect; user effects use their first column.
-CHANNEL = {"joule": "effort^2", "effort_bias": "effort", "speed_losses": "|velocity|",
-           "motion_cooling": "|velocity|", "current_heating": "current^2", "ambient_variation": "ambient",
-           "power_heating": "power", "housing_boundary": "housing temperature"}
-PHASE_EFFECTS = ("winding_tempco", "second_node", "sensor_lag")
+# the residual's correlation a log column gives (an effect the catalog does not describe: a user's)
 COLUMN_CHANNEL = {"effort": "effort", "velocity": "|velocity|", "current": "current^2", "ambient": "ambient",
                   "power": "power", "housing": "housing temperature"}
+
+
+def residual_sign(effect: str) -> str | None:
+    """What of the residual speaks for ``effect``: its :class:`~thermolimb.effects.Effect`'s, else nothing."""
+    known = EFFECTS.get(effect)
+    return None if known is None else known.residual
 
 
 def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
@@ -23,10 +26,9 @@ def _channel(effect: str, analysis: ResidualAnalysis) -> str | None:
         for key in (name, column):
             if column.startswith("extra.") and key in analysis.cross:
                 return key
-    if effect in CHANNEL:
-        return CHANNEL[effect] if CHANNEL[effect] in analysis.cross else None
-    if effect == "neighbor_coupling":
-        return next((k for k in analysis.cross if k.startswith("temperature of")), None)
+    sign = residual_sign(effect)
+    if sign is not None:  # a channel, or a neighbour's temperature ("temperature of J1")
+        return next((k for k in analysis.cross if k == sign or k.startswith(sign + " ")), None)
     for column in TERMS[effect].columns:
         if COLUMN_CHANNEL.get(column) in analysis.cross:
             return COLUMN_CHANNEL[column]
@@ -40,7 +42,8 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     ph = analysis.phase_rmse_K
     # effects whose signature is in time or temperature, not in an input channel (their terms scale the effort,
     # so the effort's correlation would say nothing about them)
-    channel = _channel(c.effect, analysis) if c.kind != "drop" and c.effect not in PHASE_EFFECTS else None
+    sign = residual_sign(c.effect)
+    channel = _channel(c.effect, analysis) if c.kind != "drop" and sign not in PHASES else None
     if channel:
         corr = analysis.cross[channel]
         lag, value = corr.peak
@@ -55,13 +58,12 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
                          f"score test sees it")
         else:
             parts.append(f"the residual does not correlate significantly with {channel} ({peak})")
-    elif c.effect == "winding_tempco" and "hot" in ph and "cool" in ph:
+    elif sign == HOT_AND_COOL and "hot" in ph and "cool" in ph:
         parts.append(f"the fit is {'worse' if ph['hot'] > ph['cool'] else 'not worse'} when hot "
                      f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
-    elif c.effect in ("second_node", "sensor_lag"):
+    elif sign in PHASES and sign != HOT_AND_COOL:
         slow = analysis.autocorrelation.values[-1]
-        what = "a slow drift" if c.effect == "second_node" else "errors at heating and cooling onsets"
-        parts.append(f"looking for {what}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
+        parts.append(f"looking for {sign}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
                      f"RMSE {ph.get('heating', float('nan')):.2f} K heating vs {ph.get('cool', float('nan')):.2f} K cool")
     if c.kind == "drop":
         parts.append(f"without {c.effect}")

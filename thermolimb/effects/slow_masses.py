@@ -1,0 +1,116 @@
+"""Slower thermal masses between the winding and ambient: a housing or frame, and a body behind it, each a
+cascade stage of the model; airflow on the housing.  The plant's X8 network has them of its own (winding,
+housing, body): no switch hides them."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.scan import first_order_scan
+from ..model.terms import Parameter, Term, register_term
+from ..util.numbers import significant
+from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
+
+HOUSING_AIRFLOW = "housing_cooling_per_rad_s"
+
+
+class SlowMass(Term):
+    """A slower thermal mass between the winding and ambient, as one cascade stage.
+
+    The slow node settles to ``T_offset + phi (u - T_offset)`` with time
+    constant ``tau`` (``u``: the equilibrium the other terms give); the
+    winding settles to that node plus the remaining ``(1 - phi)`` of the rise
+    (a cascade: the steady state is unchanged).  Stages stack: a third mass
+    reshapes what the second leaves.
+    """
+
+    fraction: str
+    tau: str
+    carries_state = True  # its node's temperature carries over between pieces of a run (ThermalModel.simulate)
+
+    def implausible(self, p):
+        if p[self.tau] <= p["RC_s"]:
+            return (f"{self.tau} = {significant(p[self.tau], 3)} s is not slower than the winding's "
+                    f"RC_s = {significant(p['RC_s'], 3)} s fitted with it")
+        return super().implausible(p)
+
+    def winding_share(self, p):
+        return 1.0 - p[self.fraction]
+
+    def airflow(self, p, s) -> np.ndarray | float:
+        """How many times its still-air conductance to ambient this mass has (1: none moves it)."""
+        return 1.0
+
+    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None):
+        phi = p[self.fraction]
+        if phi == 0.0:
+            self.state = None
+            return equilibrium_C
+        # the heat's rise above the boundary builds up phi across this mass; the boundary itself (ambient)
+        # reaches the winding only through it; airflow divides this mass's rise and its time constant alike
+        heat = equilibrium_C - boundary_C
+        flow = self.airflow(p, s)
+        target = boundary_C + phi * heat / flow
+        a = np.exp(-s.interval_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
+        # the slow mass starts in proportion, as if the initial temperature were a steady state, unless it
+        # carries on from where an earlier piece of the run left it
+        start = boundary_C[0] + phi * (initial_C - boundary_C[0]) if state is None else state
+        frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
+        self.state = float(frame[-1])
+        return frame + (1.0 - phi) * heat
+
+
+def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Parameter, Parameter]:
+    return (
+        Parameter(fraction, "1", 0.0, 0.98, 0.5,
+                  f"share of the steady-state rise that builds up across the {which} mass",
+                  "long heating or cooling phases (several slow time constants)", plausible=(0.05, 0.95)),
+        Parameter(tau, "s", 1.0, 1e6, 2000.0, f"time constant of the {which} mass",
+                  "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True),
+    )
+
+
+@register_term
+class SecondNode(SlowMass):
+    """A second, slower thermal mass (a housing or frame) between the winding and ambient."""
+
+    name = "second_node"
+    label = "a second thermal mass"
+    description = "a second, slower thermal mass"
+    fraction, tau = "frame_fraction", "frame_tau_s"
+    parameters = _slow_mass_parameters(fraction, tau, "slow")
+
+    def airflow(self, p, s):
+        h = p.get(HOUSING_AIRFLOW, 0.0)  # set by housing_motion_cooling, when the model has it
+        return 1.0 + h * speed(s) if h else 1.0
+
+
+@register_term
+class HousingMotionCooling(Term):
+    """Airflow while moving cools the slow mass (the housing), not the winding: the second mass's conductance
+    to ambient times ``1 + h |v|``, which shrinks its share of the rise and its time constant alike."""
+
+    name = "housing_motion_cooling"
+    label = "the housing cooled by motion"
+    description = "cooling of the housing (the second mass) that improves with speed (airflow)"
+    parameters = (airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),)
+    columns = ("velocity",)
+    requires = ("second_node",)
+
+
+@register_term
+class ThirdNode(SlowMass):
+    """A third thermal mass: actuators whose housing and body both store heat (three time scales)."""
+
+    name = "third_node"
+    label = "a third thermal mass"
+    description = "a third thermal mass (housing and body both store heat)"
+    fraction, tau = "body_fraction", "body_tau_s"
+    parameters = _slow_mass_parameters(fraction, tau, "third")
+    requires = ("second_node",)
+
+
+# nothing switched on hides the slow masses: the X8's own housing and body are them
+register(Effect("second_node", SecondNode, residual=SLOW_DRIFT, hidden=Hidden("slow_masses", None)),
+         Effect("housing_motion_cooling", HousingMotionCooling, residual="|velocity|"),
+         Effect("third_node", ThirdNode, residual=SLOW_DRIFT))
