@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
-from thermolimb.forecast import crossing_s, forecast
+from thermolimb.forecast import forecast
+from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
 from thermolimb.monitor import CsvFollower, Session
 from thermolimb.monitor.follow import Piece

@@ -15,7 +15,8 @@ import pytest
 from thermolimb.cli.main import main
 from thermolimb.model import Signals, ThermalModel, model_parameters
 from thermolimb.model.saved import ModelFile
-from thermolimb.monitor import CsvFollower, Session, time_to_limit_s
+from thermolimb.model.reach import first_order_reach_s
+from thermolimb.monitor import CsvFollower, Session
 from thermolimb.monitor.layout import SHIPPED_ACTUATORS, layout_text
 
 TERMS = ("joule", "effort_bias", "second_node", "third_node", "sensor_lag", "speed_losses")
@@ -51,9 +52,9 @@ def test_a_run_in_pieces_carries_on_exactly():
 
 
 def test_time_to_limit_is_first_order():
-    assert time_to_limit_s(50.0, 100.0, 0.01, 75.0) == pytest.approx(np.log(2) / 0.01)
-    assert time_to_limit_s(50.0, 70.0, 0.01, 75.0) is None
-    assert time_to_limit_s(80.0, 70.0, 0.01, 75.0) == 0.0
+    assert first_order_reach_s(50.0, 100.0, 0.01, 75.0) == pytest.approx(np.log(2) / 0.01)
+    assert first_order_reach_s(50.0, 70.0, 0.01, 75.0) is None
+    assert first_order_reach_s(80.0, 70.0, 0.01, 75.0) == 0.0
 
 
 @pytest.fixture(scope="module")

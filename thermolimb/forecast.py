@@ -32,6 +32,7 @@ import numpy as np
 from scipy.stats import norm
 
 from .model.model import ThermalModel
+from .model.reach import crossing_s
 from .model.saved import SavedModel
 from .model.signals import Signals
 from .util.errors import ThermolimbError
@@ -88,18 +89,6 @@ class Forecast:
         upper = "beyond the horizon" if high is None else f"{high:.0f} s"
         return (f"{self.actuator}: reaches {where} in {self.time_to_threshold_s:.0f} s "
                 f"({100 * self.level:.0f} % interval {low:.0f} s to {upper})")
-
-
-def crossing_s(time_s: np.ndarray, curve_C: np.ndarray, threshold_C: float) -> float | None:
-    """The first time ``curve_C`` reaches ``threshold_C``, linearly interpolated between samples; ``None``: never."""
-    above = np.flatnonzero(curve_C >= threshold_C)
-    if above.size == 0:
-        return None
-    k = int(above[0])
-    if k == 0:
-        return float(time_s[0])
-    t0, t1, y0, y1 = time_s[k - 1], time_s[k], curve_C[k - 1], curve_C[k]
-    return float(t0 + (t1 - t0) * (threshold_C - y0) / (y1 - y0))
 
 
 def parameter_draws(saved: SavedModel, draws: int, seed: int) -> list[ThermalModel]:

@@ -1,8 +1,8 @@
 """Watch a running robot's log with a saved model: winding estimates, forecasts and derating, as ROS 2
 messages in an MCAP, on Foxglove's live WebSocket, or as JSON lines (``thermolimb monitor``)."""
 
-from .estimator import ActuatorMonitor, Estimate, time_to_limit_s
+from .estimator import ActuatorMonitor, Estimate
 from .follow import CsvFollower
 from .session import Session, follow
 
-__all__ = ["ActuatorMonitor", "CsvFollower", "Estimate", "Session", "follow", "time_to_limit_s"]
+__all__ = ["ActuatorMonitor", "CsvFollower", "Estimate", "Session", "follow"]

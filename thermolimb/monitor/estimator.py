@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
 from ..model.signals import Signals
 from ..plant.protection import ThermalProtection
@@ -32,6 +33,15 @@ OK, WARN, ERROR = 0, 1, 2
 LEVELS = {OK: "OK", WARN: "WARN", ERROR: "ERROR"}
 WARN_WITHIN_S = 120.0  # WARN when the forecast reaches the limit sooner than this
 DEFAULT_MEASUREMENT_STD_K = 0.1
+
+
+def level(winding_C: float, limit_C: float, derating: float, time_to_limit_s: float | None) -> int:
+    """The status rule, for the monitor and the rig's live view alike: ERROR at or above the limit; WARN while
+    protection derates or the limit is less than :data:`WARN_WITHIN_S` away; else OK."""
+    if winding_C >= limit_C:
+        return ERROR
+    soon = time_to_limit_s is not None and time_to_limit_s < WARN_WITHIN_S
+    return WARN if derating < 1.0 or soon else OK
 
 
 @dataclass(frozen=True)
@@ -113,19 +123,8 @@ class ActuatorMonitor:
         winding = keep["winding"] + bias  # the model's winding, less what the readings say it misses
         slope = (sim[-1] - sim[-2]) / (signals.time_s[-1] - signals.time_s[-2]) if signals.n > 1 else 0.0
         std = float(np.sqrt(self.P + (self.sigma_tau_s * slope) ** 2))
-        ttl = time_to_limit_s(winding, keep["steady_C"], keep["rate_per_s"], self.limit_C)
+        ttl = first_order_reach_s(winding, keep["steady_C"], keep["rate_per_s"], self.limit_C)
         derate = float(self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0])
-        level = ERROR if winding >= self.limit_C else (
-            WARN if derate < 1.0 or (ttl is not None and ttl < WARN_WITHIN_S) else OK)
         self.last = Estimate(self.saved.actuator, float(signals.time_s[-1]), float(measured_C[-1]), float(winding),
-                             std, ttl, derate, level, self.limit_C)
+                             std, ttl, derate, level(winding, self.limit_C, derate, ttl), self.limit_C)
         return self.last
-
-
-def time_to_limit_s(temperature_C: float, steady_C: float, rate_per_s: float, limit_C: float) -> float | None:
-    """First-order time from ``temperature_C`` to ``limit_C`` heading for ``steady_C`` at ``rate_per_s``."""
-    if temperature_C >= limit_C:
-        return 0.0
-    if steady_C <= limit_C or rate_per_s <= 0:
-        return None
-    return float(np.log((steady_C - temperature_C) / (steady_C - limit_C)) / rate_per_s)

@@ -19,7 +19,7 @@ import sys
 
 import numpy as np
 
-from .estimator import ERROR, OK, WARN, WARN_WITHIN_S, Estimate
+from .estimator import Estimate, level
 from .outputs import FoxgloveOutput
 
 ENV_VARIABLE = "THERMOLIMB_LIVE"
@@ -75,13 +75,9 @@ class RigStream:
             ttl = plant.observer.time_to_limit_s(plant.current_A, limits, plant.ambient_C,
                                                  rig.actuator_velocities(q, qd), horizon_s=HORIZON_S)
         else:
-            winding, std, ttl = measured, np.zeros_like(measured), np.full(measured.shape, np.inf)
+            winding, std, ttl = measured, np.zeros_like(measured), [None] * plant.n
         derating = plant.derating()
-        estimates = []
-        for i, name in enumerate(plant.names):
-            level = ERROR if winding[i] >= limits[i] else (
-                WARN if derating[i] < 1.0 or ttl[i] < WARN_WITHIN_S else OK)
-            estimates.append(Estimate(name, float(rig.time_s), float(measured[i]), float(winding[i]), float(std[i]),
-                                      None if np.isinf(ttl[i]) else float(ttl[i]), float(derating[i]), level,
-                                      float(limits[i])))
+        estimates = [Estimate(name, float(rig.time_s), float(measured[i]), float(winding[i]), float(std[i]), ttl[i],
+                              float(derating[i]), level(winding[i], limits[i], derating[i], ttl[i]), float(limits[i]))
+                     for i, name in enumerate(plant.names)]
         self.view.publish(estimates, {name: "the rig's winding observer" for name in plant.names})

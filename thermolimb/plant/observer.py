@@ -10,24 +10,21 @@ and an unknown extra heat in the winding (a random walk: a drifting ambient,
 a neighbour's heat).  The heat it knows is the measured current through the
 copper's resistance, which rises 0.39 %/K.
 
-Two ways in:
-
-* :class:`WindingObserver`, online, from current, measured temperature and
-  ambient at each control step (the plant's thermal protection runs one);
-* :func:`observe_log`, offline, from a log and an identified
-  :class:`~thermolimb.model.ThermalModel` (first order, with its sensor lag
-  if it has one): the winding estimate with its uncertainty and the time to a
-  limit at the effort of each sample.
+:class:`WindingObserver` runs online, from current, measured temperature and
+ambient at each control step (the plant's thermal protection runs one).  A
+logged run with an identified model is watched by the monitor's estimator
+(:class:`~thermolimb.monitor.ActuatorMonitor`), which answers the time to a
+limit and the status by the same rules (:mod:`thermolimb.model.reach`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 
 from ..constants import COPPER_REFERENCE_C, COPPER_TEMPCO_PER_K
+from ..model.reach import crossing_s
 from .zoh import zero_order_hold
 
 
@@ -219,82 +216,26 @@ class WindingObserver:
     def winding_std_K(self) -> np.ndarray:
         return np.sqrt(np.maximum(self.P[:, 0, 0], 0.0))
 
-    @property
-    def unknown_heat_W(self) -> np.ndarray:
-        return self.x[:, self.heat].copy()
-
     def time_to_limit_s(self, current_A: np.ndarray, limit_C, ambient_C: float, speed_rad_s=None,
-                        horizon_s: float = 4 * 3600.0, step_s: float = 10.0) -> np.ndarray:
+                        horizon_s: float = 4 * 3600.0, step_s: float = 10.0) -> list[float | None]:
         """Time until each estimated winding reaches ``limit_C`` if ``current_A``, the speed and the unknown heat
-        were held (``inf`` when not within ``horizon_s``)."""
+        were held: the network simulated ahead every ``step_s`` and its first crossing
+        (:func:`~thermolimb.model.reach.crossing_s`); ``None`` when not within ``horizon_s``."""
         limit = np.broadcast_to(np.asarray(limit_C, float), (self.m,))
         Phi, Gam, _ = self._discrete(float(step_s))
         Phi = self._with_speed(Phi, speed_rad_s)
         x = self.x.copy()
-        out = np.full(self.m, np.inf)
-        out[x[:, 0] >= limit] = 0.0
-        for k in range(1, int(horizon_s / step_s) + 1):
+        winding = [x[:, 0]]
+        reached = x[:, 0] >= limit
+        for _ in range(int(horizon_s / step_s)):
+            if reached.all():
+                break
             heat = np.asarray(current_A, float) ** 2 * self.resistance_ohm * (
                 1.0 + self.alpha * (x[:, 0] - COPPER_REFERENCE_C))
             u = np.stack([heat, np.full(self.m, float(ambient_C))], axis=1)
             x = np.einsum("mij,mj->mi", Phi, x) + np.einsum("mij,mj->mi", Gam, u)
-            newly = np.isinf(out) & (x[:, 0] >= limit)
-            out[newly] = k * step_s
-            if not np.isinf(out).any():
-                break
-        return out
-
-
-@dataclass(frozen=True)
-class ObservedLog:
-    """What :func:`observe_log` returns, per sample."""
-
-    time_s: np.ndarray
-    measured_C: np.ndarray
-    winding_C: np.ndarray  # the estimate
-    winding_std_K: np.ndarray
-    time_to_limit_s: np.ndarray  # at each sample's inputs held (inf: never)
-
-
-def observe_log(series, model, limit_C: float, measurement_std_K: float = 0.1,
-                process_std_K_per_sqrt_s: float = 0.02) -> ObservedLog:
-    """The winding temperature and the time to ``limit_C`` along a logged run, from an identified model.
-
-    ``model`` is read as ``dT/dt = lam (u - T)`` (its :meth:`forcing`) with,
-    if it has ``sensor_lag``, a thermistor lagging the winding by
-    ``sensor_tau_s``; a Kalman filter corrects it with each reading.
-    """
-    s = series.signals
-    u, lam = model.forcing(s)
-    tau = model.params.get("sensor_tau_s")
-    lagged = tau is not None and tau > 0
-    n = 2 if lagged else 1
-    x = np.full(n, series.temperature_C[0])
-    P = np.eye(n)
-    q = process_std_K_per_sqrt_s**2
-    r = measurement_std_K**2
-    dt = s.dt_s
-    estimate, std = np.empty(s.n), np.empty(s.n)
-    estimate[0], std[0] = x[0], 1.0
-    transitions: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}  # (lam, dt) -> (Phi, response to u)
-    for k in range(1, s.n):
-        key = (float(lam[k - 1]), float(dt[k - 1]))
-        if key not in transitions:  # lam and dt rarely change: one matrix exponential per distinct pair
-            A = np.zeros((n, n))
-            A[0, 0] = -key[0]
-            if lagged:
-                A[1, 0], A[1, 1] = 1.0 / tau, -1.0 / tau
-            Phi, response = zero_order_hold(A, np.eye(n, 1) * key[0], key[1])
-            transitions[key] = (Phi, response[:, 0])
-        Phi, response = transitions[key]
-        x = Phi @ x + response * u[k - 1]
-        P = Phi @ P @ Phi.T + np.diag([q * key[1]] + [0.0] * (n - 1))
-        h = n - 1
-        gain = P[:, h] / (P[h, h] + r)
-        x = x + gain * (series.temperature_C[k] - x[h])
-        P = P - np.outer(gain, P[h])
-        estimate[k], std[k] = x[0], np.sqrt(max(P[0, 0], 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = (limit_C - u) / (estimate - u)
-        ttl = np.where(estimate >= limit_C, 0.0, np.where((u > limit_C) & (ratio > 0), -np.log(ratio) / lam, np.inf))
-    return ObservedLog(series.time_s, series.temperature_C, estimate, std, ttl)
+            winding.append(x[:, 0])
+            reached |= x[:, 0] >= limit
+        curves = np.array(winding)
+        times = step_s * np.arange(len(curves))
+        return [crossing_s(times, curves[:, i], limit[i]) for i in range(self.m)]
