@@ -957,17 +957,17 @@ API_SNIPPET = textwrap.dedent("""
         if case == "read_log(mapping=42)":
             return read_log("good.csv", mapping=42)
         series = read_log("good.csv").series("knee")
-        from thermolimb.identification import OutputError, LeastSquares
+        from thermolimb.identification import FreeRunLeastSquares, LeastSquares
         if case.startswith("fit "):
             n = int(case.split()[1])
-            return (OutputError if "output" in case else LeastSquares)().fit(series.slice(0, n))
+            return (FreeRunLeastSquares if "output" in case else LeastSquares)().fit(series.slice(0, n))
         from thermolimb.model import ThermalModel
         if case.startswith("ThermalModel "):
             value = float(case.split()[-1])
             return ThermalModel(("joule",), {"RC_s": 40.0, "betaR_K_per_effort2": value, "T_offset_C": 25.0})
-        if case == "pickle a fitted OutputError, FitReport and ThermalModel":
+        if case == "pickle a fitted FreeRunLeastSquares, FitReport and ThermalModel":
             from thermolimb.workbench.validation import Scheme, validate_model
-            report = validate_model([series], "joule,effort_bias", Scheme())
+            report = validate_model([series], DEFAULT_MODEL, Scheme())
             for obj in (report, report.estimator, report.model):
                 assert pickle.loads(pickle.dumps(obj)) is not None
             return "pickled"
@@ -988,7 +988,7 @@ API_CASES = (("read_log(mapping='effort=effort')", "raise"), ("read_log(mapping=
              ("fit 0 samples (output error)", "raise"), ("fit 2 samples (output error)", "raise"),
              ("fit 2 samples (least squares)", "raise"), ("ThermalModel betaR nan", "raise"),
              ("ThermalModel betaR -1e9", "raise"), ("ThermalModel betaR 1e300", "pass"),
-             ("pickle a fitted OutputError, FitReport and ThermalModel", "pass"),
+             ("pickle a fitted FreeRunLeastSquares, FitReport and ThermalModel", "pass"),
              (f"pickle a live {HEX}", "raise"), (f"deepcopy a live {HUM}", "raise"))
 SECOND.update(f"API: {case}" for case, _ in API_CASES)
 THIRD_API = tuple((f"plant {what}", "raise") for what in (

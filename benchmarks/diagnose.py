@@ -20,8 +20,9 @@ import argparse
 import json
 import time
 
-from thermolimb.identification import IdentifiabilityError, OutputError
+from thermolimb.identification import FreeRunLeastSquares, IdentifiabilityError
 from thermolimb.identification.thinning import thinned
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
@@ -43,7 +44,7 @@ def main(argv=None) -> dict:
     series = [log.series("knee")]
 
     start = time.perf_counter()
-    base = fit_and_validate(series, "joule,effort_bias", estimator=OutputError())
+    base = fit_and_validate(series, DEFAULT_MODEL, estimator=FreeRunLeastSquares())
     t_base = time.perf_counter() - start
     train = list(base.train_series)
     candidates = [c for c in candidate_models(base.model.terms, series[0]) if c.kind == "add"]

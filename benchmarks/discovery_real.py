@@ -25,6 +25,7 @@ from thermolimb.model.terms import TERMS
 from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
+from thermolimb.workbench.validation import Scheme
 
 UR3_JOINTS = ("J1", "J2", "J4")  # three of the six: the shoulder and elbow carry load, J4 a wrist
 
@@ -36,7 +37,8 @@ def _generated(model) -> list[str]:
 def _walk(series, validate_on=(), discover=False) -> dict:
     start = time.perf_counter()
     try:
-        first, steps = auto_diagnose(series, validate_on=validate_on, discover=discover, stability=STABILITY[0])
+        first, steps = auto_diagnose(series, discover=discover, stability=STABILITY[0],
+                                     scheme=Scheme.on_runs(validate_on) if validate_on else Scheme())
     except ThermolimbError as exc:  # the log cannot carry Jorgensen et al.'s model: said, not hidden
         nan = float("nan")
         return {"base_K": nan, "final_K": nan, "model": [], "generated": [], "walk": [], "proposals": [],

@@ -22,12 +22,13 @@ import tempfile
 import time
 from pathlib import Path
 
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.util.parallel import Runner
 from thermolimb.workbench.fleet import analyse_file, expand_paths, fit_fleet_files
 from thermolimb.workbench.validation import Scheme
 
-MODEL = "joule,effort_bias"
+MODEL = DEFAULT_MODEL
 NAME0 = "j00"
 
 

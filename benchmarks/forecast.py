@@ -36,7 +36,9 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.forecast import crossing_s, forecast
+from thermolimb.forecast import forecast
+from thermolimb.model import DEFAULT_MODEL
+from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.plant.duties import held_duty
@@ -61,7 +63,7 @@ def calibration(seed: int):
 
 def saved_models(series, folder: Path) -> dict:
     """The default fit and the --auto walk's last model, saved and loaded back as a user's would be."""
-    default = validate_model([series], "joule,effort_bias")
+    default = validate_model([series], DEFAULT_MODEL)
     _, steps = auto_diagnose([series], quiet=True, stability=None)
     out = {}
     for label, report in (("default", default), ("auto", steps[-1].base)):

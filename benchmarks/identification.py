@@ -22,11 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.identification import LeastSquares, OutputError, JorgensenGradientDescent, build_regression
-from thermolimb.identification.least_squares import solve_least_squares
+from thermolimb.identification import FreeRunLeastSquares, JorgensenGradientDescent, LeastSquares, build_regression
 from thermolimb.identification.jorgensen_gd import zscore_gradient_descent
+from thermolimb.identification.least_squares import solve_least_squares
 from thermolimb.logs import log_from_arrays
-from thermolimb.model import Signals, ThermalModel
+from thermolimb.model import DEFAULT_MODEL, Signals, ThermalModel
 from thermolimb.plant.profiles import random_holds
 
 TRUE = {"RC_s": 80.0, "betaR_K_per_effort2": 0.2, "beta_biasR_K_per_effort": 0.8, "T_offset_C": 25.8}
@@ -38,7 +38,7 @@ def make_log(samples: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     profile = random_holds((samples - 1) * DT_S, DT_S, 1, rng)
     effort = 8.0 * profile.load[:, 0]
-    model = ThermalModel(("joule", "effort_bias"), TRUE)
+    model = ThermalModel(DEFAULT_MODEL, TRUE)
     temperature = model.simulate(Signals(profile.time_s, effort), 25.0)
     measured = np.round((temperature + rng.normal(0, 0.05, temperature.size)) / 0.1) * 0.1
     return log_from_arrays(profile.time_s, ("knee",), effort[:, None], measured[:, None],
@@ -69,7 +69,7 @@ def main(argv=None) -> dict:
     t_gd, gd = timed(lambda: JorgensenGradientDescent(target_loss=target, tol=0.0, max_iter=1_000_000).fit(series))
     agreement = max(abs(gd.params_[k] - ls.params_[k]) / abs(ls.params_[k]) for k in ls.params_)
     # The solvers alone, on the same prebuilt rows (filtering and differentiation excluded).
-    rows = build_regression([series], ("joule", "effort_bias"), 0.015, consistent=False,
+    rows = build_regression([series], DEFAULT_MODEL, 0.015, consistent=False,
                             effort_cutoff_hz=1.0, subtract_ambient_C=25.0)
     t_solve_ls, (_, loss_ls, _) = timed(lambda: solve_least_squares(rows.X, rows.y), repeat=5)
     descents = {}
@@ -78,7 +78,7 @@ def main(argv=None) -> dict:
             rows.X, rows.y, rate, 1_000_000, 0.0, loss_ls * (1 + 1e-6)))
         descents[rate] = (t_rate, iters)
     t_lsc, lsc = timed(lambda: LeastSquares().fit(series), repeat=3)
-    t_oe, oe = timed(lambda: OutputError().fit(series))
+    t_oe, oe = timed(lambda: FreeRunLeastSquares().fit(series))
 
     print(f"least squares (paper's rows)  {t_ls * 1e3:9.1f} ms   loss {ls.loss_:.6g} K^2")
     print(f"Jorgensen et al. gradient descent{t_gd * 1e3:9.1f} ms   loss {gd.loss_:.6g} K^2 after {gd.n_iter_} iterations")

@@ -56,7 +56,7 @@ def main(argv=None) -> dict:
                                   also_drops=cand.also_drops, channel=cand.channel, channel_unit=cand.channel_unit,
                                   formula=cand.formula)
                 again.starts = list(cand.starts)
-                _refit(again, runs, Scheme(), [], d.base, d.base_bic, start)
+                _refit(again, runs, Scheme(), d.base, d.base_bic, start)
                 if again.rmse_K is not None:
                     ends.append(again.rmse_K)
             spread = (max(ends) - min(ends)) / min(ends)

@@ -23,13 +23,14 @@ import time
 import numpy as np
 
 from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, WX200_BAG, pmsm_profile
+from thermolimb.effects import FanCooling, Schedule
 from thermolimb.logs import parse_mapping, read_log
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.effects import FanCooling, Schedule
+from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
-from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.validation import Scheme
 
 # one-mass plant effects and the terms that name them (None: nothing hidden, nothing to take)
@@ -83,7 +84,7 @@ def perturbed(runs, k: int):
         return runs, Scheme(), Stability(seed=0)
     rng = np.random.default_rng([k, 37])
     cut = [(int(rng.integers(0, 6)), int(rng.integers(0, 6))) for _ in runs]
-    return ([s.slice(a, s.n - b) for s, (a, b) in zip(runs, cut)], Scheme(split=0.7 + rng.uniform(-0.03, 0.03)),
+    return ([s.slice(a, s.n - b) for s, (a, b) in zip(runs, cut)], Scheme.at_split(0.7 + rng.uniform(-0.03, 0.03)),
             Stability(seed=k))
 
 
@@ -137,7 +138,7 @@ def main(argv=None) -> dict:
         row = {"log": name, "kind": "real" if hidden is None else "plant", "walks": walks, "same_share": same}
         if hidden is not None:
             found = [any(any(t == h or t.startswith(h) or h in t for t in w["final"] or []) for h in hidden) if hidden
-                     else w["final"] is not None and not [t for t in w["final"] if t not in ("joule", "effort_bias")]
+                     else w["final"] is not None and not [t for t in w["final"] if t not in DEFAULT_MODEL]
                      for w in walks]
             row["right_share"] = sum(found) / len(found)
         rows.append(row)

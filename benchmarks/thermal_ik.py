@@ -30,14 +30,14 @@ import time
 
 import numpy as np
 
-from humanoid_pb.thermal import datasheet_bank
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
 from humanoid_pb.ik.descent import descent_step, naive_descent, potential_of
 from humanoid_pb.ik.fast_ik import FastThermalIK
-from humanoid_pb.params import VALKYRIE
 from humanoid_pb.ik.poses import crouch_angles, single_support, standing
 from humanoid_pb.ik.potential import ThermalPotential
 from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.thermal import datasheet_bank
 
 
 def best_of(solve, repeats: int = 3):

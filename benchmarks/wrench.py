@@ -19,19 +19,21 @@
 from __future__ import annotations
 
 import argparse
-from collections import Counter
 import json
 import time
+from collections import Counter
 
 import numpy as np
 
-from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
-from hexapod_pb.controller import ControllerState, control_step
-from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
+from hexapod_pb.control import cpg
+from hexapod_pb.control.controller import ControllerState, control_step
+from hexapod_pb.control.minimax import minimax
+from hexapod_pb.control.nair import nair_trust_constr
+from hexapod_pb.control.stance import StanceProblem, vertical_only
+from hexapod_pb.model.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY
 from hexapod_pb.sim import HexapodSim, SimConfig
-from hexapod_pb.wrench import StanceProblem, minimax, nair_trust_constr, vertical_only
 
 TRIPOD = tuple(LEGS.index(n) for n in TRIPODS[0])
 ONE_SHOT_SAMPLE = 100

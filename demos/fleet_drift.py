@@ -18,6 +18,7 @@ import numpy as np
 
 from thermolimb.data import REAL_LOGS
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.plant import (
     FIRST_ORDER_NETWORK,
     X8_9,
@@ -33,7 +34,7 @@ from thermolimb.workbench.drift import drift
 from thermolimb.workbench.fleet import fit_fleet
 
 NAME = "fleet-drift"
-MODEL = "joule,effort_bias"
+MODEL = DEFAULT_MODEL
 ACTUATORS = tuple(f"a{k}" for k in range(6))
 FAILING = "a3"
 RESISTANCE_FACTOR = 1.5

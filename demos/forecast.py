@@ -19,6 +19,7 @@ import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.forecast import forecast
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
 from thermolimb.monitor import CsvFollower, Session
@@ -86,7 +87,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
     calibration.write(out / "calibration.csv")
     stability = None if quick else Stability()
     _, steps = auto_diagnose([series], quiet=quiet, stability=stability)
-    reports = {"default": validate_model([series], "joule,effort_bias"), "auto": steps[-1].base}
+    reports = {"default": validate_model([series], DEFAULT_MODEL), "auto": steps[-1].base}
     models = {}
     for label, report in reports.items():
         path = out / f"model_{label}.json"

@@ -13,12 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hexapod_pb.endurance import (
+from hexapod_pb.calibration import at_ambient, calibrate
+from hexapod_pb.experiments.endurance import (
     GAIT_CHOICES,
     MODES,
     STRATEGIES,
-    at_ambient,
-    calibrate,
     check_periodic,
     derating_threshold_C,
     endurance,

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from hexapod_pb.constants import JOINT_KINDS, LEGS
-from hexapod_pb.scenarios import SCENARIOS, run_scenario
-from hexapod_pb.wrench import STRATEGIES
+from hexapod_pb.control.wrench import STRATEGIES
+from hexapod_pb.experiments.load_carrying import SCENARIOS, run_scenario
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.plotting.fits import plt, save
 

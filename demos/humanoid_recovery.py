@@ -17,19 +17,19 @@ from pathlib import Path
 
 import numpy as np
 
-from humanoid_pb.thermal import datasheet_bank
-from humanoid_pb.model.actuation import effort_limits
-from humanoid_pb.experiments.calibration import calibrate
+from humanoid_pb.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
+from humanoid_pb.experiments.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
 from humanoid_pb.ik.fast_ik import FastThermalIK
-from humanoid_pb.params import VALKYRIE
-from humanoid_pb.limits import LIMITS
 from humanoid_pb.ik.poses import crouch_angles, single_support, standing
 from humanoid_pb.ik.potential import MinimumEffort
-from humanoid_pb.experiments.recovery import cooling_bound, run_recovery, steady_needed_for_ratio
+from humanoid_pb.limits import LIMITS
+from humanoid_pb.model.actuation import effort_limits
+from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.params import VALKYRIE
 from humanoid_pb.scenarios import SCENARIOS, scenario
 from humanoid_pb.sim import HumanoidSim
-from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.thermal import datasheet_bank
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds, yes_no
 from thermolimb.identification.regression import lowpass
 from thermolimb.plotting.fits import plt, save

@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 
-from humanoid_pb.model.statics import WholeBody
 from humanoid_pb.experiments.switching_map import (
     AGREEMENT,
     DEPTHS_RAD,
@@ -24,6 +23,7 @@ from humanoid_pb.experiments.switching_map import (
     measure_cell,
     predict_cell,
 )
+from humanoid_pb.model.statics import WholeBody
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo, seconds, yes_no
 from thermolimb.plotting.fits import plt, save
 

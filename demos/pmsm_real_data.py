@@ -20,6 +20,7 @@ from thermolimb.plotting.diagnosis import plot_diagnosis
 from thermolimb.plotting.interactive import InteractivePage, add_diagnosis
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
+from thermolimb.workbench.validation import Scheme
 
 NAME = "pmsm-real-data"
 
@@ -67,7 +68,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
         add_diagnosis(page, first, steps)
         entry = {"split": {"waterfall": first.auto, "recommended_model": first.to_json()["recommended_model"]}}
         if number == 24:
-            cv, _ = auto_diagnose(series, cv=4, quiet=quiet, stability=Stability())
+            cv, _ = auto_diagnose(series, quiet=quiet, scheme=Scheme.in_blocks(4), stability=Stability())
             entry["cv4"] = {"waterfall": cv.auto}
         summary["profiles"][f"profile{number}"] = entry
     page.write(out / "interactive.html")

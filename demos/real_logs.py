@@ -83,7 +83,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
             record = {"runs": len(runs), "split": _walk(first)}
             if len(runs) > 1 and not quick:
                 try:
-                    cross, _ = auto_diagnose(runs, quiet=quiet, scheme=Scheme(by_run=True), stability=Stability())
+                    cross, _ = auto_diagnose(runs, quiet=quiet, scheme=Scheme.leave_one_run_out(), stability=Stability())
                     record["leave_one_run_out"] = _walk(cross)
                 except IdentifiabilityError as exc:
                     record["leave_one_run_out"] = {"refused": str(exc)}

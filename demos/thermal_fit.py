@@ -15,6 +15,7 @@ import numpy as np
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.identification.metrics import fit_metrics
 from thermolimb.identification.regression import lowpass, lowpass_derivative
+from thermolimb.model import DEFAULT_MODEL
 from thermolimb.plant import X8_16, EffortBias, PlantEffects, Quantisation, SensorNoise, simulate_profile
 from thermolimb.plotting.fits import plt, save
 from thermolimb.workbench.validation import make_estimator
@@ -79,7 +80,7 @@ def run(out: Path, quick: bool = False, quiet: bool = True) -> dict:
         train, test = ident.series(channel), squat.series(channel)
         per_method = {}
         for method in METHODS:
-            est = make_estimator(method, "joule,effort_bias").fit(train)
+            est = make_estimator(method, DEFAULT_MODEL).fit(train)
             predicted = est.simulate(test, initial_temperature_C=AMBIENT_C)
             per_method[method] = {"params": est.params_, "prediction": fit_metrics(test.temperature_C, predicted)}
             predictions[channel, method] = predicted

@@ -13,9 +13,9 @@ from gymnasium import spaces
 
 from thermolimb.envs.base import RigEnv, checked_finite, checked_port, checked_range
 
-from . import cpg
-from .controller import ThermalContext
-from .loop import ControlLoop
+from .control import cpg
+from .control.controller import ThermalContext
+from .control.loop import ControlLoop
 from .limits import LIMITS
 from .params import DAISY
 from .sim import HexapodSim, SimConfig
@@ -87,7 +87,7 @@ class HexapodLoadCarryEnv(RigEnv):
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None,
                  payload_range_kg: tuple[float, float] = (0.0, 5.0), ambient_range_C: tuple[float, float] = (20.0, 35.0),
                  initial_temperature_range_C: tuple[float, float] = (40.0, 110.0), distance_weight_per_m: float = 1.0,
-                 overheat_weight_per_K: float = 0.05, overheat_from_C: float = LIMITS.overheat_from_C,
+                 overheat_weight_per_K: float = 0.05, overheat_from_C: float = LIMITS.warning_C,
                  fall_penalty: float = 100.0, live: int | None = None):
         super().__init__(max_time_s, decision_s, render_mode)
         self.live = checked_port(live)

@@ -24,10 +24,10 @@ from thermolimb.rig import BulletRig, RigConfig
 from thermolimb.util.errors import check_range
 
 from .constants import FEET, JOINTS, LEGS, PAYLOAD_LINK
-from .kinematics import inverse_kinematics, nominal_foot
+from .model.daisy_urdf import urdf_path
+from .model.kinematics import inverse_kinematics, nominal_foot
 from .params import DAISY, DaisyParams
 from .readings import Reading
-from .urdf_model import urdf_path
 
 
 @dataclass(frozen=True)

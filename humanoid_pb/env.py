@@ -15,12 +15,12 @@ from thermolimb.envs.base import RigEnv, checked_finite, checked_port, checked_r
 from thermolimb.plant import ActuatorSpec
 from thermolimb.rig import RigConfig
 
-from .model.actuation import effort_limits
-from .experiments.calibration import calibrate
+from .calibration import calibrate
 from .constants import ACTUATORS, CONTACT_MODES, JOINTS, SIDES, leg_actuators, leg_joint
 from .control.executor import Executor
-from .params import FALLEN_PELVIS_HEIGHT_M, VALKYRIE
 from .limits import LIMITS
+from .model.actuation import effort_limits
+from .params import FALLEN_PELVIS_HEIGHT_M, VALKYRIE
 from .readings import roll_pitch_rad
 from .scenarios import DEFAULT
 from .scenarios import scenario as get_scenario
@@ -147,7 +147,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
 
     def calibration_run(self, duration_s: float, seed: int = 0):
         """Models identified from a calibration run of this robot (its own actuators, whatever its datasheet
-        says): what a thermal-aware policy plans with (a :class:`~thermolimb.identification.bank.Calibration`)."""
+        says): what a thermal-aware policy plans with (a :class:`~thermolimb.identification.calibration.Calibration`)."""
         return calibrate(duration_s, seed, specs=self.actuator_specs, scenario=self.scenario)
 
     # ------------------------------------------------------------------ gym API

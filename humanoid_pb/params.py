@@ -78,10 +78,5 @@ class ValkyrieParams:
     def limits(self, joint: str) -> tuple[float, float]:
         return self.joint_limits_rad[joint_kind(joint)]
 
-    @property
-    def standing_height_m(self) -> float:
-        """Pelvis above the ground with straight legs."""
-        return self.hip_below_pelvis_m + self.thigh_m + self.shank_m + self.ankle_height_m
-
 
 VALKYRIE = ValkyrieParams()

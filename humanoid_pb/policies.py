@@ -17,7 +17,7 @@ from thermolimb.envs.policies import constant_policy
 from .constants import CONTACT_MODES
 from .control.planner import ContactModePlanner
 
-CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.experiments.calibration.calibrate)
+CALIBRATION_S = 90.0  # double support, then each foot in turn (humanoid_pb.calibration.calibrate)
 _BANKS = {}
 
 

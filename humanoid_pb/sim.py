@@ -16,15 +16,15 @@ from thermolimb.plant import ActuatorSpec, PlantEffects, ThermalProtection
 from thermolimb.rig import BulletRig, RigConfig
 
 from . import thermal
-from .model import actuation
 from .constants import ACTUATORS, FEET, JOINTS
-from .params import VALKYRIE, ValkyrieParams
 from .ik.poses import crouch_angles
+from .model import actuation
+from .model.statics import WholeBody
+from .model.valkyrie_urdf import urdf_path
+from .params import VALKYRIE, ValkyrieParams
 from .readings import Reading
 from .scenarios import DEFAULT, Scenario
 from .scenarios import scenario as get_scenario
-from .model.statics import WholeBody
-from .model.urdf_model import urdf_path
 
 
 class HumanoidSim(BulletRig):

@@ -56,7 +56,7 @@ def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario =
         limit = params.rod_force_limit_N if "_rod_" in name else params.effort_limit(name)
         per_amp = sizing.effort_per_amp(name, limit, 0.5)
         specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
-                                  winding_limit_C=LIMITS.winding_C, driver=None))
+                                  winding_limit_C=LIMITS.winding_C[ACTUATORS.index(name)], driver=None))
     return specs
 
 

@@ -108,7 +108,7 @@ def test_real_bag_agrees_with_its_csv_export():
     assert np.array_equal(bag.temperature_C, csv.temperature_C)
     heat_bag, heat_csv = np.mean(bag.signals.effort ** 2), np.mean(csv.signals.effort ** 2)
     assert abs(heat_bag / heat_csv - 1.0) < 0.05
-    scheme = Scheme(split=0.7)
+    scheme = Scheme.at_split(0.7)
     a, b = (validate_model([s], "joule", scheme) for s in (bag, csv))
     assert abs(a.validation["rmse_K"] - b.validation["rmse_K"]) < 0.3
     assert a.validation["rmse_K"] < 1.0

@@ -4,8 +4,8 @@ import json
 import re
 
 import pytest
-from PIL import Image
 from captions import broken_promises, code_names
+from PIL import Image
 
 from thermolimb.demo_registry import caption, load_demos, run_demo
 from thermolimb.plotting.inventory import read_inventory

@@ -15,11 +15,11 @@ import pytest
 
 from thermolimb.cli.main import main
 from thermolimb.data import REAL_LOGS
+from thermolimb.effects import DriverConduction, FanCooling, HoldingBrake
 from thermolimb.logs import from_frame, read_log
 from thermolimb.model import TERMS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.effects import DriverConduction, FanCooling, HoldingBrake
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 
 R_TOTAL = sum(NETWORKS["first_order"].resistance_K_per_W)  # K/W, winding to ambient

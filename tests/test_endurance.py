@@ -4,7 +4,7 @@ the propagation follows a whole PyBullet run (the shortcut itself: tests/test_pe
 import numpy as np
 import pytest
 
-from hexapod_pb import endurance
+from hexapod_pb.experiments import endurance
 
 
 def test_sharing_the_load_buys_time_where_vertical_forces_derate_within_the_hour():

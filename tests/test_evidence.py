@@ -12,9 +12,9 @@ from conftest import first_order_log, first_order_truth
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG
 from thermolimb.identification import IdentifiabilityError
-from thermolimb.util.numbers import significant
 from thermolimb.logs import read_log
 from thermolimb.plant import X8_9, PlantEffects, simulate_profile
+from thermolimb.util.numbers import significant
 from thermolimb.workbench.evidence import MIN_SAMPLES_TO_RANK, THIN_SAMPLES, Evidence
 from thermolimb.workbench.validation import Segment, validate_model
 

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
-from thermolimb.forecast import crossing_s, forecast, hold_signals
-from thermolimb.model import ThermalModel
+from thermolimb.forecast import forecast, hold_signals
+from thermolimb.model import load_model
+from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile, ModelFileError
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
 from thermolimb.workbench.diagnosis import auto_diagnose
@@ -46,7 +47,7 @@ def test_a_saved_model_predicts_exactly_what_the_fitted_one_did(saved_auto, rich
     assert np.array_equal(loaded.model.free_run(series), saved.model.free_run(series))
     assert np.array_equal(loaded.covariance, saved.covariance) and np.array_equal(loaded.jackknife, saved.jackknife)
     assert loaded.limit_C == 100.0 and loaded.residual == saved.residual
-    assert ThermalModel.load(path).params == saved.model.params
+    assert load_model(path).params == saved.model.params
 
 
 def test_the_cli_saves_a_file_with_its_provenance_and_units(tmp_path, capsys):

@@ -5,23 +5,18 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hexapod_pb import cpg
 from hexapod_pb.constants import LEGS, TRIPODS
-from hexapod_pb.controller import ControllerState, Gains, ThermalContext, control_step
-from hexapod_pb.kinematics import inverse_kinematics, nominal_foot
+from hexapod_pb.control import cpg
+from hexapod_pb.control.controller import ControllerState, Gains, ThermalContext, control_step
+from hexapod_pb.control.minimax import minimax, minimax_lex
+from hexapod_pb.control.nair import nair_trust_constr
+from hexapod_pb.control.stance import StanceProblem, vertical_only
+from hexapod_pb.control.thermal_minimax import thermal_minimax
+from hexapod_pb.control.wrench import STRATEGIES, distribute
+from hexapod_pb.model.kinematics import inverse_kinematics, nominal_foot
 from hexapod_pb.params import DAISY, GRAVITY_M_S2
 from hexapod_pb.sim import HexapodSim, SimConfig
 from hexapod_pb.thermal import datasheet_bank
-from hexapod_pb.wrench import (
-    STRATEGIES,
-    StanceProblem,
-    distribute,
-    minimax,
-    minimax_lex,
-    nair_trust_constr,
-    thermal_minimax,
-    vertical_only,
-)
 
 TRIPOD = tuple(LEGS.index(n) for n in TRIPODS[0])
 
@@ -137,7 +132,7 @@ def test_two_fresh_worlds_with_the_same_seed_give_identical_trajectories():
 
 def test_a_run_writes_a_canonical_log_that_fit_reads(tmp_path):
     from hexapod_pb.constants import JOINTS
-    from hexapod_pb.scenarios import run_scenario
+    from hexapod_pb.experiments.load_carrying import run_scenario
     from thermolimb.logs import read_log
 
     result = run_scenario("stand_5kg", "minimax", 4.0)
@@ -242,7 +237,8 @@ def test_every_program_certifies_its_optimum_and_a_wrong_point_fails_the_certifi
 def test_a_blend_solves_each_program_once_and_says_what_solved_each_part(monkeypatch):
     """Blending minimax, its second stage and the thermal minimax solves the closest-wrench LP once and the torque
     minimax LP once (shared as the others' first point); the blend keeps each part's solver."""
-    import hexapod_pb.wrench as wrench
+    import hexapod_pb.control.minimax as minimax_module
+    import hexapod_pb.control.thermal_minimax as thermal_module
     from thermolimb.optimization.programs import solve
 
     solved = []
@@ -251,7 +247,8 @@ def test_a_blend_solves_each_program_once_and_says_what_solved_each_part(monkeyp
         solved.append(program.name)
         return solve(program, *args, **kwargs)
 
-    monkeypatch.setattr(wrench, "solve", counted)
+    monkeypatch.setattr(minimax_module, "solve", counted)
+    monkeypatch.setattr(thermal_module, "solve", counted)
     q = random_stance(np.random.default_rng(2))
     problem = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=2.0, friction=0.6, min_normal_N=2.0)
     bank = datasheet_bank(ambient_C=25.0).subset(np.arange(18))

@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 
 from hexapod_pb.constants import JOINTS, LEGS
-from hexapod_pb.kinematics import UnreachableError, foot_jacobian, foot_position, inverse_kinematics
-from hexapod_pb.legs import leg_gravity_torque, leg_mass_matrix
+from hexapod_pb.model.daisy_urdf import generate, urdf_path
+from hexapod_pb.model.kinematics import UnreachableError, foot_jacobian, foot_position, inverse_kinematics
+from hexapod_pb.model.legs import leg_gravity_torque, leg_mass_matrix
 from hexapod_pb.params import DAISY, DaisyParams
 from hexapod_pb.sim import HexapodSim, SimConfig
-from hexapod_pb.urdf_model import generate, urdf_path
 
 
 @pytest.fixture(scope="module")
@@ -19,7 +19,7 @@ def hung_sim():
 
 
 def test_committed_urdf_matches_the_generator():
-    assert urdf_path().read_text() == generate(), "run: python -m hexapod_pb.urdf_model"
+    assert urdf_path().read_text() == generate(), "run: python -m hexapod_pb.model.daisy_urdf"
 
 
 def test_robot_weighs_about_210_newtons():

@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from humanoid_pb.thermal import datasheet_bank
-from humanoid_pb.model.actuation import effort_limits
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS, leg_actuators
 from humanoid_pb.ik.descent import naive_descent, potential_of
-from humanoid_pb.params import VALKYRIE
 from humanoid_pb.ik.potential import MinimumEffort, ThermalPotential
+from humanoid_pb.model.actuation import effort_limits
 from humanoid_pb.model.statics import WholeBody
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.thermal import datasheet_bank
 
 
 @pytest.fixture(scope="module")

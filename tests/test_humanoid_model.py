@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 
 from humanoid_pb.constants import ACTUATORS, CONTACT_MODES, JOINTS
-from humanoid_pb.params import VALKYRIE, ValkyrieParams
 from humanoid_pb.ik.poses import crouch_angles, standing
 from humanoid_pb.model.pushrods import RodPair
 from humanoid_pb.model.statics import WholeBody
-from humanoid_pb.model.urdf_model import generate, urdf_path
+from humanoid_pb.model.valkyrie_urdf import generate, urdf_path
+from humanoid_pb.params import VALKYRIE, ValkyrieParams
 from thermolimb.constants import GRAVITY_M_S2
 
 
@@ -18,7 +18,7 @@ def body():
 
 
 def test_committed_urdf_matches_the_generator():
-    assert urdf_path().read_text() == generate(), "run: python -m humanoid_pb.model.urdf_model"
+    assert urdf_path().read_text() == generate(), "run: python -m humanoid_pb.model.valkyrie_urdf"
 
 
 def test_mass_is_valkyries(body):
@@ -85,10 +85,10 @@ def test_calibration_to_jorgensen_et_al_follows_from_statics(body):
     """The derivation in humanoid_pb.thermal: on one leg the stance ankle's rods are the hottest (then the knee,
     then the hip roll), and on the datasheet models they reach the 75 degC warning from 25 degC in about 100 s
     (Jorgensen et al.: under two minutes), with a 40 s time constant (Jorgensen et al.'s 20 s horizon is RC/2)."""
-    from humanoid_pb.limits import LIMITS
-    from humanoid_pb.thermal import TIME_TO_WARNING_S, actuator_specs, datasheet_bank
     from humanoid_pb.constants import leg_actuators
     from humanoid_pb.ik.poses import single_support
+    from humanoid_pb.limits import LIMITS, OPERATING_C
+    from humanoid_pb.thermal import TIME_TO_WARNING_S, actuator_specs, datasheet_bank
     from thermolimb.plant import ThermalProtection
 
     q = single_support(body, standing(body, crouch_angles()), "right")
@@ -104,7 +104,7 @@ def test_calibration_to_jorgensen_et_al_follows_from_statics(body):
     assert time_to_warning_s == pytest.approx(TIME_TO_WARNING_S, rel=0.05)
     assert np.all(bank.RC_s == 40.0)
     limits = {s.winding_limit_C for s in actuator_specs(VALKYRIE)}
-    assert limits == {LIMITS.operating_C + ThermalProtection().margin_K}  # derating starts at 90 degC
+    assert limits == {OPERATING_C + ThermalProtection().margin_K}  # derating starts at 90 degC
 
 
 def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
@@ -127,8 +127,8 @@ def test_rod_jacobian_and_effort_matrix_agree_with_their_definitions():
 
 def test_potential_derivatives_are_eq_26s():
     """The Newton model the fast IK uses: value, gradient and Hessian of Eq. 26 against central differences."""
-    from humanoid_pb.thermal import datasheet_bank
     from humanoid_pb.ik.potential import ThermalPotential
+    from humanoid_pb.thermal import datasheet_bank
 
     rng = np.random.default_rng(4)
     T = rng.uniform(35.0, 85.0, len(ACTUATORS))
@@ -156,11 +156,11 @@ def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_ma
     margins are an assumption that does not decide the case)."""
     from dataclasses import replace
 
-    from humanoid_pb.thermal import TIME_TO_WARNING_S, datasheet_bank
-    from humanoid_pb.model.actuation import effort_limits
-    from humanoid_pb.limits import LIMITS
     from humanoid_pb.ik.poses import single_support
+    from humanoid_pb.limits import LIMITS
+    from humanoid_pb.model.actuation import effort_limits
     from humanoid_pb.scenarios import SCENARIOS, UNIFORM
+    from humanoid_pb.thermal import TIME_TO_WARNING_S, datasheet_bank
 
     walking = SCENARIOS["walking"]
     if fractions == "uniform":
@@ -182,8 +182,8 @@ def test_walking_scenario_makes_the_stance_knee_the_hottest_whatever_the_type_ma
 
 
 def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
-    from humanoid_pb.thermal import actuator_specs
     from humanoid_pb.scenarios import UNIFORM, Scenario, scenario
+    from humanoid_pb.thermal import actuator_specs
 
     assert actuator_specs(VALKYRIE) == actuator_specs(VALKYRIE, "ankle")
     assert dict(scenario("ankle").continuous_fraction) == dict(UNIFORM)
@@ -200,9 +200,9 @@ def test_scenarios_are_checked_and_the_default_is_the_uniform_rule():
 def test_a_switching_map_cell_makes_its_group_the_hottest_at_the_warning(body, group, depth):
     """The map's sizing rule: heating on the right leg (first order, Eq. 5 on the cell's datasheet models) brings
     one of the group's actuators to 75 degC first, in the time asked for, every other actuator well below."""
-    from humanoid_pb.thermal import datasheet_bank
-    from humanoid_pb.model.actuation import effort_limits
     from humanoid_pb.experiments.switching_map import GROUPS, map_scenario, stance_fractions
+    from humanoid_pb.model.actuation import effort_limits
+    from humanoid_pb.thermal import datasheet_bank
 
     sc = map_scenario(group, depth, body, time_to_warning_s=60.0)
     bank = datasheet_bank(VALKYRIE, scenario=sc)

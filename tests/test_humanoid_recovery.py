@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from humanoid_pb.thermal import datasheet_bank
-from humanoid_pb.experiments.calibration import calibrate
+from humanoid_pb.calibration import calibrate
 from humanoid_pb.constants import ACTUATORS, leg_actuators
-from humanoid_pb.params import VALKYRIE
-from humanoid_pb.limits import LIMITS
 from humanoid_pb.experiments.recovery import run_recovery
+from humanoid_pb.limits import LIMITS
+from humanoid_pb.params import VALKYRIE
+from humanoid_pb.thermal import datasheet_bank
 
 
 @pytest.fixture(scope="module")
@@ -51,8 +51,8 @@ def test_env_policy_plans_with_models_of_the_robot_it_drives():
     import gymnasium as gym
 
     from humanoid_pb import ENV_ID
-    from humanoid_pb.thermal import actuator_specs
     from humanoid_pb.policies import POLICIES
+    from humanoid_pb.thermal import actuator_specs
 
     worn = tuple(replace(s, winding_resistance_ohm=1.25 * s.winding_resistance_ohm) for s in actuator_specs(VALKYRIE))
     policy = POLICIES["thermal_aware"](seed=0)
@@ -84,8 +84,8 @@ def test_first_order_cooling_times_and_the_steady_state_a_ratio_needs():
 
 def test_double_support_unloads_the_hot_ankle_rods_as_fully_as_lifting_the_leg():
     """Why contact switching does not pay on this robot (the recovery demo reports the same numbers)."""
-    from humanoid_pb.ik.poses import crouch_angles, single_support, standing
     from humanoid_pb.experiments.recovery import cooling_bound
+    from humanoid_pb.ik.poses import crouch_angles, single_support, standing
     from humanoid_pb.model.statics import WholeBody
 
     body = WholeBody()

@@ -4,7 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.identification import IdentifiabilityError, LeastSquares, OutputError, JorgensenGradientDescent
+from thermolimb.identification import FreeRunLeastSquares, IdentifiabilityError, JorgensenGradientDescent, LeastSquares
 from thermolimb.logs import from_frame
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, PlantEffects, run_profile
 from thermolimb.plant.profiles import random_holds
@@ -21,7 +21,7 @@ def rel_errors(params, truth):
     return {k: abs(params[k] - truth[k]) / abs(truth[k]) for k in truth}
 
 
-@pytest.mark.parametrize("estimator, key", [(OutputError(), "output_error"), (LeastSquares(), "least_squares")])
+@pytest.mark.parametrize("estimator, key", [(FreeRunLeastSquares(), "output_error"), (LeastSquares(), "least_squares")])
 def test_recovers_plant_parameters(estimator, key, plant_log, truth):
     fitted = estimator.fit(plant_log.series("knee"))
     assert fitted is estimator  # fit returns self
@@ -53,7 +53,7 @@ def test_jorgensen_filtering_is_biased_when_effort_moves_fast(plant_log, truth):
 
 
 def test_standard_errors_are_positive_and_cover_the_truth(plant_log, truth):
-    est = OutputError().fit(plant_log.series("knee"))
+    est = FreeRunLeastSquares().fit(plant_log.series("knee"))
     for name in truth:
         assert est.stderr_[name] > 0
         # autocorrelation-inflated standard errors: the truth within 4 of them
@@ -62,7 +62,7 @@ def test_standard_errors_are_positive_and_cover_the_truth(plant_log, truth):
 
 def test_several_logs_fitted_jointly(truth, two_short_logs):
     logs = two_short_logs
-    est = OutputError().fit([log.series("knee") for log in logs])
+    est = FreeRunLeastSquares().fit([log.series("knee") for log in logs])
     assert est.n_samples_ == sum(log.series("knee").n for log in logs)
     assert max(rel_errors(est.params_, truth).values()) < TOLERANCE["output_error"]
 
@@ -70,7 +70,7 @@ def test_several_logs_fitted_jointly(truth, two_short_logs):
 def test_simulate_predict_score(plant_log):
     series = plant_log.series("knee")
     train, valid = series.split(0.7)
-    est = OutputError().fit(train)
+    est = FreeRunLeastSquares().fit(train)
     assert est.score(valid) > 98.0  # measured 98.9: the rest is sensor noise and quantisation
     one_step = est.predict(valid)
     free = est.simulate(valid)
@@ -81,7 +81,7 @@ def test_simulate_predict_score(plant_log):
 
 def test_unfitted_estimator_says_so(plant_log):
     with pytest.raises(RuntimeError, match="not fitted yet"):
-        OutputError().simulate(plant_log.series("knee"))
+        FreeRunLeastSquares().simulate(plant_log.series("knee"))
 
 
 def test_constant_effort_cannot_identify_the_effort_terms():
@@ -90,7 +90,7 @@ def test_constant_effort_cannot_identify_the_effort_terms():
     temperature = 25 + 10 * (1 - np.exp(-t / 80.0))
     frame = {"time": t, "actuator": "knee", "effort": np.full(n, 12.0), "temperature": temperature}
     series = from_frame(pd.DataFrame(frame)).series("knee")
-    for est in (LeastSquares(), JorgensenGradientDescent(), OutputError()):
+    for est in (LeastSquares(), JorgensenGradientDescent(), FreeRunLeastSquares()):
         with pytest.raises(IdentifiabilityError, match=r"cannot identify \w+ .* effort takes 1 distinct level"):
             est.fit(series)
 
@@ -104,7 +104,7 @@ def test_sklearn_parameter_protocol():
         est.set_params(alpha=1)
 
 
-@pytest.mark.parametrize("estimator", [OutputError(), LeastSquares()], ids=["output_error", "least_squares"])
+@pytest.mark.parametrize("estimator", [FreeRunLeastSquares(), LeastSquares()], ids=["output_error", "least_squares"])
 def test_where_the_clock_starts_changes_nothing(estimator, plant_log):
     """A log stamped in Unix seconds (1.7e9 s) identifies as the same log stamped from zero."""
     frame = plant_log.frame
@@ -146,7 +146,7 @@ def test_output_error_standard_errors_cover_the_truth_with_a_correlated_residual
         series, spec = _correlated_noise_series(seed, rho=0.95)
         rc, beta_r = spec.first_order()
         truth = {"RC_s": rc, "betaR_K_per_effort2": beta_r, "T_offset_C": 25.0}
-        fit = OutputError("joule").fit(series)
+        fit = FreeRunLeastSquares("joule").fit(series)
         for name in z:
             z[name].append((fit.params_[name] - truth[name]) / fit.stderr_[name])
     for name, values in z.items():
@@ -194,7 +194,7 @@ def test_newey_west_weighted_sum_equals_the_sum_over_lags():
         np.testing.assert_allclose(hac_covariance(X, r), inverse @ S @ inverse, rtol=1e-9, atol=0.0)
 
 
-@pytest.mark.parametrize("estimator", [LeastSquares, OutputError])
+@pytest.mark.parametrize("estimator", [LeastSquares, FreeRunLeastSquares])
 def test_a_long_log_compared_at_a_stride_gives_the_same_fit(monkeypatch, estimator):
     """A fit of more samples than ``MAX_FIT_SAMPLES`` compares every k-th (thinning): on a 1 h, 1 Hz log thinned
     four times the estimates move by less than their standard errors and the standard errors stay within a factor

@@ -121,6 +121,112 @@ TOP_LEVEL = {".ci", ".gitignore", "Makefile", "README.md", "pyproject.toml", "se
              "docs", "hexapod_pb", "humanoid_pb", "tests", "thermolimb", "urdf"}
 
 
+def module_graph(root: Path = ROOT) -> dict[str, set[str]]:
+    """``{module: modules of the same top package it imports}``, file by file, imports inside functions included
+    (``from . import x`` counts as importing the module ``x`` when it is one)."""
+    modules = {}
+    for part in ("thermolimb", "hexapod_pb", "humanoid_pb"):
+        for path in sorted((root / part).rglob("*.py")):
+            name = ".".join(path.relative_to(root).with_suffix("").parts).removesuffix(".__init__")
+            modules[name] = path
+    edges: dict[str, set[str]] = defaultdict(set)
+    for name, path in modules.items():
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            targets = []
+            if isinstance(node, ast.Import):
+                targets = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = ".".join((package[: len(package) - node.level + 1] if node.level else [])
+                                + ([node.module] if node.module else []))
+                targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                           for alias in node.names]
+            for target in targets:
+                while target and target not in modules:
+                    target = target.rpartition(".")[0]
+                # a package's face re-exports its modules: importing it is not a circle through them
+                if target and target != name and not modules[target].name == "__init__.py":
+                    edges[name].add(target)
+    return dict(edges)
+
+
+def test_no_module_imports_itself_back_through_others():
+    """No circle between modules, function-level imports included: a module that needs another's code imports it,
+    and that one never needs the first (``thermolimb.model.model`` and ``.saved``, ``logs.series`` and
+    ``.writing``, the diagnosis and its stability check each had one)."""
+    graph = module_graph()
+    state: dict[str, int] = {}
+    path: list[str] = []
+
+    def visit(node):
+        state[node] = 1
+        path.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == 1:
+                raise AssertionError(f"import circle: {' -> '.join(path[path.index(nxt):] + [nxt])}")
+            if nxt not in state:
+                visit(nxt)
+        path.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node)
+
+
+def graph_text(root: Path = ROOT) -> str:
+    """The rooms' import graph as ``python tests/test_layers.py`` prints it and docs/architecture.md shows it."""
+    return "\n".join(f"{part:24s} -> {', '.join(sorted(targets))}" for part, targets in sorted(import_graph(root).items()))
+
+
+def test_the_architecture_page_shows_the_graph_as_it_is():
+    """docs/architecture.md's graph is this test's, so it cannot go stale (``python tests/test_layers.py`` prints
+    it), and every room of the core is named in the page's table."""
+    page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    assert graph_text() in page, "docs/architecture.md: paste the output of `python tests/test_layers.py`"
+    rooms = {n for n in _core(import_graph()) | {"thermolimb.cli", "thermolimb.envs"} if n != CORE}
+    unnamed = sorted(room for room in rooms if f"`{room}`" not in page)
+    assert not unnamed, f"docs/architecture.md does not name the rooms {unnamed}"
+
+
+LARGEST_MODULE_LINES = 500
+
+
+def test_no_module_is_over_500_lines():
+    sizes = {path.relative_to(ROOT).as_posix(): len(path.read_text(encoding="utf-8").splitlines())
+             for part in ("thermolimb", "hexapod_pb", "humanoid_pb") for path in (ROOT / part).rglob("*.py")}
+    assert {p: n for p, n in sizes.items() if n > LARGEST_MODULE_LINES} == {}
+
+
+def test_both_robots_share_one_shape():
+    """Grouped folders (model, control, experiments) beside the same top-level modules, at most 12 of them; an
+    environment does not import its package's experiments."""
+    shapes = {}
+    for robot in ("hexapod_pb", "humanoid_pb"):
+        top = {p.stem for p in (ROOT / robot).glob("*.py")}
+        folders = {p.name for p in (ROOT / robot).iterdir() if (p / "__init__.py").exists()}
+        assert len(top) <= 12, (robot, sorted(top))
+        assert {"model", "control", "experiments"} <= folders, (robot, folders)
+        shapes[robot] = top
+        env = (ROOT / robot / "env.py").read_text(encoding="utf-8")
+        assert "experiments" not in env.split('"""', 2)[-1].split("class ", 1)[0], robot
+    common = {"__init__", "constants", "params", "limits", "thermal", "calibration", "readings", "sim", "env",
+              "policies"}
+    assert all(common <= top for top in shapes.values()), shapes
+
+
+def test_a_module_name_means_one_thing_in_the_core():
+    """No two modules of the core share a name, but for the house's conventions: a subcommand of the command line
+    (``cli/fleet.py``) and a figure (``plotting/drift.py``) are named for what they serve, and ``base.py`` is a
+    pluggable axis's base class."""
+    paths = [p.relative_to(ROOT / "thermolimb") for p in (ROOT / "thermolimb").rglob("*.py") if p.name != "__init__.py"]
+    named: dict[str, list[str]] = defaultdict(list)
+    for p in paths:
+        if p.name != "base.py" and p.parts[0] not in ("cli", "plotting"):
+            named[p.name].append(p.as_posix())
+    assert {name: places for name, places in named.items() if len(places) > 1} == {}
+
+
 def test_nothing_is_tracked_outside_the_known_folders():
     """A stray output (a fuzz run's plots written into ``*/`` or ``-1/`` at the root) is never committed."""
     import shutil
@@ -136,5 +242,4 @@ def test_nothing_is_tracked_outside_the_known_folders():
 
 
 if __name__ == "__main__":
-    for part, targets in sorted(import_graph(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT).items()):
-        print(f"{part:18s} -> {', '.join(sorted(targets))}")
+    print(graph_text(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT))

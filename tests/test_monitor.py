@@ -14,8 +14,8 @@ import pytest
 
 from thermolimb.cli.main import main
 from thermolimb.model import Signals, ThermalModel, model_parameters
-from thermolimb.model.saved import ModelFile
 from thermolimb.model.reach import first_order_reach_s
+from thermolimb.model.saved import ModelFile
 from thermolimb.monitor import CsvFollower, Session
 from thermolimb.monitor.layout import SHIPPED_ACTUATORS, layout_text
 

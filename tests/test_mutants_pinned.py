@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 from thermolimb.identification import IdentifiabilityError
-from thermolimb.identification.bank import identify_bank
+from thermolimb.identification.calibration import identify_bank
 from thermolimb.model import FirstOrderBank, ThermalModel
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, X8_16, PlantEffects, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
@@ -169,7 +169,7 @@ def test_tempco_evidence_is_the_hot_and_cool_fits_not_the_effort(hot, cool, verd
     """The tempco term scales the effort's heating, so its evidence is where the fit fails (hot), not a correlation
     with the effort (which every heat term shares)."""
     from thermolimb.workbench.diagnosis.candidates import Candidate
-    from thermolimb.workbench.diagnosis.evidence import describe
+    from thermolimb.workbench.diagnosis.explain import describe
 
     text = describe(Candidate("winding_tempco", ("joule", "winding_tempco"), p_value=0.003),
                     _analysis({"hot": hot, "cool": cool}), 0.5)
@@ -179,7 +179,7 @@ def test_tempco_evidence_is_the_hot_and_cool_fits_not_the_effort(hot, cool, verd
 
 def test_slow_effects_are_looked_for_in_time_and_inputs_in_their_channel():
     from thermolimb.workbench.diagnosis.candidates import Candidate
-    from thermolimb.workbench.diagnosis.evidence import describe
+    from thermolimb.workbench.diagnosis.explain import describe
 
     analysis = _analysis({"heating": 0.4, "cool": 0.1})
     slow = describe(Candidate("second_node", ("joule", "second_node")), analysis, 0.5)

@@ -5,9 +5,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from thermolimb.model.saved import bare
+from thermolimb.monitor import ActuatorMonitor
 from thermolimb.plant import (
-    PLANT_EFFECTS,
     FIRST_ORDER_NETWORK,
+    PLANT_EFFECTS,
     X8_9,
     X8_16,
     PlantEffects,
@@ -15,8 +17,6 @@ from thermolimb.plant import (
     ThermalProtection,
     run_profile,
 )
-from thermolimb.model.saved import bare
-from thermolimb.monitor import ActuatorMonitor
 from thermolimb.plant.observer import WindingObserver
 from thermolimb.plant.profiles import PROFILES, Profile
 from thermolimb.workbench.validation import make_estimator

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.identification import LeastSquares, OutputError
+from thermolimb.identification import FreeRunLeastSquares, LeastSquares
 from thermolimb.identification.regression import lowpass, lowpass_derivative
 from thermolimb.logs import from_frame
 from thermolimb.model import FirstOrderBank
@@ -33,7 +33,7 @@ def plant_log(dt_s: float, effects: str = "", seed: int = 0, duration_s: float =
 
 
 @pytest.mark.parametrize("dt_s", [0.5, 2.0])
-@pytest.mark.parametrize("estimator", [LeastSquares, OutputError])
+@pytest.mark.parametrize("estimator", [LeastSquares, FreeRunLeastSquares])
 def test_identification_at_sampling_intervals_other_than_one_second(dt_s, estimator):
     fitted = estimator(model="joule").fit(plant_log(dt_s)).params_
     assert fitted["RC_s"] == pytest.approx(RC, rel=0.03)
@@ -43,7 +43,7 @@ def test_identification_at_sampling_intervals_other_than_one_second(dt_s, estima
 def test_copper_coefficient_round_trip_against_the_plant():
     """Run hot so that copper's 0.39 %/K shows; the fit returns the plant's physical coefficient."""
     series = plant_log(1.0, "winding_tempco", duration_s=4 * 3600.0, scale=1.8)
-    fitted = OutputError(model="joule,winding_tempco").fit(series).params_
+    fitted = FreeRunLeastSquares(model="joule,winding_tempco").fit(series).params_
     assert fitted["alpha_per_K"] == pytest.approx(0.0039, rel=0.15)
 
 

@@ -22,8 +22,8 @@ LAGGING_THERMISTOR = PlantEffects.realistic_sensor().replace(sensor_lag=SensorLa
 
 def hexapod_excess_K(estimator: str, duration_s: float = 20.0) -> float:
     """Hottest true winding above its limit (K) standing with 80 kg, windings and housings 20 K under the limit."""
-    from hexapod_pb import cpg
-    from hexapod_pb.controller import ControllerState, control_step
+    from hexapod_pb.control import cpg
+    from hexapod_pb.control.controller import ControllerState, control_step
     from hexapod_pb.params import DAISY
     from hexapod_pb.sim import HexapodSim, SimConfig
 

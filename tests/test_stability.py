@@ -11,10 +11,10 @@ import pytest
 
 from thermolimb.cli.main import main
 from thermolimb.data import REAL_LOGS
-from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, SpeedLosses, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
-from thermolimb.plant import SpeedLosses
-from thermolimb.workbench.diagnosis import diagnose
+from thermolimb.workbench.diagnosis import Search, diagnose
+from thermolimb.workbench.diagnosis.diagnose import replicate
 from thermolimb.workbench.diagnosis.refit import ordered_starts, refit
 from thermolimb.workbench.diagnosis.stability import Stability, perturbations, selection_frequencies
 from thermolimb.workbench.floor import quantisation_step, sensor_floor
@@ -62,10 +62,10 @@ def test_a_refit_ends_where_it_ends_whatever_start_the_screen_ranks_first(step_t
 
 
 def _evaluate(series, model, initial, fixed):
-    from thermolimb.identification import OutputError
+    from thermolimb.identification import FreeRunLeastSquares
 
     return validate_model([series], model, Scheme(),
-                          make=lambda: OutputError(model=model, initial=initial, max_nfev=12, fixed=fixed or None))
+                          make=lambda: FreeRunLeastSquares(model=model, initial=initial, max_nfev=12, fixed=fixed or None))
 
 
 def test_the_profile_looks_slower_than_the_log_and_orders_by_training_error(step_test):
@@ -79,15 +79,15 @@ def test_the_profile_looks_slower_than_the_log_and_orders_by_training_error(step
 
 def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backend(speed_log):
     runs = speed_log.runs("knee")
-    a = perturbations(Stability(seed=3), runs, [], Scheme())
-    assert a == perturbations(Stability(seed=3), runs, [], Scheme())
-    assert a != perturbations(Stability(seed=4), runs, [], Scheme())
+    a = perturbations(Stability(seed=3), runs, Scheme())
+    assert a == perturbations(Stability(seed=3), runs, Scheme())
+    assert a != perturbations(Stability(seed=4), runs, Scheme())
     assert all(start == 0 and 0 <= end <= 5 for p in a for start, end in p.trims)
     assert all(abs(p.split - 0.7) <= 0.1 for p in a)
     assert min(p.split for p in a) < 0.66 and max(p.split for p in a) > 0.74  # stratified over the range
     d = diagnose(runs)
-    serial = selection_frequencies(d, runs, Scheme(), [], Stability(replicates=4, workers=1))
-    pooled = selection_frequencies(d, runs, Scheme(), [], Stability(replicates=4, workers=2))
+    serial = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
+    pooled = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=2)), replicate)
     assert serial == pooled and serial["+ speed_losses"] == 1.0
 
 

@@ -6,7 +6,7 @@ import pytest
 
 from thermolimb.logs import from_frame, read_log
 from thermolimb.logs.units import NOT_GIVEN, header_unit, split_unit
-from thermolimb.model.units import render
+from thermolimb.model.parameter_units import render
 from thermolimb.workbench.validation import Scheme, validate_model
 
 

@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
-from thermolimb.model import ThermalModel
 from thermolimb.effects.slow_masses import SecondNode
+from thermolimb.model import ThermalModel
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 from thermolimb.workbench.diagnosis.candidates import Candidate, refit_failure
 from thermolimb.workbench.flags import parameter_flags
-from thermolimb.workbench.validation import Scheme, validate_model, fit_and_validate
+from thermolimb.workbench.validation import Scheme, fit_and_validate, validate_model
 
 SENSOR = ["sensor_noise", "quantisation"]
 
@@ -210,7 +210,7 @@ def test_a_housing_sensor_is_the_winding_boundary():
 
 def test_evaluate_with_held_out_runs_scores_only_those(step_test):
     other = plant_log("pulses", 480.0, 1.0, network="second_order", seed=2).series("knee")
-    report = validate_model([step_test], "joule,second_node", Scheme(), validate_on=[other])
+    report = validate_model([step_test], "joule,second_node", Scheme.on_runs([other]))
     assert sum(s.measured_C.size for s in report.validation_segments) == other.n
     np.testing.assert_allclose(report.validation_segments[0].measured_C, other.temperature_C)
 

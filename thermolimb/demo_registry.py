@@ -25,8 +25,8 @@ from typing import Callable, Mapping
 
 from .util.atomic import check_output_dir, made_folder, write_text
 from .util.errors import UsageError
-from .util.numbers import plus_minus
 from .util.jsonutil import to_jsonable
+from .util.numbers import plus_minus
 
 
 @dataclass(frozen=True)

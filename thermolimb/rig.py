@@ -27,7 +27,6 @@ from .logs import ThermalLog, log_from_arrays
 from .plant import ActuatorSpec, PlantEffects, ThermalPlant, ThermalProtection
 from .util.errors import check_range
 
-
 _LIBC = ctypes.CDLL(None)  # the process's C library: its fflush empties what C code buffered
 
 

@@ -7,9 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from .balance import Motion, balance_command
 from ..ik.poses import standing, support_pose
 from ..sim import HumanoidSim
+from .balance import Motion, balance_command
 
 SHIFT_S = 1.5  # foot placement, a shift back to the middle, a move inside double support, each
 ENTRY_S = 2.5  # weight shift onto one foot, and the lift, each: at 1.5 s a switch from one foot to the other fell

@@ -13,11 +13,11 @@ import numpy as np
 
 from thermolimb.model import FirstOrderBank
 
-from ..model.actuation import effort_limits
 from ..constants import CONTACT_MODES, SIDES
 from ..ik.fast_ik import FastThermalIK
 from ..ik.poses import support_pose
 from ..ik.potential import MinimumEffort, ThermalPotential
+from ..model.actuation import effort_limits
 
 OBJECTIVES = ("thermal", "effort")
 

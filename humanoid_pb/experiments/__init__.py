@@ -1,2 +1,2 @@
-"""Experiments on the humanoid: the calibration run, Jorgensen et al.'s recovery experiment, and the map of where
+"""Experiments on the humanoid: Jorgensen et al.'s recovery experiment, and the map of where
 contact switching pays."""

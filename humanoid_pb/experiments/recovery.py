@@ -20,12 +20,12 @@ from thermolimb.model import FirstOrderBank
 from thermolimb.util.numbers import to_microsecond
 from thermolimb.util.progress import progress
 
-from ..model.actuation import effort_limits
 from ..constants import ACTUATORS, leg_actuators
 from ..control.executor import Executor
-from ..params import FALLEN_PELVIS_HEIGHT_M
-from ..limits import LIMITS
 from ..control.planner import ContactModePlanner
+from ..limits import LIMITS
+from ..model.actuation import effort_limits
+from ..params import FALLEN_PELVIS_HEIGHT_M
 from ..scenarios import DEFAULT, Scenario
 from ..sim import HumanoidSim
 

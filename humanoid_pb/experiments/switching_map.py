@@ -39,16 +39,16 @@ import numpy as np
 
 from thermolimb.util.frozen import FrozenMapping
 
-from ..thermal import VALKYRIE_NETWORK, datasheet_bank
-from ..model.actuation import effort_limits
 from ..constants import ACTUATORS, TORSO_ACTUATORS, leg_actuators
-from ..params import VALKYRIE
-from ..limits import LIMITS
 from ..control.planner import ContactModePlanner
 from ..ik.poses import crouch_angles, single_support, standing
-from .recovery import first_order_cooling_s, run_recovery
-from ..scenarios import UNIFORM, Scenario
+from ..limits import LIMITS
+from ..model.actuation import effort_limits
 from ..model.statics import WholeBody
+from ..params import VALKYRIE
+from ..scenarios import UNIFORM, Scenario
+from ..thermal import VALKYRIE_NETWORK, datasheet_bank
+from .recovery import first_order_cooling_s, run_recovery
 
 GROUPS = {
     "ankle rods": tuple(a for a in ACTUATORS if "_ankle_rod_" in a),

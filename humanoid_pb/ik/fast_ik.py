@@ -31,11 +31,11 @@ import pinocchio as pin
 
 from thermolimb.optimization.programs import INFINITE, Program, SolverError, solve
 
-from ..model.actuation import effort_limits, effort_matrix
 from ..constants import FOOT_SIDE, JOINTS, SIDES, leg_joint, mode_feet
+from ..model.actuation import effort_limits, effort_matrix
+from ..model.statics import WholeBody
 from .descent import contact_drift
 from .like_for_like import gauss_newton, min_norm_balance, sole_forces
-from ..model.statics import WholeBody
 
 MU = 0.6  # friction pyramid
 MU_YAW_M = 0.05  # yaw friction moment per newton of normal force

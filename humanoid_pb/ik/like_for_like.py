@@ -34,8 +34,8 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import lu_factor, lu_solve
 
-from ..model.actuation import ROD_BLOCKS, effort_matrix
 from ..constants import FOOT_SIDE, JOINTS, mode_feet
+from ..model.actuation import ROD_BLOCKS, effort_matrix
 
 FD_STEP_RAD = 1e-6  # finite difference of the rods' 2 x 2 effort blocks only (six joint angles)
 MAX_STEP_RAD = 0.4  # trust region cap; on 20 random profiles 0.1 took 2.19 ms median, 0.2 2.02, 0.4 1.99

@@ -22,7 +22,7 @@ from thermolimb.model import FirstOrderBank
 
 from ..limits import LIMITS
 
-HOT_WEIGHT = 100.0  # an actuator still to recover (above LIMITS.still_hot_C) weighs this much more
+HOT_WEIGHT = 100.0  # an actuator still to recover (above LIMITS.recovered_C) weighs this much more
 
 
 @dataclass(frozen=True)
@@ -34,7 +34,7 @@ class ThermalPotential:
 
     @classmethod
     def from_measurement(cls, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float | None = None,
-                         hot_C: float = LIMITS.still_hot_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
+                         hot_C: float = LIMITS.recovered_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
         """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over actuators)."""
         temperature_C = np.asarray(temperature_C, float)
         horizon = float(np.median(bank.RC_s)) / 2.0 if horizon_s is None else float(horizon_s)

@@ -20,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .actuation import efforts as actuator_efforts
-from .actuation import rod_pairs
 from ..constants import FOOT_SIDE, JOINTS, SIDES, mode_feet, sole_frame
 from ..params import VALKYRIE, ValkyrieParams
-from .urdf_model import urdf_path
+from .actuation import efforts as actuator_efforts
+from .actuation import rod_pairs
+from .valkyrie_urdf import urdf_path
 
 
 @dataclass(frozen=True)

@@ -20,8 +20,8 @@ class Compare(LogCommand):
     json_help = "print the comparison as one JSON object"
     plot_help = "write compare_<actuator>.png into DIR"
 
-    def analyse(self, run: Run, name, series, held_out):
-        results = compare_models(series, run.models, run.scheme, held_out, run.datasheet)
+    def analyse(self, run: Run, name, series, scheme):
+        results = compare_models(series, run.models, scheme, run.datasheet)
         fitted = [(r, ic) for r, ic in results if r is not None]
         if run.page is not None:
             from ..plotting.interactive import temperature_figure, thinning_note

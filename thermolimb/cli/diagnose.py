@@ -5,11 +5,11 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..model.units import spaced
-from ..util.numbers import plus_minus
+from ..model.parameter_units import spaced
 from ..util.atomic import file_stem
 from ..util.errors import UsageError
-from ..workbench.diagnosis import auto_diagnose, diagnose
+from ..util.numbers import plus_minus
+from ..workbench.diagnosis import Search, auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
 from ..workbench.diagnosis.stability import MIN_FREQUENCY, REPLICATES, Stability
 from .output import format_params
@@ -71,17 +71,16 @@ class Diagnose(LogCommand):
             raise UsageError("--discover works on the logs of one command, not with --fleet; diagnose a run of "
                              "interest with --discover, then load what it proposes in the fleet with --terms")
 
-    def analyse(self, run: Run, name, series, held_out):
+    def analyse(self, run: Run, name, series, scheme):
         args, model = run.args, run.models[0]
         stability = (Stability(args.stability, args.min_frequency, args.stability_seed) if args.stability
                      else None)
+        search = Search(scheme, args.refit, args.discover, run.datasheet, stability, quiet=args.quiet)
         if args.auto:
-            d, steps = auto_diagnose(series, model, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
-                                     discover=args.discover, datasheet=run.datasheet, stability=stability)
+            d, steps = auto_diagnose(series, model, search)
             final = steps[-1].base
         else:
-            d = diagnose(series, model, refit=args.refit, quiet=args.quiet, scheme=run.scheme, validate_on=held_out,
-                         discover=args.discover, datasheet=run.datasheet, stability=stability)
+            d = diagnose(series, model, search)
             steps = [d]
             final = d.recommended.report if d.recommended is not None else d.base
         run.kept.append((name, final))  # each actuator's final model, for --propose

@@ -33,10 +33,9 @@ class Fit(LogCommand):
                             "Jorgensen et al.'s regression solved directly; jorgensen_gd: Jorgensen et al.'s z-scored "
                             "gradient descent")
 
-    def analyse(self, run: Run, name, series, held_out):
+    def analyse(self, run: Run, name, series, scheme):
         args, model = run.args, run.models[0]
-        report = validate_model(series, model, run.scheme, validate_on=held_out, method=args.method, reduce=True,
-                                datasheet=run.datasheet)
+        report = validate_model(series, model, scheme, method=args.method, reduce=True, datasheet=run.datasheet)
         run.final[name] = report
         if args.plot:
             from ..plotting.fits import plot_fit

@@ -98,8 +98,11 @@ def scheme_of(args) -> Scheme:
     if args.split is not None and args.cv:
         raise UsageError("--split and --cv are two ways to validate (a split, or folds); give one")
     split = DEFAULT_SPLIT if args.split is None else args.split
-    return Scheme(split=split, folds=args.cv if isinstance(args.cv, int) else None,
-                  by_run=args.cv == "runs", restart_at_split=args.restart_at_split)
+    if args.cv == "runs":
+        return Scheme.leave_one_run_out()
+    if isinstance(args.cv, int):
+        return Scheme.in_blocks(args.cv, args.restart_at_split)
+    return Scheme.at_split(split, args.restart_at_split)
 
 
 def add_outputs(p, json_help: str, plot_help: str):

@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..model.units import spaced
+from ..model.parameter_units import spaced
 from ..util.errors import bounded
 from ..util.jsonutil import to_jsonable
 from ..workbench.validation import set_aside_sentence

@@ -11,8 +11,8 @@ from ..logs import write_pieces
 from ..logs.table import kind_of
 from ..plant import (
     ACTUATOR_SPECS,
-    PLANT_EFFECTS,
     NETWORKS,
+    PLANT_EFFECTS,
     PROFILES,
     PlantEffects,
     simulate_profile,

@@ -15,8 +15,8 @@ import sys
 from dataclasses import dataclass, field
 
 from ..logs import LogError
-from ..model.guard import TermError
-from ..util.errors import ThermolimbError, UsageError
+from ..util.errors import TermError, ThermolimbError, UsageError
+from ..workbench.validation import Scheme
 from .options import (
     add_fleet,
     add_log_input,
@@ -83,7 +83,7 @@ class LogCommand:
     def check(self, args) -> None:
         """The command's own checks of its options, before any log is read (raise :class:`UsageError`)."""
 
-    def analyse(self, run: Run, name: str, series: list, held_out: list) -> tuple[dict, str]:
+    def analyse(self, run: Run, name: str, series: list, scheme) -> tuple[dict, str]:
         """One actuator's analysis: its JSON record and its text."""
         raise NotImplementedError
 
@@ -137,7 +137,9 @@ class LogCommand:
             try:
                 # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-                    record, text = self.analyse(run, name, runs_of(logs, name), runs_of(held, name))
+                    held_runs = runs_of(held, name)
+                    scheme = Scheme.on_runs(held_runs) if held_runs else run.scheme
+                    record, text = self.analyse(run, name, runs_of(logs, name), scheme)
             except ThermolimbError as exc:
                 # every actuator of the log: one the log cannot tell about is said, and the others go on
                 if args.actuator or len(names) == 1 or isinstance(exc, (UsageError, TermError)):

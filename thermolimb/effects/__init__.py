@@ -8,12 +8,39 @@ the import list below, and its tests (``docs/architecture.md``).
 """
 
 # in this order: the catalog's, then the plant's effects that have no term
-from . import (joule, effort_bias, current_heating, power_heating, housing_boundary, winding_tempco,  # noqa: F401
-               speed_losses, neighbor_coupling, ambient_variation, motion_cooling, slow_masses, sensor_lag,
-               readings, fan_cooling, holding_brake, driver_conduction, decoy_channels)
-from .base import (EFFECTS, HOT_AND_COOL, ONSETS, PHASES, PLANT_EFFECTS, SLOW_DRIFT, Effect, Hidden, PlantEffect,
-                   PlantEffects, Schedule)
+from . import (  # noqa: F401
+               ambient_variation,
+               current_heating,
+               decoy_channels,
+               driver_conduction,
+               effort_bias,
+               fan_cooling,
+               holding_brake,
+               housing_boundary,
+               joule,
+               motion_cooling,
+               neighbor_coupling,
+               power_heating,
+               readings,
+               sensor_lag,
+               slow_masses,
+               speed_losses,
+               winding_tempco,
+)
 from .ambient_variation import AmbientVariation
+from .base import (
+               EFFECTS,
+               HOT_AND_COOL,
+               ONSETS,
+               PHASES,
+               PLANT_EFFECTS,
+               SLOW_DRIFT,
+               Effect,
+               Hidden,
+               PlantEffect,
+               PlantEffects,
+               Schedule,
+)
 from .current_heating import FieldWeakening
 from .decoy_channels import DecoyChannels
 from .driver_conduction import DriverConduction

@@ -15,10 +15,10 @@ import numpy as np
 
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel, model_parameters
-from ..model.terms import DEFAULT_MODEL, TERMS, ModelSpecError, parse_model
+from ..model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ..util.errors import IdentifiabilityError, ModelSpecError
 from ..util.memory import release_freed
 from .metrics import fit_percent
-from .regression import IdentifiabilityError
 
 MIN_FIT_SAMPLES = MIN_SAMPLES // 2  # the fewest a training part may hold (ActuatorSeries.split_index)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.terms import DEFAULT_MODEL
 from .base import ThermalEstimator
 from .metrics import ar1_variance_factor
 from .regression import build_regression, mean_ambient_C
@@ -36,7 +37,7 @@ class JorgensenGradientDescent(ThermalEstimator):
     method = "jorgensen_gd"
     constrained = False  # Jorgensen et al.'s method: unconstrained, as Eq. 7 is
 
-    def __init__(self, model="joule,effort_bias", temperature_cutoff_hz: float = 0.015,
+    def __init__(self, model=DEFAULT_MODEL, temperature_cutoff_hz: float = 0.015,
                  effort_cutoff_hz: float = 1.0, learning_rate: float = 0.2, max_iter: int = 200_000,
                  tol: float = 1e-13, target_loss: float | None = None, ambient_C: float = 25.0):
         super().__init__(model)

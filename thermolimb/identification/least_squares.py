@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.terms import DEFAULT_MODEL
 from .base import ThermalEstimator
 from .metrics import hac_covariance
 from .regression import build_regression, mean_ambient_C
@@ -53,7 +54,7 @@ class LeastSquares(ThermalEstimator):
     method = "least_squares"
     constrained = False  # Jorgensen et al.'s method: unconstrained, as Eq. 7 is
 
-    def __init__(self, model="joule,effort_bias", cutoff_hz: float | None = 0.015,
+    def __init__(self, model=DEFAULT_MODEL, cutoff_hz: float | None = 0.015,
                  filtering: str = "consistent", effort_cutoff_hz: float = 1.0, ambient_C: float = 25.0):
         super().__init__(model)
         self.cutoff_hz = cutoff_hz

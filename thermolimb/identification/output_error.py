@@ -17,20 +17,21 @@ from typing import Mapping
 
 import numpy as np
 
-from ..model.model import ThermalModel, model_parameters
 from ..model.guard import instance
-from ..model.terms import TERMS
+from ..model.model import ThermalModel, model_parameters
+from ..model.terms import DEFAULT_MODEL, TERMS
+from ..util.errors import IdentifiabilityError
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor
-from .regression import IdentifiabilityError, collinear_partners, independent_fractions
+from .regression import collinear_partners, independent_fractions
 from .thinning import fit_stride
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
 DEGENERATE_FRACTION = 1e-5
 
 
-class OutputError(ThermalEstimator):
+class FreeRunLeastSquares(ThermalEstimator):
     """Free-run (simulation) error minimisation, started from least squares.
 
     Parameters
@@ -58,7 +59,7 @@ class OutputError(ThermalEstimator):
 
     method = "output_error"
 
-    def __init__(self, model="joule,effort_bias", initial: Mapping[str, float] | None = None,
+    def __init__(self, model=DEFAULT_MODEL, initial: Mapping[str, float] | None = None,
                  cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None,
                  max_iterations: int | None = None):
         super().__init__(model)

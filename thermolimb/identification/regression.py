@@ -20,25 +20,12 @@ from typing import Sequence
 import numpy as np
 
 from ..logs import ActuatorSeries
+from ..model.guard import instance
 from ..model.model import model_parameters
 from ..model.signals import Signals
-from ..model.guard import instance
 from ..model.terms import Parameter
-from ..util.errors import ThermolimbError
+from ..util.errors import IdentifiabilityError
 from .thinning import fit_stride
-
-
-class IdentifiabilityError(ThermolimbError):
-    """The data cannot determine a parameter (e.g. effort held constant); ``parameter`` names it when known,
-    ``partners`` the parameters it cannot be told from."""
-
-    def __init__(self, message: str, parameter: str | None = None, partners: tuple[str, ...] = ()):
-        super().__init__(message)
-        self.parameter = parameter
-        self.partners = tuple(partners)
-
-    def __reduce__(self):
-        return type(self), (str(self), self.parameter, self.partners)
 
 
 @dataclass(frozen=True)

@@ -25,10 +25,10 @@ Every problem with a file raises :class:`LogError` with one sentence naming the
 file, the column and what is expected.
 """
 
+from ..util.errors import LogError
 from .mapping import OPTIONAL, REQUIRED, UNITS, parse_mapping
 from .reading import read_log
 from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES, ActuatorSeries, ThermalLog, gaps
-from .table import LogError
 from .validate import VELOCITY_UNITS, from_frame, log_from_arrays
 from .writing import write_pieces
 

@@ -26,7 +26,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .table import LogError
+from ..util.errors import LogError
 
 ROOT_MEAN_SQUARE = ("effort", "current", "velocity")
 

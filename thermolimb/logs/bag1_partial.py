@@ -15,8 +15,8 @@ import struct
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..util.errors import LogError
 from .mcap_stream import register_definition
-from .table import LogError
 
 MAGIC = b"#ROSBAG V2.0\n"
 _U32 = struct.Struct("<I")

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..util.atomic import atomic_path
-from .table import LogError
+from ..util.errors import LogError
 
 THERMAL_TYPE = "thermolimb_msgs/msg/ActuatorThermal"
 THERMAL_DEFINITION = """string[] name

@@ -31,12 +31,12 @@ from typing import Mapping
 
 import numpy as np
 
+from ..util.errors import LogError
 from .align import align, series_of
-from .mapping import EXTRA, JOINT
 from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
+from .mapping import EXTRA, JOINT
 from .mcap_stream import PartialMcap, ends_early
-from .table import LogError
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 NAME_FIELDS = ("name", "names", "joint_names", "joint_name")

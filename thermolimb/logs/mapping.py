@@ -19,7 +19,8 @@ from __future__ import annotations
 import re
 from typing import Mapping
 
-from .table import LogError, shown_names
+from ..util.errors import LogError
+from .table import shown_names
 
 REQUIRED = ("time", "actuator", "effort", "temperature")
 OPTIONAL = ("velocity", "current", "power", "ambient", "housing")

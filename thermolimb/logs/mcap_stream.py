@@ -18,7 +18,7 @@ import struct
 from dataclasses import dataclass
 from pathlib import Path
 
-from .table import LogError
+from ..util.errors import LogError
 
 MAGIC = b"\x89MCAP0\r\n"
 HEADER = struct.Struct("<BQ")

@@ -8,9 +8,9 @@ from typing import Mapping
 
 import numpy as np
 
+from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS
-from .table import LogError
 from .units import CELSIUS, SCALED, canonical_headers, header_unit
 
 TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}

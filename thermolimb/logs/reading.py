@@ -11,13 +11,14 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Mapping, Sequence
 
+from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from ..util.memory import release_freed
 from .bags import is_bag, read_bag
 from .mapping import EXTRA, parse_mapping
 from .series import ThermalLog
-from .table import LogError, column_names, key_values, kind_of, read_table, rows_where
+from .table import column_names, key_values, kind_of, read_table, rows_where
 from .units import SCALED, base_name, channel_units
 from .validate import from_frame
 from .wide import split_units

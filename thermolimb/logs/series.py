@@ -14,11 +14,12 @@ from typing import Mapping
 import numpy as np
 
 from ..model.signals import Signals
+from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from .mapping import EXTRA, OPTIONAL, REQUIRED
-from .table import LogError
 from .units import CANONICAL
+from .writing import write_log
 
 CANONICAL_UNITS = FrozenMapping(CANONICAL)
 
@@ -195,7 +196,6 @@ class ThermalLog:
 
     def write(self, path: str | Path) -> Path:
         """Write CSV, Parquet or a ROS 2 MCAP file (by suffix), whole or not at all (:mod:`.writing`)."""
-        from .writing import write_log  # writing reads this module's log
 
         return write_log(self, path)
 

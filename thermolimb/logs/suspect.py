@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .table import LogError
+from ..util.errors import LogError
 
 STUCK_MIN_SAMPLES = 200  # a value repeated this many times in a row, at least...
 STUCK_MIN_SHARE = 0.25  # ...and over this share of the actuator's samples, while the effort moves

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..util.atomic import is_stream
-from ..util.errors import ThermolimbError
+from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 
 SEPARATORS = (",", ";", "\t", "|")
@@ -28,10 +28,6 @@ SNIFF_LINES = 200
 CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
 _DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
-
-
-class LogError(ThermolimbError):
-    """A log cannot be used; the message says which file, which column and what is expected."""
 
 
 def kind_of(path: Path) -> str:

@@ -21,7 +21,7 @@ from __future__ import annotations
 import re
 from typing import Mapping
 
-from ..model.units import CANONICAL, NOT_GIVEN, SCALED
+from ..model.parameter_units import CANONICAL, NOT_GIVEN, SCALED
 
 # units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's name
 KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%",

@@ -9,6 +9,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
@@ -16,7 +17,7 @@ from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
 from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
-from .table import LogError, refuse_duplicates, shown_names, time_seconds
+from .table import refuse_duplicates, shown_names, time_seconds
 from .units import NOT_GIVEN, channel_units
 from .wide import apply_mapping, split_units
 

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 from typing import Mapping
 
+from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from . import extras
 from .align import align, series_of
 from .mapping import EXTRA, REQUIRED, TIME_OF, expand_joints, is_pattern
-from .table import LogError, first_stamp, shown_names, time_seconds
+from .table import first_stamp, shown_names, time_seconds
 from .units import KNOWN, split_unit
 
 

@@ -12,25 +12,25 @@ from ..util.atomic import atomic_path
 from ..util.lazy import pandas as pd
 from .bag_writer import write_mcap
 from .mapping import EXTRA
-from .series import ThermalLog
 from .table import kind_of
 from .units import NOT_GIVEN
 
 
-def write_log(log: ThermalLog, path: str | Path) -> Path:
-    """Write CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`), whole or not at all."""
+def write_log(log, path: str | Path) -> Path:
+    """Write a :class:`~.series.ThermalLog` as CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`),
+    whole or not at all."""
     path = Path(path)
     return WRITERS["mcap" if path.suffix.lower() == ".mcap" else kind_of(path)](log, path)
 
 
-def file_frame(log: ThermalLog) -> pd.DataFrame:
+def file_frame(log) -> pd.DataFrame:
     """The frame as a file holds it: extra channels under their headers, with units."""
     return log.frame.rename(columns={EXTRA + name: _header(name, log.units.get(EXTRA + name))
                                      for name in log.extras})
 
 
-def write_pieces(pieces: Iterable[ThermalLog], path: str | Path) -> Path:
-    """Write consecutive pieces of one log (the same actuators and columns, later times in each) as one CSV or
+def write_pieces(pieces: Iterable, path: str | Path) -> Path:
+    """Write consecutive pieces of one log (:class:`~.series.ThermalLog`) (the same actuators and columns, later times in each) as one CSV or
     Parquet file, each piece as it comes, the file whole or not at all.  It reads back as the whole log (a log's
     rows are grouped by actuator on reading); only one piece is held at a time."""
     path = Path(path)
@@ -60,7 +60,7 @@ def _header(name: str, unit: str | None) -> str:
     return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
 
 
-def _write_table(log: ThermalLog, path: Path) -> Path:
+def _write_table(log, path: Path) -> Path:
     return write_pieces([log], path)
 
 

@@ -5,13 +5,23 @@ The built-in terms are the physical effects of :mod:`thermolimb.effects`, regist
 
 from .bank import FirstOrderBank
 from .model import BASE_PARAMETERS, ThermalModel, model_parameters
+from .saved import load_model, save_model
 from .scan import first_order_scan
 from .signals import Signals
-from .terms import (DEFAULT_MODEL, TERMS, LinearTerm, ModelSpecError, Parameter, Term, parse_model, register_term,
-                    unregister_term)
+from .terms import (
+                    DEFAULT_MODEL,
+                    TERMS,
+                    LinearTerm,
+                    ModelSpecError,
+                    Parameter,
+                    Term,
+                    parse_model,
+                    register_term,
+                    unregister_term,
+)
 
 __all__ = [
     "BASE_PARAMETERS", "DEFAULT_MODEL", "FirstOrderBank", "LinearTerm", "ModelSpecError", "Parameter", "Signals",
-    "TERMS", "Term", "ThermalModel", "first_order_scan", "model_parameters", "parse_model", "register_term",
+    "TERMS", "Term", "ThermalModel", "first_order_scan", "load_model", "model_parameters", "parse_model", "register_term", "save_model",
     "unregister_term",
 ]

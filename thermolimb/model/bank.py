@@ -17,8 +17,9 @@ from typing import Sequence
 import numpy as np
 
 from .model import ThermalModel
+from .terms import DEFAULT_MODEL
 
-_BANK_TERMS = {"joule", "effort_bias"}
+_BANK_TERMS = set(DEFAULT_MODEL)  # Eq. 5: the default model's terms
 
 
 @dataclass(frozen=True)

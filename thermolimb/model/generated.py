@@ -178,7 +178,7 @@ def load_term_file(path) -> list[str]:
     import runpy
     from pathlib import Path
 
-    from .terms import ModelSpecError
+    from ..util.errors import ModelSpecError
 
     path = Path(path)
     if not path.is_file():

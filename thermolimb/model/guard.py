@@ -11,16 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..util.errors import ThermolimbError
+from ..util.errors import TermError
 from .terms import TERMS, Term, is_built_in
-
-
-class TermError(ThermolimbError):
-    """A user's term broke its contract (the message names the term and the method)."""
-
-    def __init__(self, message: str, term: str):
-        super().__init__(message)
-        self.term = term
 
 
 def is_users(cls: type[Term]) -> bool:

@@ -92,25 +92,6 @@ class ThermalModel:
             values = dict(zip([p.name for p in self.parameters], np.asarray(values, dtype=float)))
         return ThermalModel(self.terms, values)
 
-    def save(self, path, actuator: str = "actuator", limit_C: float | None = None):
-        """Write this model alone to a model file (:mod:`.saved`; no standard errors or held-out residual:
-        ``thermolimb fit --save`` writes those)."""
-        from .saved import ModelFile, bare
-
-        return ModelFile({actuator: bare(self, actuator, limit_C)}).save(path)
-
-    @classmethod
-    def load(cls, path, actuator: str | None = None) -> "ThermalModel":
-        """The model of ``actuator`` (or of the file's only actuator) from a model file (:mod:`.saved`)."""
-        from .saved import ModelFile, ModelFileError
-
-        saved = ModelFile.load(path)
-        if actuator is None:
-            if len(saved.actuators) != 1:
-                raise ModelFileError(f"{path}: the model file holds {', '.join(saved.actuators)}; name the actuator")
-            actuator = next(iter(saved.actuators))
-        return saved[actuator].model
-
     def vector(self) -> np.ndarray:
         return np.array([self.params[p.name] for p in self.parameters])
 

@@ -2,7 +2,7 @@
 
 ``thermolimb fit … --save MODEL.json`` and ``thermolimb diagnose … --auto --save MODEL.json`` write it;
 ``predict``, ``monitor`` and ``compare --model-file`` read it; from Python, :meth:`ModelFile.load`,
-:meth:`ModelFile.save` and :meth:`ThermalModel.load <thermolimb.model.ThermalModel.load>`.
+:meth:`ModelFile.save`, :func:`load_model` and :func:`save_model`.
 
 One file holds one or more actuators (:class:`SavedModel`), each with what a forecast's interval needs: the
 parameters with their units (the log's) and standard errors, their covariance, the validation figures and
@@ -26,7 +26,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..util.errors import ThermolimbError
+from ..util.errors import ModelFileError
 from .model import ThermalModel, model_parameters
 from .terms import TERMS
 
@@ -35,10 +35,6 @@ VERSION = 1
 RESIDUAL_QUANTILES = (0.5, 0.8, 0.9, 0.95, 0.99)
 JACKKNIFE_BLOCKS = 5  # delete-one-block refits for the jackknife covariance (forecast intervals draw from it)
 MIN_JACKKNIFE_FITS = 3
-
-
-class ModelFileError(ThermolimbError):
-    """A model file that cannot be read: one sentence naming the file and what is wrong."""
 
 
 @dataclass(frozen=True)
@@ -251,6 +247,22 @@ def provenance(paths: Sequence[str | Path], series) -> dict:
         files.append({"name": path.name, "sha256": digest.hexdigest()})
     return {"files": files, "runs": len(series), "samples": int(sum(s.n for s in series)),
             "start_s": float(min(s.time_s[0] for s in series)), "end_s": float(max(s.time_s[-1] for s in series))}
+
+
+def load_model(path, actuator: str | None = None) -> ThermalModel:
+    """The model of ``actuator`` (or of the file's only actuator) from a model file."""
+    saved = ModelFile.load(path)
+    if actuator is None:
+        if len(saved.actuators) != 1:
+            raise ModelFileError(f"{path}: the model file holds {', '.join(saved.actuators)}; name the actuator")
+        actuator = next(iter(saved.actuators))
+    return saved[actuator].model
+
+
+def save_model(model: ThermalModel, path, actuator: str = "actuator", limit_C: float | None = None) -> Path:
+    """Write ``model`` alone to a model file (no standard errors or held-out residual: ``thermolimb fit --save``
+    writes those)."""
+    return ModelFile({actuator: bare(model, actuator, limit_C)}).save(path)
 
 
 def bare(model: ThermalModel, actuator: str, limit_C: float | None = None) -> SavedModel:

@@ -19,15 +19,14 @@ estimator, ``thermolimb fit`` and ``thermolimb diagnose`` can use it.
 from __future__ import annotations
 
 import re
-
 from dataclasses import dataclass
 from typing import ClassVar, Mapping
 
 import numpy as np
 
-from ..util.errors import ThermolimbError
+from ..util.errors import ModelSpecError
 from .signals import Signals
-from .units import render
+from .parameter_units import render
 
 
 @dataclass(frozen=True)
@@ -198,10 +197,6 @@ def _parameter_names_except(name: str) -> set[str]:
 
 
 DEFAULT_MODEL = ("joule", "effort_bias")
-
-
-class ModelSpecError(ThermolimbError):
-    """A model description names an unknown term or cannot be run on the data."""
 
 
 def parse_model(spec: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:

@@ -19,28 +19,28 @@ from ..effects import (
                        WindingTempco,
 )
 from .network import (
-                      ACTUATOR_SPECS,
-                      FIRST_ORDER_NETWORK,
-                      NETWORKS,
-                      SECOND_ORDER_NETWORK,
-                      X5_NETWORK,
-                      X8_9,
-                      X8_16,
-                      X8_NETWORK,
-                      ActuatorSpec,
-                      DriverSpec,
-                      ThermalNetwork,
+                       ACTUATOR_SPECS,
+                       FIRST_ORDER_NETWORK,
+                       NETWORKS,
+                       SECOND_ORDER_NETWORK,
+                       X5_NETWORK,
+                       X8_9,
+                       X8_16,
+                       X8_NETWORK,
+                       ActuatorSpec,
+                       DriverSpec,
+                       ThermalNetwork,
 )
 from .plant import ThermalPlant
-from .protection import ThermalProtection
 from .profiles import PROFILES, Profile
+from .protection import ThermalLimits, ThermalProtection
 from .run import PlantRun, run_profile, run_profile_in_pieces, simulate_profile, simulate_profile_in_pieces
 
 __all__ = [
     "ACTUATOR_SPECS", "ActuatorSpec", "AmbientVariation", "MotionCooling", "WindingTempco", "DriverSpec",
     "PLANT_EFFECTS", "FIRST_ORDER_NETWORK", "FieldWeakening", "SpeedLosses", "NETWORKS", "NeighborCoupling",
     "PROFILES", "PlantEffects", "PlantRun", "Profile", "Quantisation", "SECOND_ORDER_NETWORK", "SensorNoise",
-    "EffortBias", "ThermalNetwork", "ThermalPlant", "ThermalProtection", "SensorLag", "X5_NETWORK",
+    "EffortBias", "ThermalNetwork", "ThermalPlant", "ThermalLimits", "ThermalProtection", "SensorLag", "X5_NETWORK",
     "X8_16", "X8_9", "X8_NETWORK", "run_profile", "run_profile_in_pieces", "simulate_profile",
     "simulate_profile_in_pieces",
 ]

@@ -29,7 +29,6 @@ from .schedules import ScheduledChannel
 from .sensors import Thermistors
 from .zoh import zero_order_hold
 
-
 AMBIENT_RANGE_C = (-60.0, 150.0)
 TEMPERATURE_RANGE_C = (-60.0, 400.0)  # what a winding, a housing or a sensor may be set to (degC)
 

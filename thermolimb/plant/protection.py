@@ -68,6 +68,21 @@ class ThermalProtection:
         return np.minimum(fraction, cap(np.asarray(limit_C) - (self.guard_K + self.sigmas * std_K)))
 
 
+@dataclass(frozen=True)
+class ThermalLimits:
+    """A robot's temperatures (degC), one shape for every robot: each actuator's winding limit (its actuator
+    order), where the robot is called hot (an environment's penalty, a recovery's start) and, when it has a
+    recovery to make, where it counts as cool again."""
+
+    winding_C: tuple[float, ...]  # per actuator: the plant's protection derates its margin below this
+    warning_C: float
+    recovered_C: float | None = None  # every actuator below this: recovered (None: no recovery is studied)
+
+    @property
+    def winding_limits_C(self) -> np.ndarray:
+        return np.asarray(self.winding_C, float)
+
+
 def scale_efforts(effort: np.ndarray, fraction: np.ndarray, bias: float = 0.0) -> np.ndarray:
     """Efforts whose motor share (all of it, less a series-elastic ``bias``) is scaled by ``fraction``."""
     return bias + (np.asarray(effort, dtype=float) - bias) * fraction

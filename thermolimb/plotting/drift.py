@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.units import render
+from ..model.parameter_units import render
 from ..util.numbers import significant
 from ..workbench.drift import DRIFT_PARAMS
 from .fits import plt, save

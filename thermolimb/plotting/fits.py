@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.text import Text  # noqa: E402
 
-from ..model.units import NOT_GIVEN  # noqa: E402
+from ..model.parameter_units import NOT_GIVEN  # noqa: E402
 from ..util.atomic import atomic_path  # noqa: E402
 from ..util.errors import bounded  # noqa: E402
 from ..workbench.validation import FitReport  # noqa: E402

@@ -1,4 +1,6 @@
-"""The suite's user errors: each says, in one sentence, what is wrong and what is expected.
+"""The suite's user errors, every one of them here: each says, in one sentence, what is wrong and what is expected.
+
+Each package re-exports its own (``thermolimb.logs.LogError``, ``thermolimb.model.saved.ModelFileError``, ...).
 
 The command line prints these without a traceback and exits with status 2;
 anything else is an internal error and keeps its traceback.  A message
@@ -24,6 +26,42 @@ class ThermolimbError(ValueError):
 
 class UsageError(ThermolimbError):
     """An option or argument out of its range, named with what is expected."""
+
+
+class LogError(ThermolimbError):
+    """A log cannot be used; the message says which file, which column and what is expected."""
+
+
+class ModelSpecError(ThermolimbError):
+    """A model description names an unknown term or cannot be run on the data."""
+
+
+class ModelFileError(ThermolimbError):
+    """A model file that cannot be read: one sentence naming the file and what is wrong."""
+
+
+class TermError(ThermolimbError):
+    """A user's term broke its contract (the message names the term and the method)."""
+
+    def __init__(self, message: str, term: str):
+        super().__init__(message)
+        self.term = term
+
+    def __reduce__(self):
+        return type(self), (str(self), self.term)
+
+
+class IdentifiabilityError(ThermolimbError):
+    """The data cannot determine a parameter (e.g. effort held constant); ``parameter`` names it when known,
+    ``partners`` the parameters it cannot be told from."""
+
+    def __init__(self, message: str, parameter: str | None = None, partners: tuple[str, ...] = ()):
+        super().__init__(message)
+        self.parameter = parameter
+        self.partners = tuple(partners)
+
+    def __reduce__(self):
+        return type(self), (str(self), self.parameter, self.partners)
 
 
 def check_range(owner: str, name: str, value, low: float, high: float, unit: str = "") -> float:

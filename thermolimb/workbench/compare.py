@@ -11,7 +11,7 @@ from ..model.terms import parse_model
 from .validation import FitReport, Scheme, check_datasheet, validate_model
 
 
-def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=(),
+def compare_models(series, models, scheme: Scheme = Scheme(),
                    datasheet: Mapping[str, float] | None = None) -> list[tuple[FitReport, dict]]:
     """Fit and validate each model; returns each report with its AIC and BIC.
 
@@ -25,8 +25,8 @@ def compare_models(series, models, scheme: Scheme = Scheme(), validate_on=(),
     for model in models:
         names = {p.name for p in model_parameters(parse_model(model))}
         try:
-            report = validate_model(series, model, scheme, validate_on=validate_on, reduce=True,
-                              datasheet={k: v for k, v in datasheet.items() if k in names})
+            report = validate_model(series, model, scheme, reduce=True,
+                                    datasheet={k: v for k, v in datasheet.items() if k in names})
         except IdentifiabilityError as exc:
             errors.append(exc)
             out.append((None, {"model": list(model), "error": str(exc)}))

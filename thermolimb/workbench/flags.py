@@ -15,7 +15,7 @@ import numpy as np
 
 from ..logs import ActuatorSeries
 from ..model.model import ThermalModel
-from ..model.units import spaced
+from ..model.parameter_units import spaced
 from ..util.numbers import plus_minus, significant
 from .excitation import excitation
 from .floor import FLOOR_FACTOR, sensor_floor

@@ -19,7 +19,7 @@ from typing import Sequence
 from ..logs.bags import BAG_SUFFIXES, is_bag
 from ..util.errors import ThermolimbError, UsageError
 from ..util.parallel import Runner, run_jobs
-from .validation import Scheme, validate_model
+from .validation import RUNS, Scheme, validate_model
 
 # One BLAS thread per fit on every backend: the parallelism is across runs, two BLAS threads per process would
 # oversubscribe the cores, and a fixed thread count keeps every sum in the same order, so rows are equal bit for bit.
@@ -193,7 +193,7 @@ def fleet_jobs(logs, actuators: Sequence[str] | None = None) -> list[FleetJob]:
 
 
 def _check(scheme: Scheme) -> None:
-    if scheme.by_run:
+    if scheme.kind == RUNS:
         raise UsageError("--cv runs leaves a run out, but a fleet fits each run on its own; use --cv K or --split")
 
 

@@ -7,14 +7,14 @@ chosen by a :class:`Scheme`:
   the free run starts at the run's beginning and runs through the training
   part into the validation part, scored on the latter only, so hidden states
   (a slow mass, a lagging sensor) arrive at the split as they really are.
-  ``restart_at_split`` restarts the free run at the split from the measured
+  ``restart`` restarts the free run at the split from the measured
   temperature instead, as if every hidden state were at rest there;
 * **blocked cross-validation** over ``folds`` contiguous blocks of each run,
   each scored by a free run from the run's start with a model fitted on the
-  rest (or restarted at the block, with ``restart_at_split``);
-* **leave one run out** (``by_run``): each run validated, whole, by a model
-  fitted on the other runs;
-* **held-out runs** (``validate_on``): fit on some runs, validate on others.
+  rest (or restarted at the block, with ``restart``);
+* **leave one run out**: each run validated, whole, by a model fitted on the
+  other runs;
+* **held-out runs**: fit on the runs given, validate on others.
 
 Each run is simulated from its own first reading.
 """
@@ -34,31 +34,60 @@ from ..model.terms import TERMS, parse_model
 from .evidence import Evidence
 from .flags import parameter_flags
 
+SPLIT, BLOCKS, RUNS, HELD_OUT = "split", "blocks", "runs", "held_out"
+KINDS = (SPLIT, BLOCKS, RUNS, HELD_OUT)
+
 
 @dataclass(frozen=True)
 class Scheme:
-    """How held-out error is measured (see the module docstring)."""
+    """How held-out error is measured: one :data:`KINDS` (see the module docstring) and what it needs.
 
-    split: float = 0.7
-    folds: int | None = None
-    by_run: bool = False
-    restart_at_split: bool = False
+    ``Scheme.at_split(0.7)``, ``Scheme.in_blocks(5)``, ``Scheme.leave_one_run_out()``,
+    ``Scheme.on_runs(held_out)``; every output names the scheme in one line (:meth:`describe`).
+    """
+
+    kind: str = SPLIT
+    split: float = 0.7  # SPLIT: the share of each run's time span fitted on
+    folds: int = 5  # BLOCKS: contiguous blocks of each run
+    restart: bool = False  # SPLIT, BLOCKS: the free run restarts at the held-out part, hidden states at rest
+    held_out: tuple = ()  # HELD_OUT: the runs validated on (ActuatorSeries)
 
     def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"a validation scheme is one of {', '.join(KINDS)}, got {self.kind!r}")
         if not 0.0 < self.split < 1.0:
             raise LogError(f"--split must be between 0 and 1 (exclusive), got {self.split}")
-        if self.folds is not None and self.folds < 2:
+        if self.kind == BLOCKS and self.folds < 2:
             raise LogError(f"--cv needs at least 2 folds (or 'runs'), got {self.folds}")
+        if self.kind == HELD_OUT and not self.held_out:
+            raise ValueError("a scheme of held-out runs needs the runs")
+        object.__setattr__(self, "held_out", tuple(self.held_out))
 
-    def describe(self, held_out: bool = False) -> str:
-        if held_out:
+    @classmethod
+    def at_split(cls, split: float = 0.7, restart: bool = False) -> "Scheme":
+        return cls(SPLIT, split=split, restart=restart)
+
+    @classmethod
+    def in_blocks(cls, folds: int, restart: bool = False) -> "Scheme":
+        return cls(BLOCKS, folds=folds, restart=restart)
+
+    @classmethod
+    def leave_one_run_out(cls) -> "Scheme":
+        return cls(RUNS)
+
+    @classmethod
+    def on_runs(cls, held_out) -> "Scheme":
+        return cls(HELD_OUT, held_out=tuple(held_out))
+
+    def describe(self) -> str:
+        if self.kind == HELD_OUT:
             return "fitted on the given runs, validated on the held-out runs"
-        if self.by_run:
+        if self.kind == RUNS:
             return "leave one run out"
-        start = "restarted at each block" if self.restart_at_split else "free run carried from each run's start"
-        if self.folds:
+        if self.kind == BLOCKS:
+            start = "restarted at each block" if self.restart else "free run carried from each run's start"
             return f"{self.folds}-fold blocked cross-validation, {start}"
-        start = "restarted at the split" if self.restart_at_split else "free run carried from each run's start"
+        start = "restarted at the split" if self.restart else "free run carried from each run's start"
         return f"fit on the first {100 * self.split:.0f} % of each run, {start}"
 
 
@@ -169,12 +198,14 @@ Fold = tuple[list[ActuatorSeries], list[tuple[ActuatorSeries, int, int]]]
 
 
 def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
-    if scheme.by_run:
+    if scheme.kind == HELD_OUT:
+        return [(series, [(v, 0, v.n) for v in scheme.held_out])]
+    if scheme.kind == RUNS:
         if len(series) < 2:
             raise LogError(f"actuator {series[0].actuator}: --cv runs needs at least two runs (several logs, or a log "
                            f"with pauses); this one has {len(series)}")
         return [([o for o in series if o is not s], [(s, 0, s.n)]) for s in series]
-    if scheme.folds:
+    if scheme.kind == BLOCKS:
         folds = []
         for s in series:
             edges = np.linspace(0, s.n, scheme.folds + 1).astype(int)
@@ -194,7 +225,6 @@ def validate_model(
     model: str | Sequence[str],
     scheme: Scheme = Scheme(),
     make: Callable[[], ThermalEstimator] | None = None,
-    validate_on: Sequence[ActuatorSeries] = (),
     method: str = "output_error",
     reduce: bool = False,
     fixed: Mapping[str, float] | None = None,
@@ -212,7 +242,7 @@ def validate_model(
             raise ValueError("validate_model(reduce=True) builds its own estimators; give method, not make")
 
         def fit(terms, held):
-            return validate_model(series, terms, scheme, None, validate_on, method, fixed=held)
+            return validate_model(series, terms, scheme, None, method, fixed=held)
 
         return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error",
                                      datasheet=datasheet)
@@ -220,11 +250,8 @@ def validate_model(
     if make is None and fixed:
         make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
     make = make or (lambda: make_estimator(method, model))
-    if validate_on:
-        folds: list[Fold] = [(series, [(v, 0, v.n) for v in validate_on])]
-    else:
-        folds = _folds(series, scheme)
-    restart = scheme.restart_at_split and not (scheme.by_run or validate_on)
+    folds = _folds(series, scheme)
+    restart = scheme.restart and scheme.kind in (SPLIT, BLOCKS)
     fitted = [make().fit(fit_on) for fit_on, _ in folds]
     valid = tuple(_segment(est.model_, s, lo, hi, restart) for est, (_, scored) in zip(fitted, folds)
                   for s, lo, hi in scored)
@@ -241,7 +268,7 @@ def validate_model(
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
                                     train_rmse_K=train_metrics["rmse_K"])),
-        scheme=scheme.describe(held_out=bool(validate_on)),
+        scheme=scheme.describe(),
     )
 
 
@@ -350,15 +377,4 @@ def fit_and_validate(
 ) -> FitReport:
     """Fit jointly on the first ``split`` of every series (one actuator, one or several runs), validate on the rest."""
     make = (lambda: estimator) if estimator is not None else None
-    return validate_model(series, model, Scheme(split=split, restart_at_split=restart_at_split), make=make, method=method)
-
-
-def cross_validate(
-    series: Sequence[ActuatorSeries],
-    model: str | Sequence[str],
-    folds: int,
-    method: str = "output_error",
-    make: Callable[[], ThermalEstimator] | None = None,
-) -> FitReport:
-    """Blocked cross-validation over ``folds`` contiguous blocks of each series (see :class:`Scheme`)."""
-    return validate_model(series, model, Scheme(folds=folds), make=make, method=method)
+    return validate_model(series, model, Scheme.at_split(split, restart_at_split), make=make, method=method)

@@ -33,8 +33,8 @@ import numpy as np
 
 from ...identification.metrics import ar1_variance_factor, information_criteria
 from ...logs import ActuatorSeries
-from ...model.model import ThermalModel, model_parameters
 from ...model.guard import instance
+from ...model.model import ThermalModel, model_parameters
 from ...model.terms import TERMS
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
@@ -159,6 +159,20 @@ class Candidate:
             return "unstable"
         return "helps" if self.helps else "does not help"
 
+    def spec(self) -> dict:
+        """What a stability replicate needs to rebuild this change (:meth:`from_spec`), its fitted values included
+        (the replicate's refits start from them)."""
+        fitted = dict(self.report.model.params) if self.report is not None else {}
+        return {"effect": self.effect, "model": self.model, "kind": self.kind, "replaces": self.replaces,
+                "also_drops": self.also_drops, "channel": self.channel, "channel_unit": self.channel_unit,
+                "formula": self.formula, "fitted": fitted}
+
+    @classmethod
+    def from_spec(cls, spec: dict) -> "Candidate":
+        return cls(spec["effect"], tuple(spec["model"]), kind=spec["kind"], replaces=spec["replaces"],
+                   also_drops=tuple(spec["also_drops"]), channel=spec["channel"], channel_unit=spec["channel_unit"],
+                   formula=spec["formula"])
+
     def to_json(self) -> dict:
         out = {
             "effect": self.effect, "kind": self.kind, "label": self.label, "rmse_K": self.rmse_K,
@@ -273,7 +287,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     largest score is kept (a sup-score test); the best points start the refits.
     Drops and swaps are not scored: they are always refitted (a swap unless confounded).
     ``jacobian`` and ``residual`` hold every ``stride``-th sample of each series (the base fit's
-    :attr:`~thermolimb.identification.OutputError.stride_`), and so does ``base_run``, the base model's free
+    :attr:`~thermolimb.identification.FreeRunLeastSquares.stride_`), and so does ``base_run``, the base model's free
     run if the caller has it: at its null an added effect is absent, so the extended model runs as the base
     (``tests/test_diagnosis.py::test_every_term_at_its_null_runs_as_the_base``) and is not simulated again.
     """

@@ -25,7 +25,7 @@ from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
 from ...model.generated import Feature, define, identifier, input_name, term_source
 from ...model.terms import TERMS
-from ...model.units import NOT_GIVEN
+from ...model.parameter_units import NOT_GIVEN
 
 TEMPERATURE_UNITS = CELSIUS + ("K",)
 TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")

@@ -22,30 +22,77 @@ are fitted, validated and gated like catalog effects.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Mapping, Sequence
 
 import numpy as np
 
-from ...identification import OutputError
+from ...identification import FreeRunLeastSquares
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
-from ...model.guard import TermError
-from ...model.terms import TERMS, parse_model
-from ...model.units import NOT_GIVEN
+from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ...model.parameter_units import NOT_GIVEN
+from ...util.errors import TermError, ThermolimbError
+from ...util.frozen import FrozenMapping
 from ...util.progress import progress
-from ..validation import FitReport, Scheme, validate_model, identifiable_submodel
+from ..floor import SensorFloor, sensor_floor
+from ..validation import FitReport, Scheme, identifiable_submodel, validate_model
 from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
-from .evidence import describe, describe_discovered
-from ..floor import SensorFloor, sensor_floor
+from .explain import describe, describe_discovered
 from .refit import refit
 from .residuals import ResidualAnalysis, analyse_residuals
 from .stability import Stability, selection_frequencies
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
+
+
+@dataclass(frozen=True)
+class Search:
+    """How a diagnosis looks for what the model misses (``thermolimb diagnose``'s options).
+
+    ``scheme``: how held-out error is measured (:class:`~thermolimb.workbench.validation.Scheme`, held-out runs
+    included).  ``refit``: ``"strong"`` refits additions whose score test has p < 0.01 and the three that
+    explain most of the residual, and every drop and swap; ``"all"`` refits every candidate.  ``discover``:
+    also the log's extra channels, and, when nothing helps and the residual has structure, a discovered form.
+    ``datasheet``: values held where the log cannot identify them (``{"RC_s": 600.0}``; see
+    :func:`~thermolimb.workbench.validation.identifiable_submodel`).  ``stability``: before the best change is
+    recommended, the search is repeated on perturbed replicates of the log and the change must be taken in
+    enough of them (:mod:`.stability`; ``None``: not checked).  ``max_steps``: the most changes ``--auto`` takes.
+    """
+
+    scheme: Scheme = Scheme()
+    refit: str = "strong"
+    discover: bool = False
+    datasheet: Mapping[str, float] = field(default_factory=FrozenMapping)
+    stability: Stability | None = None
+    max_steps: int = 6
+    quiet: bool = True
+
+    def __post_init__(self):
+        if self.refit not in ("strong", "all"):
+            raise ValueError(f"refit must be 'strong' or 'all', got {self.refit!r}")
+        object.__setattr__(self, "datasheet", FrozenMapping(self.datasheet or {}))
+
+
+@dataclass(frozen=True)
+class Step:
+    """Where one step of a search starts: the model already fitted (``base``, a refitted candidate's report),
+    values to start the base fit from, changes confounded before (``skip``), models already visited, and for a
+    stability replicate the only changes to try (``contenders``) with their starts (``starts`` by label)."""
+
+    base: FitReport | None = None
+    initial: Mapping[str, float] | None = None
+    skip: frozenset = frozenset()
+    visited: frozenset = frozenset()
+    contenders: tuple | None = None
+    starts: Mapping[str, dict] | None = None
+
+
+def _search(search: Search | None, options: dict) -> Search:
+    return replace(search or Search(), **options) if options else (search or Search())
 
 
 @dataclass
@@ -97,44 +144,28 @@ class Diagnosis:
         return out
 
 
-def _evaluate(series, model, scheme, validate_on, initial=None, fixed=None) -> FitReport:
+def _evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
     def make():
-        return OutputError(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
+        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
 
-    return validate_model(series, model, scheme, make=make, validate_on=validate_on)
+    return validate_model(series, model, scheme, make=make)
 
 
-def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-             refit: str = "strong", quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
-             validate_on: Sequence[ActuatorSeries] = (), initial: dict | None = None,
-             skip: frozenset[str] = frozenset(), visited: frozenset[frozenset[str]] = frozenset(),
-             base: FitReport | None = None, discover: bool = False,
-             datasheet: dict[str, float] | None = None, stability: Stability | None = None,
-             contenders: Sequence[Candidate] | None = None, extra_starts: dict[str, dict] | None = None) -> Diagnosis:
-    """Fit ``model``, analyse its residual, rank the changes worth making.
+def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,
+             **options) -> Diagnosis:
+    """Fit ``model``, analyse its residual, rank the changes worth making (module docstring).
 
-    Held-out errors come from ``scheme`` (default: the ``split`` rule, or
-    with ``cv=K`` blocked cross-validation), or from the runs ``validate_on``.
-    ``refit="strong"`` refits additions whose score test has p < 0.01 and the
-    three that explain most of the residual, and every drop and swap;
-    ``"all"`` refits every candidate.  ``initial`` starts the base fit;
-    candidates whose label is in ``skip`` (confounded before) are not tried.
-    ``base``: ``model`` already fitted and validated by this scheme (a refitted
-    candidate's report, as ``auto_diagnose`` passes on), used as it is.
-    ``discover``: also try the log's extra channels, and, when nothing helps
-    and the residual has structure, a discovered form (module docstring).
-    ``datasheet``: values held where the log cannot identify them (``RC_s``; see
-    :func:`~thermolimb.workbench.validation.identifiable_submodel`).
-    ``stability``: before the best change is recommended, the search is repeated on perturbed replicates of
-    the log and the change must be taken in enough of them (:mod:`.stability`).  A model already within the
-    sensor's floor (:mod:`.floor`) is recommended no change.  ``contenders`` (with ``extra_starts`` by label):
-    only these changes are tried, afresh -- what a replicate does.
+    ``search``: how (:class:`Search`); keyword ``options`` replace its fields (``diagnose(runs, refit="all")``).
+    A model already within the sensor's floor (:mod:`.floor`) is recommended no change.
     """
-    model = parse_model(model)
-    series = list(series)
-    scheme = scheme or Scheme(split=split, folds=cv)
+    return _diagnose(list(series), parse_model(model), _search(search, options), Step())
+
+
+def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Search, step: Step) -> Diagnosis:
+    scheme = search.scheme
+    base = step.base
     if base is None:
-        base = _identifiable_base(series, model, scheme, validate_on, initial, datasheet)
+        base = _identifiable_base(series, model, scheme, step.initial, search.datasheet)
         model = base.model.terms
     train = list(base.train_series)
     base_bic = bic(base.train_residual_K, len(base.model.params))
@@ -143,45 +174,46 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
     base_run = thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
     first = base.train_segments[0]
     analysis = analyse_residuals(train[0], first.simulated_C)
+    replicating = step.contenders is not None
 
-    if contenders is None:
+    if not replicating:
         candidates = candidate_models(model, series[0])
-        if discover:
-            candidates += _channel_candidates(model, train, series + list(validate_on))
-        candidates = [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
+        if search.discover:
+            candidates += _channel_candidates(model, train, series + list(scheme.held_out))
+        candidates = [c for c in candidates if c.label not in step.skip and frozenset(c.model) not in step.visited]
     else:
-        candidates = list(contenders)
+        candidates = list(step.contenders)
     for cand in candidates:
         _guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
-    warm = extra_starts or {}
-    # the floor is the whole log's, decided once: a replicate (contenders given) is above it by construction
+    warm = step.starts or {}
+    # the floor is the whole log's, decided once: a replicate is above it by construction
     floor = (sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
-             if contenders is None else None)
+             if not replicating else None)
     # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
-    worth = (_worth_refitting([c for c in candidates if c.broken is None], refit) if contenders is None
+    worth = (_worth_refitting([c for c in candidates if c.broken is None], search.refit) if not replicating
              else [c for c in candidates if c.confounded is None and c.broken is None])
     if _at_floor(floor, base):  # nothing can be told apart: nothing is refitted
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
-    for cand in progress(worth, desc="refits", disable=quiet):
-        _guarded(cand, _refit, cand, series, scheme, validate_on, base, base_bic, warm.get(cand.label))
+    for cand in progress(worth, desc="refits", disable=search.quiet):
+        _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
     for cand in candidates:
         if not cand.evidence:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
     proposal = None
-    if (contenders is None and discover and not (candidates and candidates[0].eligible) and analysis.structured
+    if (not replicating and search.discover and not (candidates and candidates[0].eligible) and analysis.structured
             and not _at_floor(floor, base)):
         proposal = propose(base.model, train, jacobian, residual, stride=stride)
-        if proposal is not None and frozenset(model + (proposal.term,)) not in visited:
+        if proposal is not None and frozenset(model + (proposal.term,)) not in step.visited:
             cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
                              source=proposal.source)
             score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
             params = [p.name for p in TERMS[proposal.term].parameters]
             cand.starts.insert(0, {**dict(base.model.params), **dict(zip(params, proposal.coefficients))})
             if cand.confounded is None:
-                _refit(cand, series, scheme, validate_on, base, base_bic)
+                _refit(cand, series, scheme, base, base_bic)
             cand.evidence = describe_discovered(cand, proposal, base.validation["rmse_K"])
             candidates = sorted(candidates + [cand], key=_rank)
     best = candidates[0] if candidates and candidates[0].eligible else None
@@ -190,8 +222,8 @@ def diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split:
                   floor=floor)
     if d.at_floor:
         d.recommended = None
-    elif recommended is not None and stability is not None:
-        _check_stability(d, series, scheme, validate_on, stability, datasheet)
+    elif recommended is not None and search.stability is not None:
+        _check_stability(d, series, search)
     return d
 
 
@@ -199,12 +231,13 @@ def _at_floor(floor, base) -> bool:
     return floor is not None and floor.reached(base.validation["rmse_K"])
 
 
-def _check_stability(d: Diagnosis, series, scheme, validate_on, stability: Stability, datasheet) -> None:
+def _check_stability(d: Diagnosis, series, search: Search) -> None:
     """The replicates' verdicts (:mod:`.stability`): the best change stays recommended only if taken often enough;
     each contender's evidence says how often it was taken and what varied."""
-    frequencies = selection_frequencies(d, series, scheme, validate_on, stability, datasheet)
+    stability = search.stability
+    frequencies = selection_frequencies(d, series, search, replicate)
     k = stability.replicates
-    varied = stability.varied(None if validate_on else scheme)
+    varied = stability.varied(search.scheme)
     d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
                    "varied": varied, "frequencies": frequencies}
     for c in d.candidates:
@@ -261,10 +294,10 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
     return chosen
 
 
-def _identifiable_base(series, model, scheme, validate_on, initial, datasheet=None) -> FitReport:
+def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:
     """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``;
     :func:`~thermolimb.workbench.validation.identifiable_submodel`)."""
-    return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, validate_on, initial, held),
+    return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, initial, held),
                                  model, series, datasheet=datasheet)
 
 
@@ -279,12 +312,10 @@ def _guarded(cand: Candidate, step, *args) -> None:
         cand.evidence = f"set aside: {exc}"
 
 
-def _refit(cand: Candidate, series, scheme, validate_on, base: FitReport, base_bic: float,
-           warm: dict | None = None) -> None:
+def _refit(cand: Candidate, series, scheme, base: FitReport, base_bic: float, warm: dict | None = None) -> None:
     """Refit a candidate by :func:`.refit.refit` (a deterministic profile over its nonlinear parameter, then
     the next start while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
-    refit(cand, base, base_bic, lambda model, initial, fixed: _evaluate(series, model, scheme, validate_on, initial,
-                                                                        fixed), warm)
+    refit(cand, base, base_bic, lambda model, initial, fixed: _evaluate(series, model, scheme, initial, fixed), warm)
 
 
 def _rank(c: Candidate):
@@ -294,23 +325,20 @@ def _rank(c: Candidate):
     return (2 if c.confounded is None else 3, 0.0, -c.score)
 
 
-def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", split: float = 0.7,
-                  max_steps: int = 6, quiet: bool = True, cv: int | None = None, *, scheme: Scheme | None = None,
-                  validate_on: Sequence[ActuatorSeries] = (), discover: bool = False,
-                  datasheet: dict[str, float] | None = None,
-                  stability: Stability | None = None) -> tuple[Diagnosis, list[Diagnosis]]:
-    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every step's.
+def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,
+                  **options) -> tuple[Diagnosis, list[Diagnosis]]:
+    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every
+    step's.  ``search`` and ``options`` as :func:`diagnose`'s.
 
     The first diagnosis carries the walk in ``auto``: per step the model, its
     validation error, and the change that led to it with the reason.
     """
-    scheme = scheme or Scheme(split=split, folds=cv)
-    steps = [diagnose(series, model, quiet=quiet, scheme=scheme, validate_on=validate_on, discover=discover,
-                      datasheet=datasheet, stability=stability)]
+    series, search = list(series), _search(search, options)
+    steps = [_diagnose(series, parse_model(model), search, Step())]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
-    while len(steps) <= max_steps:
+    while len(steps) <= search.max_steps:
         d = steps[-1]
         confounded |= {c.label for c in d.candidates if c.confounded}
         move = d.recommended  # eligible, on rankable evidence, above the floor and stable when checked
@@ -318,14 +346,26 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model="joule,effort_bias", s
             break
         visited.add(frozenset(move.model))
         moves.append(move)
-        steps.append(diagnose(series, move.model, quiet=quiet, scheme=scheme, validate_on=validate_on,
-                              skip=frozenset(confounded), visited=frozenset(visited), base=move.report,
-                              discover=discover, stability=stability))
+        steps.append(_diagnose(series, move.model, search, Step(base=move.report, skip=frozenset(confounded),
+                                                                 visited=frozenset(visited))))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]
     first.auto = waterfall
     return first, steps
+
+
+def replicate(runs, model, search: Search, initial, specs, starts) -> str | None:
+    """One stability replicate's search (:mod:`.stability`): on the perturbed ``runs`` and ``search`` (its scheme
+    perturbed), the contenders rebuilt from ``specs``, each refitted from ``starts``; the label it takes, or
+    ``None``."""
+    candidates = tuple(Candidate.from_spec(spec) for spec in specs)
+    try:
+        d = _diagnose(list(runs), tuple(model), search, Step(initial=initial, contenders=candidates,
+                                                             starts=dict(zip([c.label for c in candidates], starts))))
+    except ThermolimbError:  # a replicate the log is too short to split, or that identifies nothing: it takes none
+        return None
+    return None if d.recommended is None else d.recommended.label
 
 
 def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:

@@ -39,7 +39,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...identification import IdentifiabilityError, OutputError
+from ...identification import FreeRunLeastSquares, IdentifiabilityError
 from ...model.model import model_parameters
 from ...model.terms import TERMS, Parameter
 from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
@@ -123,7 +123,7 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
     screened = []
     for initial, fixed in points:
         try:
-            est = OutputError(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
+            est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
             est.fit(list(train))
         except IdentifiabilityError:
             continue

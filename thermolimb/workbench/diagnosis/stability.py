@@ -58,8 +58,8 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
-from ...util.errors import ThermolimbError
 from ...util.parallel import run_jobs
+from ..validation import SPLIT
 from .candidates import MIN_IMPROVEMENT, Candidate
 
 REPLICATES = 10
@@ -88,7 +88,7 @@ class Stability:
     def varied(self, scheme) -> str:
         """What the replicates varied, in words (said beside every frequency)."""
         parts = [f"each run trimmed by up to {TRIM_ROWS} rows at its end"]
-        if scheme is not None and not scheme.folds and not scheme.by_run:
+        if scheme.kind == SPLIT:
             parts.append(f"the split moved by up to {SPLIT_JITTER:.2f}")
         parts.append(f"the refits' starts scaled by up to about {100 * (np.exp(2 * START_JITTER) - 1):.0f} %")
         return ", ".join(parts)
@@ -107,13 +107,18 @@ class Perturbation:
     def trimmed(self, series, trims) -> list[ActuatorSeries]:
         return [s.slice(a, s.n - b) for s, (a, b) in zip(series, trims)]
 
+    def applied(self, series, scheme):
+        """The replicate's runs and scheme: each run trimmed, held-out runs too, the split moved."""
+        held = self.trimmed(scheme.held_out, self.held_trims)
+        return self.trimmed(series, self.trims), replace(scheme, split=self.split, held_out=tuple(held))
+
     def jitter(self, starts: list[dict]) -> list[dict]:
         """Each start's values scaled by one log-normal factor per value (sign kept)."""
         rng = np.random.default_rng(self.start_seed)
         return [{k: float(v * np.exp(rng.normal(0.0, START_JITTER))) for k, v in start.items()} for start in starts]
 
 
-def perturbations(stability: Stability, series, validate_on, scheme) -> list[Perturbation]:
+def perturbations(stability: Stability, series, scheme) -> list[Perturbation]:
     """The seeded replicates' perturbations (module docstring)."""
     rng = np.random.default_rng([stability.seed, 20260])
 
@@ -132,9 +137,9 @@ def perturbations(stability: Stability, series, validate_on, scheme) -> list[Per
     out = []
     for offset in offsets:
         split = scheme.split
-        if not scheme.folds and not scheme.by_run and not validate_on:
+        if scheme.kind == SPLIT:
             split = float(np.clip(scheme.split + offset, 0.05, 0.95))
-        out.append(Perturbation(trims(series), trims(validate_on), split, int(rng.integers(2**31))))
+        out.append(Perturbation(trims(series), trims(scheme.held_out), split, int(rng.integers(2**31))))
     return out
 
 
@@ -145,18 +150,22 @@ def contenders(candidates: list[Candidate]) -> list[Candidate]:
             and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT)]
 
 
-def selection_frequencies(diagnosis, series, scheme, validate_on, stability: Stability,
-                          datasheet=None) -> dict[str, float]:
+def selection_frequencies(diagnosis, series, search, replicate) -> dict[str, float]:
     """``{label: share of replicates taking it}`` over the contenders, and ``"none"`` for replicates taking
-    nothing; fills each contender's ``selection_frequency``."""
+    nothing; fills each contender's ``selection_frequency``.  ``replicate(runs, model, search, initial, specs,
+    starts)`` is the search one replicate runs (the diagnosis's own, passed in: this module does not import it)."""
+    stability = search.stability
     chosen = contenders(diagnosis.candidates)
     if not chosen:
         return {"none": 1.0}
-    specs = [_spec(c) for c in chosen]
+    specs = [c.spec() for c in chosen]
     initial = dict(diagnosis.base.model.params)
-    jobs = [(list(series), list(validate_on), scheme, diagnosis.model, initial, specs, p, datasheet)
-            for p in perturbations(stability, list(series), list(validate_on), scheme)]
-    taken = run_jobs(_replicate, jobs, backend="process" if stability.workers > 1 else "serial",
+    jobs = []
+    for p in perturbations(stability, list(series), search.scheme):
+        runs, scheme = p.applied(list(series), search.scheme)
+        jobs.append((runs, diagnosis.model, replace(search, scheme=scheme, stability=None, quiet=True), initial, specs,
+                     p.jitter([spec["fitted"] for spec in specs])))
+    taken = run_jobs(replicate, jobs, backend="process" if stability.workers > 1 else "serial",
                      workers=stability.workers)
     counts: dict[str, int] = {}
     for label in taken:
@@ -176,29 +185,3 @@ def effect_key(c: Candidate, base: tuple[str, ...]) -> tuple:
     """What a change does to the physics: the terms it brings in, or, for a pure drop, the terms it removes."""
     added = frozenset(c.model) - frozenset(base)
     return ("add", added) if added else ("drop", frozenset(base) - frozenset(c.model))
-
-
-def _spec(c: Candidate) -> dict:
-    """What a replicate needs to rebuild a contender (its fitted values start the replicate's starts)."""
-    fitted = dict(c.report.model.params) if c.report is not None else {}
-    return {"effect": c.effect, "model": c.model, "kind": c.kind, "replaces": c.replaces, "also_drops": c.also_drops,
-            "channel": c.channel, "channel_unit": c.channel_unit, "formula": c.formula, "fitted": fitted}
-
-
-def _replicate(series, validate_on, scheme, model, initial, specs, perturbation: Perturbation, datasheet) -> str | None:
-    """One replicate's search on the contenders: the label it takes, or ``None`` (module docstring)."""
-    from .diagnose import diagnose  # the search itself; this module is imported by it
-
-    runs = perturbation.trimmed(series, perturbation.trims)
-    held = perturbation.trimmed(validate_on, perturbation.held_trims)
-    replicate_scheme = replace(scheme, split=perturbation.split)
-    candidates = [Candidate(s["effect"], tuple(s["model"]), kind=s["kind"], replaces=s["replaces"],
-                            also_drops=tuple(s["also_drops"]), channel=s["channel"], channel_unit=s["channel_unit"],
-                            formula=s["formula"]) for s in specs]
-    jittered = perturbation.jitter([s["fitted"] for s in specs])
-    try:
-        d = diagnose(runs, model, scheme=replicate_scheme, validate_on=held, initial=initial, datasheet=datasheet,
-                     contenders=candidates, extra_starts=dict(zip([c.label for c in candidates], jittered)))
-    except ThermolimbError:  # a replicate the log is too short to split, or that identifies nothing: it takes none
-        return None
-    return None if d.recommended is None else d.recommended.label

@@ -8,11 +8,12 @@ import numpy as np
 
 from thermolimb.util.numbers import to_microsecond
 
-from ..constants import JOINTS
-from ..params import DAISY
-from ..sim import HexapodSim, SimConfig
+from ...constants import JOINTS
+from ...params import DAISY
+from ...sim import HexapodSim, SimConfig
+from ...thermal import EFFECTS, PROTECTION
 from .cells import THERMAL_STRATEGIES
-from .cycle import EFFECTS, PROTECTION, _run_duty, measure_cycle
+from .cycle import _run_duty, measure_cycle
 from .gait import NOMINAL_GAIT
 
 

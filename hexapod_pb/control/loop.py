@@ -13,12 +13,12 @@ from collections import Counter
 
 import numpy as np
 
+from ..params import DAISY, FALLEN_BODY_HEIGHT_M, SETTLE_S, DaisyParams
+from ..readings import Reading
+from ..sim import HexapodSim
 from . import cpg
 from .controller import ControllerState, Gains, ThermalContext, control_step
-from .params import DAISY, FALLEN_BODY_HEIGHT_M, SETTLE_S, DaisyParams
-from .readings import Reading
-from .sim import HexapodSim
-from .wrench import StanceSolution
+from .stance import StanceSolution
 
 
 class ControlLoop:

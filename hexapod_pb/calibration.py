@@ -6,15 +6,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.identification.bank import Calibration, identify_bank, measured_ambient_C
+from thermolimb.identification.calibration import Calibration, identify_bank, measured_ambient_C
 from thermolimb.model import FirstOrderBank
 
-from .. import cpg
-from ..constants import JOINTS
-from ..loop import ControlLoop
-from ..params import DAISY
-from ..sim import HexapodSim, SimConfig
-from .cycle import EFFECTS, PROTECTION
+from .constants import JOINTS
+from .control import cpg
+from .control.loop import ControlLoop
+from .params import DAISY
+from .sim import HexapodSim, SimConfig
+from .thermal import EFFECTS, PROTECTION
 
 MIN_RISE_K = 0.5  # a joint whose log shows less mean Joule rise (five sensor steps) is not identified: prior
 WINDING_RC_S = 1.0  # an X8 winding's own time constant is 1.4 s: the fastest an identified RC may be

@@ -9,8 +9,10 @@ import numpy as np
 
 from ..logs import ThermalLog
 from ..model import FirstOrderBank, ThermalModel
-from .output_error import OutputError
-from .regression import IdentifiabilityError
+from ..model.terms import DEFAULT_MODEL
+from ..util.errors import IdentifiabilityError
+from .output_error import FreeRunLeastSquares
+
 
 @dataclass(frozen=True)
 class Calibration:
@@ -31,7 +33,7 @@ MIN_RC_S = 5.0  # default: a time constant below this is not physical for a huma
 
 
 def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray, min_rc_s: float = MIN_RC_S,
-                  model: str = "joule,effort_bias", min_rise_K: float = 0.0) -> FirstOrderBank:
+                  model: str | tuple[str, ...] = DEFAULT_MODEL, min_rise_K: float = 0.0) -> FirstOrderBank:
     """Fit Eq. 5 (output error, ``model``: ``joule`` with or without ``effort_bias``) to every named actuator of
     ``log``, in that order.
 
@@ -48,7 +50,7 @@ def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
     for name in actuators:
         try:
             series = log.series(name)
-            m = OutputError(model=model).fit(series).model_
+            m = FreeRunLeastSquares(model=model).fit(series).model_
             rise = m.params["betaR_K_per_effort2"] * float(np.mean(np.asarray(series.signals.effort) ** 2))
             models[name] = m if m.params["RC_s"] >= min_rc_s and rise >= min_rise_K else None
         except (IdentifiabilityError, ValueError):
@@ -63,7 +65,7 @@ def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
         m = models[name]
         if m is None:
             T = float(np.mean(log.series(name).temperature_C))
-            m = ThermalModel(("joule", "effort_bias"), {"RC_s": rc, "betaR_K_per_effort2": heat / limits[i] ** 2,
-                                                        "beta_biasR_K_per_effort": 0.0, "T_offset_C": T})
+            m = ThermalModel(DEFAULT_MODEL, {"RC_s": rc, "betaR_K_per_effort2": heat / limits[i] ** 2,
+                             "beta_biasR_K_per_effort": 0.0, "T_offset_C": T})
         filled.append(m)
     return FirstOrderBank.from_models(filled)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from .. import cpg
-from ..params import DAISY, DaisyParams
+from ...control import cpg
+from ...params import DAISY, DaisyParams
 
 MODES = ("walk", "stand")
 

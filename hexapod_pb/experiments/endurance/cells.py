@@ -9,10 +9,11 @@ import numpy as np
 from thermolimb.model import FirstOrderBank
 from thermolimb.util.numbers import to_microsecond
 
-from ..constants import JOINTS
-from ..controller import ThermalContext
-from ..limits import LIMITS
-from .cycle import MAX_YAW_DRIFT_DEG_PER_MIN, PROTECTION, measure_cycle
+from ...constants import JOINTS
+from ...control.controller import ThermalContext
+from ...limits import LIMITS
+from ...thermal import PROTECTION
+from .cycle import MAX_YAW_DRIFT_DEG_PER_MIN, measure_cycle
 from .gait import GAIT_CHOICES, NOMINAL_GAIT, Gait
 from .planning import plan_gait
 

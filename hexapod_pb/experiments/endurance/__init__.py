@@ -14,7 +14,7 @@ The plant is HEBI's three-node X8 network (winding, housing, a 2500 J/K
 body) with copper resistance rising with temperature.  Its sensors read with noise and 0.1 K steps.
 
 Thermal-aware strategies plan with models identified from the robot's own
-calibration log (:func:`calibrate`), never with the plant's network:
+calibration log (:func:`hexapod_pb.calibration.calibrate`), never with the plant's network:
 
 ``thermal_aware``
     the stance forces minimise the hottest predicted winding 20 s ahead (``wrench.thermal_minimax``);
@@ -30,14 +30,13 @@ PyBullet from the state the strides leave and joined to their cycle
 walking and standing (the swing tripod put down) is not simulated.
 """
 
-from .calibration import at_ambient, calibrate
 from .cells import STRATEGIES, THERMAL_STRATEGIES, CellResult, derating_threshold_C, endurance
 from .check import PeriodicCheck, check_periodic
-from .cycle import CYCLE_STRIDES, EFFECTS, PROTECTION, Cycle, cycle_steps, measure_cycle, pause_steps
+from .cycle import CYCLE_STRIDES, Cycle, cycle_steps, measure_cycle, pause_steps
 from .gait import GAIT_CHOICES, MODES, NOMINAL_GAIT, Gait
 from .planning import GaitPlan, plan_gait, predicted_peak_C
 
-__all__ = ["CYCLE_STRIDES", "EFFECTS", "GAIT_CHOICES", "MODES", "NOMINAL_GAIT", "PROTECTION", "STRATEGIES",
-           "THERMAL_STRATEGIES", "CellResult", "Cycle", "Gait", "GaitPlan", "PeriodicCheck", "at_ambient", "calibrate",
+__all__ = ["CYCLE_STRIDES", "GAIT_CHOICES", "MODES", "NOMINAL_GAIT", "STRATEGIES",
+           "THERMAL_STRATEGIES", "CellResult", "Cycle", "Gait", "GaitPlan", "PeriodicCheck",
            "check_periodic", "cycle_steps", "derating_threshold_C", "endurance", "measure_cycle", "pause_steps",
            "plan_gait", "predicted_peak_C"]

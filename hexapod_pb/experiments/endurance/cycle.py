@@ -7,21 +7,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from thermolimb.plant import PlantEffects, Quantisation, SensorNoise, ThermalProtection, WindingTempco
 from thermolimb.plant.periodic import CycleMap
 
-from ..constants import JOINTS
-from ..controller import Gains, ThermalContext
-from ..loop import ControlLoop
-from ..params import FALLEN_BODY_HEIGHT_M, DaisyParams
-from ..sim import HexapodSim, SimConfig
+from ...constants import JOINTS
+from ...control.controller import Gains, ThermalContext
+from ...control.loop import ControlLoop
+from ...params import FALLEN_BODY_HEIGHT_M, DaisyParams
+from ...sim import HexapodSim, SimConfig
+from ...thermal import EFFECTS, PROTECTION
 from .gait import MODES, NOMINAL_GAIT, Gait
 
-# copper's temperature coefficient is physics with a known value; the plant's speed losses are sized by choice,
-# and on PyBullet's joint speeds (touch-down spikes) they make within-stride bursts no X8 datasheet supports
-EFFECTS = PlantEffects(winding_tempco=WindingTempco(), sensor_noise=SensorNoise(), quantisation=Quantisation())
-# the measured thermistor cannot lead the winding, so protection on it never starts before the propagated crossing
-PROTECTION = ThermalProtection(estimator="measured")
 WARMUP_STRIDES = 3
 CYCLE_STRIDES = 8
 MAX_YAW_DRIFT_DEG_PER_MIN = 5.0  # a gait turning faster than this by itself is not periodic (measured: <= 0.3 to 25 kg)

@@ -1,6 +1,6 @@
 """Generate the Daisy-like hexapod's URDF from :class:`~hexapod_pb.params.DaisyParams`.
 
-``python -m hexapod_pb.urdf_model`` rewrites ``urdf/daisy_like.urdf``; a test
+``python -m hexapod_pb.model.daisy_urdf`` rewrites ``urdf/daisy_like.urdf``; a test
 checks that the committed file equals this generator's output.
 """
 
@@ -11,8 +11,8 @@ from pathlib import Path
 from thermolimb.urdf_builder import Shape, UrdfBuilder, box, box_inertia, cylinder, number, sphere
 from thermolimb.util.paths import urdf_dir, write_urdf
 
-from .constants import BODY_LINK, LEGS, PAYLOAD_LINK, foot_link, joint_name
-from .params import DAISY, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
+from ..constants import BODY_LINK, LEGS, PAYLOAD_LINK, foot_link, joint_name
+from ..params import DAISY, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
 
 URDF_NAME = "daisy_like.urdf"
 PAYLOAD_SIZE_M = 0.12
@@ -24,7 +24,7 @@ def generate(params: DaisyParams = DAISY) -> str:
     """The URDF text (deterministic: same parameters, same bytes)."""
     p = params
     body = p.body_size_m
-    urdf = UrdfBuilder("daisy_like", "hexapod_pb.urdf_model from DaisyParams",
+    urdf = UrdfBuilder("daisy_like", "hexapod_pb.model.daisy_urdf from DaisyParams",
                        {"grey": "0.5 0.5 0.55 1", "red": "0.8 0.15 0.1 1", "black": "0.1 0.1 0.1 1"})
     urdf.link(BODY_LINK, p.body_mass_kg, box_inertia(p.body_mass_kg, body),
               visuals=[Shape(box(body), material="grey")], collisions=[Shape(box(body))])

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..params import GRAVITY_M_S2, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
 from .kinematics import foot_position, point_jacobian
-from .params import GRAVITY_M_S2, LINK_AXIAL_INERTIA_KG_M2, DaisyParams
 
 
 @dataclass(frozen=True)

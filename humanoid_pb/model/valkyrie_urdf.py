@@ -1,6 +1,6 @@
 """Generate the Valkyrie-like humanoid's URDF (primitive shapes) from :class:`ValkyrieParams`.
 
-``python -m humanoid_pb.model.urdf_model`` rewrites ``urdf/valkyrie_like.urdf``; a
+``python -m humanoid_pb.model.valkyrie_urdf`` rewrites ``urdf/valkyrie_like.urdf``; a
 test checks that the committed file equals this generator's output.  Each
 foot carries a massless-looking ``<side>_sole`` frame at the centre of its
 sole: the contact frame of the statics.
@@ -37,7 +37,7 @@ def _revolute(urdf: UrdfBuilder, name, parent, child, origin, params: ValkyriePa
 
 def generate(params: ValkyrieParams = VALKYRIE) -> str:
     p = params
-    urdf = UrdfBuilder("valkyrie_like", "humanoid_pb.model.urdf_model from ValkyrieParams",
+    urdf = UrdfBuilder("valkyrie_like", "humanoid_pb.model.valkyrie_urdf from ValkyrieParams",
                        {"grey": "0.75 0.75 0.78 1", "dark": "0.2 0.2 0.25 1"})
     _box_link(urdf, PELVIS, p.pelvis_kg, (0.2, 0.3, 0.15))
     _revolute(urdf, "torso_yaw", PELVIS, "torso_yaw_link", "0 0 0.08", p)

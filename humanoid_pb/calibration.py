@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from thermolimb.identification.bank import Calibration, identify_bank, measured_ambient_C
+from thermolimb.identification.calibration import Calibration, identify_bank, measured_ambient_C
 from thermolimb.plant import ActuatorSpec
 from thermolimb.util.progress import progress
 
-from ..model.actuation import effort_limits
-from ..constants import ACTUATORS
-from ..control.executor import Executor
-from ..scenarios import DEFAULT, Scenario
-from ..sim import HumanoidSim
+from .constants import ACTUATORS
+from .control.executor import Executor
+from .model.actuation import effort_limits
+from .scenarios import DEFAULT, Scenario
+from .sim import HumanoidSim
 
 
 def calibrate(duration_s: float, seed: int = 0, *, quiet: bool = True, specs: Sequence[ActuatorSpec] | None = None,

@@ -21,13 +21,14 @@ import numpy as np
 
 from thermolimb.model import FirstOrderBank
 
+from ..constants import LEGS
+from ..model.kinematics import inverse_kinematics, joint_axes, nominal_feet
+from ..model.legs import leg_statics
+from ..params import GRAVITY_M_S2, DaisyParams
+from ..readings import Reading
 from . import cpg
-from .constants import LEGS
-from .kinematics import inverse_kinematics, joint_axes, nominal_feet
-from .legs import leg_statics
-from .params import GRAVITY_M_S2, DaisyParams
-from .readings import Reading
-from .wrench import STRATEGIES, StanceProblem, StanceSolution, distribute
+from .stance import StanceProblem, StanceSolution
+from .wrench import STRATEGIES, distribute
 
 P_POINT_CONTACT = np.diag([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import LEGS, TRIPODS
+from ..constants import LEGS, TRIPODS
 
 
 def tripod_coupling() -> np.ndarray:

@@ -9,7 +9,7 @@ import numpy as np
 
 from thermolimb.model import FirstOrderBank
 
-from ..controller import ThermalContext
+from ...control.controller import ThermalContext
 from .cycle import Cycle, _with_pause, measure_cycle
 from .gait import GAIT_CHOICES, NOMINAL_GAIT, Gait
 

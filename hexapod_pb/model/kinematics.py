@@ -17,8 +17,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from .constants import LEGS
-from .params import DaisyParams
+from ..constants import LEGS
+from ..params import DaisyParams
 
 
 def leg_plane(params: DaisyParams, q: np.ndarray) -> tuple[float, float]:

@@ -16,13 +16,13 @@ from thermolimb.logs import ThermalLog
 from thermolimb.plant import PlantEffects
 from thermolimb.util.progress import progress
 
-from . import cpg
-from .controller import Gains, ThermalContext
-from .limits import LIMITS
-from .loop import ControlLoop
-from .params import DAISY
-from .sim import HexapodSim, SimConfig
-from .thermal import datasheet_bank
+from ..control import cpg
+from ..control.controller import Gains, ThermalContext
+from ..control.loop import ControlLoop
+from ..limits import LIMITS
+from ..params import DAISY
+from ..sim import HexapodSim, SimConfig
+from ..thermal import datasheet_bank
 
 SCENARIOS = {"walk_0kg": (True, 0.0), "walk_2kg": (True, 2.0), "stand_5kg": (False, 5.0)}
 
