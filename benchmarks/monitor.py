@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
+from thermolimb.logs.follow import CsvFollower, Run
 from thermolimb.model import ThermalModel, model_parameters
 from thermolimb.model.saved import ModelFile, ResidualStats, bare
-from thermolimb.monitor import CsvFollower, Session
-from thermolimb.monitor.follow import Piece
+from thermolimb.monitor import Session
 from thermolimb.monitor.outputs import McapOutput
 from thermolimb.plant import X8_9
 from thermolimb.plant.observer import WindingObserver
@@ -66,15 +66,16 @@ def models(names) -> ModelFile:
     return ModelFile({n: replace(bare(model, n, 90.0), residual=residual) for n in names})
 
 
-def piece(times, effort, temperature, velocity) -> Piece:
-    return Piece(list(times), list(effort), list(temperature), {"velocity": list(velocity)})
+def piece(times, effort, temperature, velocity, new_run: bool = False) -> list[Run]:
+    arrays = {"time": times, "effort": effort, "temperature": temperature, "velocity": velocity}
+    return [Run({k: np.atleast_1d(np.asarray(v, float)) for k, v in arrays.items()}, new_run)]
 
 
 def step_costs(actuators: int = 30, steps: int = 400) -> dict:
     names = [f"j{i}" for i in range(actuators)]
     session = Session(models(names), {}, [], publish_every_s=0.0)
     rng = np.random.default_rng(0)
-    session.feed({n: piece([0.0], [5.0], [30.0], [0.0]) for n in names})
+    session.feed({n: piece([0.0], [5.0], [30.0], [0.0], new_run=True) for n in names})
     times = []
     for k in range(1, steps + 1):
         pieces = {n: piece([k * 0.001], [rng.uniform(0, 10)], [30.0 + 0.001 * k], [rng.uniform(0, 2)]) for n in names}

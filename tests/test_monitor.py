@@ -13,10 +13,11 @@ import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
+from thermolimb.logs.follow import CsvFollower
 from thermolimb.model import Signals, ThermalModel, model_parameters
 from thermolimb.model.reach import first_order_reach_s
 from thermolimb.model.saved import ModelFile
-from thermolimb.monitor import CsvFollower, Session
+from thermolimb.monitor import Session
 from thermolimb.monitor.layout import SHIPPED_ACTUATORS, layout_text
 
 TERMS = ("joule", "effort_bias", "second_node", "third_node", "sensor_lag", "speed_losses")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..util.errors import UsageError
-from .options import add_terms
+from .options import add_log_input, add_terms
 from .output import say
 from .reading import load_terms
 from .types import integer, number, output_file
@@ -14,21 +14,19 @@ from .types import integer, number, output_file
 def add_parser(sub):
     p = sub.add_parser(
         "monitor", help="follow a log as it is written: winding estimates, time to the limit, derating, live",
-        description="Follow a log while another program writes it -- a canonical CSV (time,actuator,effort,"
-                    "temperature[,velocity,current,ambient]) or an MCAP / ROS 2 bag being recorded (--map); for each actuator run the saved model with a Kalman filter on "
+        description="Follow a log while another program writes it -- a CSV read as fit reads it (the canonical "
+                    "columns, or a wide file with --map) or an MCAP / ROS 2 bag being recorded (--map); a line that "
+                    "cannot be read is said and skipped, a pause starts a new run; for each actuator run the saved "
+                    "model with a Kalman filter on "
                     "its readings (the winding temperature and its uncertainty), the time to the limit at the "
                     "current effort and the protection's derating; publish them as ROS 2 messages to an MCAP, live "
                     "to Foxglove, or as JSON lines. Ends on Ctrl-C, SIGTERM or --idle-exit, every output complete. "
                     "Topics and messages: docs/model-file.md.")
     p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
     p.add_argument("--follow", required=True, metavar="LOG",
-                   help="the log to follow: a canonical CSV, or an MCAP (or a ROS 2 bag folder) being recorded")
-    p.add_argument("--map", default=None, metavar="CANONICAL=/TOPIC.FIELD,...",
-                   help="for an MCAP: which topics' fields are effort, velocity and temperature (default the layout "
-                        "thermolimb writes: effort=/joint_states.effort,velocity=/joint_states.velocity,"
-                        "temperature=/thermal.temperature; {j} in a topic for one topic per joint)")
-    p.add_argument("--actuator", default=None, metavar="NAME",
-                   help="the actuator of a CSV without an actuator column")
+                   help="the log to follow: a CSV (waited for if it does not exist yet), or an MCAP (or a ROS 2 bag "
+                        "folder) being recorded")
+    add_log_input(p, positional=False)
     add_terms(p)
     p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
                    help="the winding limit of every actuator (default: each model's stored limit)")
@@ -84,7 +82,10 @@ def run(args) -> int:
         for out in outputs:
             out.close()
         raise
-    session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz)
+    if args.actuator is not None and args.actuator not in models.actuators:
+        raise UsageError(f"--actuator {args.actuator}: the model file has no such actuator; it has "
+                         f"{', '.join(models.actuators)}")
+    session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz, only=args.actuator)
     try:
         follow(session, _follower(args), args.poll_s, args.idle_exit)
     except KeyboardInterrupt:
@@ -95,17 +96,30 @@ def run(args) -> int:
 
 
 def _follower(args):
+    """The follower of ``--follow``: a CSV through the logs package's reading, or a recorded MCAP; what cannot be
+    followed at all is one sentence."""
     from pathlib import Path
 
-    from ..monitor import CsvFollower
-    from ..monitor.follow_mcap import McapFollower
+    from ..logs.follow import CsvFollower, follows
+    from ..logs.follow_mcap import McapFollower
+    from .reading import read_options
 
     path = Path(args.follow)
-    if path.suffix.lower() == ".mcap" or path.is_dir():
+    if path.is_dir() and not any(path.glob("*.mcap")) and not any(path.glob("metadata.yaml")):
+        raise UsageError(f"--follow {path}: a folder with no ROS 2 bag in it; expected a CSV log, an MCAP, or a bag "
+                         f"folder being recorded")
+    if path.exists() and not path.is_file() and not path.is_dir():
+        raise UsageError(f"--follow {path}: not a regular file (a device or a pipe); expected a log file another "
+                         f"program writes")
+    kind = follows(path)
+    if kind == "mcap":
         return McapFollower(path, args.map)
-    if args.map:
-        raise UsageError("--map names the topics of an MCAP; a followed CSV is read in the canonical format")
-    return CsvFollower(path, args.actuator)
+    if kind != "csv":
+        raise UsageError(f"--follow {path}: a {kind} file is written whole, not row by row; monitor follows a CSV or "
+                         f"an MCAP as it is written (predict reads a finished {kind} log)")
+    options = read_options(args, path)
+    return CsvFollower(path, args.actuator, options["mapping"] or None,
+                       {k: options[k] for k in ("velocity_unit", "effort_unit", "sep", "decimal", "drop_incomplete")})
 
 
 def _layout() -> str:

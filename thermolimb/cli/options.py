@@ -33,10 +33,13 @@ def add_quiet(p):
     p.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
-def add_log_input(p, required: bool = True):
-    p.add_argument("logs", nargs="+" if required else "*", metavar="LOG",
-                   help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several logs (runs) of the same actuators are fitted jointly, "
-                        "each run simulated from its own first reading")
+def add_log_input(p, required: bool = True, positional: bool = True):
+    """The logs (``positional``) and the options they are read with, alike for every command that reads logs."""
+    if positional:
+        p.add_argument("logs", nargs="+" if required else "*", metavar="LOG",
+                       help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several "
+                            "logs (runs) of the same actuators are fitted jointly, each run simulated from its own "
+                            "first reading")
     p.add_argument("--map", default=None, metavar="CANONICAL=COLUMN,...",
                    help="read a wide file by naming its columns, e.g. effort=torque,temperature=stator_winding,"
                         "housing=case_temp (a second sensor); for one column per joint use {j} for the joint number "

@@ -76,10 +76,12 @@ def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
 
 
 def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numeric_time: bool, source: str,
-                     notes: list) -> None:
+                     notes: list) -> dict:
     """Unit mistakes a log's numbers show, where no header states the unit: time counted in milliseconds (or
     micro-, nanoseconds) since 1970, converted; time steps too long for seconds, said; temperatures in
-    kelvin, converted.  Each said in the notes with the numbers that show it."""
+    kelvin, converted.  Each said in the notes with the numbers that show it.  What it decided:
+    ``{"time_scale": s per unit, "stated": {column: "K"}}``, for the later pieces of a log read in pieces."""
+    decided: dict = {"stated": {}}
     t = out["time"]
     if "time" not in stated and numeric_time and t.size:
         lo, hi = float(np.min(t)), float(np.max(t))
@@ -87,6 +89,7 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
             if EPOCH_S[0] <= lo * scale and hi * scale <= EPOCH_S[1] and not EPOCH_S[0] <= lo <= EPOCH_S[1]:
                 day = pd.Timestamp(lo * scale, unit="s").strftime("%Y-%m-%d")
                 out["time"] = t * scale
+                decided["time_scale"] = scale
                 notes.append(f"{source}: time reads {lo:.13g} at its first sample, which is {day} counted in {unit} "
                              f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map "
                              f"time=COLUMN:s)")
@@ -105,9 +108,13 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
         lo, hi = float(np.min(values)), float(np.max(values))
         if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
             out[name] = values - 273.15
+            decided["stated"][name] = "K"
             notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} throughout, which no actuator stays at in "
                          f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header "
                          f"'{name} [degC]' or --map {name}=COLUMN:degC)")
+        else:
+            decided["stated"].setdefault(name, "degC")
+    return decided
 
 
 def refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import re
 from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -221,11 +222,39 @@ def _kind_checked(path: Path) -> str:
     return kind
 
 
+@dataclass(frozen=True)
+class Dialect:
+    """How a CSV file is written: ``pandas.read_csv``'s keyword arguments for it, the column names its header
+    repeats (name -> count), and its header line."""
+
+    options: dict
+    duplicates: dict[str, int]
+    header_line: str
+
+    @property
+    def header(self) -> list[str]:
+        return next(csv.reader([self.header_line], delimiter=self.options["sep"]), [])
+
+
 def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict, dict[str, int]]:
     """The keyword arguments of ``pandas.read_csv`` for the file's dialect (guessed where not given), and the
     column names its header repeats (name -> count)."""
     _refuse_binary(path)
     head, comments = _scan(path)
+    dialect = _dialect(head, comments, path, sep, decimal)
+    return dialect.options, dialect.duplicates
+
+
+def csv_dialect(text: str, source, sep: str | None = None, decimal: str | None = None) -> Dialect:
+    """The dialect of a CSV file's first lines (a file being written, read so far), as :func:`read_table` finds it."""
+    if "\x00" in text:
+        raise LogError(f"{source}: not a text file (it holds NUL bytes); expected a CSV log")
+    lines = [line.removeprefix("\ufeff") if i == 0 else line for i, line in enumerate(text.splitlines())]
+    comments = {i for i, line in enumerate(lines) if line.lstrip().startswith("#")}
+    return _dialect(lines[:SNIFF_LINES], comments, source, sep, decimal)
+
+
+def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal: str | None) -> Dialect:
     content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
     if not content:
         raise LogError(f"{path}: the file has no header line and no data")
@@ -234,7 +263,8 @@ def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict
     data = [line for i, line in content if i > header_at]
     decimal = decimal or ("," if sep != "," and any(_DECIMAL_COMMA.search(line) for line in data) else ".")
     skip = comments | set(range(header_at))
-    header = next(csv.reader([next(line for i, line in content if i == header_at)], delimiter=sep), [])
+    header_line = next(line for i, line in content if i == header_at)
+    header = next(csv.reader([header_line], delimiter=sep), [])
     counts = Counter(name.strip() for name in header)
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
                    skip_blank_lines=True)
@@ -246,7 +276,7 @@ def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict
         options.update(keep_default_na=False, dtype={"actuator": str},
                        na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
                        | {"actuator": [""]})
-    return options, {name: k for name, k in counts.items() if k > 1 and name}
+    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line)
 
 
 def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) -> None:

@@ -5,6 +5,7 @@ naming the file, the column and what is expected."""
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
@@ -17,13 +18,25 @@ from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
 from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
-from .table import refuse_duplicates, shown_names, time_seconds
+from .table import first_stamp, refuse_duplicates, shown_names, time_seconds
 from .units import NOT_GIVEN, channel_units
 from .wide import apply_mapping, split_units
 
 # no working actuator's winding, housing or air reads outside this: readings beyond are not degC
 TEMPERATURE_RANGE_C = (-100.0, 500.0)
 VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
+
+
+@dataclass
+class Reading:
+    """How a log's first piece was read, so that every later piece of it (a log followed as it is written) is read
+    alike: the units of time and temperatures it stated or gave away, the time's scale and origin.  Filled by
+    :func:`from_frame` on the first piece, given back for the later ones."""
+
+    stated: dict = field(default_factory=dict)  # time and temperature units: stated, or found in the numbers
+    time_scale: float = 1.0  # seconds per unit of a numeric time (an epoch counted in ms, us, ns)
+    origin: object = None  # the first time stamp, for logs stamped with dates
+    decided: bool = False
 
 
 def from_frame(
@@ -35,6 +48,7 @@ def from_frame(
     drop_incomplete: bool = False,
     units: Mapping[str, str | None] | None = None,
     copy: bool = True,
+    reading: Reading | None = None,
 ) -> ThermalLog:
     """Validate a data frame (canonical, or wide with ``mapping``) into a :class:`ThermalLog`.
 
@@ -43,6 +57,11 @@ def from_frame(
     gives channels' units the frame does not (see :mod:`thermolimb.logs.units`).
     ``copy=False`` lets the log share the frame's float columns instead of copying them: for a frame the
     caller hands over (a large log read once), not one it goes on changing.
+
+    ``reading``: a log read piece by piece (:mod:`.follow`).  On the first piece (``reading.decided`` false)
+    it receives what the piece's headers and numbers decided; a later piece is read by those decisions, and the
+    rules that need a whole run (enough samples, a sensor stuck or at its ceiling, degF readings) are left to
+    the reader of the whole log.
     """
     mapping, from_map = split_units(mapping)
     if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
@@ -54,6 +73,7 @@ def from_frame(
     notes = []
     stated = {**(mapped_stated(mapping) if mapping else {}),
               **{k: v for k, v in given.items() if k == "time" or UNITS.get(k) == "degC"}}
+    later = reading is not None and reading.decided
     refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
     if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
         notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
@@ -64,6 +84,8 @@ def from_frame(
         notes += frame.attrs.get("notes", [])
     else:
         frame = canonical_with_units(frame, source, given, channel, notes, stated)
+    if later:
+        stated.update(reading.stated)
     frame = convert_stated(frame, stated, source, notes)
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
@@ -93,9 +115,10 @@ def from_frame(
         row = int(np.flatnonzero(blank)[0])
         raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
     # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
-    out = {"time": np.array(time_seconds(frame["time"], source, "time"), copy=copy), "actuator": names}
+    origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
+    out = {"time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy), "actuator": names}
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
-    if not numeric_time:
+    if not numeric_time and not later:
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
     for c in keep:
         if c in ("time", "actuator"):
@@ -128,7 +151,13 @@ def from_frame(
                 f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
                 f"with --drop-incomplete)"
             )
-    plausible_units(out, stated, numeric_time, source, notes)
+    if later:
+        out["time"] = out["time"] * reading.time_scale if reading.time_scale != 1.0 else out["time"]
+    else:
+        decided = plausible_units(out, stated, numeric_time, source, notes)
+        if reading is not None:
+            reading.stated = {**stated, **decided.get("stated", {})}
+            reading.time_scale, reading.origin, reading.decided = decided.get("time_scale", 1.0), origin, True
     for c in (c for c in out if UNITS.get(c) == "degC"):
         values = out[c]
         outside = (values < TEMPERATURE_RANGE_C[0]) | (values > TEMPERATURE_RANGE_C[1])
@@ -156,14 +185,15 @@ def from_frame(
                 f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
                 f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
             )
-        if len(g) < MIN_SAMPLES:
+        if len(g) < MIN_SAMPLES and not later:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         refuse_unit_switch(g, name, source)
-        g = leave_out(g, name, source, notes, MIN_SAMPLES)
-        note = fahrenheit_note(g["temperature"].to_numpy(), g["effort"].to_numpy(),
-                               g["ambient"].to_numpy() if "ambient" in g else None, source, name)
-        if note:
-            notes.append(note)
+        if not later:
+            g = leave_out(g, name, source, notes, MIN_SAMPLES)
+            note = fahrenheit_note(g["temperature"].to_numpy(), g["effort"].to_numpy(),
+                                   g["ambient"].to_numpy() if "ambient" in g else None, source, name)
+            if note:
+                notes.append(note)
         parts.append(g)
     whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))

@@ -25,8 +25,8 @@ from typing import ClassVar, Mapping
 import numpy as np
 
 from ..util.errors import ModelSpecError
-from .signals import Signals
 from .parameter_units import render
+from .signals import Signals
 
 
 @dataclass(frozen=True)

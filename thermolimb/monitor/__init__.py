@@ -2,7 +2,6 @@
 messages in an MCAP, on Foxglove's live WebSocket, or as JSON lines (``thermolimb monitor``)."""
 
 from .estimator import ActuatorMonitor, Estimate
-from .follow import CsvFollower
 from .session import Session, follow
 
-__all__ = ["ActuatorMonitor", "CsvFollower", "Estimate", "Session", "follow"]
+__all__ = ["ActuatorMonitor", "Estimate", "Session", "follow"]

@@ -12,9 +12,9 @@ from ..model.saved import ModelFile
 from ..model.signals import Signals
 from ..util.errors import UsageError
 from .estimator import ActuatorMonitor, Estimate
-from .follow import as_arrays
 
-CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C"}
+CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C", "power": "power_W",
+            "housing": "housing_C"}
 
 
 @dataclass
@@ -30,36 +30,49 @@ class Session:
     carry: dict[str, dict] = field(default_factory=dict)
     published_at: float = -np.inf
     ignored: set = field(default_factory=set)  # the log's actuators the model file does not hold
+    only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
 
-    def feed(self, pieces: dict) -> list[Estimate]:
-        """Update each actuator that has new rows, publishing once per ``publish_every_s`` of log time (a piece
-        that spans several such periods, as a log already written when the monitor starts, is taken period by
-        period, so that what is published does not depend on how often the file was polled).  The estimates."""
+    def feed(self, runs: dict) -> list[Estimate]:
+        """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
+        new run, after a pause, starts the actuator's filter again), publishing once per ``publish_every_s`` of
+        log time (a piece that spans several such periods, as a log already written when the monitor starts, is
+        taken period by period, so that what is published does not depend on how often the file was polled).
+        The estimates."""
         windows: dict[float, dict[str, dict]] = {}
-        for name, piece in pieces.items():
+        for name, pieces in runs.items():
+            if self.only is not None and name != self.only:
+                continue
             if name not in self.models.actuators:
                 if name not in self.ignored:
                     self.ignored.add(name)
                     print(f"note: the followed log's actuator {name!r} is not in the model file; it is not "
                           f"watched", file=sys.stderr)
                 continue
-            arrays = as_arrays(piece)
-            before = self.carry.get(name)
-            if before is not None:
-                arrays = {k: np.concatenate([before[k], v]) for k, v in arrays.items() if k in before}
-            if arrays["time"].size < 2:
-                self.carry[name] = arrays  # one sample: wait for the next
-                continue
-            self.samples += arrays["time"].size - (0 if before is None else 1)
-            self.carry[name] = {k: v[-1:] for k, v in arrays.items()}
-            for key, lo, hi in _periods(arrays["time"], self.publish_every_s):
-                windows.setdefault(key, {})[name] = {k: v[lo:hi] for k, v in arrays.items()}
+            for piece in pieces:
+                arrays = piece.arrays
+                if piece.new_run:
+                    self.carry.pop(name, None)
+                before = self.carry.get(name)
+                if before is not None:
+                    arrays = {k: np.concatenate([before[k], v]) for k, v in arrays.items() if k in before}
+                if arrays["time"].size < 2:
+                    self.carry[name] = arrays  # one sample: wait for the next
+                    continue
+                self.samples += arrays["time"].size - (0 if before is None else 1)
+                self.carry[name] = {k: v[-1:] for k, v in arrays.items()}
+                for k, (key, lo, hi) in enumerate(_periods(arrays["time"], self.publish_every_s)):
+                    # a new run starts the actuator's filter again from its first reading
+                    windows.setdefault(key, {}).setdefault(name, []).append(
+                        ({c: v[lo:hi] for c, v in arrays.items()}, piece.new_run and k == 0))
         estimates = []
         for key in sorted(windows):
-            for name, arrays in windows[key].items():
-                estimates.append(self._update(name, arrays))
+            for name, parts in windows[key].items():
+                for arrays, restart in parts:
+                    if restart:
+                        self.monitors.pop(name, None)
+                    estimates.append(self._update(name, arrays))
             last = [m.last for m in self.monitors.values() if m.last is not None]
             if max(e.time_s for e in last) - self.published_at >= self.publish_every_s:
                 self.publish(last)
@@ -118,17 +131,40 @@ def _periods(time_s: np.ndarray, period_s: float):
 def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float | None = None,
            clock=time.monotonic, sleep=time.sleep) -> None:
     """Poll ``follower`` until interrupted (Ctrl-C, SIGTERM) or, with ``idle_exit_s``, until the log has not grown
-    for that long; the outputs are closed complete either way."""
+    for that long; what the follower says (a line skipped, a pause, a rotated file) is said as it comes; a log
+    that does not exist yet is waited for, and said.  The outputs are closed complete either way.  A log that
+    never gave a sample ends in a :class:`~thermolimb.util.errors.UsageError` saying so."""
     grew = clock()
+    waiting = False
     try:
         while True:
-            pieces = follower.poll()
-            if pieces:
-                session.feed(pieces)
+            runs = follower.poll()
+            _say(follower)
+            if runs:
+                session.feed(runs)
                 grew = clock()
             elif idle_exit_s is not None and clock() - grew >= idle_exit_s:
+                session.feed(follower.poll(final=True))
+                _say(follower)
                 break
             else:
+                if not waiting and not follower.path.exists():
+                    waiting = True
+                    print(f"note: {follower.path} does not exist yet; waiting for it (Ctrl-C to stop"
+                          + (f", or {idle_exit_s:g} s of --idle-exit" if idle_exit_s is not None else "") + ")",
+                          file=sys.stderr)
                 sleep(poll_s)
     finally:
         session.close()
+    if session.samples == 0:
+        what = ("did not appear" if not follower.path.exists() else
+                "gave no sample" + ("" if follower.started else " (not even the rows its header and units are "
+                                                                 "decided on)"))
+        raise UsageError(f"--follow {follower.path}: the log {what} within {idle_exit_s:g} s of --idle-exit; nothing "
+                         f"was monitored")
+
+
+def _say(follower) -> None:
+    for note in follower.notes:
+        print(f"note: {note}", file=sys.stderr)
+    follower.notes.clear()

@@ -24,8 +24,8 @@ import numpy as np
 from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
 from ...model.generated import Feature, define, identifier, input_name, term_source
-from ...model.terms import TERMS
 from ...model.parameter_units import NOT_GIVEN
+from ...model.terms import TERMS
 
 TEMPERATURE_UNITS = CELSIUS + ("K",)
 TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")

@@ -30,8 +30,8 @@ import numpy as np
 from ...identification import FreeRunLeastSquares
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
-from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...model.parameter_units import NOT_GIVEN
+from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.errors import TermError, ThermolimbError
 from ...util.frozen import FrozenMapping
 from ...util.progress import progress

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from ...effects import EFFECTS, HOT_AND_COOL, PHASES
-from ...model.terms import TERMS
 from ...model.parameter_units import spaced
+from ...model.terms import TERMS
 from ...util.numbers import plus_minus
 from .candidates import SCORE_P_VALUE, Candidate
 from .residuals import ResidualAnalysis

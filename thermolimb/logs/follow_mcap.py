@@ -17,11 +17,13 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..logs import LogError
-from ..logs.bag_writer import MAPPING as SUITE_LAYOUT
-from ..logs.mapping import parse_mapping
-from ..logs.mcap_stream import McapStream
-from .follow import Piece
+import numpy as np
+
+from ..util.errors import LogError
+from .bag_writer import MAPPING as SUITE_LAYOUT
+from .follow import Run
+from .mapping import parse_mapping
+from .mcap_stream import McapStream
 
 CHANNELS = ("effort", "velocity", "temperature")
 
@@ -36,27 +38,40 @@ def mcap_file(path: str | Path) -> Path:
 
 
 class McapFollower:
-    """The samples a growing MCAP gained since the last :meth:`poll`, by actuator."""
+    """The samples a growing MCAP gained since the last :meth:`poll`, by actuator, as :class:`~.follow.Run`
+    pieces (the first of each actuator starts its run); :attr:`notes` as :class:`~.follow.CsvFollower`'s."""
 
     def __init__(self, path: str | Path, mapping: str | None = None):
-        self.source = Path(path)
+        self.source = self.path = Path(path)
         self.mapping = _targets(parse_mapping(mapping or SUITE_LAYOUT))
         self.stream: McapStream | None = None
         self.latest: dict[str, dict[str, float]] = {"effort": {}, "velocity": {}}
         self.last_time: dict[str, float] = {}
+        self.notes: list[str] = []
+        self.rows = 0
+        self.skipped = 0
 
-    def poll(self) -> dict[str, Piece]:
+    @property
+    def started(self) -> bool:
+        return bool(self.last_time)
+
+    def poll(self, final: bool = False) -> dict[str, list[Run]]:
         if self.stream is None:
             path = mcap_file(self.source)
             if not path.exists():
                 return {}
             self.stream = McapStream(path)
-        pieces: dict[str, Piece] = {}
+        pieces: dict[str, dict[str, list]] = {}
+        new = set()
         for topic, msgtype, ns, raw in self.stream.read():
-            self._message(topic, msgtype, raw, ns * 1e-9, pieces)
-        return pieces
+            self._message(topic, msgtype, raw, ns * 1e-9, pieces, new)
+        out = {}
+        for name, piece in pieces.items():
+            self.rows += len(piece["time"])
+            out[name] = [Run({k: np.array(v, float) for k, v in piece.items()}, name in new)]
+        return out
 
-    def _message(self, topic: str, msgtype: str, data: bytes, time_s: float, pieces: dict[str, Piece]) -> None:
+    def _message(self, topic: str, msgtype: str, data: bytes, time_s: float, pieces: dict, new: set) -> None:
         wanted = [(key, t) for key, t in self.mapping.items() if t.matches(topic)]
         if not wanted:
             return
@@ -69,13 +84,15 @@ class McapFollower:
             for name, temperature in values.items():
                 if name not in self.latest["effort"] or (name in self.last_time and time_s <= self.last_time[name]):
                     continue  # no effort yet, or a reading no later than the last: not a new sample
+                if name not in self.last_time:
+                    new.add(name)
                 self.last_time[name] = time_s
-                piece = pieces.setdefault(name, Piece())
-                piece.time_s.append(time_s)
-                piece.effort.append(self.latest["effort"][name])
-                piece.temperature_C.append(float(temperature))
+                piece = pieces.setdefault(name, {"time": [], "effort": [], "temperature": []})
+                piece["time"].append(time_s)
+                piece["effort"].append(self.latest["effort"][name])
+                piece["temperature"].append(float(temperature))
                 if "velocity" in self.mapping:
-                    piece.channels.setdefault("velocity", []).append(self.latest["velocity"].get(name, 0.0))
+                    piece.setdefault("velocity", []).append(self.latest["velocity"].get(name, 0.0))
 
 
 class _Target:

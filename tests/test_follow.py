@@ -1,0 +1,184 @@
+"""The monitor's reader is the logs package's: what fit reads it reads, what fit refuses it says, line by line."""
+
+from __future__ import annotations
+
+import datetime
+import os
+
+import numpy as np
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.logs import read_log
+from thermolimb.logs.follow import PROBE_ROWS, CsvFollower
+from thermolimb.model import DEFAULT_MODEL, ThermalModel, save_model
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+
+
+def _rows(log_path):
+    lines = log_path.read_text().splitlines()
+    return lines[0], lines[1:]
+
+
+def _all(runs):
+    return {name: np.concatenate([r.arrays["time"] for r in parts]) for name, parts in runs.items()}
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    """The plant's canonical log (three actuators, one row per actuator and sample), as lines."""
+    path = tmp_path_factory.mktemp("follow") / "run.csv"
+    simulate_profile("random", 600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), PlantEffects.realistic_sensor(),
+                     seed=2, network=NETWORKS["first_order"]).log.write(path)
+    return _rows(path)
+
+
+@pytest.fixture(scope="module")
+def model_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("follow") / "model.json"
+    model = ThermalModel(DEFAULT_MODEL, {"RC_s": 80.0, "betaR_K_per_effort2": 0.1, "beta_biasR_K_per_effort": 0.0,
+                                         "T_offset_C": 25.0})
+    save_model(model, path, actuator="knee", limit_C=90.0)
+    return path
+
+
+def test_a_log_followed_in_pieces_reads_as_the_whole_file_reads(tmp_path, written):
+    header, rows = written
+    path = tmp_path / "grow.csv"
+    follower = CsvFollower(path)
+    got = {}
+    with open(path, "w") as f:
+        f.write(header + "\n")
+        for k in range(0, len(rows), 37):  # the writer appends in pieces, the last line sometimes half written
+            chunk = "\n".join(rows[k:k + 37]) + "\n"
+            f.write(chunk[:-5] if k + 37 < len(rows) else chunk)
+            f.flush()
+            for name, times in _all(follower.poll()).items():
+                got.setdefault(name, []).append(times)
+            if k + 37 < len(rows):
+                f.write(chunk[-5:])
+    for name, times in _all(follower.poll(final=True)).items():
+        got.setdefault(name, []).append(times)
+    whole = read_log(path)
+    for name in whole.actuators:
+        np.testing.assert_array_equal(np.concatenate(got[name]), whole.series(name).time_s)
+    assert follower.skipped == 0
+
+
+def test_what_fit_reads_the_monitor_reads(tmp_path, written):
+    """A byte-order mark, semicolons with decimal commas and ISO time stamps: fit reads it, and so does the
+    follower, to the same samples."""
+    header, rows = written
+    t0 = datetime.datetime(2026, 1, 1, 12, 0, 0)
+    lines = [header.replace(",", ";")]
+    for row in rows:
+        fields = row.split(",")
+        fields[0] = (t0 + datetime.timedelta(seconds=float(fields[0]))).isoformat() + "Z"
+        lines.append(";".join(f if i < 2 else f.replace(".", ",") for i, f in enumerate(fields)))
+    path = tmp_path / "lab.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8-sig")
+    follower = CsvFollower(path)
+    got = _all(follower.poll(final=True))
+    whole = read_log(path)
+    for name in whole.actuators:
+        np.testing.assert_allclose(got[name], whole.series(name).time_s)
+
+
+def test_bad_lines_are_said_with_their_number_and_skipped(tmp_path, written):
+    header, rows = written
+    knee = [r for r in rows if r.split(",")[1] == "knee"][: 3 * PROBE_ROWS]
+    bad = {PROBE_ROWS + 10: "inserted", PROBE_ROWS + 20: "kelvin", PROBE_ROWS + 30: "text",
+           PROBE_ROWS + 40: "back"}
+    lines = [header]
+    for k, row in enumerate(knee):
+        fields = row.split(",")
+        if bad.get(k) == "inserted":
+            fields.insert(3, "9.9")
+        elif bad.get(k) == "kelvin":
+            fields[3] = str(float(fields[3]) + 273.15)
+        elif bad.get(k) == "text":
+            fields = ["the writer said something", "here"]
+        elif bad.get(k) == "back":
+            fields[0] = "0.5"
+        lines.append(",".join(fields))
+    path = tmp_path / "bad.csv"
+    path.write_text("\n".join(lines) + "\n")
+    follower = CsvFollower(path)
+    got = _all(follower.poll(final=True))
+    said = "\n".join(follower.notes)
+    for k in bad:
+        assert f"line {k + 2}" in said, (k, said)  # line numbers count the header as line 1
+    assert "inserted without a new header" in said and "kelvin" in said and "does not come after" in said
+    assert follower.skipped == len(bad) and got["knee"].size == len(knee) - len(bad)
+
+
+def test_a_long_pause_starts_a_new_run(tmp_path, written):
+    header, rows = written
+    knee = [r for r in rows if r.split(",")[1] == "knee"][: 3 * PROBE_ROWS]
+    lines = [header]
+    for k, row in enumerate(knee):
+        fields = row.split(",")
+        if k >= 2 * PROBE_ROWS:
+            fields[0] = str(float(fields[0]) + 36000.0)  # ten hours later
+        lines.append(",".join(fields))
+    path = tmp_path / "pause.csv"
+    path.write_text("\n".join(lines) + "\n")
+    follower = CsvFollower(path)
+    runs = follower.poll(final=True)["knee"]
+    after = [r.arrays["time"][0] > 36000.0 for r in runs]
+    assert [r.new_run for r in runs] == [k == 0 or a for k, a in enumerate(after)] and sum(after) == 1
+    assert "paused for 36001 s" in "\n".join(follower.notes)
+
+
+def test_a_rotated_file_is_said_and_followed_from_its_start(tmp_path, written):
+    header, rows = written
+    path = tmp_path / "rot.csv"
+    path.write_text("\n".join([header] + rows[: 2 * PROBE_ROWS]) + "\n")
+    follower = CsvFollower(path)
+    follower.poll()
+    os.replace(_write(tmp_path / "new.csv", [header] + rows[2 * PROBE_ROWS: 4 * PROBE_ROWS]), path)
+    follower.poll()
+    follower.poll(final=True)
+    assert "replaced under the same name" in "\n".join(follower.notes)
+    assert follower.rows == 4 * PROBE_ROWS
+
+
+def _write(path, lines):
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("follow, says", [
+    ("missing.csv", "did not appear"), (".", "a folder with no ROS 2 bag"), ("/dev/null", "not a regular file"),
+    ("log.parquet", "written whole, not row by row"), ("log.csv.gz", "unknown log format"),
+])
+def test_what_cannot_be_followed_is_one_sentence(tmp_path, monkeypatch, capsys, model_file, follow, says):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "log.parquet").write_bytes(b"PAR1")
+    (tmp_path / "log.csv.gz").write_bytes(b"\x1f\x8b")
+    code = main(["monitor", str(model_file), "--follow", follow, "--json-lines", "--idle-exit", "0.3"])
+    err = capsys.readouterr().err
+    assert code == 2 and says in err and "Traceback" not in err
+
+
+def test_after_a_pause_the_estimate_starts_again_from_the_reading(tmp_path, written, model_file):
+    """Ten hours without a reading: the monitor's filter starts again from the first reading after the pause
+    (carried over the pause, the model's state would be hours stale)."""
+    from thermolimb.model.saved import ModelFile
+    from thermolimb.monitor import Session
+
+    header, rows = written
+    knee = [r for r in rows if r.split(",")[1] == "knee"][: 3 * PROBE_ROWS]
+    lines = [header]
+    for k, row in enumerate(knee):
+        fields = row.split(",")
+        if k >= 2 * PROBE_ROWS:
+            fields[0] = str(float(fields[0]) + 36000.0)
+            fields[3] = str(float(fields[3]) + 30.0)  # the joint came back warm
+        lines.append(",".join(fields))
+    path = _write(tmp_path / "pause.csv", lines)
+    session = Session(ModelFile.load(model_file), {}, [], publish_every_s=0.0)
+    estimates = session.feed(CsvFollower(path).poll(final=True))
+    last = estimates[-1]
+    assert last.time_s > 36000.0 and abs(last.winding_C - last.measured_C) < 1.0
