@@ -22,8 +22,8 @@ from thermolimb.forecast import forecast
 from thermolimb.model import DEFAULT_MODEL
 from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
-from thermolimb.monitor import CsvFollower, Session
-from thermolimb.monitor.follow import Piece
+from thermolimb.logs.follow import CsvFollower, Run
+from thermolimb.monitor import Session
 from thermolimb.monitor.outputs import McapOutput
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.plant.duties import held_duty
@@ -139,12 +139,10 @@ def _monitor(saved, out: Path, quiet: bool) -> dict:
                       publish_every_s=1.0)
     estimates = []
     follower = CsvFollower(out / "walking.csv")
-    whole = follower.poll()["knee"]
-    for lo in range(0, len(whole.time_s), 60):  # the run as it would arrive, a minute at a time
-        minute = slice(lo, lo + 60)
-        estimates += session.feed({"knee": Piece(whole.time_s[minute], whole.effort[minute],
-                                                 whole.temperature_C[minute],
-                                                 {c: v[minute] for c, v in whole.channels.items()})})
+    whole = follower.poll(final=True)["knee"][0].arrays
+    for lo in range(0, len(whole["time"]), 60):  # the run as it would arrive, a minute at a time
+        minute = {c: v[lo:lo + 60] for c, v in whole.items()}
+        estimates += session.feed({"knee": [Run(minute, lo == 0)]})
     session.close()
     est_t = np.array([e.time_s for e in estimates])
     est = np.array([e.winding_C for e in estimates])

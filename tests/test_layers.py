@@ -243,3 +243,13 @@ def test_nothing_is_tracked_outside_the_known_folders():
 
 if __name__ == "__main__":
     print(graph_text(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT))
+
+
+def test_the_catalog_keeps_its_order():
+    """The catalog's order is the order changes are tried in (ties between candidates keep it): a new effect joins at
+    the end of its family, and no tool sorting imports reorders it (thermolimb/effects/__init__.py's MODULES)."""
+    from thermolimb.model import TERMS
+
+    assert list(TERMS)[:14] == ["joule", "effort_bias", "current_heating", "power_heating", "housing_boundary",
+                                "winding_tempco", "speed_losses", "neighbor_coupling", "ambient_variation",
+                                "motion_cooling", "second_node", "housing_motion_cooling", "third_node", "sensor_lag"]

@@ -2,59 +2,35 @@
 the plant's realisation and the plant log that hides it (:mod:`.base`).
 
 ``EFFECTS[name]`` is everything about one effect, by its catalog name; ``PLANT_EFFECTS`` the plant's switches.
-The modules are imported in the order below, which is the catalog's order (the order changes are tried
+The modules are imported in :data:`MODULES`' order, which is the catalog's order (the order changes are tried
 in) and the order the plant applies its effects in.  A new effect is one module here, its name in
-the import list below, and its tests (``docs/architecture.md``).
+:data:`MODULES`, and its tests (``docs/architecture.md``).
 """
 
-# in this order: the catalog's, then the plant's effects that have no term
-from . import (  # noqa: F401
-               ambient_variation,
-               current_heating,
-               decoy_channels,
-               driver_conduction,
-               effort_bias,
-               fan_cooling,
-               holding_brake,
-               housing_boundary,
-               joule,
-               motion_cooling,
-               neighbor_coupling,
-               power_heating,
-               readings,
-               sensor_lag,
-               slow_masses,
-               speed_losses,
-               winding_tempco,
-)
-from .ambient_variation import AmbientVariation
-from .base import (
-               EFFECTS,
-               HOT_AND_COOL,
-               ONSETS,
-               PHASES,
-               PLANT_EFFECTS,
-               SLOW_DRIFT,
-               Effect,
-               Hidden,
-               PlantEffect,
-               PlantEffects,
-               Schedule,
-)
-from .current_heating import FieldWeakening
-from .decoy_channels import DecoyChannels
-from .driver_conduction import DriverConduction
-from .effort_bias import EffortBias
-from .fan_cooling import FanCooling
-from .holding_brake import HoldingBrake
-from .motion_cooling import MotionCooling
-from .neighbor_coupling import NeighborCoupling
-from .readings import Quantisation, SensorNoise
-from .sensor_lag import SensorLag
-from .speed_losses import SpeedLosses
-from .winding_tempco import WindingTempco
+from importlib import import_module
 
-__all__ = ["EFFECTS", "AmbientVariation", "DecoyChannels", "DriverConduction", "Effect", "EffortBias", "FanCooling",
-           "FieldWeakening", "HOT_AND_COOL", "Hidden", "HoldingBrake", "MotionCooling", "NeighborCoupling", "ONSETS", "PHASES", "PLANT_EFFECTS", "SLOW_DRIFT",
-           "PlantEffect", "PlantEffects", "Quantisation", "Schedule", "SensorLag", "SensorNoise", "SpeedLosses",
-           "WindingTempco"]
+# the catalog's order (the order changes are tried in, and the plant applies its effects in), then the plant's
+# effects that have no term; imported one by one in this order (an import sorter must not reorder them)
+MODULES = ("joule", "effort_bias", "current_heating", "power_heating", "housing_boundary", "winding_tempco",
+           "speed_losses", "neighbor_coupling", "ambient_variation", "motion_cooling", "slow_masses", "sensor_lag",
+           "readings", "logged_channels")
+for _module in MODULES:
+    import_module(f"{__name__}.{_module}")
+
+from .ambient_variation import AmbientVariation  # noqa: E402
+from .base import (EFFECTS, HOT_AND_COOL, ONSETS, PHASES, PLANT_EFFECTS, SLOW_DRIFT, Effect, Hidden,  # noqa: E402
+                   PlantEffect, PlantEffects, Schedule)
+from .logged_channels import DecoyChannels, DriverConduction, FanCooling, HoldingBrake  # noqa: E402
+from .current_heating import FieldWeakening  # noqa: E402
+from .effort_bias import EffortBias  # noqa: E402
+from .motion_cooling import MotionCooling  # noqa: E402
+from .neighbor_coupling import NeighborCoupling  # noqa: E402
+from .readings import Quantisation, SensorNoise  # noqa: E402
+from .sensor_lag import SensorLag  # noqa: E402
+from .speed_losses import SpeedLosses  # noqa: E402
+from .winding_tempco import WindingTempco  # noqa: E402
+
+__all__ = ["EFFECTS", "HOT_AND_COOL", "MODULES", "ONSETS", "PHASES", "PLANT_EFFECTS", "SLOW_DRIFT", "AmbientVariation",
+           "DecoyChannels", "DriverConduction", "Effect", "EffortBias", "FanCooling", "FieldWeakening", "Hidden",
+           "HoldingBrake", "MotionCooling", "NeighborCoupling", "PlantEffect", "PlantEffects", "Quantisation",
+           "Schedule", "SensorLag", "SensorNoise", "SpeedLosses", "WindingTempco"]

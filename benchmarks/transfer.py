@@ -1,0 +1,183 @@
+"""Does the model a walk finds carry over?  Fitted on one run of a joint, predicting its other runs.
+
+For every bundled real source with several runs of one actuator -- the UR3's six joints (two parts of one
+log, 5.2 h apart), the WidowX-200 waist (two 600 s runs), the BLDC bench (two heating runs of the winding), the
+PMSM bench (profiles 24 and 46) -- and for plant logs richer than the model (the X8's three masses with speed
+losses and copper's tempco hidden; four duty cycles of one joint), each run in turn is the one fitted on:
+
+* **default**: Jorgensen et al.'s model fitted on that run, validated on the others
+  (``thermolimb fit RUN --validate-on OTHERS``);
+* **walk**: the model ``thermolimb diagnose RUN --auto`` walks to on that run, fitted and validated the same way.
+
+The table gives both held-out errors, the walk's steps and their ratio; a case counts as *better* when the
+walk's model is at least 10 % better on the other runs, *worse* when it is more than 5 % worse.  Part two,
+``--loro``: where a source has three runs or more (the plant's duty cycles), ``diagnose`` is given all runs but
+one (its default scheme) and its model judged on the one left out, against the default model fitted on the
+same runs.
+
+Everything goes through the command line, so that ``--code DIR`` measures another checkout of the suite (a git
+worktree of an earlier commit) on the same runs, in the same process tree: the transfer table and the walk's
+time before and after a change, side by side.
+
+    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant] [--code DIR] [--loro]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+BETTER, WORSE = 0.10, 0.05  # at least 10 % better; more than 5 % worse
+
+
+def write_runs(folder: Path, sources: list[str]) -> dict[str, dict]:
+    """Each source's runs as canonical CSV files, one per run (all of the log's actuators in each, so that a
+    model with the neighbours' heat has them): ``{source: {"actuators": [...], "runs": [paths]}}``."""
+    from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
+    from thermolimb.logs import from_frame, parse_mapping, read_log
+    from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+    from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+
+    def save(log, name: str) -> Path:
+        path = folder / f"{name}.csv"
+        log.write(path)
+        return path
+
+    out = {}
+    if "ur3" in sources:
+        log = REAL_LOGS["ur3"].read()[0]
+        first = log.runs(log.actuators[0])
+        cut = 0.5 * (first[0].time_s[-1] + first[1].time_s[0])  # between the two parts
+        frame = log.frame
+        parts = [frame[frame["time"] < cut], frame[frame["time"] > cut]]
+        runs = [save(from_frame(p.reset_index(drop=True), source=f"ur3 part {k + 1}"), f"ur3_part{k + 1}")
+                for k, p in enumerate(parts)]
+        out["ur3"] = {"actuators": list(log.actuators), "runs": runs}
+    if "wx200" in sources:
+        logs = REAL_LOGS["wx200"].read()
+        out["wx200"] = {"actuators": ["waist"], "runs": [save(log, Path(log.source).stem) for log in logs]}
+    if "bldc" in sources:
+        logs = REAL_LOGS["bldc"].read()
+        out["bldc"] = {"actuators": ["bldc"], "runs": [save(log, Path(log.source).stem) for log in logs]}
+    if "pmsm" in sources:
+        logs = [read_log(pmsm_profile(k), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
+                for k in (24, 46)]
+        out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
+    if "plant" in sources:
+        fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+        duties = [("random", 0), ("random", 1), ("walking", 2), ("squat", 3)]
+        runs = [save(simulate_profile(profile, 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
+                                      network=NETWORKS["x8"], load_scale=1.5).log, f"plant_{profile}{seed}")
+                for profile, seed in duties]
+        out["plant"] = {"actuators": ["knee"], "runs": runs}
+    return out
+
+
+def thermolimb(code: Path | None, *args: str) -> tuple[dict, float]:
+    """The command line of the suite at ``code`` (this checkout by default): its JSON record and wall time."""
+    env = dict(os.environ)
+    if code is not None:
+        env["PYTHONPATH"] = str(code)
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "thermolimb.cli.main", *args, "--json", "--quiet"],
+                          capture_output=True, text=True, env=env, cwd=code or ROOT)
+    wall = time.perf_counter() - start
+    if done.returncode != 0:
+        return {"error": done.stderr.strip().splitlines()[-1] if done.stderr.strip() else f"exit {done.returncode}"}, wall
+    return json.loads(done.stdout), wall
+
+
+def one(record):
+    return record[0] if isinstance(record, list) else record
+
+
+def case(code, fit_on: list[Path], judged_on: list[Path], actuator: str) -> dict:
+    """The default model and the walk's, each fitted on ``fit_on`` and validated on ``judged_on``."""
+    fit_args = [str(p) for p in fit_on]
+    walk, walk_s = thermolimb(code, "diagnose", *fit_args, "--actuator", actuator, "--auto")
+    walk = one(walk)
+    out = {"fit_on": [p.stem for p in fit_on], "judged_on": [p.stem for p in judged_on], "actuator": actuator,
+           "walk_s": walk_s}
+    if "error" in walk:
+        out["error"] = walk["error"]
+        return out
+    final = walk["auto"][-1]["model"]
+    out["steps"] = [s.get("change", "start") for s in walk["auto"]]
+    out["final"] = final
+    for key, model in (("default", None), ("walk", final)):
+        extra = [] if model is None else ["--model", ",".join(model)]
+        record, _ = thermolimb(code, "fit", *fit_args, "--actuator", actuator, *extra, "--validate-on",
+                               *[str(p) for p in judged_on])
+        record = one(record)
+        out[f"{key}_K"] = record["validation"]["rmse_K"] if "validation" in record else None
+        if "error" in record:
+            out[f"{key}_error"] = record["error"]
+    if out["default_K"] and out["walk_K"]:
+        out["ratio"] = out["walk_K"] / out["default_K"]
+        out["verdict"] = ("better" if out["ratio"] <= 1 - BETTER else "worse" if out["ratio"] > 1 + WORSE
+                          else "same")
+    return out
+
+
+def transfer(code, sources: dict, loro: bool) -> dict:
+    rows = []
+    for name, source in sources.items():
+        runs = source["runs"]
+        for actuator in source["actuators"]:
+            for k, run in enumerate(runs):
+                row = case(code, [run], [r for j, r in enumerate(runs) if j != k], actuator)
+                rows.append({"source": name, "part": "one run to the others", **row})
+                _print(rows[-1])
+            if loro and len(runs) >= 3:
+                for k, run in enumerate(runs):
+                    row = case(code, [r for j, r in enumerate(runs) if j != k], [run], actuator)
+                    rows.append({"source": name, "part": "all runs but one", **row})
+                    _print(rows[-1])
+    judged = [r for r in rows if "verdict" in r]
+    summary = {part: {"cases": len(group), "better": sum(r["verdict"] == "better" for r in group),
+                      "worse": sum(r["verdict"] == "worse" for r in group),
+                      "walk_s_median": float(np.median([r["walk_s"] for r in group])) if group else None}
+               for part in ("one run to the others", "all runs but one")
+               for group in [[r for r in judged if r["part"] == part]] if group}
+    for part, s in summary.items():
+        print(f"{part}: the walk's model is at least {100 * BETTER:.0f} % better in {s['better']} of {s['cases']} "
+              f"cases, more than {100 * WORSE:.0f} % worse in {s['worse']}; median walk {s['walk_s_median']:.1f} s")
+    return {"rows": rows, "summary": summary}
+
+
+def _print(row: dict) -> None:
+    if "error" in row:
+        print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on'])}: {row['error']}")
+        return
+    steps = " ".join(s for s in row["steps"][1:]) or "(no change)"
+    print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on']):36s} default "
+          f"{row['default_K']:.3f} K, walk {row['walk_K']:.3f} K ({row.get('ratio', float('nan')):.2f}x, "
+          f"{row.get('verdict', '?')}): {steps}  [{row['walk_s']:.1f} s]")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sources", default="ur3,wx200,bldc,pmsm,plant")
+    parser.add_argument("--code", type=Path, default=None, help="another checkout of the suite to measure")
+    parser.add_argument("--loro", action="store_true", help="also diagnose all runs but one (sources of 3+ runs)")
+    parser.add_argument("--json", action="store_true", help="print the record last, on one line")
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as folder:
+        sources = write_runs(Path(folder), args.sources.split(","))
+        record = transfer(args.code, sources, args.loro)
+    if args.json:
+        print(json.dumps(record))
+    return record
+
+
+if __name__ == "__main__":
+    main()
