@@ -112,7 +112,8 @@ def plant_cases(seed: int) -> list[dict]:
                         row[label] = {"predicted_s": f.time_to_threshold_s, "interval_s": [low, high],
                                       "covered": low is not None and low <= truth and (high is None or truth <= high),
                                       "error": None if f.time_to_threshold_s is None
-                                      else abs(f.time_to_threshold_s - truth) / truth}
+                                      else abs(f.time_to_threshold_s - truth) / truth,
+                                      "width": width(low, high, f.horizon_s) / truth}
                     trip = i2t_trip_s(models["default"], threshold, duty.effort, warm)
                     row["i2t"] = {"predicted_s": trip, "error": None if trip is None else abs(trip - truth) / truth}
                     cross = crossing_s(t, sensor, threshold)
@@ -159,9 +160,14 @@ def real_logs() -> list[dict]:
                 low, high = f.interval_s
                 rows.append({"log": name, "model": list(saved.model.terms), "horizon_s": horizon,
                              "threshold_C": threshold, "true_s": truth, "predicted_s": f.time_to_threshold_s,
-                             "interval_s": [low, high],
+                             "interval_s": [low, high], "width": width(low, high, f.horizon_s) / truth,
                              "covered": bool(low is not None and low <= truth and (high is None or truth <= high))})
     return rows
+
+
+def width(low, high, horizon_s: float) -> float:
+    """An interval's width (s); one that never opens or never closes within the horizon reaches its end."""
+    return (horizon_s if high is None else high) - (0.0 if low is None else low)
 
 
 def summary(rows: list[dict], label: str) -> dict:
@@ -176,6 +182,7 @@ def summary(rows: list[dict], label: str) -> dict:
                                   "worst_error": max(finite) if finite else None}
         if label != "i2t":
             out[f"{horizon:.0f}s"]["coverage"] = float(np.mean([r[label]["covered"] for r in these]))
+            out[f"{horizon:.0f}s"]["median_width"] = float(np.median([r[label]["width"] for r in these]))
     return out
 
 
@@ -197,7 +204,8 @@ def main(argv=None) -> dict:
     for label, name in (("default", "default model (fit)"), ("auto", "diagnose --auto model"),
                         ("i2t", "I2t rule, tuned")):
         for horizon, s in result["summary"][label].items():
-            cov = f"  coverage {100 * s['coverage']:.0f} %" if "coverage" in s else ""
+            cov = (f"  coverage {100 * s['coverage']:.0f} %, median width {s['median_width']:.2f}x the true time"
+                   if "coverage" in s else "")
             worst = "" if s["worst_error"] is None else f", worst {100 * s['worst_error']:.0f} %"
             print(f"  {name:24s} horizon {horizon:>5s}: median error {100 * s['median_error']:.1f} %{worst}, "
                   f"never reached {s['never_reached']}/{s['cases']}{cov}")
@@ -210,6 +218,7 @@ def main(argv=None) -> dict:
         print(f"real logs: {len(judged)} crossings in the second halves of {len({r['log'] for r in real})} runs; "
               f"the 90 % intervals hold the readings' own crossing in {sum(r['covered'] for r in judged)} "
               f"({100 * np.mean([r['covered'] for r in judged]):.0f} %); "
+              f"median width {np.median([r['width'] for r in judged]):.2f}x the true time; "
               f"{sum(r['interval_s'][1] is None for r in judged)} of them open-ended (the lower edge never reaches "
               f"the threshold within the log)")
         for r in real:

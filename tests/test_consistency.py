@@ -116,7 +116,8 @@ def check_one_story(d) -> int:
         if c["status"] == "helps":
             assert "does not correlate significantly" not in c["evidence"], c["evidence"]
         if c["rmse_K"] is None or c["failure"]:
-            reason = c["failure"] or c["confounded"] or c.get("skipped") or f"p = {c['p_value']:.2g}"
+            reason = (c["failure"] or c["not_judged"] or c["confounded"] or c.get("skipped")
+                      or f"p = {c['p_value']:.2g}")
             assert reason, c["label"]
             assert any(c["label"] in line and (reason in line or reason.split(":")[0] in line) for line in lines) \
                 or reason in c["evidence"], (c["label"], reason)

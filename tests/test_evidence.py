@@ -16,7 +16,7 @@ from thermolimb.logs import read_log
 from thermolimb.plant import X8_9, PlantEffects, simulate_profile
 from thermolimb.util.numbers import significant
 from thermolimb.workbench.evidence import MIN_SAMPLES_TO_RANK, THIN_SAMPLES, Evidence
-from thermolimb.workbench.validation import Segment, validate_model
+from thermolimb.workbench.validation import Scheme, Segment, validate_model
 
 
 def step_test(path, levels=(0.0, 15.0, 15.0, 0.0), duration_s=3600.0, dt_s=1.0, rc_s=600.0, beta_r=0.1,
@@ -79,15 +79,17 @@ def steady_squat():
 
 
 def test_an_offset_the_log_cannot_tell_from_heating_is_held_at_the_logged_ambient(steady_squat, tmp_path, capsys):
+    """Fitted on its first 70 %, where the effort never drops low (interleaved blocks would reach the lower
+    efforts of its end)."""
     with pytest.raises(IdentifiabilityError, match="T_offset_C"):
-        validate_model(steady_squat.runs("knee"), "joule,effort_bias")
+        validate_model(steady_squat.runs("knee"), "joule,effort_bias", Scheme.at_split(0.7))
     path = steady_squat.write(tmp_path / "squat.csv")
-    assert main(["fit", str(path), "--json"]) == 0
+    assert main(["fit", str(path), "--split", "0.7", "--json"]) == 0
     record = json.loads(capsys.readouterr().out)
     [held] = [a for a in record["set_aside"] if a.get("parameter") == "T_offset_C"]
     assert held["held_at"] == pytest.approx(25.0) and "periods at low effort" in held["reason"]
     assert record["params"]["T_offset_C"] == {"value": held["held_at"], "stderr": 0.0, "unit": "degC"}
-    assert main(["diagnose", str(path)]) == 0
+    assert main(["diagnose", str(path), "--split", "0.7"]) == 0
     assert "held: T_offset_C = 25.00 degC" in capsys.readouterr().out
 
 
@@ -96,8 +98,9 @@ def test_a_time_constant_the_log_leaves_loose_is_held_at_its_datasheet_value():
     datasheet's RC (said, with the reason), βR comes within 10 % of the truth with a fifth of the error."""
     truth = first_order_truth()
     series = first_order_log(0, duration_s=15.0, dt_s=0.1).runs("knee")
-    free = validate_model(series, "joule,effort_bias", reduce=True)
-    held = validate_model(series, "joule,effort_bias", reduce=True, datasheet={"RC_s": truth["RC_s"]})
+    split = Scheme.at_split(0.7)  # the first 10.5 s fitted on
+    free = validate_model(series, "joule,effort_bias", split, reduce=True)
+    held = validate_model(series, "joule,effort_bias", split, reduce=True, datasheet={"RC_s": truth["RC_s"]})
     assert any(f.startswith("RC_s = ") for f in free.flags)  # loose without the datasheet
     assert held.held["RC_s"] == truth["RC_s"] and held.stderr["RC_s"] == 0.0
     entry = next(a for a in held.set_aside if a.get("parameter") == "RC_s")

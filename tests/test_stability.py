@@ -79,12 +79,17 @@ def test_the_profile_looks_slower_than_the_log_and_orders_by_training_error(step
 
 def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backend(speed_log):
     runs = speed_log.runs("knee")
-    a = perturbations(Stability(seed=3), runs, Scheme())
-    assert a == perturbations(Stability(seed=3), runs, Scheme())
-    assert a != perturbations(Stability(seed=4), runs, Scheme())
-    assert all(start == 0 and 0 <= end <= 5 for p in a for start, end in p.trims)
+    split = Scheme.at_split(0.7)
+    a = perturbations(Stability(seed=3), runs, split)
+    assert a == perturbations(Stability(seed=3), runs, split)
+    assert a != perturbations(Stability(seed=4), runs, split)
+    assert all(0 <= start <= 5 and 0 <= end <= 5 for p in a for start, end in p.trims)
+    assert any(start > 0 for p in a for start, _ in p.trims)  # runs are cut at their start too
     assert all(abs(p.split - 0.7) <= 0.1 for p in a)
     assert min(p.split for p in a) < 0.66 and max(p.split for p in a) > 0.74  # stratified over the range
+    blocks = perturbations(Stability(seed=3), runs, Scheme.interleaved())
+    assert all(abs(p.phase) <= 0.5 for p in blocks) and min(p.phase for p in blocks) < -0.3 < 0.3 < max(
+        p.phase for p in blocks)  # the held-out blocks moved by up to half a block
     d = diagnose(runs)
     serial = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
     pooled = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=2)), replicate)

@@ -39,6 +39,7 @@ from .util.errors import ThermolimbError
 
 LEVEL = 0.9
 DRAWS = 64
+PARAMETER_SPREAD = "fit"
 
 
 @dataclass(frozen=True)
@@ -91,10 +92,11 @@ class Forecast:
                 f"({100 * self.level:.0f} % interval {low:.0f} s to {upper})")
 
 
-def parameter_draws(saved: SavedModel, draws: int, seed: int) -> list[ThermalModel]:
-    """``draws`` models with parameters from the fit's covariance (seeded), each clipped into its bounds."""
+def parameter_draws(saved: SavedModel, draws: int, seed: int, spread: str = "jackknife") -> list[ThermalModel]:
+    """``draws`` models with parameters from the blocked jackknife's covariance (``spread="fit"``: the fit's own),
+    seeded, each clipped into its bounds."""
     model = saved.model
-    cov = np.asarray(saved.covariance if saved.jackknife is None else saved.jackknife, float)
+    cov = np.asarray(saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife, float)
     if draws <= 0 or not np.any(cov):
         return []
     values, vectors = np.linalg.eigh((cov + cov.T) / 2.0)
@@ -138,11 +140,14 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
 
     predicted = run(model)
     z = float(norm.ppf(0.5 + level / 2.0))
-    runs = [run(m) for m in parameter_draws(saved, draws, seed)]
+    lead = None if saved.residual is None else saved.residual.lead_error_K(level, t)
+    spread = PARAMETER_SPREAD if lead is not None else "jackknife"
+    runs = [run(m) for m in parameter_draws(saved, draws, seed, spread)] if spread != "none" else []
     parameter_sd = np.std(np.array(runs), axis=0) if len(runs) > 1 else np.zeros_like(predicted)
     model_error = model_error_K(saved, level)
-    growth = np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    half = np.sqrt((z * parameter_sd) ** 2 + (model_error * growth * extrapolation(saved, predicted, start_C)) ** 2)
+    if lead is None:
+        lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
+    half = np.sqrt((z * parameter_sd) ** 2 + (lead * extrapolation(saved, predicted, start_C)) ** 2)
     low, high = predicted - half, predicted + half
     measured_cross = None if measured_C is None else crossing_s(t, np.asarray(measured_C, float), threshold_C)
     return Forecast(saved.actuator, t, predicted, low, high, float(threshold_C), float(level), float(start_C),

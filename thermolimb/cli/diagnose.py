@@ -108,6 +108,8 @@ def describe_diagnosis(d) -> str:
     lines = [f"{d.actuator}: model {','.join(d.model)}: validation RMSE {b['rmse_K']:.3f} K, "
              f"largest error {b['max_abs_K']:.3f} K ({d.base.scheme})"]
     lines += format_params(d.base)
+    if d.heat_source is not None:
+        lines.append(f"  {d.heat_source['sentence']}")
     if d.floor is not None:
         lines.append(f"  {d.floor.sentence(b['rmse_K'])}")
     k = d.stability["replicates"] if d.stability else None

@@ -82,9 +82,11 @@ def add_models(p, help: str, repeated: bool = False):
 
 def add_validation(p):
     p.add_argument("--split", type=fraction, default=None,
-                   help=f"fraction of each run's time span used to fit (default {DEFAULT_SPLIT})")
-    p.add_argument("--cv", type=folds, default=None, metavar="K|runs",
-                   help="blocked cross-validation over K contiguous folds, or 'runs': leave one run out")
+                   help=f"fit on this fraction of each run's time span and validate on the rest (e.g. {DEFAULT_SPLIT}; "
+                        f"default: leave one run out with several runs, interleaved blocks of one run)")
+    p.add_argument("--cv", type=folds, default=None, metavar="K|runs|interleaved",
+                   help="blocked cross-validation over K contiguous folds; 'runs': leave one run out; 'interleaved': "
+                        "blocks 2, 5 and 8 of 10 of each run held out (the default for one run)")
     p.add_argument("--validate-on", nargs="+", default=None, metavar="LOG",
                    help="fit on the LOGs given first and validate on these runs (read with the same options)")
     p.add_argument("--restart-at-split", action="store_true",
@@ -100,12 +102,15 @@ def scheme_of(args) -> Scheme:
         raise UsageError("--validate-on and --cv are two ways to validate; give one")
     if args.split is not None and args.cv:
         raise UsageError("--split and --cv are two ways to validate (a split, or folds); give one")
-    split = DEFAULT_SPLIT if args.split is None else args.split
     if args.cv == "runs":
         return Scheme.leave_one_run_out()
+    if args.cv == "interleaved":
+        return Scheme.interleaved()
     if isinstance(args.cv, int):
         return Scheme.in_blocks(args.cv, args.restart_at_split)
-    return Scheme.at_split(split, args.restart_at_split)
+    if args.split is not None or args.restart_at_split:
+        return Scheme.at_split(DEFAULT_SPLIT if args.split is None else args.split, args.restart_at_split)
+    return Scheme()  # leave one run out with several runs, interleaved blocks of one run
 
 
 def add_outputs(p, json_help: str, plot_help: str):

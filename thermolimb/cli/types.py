@@ -59,14 +59,15 @@ def fraction(text: str) -> float:
 
 
 def folds(text: str):
-    if text == "runs":
-        return "runs"
+    if text in ("runs", "interleaved"):
+        return text
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more) or 'runs', got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more), 'runs' or 'interleaved', got "
+                                         f"{text!r}") from None
     if value < 2:
-        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs'), got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs', 'interleaved'), got {text!r}")
     return value
 
 

@@ -46,4 +46,4 @@ class AmbientVariation(PlantEffect):
 
 
 register(Effect("ambient_variation", AmbientVariationTerm, AmbientVariation, residual="ambient",
-                hidden=Hidden("ambient_variation", "ambient_variation")))
+                hidden=Hidden("ambient_variation", "ambient_variation"), rides="ambient"))

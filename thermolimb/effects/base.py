@@ -125,6 +125,9 @@ class Effect:
     # or one of PHASES; None: the correlation with the term's first column
     residual: str | None = None
     hidden: Hidden | None = None
+    # the log channel the effect rides on, which must move in the data it is fitted on and judged on
+    # (:func:`thermolimb.workbench.excitation.channel_excitation`); None: the effort and time, as the base model's
+    rides: str | None = None
 
 
 EFFECTS: dict[str, Effect] = {}

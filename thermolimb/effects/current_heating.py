@@ -48,4 +48,4 @@ class FieldWeakening(PlantEffect):
 
 
 register(Effect("current_heating", CurrentHeating, FieldWeakening, residual="current^2",
-                hidden=Hidden("field_weakening", "field_weakening")))
+                hidden=Hidden("field_weakening", "field_weakening"), rides="current"))

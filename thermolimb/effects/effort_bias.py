@@ -39,5 +39,7 @@ class EffortBias(PlantEffect):
         return effort - self.bias_effort
 
 
-# in the default start model: found means kept
-register(Effect("effort_bias", EffortBiasTerm, EffortBias, residual="effort", hidden=Hidden("effort_bias", "effort_bias")))
+# in the default start model: found means kept; a log that carries the motor's current has the bias in it (the
+# current makes effort - bias), so heat from the current names the same physics
+register(Effect("effort_bias", EffortBiasTerm, EffortBias, residual="effort",
+                hidden=Hidden("effort_bias", "effort_bias", also=("current_heating",))))

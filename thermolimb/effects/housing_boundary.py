@@ -32,4 +32,4 @@ class HousingBoundary(LinearTerm):
 
 
 register(Effect("housing_boundary", HousingBoundary, residual="housing temperature",
-                hidden=Hidden("housing_sensor", None, options={"housing_sensor": True})))
+                hidden=Hidden("housing_sensor", None, options={"housing_sensor": True}), rides="housing"))

@@ -51,4 +51,4 @@ class NeighborCoupling(PlantEffect):
 
 # the residual's correlation with a neighbour's temperature ("temperature of J1") speaks for it
 register(Effect("neighbor_coupling", NeighborCouplingTerm, NeighborCoupling, residual="temperature of",
-                hidden=Hidden("neighbor_coupling", "neighbor_coupling")))
+                hidden=Hidden("neighbor_coupling", "neighbor_coupling"), rides="neighbors"))

@@ -28,4 +28,4 @@ class PowerHeating(LinearTerm):
         return s.channel("power")
 
 
-register(Effect("power_heating", PowerHeating, residual="power"))
+register(Effect("power_heating", PowerHeating, residual="power", rides="power"))

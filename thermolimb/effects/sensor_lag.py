@@ -16,6 +16,7 @@ class SensorLagTerm(Term):
     """The thermistor lags the winding: ``tau_s dT_s/dt = T - T_s``."""
 
     name = "sensor_lag"
+    lags_output = True
     label = "sensor lag"
     description = "the thermistor lags the winding"
     parameters = (

@@ -41,7 +41,7 @@ class SlowMass(Term):
         """How many times its still-air conductance to ambient this mass has (1: none moves it)."""
         return 1.0
 
-    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None):
+    def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None, offset=0.0):
         phi = p[self.fraction]
         if phi == 0.0:
             self.state = None
@@ -52,9 +52,9 @@ class SlowMass(Term):
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
         a = np.exp(-s.interval_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
-        # the slow mass starts in proportion, as if the initial temperature were a steady state, unless it
-        # carries on from where an earlier piece of the run left it
-        start = boundary_C[0] + phi * (initial_C - boundary_C[0]) if state is None else state
+        # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
+        # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it
+        start = boundary_C[0] + phi * (initial_C - boundary_C[0]) + offset if state is None else state
         frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
         self.state = float(frame[-1])
         return frame + (1.0 - phi) * heat
@@ -112,5 +112,5 @@ class ThirdNode(SlowMass):
 
 # nothing switched on hides the slow masses: the X8's own housing and body are them
 register(Effect("second_node", SecondNode, residual=SLOW_DRIFT, hidden=Hidden("slow_masses", None)),
-         Effect("housing_motion_cooling", HousingMotionCooling, residual="|velocity|"),
+         Effect("housing_motion_cooling", HousingMotionCooling, residual="|velocity|", rides="velocity"),
          Effect("third_node", ThirdNode, residual=SLOW_DRIFT))

@@ -48,4 +48,4 @@ class SpeedLosses(PlantEffect):
 
 
 register(Effect("speed_losses", SpeedLossesTerm, SpeedLosses, residual="|velocity|",
-                hidden=Hidden("speed_losses", "speed_losses")))
+                hidden=Hidden("speed_losses", "speed_losses"), rides="velocity"))

@@ -18,14 +18,14 @@ from typing import Mapping
 import numpy as np
 
 from ..model.guard import instance
-from ..model.model import ThermalModel, model_parameters
+from ..model.model import ThermalModel, hidden_states, model_parameters
 from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import IdentifiabilityError
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor
 from .regression import collinear_partners, independent_fractions
-from .thinning import fit_stride
+from .thinning import fit_rows, fit_stride
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
 DEGENERATE_FRACTION = 1e-5
@@ -55,6 +55,12 @@ class FreeRunLeastSquares(ThermalEstimator):
     fixed
         Values held, not fitted (an offset tied to the logged ambient when the
         log cannot identify it); their standard error is 0.
+
+    A model with hidden states (a slow mass, the winding behind a lagging
+    sensor) has their starts placed in each run where its readings put them,
+    not tied to its first reading (``offsets_``, K per run and state): the
+    output is affine in them, so they are fitted by least squares inside
+    every evaluation (variable projection), at one more free run per state.
     """
 
     method = "output_error"
@@ -105,14 +111,23 @@ class FreeRunLeastSquares(ThermalEstimator):
         free = np.array([p.name not in (self.fixed or {}) for p in params])
         params = [p for p, f in zip(params, free) if f]
         self.stride_ = k = fit_stride(series)
-        measured = np.concatenate([s.temperature_C[::k] for s in series])
+        rows = [fit_rows(s, k) for s in series]
+        measured = np.concatenate([s.temperature_C[r] for s, r in zip(series, rows)])
         rates = [s.rate_K_per_s() for s in series]
+
+        hidden = bool(hidden_states(terms))
+
+        def runs(model):
+            # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
+            # where the run's readings put them (variable projection: they are linear in the output)
+            return [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)
+                    for s, rate, r in zip(series, rates, rows)]
 
         def residual(x):
             values = x_all.copy()
             values[free] = x
             model = ThermalModel(terms, dict(zip(names, values)))
-            return np.concatenate([model.free_run(s, r)[::k] for s, r in zip(series, rates)]) - measured
+            return np.concatenate([run[r] for run, r in zip(runs(model), rows)]) - measured
 
         from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 
@@ -140,6 +155,8 @@ class FreeRunLeastSquares(ThermalEstimator):
         cov[np.ix_(free, free)] = sigma2 * np.linalg.pinv(J.T @ J)
         values = x_all.copy()
         values[free] = result.x
+        final = ThermalModel(terms, dict(zip(names, values)))
+        self.offsets_ = [final.place_hidden(s, r, rate)[1] if hidden else {} for s, rate, r in zip(series, rates, rows)]
         return values, cov
 
 

@@ -116,6 +116,8 @@ def build_regression(
         dt = float(ser.time_s[1] - ser.time_s[0])
         trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt))), ser.n // 10)
         keep = np.arange(trim, ser.n - trim, stride)
+        if raw.fit_mask is not None:  # the samples fitted on (on a resampled grid, the nearest sample's)
+            keep = keep[raw.fit_mask[np.clip(np.searchsorted(raw.time_s, ser.time_s[keep]), 0, raw.n - 1)]]
         T = lowpass(ser.temperature_C, cutoff_hz, dt)
         rows = -gradient_at(T, keep, dt)
         if consistent:

@@ -18,14 +18,22 @@ MAX_FIT_SAMPLES = 100_000  # rows compared per fit
 
 
 def fit_stride(series) -> int:
-    """The stride at which a fit compares ``series`` (a sequence of objects with ``n`` samples)."""
-    return max(1, -(-sum(s.n for s in series) // MAX_FIT_SAMPLES))
+    """The stride at which a fit compares ``series`` (each with ``fit_samples``, the samples it is fitted on)."""
+    return max(1, -(-sum(s.fit_samples for s in series) // MAX_FIT_SAMPLES))
+
+
+def fit_rows(series, stride: int) -> np.ndarray:
+    """The samples of one series a fit compares: every ``stride``-th of those it is fitted on (its ``fit_mask``:
+    a scheme holding blocks of the run out; all of them without one)."""
+    rows = np.arange(series.n) if series.fit_mask is None else np.flatnonzero(series.fit_mask)
+    return rows[::stride]
 
 
 def thinned(values: np.ndarray, series, stride: int) -> np.ndarray:
-    """Every ``stride``-th sample of each series in ``values``, the series' samples concatenated."""
+    """Every ``stride``-th sample of each series in ``values`` (the samples each is fitted on, the series'
+    concatenated): what the fit compares, in its order."""
     if stride == 1:
         return np.asarray(values)
-    bounds = np.cumsum([s.n for s in series])[:-1]
+    bounds = np.cumsum([s.fit_samples for s in series])[:-1]
     return np.concatenate([part[::stride] for part in np.split(np.asarray(values), bounds)])
 

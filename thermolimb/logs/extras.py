@@ -39,7 +39,7 @@ _BOOLEAN = {"true": 1.0, "false": 0.0}
 def extra_name(header: str) -> tuple[str, str | None]:
     """``Voltage [V]`` -> ``("Voltage", "V")``; a header without a unit is its own name."""
     header = str(header).strip()
-    name = _HEADER_UNIT.sub("", header).strip()
+    name = _HEADER_UNIT.sub("", header).strip().removeprefix(EXTRA)  # extra.ambient: a file's extra "ambient"
     return (name or header), header_unit(header)
 
 

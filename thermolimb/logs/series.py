@@ -38,6 +38,8 @@ class ActuatorSeries:
     temperature_C: np.ndarray
     run: str = ""
     units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power (see thermolimb.logs.units)
+    # the samples a fit compares (a validation scheme that holds blocks out of the run); None: all of them
+    fit_mask: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def time_s(self) -> np.ndarray:
@@ -67,7 +69,14 @@ class ActuatorSeries:
         return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
 
     def slice(self, start: int, stop: int) -> "ActuatorSeries":
-        return replace(self, signals=self.signals.slice(start, stop), temperature_C=self.temperature_C[start:stop])
+        mask = None if self.fit_mask is None else self.fit_mask[start:stop]
+        return replace(self, signals=self.signals.slice(start, stop), temperature_C=self.temperature_C[start:stop],
+                       fit_mask=mask)
+
+    @property
+    def fit_samples(self) -> int:
+        """How many samples a fit compares."""
+        return self.n if self.fit_mask is None else int(np.count_nonzero(self.fit_mask))
 
     def split_index(self, fraction: float) -> int:
         """First sample after the first ``fraction`` of the time span (training is ``[0, index)``)."""

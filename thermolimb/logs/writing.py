@@ -11,7 +11,7 @@ from typing import Iterable
 from ..util.atomic import atomic_path
 from ..util.lazy import pandas as pd
 from .bag_writer import write_mcap
-from .mapping import EXTRA
+from .mapping import EXTRA, OPTIONAL, REQUIRED
 from .table import kind_of
 from .units import NOT_GIVEN
 
@@ -56,7 +56,10 @@ def write_pieces(pieces: Iterable, path: str | Path) -> Path:
 
 
 def _header(name: str, unit: str | None) -> str:
-    """An extra channel's column header, with its unit when known (read back to the same name and unit)."""
+    """An extra channel's column header, with its unit when known (read back to the same name and unit); one named
+    as a canonical column (a bench's room ``ambient`` beside the coolant mapped as ambient) is written as
+    ``extra.NAME``, which reads back as the extra channel ``NAME``."""
+    name = EXTRA + name if name in REQUIRED + OPTIONAL else name
     return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
 
 

@@ -33,6 +33,13 @@ _MIN_RESTORING = 1e-6
 COUPLING_PASSES = 2
 
 
+def hidden_states(terms: tuple[str, ...]) -> tuple[str, ...]:
+    """The states of a model its first reading does not give: the winding behind a lagging sensor, each slow
+    mass.  A fit places them per run (:class:`~thermolimb.identification.FreeRunLeastSquares`)."""
+    lagged = ("winding",) if any(TERMS[t].lags_output for t in terms) else ()
+    return lagged + tuple(t for t in terms if TERMS[t].carries_state)
+
+
 def model_parameters(terms: tuple[str, ...]) -> tuple[Parameter, ...]:
     """All parameters of a model in the order of the regression (Eq. 7): RC, each term's, T_offset."""
     return (TIME_CONSTANT,) + tuple(p for name in terms for p in TERMS[name].parameters) + (OFFSET,)
@@ -136,7 +143,7 @@ class ThermalModel:
 
     def simulate(self, s: Signals, initial_temperature_C: float, method: str = "exact",
                  initial_rate_K_per_s: float = 0.0, state: Mapping[str, float] | None = None,
-                 keep: dict | None = None) -> np.ndarray:
+                 keep: dict | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
         """Free-run temperatures at every sample time, from ``initial_temperature_C``, inputs only.
 
         ``initial_rate_K_per_s`` is how fast the measured temperature was
@@ -154,6 +161,9 @@ class ThermalModel:
         rate ``rate_per_s``, the forcing's, for a forecast); passed back as ``state`` for the next piece,
         whose first sample is this piece's last, the run carries on exactly as one simulation of the whole
         would (``initial_temperature_C`` and the rate are then unused).
+
+        ``offsets`` (K, by :func:`hidden_states`' names) move the hidden states' starts from where the first reading
+        puts them: where the data place them (a run that starts warm, or mid-transient).
         """
         if method not in ("exact", "euler"):
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
@@ -162,15 +172,16 @@ class ThermalModel:
             start = initial_temperature_C
             for term in terms:
                 start = term.initial_winding(self.params, start, initial_rate_K_per_s)
+            start += (offsets or {}).get("winding", 0.0)
             output_start = initial_temperature_C
         else:
             start, output_start = state["winding"], state["output"]
         u, lam, boundary, gain = self._forcing(s)
-        shaped = self._shape(s, terms, u, start, boundary, state)
+        shaped = self._shape(s, terms, u, start, boundary, state, offsets)
         winding = self._winding(s, shaped, lam, start, method)
         share = float(np.prod([term.winding_share(self.params) for term in terms]))
         if share < 1.0 and np.any(gain != 0.0):
-            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method, state)
+            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method, state, offsets)
         out = winding
         for term in terms:
             out = term.shape_output(self.params, s, out, output_start)
@@ -182,17 +193,38 @@ class ThermalModel:
         return out
 
     def free_run(self, series, initial_rate_K_per_s: float | None = None, method: str = "exact",
-                 initial_temperature_C: float | None = None) -> np.ndarray:
+                 initial_temperature_C: float | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
         """The free run of a measured run (an :class:`~thermolimb.logs.ActuatorSeries`) from its first reading.
 
         The one way every fit, validation and diagnosis simulates a log: from
         the first measured temperature (unless ``initial_temperature_C``) and
         the measured trend over the first minute (unless
-        ``initial_rate_K_per_s``), with the log's inputs alone.
+        ``initial_rate_K_per_s``), with the log's inputs alone; ``offsets``: the hidden states' starts
+        where the data place them (:meth:`place_hidden`).
         """
         start = series.temperature_C[0] if initial_temperature_C is None else initial_temperature_C
         rate = series.rate_K_per_s() if initial_rate_K_per_s is None else initial_rate_K_per_s
-        return self.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate)
+        return self.simulate(series.signals, start, method=method, initial_rate_K_per_s=rate, offsets=offsets)
+
+    @property
+    def hidden_states(self) -> tuple[str, ...]:
+        return hidden_states(self.terms)
+
+    def place_hidden(self, series, rows: np.ndarray, rate: float | None = None,
+                     run: np.ndarray | None = None) -> tuple[np.ndarray, dict[str, float]]:
+        """The free run of ``series`` with its hidden states' starts placed where the readings at ``rows`` put
+        them, and those offsets: the model is affine in its states, so each offset's response is one more free
+        run, and the offsets are the least-squares fit of the residual at ``rows`` by those responses.
+        ``run``: the free run without offsets, when the caller has it."""
+        rate = series.rate_K_per_s() if rate is None else rate
+        run = self.free_run(series, rate) if run is None else run
+        names = self.hidden_states
+        if not names or rows.size == 0:
+            return run, {}
+        responses = np.column_stack([self.free_run(series, rate, offsets={h: 1.0}) - run for h in names])
+        G = responses[rows]
+        delta = np.linalg.lstsq(G, series.temperature_C[rows] - run[rows], rcond=1e-9)[0]
+        return run + responses @ delta, dict(zip(names, map(float, delta)))
 
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
         lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
@@ -210,7 +242,7 @@ class ThermalModel:
             winding[k + 1] = a[k] * winding[k] + b[k]
         return winding
 
-    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method, state=None):
+    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method, state=None, offsets=None):
         """Slow masses with a temperature-dependent heat (copper resistance, neighbours, airflow).
 
         The first pass fed the masses the heat of a winding already at its
@@ -224,17 +256,19 @@ class ThermalModel:
         rc = self.params["RC_s"]
         for _ in range(COUPLING_PASSES):
             heat = heat_at_rest + gain * winding
-            frames = self._shape(s, terms, boundary + heat, start, boundary, state) - boundary - share * heat
+            frames = self._shape(s, terms, boundary + heat, start, boundary, state, offsets) - boundary - share * heat
             restoring = np.maximum(1.0 - share * gain, _MIN_RESTORING)
             target = (boundary + frames + share * heat_at_rest) / restoring
             winding = self._winding(s, target, restoring / rc, start, method)
         return winding
 
     def _shape(self, s: Signals, terms, u: np.ndarray, initial_C: float, boundary: np.ndarray,
-               state: Mapping[str, float] | None = None) -> np.ndarray:
+               state: Mapping[str, float] | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
         for term in terms:
             if state is not None and term.carries_state:
                 u = term.shape_equilibrium(self.params, s, u, initial_C, boundary, state=state.get(term.name))
+            elif offsets and term.carries_state and term.name in offsets:
+                u = term.shape_equilibrium(self.params, s, u, initial_C, boundary, offset=offsets[term.name])
             else:
                 u = term.shape_equilibrium(self.params, s, u, initial_C, boundary)
         return u

@@ -48,6 +48,9 @@ class ResidualStats:
     abs_quantiles_K: Mapping[str, float]  # "0.9": the 90 % quantile of |residual|
     lag1: float  # lag-1 autocorrelation of the residual
     rise_K: float  # the held-out free run's root-mean-square rise above the model's offset
+    # how far a forecast started from a reading is off after each lead (s): per level, a quantile of |error| (K)
+    leads_s: tuple[float, ...] = ()
+    lead_quantiles_K: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
 
     @classmethod
     def of(cls, residual_K: np.ndarray, span_s: float, rise_K: float) -> "ResidualStats":
@@ -68,9 +71,23 @@ class ResidualStats:
         values = np.array([self.abs_quantiles_K[f"{q:g}"] for q in RESIDUAL_QUANTILES])
         return float(np.interp(level, levels, values))
 
+    def lead_error_K(self, level: float, lead_s: np.ndarray) -> np.ndarray | None:
+        """The ``level`` quantile of a forecast's error after each of ``lead_s`` seconds from a reading (K), from the
+        stored profile (rising from zero at lead 0, held beyond the longest lead seen); ``None`` without one."""
+        if not self.leads_s:
+            return None
+        levels = np.array(RESIDUAL_QUANTILES)
+        table = np.array([self.lead_quantiles_K[f"{q:g}"] for q in RESIDUAL_QUANTILES])  # levels x leads
+        at_level = np.array([np.interp(level, levels, table[:, k]) for k in range(table.shape[1])])
+        return np.interp(np.asarray(lead_s, float), np.r_[0.0, self.leads_s], np.r_[0.0, at_level])
+
     def to_json(self) -> dict:
-        return {"samples": self.samples, "span_s": self.span_s, "mean_K": self.mean_K, "rmse_K": self.rmse_K,
-                "abs_quantiles_K": dict(self.abs_quantiles_K), "lag1": self.lag1, "rise_K": self.rise_K}
+        out = {"samples": self.samples, "span_s": self.span_s, "mean_K": self.mean_K, "rmse_K": self.rmse_K,
+               "abs_quantiles_K": dict(self.abs_quantiles_K), "lag1": self.lag1, "rise_K": self.rise_K}
+        if self.leads_s:
+            out.update(leads_s=list(self.leads_s), lead_quantiles_K={k: list(v) for k, v in
+                                                                      self.lead_quantiles_K.items()})
+        return out
 
 
 @dataclass(frozen=True)
@@ -218,9 +235,11 @@ def _saved(entry, where: str) -> SavedModel:
     residual = entry["residual"]
     stats = None
     try:
-        stats = None if residual is None else ResidualStats(int(residual["samples"]), float(residual["span_s"]), float(residual["mean_K"]),
-                              float(residual["rmse_K"]), {k: float(v) for k, v in residual["abs_quantiles_K"].items()},
-                              float(residual["lag1"]), float(residual["rise_K"]))
+        stats = None if residual is None else ResidualStats(
+            int(residual["samples"]), float(residual["span_s"]), float(residual["mean_K"]), float(residual["rmse_K"]),
+            {k: float(v) for k, v in residual["abs_quantiles_K"].items()}, float(residual["lag1"]),
+            float(residual["rise_K"]), tuple(float(v) for v in residual.get("leads_s", ())),
+            {k: tuple(float(x) for x in v) for k, v in residual.get("lead_quantiles_K", {}).items()})
         None if stats is None else stats.abs_quantile_K(0.9)
     except (KeyError, TypeError, ValueError) as exc:
         raise ModelFileError(f"{where}: \"residual\" needs samples, span_s, mean_K, rmse_K, lag1, rise_K and "

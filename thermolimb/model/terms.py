@@ -66,6 +66,8 @@ class Term:
     # a term with a thermal state of its own (a slow mass) takes ``state=`` in shape_equilibrium, the value an
     # earlier piece of the run ended with, and leaves its last value in ``self.state``
     carries_state: ClassVar[bool] = False
+    # a term whose output lags the winding (a thermistor's lag): the winding's start is then a hidden state too
+    lags_output: ClassVar[bool] = False
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""

@@ -77,3 +77,87 @@ def _transients(temperature_C: np.ndarray) -> tuple[int, int]:
         elif v - extreme >= threshold:
             falls, trend, extreme = falls + 1, 1, v
     return rises + (trend == 1), falls + (trend == -1)
+
+
+# A channel an effect rides on is excited in a part of the data when it is away from rest in at least this many
+# samples (and this share of them) -- in two bouts at least, or a tenth of the part: one blip is not evidence.
+MIN_EXCITED = 30
+MIN_EXCITED_SHARE = 0.01
+AWAY = 0.05  # away from rest: beyond this share of the channel's 99th percentile of |value| (inputs) ...
+MOVED_K = 0.5  # ... or, for a temperature, this far from its median (the neighbours': from this actuator's own)
+CHANNEL_WORDS = {"velocity": "the velocity is away from rest", "current": "the current is away from zero",
+                 "power": "the power is away from zero", "neighbors": "a neighbour's temperature differs by 0.5 K",
+                 "ambient": "the ambient moves by 0.5 K", "housing": "the housing's temperature moves by 0.5 K"}
+
+
+@dataclass(frozen=True)
+class ChannelExcitation:
+    """How much of the data an effect is fitted on and judged on moves the channel it rides on."""
+
+    channel: str
+    fitted: tuple[int, int, int]  # samples away from rest, samples, bouts
+    judged: tuple[int, int, int]
+
+    @staticmethod
+    def _enough(away: int, n: int, bouts: int) -> bool:
+        return away >= max(MIN_EXCITED, MIN_EXCITED_SHARE * n) and (bouts >= 2 or away >= 0.1 * n)
+
+    @property
+    def excited(self) -> bool:
+        return self._enough(*self.fitted) and self._enough(*self.judged)
+
+    def sentence(self) -> str:
+        """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319 judged
+        on, in 0 bouts); ...``"""
+        words = CHANNEL_WORDS.get(self.channel, f"the channel {self.channel.removeprefix('extra.')} is away from "
+                                                f"its usual level")
+        (a1, n1, b1), (a2, n2, b2) = self.fitted, self.judged
+        return (f"{words} in {a1 + a2} of {n1 + n2} samples ({a1} of {n1} fitted on, in {b1} bout{'s' * (b1 != 1)}; "
+                f"{a2} of {n2} judged on, in {b2} bout{'s' * (b2 != 1)}); at least {MIN_EXCITED} (and "
+                f"{100 * MIN_EXCITED_SHARE:g} %) in two bouts are needed in each")
+
+
+def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
+    """How much ``channel`` (a log column: ``velocity``, ``current``, ``neighbors``, ``extra.NAME``, ...) moves in
+    the samples a change is fitted on (``fitted``: series, each fitted on its ``fit_mask``) and judged on
+    (``judged``: :class:`~thermolimb.model.Signals` of the held-out pieces, with their measured temperatures)."""
+    fit_parts = [(s.signals, s.temperature_C, s.fit_mask) for s in fitted]
+    judged_parts = [(signals, temperature_C, None) for signals, temperature_C in judged]
+    values = _moved(channel, [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts])
+    scale = _scale(channel, values)
+    counts = []
+    for parts, moved in ((fit_parts, values[:len(fit_parts)]), (judged_parts, values[len(fit_parts):])):
+        away = n = bouts = 0
+        for (_, _, mask), x in zip(parts, moved):
+            on = x > scale
+            if mask is not None:
+                on, n_part = on[mask], int(np.count_nonzero(mask))
+            else:
+                n_part = x.size
+            away, n = away + int(np.count_nonzero(on)), n + n_part
+            bouts += int(np.count_nonzero(np.diff(np.r_[0, on.astype(np.int8)]) == 1))
+        counts.append((away, n, bouts))
+    return ChannelExcitation(channel, counts[0], counts[1])
+
+
+def _moved(channel: str, parts) -> list[np.ndarray]:
+    """How far each sample of ``channel`` is from rest, per part: |value| for an input, the distance from the
+    whole data's median for a temperature or an extra channel, the neighbours' mean's distance from this
+    actuator's own reading."""
+    if channel == "neighbors":
+        return [np.abs(signals.neighbor_mean_C - temperature_C) for signals, temperature_C in parts]
+    values = [np.asarray(signals.channel(channel), float) for signals, _ in parts]
+    if channel in ("ambient", "housing") or channel.startswith("extra."):
+        middle = float(np.median(np.concatenate(values)))
+        return [np.abs(x - middle) for x in values]
+    return [np.abs(x) for x in values]
+
+
+def _scale(channel: str, moved: list[np.ndarray]) -> float:
+    """Beyond this, a sample is away from rest (module constants)."""
+    if channel in ("neighbors", "ambient", "housing"):
+        return MOVED_K
+    whole = np.concatenate(moved) if moved else np.zeros(1)
+    top = float(np.percentile(whole, 99)) if whole.size else 0.0
+    top = top if top > 0 else float(np.max(whole, initial=0.0))  # a channel at rest nearly always: its largest
+    return AWAY * top if top > 0 else np.inf

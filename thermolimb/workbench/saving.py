@@ -4,12 +4,13 @@ held-out residual's statistics and the blocked jackknife's covariance a forecast
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Sequence
 
 import numpy as np
 
-from ..model.saved import JACKKNIFE_BLOCKS, MIN_JACKKNIFE_FITS, ResidualStats, SavedModel, provenance
+from ..model.saved import JACKKNIFE_BLOCKS, MIN_JACKKNIFE_FITS, RESIDUAL_QUANTILES, ResidualStats, SavedModel, provenance
 from ..model.terms import TERMS
 from ..util.errors import ThermolimbError
 from .validation import make_estimator
@@ -28,10 +29,48 @@ def saved_from_report(report, paths: Sequence[str | Path], limit_C: float | None
     rise = np.concatenate([s.simulated_C for s in segments]) - model.params["T_offset_C"]
     rise = float(np.sqrt(np.mean(rise * rise)))
     sources = {t: TERMS[t].source for t in model.terms if getattr(TERMS[t], "generated", False)}
+    stats = replace(ResidualStats.of(residual, span, rise), **lead_profile(report))
     return SavedModel(report.actuator, model, {n: float(report.stderr[n]) for n in names},
                       np.asarray(covariance, float), jackknife_covariance(report), {p.name: report.unit(p) for p in model.parameters},
-                      dict(report.channel_units), dict(report.validation), ResidualStats.of(residual, span, rise),
+                      dict(report.channel_units), dict(report.validation), stats,
                       provenance(paths, report.train_series), limit_C, report.method, report.scheme, sources)
+
+
+LEADS_S = (10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 900.0, 1800.0, 3600.0, 7200.0)
+LEAD_STARTS = 400  # start points per lead, spread over the runs
+
+
+def lead_profile(report) -> dict:
+    """How far a forecast started from a reading drifts from the readings after each lead: over every run the model
+    was fitted on, from start points spread over it, the error a forecast makes -- the free run's residual after
+    the lead, less the residual at the start faded with the winding's time constant, as
+    :func:`thermolimb.forecast.forecast` corrects a forecast to its start -- and its quantiles per lead.  The runs
+    include the data fitted on, so each quantile is scaled by the held-out error over the training error (never
+    below one).  Leads longer than half the longest run are not measured."""
+    model, rc = report.model, report.model.params["RC_s"]
+    offsets = getattr(report.estimator, "offsets_", None) or [None] * len(report.train_series)
+    runs = []
+    for s, offset in zip(report.train_series, offsets):
+        whole = replace(s, fit_mask=None)
+        runs.append((whole.time_s, whole.temperature_C - model.free_run(whole, offsets=offset)))
+    longest = max((t[-1] - t[0] for t, _ in runs), default=0.0)
+    leads = [h for h in LEADS_S if h <= 0.5 * longest]
+    if not leads:
+        return {}
+    scale = max(1.0, report.validation["rmse_K"] / max(report.train["rmse_K"], 1e-12))
+    table = []
+    for lead in leads:
+        errors = []
+        for t, r in runs:
+            usable = np.flatnonzero(t <= t[-1] - lead)
+            starts = usable[:: max(1, usable.size // LEAD_STARTS)] if usable.size else usable
+            ends = np.searchsorted(t, t[starts] + lead)
+            errors.append(np.abs(r[ends] - r[starts] * np.exp(-(t[ends] - t[starts]) / rc)))
+        errors = np.concatenate(errors)
+        table.append(scale * np.quantile(errors, RESIDUAL_QUANTILES) if errors.size else np.zeros(len(RESIDUAL_QUANTILES)))
+    table = np.array(table)
+    return {"leads_s": tuple(leads),
+            "lead_quantiles_K": {f"{q:g}": tuple(map(float, table[:, k])) for k, q in enumerate(RESIDUAL_QUANTILES)}}
 
 
 

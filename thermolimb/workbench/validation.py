@@ -30,12 +30,19 @@ from ..identification import ESTIMATORS, IdentifiabilityError, ThermalEstimator
 from ..identification.metrics import pieces_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
 from ..model.model import ThermalModel, model_parameters
+from ..model.signals import Signals
 from ..model.terms import TERMS, parse_model
 from .evidence import Evidence
 from .flags import parameter_flags
 
-SPLIT, BLOCKS, RUNS, HELD_OUT = "split", "blocks", "runs", "held_out"
-KINDS = (SPLIT, BLOCKS, RUNS, HELD_OUT)
+AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, HELD_OUT = "auto", "interleaved", "split", "blocks", "runs", "held_out"
+KINDS = (AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, HELD_OUT)
+INTERLEAVED_BLOCKS = 10  # an interleaved scheme cuts each run's time span into this many blocks ...
+HELD_EVERY = 3  # ... and holds out every third of them, from the second: blocks 2, 5 and 8 of 10
+MIN_RUN_SAMPLES = 2 * MIN_SAMPLES  # a run shorter than this cannot carry a fold of its own
+# a held-out run's first tenth of its time span places its hidden states (a slow mass, the winding behind a lagging
+# sensor) and is not scored: every model is judged on the rest, from the same first sample
+BURN_IN_SHARE = 0.1
 
 
 @dataclass(frozen=True)
@@ -46,11 +53,12 @@ class Scheme:
     ``Scheme.on_runs(held_out)``; every output names the scheme in one line (:meth:`describe`).
     """
 
-    kind: str = SPLIT
+    kind: str = AUTO
     split: float = 0.7  # SPLIT: the share of each run's time span fitted on
     folds: int = 5  # BLOCKS: contiguous blocks of each run
     restart: bool = False  # SPLIT, BLOCKS: the free run restarts at the held-out part, hidden states at rest
     held_out: tuple = ()  # HELD_OUT: the runs validated on (ActuatorSeries)
+    phase: float = 0.0  # INTERLEAVED: the block grid shifted by this share of a block (stability replicates)
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -62,6 +70,18 @@ class Scheme:
         if self.kind == HELD_OUT and not self.held_out:
             raise ValueError("a scheme of held-out runs needs the runs")
         object.__setattr__(self, "held_out", tuple(self.held_out))
+
+    @classmethod
+    def interleaved(cls) -> "Scheme":
+        return cls(INTERLEAVED)
+
+    def resolved(self, series) -> "Scheme":
+        """The scheme for these runs: ``auto`` is leave one run out when the actuator has several runs (each long
+        enough to be fitted on), interleaved blocks of its one run otherwise; any other kind is itself."""
+        if self.kind != AUTO:
+            return self
+        several = len(series) >= 2 and all(s.n >= MIN_RUN_SAMPLES for s in series)
+        return replace(self, kind=RUNS if several else INTERLEAVED)
 
     @classmethod
     def at_split(cls, split: float = 0.7, restart: bool = False) -> "Scheme":
@@ -83,7 +103,13 @@ class Scheme:
         if self.kind == HELD_OUT:
             return "fitted on the given runs, validated on the held-out runs"
         if self.kind == RUNS:
-            return "leave one run out"
+            return "leave one run out: each run predicted from its first reading by the model fitted on the others"
+        if self.kind == INTERLEAVED:
+            held = ", ".join(str(b + 1) for b in held_blocks())
+            return (f"interleaved blocks: blocks {held} of {INTERLEAVED_BLOCKS} of each run held out, the free run "
+                    f"carried from the run's start through them")
+        if self.kind == AUTO:
+            return "leave one run out with several runs, interleaved blocks of one run otherwise"
         if self.kind == BLOCKS:
             start = "restarted at each block" if self.restart else "free run carried from each run's start"
             return f"{self.folds}-fold blocked cross-validation, {start}"
@@ -91,15 +117,33 @@ class Scheme:
         return f"fit on the first {100 * self.split:.0f} % of each run, {start}"
 
 
+def held_blocks() -> list[int]:
+    """The blocks an interleaved scheme holds out (0-based)."""
+    return list(range(1, INTERLEAVED_BLOCKS, HELD_EVERY))
+
+
+def block_index(series: ActuatorSeries, phase: float = 0.0) -> np.ndarray:
+    """Each sample's block of an interleaved scheme: the run's time span in :data:`INTERLEAVED_BLOCKS` equal
+    blocks, the grid shifted by ``phase`` of a block."""
+    t = series.time_s
+    span = max(float(t[-1] - t[0]), 1e-12)
+    position = (t - t[0]) / span * INTERLEAVED_BLOCKS - phase
+    return np.clip(np.floor(position), 0, INTERLEAVED_BLOCKS - 1).astype(int)
+
+
 @dataclass(frozen=True)
 class Segment:
-    """One stretch of measured and simulated temperature."""
+    """One stretch of measured and simulated temperature: samples ``[lo, lo + n)`` of its run, held out as
+    ``unit`` (a run, a block) when it is validation data."""
 
     time_s: np.ndarray
     measured_C: np.ndarray
     simulated_C: np.ndarray
     effort: np.ndarray
     run: str = ""
+    lo: int = 0
+    unit: str = ""
+    signals: Signals | None = field(default=None, repr=False)  # its inputs (what excites an effect in it)
 
 
 @dataclass(frozen=True)
@@ -124,6 +168,7 @@ class FitReport:
     flags: tuple[str, ...] = ()
     scheme: str = ""
     set_aside: tuple[dict, ...] = ()  # terms of the requested model this log cannot identify: {"term", "reason"}
+    units: str = "parts"  # what the held-out units are: "runs", "blocks" or "parts" (a run's tail)
 
     @property
     def train_residual_K(self) -> np.ndarray:
@@ -170,17 +215,50 @@ class FitReport:
         }
 
 
-def _segment(model: ThermalModel, series: ActuatorSeries, lo: int = 0, hi: int | None = None,
-             restart: bool = False) -> Segment:
-    """Samples ``[lo, hi)`` of ``series``, simulated from its start (or restarted at ``lo - 1``)."""
-    hi = series.n if hi is None else hi
-    if restart and lo > 0:
-        part = series.slice(lo - 1, hi)
-        # the trend at the restart comes from the data before it
-        sim = model.free_run(part, series.slice(0, lo).rate_K_per_s(at_end=True))
-        return Segment(part.time_s, part.temperature_C, sim, part.signals.effort, series.run)
-    sim = model.free_run(series.slice(0, hi), series.rate_K_per_s())[lo:]
-    return Segment(series.time_s[lo:hi], series.temperature_C[lo:hi], sim, series.signals.effort[lo:hi], series.run)
+def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tuple[int, int]] | None = None,
+              restart: bool = False, unit: str = "", offsets: Mapping[str, float] | None = None) -> list[Segment]:
+    """Samples ``[lo, hi)`` of ``series`` for each piece (default: the whole run, or with a fit mask the pieces it
+    is fitted on), all from one free run carried from the run's start (its hidden states started by ``offsets``),
+    or restarted at ``lo - 1``."""
+    if pieces is None:
+        pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
+    out = []
+    if restart:
+        for lo, hi in pieces:
+            if lo > 0:
+                part = series.slice(lo - 1, hi)
+                # the trend at the restart comes from the data before it
+                sim = model.free_run(part, series.slice(0, lo).rate_K_per_s(at_end=True))
+                out.append(Segment(part.time_s, part.temperature_C, sim, part.signals.effort, series.run, lo - 1,
+                                   unit or series.run, part.signals))
+            else:
+                out += _segments(model, series, [(lo, hi)], unit=unit)
+        return out
+    end = max(hi for _, hi in pieces)
+    sim = model.free_run(series.slice(0, end), series.rate_K_per_s(), offsets=offsets)
+    for lo, hi in pieces:
+        label = unit or (series.run if len(pieces) == 1 else f"{series.run or 'run'} block {lo}-{hi}")
+        out.append(Segment(series.time_s[lo:hi], series.temperature_C[lo:hi], sim[lo:hi],
+                           series.signals.effort[lo:hi], series.run, lo, label, series.signals.slice(lo, hi)))
+    return out
+
+
+def burn_in(series: ActuatorSeries) -> int:
+    """The samples of a held-out run that place its hidden states: its first :data:`BURN_IN_SHARE` of time."""
+    t = series.time_s
+    return max(1, int(np.searchsorted(t, t[0] + BURN_IN_SHARE * (t[-1] - t[0]), side="right")))
+
+
+def _offsets(estimator, k: int) -> dict[str, float] | None:
+    """Where the fit placed the hidden states of its ``k``-th run (an estimator that places them)."""
+    offsets = getattr(estimator, "offsets_", None)
+    return offsets[k] if offsets else None
+
+
+def _runs_of(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``(lo, hi)`` of each stretch of consecutive ``True`` in ``mask``."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(np.int8), 0]))
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])]
 
 
 def _metrics(segments: Sequence[Segment]) -> dict:
@@ -193,18 +271,30 @@ def make_estimator(method: str, model: str | Sequence[str]) -> ThermalEstimator:
     return ESTIMATORS[method](model=model)
 
 
-# A fold: the series a model is fitted on, and the pieces (series, lo, hi) it is scored on.
-Fold = tuple[list[ActuatorSeries], list[tuple[ActuatorSeries, int, int]]]
+# A fold: the series a model is fitted on, and for each series it is scored on, the pieces (lo, hi) of it.
+Fold = tuple[list[ActuatorSeries], list[tuple[ActuatorSeries, list[tuple[int, int]]]]]
 
 
 def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
     if scheme.kind == HELD_OUT:
-        return [(series, [(v, 0, v.n) for v in scheme.held_out])]
+        return [(series, [(v, [(0, v.n)]) for v in scheme.held_out])]
+    if scheme.kind == INTERLEAVED:
+        fit_on, scored = [], []
+        for s in series:
+            block = block_index(s, scheme.phase)
+            held = np.isin(block, held_blocks())
+            if np.count_nonzero(held) < MIN_SAMPLES // 4 or np.count_nonzero(~held) < MIN_SAMPLES // 2:
+                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few to hold blocks out "
+                               f"(at least {MIN_SAMPLES // 2} to fit and {MIN_SAMPLES // 4} to validate are needed); "
+                               f"use a longer log, or several runs")
+            fit_on.append(replace(s, fit_mask=~held))
+            scored.append((s, _runs_of(held)))
+        return [(fit_on, scored)]
     if scheme.kind == RUNS:
         if len(series) < 2:
             raise LogError(f"actuator {series[0].actuator}: --cv runs needs at least two runs (several logs, or a log "
                            f"with pauses); this one has {len(series)}")
-        return [([o for o in series if o is not s], [(s, 0, s.n)]) for s in series]
+        return [([o for o in series if o is not s], [(s, [(0, s.n)])]) for s in series]
     if scheme.kind == BLOCKS:
         folds = []
         for s in series:
@@ -214,10 +304,10 @@ def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
                                f"folds (each needs at least {MIN_SAMPLES // 2}); use fewer folds or a longer log")
             for lo, hi in zip(edges[:-1], edges[1:]):
                 pieces = [p for p in (s.slice(0, lo), s.slice(hi, s.n)) if p.n >= MIN_SAMPLES // 2]
-                folds.append((pieces + [o for o in series if o is not s], [(s, int(lo), int(hi))]))
+                folds.append((pieces + [o for o in series if o is not s], [(s, [(int(lo), int(hi))])]))
         return folds
     cuts = [s.split_index(scheme.split) for s in series]
-    return [([s.slice(0, c) for s, c in zip(series, cuts)], [(s, c, s.n) for s, c in zip(series, cuts)])]
+    return [([s.slice(0, c) for s, c in zip(series, cuts)], [(s, [(c, s.n)]) for s, c in zip(series, cuts)])]
 
 
 def validate_model(
@@ -247,19 +337,34 @@ def validate_model(
         return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error",
                                      datasheet=datasheet)
     series = list(series)
+    scheme = scheme.resolved(series)
     if make is None and fixed:
         make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
     make = make or (lambda: make_estimator(method, model))
     folds = _folds(series, scheme)
     restart = scheme.restart and scheme.kind in (SPLIT, BLOCKS)
     fitted = [make().fit(fit_on) for fit_on, _ in folds]
-    valid = tuple(_segment(est.model_, s, lo, hi, restart) for est, (_, scored) in zip(fitted, folds)
-                  for s, lo, hi in scored)
+    # a held-out unit is a whole run (named, or numbered in its order), else a block or a run's tail
+    number = {id(s): k for k, s in enumerate(scheme.held_out if scheme.kind == HELD_OUT else series)}
+    whole_runs = scheme.kind in (RUNS, HELD_OUT)
+    valid = []
+    for est, (_, scored) in zip(fitted, folds):
+        for k, (s, pieces) in enumerate(scored):
+            if whole_runs:  # the run's hidden states placed by its first tenth, which is not scored
+                burn = burn_in(s)
+                offsets = est.model_.place_hidden(s, np.arange(burn))[1]
+                pieces, label = [(burn, s.n)], s.run or f"run {number[id(s)] + 1}"
+            else:  # the same run fitted on: its hidden states as the fit placed them (not for contiguous folds)
+                offsets = _offsets(est, k) if scheme.kind in (SPLIT, INTERLEAVED) else None
+                label = ""
+            valid += _segments(est.model_, s, pieces, restart, label, offsets)
+    valid = tuple(valid)
     if len(folds) == 1:
         final, train_series = fitted[0], folds[0][0]
     else:
         final, train_series = make().fit(series), series
-    train = tuple(_segment(final.model_, s) for s in train_series)
+    train = tuple(seg for k, s in enumerate(train_series) for seg in _segments(final.model_, s,
+                                                                              offsets=_offsets(final, k)))
     held = list(getattr(final, "fixed", None) or [])
     train_metrics = _metrics(train)
     return FitReport(
@@ -268,7 +373,7 @@ def validate_model(
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
                                     train_rmse_K=train_metrics["rmse_K"])),
-        scheme=scheme.describe(),
+        scheme=scheme.describe(), units="runs" if whole_runs else "blocks" if scheme.kind == INTERLEAVED else "parts",
     )
 
 

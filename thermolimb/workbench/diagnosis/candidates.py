@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...identification.metrics import ar1_variance_factor, information_criteria
+from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance
 from ...model.model import ThermalModel, model_parameters
@@ -49,6 +50,9 @@ SCAN_POINTS = 7  # values of a nuisance parameter the score scans (and the refit
 SCAN_SPAN = 2.0  # the longest time scanned, in log lengths: a mass slower than the log still bends its curve
 REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time scales
 WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this level
+INFLUENTIAL_SHARE = 0.01  # a gain must survive leaving out this share of the held-out samples (the most in its favour)
+MIN_INFLUENTIAL = 3  # ... and at least this many of them
+KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 % without them)
 
 
 @dataclass
@@ -95,7 +99,11 @@ class Candidate:
     selected_as: dict = field(default_factory=dict)  # how the replicates that took its effect took it, by label
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
-
+    unexcited: str | None = None  # the channel it rides on does not move enough to judge it: why
+    units: tuple[int, int] | None = None  # held-out units (runs, blocks) it lowers the error on, of how many
+    unit_word: str = "parts"
+    robust_improvement: float | None = None  # the held-out gain without its most influential samples
+    fragile: str | None = None  # the gain rests on a few held-out samples: why
     @property
     def adds(self) -> bool:
         """An added effect: from the catalog, a channel, or a discovered form."""
@@ -117,7 +125,7 @@ class Candidate:
     @property
     def not_refitted_because(self) -> str:
         """Why a candidate has no refit: confounded, failed, outdone by a stronger form, or its score test."""
-        return (self.broken or self.confounded or self.failure or self.skipped
+        return (self.broken or self.unexcited or self.confounded or self.failure or self.skipped
                 or f"score test p = {self.p_value:.2g}")
 
     @property
@@ -126,25 +134,31 @@ class Candidate:
 
     @property
     def helps(self) -> bool:
-        """Held-out error and the information criterion both favour the change (see :func:`judge`)."""
+        """Held-out error and the information criterion both favour the change (see :func:`judge`); a change that
+        brings physics in must also lower the error on most held-out runs (or blocks), and keep its gain without
+        the few held-out samples most in its favour."""
         if not self.refitted:
             return False
         if self.kind == "drop":
             # a term that extrapolates badly, or one the data does not need: simpler and no worse
             return self.improvement >= DROP_IMPROVEMENT or (self.improvement >= 0.0 and self.delta_bic < 0.0)
-        return self.improvement >= MIN_IMPROVEMENT and self.delta_bic <= MAX_DELTA_BIC
+        most = self.units is None or 2 * self.units[0] > self.units[1]
+        return (self.improvement >= MIN_IMPROVEMENT and self.delta_bic <= MAX_DELTA_BIC and most
+                and self.fragile is None)
 
     @property
     def eligible(self) -> bool:
         """It helps, and is physically plausible, identifiable, not confounded, and its refit did not fail."""
         return (self.helps and self.confounded is None and self.failure is None and self.broken is None
-                and self.plausible is not False and self.identifiable is not False)
+                and self.unexcited is None and self.plausible is not False and self.identifiable is not False)
 
     @property
     def status(self) -> str:
         """One word for tables and plots."""
         if self.broken:
             return "set aside"
+        if self.unexcited:
+            return "not judged"
         if self.confounded:
             return "confounded"
         if not self.refitted:
@@ -182,6 +196,8 @@ class Candidate:
             "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
             "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
             "selection_frequency": self.selection_frequency,
+            "not_judged": self.unexcited, "helps_on_units": None if self.units is None else list(self.units),
+            "improvement_without_influential": self.robust_improvement, "fragile": self.fragile,
             # every value of the refitted model (the term's own are in params), which its sentences may name
             "model_params": None if self.report is None else dict(self.report.model.params),
         }
@@ -232,7 +248,7 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
 
 def simulate_all(model: ThermalModel, series: list[ActuatorSeries], stride: int = 1) -> np.ndarray:
     """The free runs of the series, every ``stride``-th sample of each, concatenated."""
-    return np.concatenate([model.free_run(s)[::stride] for s in series])
+    return np.concatenate([model.free_run(s)[fit_rows(s, stride)] for s in series])
 
 
 def time_scales_s(series: list[ActuatorSeries]) -> np.ndarray:
@@ -375,12 +391,18 @@ def _chi2():
     return chi2
 
 
-def judge(cand: Candidate, report, base_rmse: float, base_bic: float) -> None:
-    """Fill the refit results of a candidate from its :class:`~thermolimb.workbench.validation.FitReport`."""
+def judge(cand: Candidate, report, base, base_bic: float) -> None:
+    """Fill the refit results of a candidate from its :class:`~thermolimb.workbench.validation.FitReport`, judged
+    against the base model's ``base`` on the same held-out samples."""
+    base_rmse = base.validation["rmse_K"]
     cand.report = report
     cand.rmse_K = report.validation["rmse_K"]
     cand.fit_percent = report.validation["fit_percent"]
     cand.improvement = 1.0 - cand.rmse_K / base_rmse if base_rmse > 0 else 0.0
+    if cand.kind != "drop":
+        cand.units, cand.robust_improvement, cand.fragile = held_out_support(base.validation_segments,
+                                                                             report.validation_segments)
+        cand.unit_word = report.units
     cand.delta_bic = bic(report.train_residual_K, len(report.model.params)) - base_bic
     cand.flags = list(report.flags)
     if cand.kind == "drop":
@@ -432,3 +454,27 @@ def refit_failure(term, params) -> str | None:
                 if np.isfinite(bound) and abs(params[p.name] - bound) <= 1e-3 * max(abs(bound), 1.0):
                     return f"{p.name} ran to its bound {bound:g} s: the log does not show this time scale"
     return None
+
+
+def held_out_support(base_segments, segments) -> tuple[tuple[int, int], float, str | None]:
+    """Where a change's held-out gain comes from: on how many held-out units (runs, blocks) it lowers the error,
+    of how many; the gain left without the few held-out samples most in its favour (the
+    :data:`INFLUENTIAL_SHARE` whose squared error it cut most); and, when that falls short of half the gate,
+    why it is not evidence."""
+    units: dict[str, list] = {}
+    for b, c in zip(base_segments, segments):
+        pair = units.setdefault(b.unit, [0.0, 0.0])
+        pair[0] += float(np.sum((b.measured_C - b.simulated_C) ** 2))
+        pair[1] += float(np.sum((c.measured_C - c.simulated_C) ** 2))
+    lower = sum(c < b for b, c in units.values())
+    eb = np.concatenate([b.measured_C - b.simulated_C for b in base_segments])
+    ec = np.concatenate([c.measured_C - c.simulated_C for c in segments])
+    k = max(MIN_INFLUENTIAL, int(np.ceil(INFLUENTIAL_SHARE * eb.size)))
+    gain = eb**2 - ec**2
+    rest = np.argsort(gain)[: max(eb.size - k, 1)]
+    robust = 1.0 - float(np.sqrt(np.sum(ec[rest] ** 2) / max(np.sum(eb[rest] ** 2), 1e-300)))
+    fragile = None
+    if robust < KEPT_GAIN * MIN_IMPROVEMENT:
+        fragile = (f"the held-out gain rests on its {k} most influential samples (of {eb.size}): without them the "
+                   f"error falls by {100 * robust:.1f} %, short of {100 * KEPT_GAIN * MIN_IMPROVEMENT:.0f} %")
+    return (lower, len(units)), robust, fragile

@@ -35,9 +35,11 @@ from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.errors import TermError, ThermolimbError
 from ...util.frozen import FrozenMapping
 from ...util.progress import progress
+from ...effects import EFFECTS
+from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
 from ..validation import FitReport, Scheme, identifiable_submodel, validate_model
-from .candidates import SCORE_P_VALUE, Candidate, bic, candidate_models, score_candidate
+from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
@@ -109,6 +111,7 @@ class Diagnosis:
     floor: SensorFloor | None = None  # what the readings can resolve
     stability: dict | None = None  # the replicates' verdicts, when the best change was checked for stability
     unstable: Candidate | None = None  # the best change, when it helps but is not taken often enough
+    heat_source: dict | None = None  # where a log has both: heat from effort or from current, chosen on held-out data
 
     @property
     def at_floor(self) -> bool:
@@ -134,6 +137,7 @@ class Diagnosis:
             "floor": None if self.floor is None else self.floor.to_json(self.base.validation["rmse_K"]),
             "stability": self.stability,
             "unstable": None if self.unstable is None else self.unstable.label,
+            "heat_source": self.heat_source,
         }
         if self.auto is not None:
             out["auto"] = self.auto
@@ -162,18 +166,27 @@ def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Sear
 
 
 def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Search, step: Step) -> Diagnosis:
+    search = replace(search, scheme=search.scheme.resolved(series))
     scheme = search.scheme
     base = step.base
+    heat_source = None
     if base is None:
         base = _identifiable_base(series, model, scheme, step.initial, search.datasheet)
+        if step.contenders is None and not step.visited:
+            base, heat_source = _heat_source(base, series, scheme, search.datasheet)
         model = base.model.terms
     train = list(base.train_series)
     base_bic = bic(base.train_residual_K, len(base.model.params))
     stride = base.estimator.stride_
     residual, jacobian = thinned(base.train_residual_K, train, stride), base.estimator.jacobian_
-    base_run = thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
-    first = base.train_segments[0]
-    analysis = analyse_residuals(train[0], first.simulated_C)
+    # the base's free run, which an added effect at its null repeats (with hidden states placed per run, the score
+    # test's signatures are taken from free runs that start where the first readings put them, alike)
+    base_run = (thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
+                if not base.model.hidden_states else None)
+    # the residual of the first run fitted on, whole (its blocks held out too: a continuous free run to correlate)
+    run0 = replace(train[0], fit_mask=None)
+    offsets = getattr(base.estimator, "offsets_", None)
+    analysis = analyse_residuals(run0, base.model.free_run(run0, offsets=offsets[0] if offsets else None))
     replicating = step.contenders is not None
 
     if not replicating:
@@ -185,13 +198,14 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         candidates = list(step.contenders)
     for cand in candidates:
         _guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
+        _unexcited(cand, base)
     warm = step.starts or {}
     # the floor is the whole log's, decided once: a replicate is above it by construction
     floor = (sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
              if not replicating else None)
     # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
     worth = (_worth_refitting([c for c in candidates if c.broken is None], search.refit) if not replicating
-             else [c for c in candidates if c.confounded is None and c.broken is None])
+             else [c for c in candidates if c.confounded is None and c.broken is None and c.unexcited is None])
     if _at_floor(floor, base):  # nothing can be told apart: nothing is refitted
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
@@ -219,7 +233,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     best = candidates[0] if candidates and candidates[0].eligible else None
     recommended = best if base.evidence.rankable else None  # a handful of held-out readings recommends nothing
     d = Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, proposal=proposal,
-                  floor=floor)
+                  floor=floor, heat_source=heat_source)
     if d.at_floor:
         d.recommended = None
     elif recommended is not None and search.stability is not None:
@@ -269,11 +283,36 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
     return out
 
 
+def _unexcited(cand: Candidate, base: FitReport) -> None:
+    """A change that brings in an effect riding on a channel (velocity, current, a neighbour's temperature, a
+    logged extra) is judged only where that channel moves, in the data it is fitted on and in the data it is
+    judged on (:func:`~thermolimb.workbench.excitation.channel_excitation`); otherwise it is not judged, and says
+    why with the counts."""
+    if cand.kind == "drop" or cand.confounded is not None:
+        return
+    channel = rides(cand.effect)
+    if channel is None:
+        return
+    counts = channel_excitation(channel, base.train_series,
+                                [(seg.signals, seg.measured_C) for seg in base.validation_segments])
+    if not counts.excited:
+        cand.unexcited = f"not judged: {counts.sentence()}"
+        cand.evidence = f"{cand.unexcited}."
+
+
+def rides(effect: str) -> str | None:
+    """The channel an effect rides on: its :class:`~thermolimb.effects.Effect`'s, or for a term of the log's
+    channels (a generated one, a user's) the first column it reads beyond the effort."""
+    if effect in EFFECTS:
+        return EFFECTS[effect].rides
+    return next((c for c in TERMS[effect].columns if c != "effort"), None)
+
+
 def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
     """Every drop and swap; additions whose score test is significant and the few that explain most of the
     residual (catalog effects and channels counted apart); of a channel's forms, only the strongest (the others
     say so)."""
-    adds = [c for c in candidates if c.adds and c.confounded is None]
+    adds = [c for c in candidates if c.adds and c.confounded is None and c.unexcited is None]
     strongest: dict[str, Candidate] = {}
     for c in adds:
         if c.kind == "channel" and (c.channel not in strongest or c.score > strongest[c.channel].score):
@@ -282,7 +321,7 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
            for c in sorted(group, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
     chosen = []
     for c in candidates:
-        if c.confounded is not None:
+        if c.confounded is not None or c.unexcited is not None:
             continue
         if refit == "all" or not c.adds:
             chosen.append(c)
@@ -292,6 +331,38 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
         elif c.p_value < SCORE_P_VALUE or id(c) in top:
             chosen.append(c)
     return chosen
+
+
+def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport, dict | None]:
+    """Where a log carries both a torque (effort) and a motor current, heat from effort squared and heat from
+    current squared compete on equal footing as the start model's heat source: each fitted and judged on the same
+    held-out data (a joint-torque sensor reads gravity load the motor's current may not carry in the same
+    proportion).  The better one starts the search; the choice is said with its numbers."""
+    model = base.model.terms
+    sources = [t for t in model if TERMS[t].is_heat_source]
+    if sources != ["joule"] or not all(s.signals.has("current") for s in series):
+        return base, None
+    effort = np.concatenate([s.signals.effort for s in series]) ** 2
+    current = np.concatenate([s.signals.current_A for s in series]) ** 2
+    if np.ptp(current) == 0 or abs(np.corrcoef(effort, current)[0, 1]) >= COLLINEAR:
+        return base, None  # the same heat, or a current that does not move: nothing to choose
+    other = tuple("current_heating" if t == "joule" else t for t in model if "effort" not in TERMS[t].columns
+                  or t == "joule")
+    try:
+        rival = _identifiable_base(series, other, scheme, None, datasheet)
+    except ThermolimbError:
+        return base, None
+    e, c = base.validation["rmse_K"], rival.validation["rmse_K"]
+    units, _, _ = held_out_support(base.validation_segments, rival.validation_segments)
+    current_wins = c < e and 2 * units[0] > units[1]
+    (won, won_K, won_word), (lost, lost_K, lost_word) = sorted(
+        [(rival, c, "current"), (base, e, "effort")], key=lambda x: x[2] != ("current" if current_wins else "effort"))
+    lower = units[0] if current_wins else units[1] - units[0]
+    sentence = (f"heat source: Joule heating from {won_word} squared ({','.join(won.model.terms)}), held-out RMSE "
+                f"{won_K:.3f} K, against {lost_K:.3f} K from {lost_word} squared ({','.join(lost.model.terms)}); "
+                f"lower on {lower} of {units[1]} held-out {base.units}")
+    return won, {"chosen": won_word, "effort_rmse_K": e, "current_rmse_K": c, "effort_model": list(base.model.terms),
+                 "current_model": list(rival.model.terms), "sentence": sentence}
 
 
 def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:

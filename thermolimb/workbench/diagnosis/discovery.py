@@ -35,6 +35,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.generated import Feature, define, input_arrays, input_name, term_source
 from ...model.model import ThermalModel
@@ -208,9 +209,10 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
                 step = (1e-3 if ref is not None else 0.1) / size
                 at_null = model.free_run(probe)
                 moved = model.with_params({**model.params, "_discovery_probe_coef": step}).free_run(probe)
-                runs.append((moved[::stride] - at_null[::stride]) / step)
+                rows = fit_rows(s, stride)
+                runs.append((moved[rows] - at_null[rows]) / step)
             columns.append(np.concatenate(runs))
-        return np.column_stack(columns) if columns else np.empty((sum(len(range(0, s.n, stride)) for s in train), 0))
+        return np.column_stack(columns) if columns else np.empty((sum(fit_rows(s, stride).size for s in train), 0))
     finally:
         unregister_term(PROBE)
 

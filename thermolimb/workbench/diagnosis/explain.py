@@ -77,6 +77,11 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         if c.kind == "channel":
             parts.append(_fitted(c))
         parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
+        if c.units is not None and c.units[1] > 1:
+            parts.append(f"lower on {c.units[0]} of {c.units[1]} held-out {c.unit_word}"
+                         + ("" if 2 * c.units[0] > c.units[1] else ", not most of them: not taken"))
+        if c.fragile:
+            parts.append(f"not evidence: {c.fragile}")
         if c.kind == "drop" and c.helps:
             parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
                          else "the term extrapolated badly beyond the training data")

@@ -169,7 +169,7 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     # from where the whole log's refit ended, when given: a change with nothing nonlinear to search (a drop, a
     # swap, a heat linear in its size) has one basin, and that refit is it; otherwise it joins the search
     if warm is not None and attempt(warm, searched=False) and param is None:
-        judge(cand, found[0], base.validation["rmse_K"], base_bic)
+        judge(cand, found[0], base, base_bic)
         return
     starts = ordered_starts(cand, base, list(base.train_series), param)
     profiled = 0
@@ -182,10 +182,10 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
         # masses' roles swapped: another basin, not another effect)
         best = min(found, key=lambda r: (term is not None and term().implausible(r.model.params) is not None,
                                          float(r.train_residual_K @ r.train_residual_K)))
-        judge(cand, best, base.validation["rmse_K"], base_bic)
+        judge(cand, best, base, base_bic)
         return
     if collapsed is not None:
-        judge(cand, collapsed, base.validation["rmse_K"], base_bic)
+        judge(cand, collapsed, base, base_bic)
         return
     cand.identifiable = False
     cand.failure = f"not identifiable from this log: {errors[0]}"

@@ -5,20 +5,20 @@ rows or of a split's exact place.  So before a change is recommended, the
 search is repeated on :attr:`Stability.replicates` replicates of the log,
 each perturbed in ways that must not matter:
 
-* **trims**: each run loses a few rows at its end (up to :data:`TRIM_ROWS`),
-  as a colleague cutting the same recording would.  Not at its start: a run
-  is simulated from its first reading with its slower masses in proportion
-  to it (as if the actuator were in a steady state there), and a log that
-  starts cold and heats within seconds, cut a few seconds in, starts where
-  that does not hold -- a different problem for the model, not a
-  perturbation that must not matter (measured: on the X8 plant's logs a
-  5-row cut at the start triples the slow mass's best training error);
-* **the validation split moved** by up to :data:`SPLIT_JITTER` of each run's
-  span (under a split scheme; the replicates' offsets stratified over that
-  range), so that no verdict hangs on where held-out
-  data begins -- more than a colleague would move it (measured on the UR3's
-  J2: replicates moving it by 0.03 took a marginal effect in 9 of 10 when
-  the whole log's split sat 0.03 off, and in 1 of 10 when it did not);
+* **trims**: each run loses a few rows at its start and at its end (up to
+  :data:`TRIM_ROWS` at each), as a colleague cutting the same recording
+  would.  A run cut at its start starts mid-transient: its hidden states (a
+  slow mass, the winding behind a lagging sensor) are placed where its
+  readings put them, not tied to its first reading
+  (:meth:`~thermolimb.model.ThermalModel.place_hidden`), so the cut is a
+  perturbation that must not matter;
+* **the held-out data moved**: the validation split by up to
+  :data:`SPLIT_JITTER` of each run's span (under a split scheme), or the
+  blocks of an interleaved scheme by as much (half a block); the replicates'
+  offsets stratified over that range, so that no verdict hangs on where
+  held-out data lies -- more than a colleague would move it (measured on the
+  UR3's J2: replicates moving a split by 0.03 took a marginal effect in 9 of
+  10 when the whole log's split sat 0.03 off, and in 1 of 10 when it did not);
 * **other starts**: every contender's refit starts from its fitted values
   scaled by factors drawn from a log-normal of :data:`START_JITTER` (the
   profile search of :mod:`.refit` should make them irrelevant; this checks
@@ -59,12 +59,12 @@ import numpy as np
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
 from ...util.parallel import run_jobs
-from ..validation import SPLIT
+from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT
 from .candidates import MIN_IMPROVEMENT, Candidate
 
 REPLICATES = 10
 MIN_FREQUENCY = 0.8
-TRIM_ROWS = 5  # at most, off the end of a run
+TRIM_ROWS = 5  # at most, off each end of a run
 SPLIT_JITTER = 0.05  # a little: at 0.1 a tenth of a run changed sides between fit and validation, enough to
 # change a verdict honestly (the field-weakening plant case: its current^2 swap taken in 7 of 10 at 0.1, 10 of 10 here)
 START_JITTER = 0.2  # the standard deviation of the log of the factor each start's values are scaled by
@@ -87,30 +87,34 @@ class Stability:
 
     def varied(self, scheme) -> str:
         """What the replicates varied, in words (said beside every frequency)."""
-        parts = [f"each run trimmed by up to {TRIM_ROWS} rows at its end"]
+        parts = [f"each run trimmed by up to {TRIM_ROWS} rows at its start and its end"]
         if scheme.kind == SPLIT:
             parts.append(f"the split moved by up to {SPLIT_JITTER:.2f}")
+        elif scheme.kind == INTERLEAVED:
+            parts.append(f"the blocks moved by up to {SPLIT_JITTER:.2f} of the run")
         parts.append(f"the refits' starts scaled by up to about {100 * (np.exp(2 * START_JITTER) - 1):.0f} %")
         return ", ".join(parts)
 
 
 @dataclass(frozen=True)
 class Perturbation:
-    """One replicate: rows trimmed off each run (start, end: the start is never cut), the split fraction, and the
-    starts' seed."""
+    """One replicate: rows trimmed off each run (start, end), the split fraction, the starts' seed and the interleaved
+    blocks' phase."""
 
     trims: tuple[tuple[int, int], ...]
     held_trims: tuple[tuple[int, int], ...]
     split: float
     start_seed: int
+    phase: float = 0.0  # of an interleaved scheme's block grid, in blocks
 
     def trimmed(self, series, trims) -> list[ActuatorSeries]:
         return [s.slice(a, s.n - b) for s, (a, b) in zip(series, trims)]
 
     def applied(self, series, scheme):
-        """The replicate's runs and scheme: each run trimmed, held-out runs too, the split moved."""
+        """The replicate's runs and scheme: each run trimmed, held-out runs too, the split or the blocks moved."""
         held = self.trimmed(scheme.held_out, self.held_trims)
-        return self.trimmed(series, self.trims), replace(scheme, split=self.split, held_out=tuple(held))
+        return self.trimmed(series, self.trims), replace(scheme, split=self.split, phase=self.phase,
+                                                         held_out=tuple(held))
 
     def jitter(self, starts: list[dict]) -> list[dict]:
         """Each start's values scaled by one log-normal factor per value (sign kept)."""
@@ -126,7 +130,7 @@ def perturbations(stability: Stability, series, scheme) -> list[Perturbation]:
         out = []
         for s in runs:
             most = min(TRIM_ROWS, max((s.n - MIN_SAMPLES) // 4, 0))  # a short run keeps what it needs
-            out.append((0, int(rng.integers(0, most + 1))))
+            out.append((int(rng.integers(0, most + 1)), int(rng.integers(0, most + 1))))
         return tuple(out)
 
     # the split's offsets stratified over [-SPLIT_JITTER, SPLIT_JITTER] (one in each of K equal slices, in a
@@ -139,7 +143,8 @@ def perturbations(stability: Stability, series, scheme) -> list[Perturbation]:
         split = scheme.split
         if scheme.kind == SPLIT:
             split = float(np.clip(scheme.split + offset, 0.05, 0.95))
-        out.append(Perturbation(trims(series), trims(scheme.held_out), split, int(rng.integers(2**31))))
+        phase = offset * INTERLEAVED_BLOCKS if scheme.kind == INTERLEAVED else 0.0
+        out.append(Perturbation(trims(series), trims(scheme.held_out), split, int(rng.integers(2**31)), phase))
     return out
 
 

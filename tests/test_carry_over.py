@@ -1,0 +1,120 @@
+"""Physics that carries over: held-out data that holds the dynamics, evidence an effect can stand on, hidden states
+placed where the data put them, and heat from current or from effort chosen on held-out data."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thermolimb.data import PMSM_MAP, PMSM_UNITS, pmsm_profile
+from thermolimb.logs import parse_mapping, read_log
+from thermolimb.model import ThermalModel
+from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.workbench.diagnosis import diagnose
+from thermolimb.workbench.diagnosis.candidates import held_out_support
+from thermolimb.workbench.excitation import channel_excitation
+from thermolimb.workbench.validation import INTERLEAVED, RUNS, Scheme, Segment, held_blocks, validate_model
+
+
+@pytest.fixture(scope="module")
+def step_test():
+    """A joint holding one effort and released, on a two-mass plant; it moves in two samples only."""
+    log = simulate_profile("pulses", 1800.0, 1.0, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]),
+                           PlantEffects.realistic_sensor(), seed=4, network=NETWORKS["second_order"]).log
+    frame = log.frame.copy()
+    frame["velocity"] = 0.0
+    knee = np.flatnonzero(frame["actuator"].to_numpy() == "knee")
+    frame.loc[knee[[300, 301]], "velocity"] = 1.5  # a bump: the joint moved in two samples
+    from thermolimb.logs import from_frame
+
+    return from_frame(frame).series("knee")
+
+
+def test_one_run_is_judged_on_interleaved_blocks_that_span_it(step_test):
+    report = validate_model([step_test], "joule,effort_bias")
+    assert "interleaved blocks" in report.scheme and report.units == "blocks"
+    starts = [seg.time_s[0] for seg in report.validation_segments]
+    ends = [seg.time_s[-1] for seg in report.validation_segments]
+    span = step_test.duration_s
+    assert len(report.validation_segments) == len(held_blocks())
+    assert min(starts) < 0.25 * span and max(ends) > 0.75 * span  # heating and cooling alike, not only the tail
+    held = sum(seg.time_s.size for seg in report.validation_segments)
+    assert abs(held / step_test.n - len(held_blocks()) / 10) < 0.02  # a third of the blocks, no more
+
+
+def test_several_runs_are_judged_each_by_the_model_fitted_on_the_others(step_test):
+    runs = [step_test.slice(0, 900), step_test.slice(900, step_test.n)]
+    assert Scheme().resolved(runs).kind == RUNS and Scheme().resolved(runs[:1]).kind == INTERLEAVED
+    report = validate_model(runs, "joule,effort_bias")
+    assert report.units == "runs" and {seg.unit for seg in report.validation_segments} == {"run 1", "run 2"}
+
+
+def test_an_effect_whose_channel_barely_moves_is_not_judged(step_test):
+    """The step test's velocity is non-zero in two samples: motion cooling is not judged, and says why."""
+    d = diagnose([step_test])
+    for effect in ("motion_cooling", "speed_losses"):
+        cand = next(c for c in d.candidates if c.effect == effect)
+        assert cand.status == "not judged" and not cand.eligible
+        assert "the velocity is away from rest in 2 of" in cand.evidence, cand.evidence
+    counts = channel_excitation("velocity", [step_test], [])
+    assert counts.fitted[:2] == (2, step_test.n) and not counts.excited
+
+
+def test_a_gain_that_rests_on_a_few_samples_is_not_evidence():
+    """Held-out residuals that a change cuts in three samples only: the gain is there, pooled, and gone without
+    them."""
+    t = np.arange(200.0)
+    base = np.full(200, 0.1)
+    base[[50, 120, 180]] = 5.0
+
+    def segment(residual, lo, hi):
+        return Segment(t[lo:hi], residual[lo:hi], np.zeros(hi - lo), np.zeros(hi - lo), unit=f"block {lo}")
+
+    better = np.full(200, 0.1)
+    base_segments = [segment(base, a, b) for a, b in ((0, 100), (100, 200))]
+    units, robust, fragile = held_out_support(base_segments, [segment(better, a, b) for a, b in ((0, 100), (100, 200))])
+    assert units == (2, 2) and robust < 0.01 and "rests on its 3 most influential samples" in fragile
+    spread = np.full(200, 0.5)
+    units, robust, fragile = held_out_support([segment(spread, a, b) for a, b in ((0, 100), (100, 200))],
+                                              [segment(better, a, b) for a, b in ((0, 100), (100, 200))])
+    assert robust > 0.7 and fragile is None
+
+
+def test_hidden_states_are_placed_where_the_readings_put_them():
+    """A run simulated with its slow mass and its winding off their first-reading starts: the fit's placement
+    recovers both offsets exactly (the model is affine in them)."""
+    model = ThermalModel(("joule", "second_node", "sensor_lag"),
+                         {"RC_s": 60.0, "betaR_K_per_effort2": 0.2, "frame_fraction": 0.5, "frame_tau_s": 900.0,
+                          "sensor_tau_s": 8.0, "T_offset_C": 25.0})
+    log = simulate_profile("random", 1800.0, 1.0, ["knee"], [CASE_SPECS[0]], PlantEffects(), seed=1,
+                           network=NETWORKS["first_order"]).log
+    series = log.series("knee")
+    truth = {"winding": 3.0, "second_node": -6.0}
+    from dataclasses import replace
+
+    rate = series.rate_K_per_s()  # where the first reading's trend puts the winding, the same for both runs
+    warm = replace(series, temperature_C=model.free_run(series, rate, offsets=truth))
+    placed, offsets = model.place_hidden(warm, np.arange(warm.n), rate)
+    assert offsets == pytest.approx(truth, abs=1e-6)
+    np.testing.assert_allclose(placed, warm.temperature_C, atol=1e-8)
+
+
+def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
+    """Cut 200 s into its heating, the step test starts with its housing cooler than the first reading's share:
+    placed where the readings put it, the slow mass gives the fit the whole run gives, within 2 %."""
+    model = "joule,second_node"
+    whole = validate_model([step_test], model)
+    cut = validate_model([step_test.slice(200, step_test.n)], model)
+    for name in ("RC_s", "betaR_K_per_effort2", "frame_fraction"):
+        assert cut.model.params[name] == pytest.approx(whole.model.params[name], rel=0.1), name
+    assert cut.validation["rmse_K"] < 2.0 * whole.validation["rmse_K"]
+
+
+def test_heat_from_current_or_effort_is_chosen_on_held_out_data():
+    """The PMSM bench logs torque and current: heat from current squared wins on held-out data, and says so."""
+    log = read_log(pmsm_profile(46), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
+    d = diagnose(log.runs("pmsm"))
+    source = d.heat_source
+    assert source["chosen"] == "current" and source["current_rmse_K"] < source["effort_rmse_K"]
+    assert d.model[0] == "current_heating" and "heat source: Joule heating from current squared" in source["sentence"]
