@@ -29,7 +29,7 @@ from thermolimb.logs.follow import CsvFollower, Run
 from thermolimb.model import ThermalModel, model_parameters
 from thermolimb.model.saved import ModelFile, ResidualStats, bare
 from thermolimb.monitor import Session
-from thermolimb.monitor.outputs import McapOutput
+from thermolimb.monitor.recording import McapOutput
 from thermolimb.plant import X8_9
 from thermolimb.plant.observer import WindingObserver
 

@@ -16,8 +16,8 @@ one (its default scheme) and its model judged on the one left out, against the d
 same runs.
 
 Everything goes through the command line, so that ``--code DIR`` measures another checkout of the suite (a git
-worktree of an earlier commit) on the same runs, in the same process tree: the transfer table and the walk's
-time before and after a change, side by side.
+worktree of an earlier commit) on the same runs (written once, by this checkout), in the same process tree: the
+transfer table and the walk's time before and after a change, side by side.
 
     python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant] [--code DIR] [--loro]
 """
@@ -159,8 +159,12 @@ def _print(row: dict) -> None:
         print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on'])}: {row['error']}")
         return
     steps = " ".join(s for s in row["steps"][1:]) or "(no change)"
+
+    def kelvin(key):
+        return f"{row[key]:.3f} K" if row.get(key) is not None else f"failed ({row.get(key.replace('_K', '_error'))})"
+
     print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on']):36s} default "
-          f"{row['default_K']:.3f} K, walk {row['walk_K']:.3f} K ({row.get('ratio', float('nan')):.2f}x, "
+          f"{kelvin('default_K')}, walk {kelvin('walk_K')} ({row.get('ratio', float('nan')):.2f}x, "
           f"{row.get('verdict', '?')}): {steps}  [{row['walk_s']:.1f} s]")
 
 

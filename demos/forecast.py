@@ -24,7 +24,7 @@ from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
 from thermolimb.logs.follow import CsvFollower, Run
 from thermolimb.monitor import Session
-from thermolimb.monitor.outputs import McapOutput
+from thermolimb.monitor.recording import McapOutput
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.plant.duties import held_duty
 from thermolimb.plotting.forecast import plot_forecast

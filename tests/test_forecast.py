@@ -57,10 +57,11 @@ def test_the_cli_saves_a_file_with_its_provenance_and_units(tmp_path, capsys):
     assert main(["fit", str(log), "--actuator", "knee", "--save", str(model), "--limit-C", "90", "--quiet"]) == 0
     document = json.loads(model.read_text())
     entry = document["actuators"][0]
-    assert document["format"] == "thermolimb-model" and document["version"] == 1
+    assert document["format"] == "thermolimb-model" and document["version"] == 2
     assert entry["params"]["betaR_K_per_effort2"]["unit"] == "K/(N m)^2"
     assert entry["provenance"]["files"][0]["name"] == "log.csv" and len(entry["provenance"]["files"][0]["sha256"]) == 64
     assert entry["provenance"]["samples"] > 1000 and entry["limit_C"] == 90.0
+    assert entry["provenance"]["ranges"]["effort"][1] > 0 and entry["provenance"]["hottest_reading_C"] > 40
     assert entry["residual"]["samples"] > 100 and entry["jackknife"] is not None
     assert "wrote" in capsys.readouterr().err
 

@@ -105,7 +105,7 @@ def test_the_monitor_follows_a_file_another_process_appends_to(model_and_log, tm
     assert counts["/thermolimb/knee/winding_temperature"] == per_actuator - 1
     assert counts["/diagnostics"] == per_actuator - 1
     assert levels <= {0, 1, 2}
-    assert not list(tmp_path.glob(".out.mcap*"))  # no temporary left behind
+    assert not list(tmp_path.glob("out.mcap.*"))  # no partial left behind
 
 
 MCAP_WRITER = """

@@ -12,6 +12,7 @@ import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
+from ..util.signals import ENDING, ignore_further
 from . import compare, demo, diagnose, fit, inspect, monitor, predict, simulate, strategies
 
 COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, strategies, demo)
@@ -47,14 +48,16 @@ WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota 
 
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM (what timeout, systemd, containers and CI send), met like Ctrl-C: writers remove their temporaries."""
+    """SIGTERM (what timeout, systemd, containers and CI send) or SIGHUP (the terminal closed), met like Ctrl-C:
+    writers remove their temporaries, or complete what they were writing."""
 
-
-INTERRUPTED = (130, 143)  # exit statuses after Ctrl-C and after SIGTERM, as shells report them
+    def __init__(self, signum: int = signal.SIGTERM):
+        super().__init__(signum)
+        self.signum = signum
 
 
 def _terminate(signum, frame):
-    raise Terminated
+    raise Terminated(signum)
 
 
 def main(argv=None) -> int:
@@ -62,18 +65,21 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if not _main_thread():
         return _run(args)
-    previous = {signum: signal.getsignal(signum) for signum in (signal.SIGTERM, signal.SIGINT)}
+    previous = {signum: signal.getsignal(signum) for signum in ENDING}
     signal.signal(signal.SIGTERM, _terminate)
+    signal.signal(signal.SIGHUP, _terminate)
     code = None
     try:
         code = _run(args)
         return code
     finally:
-        # an interrupted command line is ending: further signals stay ignored until the process exits (restored,
-        # a second Ctrl-C would kill it by the signal after its last words); a call with argv gets them back
-        if argv is not None or code not in INTERRUPTED:
+        # the command line is ending: further signals stay ignored until the process exits (restored, a second
+        # Ctrl-C would kill it by the signal after its last words); a call with argv gets them back
+        if argv is not None:
             for signum, handler in previous.items():
                 signal.signal(signum, handler)
+        else:
+            ignore_further()
 
 
 def _main_thread() -> bool:
@@ -92,10 +98,11 @@ def _run(args) -> int:
         print(f"thermolimb {args.command}: error: {bounded(str(exc))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:  # files being written are removed by their writers; earlier outputs stay intact
-        _ignore_further_interrupts()
-        terminated = isinstance(exc, Terminated)
-        print(f"thermolimb {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-        return INTERRUPTED[1] if terminated else INTERRUPTED[0]
+        ignore_further()
+        signum = exc.signum if isinstance(exc, Terminated) else signal.SIGINT
+        what = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}.get(signum, "hung up")
+        print(f"thermolimb {args.command}: {what}", file=sys.stderr)
+        return 128 + int(signum)
     except BrokenPipeError:  # the reader went away (`| head`, `| true`): stop quietly, as Unix tools do
         _silence_stdout()
         return 141
@@ -107,14 +114,6 @@ def _run(args) -> int:
               f"{WRITE_FAULTS[exc.errno]}", file=sys.stderr)
         _silence_stdout()
         return 1
-
-
-def _ignore_further_interrupts() -> None:
-    """The command is already ending: a second Ctrl-C or SIGTERM must not break its last words, nor kill the
-    process by the signal after them (``main`` leaves them ignored)."""
-    if _main_thread():
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
 
 
 def _silence_stdout() -> None:

@@ -5,9 +5,10 @@ from __future__ import annotations
 import sys
 
 from ..util.errors import UsageError
+from ..util.signals import ignore_further
 from .options import add_log_input, add_terms
 from .output import say
-from .reading import load_terms
+from .reading import load_model_file
 from .types import integer, number, output_file
 
 
@@ -51,15 +52,19 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..model.saved import ModelFile
     from ..monitor import Session, follow
-    from ..monitor.outputs import FoxgloveOutput, JsonLinesOutput, McapOutput
+    from ..monitor.outputs import FoxgloveOutput, JsonLinesOutput
+    from ..monitor.recording import McapOutput
 
-    load_terms(args)
-    models = ModelFile.load(args.model_file)
+    models = load_model_file(args)
     if not (args.mcap or args.foxglove is not None or args.json_lines):
         raise UsageError("monitor needs somewhere to publish: --mcap OUT.mcap, --foxglove [PORT] or --json-lines")
     names = list(models.actuators)
+    limits = {n: args.limit_C for n in names} if args.limit_C is not None else {}
+    if args.actuator is not None and args.actuator not in models.actuators:
+        raise UsageError(f"--actuator {args.actuator}: the model file has no such actuator; it has "
+                         f"{', '.join(models.actuators)}")
+    follower = _follower(args)  # what cannot be followed is refused before any output is opened
     if args.layout:
         from ..monitor.layout import layout_text
         from ..util.atomic import atomic_path
@@ -67,7 +72,6 @@ def run(args) -> int:
         with atomic_path(args.layout) as tmp:
             tmp.write_text(layout_text(names))
         print(f"wrote {args.layout}", file=sys.stderr)
-    limits = {n: args.limit_C for n in names} if args.limit_C is not None else {}
     outputs = []
     try:
         if args.mcap:
@@ -82,16 +86,12 @@ def run(args) -> int:
         for out in outputs:
             out.close()
         raise
-    if args.actuator is not None and args.actuator not in models.actuators:
-        raise UsageError(f"--actuator {args.actuator}: the model file has no such actuator; it has "
-                         f"{', '.join(models.actuators)}")
     session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz, only=args.actuator)
     try:
-        follow(session, _follower(args), args.poll_s, args.idle_exit)
-    except KeyboardInterrupt:
-        say(f"stopped after {session.samples} samples; outputs complete")
-    if args.mcap:
-        print(f"wrote {args.mcap}", file=sys.stderr)
+        follow(session, follower, args.poll_s, args.idle_exit)
+    except KeyboardInterrupt:  # the monitor's usual end: its outputs are complete (a second signal changes nothing)
+        ignore_further()
+        say(f"stopped after {session.samples} samples; every output closed")
     return 0
 
 

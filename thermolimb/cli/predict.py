@@ -8,7 +8,7 @@ from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import files_in, print_json, say, say_written
-from .reading import load_terms, read_logs, runs_of, say_notes
+from .reading import load_model_file, read_logs, runs_of, say_notes
 from .types import SEED, integer, number, output_dir
 
 
@@ -48,10 +48,8 @@ def add_parser(sub):
 
 def run(args) -> int:
     from ..forecast import forecast, hold_signals
-    from ..model.saved import ModelFile
 
-    load_terms(args)
-    models = ModelFile.load(args.model_file)
+    models = load_model_file(args)
     if args.hold is None and not args.logs:
         raise UsageError("predict needs a LOG to run the model over, or a plan: --hold EFFORT[,VELOCITY] "
                          "--duration S --start-C C")

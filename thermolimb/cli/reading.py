@@ -16,6 +16,17 @@ def load_terms(args) -> None:
         load_term_file(path)
 
 
+def load_model_file(args):
+    """The command's terms files, then its model file (checked as a log is), what loading it said said."""
+    from ..model.saved import ModelFile
+
+    load_terms(args)
+    models = ModelFile.load(args.model_file)
+    for note in models.notes:
+        say(note)
+    return models
+
+
 def read_options(args, path) -> dict:
     """The keyword arguments of :func:`read_log` that the command line's options give for ``path``."""
     mapping = parse_mapping(args.map)

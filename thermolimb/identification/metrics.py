@@ -108,3 +108,12 @@ def information_criteria(residual: np.ndarray, n_params: int) -> dict[str, float
     n = residual.size
     fit_term = n * np.log(np.mean(np.asarray(residual) ** 2))
     return {"aic": float(fit_term + 2 * n_params), "bic": float(fit_term + n_params * np.log(n))}
+
+
+def scaled_inverse(matrix: np.ndarray) -> np.ndarray:
+    """The pseudo-inverse of a symmetric positive semi-definite matrix taken on its unit-diagonal form: parameters
+    whose units differ by many decades (an effort logged in mA makes a heat gain 10^6 times smaller) keep their
+    covariance, where a plain ``pinv`` cuts the small directions and the standard errors collapse."""
+    diagonal = np.sqrt(np.clip(np.diag(matrix), 0.0, None))
+    d = np.where(diagonal > 0, 1.0 / np.where(diagonal > 0, diagonal, 1.0), 0.0)
+    return np.linalg.pinv(matrix * np.outer(d, d)) * np.outer(d, d)

@@ -23,7 +23,7 @@ from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import IdentifiabilityError
 from .base import ThermalEstimator
 from .least_squares import LeastSquares
-from .metrics import ar1_variance_factor
+from .metrics import ar1_variance_factor, scaled_inverse
 from .regression import collinear_partners, independent_fractions
 from .thinning import fit_rows, fit_stride
 
@@ -152,7 +152,7 @@ class FreeRunLeastSquares(ThermalEstimator):
         dof = max(r.size - len(params), 1)
         sigma2 = float(r @ r) / dof * ar1_variance_factor(r)
         cov = np.zeros((len(names), len(names)))
-        cov[np.ix_(free, free)] = sigma2 * np.linalg.pinv(J.T @ J)
+        cov[np.ix_(free, free)] = sigma2 * scaled_inverse(J.T @ J)
         values = x_all.copy()
         values[free] = result.x
         final = ThermalModel(terms, dict(zip(names, values)))

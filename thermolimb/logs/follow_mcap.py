@@ -50,6 +50,19 @@ class McapFollower:
         self.notes: list[str] = []
         self.rows = 0
         self.skipped = 0
+        self.topics: set[str] = set()
+
+    def why_nothing(self) -> str | None:
+        """Why the recording gave no sample, when it says: no complete chunk, or none of the topics mapped."""
+        if self.stream is None:
+            return None
+        if not self.topics:
+            return "holds no complete chunk of messages (an MCAP cut off before its first chunk, or still empty)"
+        wanted = ", ".join(sorted({t.topic for t in self.mapping.values()}))
+        own = all(t.startswith("/thermolimb/") or t == "/diagnostics" for t in self.topics)
+        return (f"has the topics {', '.join(sorted(self.topics)[:3])}{' ...' if len(self.topics) > 3 else ''}, none "
+                f"of {wanted} that the mapping reads" + ("; it is a thermolimb monitor's own recording, not a robot's "
+                                                         "log" if own else "; give --map"))
 
     @property
     def started(self) -> bool:
@@ -64,6 +77,7 @@ class McapFollower:
         pieces: dict[str, dict[str, list]] = {}
         new = set()
         for topic, msgtype, ns, raw in self.stream.read():
+            self.topics.add(topic)
             self._message(topic, msgtype, raw, ns * 1e-9, pieces, new)
         out = {}
         for name, piece in pieces.items():
@@ -102,7 +116,7 @@ class _Target:
         topic, _, field = text.rpartition(".")
         if not topic.startswith("/") or not field:
             raise LogError(f"--map {key}={text}: expected /TOPIC.FIELD (e.g. {key}=/joint_states.{key})")
-        self.field = field
+        self.topic, self.field = topic, field
         self.pattern = re.compile("^" + re.escape(topic).replace(re.escape("{j}"), "(?P<j>[^/]+)") + "$")
 
     def matches(self, topic: str) -> bool:

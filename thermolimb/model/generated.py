@@ -1,65 +1,65 @@
-"""Terms written by the suite itself: a channel the log carries, or a form found in the data.
+"""Terms written by the suite itself: a channel the log carries, or a form found in the data -- as data.
 
-A generated term is Python source first: :func:`term_source` writes a
-:class:`~thermolimb.model.terms.Term` subclass from a few :class:`Feature`
-rows, and :func:`define` executes that same source to register it.  So the
-term a diagnosis fits is, character for character, the one
-``thermolimb diagnose --propose FILE`` hands to the user, who can read it,
-rename it, keep it and load it again with ``--terms FILE``.
+A generated term is a :class:`Spec`: its name, description, the log columns it reads and a few :class:`Feature`
+rows, each a regressor from a closed set of forms (:data:`FORMS`: ``|x|^n``, ``x^2``, a square above a threshold,
+``x |effort|``, ...) of one input (a canonical channel or an extra one) times a coefficient, the model parameter.
+:func:`define` registers a :class:`GeneratedTerm` built from the spec; nothing is compiled or executed, so a spec
+read from a model file someone shared (:mod:`.saved`) cannot run code.  For people, :func:`term_source` writes
+the same term as Python source -- ``thermolimb diagnose --propose FILE`` hands it over to read, rename, keep
+and load knowingly with ``--terms FILE``.
 
-Each feature adds ``c * f`` to the heat balance (a rise in kelvin per unit
-of ``f``), or, as a *gain* feature, ``c * f * (T - reference)``: heat that
-depends on the winding temperature itself (a conductance that changes with a
-fan's duty, a resistance rising with temperature), which enters the model as
-a gain on ``T`` so that it stays a first-order linear ODE at every instant.
+Each feature adds ``c * f`` to the heat balance (a rise in kelvin per unit of ``f``), or, as a *gain* feature,
+``c * f * (T - reference)``: heat that depends on the winding temperature itself (a conductance that changes with
+a fan's duty, a resistance rising with temperature), which enters the model as a gain on ``T`` so that it stays a
+first-order linear ODE at every instant.
 """
 
 from __future__ import annotations
 
 import keyword
+import math
 import re
 import textwrap
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+from typing import Mapping
 
 import numpy as np
 
-from .terms import TERMS, Term
+from ..util.errors import ModelSpecError
+from .terms import TERMS, Parameter, Term, register_term
 
-# what a feature's expression may name, and how the generated code reads it
-INPUTS = {
-    "effort": 's.effort',
-    "velocity": 's.channel("velocity")',
-    "current": 's.channel("current")',
-    "power": 's.channel("power")',
-    "ambient": 's.channel("ambient")',
-    "housing": 's.channel("housing")',
-    "neighbors": 's.channel("neighbors").mean(axis=1)',
+CANONICAL_INPUTS = ("effort", "velocity", "current", "power", "ambient", "housing", "neighbors")
+# a regressor's form: its values from the input's values ``x`` (and the effort), and the same as NumPy source
+FORMS = {
+    "value": (lambda x, f, e: x, "{x}"),
+    "abs_power": (lambda x, f, e: np.abs(x) ** f.power, "np.abs({x}) ** {power!r}"),
+    "square": (lambda x, f, e: x**2, "{x} ** 2"),
+    "above": (lambda x, f, e: np.maximum(np.abs(x) - f.threshold, 0.0) ** 2,
+              "np.maximum(np.abs({x}) - {threshold!r}, 0.0) ** 2"),
+    "times_abs_effort": (lambda x, f, e: x * np.abs(e), "{x} * np.abs(effort)"),
+    "minus": (lambda x, f, e: x - f.threshold, "{x} - {threshold!r}"),
+    "one": (lambda x, f, e: np.ones_like(x), "1.0"),
 }
-
-
-def input_arrays(s) -> dict:
-    """The arrays the names of :data:`INPUTS` stand for, on the signals ``s`` (``None`` for a channel it lacks)."""
-    return {"effort": s.effort, "velocity": s.velocity, "current": s.current_A, "power": s.power_W,
-            "ambient": s.ambient_C, "housing": s.housing_C,
-            "neighbors": None if s.neighbor_temperature_C is None else s.neighbor_temperature_C.mean(axis=1)}
 
 
 @dataclass(frozen=True)
 class Feature:
     """One regressor of a generated term and its coefficient (a model parameter).
 
-    ``expr`` is a NumPy expression in the names of :data:`INPUTS` and of
-    extra channels (see :func:`input_name`); ``reference``, for a gain
-    feature, an expression or number (``T_offset_C`` for the model's offset).
-    ``sign`` is -1 where the coefficient counts cooling (a conductance's
-    increase), so that the physical value is positive.
+    ``input`` is a canonical channel (:data:`CANONICAL_INPUTS`) or ``extra.NAME``; ``form`` one of :data:`FORMS`
+    (with its ``power`` or ``threshold``).  ``reference``, for a gain feature: ``T_offset_C`` (the model's
+    offset), a number of degC, or an input whose values are a temperature.  ``sign`` is -1 where the coefficient
+    counts cooling (a conductance's increase), so that the physical value is positive.
     """
 
     param: str
     unit: str  # of the coefficient, a template of channel units (K/({velocity})^2.5)
-    expr: str
+    input: str
+    form: str
     symbol: str  # the regressor in symbols, for people: |v|^2.5
     words: str  # the regressor in words
+    power: float = 1.0
+    threshold: float = 0.0
     gain: bool = False
     reference: str = "T_offset_C"
     sign: float = 1.0
@@ -68,6 +68,120 @@ class Feature:
     typical: float = 1.0
     plausible: tuple[float, float] | None = None
 
+    def values(self, s) -> np.ndarray:
+        """The regressor on the signals ``s``."""
+        x = _input(s, self.input)
+        return np.broadcast_to(np.asarray(FORMS[self.form][0](x, self, s.effort), float), (s.n,))
+
+    def reference_values(self, s, offset_C: float) -> np.ndarray:
+        """A gain feature's reference temperature on ``s`` (degC)."""
+        if self.reference == "T_offset_C":
+            return np.full(s.n, float(offset_C))
+        if _is_number(self.reference):
+            return np.full(s.n, float(self.reference))
+        return np.asarray(_input(s, self.reference), float)
+
+
+def _input(s, name: str) -> np.ndarray:
+    if name == "neighbors":
+        return s.neighbor_mean_C
+    return s.channel(name)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        return math.isfinite(float(text))
+    except ValueError:
+        return False
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A generated term as data: what :func:`define` registers and a model file stores."""
+
+    name: str
+    description: str
+    columns: tuple[str, ...]
+    features: tuple[Feature, ...]
+    # the conductance's multiplier 1 + c x must stay positive over the channel's logged range: (param, x min, x max)
+    conductance: tuple[str, float, float] | None = None
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "description": self.description, "columns": list(self.columns),
+                "features": [{k: (list(v) if isinstance(v, tuple) else _number_out(v)) for k, v in asdict(f).items()}
+                             for f in self.features],
+                "conductance": None if self.conductance is None else list(self.conductance)}
+
+    @classmethod
+    def from_json(cls, record, where: str) -> "Spec":
+        """A spec from a model file, checked: known forms and inputs, finite numbers, a name of its own."""
+        try:
+            features = tuple(Feature(**{k: (tuple(v) if k == "plausible" and v is not None else _number_in(v))
+                                        for k, v in f.items()}) for f in record["features"])
+            spec = cls(str(record["name"]), str(record["description"]), tuple(map(str, record["columns"])),
+                       features, None if record.get("conductance") is None else
+                       (str(record["conductance"][0]), float(record["conductance"][1]), float(record["conductance"][2])))
+        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            raise ModelSpecError(f"{where}: a generated term needs name, description, columns and features "
+                                 f"({type(exc).__name__}: {exc})") from None
+        for f in spec.features:
+            inputs = [f.input] + ([f.reference] if f.gain and f.reference != "T_offset_C"
+                                  and not _is_number(f.reference) else [])
+            bad = [i for i in inputs if i not in CANONICAL_INPUTS and not (i.startswith("extra.") and len(i) > 6)]
+            if f.form not in FORMS or bad or not all(math.isfinite(v) for v in (f.power, f.threshold, f.sign)):
+                raise ModelSpecError(f"{where}: generated term {spec.name!r}: feature {f.param!r} is not one this "
+                                     f"suite writes (form {f.form!r}, inputs {inputs}); expected a form of "
+                                     f"{', '.join(FORMS)} of a channel")
+        if not re.fullmatch(r"[a-z_][a-z0-9_]*", spec.name):
+            raise ModelSpecError(f"{where}: generated term name {spec.name!r} is not an identifier")
+        return spec
+
+
+def _number_out(v):
+    return v if not isinstance(v, float) or math.isfinite(v) else ("inf" if v > 0 else "-inf")
+
+
+def _number_in(v):
+    return float(v) if v in ("inf", "-inf") else v
+
+
+class GeneratedTerm(Term):
+    """A term built from a :class:`Spec` (:func:`define`): its heat and gain from the spec's features."""
+
+    spec: Spec
+    generated = True
+
+    def contribution(self, p, s):
+        rise, gain = 0.0, 0.0
+        for f in self.spec.features:
+            k = f.sign * p[f.param] * f.values(s)
+            if f.gain:
+                rise, gain = rise - k * f.reference_values(s, p["T_offset_C"]), gain + k
+            else:
+                rise = rise + k
+        return rise, gain
+
+    def implausible(self, p):
+        if self.spec.conductance is not None:
+            param, low, high = self.spec.conductance
+            worst = min(1.0 + p[param] * low, 1.0 + p[param] * high)
+            if worst <= 0.0:
+                return f"the conductance to ambient would be negative ({worst:.2f} of its value at the channel's zero)"
+        return super().implausible(p)
+
+
+def define(spec: Spec) -> type[Term]:
+    """Register the term of ``spec`` (taking the place of an earlier generated term of its name; the catalog search
+    does not offer generated terms of its own accord, only the diagnosis that generated them does)."""
+    parameters = tuple(Parameter(f.param, f.unit, f.lower, f.upper, f.typical, f"coefficient of {f.words}",
+                                 "the channels it reads, varying independently of the effort", plausible=f.plausible)
+                       for f in spec.features)
+    cls = type(class_name(spec.name), (GeneratedTerm,),
+               {"name": spec.name, "description": spec.description, "parameters": parameters,
+                "columns": spec.columns, "spec": spec, "__doc__": spec.description, "__module__": __name__})
+    cls.source = term_source(spec)
+    return register_term(cls)
+
 
 def identifier(text: str) -> str:
     """A Python identifier made of ``text`` (lower case, ``_`` for anything else)."""
@@ -75,11 +189,6 @@ def identifier(text: str) -> str:
     if name[0].isdigit() or keyword.iskeyword(name):
         name = "c_" + name
     return name
-
-
-def input_name(channel: str) -> str:
-    """The name an expression uses for the extra channel ``channel``."""
-    return "x_" + identifier(channel)
 
 
 def class_name(name: str) -> str:
@@ -100,52 +209,52 @@ def module_source(doc: str, classes: list[str]) -> str:
     return HEADER.format(doc=doc) + "".join("\n\n" + c for c in classes)
 
 
-def term_source(name: str, description: str, features: list[Feature], extras: dict[str, str],
-                columns: tuple[str, ...], implausible: str | None = None) -> str:
-    """The Python source of a registered :class:`Term` class with these features (see :func:`module_source`).
+def _variable(name: str) -> str:
+    return "x_" + identifier(name.removeprefix("extra.")) if name.startswith("extra.") else name
 
-    ``extras``: the extra channels its expressions read, ``{input name: channel}``;
-    ``columns``: the log columns it needs; ``implausible``: the body of an
-    ``implausible(self, p)`` method, when it has a check beyond its parameters' ranges.
-    """
+
+def term_source(spec: Spec) -> str:
+    """The Python source of the term of ``spec`` as a :class:`Term` class (for people; see :func:`module_source`)."""
     params = ",\n".join(
-        f"        Parameter({f.param!r}, {f.unit!r}, {_number(f.lower)}, {_number(f.upper)}, {f.typical!r},\n"
+        f"        Parameter({f.param!r}, {f.unit!r}, {_literal(f.lower)}, {_literal(f.upper)}, {f.typical!r},\n"
         f"                  {('coefficient of ' + f.words)!r},\n"
         f"                  {'the channels it reads, varying independently of the effort'!r}"
         + (f", plausible={f.plausible!r}" if f.plausible else "") + ")"
-        for f in features)
-    reads = []
-    used = " ".join(f.expr + " " + f.reference for f in features)
-    for key, code in INPUTS.items():
-        if re.search(rf"\b{key}\b", used):
-            reads.append(f"        {key} = {code}")
-    for key, channel in extras.items():
-        reads.append(f"        {key} = s.channel({('extra.' + channel)!r})")
+        for f in spec.features)
+    inputs = dict.fromkeys(i for f in spec.features for i in [f.input] + ([f.reference] if f.gain else [])
+                           if i in CANONICAL_INPUTS or i.startswith("extra."))
+    reads = [f"        {_variable(i)} = " + ("s.neighbor_mean_C" if i == "neighbors" else
+                                             "s.effort" if i == "effort" else f"s.channel({i!r})") for i in inputs]
     body = ["        rise, gain = 0.0, 0.0"]
-    for f in features:
+    for f in spec.features:
+        expr = FORMS[f.form][1].format(x=_variable(f.input), power=f.power, threshold=f.threshold)
         coef = f'p[{f.param!r}]' if f.sign == 1.0 else f'{f.sign!r} * p[{f.param!r}]'
         if f.gain:
-            reference = 'p["T_offset_C"]' if f.reference == "T_offset_C" else f.reference
-            body.append(f"        k = {coef} * ({f.expr})  # {f.symbol}")
-            body.append(f"        rise, gain = rise - k * ({reference}), gain + k")
+            reference = ('p["T_offset_C"]' if f.reference == "T_offset_C" else f.reference if _is_number(f.reference)
+                         else _variable(f.reference))
+            body += [f"        k = {coef} * ({expr})  # {f.symbol}", f"        rise, gain = rise - k * ({reference}), gain + k"]
         else:
-            body.append(f"        rise = rise + {coef} * ({f.expr})  # {f.symbol}")
+            body.append(f"        rise = rise + {coef} * ({expr})  # {f.symbol}")
     body.append("        return rise, gain")
     check = ""
-    if implausible:
-        check = ("\n    def implausible(self, p):\n" + textwrap.indent(implausible.strip(), " " * 8)
-                 + "\n        return super().implausible(p)\n")
-    summary = (description[:1].upper() + description[1:]).rstrip(".").replace('"', "'").replace("\\", "/") + "."
+    if spec.conductance is not None:
+        param, low, high = spec.conductance
+        check = (f"\n    def implausible(self, p):\n"
+                 f"        worst = min(1.0 + p[{param!r}] * {low!r}, 1.0 + p[{param!r}] * {high!r})\n"
+                 f"        if worst <= 0.0:\n"
+                 f"            return f\"the conductance to ambient would be negative ({{worst:.2f}} of its value)\"\n"
+                 f"        return super().implausible(p)\n")
+    summary = (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
     return f'''@register_term
-class {class_name(name)}(Term):
-    """{summary}"""
+class {class_name(spec.name)}(Term):
+    """{summary}."""
 
-    name = {name!r}
-    description = {description!r}
+    name = {spec.name!r}
+    description = {spec.description!r}
     parameters = (
 {params},
     )
-    columns = {tuple(columns)!r}
+    columns = {tuple(spec.columns)!r}
 
     def contribution(self, p, s):
 {chr(10).join(reads)}
@@ -153,32 +262,15 @@ class {class_name(name)}(Term):
 {check}'''
 
 
-def _number(value: float) -> str:
+def _literal(value: float) -> str:
     return repr(float(value)) if np.isfinite(value) else ("np.inf" if value > 0 else "-np.inf")
 
 
-def define(source: str, doc: str, origin: str) -> type[Term]:
-    """Execute a term's class source (it registers itself) and mark it as written by the suite, not by a user.
-
-    A generated term takes the place of an earlier one of its name; the
-    catalog search (``candidate_models``) does not offer generated terms of
-    its own accord, only the diagnosis that generated them does.
-    """
-    namespace: dict = {}
-    exec(compile(module_source(doc, [source]), f"<thermolimb {origin}>", "exec"), namespace)
-    cls = next(v for v in namespace.values() if isinstance(v, type) and issubclass(v, Term) and v is not Term)
-    cls.generated = True
-    cls.source = source
-    return TERMS[cls.name]
-
-
 def load_term_file(path) -> list[str]:
-    """Run a Python file of terms (``@register_term`` classes, e.g. one ``diagnose --propose`` wrote); the names
-    it registered.  Any error is one sentence naming the file."""
+    """Run a Python file of terms (``@register_term`` classes, e.g. one ``diagnose --propose`` wrote): a user's own
+    code, run because the user names it; the names it registered.  Any error is one sentence naming the file."""
     import runpy
     from pathlib import Path
-
-    from ..util.errors import ModelSpecError
 
     path = Path(path)
     if not path.is_file():
@@ -196,3 +288,20 @@ def load_term_file(path) -> list[str]:
         raise ModelSpecError(f"--terms {path}: the file registers no term; expected classes decorated with "
                              f"@register_term")
     return added
+
+
+def specs_of(terms) -> dict[str, dict]:
+    """The specs of the generated terms among ``terms``, as a model file stores them."""
+    return {t: TERMS[t].spec.to_json() for t in terms if isinstance(TERMS[t], type) and issubclass(TERMS[t], GeneratedTerm)}
+
+
+def define_all(records: Mapping[str, dict], where: str) -> None:
+    """Register a model file's generated terms from their specs (data only)."""
+    for name, record in records.items():
+        spec = Spec.from_json(record, where)
+        if spec.name != name:
+            raise ModelSpecError(f"{where}: generated term {name!r} holds the spec of {spec.name!r}")
+        if name in TERMS and not TERMS[name].generated:
+            raise ModelSpecError(f"{where}: generated term {name!r} would take the place of the suite's own term of "
+                                 f"that name; expected a name of its own")
+        define(spec)

@@ -26,12 +26,16 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..util.errors import ModelFileError
+from ..util.errors import ModelFileError, ModelSpecError
 from .model import ThermalModel, model_parameters
+from .generated import specs_of
 from .terms import TERMS
 
 FORMAT = "thermolimb-model"
-VERSION = 1
+VERSION = 2  # 2: generated terms as data (never source), the calibration's ranges; version 1 files read alike
+READS = (1, 2)
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}  # a time constant saved in another unit is converted
+PLAUSIBLE_TIME_S = (1e-2, 1e7)  # no actuator's thermal time constant lies outside (10 ms to 116 days)
 RESIDUAL_QUANTILES = (0.5, 0.8, 0.9, 0.95, 0.99)
 JACKKNIFE_BLOCKS = 5  # delete-one-block refits for the jackknife covariance (forecast intervals draw from it)
 MIN_JACKKNIFE_FITS = 3
@@ -107,7 +111,7 @@ class SavedModel:
     limit_C: float | None = None  # the winding limit, when known
     method: str = ""
     scheme: str = ""
-    term_sources: Mapping[str, str] = field(default_factory=dict)  # generated terms' Python source
+    generated: Mapping[str, dict] = field(default_factory=dict)  # the generated terms' specs (data, never code)
 
     def to_json(self) -> dict:
         names = [p.name for p in self.model.parameters]
@@ -126,7 +130,7 @@ class SavedModel:
             "limit_C": self.limit_C,
             "method": self.method,
             "validation_scheme": self.scheme,
-            "term_sources": dict(self.term_sources),
+            "generated_terms": dict(self.generated),
         }
 
 
@@ -135,6 +139,7 @@ class ModelFile:
     """Every actuator's :class:`SavedModel`, by name."""
 
     actuators: Mapping[str, SavedModel]
+    notes: tuple[str, ...] = ()  # what loading it has to say (a limit below what its log read, a unit converted)
 
     def __getitem__(self, actuator: str) -> SavedModel:
         if actuator not in self.actuators:
@@ -146,12 +151,15 @@ class ModelFile:
                 "actuators": [saved.to_json() for saved in self.actuators.values()]}
 
     def save(self, path: str | Path) -> Path:
-        """Write the file whole or not at all."""
+        """Write the file whole or not at all -- and not at all when it would not load (a value outside what its
+        parameter can be, from an unconstrained fit): the loader's checks run on what is written."""
         from ..util.atomic import atomic_path
 
         path = Path(path)
+        document = self.to_json()
+        from_json(json.loads(json.dumps(document)), str(path))
         with atomic_path(path) as tmp:
-            Path(tmp).write_text(json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
+            Path(tmp).write_text(json.dumps(document, indent=1, allow_nan=False) + "\n")
         return path
 
     @classmethod
@@ -173,89 +181,175 @@ class ModelFile:
 
 
 def from_json(document, source: str = "model file") -> ModelFile:
-    """A :class:`ModelFile` from its JSON document, its schema checked (one sentence when it does not hold)."""
+    """A :class:`ModelFile` from its JSON document, checked as a log is: its schema, each parameter's unit (converted
+    when the suite knows the unit, else refused), values within what each can be, a covariance that is one, no
+    actuator twice; one sentence when something does not hold, and :attr:`ModelFile.notes` for what it says."""
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise ModelFileError(f"{source}: not a thermolimb model file (expected \"format\": \"{FORMAT}\")")
     version = document.get("version")
-    if version != VERSION:
+    if version not in READS:
         raise ModelFileError(f"{source}: model file version {version!r} is not one this thermolimb reads "
-                             f"(it reads version {VERSION}); re-save the model with this version's `fit --save`")
+                             f"(it reads versions {', '.join(map(str, READS))}); re-save the model with this version's "
+                             f"`fit --save`")
     entries = document.get("actuators")
     if not isinstance(entries, list) or not entries:
         raise ModelFileError(f"{source}: \"actuators\" must be a non-empty list of saved models")
-    saved = {}
+    saved, notes = {}, []
     for i, entry in enumerate(entries):
-        one = _saved(entry, f"{source}: actuator {i}")
+        one = _saved(entry, f"{source}: actuator {i}", notes)
+        if one.actuator in saved:
+            raise ModelFileError(f"{source}: actuator {one.actuator!r} is in the file twice; expected each actuator "
+                                 f"once")
         saved[one.actuator] = one
-    return ModelFile(saved)
+    return ModelFile(saved, tuple(notes))
 
 
 REQUIRED = ("actuator", "terms", "params", "covariance", "jackknife", "channel_units", "validation", "residual", "provenance",
             "limit_C")
 
 
-def _saved(entry, where: str) -> SavedModel:
+def _saved(entry, where: str, notes: list) -> SavedModel:
     if not isinstance(entry, dict):
         raise ModelFileError(f"{where}: expected an object")
     missing = [k for k in REQUIRED if k not in entry]
     if missing:
         raise ModelFileError(f"{where}: missing field{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
+    if not isinstance(entry["actuator"], str) or not entry["actuator"].strip():
+        raise ModelFileError(f"{where}: \"actuator\" must be a name, got {entry['actuator']!r}")
     where = f"{where.rsplit(':', 1)[0]}: actuator {entry['actuator']!r}"
-    for name, source in (entry.get("term_sources") or {}).items():
-        if name not in TERMS or getattr(TERMS[name], "source", None) != source:
-            from .generated import define
+    if entry.get("term_sources"):
+        raise ModelFileError(f"{where}: the file carries Python source for its terms "
+                             f"({', '.join(entry['term_sources'])}); a model file is data, and thermolimb never runs "
+                             f"code from one: re-save the model with this version, or load the terms you trust with "
+                             f"--terms FILE")
+    generated = entry.get("generated_terms") or {}
+    if not isinstance(generated, dict):
+        raise ModelFileError(f"{where}: \"generated_terms\" must map term names to their specs")
+    from .generated import define_all
 
-            try:
-                define(source, "A term saved in a thermolimb model file.", "model file")
-            except Exception as exc:  # noqa: BLE001 -- the file's own code: whatever it raises is reported
-                raise ModelFileError(f"{where}: the saved term {name!r} does not load ({type(exc).__name__}: "
-                                     f"{exc})") from None
-    unknown = [t for t in entry["terms"] if t not in TERMS]
+    try:
+        define_all(generated, where)
+    except ModelSpecError as exc:
+        raise ModelFileError(str(exc)) from None
+    terms = entry["terms"]
+    if not isinstance(terms, list) or not all(isinstance(t, str) for t in terms):
+        raise ModelFileError(f"{where}: \"terms\" must be a list of term names")
+    unknown = [t for t in terms if t not in TERMS]
     if unknown:
         raise ModelFileError(f"{where}: term {unknown[0]!r} is not registered; load the --terms file that "
-                             f"defines it first")
-    names = [p.name for p in model_parameters(tuple(entry["terms"]))]
+                             f"defines it first (a model file names a user's own terms, it never holds their code)")
+    parameters = model_parameters(tuple(terms))
+    names = [p.name for p in parameters]
     params = entry["params"]
+    if not isinstance(params, dict):
+        raise ModelFileError(f"{where}: \"params\" must map parameter names to values")
+    extra = [n for n in params if n not in names]
+    if extra:
+        raise ModelFileError(f"{where}: parameter {extra[0]!r} is not one of model {','.join(terms)}'s "
+                             f"({', '.join(names)})")
     bad = [n for n in names if not isinstance(params.get(n), dict) or not {"value", "stderr", "unit"} <= set(params[n])]
     if bad:
         raise ModelFileError(f"{where}: parameter {bad[0]} needs \"value\", \"stderr\" and \"unit\"")
+    channel_units = entry["channel_units"] if isinstance(entry["channel_units"], dict) else {}
+    values, stderr, scale = {}, {}, np.ones(len(names))
+    for k, p in enumerate(parameters):
+        values[p.name], stderr[p.name], scale[k] = _parameter(p, params[p.name], channel_units, where, notes)
     try:
-        model = ThermalModel(tuple(entry["terms"]), {n: params[n]["value"] for n in names}, bounded=False)
+        model = ThermalModel(tuple(terms), values, bounded=False)
     except (ValueError, TypeError) as exc:
         raise ModelFileError(f"{where}: {exc}") from None
-    cov = entry["covariance"]
-    matrix = np.asarray(cov.get("matrix") if isinstance(cov, dict) else None, dtype=float)
-    if not isinstance(cov, dict) or cov.get("order") != names or matrix.shape != (len(names), len(names)):
-        raise ModelFileError(f"{where}: \"covariance\" must hold \"order\" (the parameters {', '.join(names)}) "
-                             f"and a {len(names)}x{len(names)} \"matrix\"")
+    matrix = _covariance(entry["covariance"], names, where, "covariance") * np.outer(scale, scale)
     jack = entry["jackknife"]
-    jackknife = None if jack is None else np.asarray(jack.get("matrix") if isinstance(jack, dict) else None, float)
-    if jackknife is not None and jackknife.shape != matrix.shape:
-        raise ModelFileError(f"{where}: \"jackknife\" must be null or hold a {len(names)}x{len(names)} \"matrix\"")
-    residual = entry["residual"]
-    stats = None
+    jackknife = None if jack is None else _covariance(jack, names, where, "jackknife") * np.outer(scale, scale)
+    stats = _residual(entry["residual"], where)
+    limit = entry["limit_C"]
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, float)) or not np.isfinite(limit)):
+        raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
+    provenance = entry["provenance"] if isinstance(entry["provenance"], dict) else {}
+    hottest = provenance.get("hottest_reading_C")
+    if limit is not None and isinstance(hottest, (int, float)) and limit < hottest:
+        notes.append(f"{where}: its limit, {limit:g} degC, is below the {hottest:g} degC the log it was fitted on "
+                     f"read: the actuator was past its limit in its own calibration -- check the limit")
+    return SavedModel(str(entry["actuator"]), model, stderr, matrix, jackknife, {n: params[n]["unit"] for n in names},
+                      dict(channel_units), dict(entry["validation"]), stats, dict(provenance),
+                      None if limit is None else float(limit), str(entry.get("method", "")),
+                      str(entry.get("validation_scheme", "")), dict(generated))
+
+
+def _parameter(p, record, channel_units, where: str, notes: list) -> tuple[float, float, float]:
+    """One parameter's value and standard error in the model's unit, and the factor they were converted by: a unit
+    the suite knows is converted (and said), any other refused; a value outside what the parameter can be, refused."""
+    value, stderr, unit = record["value"], record["stderr"], record["unit"]
+    if any(isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) for v in (value, stderr)):
+        raise ModelFileError(f"{where}: {p.name} needs a finite value and standard error, got {value!r} ± {stderr!r}")
+    if stderr < 0:
+        raise ModelFileError(f"{where}: {p.name}'s standard error is negative ({stderr!r}); expected zero or more")
+    expected, factor = p.unit_in(channel_units), 1.0
+    if unit != expected:
+        if p.unit == "s" and unit in TIME_UNITS:
+            factor = TIME_UNITS[unit]
+            notes.append(f"{where}: {p.name} saved in {unit}, converted to s")
+        elif p.unit == "degC" and unit == "K":
+            value -= 273.15
+            notes.append(f"{where}: {p.name} saved in K, converted to degC")
+        else:
+            raise ModelFileError(f"{where}: {p.name} is in {unit!r} where its log's channels make it {expected!r}; "
+                                 f"expected {expected!r}" + (f" (or {', '.join(TIME_UNITS)})" if p.unit == "s" else
+                                                             " (or K)" if p.unit == "degC" else ""))
+    value, stderr = float(value) * factor, float(stderr) * factor
+    if not p.lower <= value <= p.upper:
+        raise ModelFileError(f"{where}: {p.name} = {value:g} {expected} is outside what it can be ({p.lower:g} to "
+                             f"{p.upper:g}: {p.description})")
+    if p.unit == "s" and value > 0 and not PLAUSIBLE_TIME_S[0] <= value <= PLAUSIBLE_TIME_S[1]:
+        raise ModelFileError(f"{where}: {p.name} = {value:g} s is no actuator's time constant (expected "
+                             f"{PLAUSIBLE_TIME_S[0]:g} to {PLAUSIBLE_TIME_S[1]:g} s)")
+    return value, stderr, factor
+
+
+def _covariance(record, names: list[str], where: str, key: str) -> np.ndarray:
+    """A covariance of the parameters ``names``: their order, finite, symmetric and positive semi-definite."""
     try:
-        stats = None if residual is None else ResidualStats(
+        matrix = np.asarray(record.get("matrix") if isinstance(record, dict) else None, dtype=float)
+    except (TypeError, ValueError):
+        matrix = np.zeros(0)
+    if not isinstance(record, dict) or (key == "covariance" and record.get("order") != names) \
+            or matrix.shape != (len(names), len(names)):
+        raise ModelFileError(f"{where}: \"{key}\" must hold \"order\" (the parameters {', '.join(names)}) "
+                             f"and a {len(names)}x{len(names)} \"matrix\"")
+    if not np.all(np.isfinite(matrix)) or not np.allclose(matrix, matrix.T, rtol=1e-6, atol=1e-12):
+        raise ModelFileError(f"{where}: \"{key}\" is not a covariance (not finite, or not symmetric)")
+    diagonal = np.diag(matrix)
+    worst = float(np.linalg.eigvalsh((matrix + matrix.T) / 2)[0]) if matrix.size else 0.0
+    if np.any(diagonal < 0) or worst < -1e-9 * max(float(np.max(np.abs(diagonal), initial=0.0)), 1e-300):
+        raise ModelFileError(f"{where}: \"{key}\" is not a covariance: a variance below zero "
+                             f"({', '.join(n for n, d in zip(names, diagonal) if d < 0) or 'a direction of it'})")
+    return matrix
+
+
+def _residual(residual, where: str) -> ResidualStats | None:
+    if residual is None:
+        return None
+    try:
+        stats = ResidualStats(
             int(residual["samples"]), float(residual["span_s"]), float(residual["mean_K"]), float(residual["rmse_K"]),
             {k: float(v) for k, v in residual["abs_quantiles_K"].items()}, float(residual["lag1"]),
             float(residual["rise_K"]), tuple(float(v) for v in residual.get("leads_s", ())),
             {k: tuple(float(x) for x in v) for k, v in residual.get("lead_quantiles_K", {}).items()})
-        None if stats is None else stats.abs_quantile_K(0.9)
-    except (KeyError, TypeError, ValueError) as exc:
+        stats.abs_quantile_K(0.9)
+        if stats.leads_s:
+            stats.lead_error_K(0.9, np.array([1.0]))
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
         raise ModelFileError(f"{where}: \"residual\" needs samples, span_s, mean_K, rmse_K, lag1, rise_K and "
                              f"abs_quantiles_K at {', '.join(f'{q:g}' for q in RESIDUAL_QUANTILES)} ({exc!r})") from None
-    limit = entry["limit_C"]
-    if limit is not None and not (isinstance(limit, (int, float)) and np.isfinite(limit)):
-        raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
-    return SavedModel(str(entry["actuator"]), model, {n: float(params[n]["stderr"]) for n in names}, matrix, jackknife,
-                      {n: str(params[n]["unit"]) for n in names}, dict(entry["channel_units"]),
-                      dict(entry["validation"]), stats, dict(entry["provenance"]),
-                      None if limit is None else float(limit), str(entry.get("method", "")),
-                      str(entry.get("validation_scheme", "")), dict(entry.get("term_sources") or {}))
+    values = [stats.rmse_K, *stats.abs_quantiles_K.values(), *(x for v in stats.lead_quantiles_K.values() for x in v)]
+    if not all(np.isfinite(v) and v >= 0 for v in values):
+        raise ModelFileError(f"{where}: \"residual\" holds an error that is negative or not finite")
+    return stats
 
 
 def provenance(paths: Sequence[str | Path], series) -> dict:
-    """Where a model came from: the log files (name, SHA-256), the time span and samples it was identified on."""
+    """Where a model came from: the log files (name, SHA-256), the time span and samples it was identified on, the
+    hottest reading, and the ranges of its inputs (what a forecast beyond them is said to extrapolate from)."""
     files = []
     for path in paths:
         path = Path(path)
@@ -264,13 +358,30 @@ def provenance(paths: Sequence[str | Path], series) -> dict:
             for block in iter(lambda: f.read(1 << 20), b""):
                 digest.update(block)
         files.append({"name": path.name, "sha256": digest.hexdigest()})
-    return {"files": files, "runs": len(series), "samples": int(sum(s.n for s in series)),
-            "start_s": float(min(s.time_s[0] for s in series)), "end_s": float(max(s.time_s[-1] for s in series))}
+    out = {"files": files, "runs": len(series), "samples": int(sum(s.n for s in series)),
+           "start_s": float(min(s.time_s[0] for s in series)), "end_s": float(max(s.time_s[-1] for s in series))}
+    if series:
+        temperature = np.concatenate([s.temperature_C for s in series])
+        out["hottest_reading_C"] = float(temperature.max())
+        ranges = {"temperature_C": [float(temperature.min()), float(temperature.max())],
+                  "dt_s": float(np.median(np.concatenate([np.diff(s.time_s) for s in series])))}
+        for column, attribute in (("effort", "effort"), ("velocity", "velocity"), ("ambient_C", "ambient_C")):
+            values = [getattr(s.signals, attribute) for s in series]
+            if all(v is not None for v in values):
+                v = np.concatenate(values)
+                ranges[column] = [float(v.min()), float(v.max())]
+        out["ranges"] = ranges
+    return out
 
 
 def load_model(path, actuator: str | None = None) -> ThermalModel:
-    """The model of ``actuator`` (or of the file's only actuator) from a model file."""
+    """The model of ``actuator`` (or of the file's only actuator) from a model file; what loading it has to say (a
+    unit converted, a limit below its own log's readings) is a warning, each one sentence."""
+    import warnings
+
     saved = ModelFile.load(path)
+    for note in saved.notes:
+        warnings.warn(note, UserWarning, stacklevel=2)
     if actuator is None:
         if len(saved.actuators) != 1:
             raise ModelFileError(f"{path}: the model file holds {', '.join(saved.actuators)}; name the actuator")
@@ -287,7 +398,6 @@ def save_model(model: ThermalModel, path, actuator: str = "actuator", limit_C: f
 def bare(model: ThermalModel, actuator: str, limit_C: float | None = None) -> SavedModel:
     """A :class:`SavedModel` of parameter values alone (no standard errors, no held-out residual)."""
     names = [p.name for p in model.parameters]
-    sources = {t: TERMS[t].source for t in model.terms if getattr(TERMS[t], "generated", False)}
     return SavedModel(actuator, model, dict.fromkeys(names, 0.0), np.zeros((len(names), len(names))), None,
                       {p.name: p.unit_in(None) for p in model.parameters}, {}, {}, None,
-                      {"files": [], "runs": 0, "samples": 0}, limit_C, term_sources=sources)
+                      {"files": [], "runs": 0, "samples": 0}, limit_C, generated=specs_of(model.terms))

@@ -18,10 +18,7 @@ Stamps are the log's time (seconds since the Unix epoch when the log's times are
 from __future__ import annotations
 
 import json
-import shutil
 import sys
-import tempfile
-from pathlib import Path
 
 from ..logs.bag_writer import START_NS
 from .estimator import Estimate
@@ -42,61 +39,6 @@ def diagnostic_values(e: Estimate, model: str) -> list[tuple[str, str]]:
     return [("winding_C", f"{e.winding_C:.2f}"), ("winding_std_K", f"{e.winding_std_K:.2f}"),
             ("time_to_limit_s", ttl), ("derating", f"{e.derating:.3f}"), ("limit_C", f"{e.limit_C:g}"),
             ("model", model)]
-
-
-class McapOutput:
-    """An MCAP (ROS 2, CDR) written as the monitor goes and put in place, complete, when it closes."""
-
-    def __init__(self, path: str | Path, actuators: list[str]):
-        from rosbags.rosbag2 import StoragePlugin, Writer
-        from rosbags.typesys import Stores, get_typestore
-
-        self.path = Path(path)
-        self.store = get_typestore(Stores.ROS2_HUMBLE)
-        self.folder = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", dir=self.path.parent or "."))
-        self.writer = Writer(self.folder / "bag", version=8, storage_plugin=StoragePlugin.MCAP)
-        self.writer.open()
-        types = self.store.types
-        self.Temperature, self.Header, self.Time = (types["sensor_msgs/msg/Temperature"],
-                                                    types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"])
-        self.Array, self.Status, self.KeyValue = (types["diagnostic_msgs/msg/DiagnosticArray"],
-                                                  types["diagnostic_msgs/msg/DiagnosticStatus"],
-                                                  types["diagnostic_msgs/msg/KeyValue"])
-        add = self.writer.add_connection
-        self.winding = {a: add(topic(a, "winding_temperature"), self.Temperature.__msgtype__, typestore=self.store)
-                        for a in actuators}
-        self.measured = {a: add(topic(a, "measured_temperature"), self.Temperature.__msgtype__, typestore=self.store)
-                         for a in actuators}
-        self.diagnostics = add("/diagnostics", self.Array.__msgtype__, typestore=self.store)
-
-    def _header(self, ns: int, frame: str):
-        return self.Header(stamp=self.Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id=frame)
-
-    def publish(self, estimates: list[Estimate], models: dict[str, str]) -> None:
-        ns = stamp_ns(max(e.time_s for e in estimates))
-        cdr = self.store.serialize_cdr
-        for e in estimates:
-            stamp = stamp_ns(e.time_s)
-            header = self._header(stamp, e.actuator)
-            self.writer.write(self.winding[e.actuator], stamp, cdr(
-                self.Temperature(header=header, temperature=e.winding_C, variance=e.winding_std_K**2),
-                self.Temperature.__msgtype__))
-            self.writer.write(self.measured[e.actuator], stamp, cdr(
-                self.Temperature(header=header, temperature=e.measured_C, variance=0.0), self.Temperature.__msgtype__))
-        statuses = [self.Status(level=e.level, name=f"thermolimb/{e.actuator}", message=e.message(),
-                                hardware_id=e.actuator,
-                                values=[self.KeyValue(key=k, value=v) for k, v in diagnostic_values(e, models[e.actuator])])
-                    for e in estimates]
-        self.writer.write(self.diagnostics, ns, cdr(self.Array(header=self._header(ns, ""), status=statuses),
-                                                    self.Array.__msgtype__))
-
-    def close(self) -> None:
-        try:
-            self.writer.close()
-            written = next((self.folder / "bag").glob("*.mcap"))
-            written.replace(self.path)
-        finally:
-            shutil.rmtree(self.folder, ignore_errors=True)
 
 
 class JsonLinesOutput:
@@ -144,7 +86,14 @@ class FoxgloveOutput:
 
             raise UsageError("--foxglove needs the Foxglove SDK: pip install 'thermolimb[live]' "
                              "(the package foxglove-sdk)") from None
-        self.server = foxglove.start_server(name="thermolimb monitor", host=host, port=port)
+        try:
+            self.server = foxglove.start_server(name="thermolimb monitor", host=host, port=port)
+        except RuntimeError as exc:  # the SDK's FoxgloveError: the port is taken, or not ours to bind
+            from ..util.errors import UsageError
+
+            reason = "is in use by another program" if "in use" in str(exc) else f"cannot be served ({exc})"
+            raise UsageError(f"--foxglove {port}: port {port} on {host} {reason}; give another port "
+                             f"(--foxglove 0 picks a free one)") from None
         self.winding, self.measured = {}, {}
         for a in actuators:
             self._channels(a)

@@ -11,6 +11,7 @@ import numpy as np
 from ..model.saved import ModelFile
 from ..model.signals import Signals
 from ..util.errors import UsageError
+from ..util.signals import held
 from .estimator import ActuatorMonitor, Estimate
 
 CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C", "power": "power_W",
@@ -101,6 +102,12 @@ class Session:
         self.monitors[name] = ActuatorMonitor(self.models[name], limit, self.measurement_std_K)
         return self.monitors[name]
 
+    def idle(self) -> None:
+        """The log did not grow: what the outputs hold goes to the disk when it is due."""
+        for out in self.outputs:
+            if hasattr(out, "flush_if_due"):
+                out.flush_if_due()
+
     def close(self) -> None:
         """Publish what the last publication missed, then close every output (each complete)."""
         last = [m.last for m in self.monitors.values() if m.last is not None]
@@ -148,6 +155,7 @@ def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float 
                 _say(follower)
                 break
             else:
+                session.idle()
                 if not waiting and not follower.path.exists():
                     waiting = True
                     print(f"note: {follower.path} does not exist yet; waiting for it (Ctrl-C to stop"
@@ -155,13 +163,14 @@ def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float 
                           file=sys.stderr)
                 sleep(poll_s)
     finally:
-        session.close()
+        with held():  # a second Ctrl-C or SIGTERM waits until every output is complete
+            session.close()
     if session.samples == 0:
-        what = ("did not appear" if not follower.path.exists() else
-                "gave no sample" + ("" if follower.started else " (not even the rows its header and units are "
-                                                                 "decided on)"))
-        raise UsageError(f"--follow {follower.path}: the log {what} within {idle_exit_s:g} s of --idle-exit; nothing "
-                         f"was monitored")
+        reason = getattr(follower, "why_nothing", lambda: None)() if follower.path.exists() else None
+        what = reason or ("did not appear" if not follower.path.exists() else "gave no sample" + (
+            "" if follower.started else " (not even the rows its header and units are decided on)"))
+        raise UsageError(f"--follow {follower.path}: the log {what}" + (
+            "" if reason else f" within {idle_exit_s:g} s of --idle-exit") + "; nothing was monitored")
 
 
 def _say(follower) -> None:

@@ -21,11 +21,11 @@ import os
 import signal
 import socket
 import sys
-import threading
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Callable, Iterator, Sequence
 
 from .errors import UsageError
+from .signals import held
 
 BACKENDS = ("process", "ray", "serial")
 RAY_CONNECT_TIMEOUT_S = 10.0
@@ -166,11 +166,7 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
     SIGTERM wait until the workers are gone, so that no timing of repeated
     signals can leave a worker behind or the pool's threads waiting on one.
     """
-    blocked = {signal.SIGINT, signal.SIGTERM}
-    on_main = threading.current_thread() is threading.main_thread()
-    if on_main:
-        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
-    try:
+    with held():
         processes = list((pool._processes or {}).values())
         pool.shutdown(wait=False, cancel_futures=True)
         for process in processes:
@@ -180,9 +176,6 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
             if process.is_alive():
                 process.kill()
                 process.join()
-    finally:
-        if on_main:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
 
 
 def run_jobs(func: Callable, jobs: Sequence[tuple], backend: str = "process", workers: int = 2,

@@ -11,7 +11,7 @@ from typing import Sequence
 import numpy as np
 
 from ..model.saved import JACKKNIFE_BLOCKS, MIN_JACKKNIFE_FITS, RESIDUAL_QUANTILES, ResidualStats, SavedModel, provenance
-from ..model.terms import TERMS
+from ..model.generated import specs_of
 from ..util.errors import ThermolimbError
 from .validation import make_estimator
 
@@ -28,12 +28,12 @@ def saved_from_report(report, paths: Sequence[str | Path], limit_C: float | None
     span = float(sum(s.time_s[-1] - s.time_s[0] for s in segments if s.time_s.size))
     rise = np.concatenate([s.simulated_C for s in segments]) - model.params["T_offset_C"]
     rise = float(np.sqrt(np.mean(rise * rise)))
-    sources = {t: TERMS[t].source for t in model.terms if getattr(TERMS[t], "generated", False)}
     stats = replace(ResidualStats.of(residual, span, rise), **lead_profile(report))
     return SavedModel(report.actuator, model, {n: float(report.stderr[n]) for n in names},
                       np.asarray(covariance, float), jackknife_covariance(report), {p.name: report.unit(p) for p in model.parameters},
                       dict(report.channel_units), dict(report.validation), stats,
-                      provenance(paths, report.train_series), limit_C, report.method, report.scheme, sources)
+                      provenance(paths, report.train_series), limit_C, report.method, report.scheme,
+                      specs_of(model.terms))
 
 
 LEADS_S = (10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 900.0, 1800.0, 3600.0, 7200.0)

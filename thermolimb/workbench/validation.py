@@ -35,8 +35,10 @@ from ..model.terms import TERMS, parse_model
 from .evidence import Evidence
 from .flags import parameter_flags
 
-AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, HELD_OUT = "auto", "interleaved", "split", "blocks", "runs", "held_out"
-KINDS = (AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, HELD_OUT)
+AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = ("auto", "interleaved", "split", "blocks", "runs", "parts",
+                                                           "held_out")
+KINDS = (AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT)
+PARTS_OF_A_RUN = 3  # leave one part out: one run's time span in this many parts, each predicted from the others
 INTERLEAVED_BLOCKS = 10  # an interleaved scheme cuts each run's time span into this many blocks ...
 HELD_EVERY = 3  # ... and holds out every third of them, from the second: blocks 2, 5 and 8 of 10
 MIN_RUN_SAMPLES = 2 * MIN_SAMPLES  # a run shorter than this cannot carry a fold of its own
@@ -56,6 +58,7 @@ class Scheme:
     kind: str = AUTO
     split: float = 0.7  # SPLIT: the share of each run's time span fitted on
     folds: int = 5  # BLOCKS: contiguous blocks of each run
+    parts: int = PARTS_OF_A_RUN  # PARTS: contiguous parts of each run, each held out whole in turn
     restart: bool = False  # SPLIT, BLOCKS: the free run restarts at the held-out part, hidden states at rest
     held_out: tuple = ()  # HELD_OUT: the runs validated on (ActuatorSeries)
     phase: float = 0.0  # INTERLEAVED: the block grid shifted by this share of a block (stability replicates)
@@ -81,7 +84,8 @@ class Scheme:
         if self.kind != AUTO:
             return self
         several = len(series) >= 2 and all(s.n >= MIN_RUN_SAMPLES for s in series)
-        return replace(self, kind=RUNS if several else INTERLEAVED)
+        import os
+        return replace(self, kind=RUNS if several else os.environ.get("THERMOLIMB_ONE_RUN", PARTS))
 
     @classmethod
     def at_split(cls, split: float = 0.7, restart: bool = False) -> "Scheme":
@@ -104,6 +108,9 @@ class Scheme:
             return "fitted on the given runs, validated on the held-out runs"
         if self.kind == RUNS:
             return "leave one run out: each run predicted from its first reading by the model fitted on the others"
+        if self.kind == PARTS:
+            return (f"leave one part out: each run in {self.parts} parts, each predicted from its first reading by the "
+                    f"model fitted on the others")
         if self.kind == INTERLEAVED:
             held = ", ".join(str(b + 1) for b in held_blocks())
             return (f"interleaved blocks: blocks {held} of {INTERLEAVED_BLOCKS} of each run held out, the free run "
@@ -295,6 +302,18 @@ def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
             raise LogError(f"actuator {series[0].actuator}: --cv runs needs at least two runs (several logs, or a log "
                            f"with pauses); this one has {len(series)}")
         return [([o for o in series if o is not s], [(s, [(0, s.n)])]) for s in series]
+    if scheme.kind == PARTS:
+        parts = []
+        for s in series:
+            edges = np.searchsorted(s.time_s, np.linspace(s.time_s[0], s.time_s[-1], scheme.parts + 1)[1:-1])
+            edges = [0, *map(int, edges), s.n]
+            if np.min(np.diff(edges)) < MIN_SAMPLES:
+                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few to hold out "
+                               f"{scheme.parts} parts of it (each needs at least {MIN_SAMPLES}); use a longer log, or "
+                               f"several runs")
+            parts += [replace(s.slice(lo, hi), run=f"{s.run + ' ' if s.run else ''}part {k + 1}")
+                      for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:]))]
+        return [([o for o in parts if o is not p], [(p, [(0, p.n)])]) for p in parts]
     if scheme.kind == BLOCKS:
         folds = []
         for s in series:
@@ -346,7 +365,7 @@ def validate_model(
     fitted = [make().fit(fit_on) for fit_on, _ in folds]
     # a held-out unit is a whole run (named, or numbered in its order), else a block or a run's tail
     number = {id(s): k for k, s in enumerate(scheme.held_out if scheme.kind == HELD_OUT else series)}
-    whole_runs = scheme.kind in (RUNS, HELD_OUT)
+    whole_runs = scheme.kind in (RUNS, PARTS, HELD_OUT)
     valid = []
     for est, (_, scored) in zip(fitted, folds):
         for k, (s, pieces) in enumerate(scored):
@@ -373,7 +392,7 @@ def validate_model(
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
                                     train_rmse_K=train_metrics["rmse_K"])),
-        scheme=scheme.describe(), units="runs" if whole_runs else "blocks" if scheme.kind == INTERLEAVED else "parts",
+        scheme=scheme.describe(), units="runs" if scheme.kind in (RUNS, HELD_OUT) else "parts" if scheme.kind == PARTS else "blocks",
     )
 
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...identification.metrics import ar1_variance_factor, information_criteria
+from ...identification.metrics import ar1_variance_factor, information_criteria, scaled_inverse
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance
@@ -438,7 +438,7 @@ def term_identified(term, report) -> bool:
         value = report.model.params[p.name]
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False
-    wald = float(theta @ np.linalg.pinv(cov) @ theta)
+    wald = float(theta @ scaled_inverse(cov) @ theta)
     return wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary))
 
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
-from ...model.generated import Feature, define, identifier, input_name, term_source
+from ...model.generated import Feature, Spec, define, identifier
 from ...model.parameter_units import NOT_GIVEN
 from ...model.terms import TERMS
 
@@ -65,46 +65,40 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
     """Register the forms of one extra channel as generated terms; their names, in the order above."""
     unit = series[0].units.get(f"extra.{channel}")
     x = np.concatenate([s.signals.extra[channel] for s in series])
-    ident, var, template = identifier(channel), input_name(channel), f"{{extra.{channel}}}"
+    ident, column, template = identifier(channel), f"extra.{channel}", f"{{extra.{channel}}}"
     shown = f"`{channel}`"
-    forms: list[tuple[str, str, list[Feature], tuple[str, ...], str | None]] = []
+    forms: list[tuple[str, str, list[Feature], tuple[str, ...], tuple | None]] = []
     named, ranged = is_temperature(channel, unit), in_temperature_range(x, unit, series)
     if named or ranged:
         forms.append(("boundary", f"the winding relaxes towards the logged temperature {shown}", [Feature(
-            f"{ident}_boundary_gain", "1", f"{var} - {BOUNDARY_REFERENCE_C!r}", f"({channel} - 25 degC)",
-            f"the logged temperature {shown}", lower=-1.0, upper=2.0, typical=0.3, plausible=(0.0, 1.0))], (), None))
+            f"{ident}_boundary_gain", "1", column, "minus", f"({channel} - 25 degC)", f"the logged temperature {shown}",
+            threshold=BOUNDARY_REFERENCE_C, lower=-1.0, upper=2.0, typical=0.3, plausible=(0.0, 1.0))], (), None))
     if not named:
         scale = float(np.max(np.abs(x))) or 1.0
         if not ranged:  # the boundary is this form, with a temperature's bounds
             forms.append(("heat", f"heat in proportion to the logged channel {shown}", [Feature(
-                f"{ident}_heat_K", f"K/({template})", var, channel, shown, typical=1.0 / scale)], (), None))
+                f"{ident}_heat_K", f"K/({template})", column, "value", channel, shown, typical=1.0 / scale)], (), None))
         if x.min() < 0.0 < x.max():
             forms.append(("heat_abs", f"heat in proportion to the magnitude of {shown}", [Feature(
-                f"{ident}_heat_abs_K", f"K/({template})", f"np.abs({var})", f"|{channel}|", f"|{shown}|",
+                f"{ident}_heat_abs_K", f"K/({template})", column, "abs_power", f"|{channel}|", f"|{shown}|",
                 typical=1.0 / scale)], (), None))
         if not np.allclose(x**2, x):  # an on/off channel is its own square
             forms.append(("heat_sq", f"heat in proportion to the square of {shown}", [Feature(
-                f"{ident}_heat_sq_K", f"K/({template})^2", f"{var} ** 2", f"{channel}^2", f"{shown} squared",
+                f"{ident}_heat_sq_K", f"K/({template})^2", column, "square", f"{channel}^2", f"{shown} squared",
                 typical=1.0 / scale**2)], (), None))
         forms.append(("heat_effort", f"heat in proportion to {shown} times the effort's magnitude", [Feature(
-            f"{ident}_heat_effort_K", f"K/({template} · {{effort}})", f"{var} * np.abs(effort)",
+            f"{ident}_heat_effort_K", f"K/({template} · {{effort}})", column, "times_abs_effort",
             f"{channel} |effort|", f"{shown} times |effort|", typical=1.0 / scale)], ("effort",), None))
         lower = -CONDUCTANCE_MARGIN / x.max() if x.max() > 0 else -np.inf
         upper = CONDUCTANCE_MARGIN / -x.min() if x.min() < 0 else np.inf
         param = f"{ident}_conductance_per_unit"
-        check = (f"worst = min(1.0 + p[{param!r}] * {float(x.min())!r}, 1.0 + p[{param!r}] * {float(x.max())!r})\n"
-                 f"if worst <= 0.0:\n"
-                 f"    return f\"the conductance to ambient would be negative ({{worst:.2f}} of its value at "
-                 f"{channel} = 0)\"")
         forms.append(("conductance", f"the conductance to ambient changes with {shown} (a fan, a coolant)", [Feature(
-            param, f"1/({template})", var, f"{channel} (T - T_offset)", f"{shown} times the rise above the offset",
-            gain=True, sign=-1.0, lower=lower, upper=upper, typical=0.1 / scale)], (), check))
+            param, f"1/({template})", column, "value", f"{channel} (T - T_offset)",
+            f"{shown} times the rise above the offset", gain=True, sign=-1.0, lower=lower, upper=upper,
+            typical=0.1 / scale)], (), (param, float(x.min()), float(x.max()))))
     names = []
-    for form, description, features, needs, check in forms:
+    for form, description, features, needs, conductance in forms:
         name = f"{ident}_{form}"
-        doc = (f"{description[0].upper()}{description[1:]}: a term written by `thermolimb diagnose --discover` for "
-               f"the channel {channel!r} ({unit or 'unit not given'}) of the log it diagnosed.")
-        define(term_source(name, description, features, {var: channel}, needs + (f"extra.{channel}",), check),
-               doc, f"channel {channel}")
+        define(Spec(name, description, needs + (column,), tuple(features), conductance))
         names.append(name)
     return names

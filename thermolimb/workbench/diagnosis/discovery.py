@@ -37,7 +37,7 @@ import numpy as np
 
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
-from ...model.generated import Feature, define, input_arrays, input_name, term_source
+from ...model.generated import Feature, Spec, define, identifier
 from ...model.model import ThermalModel
 from ...model.terms import TERMS, Parameter, Term, register_term, unregister_term
 from .channels import in_temperature_range, is_temperature, unused_channels
@@ -56,11 +56,10 @@ PROBE = "_discovery_probe"
 
 @dataclass(frozen=True)
 class LibraryFeature:
-    """A feature and what it reads: extra channels by input name, log columns."""
+    """A feature and the log columns it reads."""
 
     key: str
     feature: Feature
-    extras: dict
     columns: tuple[str, ...]
 
 
@@ -81,41 +80,41 @@ def _speed_features(speed: np.ndarray) -> list[LibraryFeature]:
     out = []
     for n in SPEED_POWERS:
         out.append(LibraryFeature(f"speed_p{n:g}".replace(".", "_"), Feature(
-            "", f"K/({{velocity}})^{n:g}", f"np.abs(velocity) ** {n!r}", f"|v|^{n:g}",
-            f"|velocity| to the power {n:g}"), {}, ("velocity",)))
+            "", f"K/({{velocity}})^{n:g}", "velocity", "abs_power", f"|v|^{n:g}", f"|velocity| to the power {n:g}",
+            power=n), ("velocity",)))
     moving = speed[speed > 0.01 * speed.max()] if speed.max() > 0 else speed
     for q in SPEED_QUANTILES:
         v0 = float(f"{np.quantile(moving, q):.2g}")
         if v0 <= 0:
             continue
         out.append(LibraryFeature(f"speed_over_{v0:g}".replace(".", "_"), Feature(
-            "", "K/({velocity})^2", f"np.maximum(np.abs(velocity) - {v0!r}, 0.0) ** 2", f"max(0, |v| - {v0:g})^2",
-            f"the square of |velocity| above {v0:g}"), {}, ("velocity",)))
+            "", "K/({velocity})^2", "velocity", "above", f"max(0, |v| - {v0:g})^2",
+            f"the square of |velocity| above {v0:g}", threshold=v0), ("velocity",)))
     out.append(LibraryFeature("speed_cooling", Feature(
-        "", "1/({velocity})", "np.abs(velocity)", "|v| (T - T_offset)", "|velocity| times the rise above the offset",
-        gain=True), {}, ("velocity",)))
+        "", "1/({velocity})", "velocity", "abs_power", "|v| (T - T_offset)", "|velocity| times the rise above the "
+        "offset", gain=True), ("velocity",)))
     return out
 
 
 def _effort_features(effort: np.ndarray) -> list[LibraryFeature]:
     out = [LibraryFeature(f"effort_p{n:g}", Feature(
-        "", f"K/({{effort}})^{n:g}" if n != 1 else "K/({effort})", f"np.abs(effort) ** {n!r}",
-        f"|F|^{n:g}" if n != 1 else "|F|", f"|effort| to the power {n:g}"), {}, ("effort",)) for n in EFFORT_POWERS]
+        "", f"K/({{effort}})^{n:g}" if n != 1 else "K/({effort})", "effort", "abs_power",
+        f"|F|^{n:g}" if n != 1 else "|F|", f"|effort| to the power {n:g}", power=n), ("effort",)) for n in EFFORT_POWERS]
     f0 = float(f"{np.quantile(np.abs(effort), 0.75):.2g}")
     if f0 > 0:
         out.append(LibraryFeature(f"effort_over_{f0:g}".replace(".", "_"), Feature(
-            "", "K/({effort})^2", f"np.maximum(np.abs(effort) - {f0!r}, 0.0) ** 2", f"max(0, |F| - {f0:g})^2",
-            f"the square of |effort| above {f0:g}"), {}, ("effort",)))
+            "", "K/({effort})^2", "effort", "above", f"max(0, |F| - {f0:g})^2", f"the square of |effort| above {f0:g}",
+            threshold=f0), ("effort",)))
     out.append(LibraryFeature("effort2_temperature", Feature(
-        "", "1/({effort})^2", "effort ** 2", "F^2 (T - 25 degC)", "effort squared times the temperature above 25 degC",
-        gain=True, reference="25.0"), {}, ("effort",)))
+        "", "1/({effort})^2", "effort", "square", "F^2 (T - 25 degC)", "effort squared times the temperature above "
+        "25 degC", gain=True, reference="25.0"), ("effort",)))
     return out
 
 
-def _pull(key: str, reference: str, symbol: str, words: str, extras=None, columns=()) -> LibraryFeature:
+def _pull(key: str, reference: str, symbol: str, words: str, columns=()) -> LibraryFeature:
     """``c (T_x - T)``: the pull of another temperature (a gain of ``-c`` with the reference ``T_x``)."""
-    return LibraryFeature(key, Feature("", "1", "1.0", symbol, words, gain=True, reference=reference, sign=-1.0),
-                          extras or {}, columns)
+    return LibraryFeature(key, Feature("", "1", "effort", "one", symbol, words, gain=True, reference=reference,
+                                       sign=-1.0), columns)
 
 
 def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[LibraryFeature]:
@@ -125,51 +124,44 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
     if s.velocity is not None:
         out += _speed_features(np.abs(np.concatenate([x.signals.velocity for x in series])))
     if s.current_A is not None:
-        out.append(LibraryFeature("current_p2", Feature("", "K/({current})^2", "current ** 2", "I^2",
-                                                        "current squared"), {}, ("current",)))
+        out.append(LibraryFeature("current_p2", Feature("", "K/({current})^2", "current", "square", "I^2",
+                                                        "current squared"), ("current",)))
         out.append(LibraryFeature("current2_temperature", Feature(
-            "", "1/({current})^2", "current ** 2", "I^2 (T - 25 degC)", "current squared times the temperature "
-            "above 25 degC", gain=True, reference="25.0"), {}, ("current",)))
+            "", "1/({current})^2", "current", "square", "I^2 (T - 25 degC)", "current squared times the temperature "
+            "above 25 degC", gain=True, reference="25.0"), ("current",)))
     for column, words in (("ambient", "the logged ambient"), ("housing", "the housing temperature"),
                           ("neighbors", "the neighbours' mean temperature")):
         if s.has(column):
             out.append(_pull(f"{column}_pull", column, f"({column} - T)", f"the pull of {words}", columns=(column,)))
     for channel in unused_channels(model, series):
-        var, unit = input_name(channel), series[0].units.get(f"extra.{channel}")
-        needs = (f"extra.{channel}",)
-        key = var[2:]
+        unit, column = series[0].units.get(f"extra.{channel}"), f"extra.{channel}"
+        key = identifier(channel)
         values = np.concatenate([x.signals.extra[channel] for x in series])
         named = is_temperature(channel, unit)
         if named or in_temperature_range(values, unit, series):
-            out.append(_pull(f"{key}_pull", var, f"({channel} - T)", f"the pull of `{channel}`", {var: channel}, needs))
+            out.append(_pull(f"{key}_pull", column, f"({channel} - T)", f"the pull of `{channel}`", (column,)))
         if named:
             continue
         template = f"{{extra.{channel}}}"
         out += [
-            LibraryFeature(f"{key}_heat", Feature("", f"K/({template})", var, channel, f"`{channel}`"),
-                           {var: channel}, needs),
-            LibraryFeature(f"{key}_sq", Feature("", f"K/({template})^2", f"{var} ** 2", f"{channel}^2",
-                                                f"`{channel}` squared"), {var: channel}, needs),
-            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} · {{effort}})", f"{var} * np.abs(effort)",
+            LibraryFeature(f"{key}_heat", Feature("", f"K/({template})", column, "value", channel, f"`{channel}`"),
+                           (column,)),
+            LibraryFeature(f"{key}_sq", Feature("", f"K/({template})^2", column, "square", f"{channel}^2",
+                                                f"`{channel}` squared"), (column,)),
+            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} · {{effort}})", column, "times_abs_effort",
                                                     f"{channel} |F|", f"`{channel}` times |effort|"),
-                           {var: channel}, needs + ("effort",)),
-            LibraryFeature(f"{key}_cooling", Feature("", f"1/({template})", var, f"{channel} (T - T_offset)",
+                           (column, "effort")),
+            LibraryFeature(f"{key}_cooling", Feature("", f"1/({template})", column, "value", f"{channel} (T - T_offset)",
                                                      f"`{channel}` times the rise above the offset", gain=True),
-                           {var: channel}, needs),
+                           (column,)),
         ]
     return out
 
 
-def feature_values(feature: Feature, extras: dict, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
+def feature_values(feature: Feature, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
     """The feature's values on a series, and its reference temperature (degC) for a gain feature."""
-    s = series.signals
-    names = {"np": np, **input_arrays(s), "T_offset_C": offset_C}
-    names.update({var: s.extra[channel] for var, channel in extras.items()})
-    values = np.broadcast_to(np.asarray(eval(feature.expr, {"__builtins__": {}}, names), float), (s.n,))
-    if not feature.gain:
-        return values.copy(), None
-    reference = np.broadcast_to(np.asarray(eval(feature.reference, {"__builtins__": {}}, names), float), (s.n,))
-    return values.copy(), reference.copy()
+    values = feature.values(series.signals).copy()
+    return values, (feature.reference_values(series.signals, offset_C).copy() if feature.gain else None)
 
 
 class _Probe(Term):
@@ -200,7 +192,7 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
         for lf in features:
             runs = []
             for s in train:
-                f, ref = feature_values(lf.feature, lf.extras, s, base.params["T_offset_C"])
+                f, ref = feature_values(lf.feature, s, base.params["T_offset_C"])
                 extra = {**s.signals.extra, "_f": f * lf.feature.sign}
                 if ref is not None:
                     extra["_ref"] = ref
@@ -223,7 +215,7 @@ def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarra
     from sklearn.linear_model import orthogonal_mp  # scikit-learn takes ~0.1 s to import: only when discovering
 
     features = [lf for lf in library(base.terms, train)
-                if np.ptp(np.concatenate([feature_values(lf.feature, lf.extras, s, 0.0)[0] for s in train])) > 0]
+                if np.ptp(np.concatenate([feature_values(lf.feature, s, 0.0)[0] for s in train])) > 0]
     if not features or not residual @ residual > 0:
         return None
     S = signatures(base, train, features, stride)
@@ -258,16 +250,11 @@ def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarra
 
 def _proposal(picked: list[LibraryFeature], beta: list[float], r2: float, size: int, train, prefix: str) -> Proposal:
     name = f"{prefix}_" + "_".join(lf.key for lf in picked)
-    features, extras, columns = [], {}, []
+    features, columns = [], []
     for k, (lf, b) in enumerate(zip(picked, beta), start=1):
         features.append(replace(lf.feature, param=f"{name}_c{k}", typical=abs(b) or 1.0))
-        extras.update(lf.extras)
         columns += [c for c in lf.columns if c not in columns]
     formula = " + ".join(f"c{k} {f.symbol}" for k, f in enumerate(features, start=1))
     words = "; ".join(f.words for f in features)
-    doc = (f"A discovered form, not a known effect: heat = {formula}. Written by `thermolimb diagnose --discover` "
-           f"(orthogonal matching pursuit over {size} library features of the log it diagnosed); rename it, keep it, "
-           f"or load it with `--terms FILE`.")
-    source = term_source(name, f"discovered form: {words}", features, extras, tuple(columns))
-    define(source, doc, "discovery")
+    define(Spec(name, f"discovered form: {words}", tuple(columns), tuple(features)))
     return Proposal(name, formula, words, beta, r2, size, TERMS[name].source)

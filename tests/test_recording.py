@@ -1,0 +1,151 @@
+"""The monitor's recording loses nothing: killed without a word it leaves a file readable up to its last chunk,
+which the next monitor completes and says; ended by signals, once or twice, at any gap, it is complete and said; a
+run that follows nothing never empties an earlier recording; two monitors never write one file."""
+
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from rosbags.highlevel import AnyReader
+
+from thermolimb.cli.main import main
+
+THERMOLIMB = str(Path(sys.executable).parent / "thermolimb")
+WRITER = """
+import sys, time
+src, dst, pause = sys.argv[1], sys.argv[2], float(sys.argv[3])
+lines = open(src).read().splitlines(True)
+with open(dst, "w") as f:
+    f.write(lines[0])
+    for line in lines[1:]:
+        f.write(line)
+        f.flush()
+        time.sleep(pause)
+"""
+
+
+@pytest.fixture(scope="module")
+def model_and_log(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("recording")
+    cal, run, model = folder / "cal.csv", folder / "run.csv", folder / "model.json"
+    assert main(["simulate", "--profile", "random", "--duration", "1200", "--dt", "1", "--network", "first_order",
+                 "--seed", "4", "--out", str(cal), "--quiet"]) == 0
+    assert main(["simulate", "--profile", "squat", "--duration", "900", "--dt", "1", "--network", "first_order",
+                 "--seed", "5", "--out", str(run), "--quiet"]) == 0
+    assert main(["fit", str(cal), "--save", str(model), "--limit-C", "60", "--quiet"]) == 0
+    return model, run
+
+
+def messages_in(path: Path) -> int:
+    with AnyReader([path]) as reader:
+        return sum(1 for _ in reader.messages())
+
+
+def start(model, live, out, *extra):
+    """A monitor following ``live`` (written by another process, a row every 10 ms) into ``out``."""
+    return subprocess.Popen([THERMOLIMB, "monitor", str(model), "--follow", str(live), "--mcap", str(out),
+                             "--publish-hz", "1", *extra], stderr=subprocess.PIPE, text=True)
+
+
+def writer(run, live, pause=0.01):
+    return subprocess.Popen([sys.executable, "-c", WRITER, str(run), str(live), str(pause)])
+
+
+def wait_for(condition, timeout_s=60.0):
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.05)
+
+
+def test_a_killed_monitor_leaves_a_readable_partial_that_the_next_one_completes(model_and_log, tmp_path):
+    model, run = model_and_log
+    live, out = tmp_path / "live.csv", tmp_path / "out.mcap"
+    partial = tmp_path / "out.mcap.partial"
+    w = writer(run, live)
+    monitor = start(model, live, out)
+    try:
+        # chunks reach the disk at least every 2 s: wait until one has, then kill without a word
+        wait_for(lambda: partial.exists() and partial.stat().st_size > 4096)
+        monitor.kill()
+        monitor.wait(timeout=30)
+    finally:
+        w.kill()
+    assert not out.exists() and partial.exists()
+    done = subprocess.run([THERMOLIMB, "monitor", str(model), "--follow", str(run), "--mcap", str(out),
+                           "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    recovered = tmp_path / "out.recovered.mcap"
+    assert "left by a monitor that was killed" in done.stderr and str(recovered) in done.stderr
+    kept = messages_in(recovered)
+    assert kept > 0 and f"its {kept} messages" in done.stderr
+    assert not partial.exists() and messages_in(out) > kept
+
+
+@pytest.mark.parametrize("signals, gap_s", [(("TERM",), 0.0), (("TERM", "TERM"), 0.0), (("TERM", "TERM"), 0.05),
+                                            (("HUP",), 0.0), (("INT", "TERM"), 0.01), (("HUP", "TERM"), 0.2)])
+def test_signals_once_or_twice_end_with_a_complete_file_and_say_so(model_and_log, tmp_path, signals, gap_s):
+    import signal as sig
+
+    model, run = model_and_log
+    live, out = tmp_path / "live.csv", tmp_path / "out.mcap"
+    w = writer(run, live, 0.002)
+    monitor = start(model, live, out)
+    try:
+        # once messages are on the disk (before the recording opens, the default action loses nothing)
+        partial = tmp_path / "out.mcap.partial"
+        wait_for(lambda: partial.exists() and partial.stat().st_size > 4096)
+        for name in signals:
+            monitor.send_signal(getattr(sig, f"SIG{name}"))
+            time.sleep(gap_s)
+        _, err = monitor.communicate(timeout=60)
+    finally:
+        w.kill()
+    assert monitor.returncode == 0, err
+    said = [line for line in err.splitlines() if line.startswith("wrote ")]
+    assert len(said) == 1 and out.exists(), err
+    assert f"({messages_in(out)} messages)" in said[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["live.csv", "out.mcap"]  # nothing left behind
+
+
+def test_an_earlier_recording_is_never_emptied_by_a_run_that_follows_nothing(model_and_log, tmp_path, capsys):
+    model, run = model_and_log
+    out = tmp_path / "out.mcap"
+    assert main(["monitor", str(model), "--follow", str(run), "--mcap", str(out), "--idle-exit", "0.2"]) == 0
+    before = out.read_bytes()
+    bad_header = tmp_path / "bad.csv"
+    bad_header.write_text("when,what\n1,2\n")
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        for argv in (["--follow", str(tmp_path / "never.csv"), "--idle-exit", "0.3"],
+                     ["--follow", str(bad_header), "--idle-exit", "0.3"],
+                     ["--follow", "/dev/null"],
+                     ["--follow", str(run), "--foxglove", str(port), "--idle-exit", "0.3"]):
+            capsys.readouterr()
+            assert main(["monitor", str(model), "--mcap", str(out), *argv]) == 2, argv
+            err = capsys.readouterr().err
+            assert "error:" in err and "wrote" not in err
+    assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.csv", "out.mcap"]
+
+
+def test_two_monitors_never_write_one_file_and_a_missing_folder_is_made(model_and_log, tmp_path):
+    model, run = model_and_log
+    live, out = tmp_path / "live.csv", tmp_path / "new" / "folder" / "out.mcap"
+    w = writer(run, live)
+    first = start(model, live, out)
+    try:
+        wait_for(lambda: (out.parent / "out.mcap.partial").exists())
+        second = subprocess.run([THERMOLIMB, "monitor", str(model), "--follow", str(run), "--mcap", str(out),
+                                 "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
+        assert second.returncode == 2 and "another monitor is writing it now" in second.stderr
+        first.terminate()
+        _, err = first.communicate(timeout=60)
+    finally:
+        w.kill()
+    assert first.returncode == 0 and messages_in(out) > 0, err
