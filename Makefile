@@ -16,14 +16,15 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-# the suite and what its demos need (no test tools; PyTorch, Ray and Stable-Baselines3 only with their extras)
+# the suite and what its demos need (MuJoCo for the thermal audit; no test tools; PyTorch, Ray and Stable-Baselines3
+# only with their extras)
 $(DEMO_STAMP): setup.cfg pyproject.toml | $(BIN)/python
-	$(PIP) -e .
+	$(PIP) -e ".[mujoco]"
 	touch $(DEMO_STAMP)
 
 # the suite with its test extra (pytest, hypothesis, and the optional backends the tests exercise)
 $(TEST_STAMP): setup.cfg pyproject.toml | $(BIN)/python
-	$(PIP) -e ".[test]"
+	$(PIP) -e ".[test,mujoco]"
 	touch $(TEST_STAMP) $(DEMO_STAMP)
 
 install: $(DEMO_STAMP)

@@ -16,8 +16,8 @@ from pathlib import Path
 
 from thermolimb.demo_registry import DemoPage, demo_main, kelvin, register_demo
 from thermolimb.logs import from_frame
-from thermolimb.model.terms import TERMS
 from thermolimb.model.parameter_units import spaced
+from thermolimb.model.terms import TERMS
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.plotting.diagnosis import plot_diagnosis

@@ -19,10 +19,10 @@ import numpy as np
 
 from thermolimb.demo_registry import DemoPage, demo_main, register_demo
 from thermolimb.forecast import forecast
+from thermolimb.logs.follow import CsvFollower, Run
 from thermolimb.model import DEFAULT_MODEL
 from thermolimb.model.reach import crossing_s
 from thermolimb.model.saved import ModelFile
-from thermolimb.logs.follow import CsvFollower, Run
 from thermolimb.monitor import Session
 from thermolimb.monitor.recording import McapOutput
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile

@@ -13,6 +13,7 @@ from gymnasium import spaces
 
 from thermolimb.envs.base import RigEnv, checked_finite, checked_port, checked_range
 
+from .constants import JOINTS
 from .control import cpg
 from .control.controller import ThermalContext
 from .control.loop import ControlLoop
@@ -83,6 +84,7 @@ class HexapodLoadCarryEnv(RigEnv):
     """
 
     OUTCOME = "distance_m"
+    JOINTS = JOINTS
 
     def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None,
                  payload_range_kg: tuple[float, float] = (0.0, 5.0), ambient_range_C: tuple[float, float] = (20.0, 35.0),

@@ -110,6 +110,7 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     """
 
     OUTCOME = "recovery_s"
+    JOINTS = JOINTS
 
     def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None,
                  actuator_specs: Sequence[ActuatorSpec] | None = None,

@@ -5,6 +5,7 @@ import re
 
 import pytest
 from captions import broken_promises, code_names
+from mcap.reader import make_reader
 from PIL import Image
 
 from thermolimb.demo_registry import caption, load_demos, run_demo
@@ -171,7 +172,10 @@ def test_endurance_summary_has_the_cells_the_issue_names(quick_runs):
 def test_forecast_demo_saves_forecasts_and_monitors(quick_runs):
     summary = quick(quick_runs, "forecast")
     folder = quick_runs[0] / "forecast"
-    assert (folder / "model_auto.json").is_file() and (folder / "monitor.mcap").stat().st_size > 10_000
+    assert (folder / "model_auto.json").is_file()
+    with open(folder / "monitor.mcap", "rb") as f:  # a complete recording (a summary at its end), with messages in it
+        stats = make_reader(f).get_summary().statistics
+    assert stats.message_count > 100, stats
     auto, default = summary["coverage"]["auto"], summary["coverage"]["default"]
     # the model the workbench finds answers better than Jorgensen et al.'s on a plant richer than both
     assert auto["median_error"] < 0.5 * default["median_error"]

@@ -29,9 +29,11 @@ def _node(module: str) -> str:
 
 
 def _core(graph: dict[str, set[str]]) -> set[str]:
-    """Every node of the core (``thermolimb.*``) except the command line and the environments' shared part."""
+    """Every node of the core (``thermolimb.*``) except the command line (``python -m thermolimb`` too) and the
+    environments' shared part."""
     nodes = set(graph) | set().union(*graph.values())
-    return {n for n in nodes if n.split(".")[0] == CORE and n not in ("thermolimb.cli", "thermolimb.envs")}
+    return {n for n in nodes if n.split(".")[0] == CORE and n not in ("thermolimb.cli", "thermolimb.__main__",
+                                                                        "thermolimb.envs")}
 
 
 def _imports(path: Path, module: str) -> list[str]:

@@ -12,10 +12,10 @@ import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
-from ..util.signals import ENDING, ignore_further
-from . import compare, demo, diagnose, fit, inspect, monitor, predict, simulate, strategies
+from ..util.interrupts import ENDING, ignore_further
+from . import audit, compare, demo, diagnose, export, fit, inspect, monitor, predict, simulate, strategies
 
-COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, strategies, demo)
+COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, export, audit, strategies, demo)
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.
 USER_ERRORS = (ThermolimbError,)

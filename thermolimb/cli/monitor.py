@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..util.errors import UsageError
-from ..util.signals import ignore_further
+from ..util.interrupts import ignore_further
 from .options import add_log_input, add_terms
 from .output import say
 from .reading import load_model_file

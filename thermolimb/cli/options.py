@@ -9,7 +9,7 @@ from ..logs import VELOCITY_UNITS
 from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import UsageError
 from ..util.parallel import BACKENDS
-from ..workbench.validation import Scheme
+from ..workbench.validation import PARTS, Scheme
 from .types import assignments, folds, fraction, integer, number, output_dir, output_file
 
 DEFAULT_SPLIT = 0.7
@@ -83,10 +83,10 @@ def add_models(p, help: str, repeated: bool = False):
 def add_validation(p):
     p.add_argument("--split", type=fraction, default=None,
                    help=f"fit on this fraction of each run's time span and validate on the rest (e.g. {DEFAULT_SPLIT}; "
-                        f"default: leave one run out with several runs, interleaved blocks of one run)")
-    p.add_argument("--cv", type=folds, default=None, metavar="K|runs|interleaved",
+                        f"default: leave one run out with several runs, a {DEFAULT_SPLIT} split of one run)")
+    p.add_argument("--cv", type=folds, default=None, metavar="K|runs|interleaved|parts",
                    help="blocked cross-validation over K contiguous folds; 'runs': leave one run out; 'interleaved': "
-                        "blocks 2, 5 and 8 of 10 of each run held out (the default for one run)")
+                        "blocks 2, 5 and 8 of 10 of each run held out; 'parts': each third of each run held out in turn")
     p.add_argument("--validate-on", nargs="+", default=None, metavar="LOG",
                    help="fit on the LOGs given first and validate on these runs (read with the same options)")
     p.add_argument("--restart-at-split", action="store_true",
@@ -106,11 +106,13 @@ def scheme_of(args) -> Scheme:
         return Scheme.leave_one_run_out()
     if args.cv == "interleaved":
         return Scheme.interleaved()
+    if args.cv == "parts":
+        return Scheme(PARTS)
     if isinstance(args.cv, int):
         return Scheme.in_blocks(args.cv, args.restart_at_split)
     if args.split is not None or args.restart_at_split:
         return Scheme.at_split(DEFAULT_SPLIT if args.split is None else args.split, args.restart_at_split)
-    return Scheme()  # leave one run out with several runs, interleaved blocks of one run
+    return Scheme()  # leave one run out with several runs, a split of one run
 
 
 def add_outputs(p, json_help: str, plot_help: str):

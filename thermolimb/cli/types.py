@@ -59,15 +59,15 @@ def fraction(text: str) -> float:
 
 
 def folds(text: str):
-    if text in ("runs", "interleaved"):
+    if text in ("runs", "interleaved", "parts"):
         return text
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more), 'runs' or 'interleaved', got "
-                                         f"{text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more), 'runs', 'interleaved' or 'parts', "
+                                         f"got {text!r}") from None
     if value < 2:
-        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs', 'interleaved'), got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs', 'interleaved', 'parts'), got {text!r}")
     return value
 
 

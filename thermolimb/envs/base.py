@@ -53,6 +53,7 @@ class RigEnv(gym.Env):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
     RESET_OPTIONS: tuple[str, ...] = ()  # the keys ``reset(options=...)`` accepts (documented by each environment)
+    JOINTS: tuple[str, ...] = ()  # the robot's joints, in the rig's order (known before the first reset)
     LOG_CAPACITY = 3000  # control steps of rig log kept in memory: an episode's memory stays flat however long
 
     def __init__(self, max_time_s: float, decision_s: float, render_mode: str | None = None):

@@ -27,8 +27,8 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..util.errors import ModelFileError, ModelSpecError
-from .model import ThermalModel, model_parameters
 from .generated import specs_of
+from .model import ThermalModel, model_parameters
 from .terms import TERMS
 
 FORMAT = "thermolimb-model"

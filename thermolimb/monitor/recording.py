@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 from ..util.errors import UsageError
-from ..util.signals import held
+from ..util.interrupts import held
 from .estimator import Estimate
 from .outputs import diagnostic_values, stamp_ns, topic
 

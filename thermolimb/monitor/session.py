@@ -11,7 +11,7 @@ import numpy as np
 from ..model.saved import ModelFile
 from ..model.signals import Signals
 from ..util.errors import UsageError
-from ..util.signals import held
+from ..util.interrupts import held
 from .estimator import ActuatorMonitor, Estimate
 
 CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C", "power": "power_W",

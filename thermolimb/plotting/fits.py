@@ -18,6 +18,8 @@ from ..workbench.validation import FitReport  # noqa: E402
 from .inventory import metadata  # noqa: E402
 
 LABEL_WORD_LIMIT = 100  # characters of one word a figure's text shows
+DPI = 110
+WIDEST_PX = 1280  # the report's column (1320 px less its padding): a wider figure is drawn at a lower resolution
 
 
 def save(fig, path: Path) -> Path:
@@ -28,9 +30,10 @@ def save(fig, path: Path) -> Path:
         if len(text.get_text()) > LABEL_WORD_LIMIT:
             text.set_text(bounded(text.get_text(), LABEL_WORD_LIMIT))
     wrap_to_figure(fig)
+    width_in = fig.get_tightbbox(fig.canvas.get_renderer()).width + 0.2  # savefig's pad_inches on each side
     try:
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110, bbox_inches="tight", format=kind,
+            fig.savefig(tmp, dpi=min(DPI, WIDEST_PX / width_in), bbox_inches="tight", format=kind,
                         metadata=metadata(fig) if kind == "png" else None)
     finally:
         plt.close(fig)

@@ -25,7 +25,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Callable, Iterator, Sequence
 
 from .errors import UsageError
-from .signals import held
+from .interrupts import held
 
 BACKENDS = ("process", "ray", "serial")
 RAY_CONNECT_TIMEOUT_S = 10.0

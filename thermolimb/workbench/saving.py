@@ -10,8 +10,15 @@ from typing import Sequence
 
 import numpy as np
 
-from ..model.saved import JACKKNIFE_BLOCKS, MIN_JACKKNIFE_FITS, RESIDUAL_QUANTILES, ResidualStats, SavedModel, provenance
 from ..model.generated import specs_of
+from ..model.saved import (
+    JACKKNIFE_BLOCKS,
+    MIN_JACKKNIFE_FITS,
+    RESIDUAL_QUANTILES,
+    ResidualStats,
+    SavedModel,
+    provenance,
+)
 from ..util.errors import ThermolimbError
 from .validation import make_estimator
 

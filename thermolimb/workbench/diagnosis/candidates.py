@@ -53,6 +53,7 @@ WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this lev
 INFLUENTIAL_SHARE = 0.01  # a gain must survive leaving out this share of the held-out samples (the most in its favour)
 MIN_INFLUENTIAL = 3  # ... and at least this many of them
 KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 % without them)
+STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
 
 
 @dataclass
@@ -413,8 +414,7 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
     cand.implausible_because = term().implausible(params)
     for p in term.parameters:
         cand.params[p.name] = {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
-    identifiable = term_identified(term, report)
-    cand.identifiable = identifiable
+    cand.identifiable = bool(term_identified(term, report))  # a NumPy bool is not ``False`` to ``is not False``
     cand.plausible = cand.implausible_because is None
     cand.failure = refit_failure(term, params)
 
@@ -439,7 +439,7 @@ def term_identified(term, report) -> bool:
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False
     wald = float(theta @ scaled_inverse(cov) @ theta)
-    return wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary))
+    return bool(wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary)))
 
 
 def refit_failure(term, params) -> str | None:
@@ -456,17 +456,25 @@ def refit_failure(term, params) -> str | None:
     return None
 
 
-def held_out_support(base_segments, segments) -> tuple[tuple[int, int], float, str | None]:
+def held_out_support(base_segments, segments) -> tuple[tuple[int, int, int], float, str | None]:
     """Where a change's held-out gain comes from: on how many held-out units (runs, blocks) it lowers the error,
-    of how many; the gain left without the few held-out samples most in its favour (the
+    of how many that hold dynamics to judge it on, and how many do not (readings spanning under
+    :data:`STILL_SPAN` of the widest unit's: a run held near its steady state cannot tell a time constant or a
+    neighbour's heat from an offset); the gain left without the few held-out samples most in its favour (the
     :data:`INFLUENTIAL_SHARE` whose squared error it cut most); and, when that falls short of half the gate,
     why it is not evidence."""
     units: dict[str, list] = {}
+    spans: dict[str, list] = {}
     for b, c in zip(base_segments, segments):
         pair = units.setdefault(b.unit, [0.0, 0.0])
         pair[0] += float(np.sum((b.measured_C - b.simulated_C) ** 2))
         pair[1] += float(np.sum((c.measured_C - c.simulated_C) ** 2))
-    lower = sum(c < b for b, c in units.values())
+        span = spans.setdefault(b.unit, [np.inf, -np.inf])
+        span[:] = [min(span[0], float(np.min(b.measured_C))), max(span[1], float(np.max(b.measured_C)))]
+    width = {u: hi - lo for u, (lo, hi) in spans.items()}
+    widest = max(width.values())
+    moving = {u for u in units if width[u] >= STILL_SPAN * widest} or set(units)
+    lower = sum(units[u][1] < units[u][0] for u in moving)
     eb = np.concatenate([b.measured_C - b.simulated_C for b in base_segments])
     ec = np.concatenate([c.measured_C - c.simulated_C for c in segments])
     k = max(MIN_INFLUENTIAL, int(np.ceil(INFLUENTIAL_SHARE * eb.size)))
@@ -477,4 +485,4 @@ def held_out_support(base_segments, segments) -> tuple[tuple[int, int], float, s
     if robust < KEPT_GAIN * MIN_IMPROVEMENT:
         fragile = (f"the held-out gain rests on its {k} most influential samples (of {eb.size}): without them the "
                    f"error falls by {100 * robust:.1f} %, short of {100 * KEPT_GAIN * MIN_IMPROVEMENT:.0f} %")
-    return (lower, len(units)), robust, fragile
+    return (lower, len(moving), len(units) - len(moving)), robust, fragile

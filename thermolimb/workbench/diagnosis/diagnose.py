@@ -27,6 +27,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from ...effects import EFFECTS
 from ...identification import FreeRunLeastSquares
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
@@ -35,7 +36,6 @@ from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.errors import TermError, ThermolimbError
 from ...util.frozen import FrozenMapping
 from ...util.progress import progress
-from ...effects import EFFECTS
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
 from ..validation import FitReport, Scheme, identifiable_submodel, validate_model
@@ -362,7 +362,8 @@ def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport,
                 f"{won_K:.3f} K, against {lost_K:.3f} K from {lost_word} squared ({','.join(lost.model.terms)}); "
                 f"lower on {lower} of {units[1]} held-out {base.units}")
     return won, {"chosen": won_word, "effort_rmse_K": e, "current_rmse_K": c, "effort_model": list(base.model.terms),
-                 "current_model": list(rival.model.terms), "sentence": sentence}
+                 "current_model": list(rival.model.terms), "sentence": sentence,
+                 "effort_fit_percent": base.validation["fit_percent"], "effort_flags": list(base.flags)}
 
 
 def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:
@@ -422,6 +423,12 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]
+    h = first.heat_source
+    if h is not None and h["chosen"] == "current":  # the walk starts from the effort model, its first step the swap
+        waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"],
+                            improvement=1.0 - h["current_rmse_K"] / h["effort_rmse_K"], why=h["sentence"])
+        waterfall.insert(0, {"model": h["effort_model"], "rmse_K": h["effort_rmse_K"],
+                             "fit_percent": h["effort_fit_percent"], "flags": h["effort_flags"], "floor_K": None})
     first.auto = waterfall
     return first, steps
 

@@ -77,8 +77,10 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         if c.kind == "channel":
             parts.append(_fitted(c))
         parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
-        if c.units is not None and c.units[1] > 1:
-            parts.append(f"lower on {c.units[0]} of {c.units[1]} held-out {c.unit_word}"
+        if c.units is not None and c.units[1] + _still(c) > 1:
+            still = (f" ({_still(c)} more held out near steady state, its readings spanning under a tenth of the "
+                     f"widest's: no dynamics to judge on)" if _still(c) else "")
+            parts.append(f"lower on {c.units[0]} of {c.units[1]} held-out {c.unit_word}{still}"
                          + ("" if 2 * c.units[0] > c.units[1] else ", not most of them: not taken"))
         if c.fragile:
             parts.append(f"not evidence: {c.fragile}")
@@ -115,3 +117,8 @@ def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:
         if c.identifiable is False:
             parts.append("but this log does not pin its value down")
     return "; ".join(parts) + "."
+
+
+def _still(c) -> int:
+    """The held-out units set aside for holding no dynamics (:func:`~.candidates.held_out_support`)."""
+    return c.units[2] if len(c.units) > 2 else 0

@@ -1,0 +1,184 @@
+"""The model travels: exported to MuJoCo's dcmotor it integrates there as here; ThermalWrapper heats the joints of
+Gymnasium's MuJoCo environments and of this suite's PyBullet robots exactly as the model does; the audit says
+which joint limits a policy."""
+
+import json
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.logs import read_log
+from thermolimb.model import ThermalModel
+from thermolimb.model.saved import ModelFile, bare
+from thermolimb.plant import X8_9
+
+mujoco = pytest.importorskip("mujoco")
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+from thermolimb.envs.thermal_wrapper import ThermalWrapper  # noqa: E402
+from thermolimb.mujoco_export import Motor, mjcf_snippet, run_in_mujoco, to_dcmotor  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def calibration(tmp_path_factory):
+    """A plant log (a winding on a housing, so the fitted model is not the plant) and the model fit saved."""
+    folder = tmp_path_factory.mktemp("travel")
+    log, model = folder / "cal.csv", folder / "model.json"
+    assert main(["simulate", "--profile", "random", "--duration", "1800", "--dt", "1", "--seed", "3",
+                 "--out", str(log), "--quiet"]) == 0
+    assert main(["fit", str(log), "--actuator", "knee", "--save", str(model), "--limit-C", "90", "--quiet"]) == 0
+    return log, model
+
+
+def test_mujoco_integrates_the_exported_actuator_within_half_a_percent_of_the_rise(calibration):
+    log, model = calibration
+    saved = ModelFile.load(model)["knee"]
+    export = to_dcmotor(saved, Motor(motor_const=0.12, resistance_ohm=0.8, gear=12.0))
+    series = read_log(log).series("knee")
+    mujoco_C = run_in_mujoco(export, series.signals, float(series.temperature_C[0]))
+    ours = export.exported.simulate(series.signals, float(series.temperature_C[0]))
+    rise = ours.max() - ours.min()
+    assert rise > 5.0 and np.max(np.abs(mujoco_C - ours)) < 0.005 * rise
+    assert export.dropped == ("effort_bias",)
+
+
+def test_the_snippet_is_mjcf_that_mujoco_reads_back(calibration):
+    saved = ModelFile.load(calibration[1])["knee"]
+    export = to_dcmotor(saved, Motor(0.12, 0.8, 12.0))
+    snippet = mjcf_snippet([export])
+    actuator = snippet[snippet.index("<actuator>"):]
+    xml = (f'<mujoco><worldbody><body><joint name="knee" type="hinge"/><geom size=".05" mass="1"/></body>'
+           f'</worldbody>{actuator}</mujoco>')
+    m = mujoco.MjModel.from_xml_string(xml)
+    assert m.na == 1  # the thermal state, one activation
+    data = mujoco.MjData(m)
+    data.ctrl[0] = 1.0  # N m at the motor: 12 N m at the joint, i = 1 / 0.12 A
+    for _ in range(int(20 * saved.model.params["RC_s"] / m.opt.timestep)):
+        mujoco.mj_step(m, data)
+    steady = saved.model.params["betaR_K_per_effort2"] * 12.0**2  # the model's rise at 12 N m
+    assert data.act[0] == pytest.approx(steady, rel=1e-3)
+
+
+def test_export_says_what_it_drops_and_what_that_costs(calibration, capsys):
+    log, model = calibration
+    assert main(["export", str(model), str(log), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8",
+                 "--gear", "12", "--actuator", "knee", "--json"]) == 0
+    out = capsys.readouterr()
+    record = json.loads(out.out)
+    assert record["dropped"] == ["effort_bias"] and record["check"]["share_of_rise"] < 0.005
+    assert record["cost"]["exported_rmse_K"] > 0 and "effort_bias dropped" in out.err
+    with pytest.raises(SystemExit) as refused:
+        main(["export", str(model), "--mujoco", "--resistance", "0.8"])
+    assert refused.value.code == 2 and "--motor-const" in capsys.readouterr().err
+
+
+def _torques_and_temperatures(env, steps, seed=0):
+    obs, info = env.reset(seed=seed)
+    env.action_space.seed(seed)
+    torques, temperatures = [], [info["temperature_C"]]
+    for _ in range(steps):
+        obs, _, terminated, truncated, info = env.step(env.action_space.sample())
+        torques.append(info["torque_Nm"])
+        temperatures.append(info["temperature_C"])
+        assert not (terminated or truncated)
+    return np.array(torques), np.array(temperatures)
+
+
+@pytest.mark.parametrize("env_id", ["Ant-v5", "Humanoid-v5"])
+def test_a_wrapped_mujoco_environment_passes_check_env_and_heats_as_the_model(calibration, env_id):
+    saved = ModelFile.load(calibration[1])["knee"]
+    env = ThermalWrapper(gym.make(env_id, terminate_when_unhealthy=False), models=saved)
+    check_env(env, skip_render_check=True)
+    torques, temperatures = _torques_and_temperatures(env, 100)
+    assert env.observation_space.contains(env.reset(seed=1)[0])
+    dt = env.unwrapped.dt
+    for k in (0, len(env.joints) - 1):  # the model's own exact simulation of the torques read, joint by joint
+        from thermolimb.model.signals import Signals
+
+        s = Signals(np.arange(101) * dt, np.r_[torques[:, k], torques[-1, k]])
+        expected = saved.model.simulate(s, 25.0)
+        np.testing.assert_allclose(temperatures[:, k], expected, rtol=0, atol=1e-9)
+    assert np.all(temperatures[-1] > 25.0)
+
+
+def test_the_same_seed_heats_the_same_and_a_vector_of_wrapped_environments_works():
+    def make():
+        return ThermalWrapper(gym.make("Ant-v5"), plant=X8_9, observe="dict")
+
+    a, b = make(), make()
+    ta = _torques_and_temperatures(a, 20, seed=7)[1]
+    tb = _torques_and_temperatures(b, 20, seed=7)[1]
+    assert np.array_equal(ta, tb)
+    envs = gym.vector.SyncVectorEnv([make, make])
+    obs, info = envs.reset(seed=[1, 2])
+    assert obs["temperature_C"].shape == (2, 8)
+    obs, _, _, _, info = envs.step(envs.action_space.sample())
+    assert info["temperature_C"].shape == (2, 8) and np.all(obs["temperature_C"] > 24.0)
+    envs.close()
+
+
+def test_protection_derates_and_overheating_ends_the_episode():
+    hot = ThermalModel(("joule",), {"RC_s": 2.0, "betaR_K_per_effort2": 1.0, "T_offset_C": 25.0})
+    saved = bare(hot, "any", limit_C=60.0)
+
+    def run(**options):
+        env = ThermalWrapper(gym.make("Ant-v5"), models=saved, **options)
+        env.reset(seed=0)
+        peak, ended = 25.0, False
+        for _ in range(60):
+            _, reward, terminated, _, info = env.step(np.ones(8, np.float32))
+            peak = max(peak, float(info["temperature_C"].max()))
+            if terminated:
+                ended = True
+                break
+        return peak, ended, info
+
+    free_peak, free_ended, _ = run()
+    protected_peak, _, info = run(protect=True)
+    _, ended, info = run(terminate=True)
+    assert free_peak > 60.0 and not free_ended
+    assert protected_peak < free_peak and ended and info["overheated"]
+
+
+def test_the_suite_s_pybullet_robot_wrapped(calibration):
+    from hexapod_pb import ENV_ID
+
+    saved = ModelFile.load(calibration[1])["knee"]
+    env = ThermalWrapper(gym.make(ENV_ID, max_time_s=2.0), models=saved, observe="append")
+    check_env(env, skip_render_check=True)
+    obs, info = env.reset(seed=0)
+    assert len(env.joints) == 18 and obs.shape == env.observation_space.shape
+    obs, _, _, _, info = env.step(env.action_space.sample())
+    assert np.any(np.abs(info["torque_Nm"]) > 0.1) and np.all(info["temperature_C"] >= 25.0)
+    assert info["temperature_C"].max() > 25.0  # the stance legs' torques heat their joints
+    env.close()
+
+
+def test_the_audit_names_the_limiting_joint(tmp_path, capsys):
+    assert main(["audit", "--env", "Ant-v5", "--policy", "random", "--duration", "20", "--plant", "x8-9",
+                 "--limit-C", "40", "--json", "--plot", str(tmp_path)]) == 0
+    record = json.loads(capsys.readouterr().out)
+    first = [j for j in record["joints"] if j["time_to_limit_s"] is not None]
+    assert first and record["limiting_joint"] == min(first, key=lambda j: j["time_to_limit_s"])["joint"]
+    assert (tmp_path / "audit.png").exists()
+    for argv, message in ((["--policy", "nowhere:thing"], "cannot import nowhere"),
+                          (["--env", "NoSuchEnv-v0"], "--env NoSuchEnv-v0"),
+                          (["--env-arg", "no_such_argument=1"], "does not take the arguments given"),
+                          (["--env-arg", "novalue"], "expected KEY=VALUE")):
+        base = ["audit", "--env", "Ant-v5", "--duration", "1"]
+        assert main(base + argv) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_audit_beyond_the_model_s_log_says_its_temperatures_are_extrapolated(calibration, capsys):
+    """Ant-v5's random actions reach 150 N m at every joint; the model was identified on a knee's 20 N m."""
+    assert main(["audit", "--env", "Ant-v5", "--policy", "random", "--duration", "5", "--models",
+                 str(calibration[1]), "--json"]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert any("8 of 8 joints were driven beyond the torques their model was identified on" in n for n in notes), notes
+    assert main(["audit", "--env", "Ant-v5", "--policy", "zero", "--duration", "5", "--models",
+                 str(calibration[1]), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["notes"] == []  # at rest, nothing beyond its log

@@ -1,0 +1,352 @@
+"""Joints that heat up, in any Gymnasium environment: :class:`ThermalWrapper`.
+
+Each step the wrapper reads the torque each named joint was given and advances its winding temperature:
+
+* **the torque**: a MuJoCo environment's actuator forces times their gears (``data.actuator_force``), this
+  suite's PyBullet robots' applied joint torques (their rig's record: torque control applies exactly what was
+  commanded), or ``torque=f(env) -> array`` for anything else; held over the step (an environment whose torque
+  changes within a step should pass a function returning its mean);
+* **the heat**: the user's saved models (the file ``fit`` or ``diagnose --save`` writes; one model for every joint
+  when the file holds one actuator), run exactly (zero-order hold over the step) -- the first-order models of
+  Jorgensen et al. (Joule heating, an effort bias, copper's coefficient) in one vectorised update, any other model
+  through :meth:`~thermolimb.model.ThermalModel.simulate` carried from step to step -- or this suite's plant with
+  datasheet actuators (``plant=X8_9``: several masses, the lot).
+
+What the policy sees: ``observe="append"`` adds the joints' temperatures (degC, in ``joints`` order) at the end
+of a Box observation; ``"dict"`` makes the observation ``{"observation": ..., "temperature_C": ...}``; ``None``
+leaves it alone.  ``info`` gets ``temperature_C``, ``time_to_limit_s`` (``inf``: never at this step's torque) and
+``derating`` (the share of torque :class:`~thermolimb.plant.protection.ThermalProtection` would allow), arrays in
+``joints`` order, and ``thermal_joints``.  Optional: ``penalty`` (reward per K above ``warning_C``, summed over
+joints), ``terminate`` (the episode ends when a joint reaches its limit), ``protect`` (each actuator's command
+scaled by its derating, as a drive derates: for torque-commanded actuators).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable, Mapping, Sequence
+
+import gymnasium as gym
+import numpy as np
+
+from ..constants import COPPER_REFERENCE_C
+from ..model.saved import ModelFile, SavedModel
+from ..model.signals import Signals
+from ..plant.protection import ThermalProtection
+from ..util.errors import UsageError
+
+FAST_TERMS = {"joule", "effort_bias", "winding_tempco"}  # one node, forcing polynomial in the torque
+DEFAULT_MARGIN_K = 10.0  # warning_C defaults to this far below the limit
+OBSERVE = ("append", "dict", None)
+
+
+class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
+    """Heat the named joints of ``env`` from the torques it applies (module docstring).
+
+    Parameters
+    ----------
+    models
+        A model file's path, a :class:`~thermolimb.model.saved.ModelFile`, or ``{joint: SavedModel}``; a file
+        holding one actuator serves every joint.  Exactly one of ``models`` and ``plant``.
+    plant
+        An :class:`~thermolimb.plant.ActuatorSpec` (every joint) or one per joint: this suite's plant.
+    joints
+        The joints to heat: MuJoCo actuator names, the suite's robots' joint names; default every one.
+    torque
+        ``f(env) -> array`` of the joints' torques (N m), instead of reading them from the simulator.
+    ambient_C, start_C
+        The air's temperature and the windings' at reset (default: ambient), degC.
+    limit_C, warning_C
+        Each joint's limit (default: the model file's, else 90 degC) and where the penalty starts (default
+        10 K below the limit).
+    reset_heat
+        Whether ``reset`` cools the joints to ``start_C`` (default); ``False`` carries the heat across episodes,
+        as a robot set up again after a fall is still warm.
+    """
+
+    def __init__(self, env: gym.Env, models=None, plant=None, joints: Sequence[str] | None = None,
+                 torque: Callable[[gym.Env], np.ndarray] | None = None, ambient_C: float = 25.0,
+                 start_C: float | None = None, limit_C: float | None = None, warning_C: float | None = None,
+                 observe: str | None = "append", penalty: float = 0.0, terminate: bool = False,
+                 protect: bool = False, reset_heat: bool = True):
+        gym.utils.RecordConstructorArgs.__init__(
+            self, models=models, plant=plant, joints=joints, torque=torque, ambient_C=ambient_C, start_C=start_C,
+            limit_C=limit_C, warning_C=warning_C, observe=observe, penalty=penalty, terminate=terminate,
+            protect=protect, reset_heat=reset_heat)
+        gym.Wrapper.__init__(self, env)
+        if (models is None) == (plant is None):
+            raise UsageError("ThermalWrapper needs models (a model file) or plant (datasheet actuators), one of them")
+        if observe not in OBSERVE:
+            raise UsageError(f"observe must be one of {OBSERVE}, got {observe!r}")
+        for name, value in (("ambient_C", ambient_C), ("penalty", penalty)):
+            if not np.isfinite(value):
+                raise UsageError(f"ThermalWrapper: {name} must be a finite number, got {value!r}")
+        self.reader = torque_reader(env, joints, torque)
+        self.joints = self.reader.joints
+        self.ambient_C = float(ambient_C)
+        self.start_C = self.ambient_C if start_C is None else float(start_C)
+        self.observe, self.penalty, self.terminate, self.protect = observe, float(penalty), terminate, protect
+        self.reset_heat = reset_heat
+        self._started = False
+        self.heat = (PlantHeat(plant, self.joints, self.ambient_C) if plant is not None else
+                     ModelHeat(joint_models(models, self.joints), self.ambient_C))
+        limits = self.heat.limits_C if limit_C is None else np.full(len(self.joints), float(limit_C))
+        self.limit_C = np.where(np.isfinite(limits), limits, 90.0)
+        self.warning_C = self.limit_C - DEFAULT_MARGIN_K if warning_C is None else np.full(len(self.joints),
+                                                                                         float(warning_C))
+        self.protection = ThermalProtection(margin_K=DEFAULT_MARGIN_K + 5.0)
+        self.dt_s = step_seconds(env)
+        self.temperature_C = np.full(len(self.joints), self.start_C)
+        low = np.full(len(self.joints), -273.15, np.float64)
+        high = np.full(len(self.joints), np.inf, np.float64)
+        temperatures = gym.spaces.Box(low, high, dtype=np.float64)
+        space = env.observation_space
+        if observe == "append":
+            if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
+                raise UsageError(f"observe='append' needs a flat Box observation; this environment's is {space}; "
+                                 f"use observe='dict'")
+            self.observation_space = gym.spaces.Box(np.concatenate([space.low.astype(np.float64), low]),
+                                                    np.concatenate([space.high.astype(np.float64), high]),
+                                                    dtype=np.float64)
+        elif observe == "dict":
+            self.observation_space = gym.spaces.Dict({"observation": space, "temperature_C": temperatures})
+
+    def reset(self, *, seed=None, options=None):
+        obs, info = self.env.reset(seed=seed, options=options)
+        if self.reset_heat or not self._started:
+            self.heat.reset(self.start_C)
+            self.temperature_C = np.full(len(self.joints), self.start_C)
+            self._started = True
+        zeros = np.zeros(len(self.joints))
+        return self._observation(obs), self._info(info, zeros, np.full(len(self.joints), np.inf))
+
+    def step(self, action):
+        if self.protect:
+            action = self.reader.derated(self.env, action, self._derating())
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        torque_Nm, velocity = self.reader.read(self.env)
+        self.temperature_C, reach_s = self.heat.step(torque_Nm, velocity, self.dt_s, self.limit_C)
+        over = np.maximum(self.temperature_C - self.warning_C, 0.0)
+        if self.penalty:
+            reward = float(reward) - self.penalty * float(over.sum())
+        overheated = self.temperature_C >= self.limit_C
+        if self.terminate and overheated.any():
+            terminated = True
+        info = self._info(info, torque_Nm, reach_s)
+        info["overheated"] = [j for j, hot in zip(self.joints, overheated) if hot]
+        return self._observation(obs), reward, terminated, truncated, info
+
+    def _derating(self) -> np.ndarray:
+        """ThermalProtection's linear derating over its margin below each limit (inline: it runs every step)."""
+        fraction = (self.limit_C - self.temperature_C) / self.protection.margin_K
+        return np.minimum(np.maximum(fraction, self.protection.min_fraction), 1.0)
+
+    def _observation(self, obs):
+        if self.observe == "append":
+            return np.concatenate([np.asarray(obs, np.float64), self.temperature_C])
+        if self.observe == "dict":
+            return {"observation": obs, "temperature_C": self.temperature_C.copy()}
+        return obs
+
+    def _info(self, info: dict, torque_Nm: np.ndarray, reach_s: np.ndarray) -> dict:
+        info = dict(info)
+        info.update(thermal_joints=list(self.joints), temperature_C=self.temperature_C.copy(),
+                    torque_Nm=np.asarray(torque_Nm, float).copy(), time_to_limit_s=reach_s,
+                    derating=self._derating())
+        return info
+
+
+def step_seconds(env: gym.Env) -> float:
+    """The simulated time one ``step`` covers: ``env.unwrapped.dt`` (MuJoCo's and most environments'), or the
+    suite's robots' ``decision_s``."""
+    u = env.unwrapped
+    for name in ("dt", "decision_s"):
+        value = getattr(u, name, None)
+        if isinstance(value, (int, float)) and value > 0:
+            return float(value)
+    raise UsageError(f"{type(u).__name__} does not say how long a step is (no dt); wrap an environment with one")
+
+
+class TorqueReader:
+    """The joints' torques (and velocities, when known) after a step."""
+
+    def __init__(self, joints: Sequence[str], read: Callable, derate: Callable | None = None):
+        self.joints = tuple(joints)
+        self._read, self._derate = read, derate
+
+    def read(self, env) -> tuple[np.ndarray, np.ndarray | None]:
+        torque, velocity = self._read(env)
+        torque = np.asarray(torque, float)
+        if torque.shape != (len(self.joints),) or not np.isfinite(torque).all():
+            raise UsageError(f"the torque read for {len(self.joints)} joints is {torque!r}; expected that many finite "
+                             f"numbers (N m)")
+        return torque, velocity
+
+    def derated(self, env, action, fraction: np.ndarray):
+        if self._derate is None:
+            raise UsageError("protect=True scales each actuator's command: this environment's actuators are not "
+                             "known to the wrapper (give a MuJoCo environment, or scale the action yourself)")
+        return self._derate(env, action, fraction)
+
+
+def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable | None) -> TorqueReader:
+    u = env.unwrapped
+    if torque is not None:
+        if not joints:
+            raise UsageError("torque=f(env) needs joints=[...]: the names of the torques it returns, in order")
+        return TorqueReader(joints, lambda e: (torque(e), None))
+    model = getattr(u, "model", None)
+    if model is not None and hasattr(model, "actuator_gear") and hasattr(u, "data"):
+        names = mujoco_actuator_names(model)
+        chosen = list(joints) if joints else names
+        missing = [j for j in chosen if j not in names]
+        if missing:
+            raise UsageError(f"joints {missing} are not actuators of this MuJoCo model; it has {', '.join(names)}")
+        idx = np.array([names.index(j) for j in chosen])
+        gear = model.actuator_gear[idx, 0].copy()
+
+        def read(e):
+            data = e.unwrapped.data
+            return data.actuator_force[idx] * gear, data.actuator_velocity[idx] / gear
+
+        def derate(e, action, fraction):
+            scaled = np.array(action, dtype=float, copy=True)
+            scaled[idx] = scaled[idx] * fraction
+            return scaled.astype(np.asarray(action).dtype)
+
+        return TorqueReader(chosen, read, derate)
+    if getattr(u, "JOINTS", ()) and hasattr(u, "sim"):  # this suite's robots (their world is built at reset)
+        names = list(u.JOINTS)
+        chosen = list(joints) if joints else names
+        missing = [j for j in chosen if j not in names]
+        if missing:
+            raise UsageError(f"joints {missing} are not joints of this robot; it has {', '.join(names)}")
+        idx = np.array([names.index(j) for j in chosen])
+
+        def read_rig(e):
+            rig = e.unwrapped.sim  # rebuilt at every reset
+            return rig.applied_Nm[idx], rig.joint_states()[1][idx]
+
+        return TorqueReader(chosen, read_rig)
+    raise UsageError(f"{type(u).__name__}: the wrapper reads torques from MuJoCo environments and this suite's "
+                     f"PyBullet robots; for another environment pass torque=f(env) and joints=[...]")
+
+
+def mujoco_actuator_names(model) -> list[str]:
+    """Each actuator's name, or for an unnamed one (Gymnasium's Ant) the name of the joint it drives."""
+    import mujoco
+
+    names = []
+    for i in range(model.nu):
+        name = model.actuator(i).name
+        if not name and model.actuator_trntype[i] == mujoco.mjtTrn.mjTRN_JOINT:
+            name = model.joint(int(model.actuator_trnid[i, 0])).name
+        names.append(name or f"actuator{i}")
+    return names
+
+
+def joint_models(models, joints: Sequence[str]) -> list[SavedModel]:
+    """Each joint's saved model: by name, or one model (a ``SavedModel``, a file of one actuator) for every joint."""
+    if isinstance(models, SavedModel):
+        return [models] * len(joints)
+    if isinstance(models, (str, Path)):
+        models = ModelFile.load(models)
+    if isinstance(models, ModelFile):
+        models = dict(models.actuators)
+    if not isinstance(models, Mapping) or not models:
+        raise UsageError("models must be a model file, a ModelFile or {joint: SavedModel}")
+    if len(models) == 1 and not set(joints) <= set(models):
+        return [next(iter(models.values()))] * len(joints)
+    missing = [j for j in joints if j not in models]
+    if missing:
+        raise UsageError(f"the models name {', '.join(models)}; no model for the joints {', '.join(missing)} "
+                         f"(one model serves every joint: pass ModelFile.load(path)[actuator])")
+    return [models[j] for j in joints]
+
+
+class ModelHeat:
+    """The joints' saved models, run exactly over each step."""
+
+    def __init__(self, saved: Sequence[SavedModel], ambient_C: float):
+        self.models = [s.model for s in saved]
+        self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
+        self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each model was fitted on
+        self.ambient_C = ambient_C
+        self.fast = all(set(m.terms) <= FAST_TERMS for m in self.models)
+        p = [m.params for m in self.models]
+        self.rc = np.array([q["RC_s"] for q in p])
+        self.offset = np.array([q["T_offset_C"] for q in p])
+        self.b = np.array([q.get("betaR_K_per_effort2", 0.0) for q in p])
+        self.c = np.array([q.get("beta_biasR_K_per_effort", 0.0) for q in p])
+        self.alpha = np.array([q.get("alpha_per_K", 0.0) for q in p])
+        self.states: list[dict] = [{} for _ in self.models]
+        self.T = np.zeros(len(self.models))
+        self._dt, self._decay = None, None
+
+    def reset(self, start_C: float) -> None:
+        self.T = np.full(len(self.models), start_C)
+        self.states = [{} for _ in self.models]
+
+    def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.fast and not self.alpha.any():  # the rate is the winding's own: its decay over a step is known
+            if dt != self._dt:
+                self._dt, self._decay = dt, np.exp(-dt / self.rc)
+            steady = self.offset + torque * (self.b * torque - self.c)
+            self.T = steady + (self.T - steady) * self._decay
+            return self.T.copy(), reach_s(self.T, steady, 1.0 / self.rc, limit_C)
+        if self.fast:
+            heat = self.b * torque**2
+            gain = self.alpha * heat
+            restoring = np.maximum(1.0 - gain, 1e-6)
+            steady = (self.offset + heat - self.c * torque - self.alpha * COPPER_REFERENCE_C * heat) / restoring
+            rate = restoring / self.rc
+            self.T = steady + (self.T - steady) * np.exp(-rate * dt)
+            return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
+        steady, rate = np.empty_like(self.T), np.empty_like(self.T)
+        for k, model in enumerate(self.models):
+            v = None if velocity is None else np.full(2, velocity[k])
+            s = Signals(np.array([0.0, dt]), np.full(2, torque[k]), v, ambient_C=np.full(2, self.ambient_C))
+            keep: dict = {}
+            out = model.simulate(s, self.T[k], state=self.states[k] or None, keep=keep)
+            self.states[k] = keep
+            self.T[k] = out[-1]
+            steady[k], rate[k] = keep["steady_C"], keep["rate_per_s"]
+        return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
+
+
+def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
+    """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
+    out = np.full(T.shape, np.inf)
+    rising = (steady > limit_C) & (T < limit_C)
+    if rising.any():  # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit
+        ratio = (T[rising] - steady[rising]) / (limit_C[rising] - steady[rising])
+        out[rising] = np.log(ratio) / (rate[rising] if np.ndim(rate) else rate)
+    out[T >= limit_C] = 0.0
+    return out
+
+
+class PlantHeat:
+    """This suite's plant with datasheet actuators."""
+
+    def __init__(self, plant, joints: Sequence[str], ambient_C: float):
+        from ..plant import ActuatorSpec, PlantEffects, ThermalPlant  # noqa: F401 -- the spec type is checked
+
+        specs = [plant] * len(joints) if isinstance(plant, ActuatorSpec) else list(plant)
+        if len(specs) != len(joints) or not all(isinstance(s, ActuatorSpec) for s in specs):
+            raise UsageError(f"plant must be an ActuatorSpec or one per joint ({len(joints)}), got {plant!r}")
+        self.make = lambda start: ThermalPlant(list(joints), specs, PlantEffects(), ambient_C=ambient_C,
+                                               initial_C=start)
+        self.limits_C = np.array([s.winding_limit_C for s in specs], float)
+        self.plant = self.make(ambient_C)
+
+    def reset(self, start_C: float) -> None:
+        self.plant = self.make(start_C)
+
+    def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        before = self.plant.winding_C.copy()
+        self.plant.step(torque, velocity, dt)
+        T = self.plant.winding_C.copy()
+        rate = (T - before) / dt  # at the current rate (the plant's several masses have no one closed form)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(rate > 0, (limit_C - T) / rate, np.inf)
+        return T, np.where(T >= limit_C, 0.0, t)

@@ -1,0 +1,192 @@
+"""An identified model in MuJoCo: the thermal state of a ``<dcmotor>`` actuator (MuJoCo 3.7 and later).
+
+MuJoCo's ``thermal = "resistance capacitance timeconst tempcoef reftemp ambient"`` (K/W, J/K, s, 1/K, degC, degC)
+gives the winding one thermal mass heated by the motor current, ``tau dx/dt = R_th i^2 R_e (1 + a (T - T_ref)) - x``
+with ``x = T - ambient`` (the actuator's activation) and ``i`` the current its torque needs.  Jorgensen et al.'s
+first-order model reads ``RC dT/dt = T_offset + beta R F^2 - T`` on the effort ``F`` logged at the joint, so:
+
+* ``timeconst`` is ``RC_s``; ``ambient`` is ``T_offset_C``;
+* the heat gain maps through the motor: a joint torque ``F = G K i`` (gear ``G``, motor constant ``K``), so
+  ``R_th = beta R (G K)^2 / R_e``; where the logged effort is the current itself (unit ``A``), ``R_th = beta R / R_e``;
+  ``capacitance`` is ``timeconst / R_th``;
+* copper's coefficient (``winding_tempco``) is ``tempcoef`` at ``reftemp`` = 25 degC -- with a difference said in
+  the snippet: MuJoCo's dcmotor is driven by a voltage, so a warmer winding there draws less current and gives less
+  torque for the same command, where the identified model (a current-controlled drive) keeps the torque and heats
+  more.
+
+What MuJoCo's one-node state cannot hold -- a second mass, an effort bias, a lagging sensor, speed losses,
+anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`).  The check
+(:func:`run_in_mujoco`): the exported actuator, driven in MuJoCo by a log's torque with its rotor held, against this
+suite's free run of the same (exported) model; ``benchmarks/travel.py`` prints the difference.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from .constants import COPPER_REFERENCE_C
+from .model.model import ThermalModel, model_parameters
+from .model.saved import SavedModel
+from .model.signals import Signals
+from .util.errors import UsageError
+
+TORQUE_UNITS = ("N m", "Nm", "N·m", "N.m")
+CURRENT_UNITS = ("A",)
+CHECK_SUBSTEPS = 20  # MuJoCo steps per log interval in the check (its act integration is explicit)
+
+
+@dataclass(frozen=True)
+class Motor:
+    """The motor behind the joint: torque constant (N m/A), terminal resistance (ohm), gear ratio."""
+
+    motor_const: float
+    resistance_ohm: float
+    gear: float = 1.0
+
+    def __post_init__(self):
+        for name, value in (("--motor-const", self.motor_const), ("--resistance", self.resistance_ohm),
+                            ("--gear", self.gear)):
+            if not np.isfinite(value) or value <= 0:
+                raise UsageError(f"{name} must be a positive number, got {value!r}")
+
+
+@dataclass(frozen=True)
+class DcMotorThermal:
+    """One actuator's ``<dcmotor>`` thermal attributes, and what the model had that they do not hold."""
+
+    actuator: str
+    motor: Motor
+    resistance_K_per_W: float
+    capacitance_J_per_K: float
+    timeconst_s: float
+    tempcoef_per_K: float
+    reftemp_C: float
+    ambient_C: float
+    exported: ThermalModel  # the model MuJoCo's state reproduces (the saved one without what is dropped)
+    dropped: tuple[str, ...] = ()
+    notes: tuple[str, ...] = field(default=())
+    current: bool = False  # the model heats from the current (its effort in A, or a current channel)
+
+    def motor_torque(self, signals: Signals) -> np.ndarray:
+        """What MuJoCo's actuator is commanded, from a log's channels: the joint torque over the gear, or the
+        current times the motor constant."""
+        if self.current:
+            current = signals.current_A if "current_heating" in self.exported.terms else signals.effort
+            return np.asarray(current, float) * self.motor.motor_const
+        return np.asarray(signals.effort, float) / self.motor.gear
+
+    @property
+    def thermal(self) -> tuple[float, ...]:
+        """The six numbers of ``thermal=""`` (MuJoCo derives the capacitance from the other two: given as 0)."""
+        return (self.resistance_K_per_W, 0.0, self.timeconst_s, self.tempcoef_per_K, self.reftemp_C, self.ambient_C)
+
+    def element(self, joint: str | None = None) -> str:
+        """The ``<dcmotor>`` element, torque-commanded (``input="ff"``: the torque is delivered as commanded)."""
+        thermal = " ".join(f"{v:.9g}" for v in self.thermal)
+        m = self.motor
+        return (f'<dcmotor name={quoteattr(self.actuator)} joint={quoteattr(joint or self.actuator)} '
+                f'gear="{m.gear:.9g}" motorconst="{m.motor_const:.9g}" resistance="{m.resistance_ohm:.9g}" '
+                f'input="ff" thermal="{thermal}"/>')
+
+
+def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
+    """Map one saved model onto a dcmotor's thermal state (module docstring); what does not map is dropped, said."""
+    model, p = saved.model, saved.model.params
+    if "joule" in model.terms:
+        source, gain, unit = "joule", p["betaR_K_per_effort2"], saved.channel_units.get("effort", "N m")
+    elif "current_heating" in model.terms:
+        source, gain, unit = "current_heating", p["currentR_K_per_A2"], "A"
+    else:
+        raise UsageError(f"{saved.actuator}: the model ({','.join(model.terms)}) has no Joule heating (from effort or "
+                         f"current); MuJoCo's dcmotor heats only by its current")
+    if unit in TORQUE_UNITS:
+        r_th = gain * (motor.gear * motor.motor_const) ** 2 / motor.resistance_ohm
+    elif unit in CURRENT_UNITS:
+        r_th = gain / motor.resistance_ohm
+    else:
+        raise UsageError(f"{saved.actuator}: the model's effort is in {unit!r}; export maps a joint torque (N m) or "
+                         f"the motor current (A) onto MuJoCo's dcmotor")
+    if not r_th > 0:
+        raise UsageError(f"{saved.actuator}: the model's Joule heating is zero; there is no heat for MuJoCo's thermal "
+                         f"state to carry")
+    kept = (source,) + (("winding_tempco",) if "winding_tempco" in model.terms else ())
+    names = {q.name for q in model_parameters(kept)}
+    exported = ThermalModel(kept, {k: v for k, v in p.items() if k in names})
+    tempcoef = p["alpha_per_K"] if "winding_tempco" in kept else 0.0
+    notes = []
+    if tempcoef:
+        notes.append("copper's coefficient is exported; MuJoCo's dcmotor is voltage-driven, so there a warmer winding "
+                     "draws less current and gives less torque for the same command, where the identified model (a "
+                     "current-controlled drive) keeps the torque and heats more")
+    if unit in CURRENT_UNITS:
+        notes.append("the model's heat is from the motor current: in MuJoCo that is the torque over the motor constant")
+    return DcMotorThermal(saved.actuator, motor, float(r_th), float(p["RC_s"] / r_th), float(p["RC_s"]),
+                          float(tempcoef), COPPER_REFERENCE_C, float(p["T_offset_C"]), exported,
+                          tuple(t for t in model.terms if t not in kept), tuple(notes), current=unit in CURRENT_UNITS)
+
+
+def mjcf_snippet(exports: list[DcMotorThermal], joints: dict[str, str] | None = None) -> str:
+    """An ``<actuator>`` block of MJCF with each actuator's dcmotor, what was dropped said in comments."""
+    lines = ["<!-- thermolimb export: Jorgensen et al.'s first-order model on MuJoCo's dcmotor thermal state",
+             "     (thermal = resistance K/W, capacitance J/K (0: timeconst/resistance), timeconst s, tempcoef 1/K,",
+             "      reftemp degC, ambient degC); the winding temperature is ambient + the actuator's activation -->",
+             "<actuator>"]
+    for e in exports:
+        for term in e.dropped:
+            lines.append(f"  <!-- {e.actuator}: {term} dropped (MuJoCo's dcmotor has one thermal node, heated by "
+                         f"its current) -->")
+        for note in e.notes:
+            lines.append(f"  <!-- {e.actuator}: {note} -->")
+        lines.append("  " + e.element((joints or {}).get(e.actuator)))
+    lines.append("</actuator>")
+    return "\n".join(lines) + "\n"
+
+
+def cost_of_dropping(saved: SavedModel, export: DcMotorThermal, series) -> dict:
+    """On a log (one actuator's runs): the saved model's and the exported model's free-run RMSE against the
+    readings (K), and between the two."""
+    full, reduced, measured = [], [], []
+    for s in series:
+        full.append(saved.model.free_run(s))
+        reduced.append(export.exported.free_run(s))
+        measured.append(s.temperature_C)
+    full, reduced, measured = (np.concatenate(x) for x in (full, reduced, measured))
+
+    def rmse(a, b):
+        return float(np.sqrt(np.mean((a - b) ** 2)))
+
+    return {"saved_rmse_K": rmse(full, measured), "exported_rmse_K": rmse(reduced, measured),
+            "between_K": rmse(full, reduced), "samples": int(measured.size)}
+
+
+def run_in_mujoco(export: DcMotorThermal, signals: Signals, start_C: float,
+                  substeps: int = CHECK_SUBSTEPS) -> np.ndarray:
+    """The winding temperature (degC) at each sample of ``signals``, integrated by MuJoCo itself: one hinge joint,
+    held still by an equality constraint, driven through the exported dcmotor by the log's effort (zero-order hold
+    over each interval, as the suite's exact simulation holds it)."""
+    import mujoco  # the optional extra 'mujoco'
+
+    dt = np.diff(signals.time_s)
+    timestep = float(np.min(dt)) / substeps
+    xml = (f'<mujoco><option timestep="{timestep:.12g}" integrator="Euler"/><worldbody><body>'
+           f'<joint name="j" type="hinge"/><geom size=".05" mass="1"/></body></worldbody>'
+           f'<equality><joint joint1="j" polycoef="0 0 0 0 0"/></equality>'
+           f'<actuator>{export.element("j")}</actuator></mujoco>')
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    adr = int(model.actuator_actadr[0])
+    data.act[adr] = start_C - export.ambient_C
+    motor_torque = export.motor_torque(signals)
+    out = np.empty(signals.n)
+    out[0] = start_C
+    for k in range(signals.n - 1):
+        data.ctrl[0] = motor_torque[k]
+        steps = max(1, int(round(dt[k] / timestep)))
+        model.opt.timestep = dt[k] / steps
+        for _ in range(steps):
+            mujoco.mj_step(model, data)
+        out[k + 1] = export.ambient_C + data.act[adr]
+    return out
