@@ -16,6 +16,7 @@ from thermolimb.model.saved import ModelFile, ModelFileError
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, ThermalPlant, simulate_profile
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.saving import saved_from_report
+from thermolimb.workbench.validation import validate_model
 
 SPEC = replace(X8_9, network=NETWORKS["second_order"])
 RICHER = ("speed_losses", "winding_tempco", "sensor_lag")
@@ -138,6 +139,24 @@ def test_predict_over_a_log_with_a_plot(saved_auto, richer_log, tmp_path, capsys
     assert (tmp_path / "predict_knee.png").stat().st_size > 10_000
 
 
+def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, capsys):
+    """Ten times the largest effort of the calibration log: said, and the interval is not a point."""
+    saved, path = saved_auto
+    largest = max(abs(v) for v in dict(saved.provenance)["ranges"]["effort"])
+    plan = ["predict", str(path), "--hold", f"{10 * largest:.3f},0", "--duration", "600", "--start-C", "30", "--json"]
+    assert main(plan) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert any(n.startswith("extrapolated: the effort reaches") and "10 times the largest" in n
+               for n in record["notes"]), record["notes"]
+    low, high = record["interval_s"]
+    assert low is not None and (high is None or high > low)
+    inside = ["predict", str(path), "--hold", f"{0.5 * largest:.3f},0", "--duration", "600", "--start-C", "30",
+              "--json"]
+    assert main(inside) == 0 and json.loads(capsys.readouterr().out)["notes"] == []
+    assert main(inside[:-1] + ["--ambient-C", "40"]) == 0  # the model does not read the ambient
+    assert "does not read the ambient temperature" in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--hold", "10,0", "--duration", "60", "--start-C", "120"], "is not above the start"),
     (["--hold", "ten", "--duration", "60", "--start-C", "30"], "--hold expects EFFORT or EFFORT,VELOCITY"),
@@ -150,9 +169,20 @@ def test_predict_refuses_in_one_sentence(saved_auto, capsys, argv, message):
     assert message in err and len(err.strip().splitlines()) == 1
 
 
-def test_a_log_without_the_models_columns_is_one_sentence(saved_auto, tmp_path, capsys):
+@pytest.mark.parametrize("level", ["1", "0", "1.5", "nan"])
+def test_a_level_outside_zero_to_one_is_refused_by_the_argument_check(saved_auto, capsys, level):
+    with pytest.raises(SystemExit) as exit_:
+        main(["predict", str(saved_auto[1]), "--hold", "10,0", "--duration", "60", "--start-C", "30", "--level", level])
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2 and "expected a number > 0 and < 1" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_log_without_the_models_columns_is_one_sentence(richer_log, tmp_path, capsys):
+    report = validate_model(richer_log.runs("knee"), "joule,effort_bias,speed_losses")  # a model that reads velocity
+    path = tmp_path / "speed.json"
+    ModelFile({"knee": saved_from_report(report, [], limit_C=100.0)}).save(path)
     log = tmp_path / "no_velocity.csv"
     log.write_text("time,actuator,effort,temperature\n" + "".join(f"{t},knee,5.0,{30 + 0.01 * t}\n" for t in range(300)))
-    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "50"]) == 2
+    assert main(["predict", str(path), str(log), "--threshold", "50"]) == 2
     err = capsys.readouterr().err
     assert "reads the log column 'velocity'" in err and len(err.strip().splitlines()) == 1

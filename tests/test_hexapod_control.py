@@ -86,7 +86,8 @@ def test_thermal_minimax_lowers_the_hottest_prediction():
     assert np.max(bank.ahead(temperature, hot.torques_Nm, 20.0)) < np.max(bank.ahead(temperature, plain.torques_Nm, 20.0))
 
 
-def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0, gains=Gains()):
+def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0, gains=Gains(), rates=None):
+    """The body's displacement, heights and path over a walk; ``rates`` (a list) gets the IMU's rates each step."""
     cfg = SimConfig(payload_kg=payload_kg)
     thermal = ThermalContext(datasheet_bank()) if strategy == "thermal_aware" else None
     gait = cpg.CPGParams()
@@ -105,6 +106,8 @@ def walk(strategy, seconds=10.0, payload_kg=0.0, seed=0, gains=Gains()):
             reading = sim.step(tau)
             heights.append(reading.body_position_m[2])
             path.append(reading.body_position_m.copy())
+            if rates is not None:
+                rates.append(reading.body_omega_rad_s.copy())
         return reading.body_position_m - start, np.array(heights), np.array(path)
 
 
@@ -117,11 +120,15 @@ def test_each_strategy_walks_forward_without_falling(strategy):
 
 
 def test_a_stiffer_attitude_damping_makes_the_body_yaw_run_away():
-    """Why Gains.attitude_kd_Nm_s_rad is 5: at 50 N m s/rad and 50 Hz the walk turns (measured 0.78 rad in 10 s)."""
-    _, _, straight = walk("minimax")
-    _, _, turned = walk("minimax", gains=replace(Gains(), attitude_kd_Nm_s_rad=50.0))
-    assert abs(straight[-1, 1]) < 0.05
-    assert abs(turned[-1, 1]) > 0.2  # sideways drift of the path that the yaw produces (measured 0.46 m)
+    """Why Gains.attitude_kd_Nm_s_rad is 5: at 50 N m s/rad and 50 Hz the attitude loop rings.  What is asserted is
+    the growth over the first second, not where the chaotic walk ends (its sideways drift after 4 s is 0.60 m or
+    1.35 m depending on the BLAS kernel; the first second's yaw rate is the same to six digits): measured 2.2 rad/s
+    RMS against 0.005 rad/s."""
+    rates = {5.0: [], 50.0: []}
+    for kd, r in rates.items():
+        walk("minimax", seconds=1.0, gains=replace(Gains(), attitude_kd_Nm_s_rad=kd), rates=r)
+    yaw = {kd: float(np.sqrt(np.mean(np.array(r)[:, 2] ** 2))) for kd, r in rates.items()}
+    assert yaw[50.0] > 100 * yaw[5.0] and yaw[50.0] > 0.5, yaw
 
 
 def test_two_fresh_worlds_with_the_same_seed_give_identical_trajectories():

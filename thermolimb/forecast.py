@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import norm
 
+from .model.experience import beyond
 from .model.model import ThermalModel
 from .model.reach import crossing_s
 from .model.saved import SavedModel
@@ -59,6 +60,7 @@ class Forecast:
     model_error_K: float  # the band's model-error half-width once the start is forgotten (0: none known)
     measured_C: np.ndarray | None = None
     measured_crossing_s: float | None = None  # where the log's own readings first reach the threshold
+    notes: tuple[str, ...] = ()  # where the question leaves what the model was identified on (model.experience)
 
     @property
     def horizon_s(self) -> float:
@@ -77,7 +79,7 @@ class Forecast:
                 "level": self.level, "horizon_s": self.horizon_s, "time_to_threshold_s": self.time_to_threshold_s,
                 "interval_s": list(self.interval_s), "model_error_K": self.model_error_K,
                 "measured_crossing_s": self.measured_crossing_s, "covers_measured": self.covers_measured,
-                "peak_predicted_C": float(np.max(self.predicted_C))}
+                "peak_predicted_C": float(np.max(self.predicted_C)), "notes": list(self.notes)}
 
     def sentence(self) -> str:
         """The answer in words, with the units and the level."""
@@ -147,13 +149,18 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    half = np.sqrt((z * parameter_sd) ** 2 + (lead * extrapolation(saved, predicted, start_C)) ** 2)
+    notes, widen = beyond(dict(saved.provenance).get("ranges"), signals, start_C, "ambient" in model.columns,
+                          saved.channel_units.get("effort", ""))
+    half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, start_C)) ** 2)
+    if notes:  # an extrapolation is never answered with a zero-width band: at least a tenth of the rise
+        half = np.maximum(half, 0.1 * np.abs(predicted - start_C))
     low, high = predicted - half, predicted + half
     measured_cross = None if measured_C is None else crossing_s(t, np.asarray(measured_C, float), threshold_C)
     return Forecast(saved.actuator, t, predicted, low, high, float(threshold_C), float(level), float(start_C),
                     crossing_s(t, predicted, threshold_C), (crossing_s(t, high, threshold_C),
                                                             crossing_s(t, low, threshold_C)),
-                    model_error, None if measured_C is None else np.asarray(measured_C, float), measured_cross)
+                    model_error, None if measured_C is None else np.asarray(measured_C, float), measured_cross,
+                    tuple(notes))
 
 
 def join(before: Signals, after: Signals) -> Signals:

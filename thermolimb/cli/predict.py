@@ -25,7 +25,7 @@ def add_parser(sub):
     add_terms(p)
     p.add_argument("--threshold", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
                    help="the temperature to reach (degC; default: the limit stored in the model file)")
-    p.add_argument("--level", type=number(0.0, 1.0, low_open=True), default=0.9,
+    p.add_argument("--level", type=number(0.0, 1.0, low_open=True, high_open=True), default=0.9,
                    help="the interval's level (default 0.9)")
     p.add_argument("--start-C", dest="start_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
                    help="start from this temperature instead of the log's first reading (required with --hold)")
@@ -92,6 +92,8 @@ def run(args) -> int:
     else:
         for f in results:
             print(f.sentence())
+            for note in f.notes:
+                print(f"  {note}")
             if f.measured_crossing_s is not None:
                 print(f"  the log's readings reach it at {f.measured_crossing_s:.0f} s: "
                       f"{'inside' if f.covers_measured else 'outside'} the interval")

@@ -13,11 +13,12 @@ from ..util.atomic import check_output_dir, check_output_file
 from ..util.errors import UsageError
 
 
-def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False, unit: str = ""):
-    """A finite float in ``[low, high]`` (``(low, high]`` with ``low_open``)."""
+def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False, unit: str = "",
+           high_open: bool = False):
+    """A finite float in ``[low, high]`` (open at ``low`` with ``low_open``, at ``high`` with ``high_open``)."""
     what = f"a number {'>' if low_open else '>='} {low:g}" if math.isfinite(low) else "a finite number"
     if math.isfinite(high):
-        what += f" and <= {high:g}"
+        what += f" and {'<' if high_open else '<='} {high:g}"
     what += f" {unit}".rstrip()
 
     def parse(text: str) -> float:
@@ -25,7 +26,8 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
             value = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
-        if not math.isfinite(value) or value > high or value < low or (low_open and value == low):
+        if (not math.isfinite(value) or value > high or value < low or (low_open and value == low)
+                or (high_open and value == high)):
             raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
         return value
 

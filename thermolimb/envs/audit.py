@@ -149,6 +149,13 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
     temperatures = np.array(temperatures)
     notes = beyond_experience(wrapped.joints, getattr(wrapped.heat, "experience", None), strongest,
                               temperatures.max(axis=0))
+    peak = getattr(wrapped.heat, "peak_Nm", None)
+    if peak is not None and np.any(strongest > 1.001 * peak):
+        over = strongest > 1.001 * peak
+        k = int(np.argmax(np.where(over, strongest / peak, 0.0)))
+        notes.append(f"{int(over.sum())} of {len(over)} joints were given more torque than their actuator's peak (the "
+                     f"most, {wrapped.joints[k]}: {strongest[k]:.3g} N m against {peak[k]:.3g} N m); the plant heats "
+                     f"them at the peak, as a drive that holds it would")
     return AuditResult(env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes)
 
 

@@ -133,7 +133,7 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if self.terminate and overheated.any():
             terminated = True
         info = self._info(info, torque_Nm, reach_s)
-        info["overheated"] = [j for j, hot in zip(self.joints, overheated) if hot]
+        info["overheated"] = [j for j, hot in zip(self.joints, overheated) if hot] if overheated.any() else []
         return self._observation(obs), reward, terminated, truncated, info
 
     def _derating(self) -> np.ndarray:
@@ -316,12 +316,11 @@ class ModelHeat:
 
 def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
     """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
-    out = np.full(T.shape, np.inf)
+    out = np.where(T >= limit_C, 0.0, np.inf)
     rising = (steady > limit_C) & (T < limit_C)
     if rising.any():  # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit
         ratio = (T[rising] - steady[rising]) / (limit_C[rising] - steady[rising])
         out[rising] = np.log(ratio) / (rate[rising] if np.ndim(rate) else rate)
-    out[T >= limit_C] = 0.0
     return out
 
 
@@ -337,6 +336,7 @@ class PlantHeat:
         self.make = lambda start: ThermalPlant(list(joints), specs, PlantEffects(), ambient_C=ambient_C,
                                                initial_C=start)
         self.limits_C = np.array([s.winding_limit_C for s in specs], float)
+        self.peak_Nm = np.array([s.effort_limit for s in specs], float)  # the plant holds a torque at its peak
         self.plant = self.make(ambient_C)
 
     def reset(self, start_C: float) -> None:

@@ -37,6 +37,7 @@ from ...logs import ActuatorSeries
 from ...model.guard import instance
 from ...model.model import ThermalModel, model_parameters
 from ...model.terms import TERMS
+from ..flags import uncertainty_cause
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
@@ -439,7 +440,12 @@ def term_identified(term, report) -> bool:
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False
     wald = float(theta @ scaled_inverse(cov) @ theta)
-    return bool(wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary)))
+    if wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary)):
+        return True
+    # a model that still fits far worse than the sensor's floor has standard errors inflated by what it misses,
+    # not by a lack of excitation: then they say nothing of whether the log determines the term
+    misfit, _ = uncertainty_cause(list(report.train_series), report.train["rmse_K"])
+    return misfit is not None
 
 
 def refit_failure(term, params) -> str | None:

@@ -1,0 +1,62 @@
+"""What a model was identified on, and where a question goes beyond it.
+
+A model file keeps the ranges of its calibration log (``provenance["ranges"]``: the effort, velocity, ambient
+and temperature it read, and its median sample interval).  A forecast whose inputs leave them asks the model to
+extrapolate: :func:`beyond` says so, one sentence per input, and gives the factor the answer's model-error band is
+widened by -- the heat grows with the square of the effort, so an effort ``k`` times the largest seen widens it
+``k**2``; any other input outside its range at least doubles it.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from .signals import Signals
+
+MARGIN = 0.1  # an effort or velocity up to 10 % beyond the largest seen is within experience
+MARGIN_K = 5.0  # an ambient or start temperature within 5 K of the range seen
+RATE_RATIO = 2.0  # a sample interval within a factor of 2 of the calibration's
+
+
+def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambient: bool,
+           effort_unit: str = "") -> tuple[list[str], float]:
+    """Notes on where ``signals`` from ``start_C`` leave the calibration's ``ranges``, and the band's widening."""
+    notes, factor = [], 1.0
+    if not ranges:
+        return notes, factor
+    for name, values, unit in (("effort", signals.effort, effort_unit),
+                               ("velocity", signals.velocity, "rad/s")):
+        seen = ranges.get(name)
+        if values is None or not seen:
+            continue
+        largest, asked = max(abs(seen[0]), abs(seen[1])), float(np.max(np.abs(values)))
+        if asked > (1.0 + MARGIN) * largest:
+            ratio = asked / max(largest, 1e-12)
+            factor = max(factor, ratio**2 if name == "effort" else 2.0)
+            notes.append(f"extrapolated: the {name} reaches {asked:.3g}{(' ' + unit) if unit else ''}, "
+                         f"{ratio:.2g} times the largest the model was identified on ({largest:.3g})")
+    seen = ranges.get("ambient_C")
+    if signals.ambient_C is not None and not reads_ambient:
+        notes.append("the model does not read the ambient temperature: the one given changes nothing (its offset "
+                     "stands for the air it was identified in)")
+    elif signals.ambient_C is not None and seen:
+        lo, hi = float(np.min(signals.ambient_C)), float(np.max(signals.ambient_C))
+        if lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K:
+            factor = max(factor, 2.0)
+            notes.append(f"extrapolated: the ambient ({lo:.1f} to {hi:.1f} degC) leaves the {seen[0]:.1f} to "
+                         f"{seen[1]:.1f} degC the model was identified in")
+    seen = ranges.get("temperature_C")
+    if seen and not seen[0] - MARGIN_K <= start_C <= seen[1] + MARGIN_K:
+        factor = max(factor, 2.0)
+        notes.append(f"extrapolated: the start, {start_C:.1f} degC, is outside the {seen[0]:.1f} to {seen[1]:.1f} "
+                     f"degC the model's log read")
+    dt = ranges.get("dt_s")
+    if dt and signals.time_s.size > 1:
+        own = float(np.median(np.diff(signals.time_s)))
+        if own > RATE_RATIO * dt or own < dt / RATE_RATIO:
+            factor = max(factor, 2.0)
+            notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: what "
+                         f"happens between readings is assumed held")
+    return notes, factor
