@@ -56,6 +56,21 @@ def test_a_header_in_kelvin_or_milliseconds_is_converted_and_said(tmp_path):
     assert any("converted to s" in n for n in log.notes) and any("converted to degC" in n for n in log.notes)
 
 
+@pytest.mark.parametrize("header", ["temperature [degF]", "temperature (°F)", "temperature (ºF)", "temperature [F]"])
+def test_a_header_in_fahrenheit_is_converted_and_said(tmp_path, header):
+    """A thrust stand's 'Temp (ºF)' (an ordinal sign, not a degree sign) and its kin."""
+    path = step_test(tmp_path / "step.csv")
+    frame = pd.read_csv(path)
+    celsius = frame["temperature [degC]"].to_numpy()
+    frame = frame.rename(columns={"temperature [degC]": header})
+    frame[header] = celsius * 1.8 + 32.0
+    frame.to_csv(path, index=False, encoding="utf-8")
+    log = read_log(path)
+    got = log.series("knee").temperature_C
+    assert np.allclose(got, celsius[frame["actuator"].to_numpy() == "knee"][: got.size], atol=1e-9)
+    assert any("degrees Fahrenheit" in n and "converted to degC" in n for n in log.notes), log.notes
+
+
 def test_a_step_test_sets_the_bias_aside_and_identifies_joule_heating(tmp_path, capsys):
     """Effort at two levels cannot tell a bias from Joule heating: the bias goes, βR is found within 2 %."""
     path = step_test(tmp_path / "step.csv")

@@ -186,3 +186,14 @@ def test_a_log_without_the_models_columns_is_one_sentence(richer_log, tmp_path, 
     assert main(["predict", str(path), str(log), "--threshold", "50"]) == 2
     err = capsys.readouterr().err
     assert "reads the log column 'velocity'" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_coarser_log_than_the_calibration_s_is_said(saved_auto, richer_log, tmp_path, capsys):
+    """One reading a minute against the calibration's one a second: said, and the band widened."""
+    frame = richer_log.frame
+    coarse = frame[frame["time"] % 60 == 0]
+    path = tmp_path / "coarse.csv"
+    coarse.to_csv(path, index=False)
+    assert main(["predict", str(saved_auto[1]), str(path), "--threshold", "40", "--json", "--quiet"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert any("sampled every 60 s, the model's calibration every 1 s" in n for n in record["notes"]), record

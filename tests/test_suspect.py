@@ -5,6 +5,7 @@ the bundled real logs, honest sensors all, are left alone."""
 from dataclasses import replace
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from thermolimb.logs import read_log
@@ -45,6 +46,27 @@ def test_a_stuck_sensor_is_left_out_with_its_span(frame, tmp_path):
     log, fit = _fit(frame.assign(temperature=t), tmp_path, "stuck.csv")
     assert any("stuck at" in n and "from 2999 s to 4999 s" in n for n in log.notes)
     assert fit.validation["rmse_K"] < 0.1
+
+
+def test_a_slow_joint_read_in_whole_degrees_is_not_stuck(tmp_path):
+    """A 2 Hz log of 40 minutes, whole-degree readings, a joint heating by a degree every ten minutes while its
+    effort moves: each reading is held for ten minutes (a quarter of the log) and left by one degree.  Nothing is
+    cut (before, each of those ten minutes was left out as a stuck sensor and the run split there)."""
+    t = np.arange(0.0, 2400.0, 0.5)
+    effort = 2.0 + 1.5 * np.sign(np.sin(2 * np.pi * t / 300.0))  # on and off every 150 s
+    temperature = np.round(30.0 + t / 600.0)
+    path = tmp_path / "slow.csv"
+    path.write_text("time,actuator,effort,temperature\n" + "".join(
+        f"{a},J2,{e},{c}\n" for a, e, c in zip(t, effort, temperature)))
+    log = read_log(path)
+    assert not any("stuck" in n for n in log.notes), log.notes
+    assert log.series("J2").n == t.size and len(log.runs("J2")) == 1
+    faster = np.round(30.0 + t / 100.0)  # a degree every 100 s; its sensor hangs for ten minutes, then jumps 6 K
+    faster[1300:2500] = faster[1300]
+    path.write_text("time,actuator,effort,temperature\n" + "".join(
+        f"{a},J2,{e},{c}\n" for a, e, c in zip(t, effort, faster)))
+    log = read_log(path)
+    assert any("stuck at 36 degC" in n and "to 1249.5 s" in n for n in log.notes), log.notes
 
 
 def test_too_little_left_is_refused(frame, tmp_path):
@@ -100,3 +122,17 @@ def test_a_winding_heated_by_fast_pulses_is_not_a_dropout(tmp_path):
     knee.assign(temperature=t).to_csv(path, index=False)
     notes = [n for n in read_log(path).notes if "dropout" in n]
     assert len(notes) == 1 and "and 1 more stretches (2 samples)" in notes[0], notes
+
+
+def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_path):
+    """In the log validated on, another joint reads garbage (kelvin every other row, then stuck): --actuator
+    knee reads and checks the knee only, in both logs."""
+    from thermolimb.cli.main import main
+
+    other = frame.assign(actuator="wrist")
+    other["temperature"] = np.where(np.arange(len(other)) % 2, 300.0, 27.0)
+    frame.to_csv(tmp_path / "fit.csv", index=False)
+    pd.concat([frame, other]).to_csv(tmp_path / "other.csv", index=False)
+    assert main(["fit", str(tmp_path / "fit.csv"), "--actuator", "knee", "--validate-on", str(tmp_path / "other.csv"),
+                 "--quiet"]) == 0
+    assert main(["fit", str(tmp_path / "other.csv"), "--quiet"]) == 2  # read whole, the wrist is refused

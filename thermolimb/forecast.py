@@ -144,8 +144,7 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     z = float(norm.ppf(0.5 + level / 2.0))
     lead = None if saved.residual is None else saved.residual.lead_error_K(level, t)
     spread = PARAMETER_SPREAD if lead is not None else "jackknife"
-    runs = [run(m) for m in parameter_draws(saved, draws, seed, spread)] if spread != "none" else []
-    parameter_sd = np.std(np.array(runs), axis=0) if len(runs) > 1 else np.zeros_like(predicted)
+    parameter_sd = spread_of(run, parameter_draws(saved, draws, seed, spread), predicted)
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
@@ -161,6 +160,21 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
                                                             crossing_s(t, low, threshold_C)),
                     model_error, None if measured_C is None else np.asarray(measured_C, float), measured_cross,
                     tuple(notes))
+
+
+def spread_of(run, models: list[ThermalModel], predicted: np.ndarray) -> np.ndarray:
+    """The standard deviation over ``models``' runs at each sample, accumulated run by run (a 1 kHz hour's 64
+    draws would otherwise hold 2 GB at once): deviations from ``predicted`` keep the sums well conditioned."""
+    if len(models) < 2:
+        return np.zeros_like(predicted)
+    total, squares = np.zeros_like(predicted), np.zeros_like(predicted)
+    for m in models:
+        d = run(m) - predicted
+        total += d
+        d *= d
+        squares += d
+    mean = total / len(models)
+    return np.sqrt(np.maximum(squares / len(models) - mean * mean, 0.0))
 
 
 def join(before: Signals, after: Signals) -> Signals:

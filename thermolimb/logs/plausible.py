@@ -11,7 +11,7 @@ import numpy as np
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS
-from .units import CELSIUS, SCALED, canonical_headers, header_unit
+from .units import CELSIUS, FAHRENHEIT, SCALED, canonical_headers, header_unit
 
 TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
 # Numbers that are the seconds since 1970 of a day in 2000-2099: a time column counting milliseconds,
@@ -58,9 +58,12 @@ def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, 
         elif unit == "K":
             frame[name] = pd.to_numeric(frame[name], errors="coerce") - 273.15
             notes.append(f"{source}: {name} read in K (as stated), converted to degC")
+        elif unit in FAHRENHEIT:
+            frame[name] = (pd.to_numeric(frame[name], errors="coerce") - 32.0) * (5.0 / 9.0)
+            notes.append(f"{source}: {name} read in degrees Fahrenheit (as stated, {unit!r}), converted to degC")
         elif unit not in CELSIUS:
             raise LogError(f"{source}: the {name} column's header gives the unit {unit!r}, which this suite does not "
-                           f"read; expected degC or K")
+                           f"read; expected degC, K or degF")
     return frame
 
 

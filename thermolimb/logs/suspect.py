@@ -5,8 +5,10 @@ A sensor that saturates reads its ceiling while heat still comes in; one that ha
 effort moves; both spans would be fitted as if the winding had stopped heating.  :func:`leave_out` finds such
 spans in one actuator's samples, says each with its span, and leaves its rows out (the log splits into runs
 there, as at a pause), or refuses the actuator when too little is left.  The rules are conservative -- a
-reading repeated *exactly* over many samples while the effort moves over most of its range -- so that a
-coarse but honest sensor (1 degC steps at rest) is not caught.  :func:`fahrenheit_note` says when a
+reading repeated *exactly* over many samples while the effort moves over most of its range, and left by a jump
+of more than one of the sensor's steps (or never left) -- so that a coarse but honest sensor is not caught: at
+rest, or on a joint heating slowly (a whole-degree sensor holds one value for ten minutes and then moves by one
+degree: the heat that came in was less than a step).  :func:`fahrenheit_note` says when a
 temperature column reads like degF beside an ambient in degC.
 """
 
@@ -19,6 +21,7 @@ from ..util.errors import LogError
 STUCK_MIN_SAMPLES = 200  # a value repeated this many times in a row, at least...
 STUCK_MIN_SHARE = 0.25  # ...and over this share of the actuator's samples, while the effort moves
 EFFORT_MOVES = 0.5  # the effort in the span covers at least this share of the log's effort range
+ONE_STEP = 1.5  # ...and the reading leaves it by more than this many of the sensor's steps (or never leaves it)
 CEILING_MIN_SAMPLES = 30  # the maximum held this long, at least...
 CEILING_MIN_SHARE = 0.03  # ...and over this share of the samples, with more heat coming in than on average
 CEILING_STRETCH = 3  # then every stretch of this many samples at the ceiling is left out
@@ -42,6 +45,8 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     top = float(np.max(temperature_C))
     starts, stops = _plateaus(temperature_C)
     lengths = stops - starts
+    moves = np.abs(np.diff(temperature_C))
+    step = float(np.min(moves[moves > 0])) if np.any(moves > 0) else 0.0  # the sensor's resolution, at most
     at_top = temperature_C[starts] == top
     # a ceiling, once one long plateau at the top shows it, holds every stretch the readings sit on it
     long_at_top = np.flatnonzero(at_top & (lengths >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)))
@@ -52,6 +57,8 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
         if pinned[i]:
             spans.append((a, b, f"pinned at its highest reading, {top:g} degC, while heat came in (a sensor at its "
                                 f"ceiling)"))
+        elif b < n and abs(temperature_C[b] - temperature_C[a]) <= ONE_STEP * step:
+            continue  # left by one step: a slow change the sensor resolves no finer, not a hung sensor
         elif float(np.ptp(effort[a:b])) >= EFFORT_MOVES * effort_range:
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))

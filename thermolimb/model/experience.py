@@ -4,7 +4,8 @@ A model file keeps the ranges of its calibration log (``provenance["ranges"]``: 
 and temperature it read, and its median sample interval).  A forecast whose inputs leave them asks the model to
 extrapolate: :func:`beyond` says so, one sentence per input, and gives the factor the answer's model-error band is
 widened by -- the heat grows with the square of the effort, so an effort ``k`` times the largest seen widens it
-``k**2``; any other input outside its range at least doubles it.
+``k**2``; any other input outside its range (or a log sampled more coarsely than the calibration's) at least
+doubles it.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from .signals import Signals
 
 MARGIN = 0.1  # an effort or velocity up to 10 % beyond the largest seen is within experience
 MARGIN_K = 5.0  # an ambient or start temperature within 5 K of the range seen
-RATE_RATIO = 2.0  # a sample interval within a factor of 2 of the calibration's
+RATE_RATIO = 2.0  # a sample interval up to twice the calibration's
 
 
 def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambient: bool,
@@ -55,8 +56,8 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
     dt = ranges.get("dt_s")
     if dt and signals.time_s.size > 1:
         own = float(np.median(np.diff(signals.time_s)))
-        if own > RATE_RATIO * dt or own < dt / RATE_RATIO:
+        if own > RATE_RATIO * dt:  # a finer log only tells the model more
             factor = max(factor, 2.0)
-            notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: what "
-                         f"happens between readings is assumed held")
+            notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: the effort "
+                         f"between its readings is taken as held, which the calibration never had to")
     return notes, factor

@@ -167,6 +167,10 @@ class ThermalModel:
         """
         if method not in ("exact", "euler"):
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
+        if not np.isfinite(s.effort).all():
+            k = int(np.flatnonzero(~np.isfinite(s.effort))[0])
+            raise ValueError(f"the effort is {s.effort[k]} at sample {k} (t = {s.time_s[k]:g} s); a simulation needs a "
+                             f"finite effort at every sample (drop or fill the missing ones)")
         terms = self._terms()
         if state is None:
             start = initial_temperature_C

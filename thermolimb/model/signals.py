@@ -44,6 +44,17 @@ class Signals:
     extra: Mapping[str, np.ndarray] = field(default_factory=dict)  # channels the log carries beyond these, by name
 
     def __post_init__(self):
+        for name in ("time_s",) + tuple(CHANNELS.values()):  # lists and tuples are taken as arrays
+            value = getattr(self, name, None)
+            if value is not None and not isinstance(value, np.ndarray):
+                object.__setattr__(self, name, np.asarray(value, float))
+        if self.time_s.ndim != 1:
+            raise ValueError(f"Signals.time_s must be one-dimensional (s), got shape {self.time_s.shape}")
+        back = np.flatnonzero(np.diff(self.time_s) < 0)
+        if back.size:
+            k = int(back[0])
+            raise ValueError(f"Signals.time_s goes back at sample {k + 1} ({self.time_s[k]:g} s, then "
+                             f"{self.time_s[k + 1]:g} s); time must not decrease")
         n = self.time_s.shape[0]
         arrays = [(name, getattr(self, name)) for name in CHANNELS.values()]
         for name, value in arrays + [(f"extra[{k!r}]", v) for k, v in self.extra.items()]:

@@ -254,15 +254,22 @@ class ThermalPlant:
     def commanded(self, effort, velocity) -> tuple[np.ndarray, np.ndarray]:
         """What the drives make of a command: non-finite values fault their actuator (zero effort and speed from
         then on), efforts beyond the peak are saturated at it and counted."""
-        effort = np.array(np.broadcast_to(np.asarray(effort, float), (self.n,)))
-        velocity = np.zeros(self.n) if velocity is None else np.array(np.broadcast_to(np.asarray(velocity, float),
-                                                                                      (self.n,)))
+        effort, velocity = self._each("effort", effort), np.zeros(self.n) if velocity is None else \
+            self._each("velocity", velocity)
         self.faulted |= ~(np.isfinite(effort) & np.isfinite(velocity))
         effort[self.faulted] = 0.0
         velocity[self.faulted] = 0.0
         over = np.abs(effort) > self.peak_effort
         self.saturations += over
         return np.clip(effort, -self.peak_effort, self.peak_effort), velocity
+
+    def _each(self, name: str, value) -> np.ndarray:
+        """One value per actuator (a single number is every actuator's); another count is one sentence."""
+        value = np.asarray(value, float)
+        if value.ndim and value.shape != (self.n,):
+            raise ValueError(f"ThermalPlant.step: {value.size} {name} value(s) for {self.n} actuators "
+                             f"({', '.join(self.names)}); give one per actuator, in that order, or one for all")
+        return np.array(np.broadcast_to(value, (self.n,)))
 
     def clear_faults(self) -> None:
         """Re-enable faulted actuators (as a drive's fault reset does)."""
