@@ -4,13 +4,15 @@
     python benchmarks/bad_inputs.py --json     # one record per input
     python benchmarks/bad_inputs.py --second-round   # only the second round's 51 inputs
     python benchmarks/bad_inputs.py --third-round    # only the third round's inputs
+    python benchmarks/bad_inputs.py --fourth-round   # only the fourth round's, counted by class
 
 Every input runs in its own process (so that a hang is a timeout, not a stuck
 benchmark) in a scratch folder holding a small valid log and its broken
 variants.  An outcome is
 
 ``clear``
-    refused with exit status 2 and one line on stderr, and nothing written
+    refused with exit status 2 and one line on stderr (after any ``note:`` lines: what the command waited for or
+    converted before it had to refuse), and nothing written
     (no new file, no ``.partial``), or, where the input is legal but needs a
     word (a gap in time, rows left out), exit 0 with that word on stderr;
 ``traceback``
@@ -139,6 +141,7 @@ def write_fixtures(d: Path) -> None:
     (d / "corrupt" / "diagnose" / "summary.json").write_text("{not json")
     write_round_two(d, good)
     write_round_three(d, good)
+    write_round_four(d, good)
 
 
 BROKEN_TERMS = textwrap.dedent('''
@@ -357,6 +360,7 @@ CLEAR, WORD = "refuse", "word"  # expected: exit 2, or exit 0 with a word on std
 PARTIAL = "partial"  # expected: exit 1 (some parts failed, the rest done) with a word on stderr
 SECOND: set[str] = set()  # the names of the second round's inputs (filled as the case lists are built)
 THIRD: set[str] = set()  # the third round's
+FOURTH: set[str] = set()  # the fourth round's, each named with its class in brackets
 
 
 def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
@@ -438,7 +442,68 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     first = len(cases)
     round_three_cases(refuse, word, partial)
     THIRD.update(c[0] for c in cases[first:])
+    first = len(cases)
+    round_four_cases(refuse, word, partial)
+    FOURTH.update(c[0] for c in cases[first:])
     return cases
+
+
+def write_round_four(d: Path, good: pd.DataFrame) -> None:
+    """The fourth round's inputs: model files edited by hand, raw lab logs (degF headers, a slow joint in whole
+    degrees), a log for the monitor that never appears."""
+    model = json.loads((d / "model.json").read_text())
+    entry = model["actuators"][0]
+
+    def edited(name, change):
+        document = json.loads(json.dumps(model))
+        change(document["actuators"][0])
+        (d / name).write_text(json.dumps(document))
+
+    edited("m_tiny_rc.json", lambda e: e["params"]["RC_s"].update(value=1e-9))
+    edited("m_minutes.json", lambda e: e["params"]["RC_s"].update(unit="fortnights"))
+    edited("m_negative_gain.json", lambda e: e["params"]["betaR_K_per_effort2"].update(
+        value=-abs(e["params"]["betaR_K_per_effort2"]["value"])))
+    edited("m_negative_variance.json", lambda e: e["covariance"]["matrix"][0].__setitem__(0, -1.0))
+    edited("m_extra_param.json", lambda e: e["params"].update(warp_K={"value": 1.0, "stderr": 0.1, "unit": "K"}))
+    edited("m_source.json", lambda e: e.update(term_sources={"evil": "open('ran.txt', 'w').write('x')"}))
+    (d / "m_twice.json").write_text(json.dumps({**model, "actuators": [entry, entry]}))
+    edited("m_low_limit.json", lambda e: e.update(limit_C=0.0))
+    knee = good[good.actuator == "knee"]
+    knee.assign(temperature=knee["temperature"] * 1.8 + 32).rename(
+        columns={"temperature": "temperature (ºF)"}).to_csv(d / "ordinal_F.csv", index=False, encoding="utf-8")
+
+
+def round_four_cases(refuse, word, partial) -> None:
+    """Model files trusted blindly, predict where it knows nothing, raw lab logs, following what does not exist,
+    the model carried into other simulators."""
+    for name, reason in (("m_tiny_rc.json", "RC_s"), ("m_minutes.json", "fortnights"),
+                         ("m_negative_gain.json", "betaR"), ("m_negative_variance.json", "covariance"),
+                         ("m_extra_param.json", "warp_K"), ("m_source.json", "term_sources|code|source"),
+                         ("m_twice.json", "twice|more than once|duplicate"), ("m_low_limit.json", "limit")):
+        refuse(f"[model file] predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C",
+               "30", reason=reason)
+    word("[outside experience] predict a hold ten times the log's effort", r"extrapolated", "predict", "model.json",
+         "--hold", "100,0", "--duration", "600", "--start-C", "30", "--threshold", "90")
+    word("[outside experience] --ambient-C for a model without ambient", r"does not read the ambient", "predict",
+         "model.json", "--hold", "5,0", "--duration", "600", "--start-C", "30", "--ambient-C", "40", "--threshold",
+         "90")
+    for level in ("1", "0", "nan"):
+        refuse(f"[outside experience] predict --level {level}", "predict", "model.json", "--hold", "5,0",
+               "--duration", "60", "--start-C", "30", "--level", level, reason="--level")
+    word("[raw lab logs] a header in ºF (an ordinal sign)", r"Fahrenheit", "fit", "ordinal_F.csv", "--actuator",
+         "knee")
+    for target in ("never_there.csv", "/dev/null", "empty_folder"):
+        refuse(f"[follow] monitor --follow {target}", "monitor", "model.json", "--follow", target, "--idle-exit",
+               "1", "--mcap", "out4.mcap")
+    for argv, reason in ((["--motor-const", "0"], "motor-const"), (["--motor-const", "nan"], "motor-const"),
+                         (["--resistance", "-1"], "resistance"), (["--gear", "inf"], "gear")):
+        refuse("[travel] export " + " ".join(argv), "export", "model.json", "--mujoco", "--motor-const", "0.1",
+               "--resistance", "1", *argv, reason=reason)
+    for argv, reason in ((["--env", "NoSuch-v0"], "NoSuch"), (["--policy", "nowhere:x"], "nowhere"),
+                         (["--env-arg", "bogus=1"], "does not take"), (["--duration", "0"], "duration"),
+                         (["--models", "m_twice.json"], "twice|more than once|duplicate")):
+        refuse("[travel] audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
+               reason=reason)
 
 
 def round_three_cases(refuse, word, partial) -> None:
@@ -754,7 +819,8 @@ def run_cli(d: Path, name: str, argv: list[str], expected: str, pattern: str | N
     elif done.returncode == 2 and (expected != CLEAR or (pattern and not re.search(pattern, err))):
         outcome = "wrong reason"  # refused what is legal, or refused for another reason than the input's fault
     elif done.returncode == 2:
-        outcome = "clear" if len(lines) == 1 and not new else "left behind"
+        said = [line for line in lines if not line.startswith("note: ")]  # notes before the refusal are words
+        outcome = "clear" if len(said) == 1 and not new else "left behind"
         if new:
             record["written"] = new
     elif expected in (WORD, PARTIAL) and re.search(pattern, done.stdout + done.stderr):
@@ -1028,13 +1094,14 @@ def main() -> None:
     parser.add_argument("--only", default="", help="run only inputs whose name contains this")
     parser.add_argument("--second-round", action="store_true", help="run only the second round's inputs")
     parser.add_argument("--third-round", action="store_true", help="run only the third round's inputs")
+    parser.add_argument("--fourth-round", action="store_true", help="run only the fourth round's inputs, by class")
     args = parser.parse_args()
     cli, envs, faults, special, interrupts = (cli_cases(), env_cases(), fault_cases(), special_cases(),
                                               interrupt_cases())
 
     def chosen(name: str) -> bool:
         return (args.only in name and (not args.second_round or name in SECOND)
-                and (not args.third_round or name in THIRD))
+                and (not args.third_round or name in THIRD) and (not args.fourth_round or name in FOURTH))
 
     records = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -1056,15 +1123,21 @@ def main() -> None:
     counts = Counter(r["outcome"] for r in records)
     second = Counter(r["outcome"] for r in records if r["input"] in SECOND)
     third = Counter(r["outcome"] for r in records if r["input"] in THIRD)
+    by_class: dict[str, Counter] = {}
+    for r in records:
+        if r["input"] in FOURTH:
+            by_class.setdefault(r["input"][1:r["input"].index("]")], Counter())[r["outcome"]] += 1
     if args.json:
-        print(json.dumps({"counts": counts, "second_round": second, "third_round": third, "inputs": records},
-                         indent=1))
+        print(json.dumps({"counts": counts, "second_round": second, "third_round": third,
+                          "fourth_round_by_class": by_class, "inputs": records}, indent=1))
         return
     for r in records:
         print(f"{r['outcome']:12s} {r['input'][:70]:70s} {r.get('message', '')[:110]}")
     print(f"{len(records)} bad inputs: " + ", ".join(f"{k} {counts[k]}" for k in kinds))
     print(f"of them {sum(second.values())} of the second round: " + ", ".join(f"{k} {second[k]}" for k in kinds))
     print(f"of them {sum(third.values())} of the third round: " + ", ".join(f"{k} {third[k]}" for k in kinds))
+    for name, c in by_class.items():
+        print(f"  fourth round, {name}: {sum(c.values())} inputs: " + ", ".join(f"{k} {c[k]}" for k in kinds if c[k]))
 
 if __name__ == "__main__":
     main()

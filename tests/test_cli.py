@@ -169,3 +169,13 @@ def test_a_flag_that_would_do_nothing_is_refused(argv, message, sim_log, tmp_pat
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "t.csv").exists()
+
+
+def test_every_command_accepts_quiet():
+    """--quiet (no progress bars) is accepted by every command, so a script can pass it to any of them."""
+    from thermolimb.cli.main import COMMANDS, build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    missing = [name for name, p in sub.choices.items() if not any("--quiet" in a.option_strings for a in p._actions)]
+    assert missing == [] and len(sub.choices) >= len(COMMANDS), missing

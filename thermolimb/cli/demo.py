@@ -10,6 +10,7 @@ from ..demo_registry import demo_names, in_tour_order, load_demos, timed_demo
 from ..report import build_report
 from ..util.errors import UsageError
 from ..util.parallel import Runner, worker_limit
+from .options import add_quiet
 from .output import print_json
 from .types import integer, output_dir
 
@@ -36,6 +37,7 @@ def add_parser(sub):
                        description="Write a static page showing every demo's plots and summary tables.")
     r.add_argument("out", nargs="?", type=output_dir, default="out",
                    help="folder holding the demos' results (default out)")
+    add_quiet(r)
     r.set_defaults(func=run_report)
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
 from ..logs.mapping import suggest_table_mapping
 from ..logs.table import table_chunks
+from .options import add_quiet
 from .output import print_json
 
 
@@ -19,6 +20,7 @@ def add_parser(sub):
     )
     p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a ROS 2 bag folder), CSV or Parquet")
     p.add_argument("--json", action="store_true", help="print the listing as JSON")
+    add_quiet(p)
     p.set_defaults(func=run)
 
 

@@ -6,7 +6,7 @@ import sys
 
 from ..util.errors import UsageError
 from ..util.interrupts import ignore_further
-from .options import add_log_input, add_terms
+from .options import add_log_input, add_quiet, add_terms
 from .output import say
 from .reading import load_model_file
 from .types import integer, number, output_file
@@ -47,6 +47,7 @@ def add_parser(sub):
                    help="how often the log is checked for new rows (default 0.05 s)")
     p.add_argument("--idle-exit", type=number(0.0, 1e6, low_open=True), default=None, metavar="S",
                    help="end when the log has not grown for S seconds")
+    add_quiet(p)
     p.set_defaults(func=run)
     return p
 

@@ -267,6 +267,11 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
         raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
     provenance = entry["provenance"] if isinstance(entry["provenance"], dict) else {}
     hottest = provenance.get("hottest_reading_C")
+    seen = (provenance.get("ranges") or {}).get("temperature_C") if isinstance(provenance.get("ranges"), dict) else None
+    coolest = seen[0] if isinstance(seen, list) and seen and isinstance(seen[0], (int, float)) else None
+    if limit is not None and coolest is not None and limit <= coolest:
+        raise ModelFileError(f"{where}: its limit, {limit:g} degC, is at or below every reading of the log it was "
+                             f"fitted on (the coolest {coolest:g} degC); expected a winding limit above them")
     if limit is not None and isinstance(hottest, (int, float)) and limit < hottest:
         notes.append(f"{where}: its limit, {limit:g} degC, is below the {hottest:g} degC the log it was fitted on "
                      f"read: the actuator was past its limit in its own calibration -- check the limit")
