@@ -182,3 +182,17 @@ def test_an_audit_beyond_the_model_s_log_says_its_temperatures_are_extrapolated(
     assert main(["audit", "--env", "Ant-v5", "--policy", "zero", "--duration", "5", "--models",
                  str(calibration[1]), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["notes"] == []  # at rest, nothing beyond its log
+
+
+def test_the_time_to_a_limit_is_when_the_first_order_response_crosses_it():
+    from thermolimb.envs.thermal_wrapper import reach_s
+
+    T, steady, limit, rc = np.array([30.0, 80.0, 95.0, 50.0]), np.array([120.0, 60.0, 120.0, 100.0]), \
+        np.full(4, 90.0), np.array([100.0, 100.0, 50.0, 200.0])
+    got = reach_s(T, steady, 1.0 / rc, limit)
+    t = np.linspace(0.0, 2000.0, 200001)
+    for k in range(4):
+        path = steady[k] + (T[k] - steady[k]) * np.exp(-t / rc[k])
+        crossed = np.flatnonzero(path >= limit[k])
+        expected = np.inf if not crossed.size else t[crossed[0]]
+        assert got[k] == pytest.approx(expected, abs=0.02), (k, got[k], expected)

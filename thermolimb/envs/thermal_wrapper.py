@@ -204,6 +204,8 @@ def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable |
             raise UsageError(f"joints {missing} are not actuators of this MuJoCo model; it has {', '.join(names)}")
         idx = np.array([names.index(j) for j in chosen])
         gear = model.actuator_gear[idx, 0].copy()
+        if np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):  # in order: a view, not a gather
+            idx = slice(int(idx[0]), int(idx[0]) + idx.size)
 
         def read(e):
             data = e.unwrapped.data
@@ -275,6 +277,7 @@ class ModelHeat:
         self.fast = all(set(m.terms) <= FAST_TERMS for m in self.models)
         p = [m.params for m in self.models]
         self.rc = np.array([q["RC_s"] for q in p])
+        self.inv_rc = 1.0 / self.rc
         self.offset = np.array([q["T_offset_C"] for q in p])
         self.b = np.array([q.get("betaR_K_per_effort2", 0.0) for q in p])
         self.c = np.array([q.get("beta_biasR_K_per_effort", 0.0) for q in p])
@@ -293,7 +296,7 @@ class ModelHeat:
                 self._dt, self._decay = dt, np.exp(-dt / self.rc)
             steady = self.offset + torque * (self.b * torque - self.c)
             self.T = steady + (self.T - steady) * self._decay
-            return self.T.copy(), reach_s(self.T, steady, 1.0 / self.rc, limit_C)
+            return self.T.copy(), reach_s(self.T, steady, self.inv_rc, limit_C)
         if self.fast:
             heat = self.b * torque**2
             gain = self.alpha * heat
@@ -316,11 +319,13 @@ class ModelHeat:
 
 def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
     """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
-    out = np.where(T >= limit_C, 0.0, np.inf)
     rising = (steady > limit_C) & (T < limit_C)
-    if rising.any():  # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit
-        ratio = (T[rising] - steady[rising]) / (limit_C[rising] - steady[rising])
-        out[rising] = np.log(ratio) / (rate[rising] if np.ndim(rate) else rate)
+    # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit (no masked copies: every
+    # step of a training run calls this)
+    ratio = np.divide(T - steady, limit_C - steady, out=np.ones_like(T), where=rising)
+    out = np.log(ratio, out=np.full_like(T, np.inf), where=rising)
+    out /= rate  # positive: inf stays inf
+    out[T >= limit_C] = 0.0
     return out
 
 
