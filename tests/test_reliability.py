@@ -114,7 +114,8 @@ def test_an_interrupted_write_leaves_the_previous_log_and_no_temporary(tmp_path,
 def test_a_failing_report_leaves_the_previous_index(tmp_path, capsys, monkeypatch):
     (tmp_path / "demo").mkdir()
     (tmp_path / "demo" / "summary.json").write_text(json.dumps({"a": 1.0}))
-    (tmp_path / "index.html").write_text("previous")
+    previous = "<title>thermolimb report</title> previous"  # a page an earlier report wrote
+    (tmp_path / "index.html").write_text(previous)
 
     def broken(self, *args, **kwargs):
         raise OSError("disk full")
@@ -123,8 +124,20 @@ def test_a_failing_report_leaves_the_previous_index(tmp_path, capsys, monkeypatc
     with pytest.raises(OSError):
         main(["report", str(tmp_path)])
     monkeypatch.undo()
-    assert (tmp_path / "index.html").read_text() == "previous"
+    assert (tmp_path / "index.html").read_text() == previous
     assert _no_temporaries(tmp_path)
+
+
+def test_the_report_never_replaces_a_page_it_did_not_write(tmp_path, capsys):
+    (tmp_path / "demo").mkdir()
+    (tmp_path / "demo" / "summary.json").write_text(json.dumps({"a": 1.0}))
+    (tmp_path / "index.html").write_text("<html>the lab's own page</html>")
+    assert main(["report", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "was not written by thermolimb report" in err and len(err.strip().splitlines()) == 1
+    assert (tmp_path / "index.html").read_text() == "<html>the lab's own page</html>"
+    (tmp_path / "index.html").unlink()
+    assert main(["report", str(tmp_path)]) == 0 and main(["report", str(tmp_path)]) == 0  # its own page: replaced
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")

@@ -92,6 +92,9 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     return parts
 
 
+MARK = "<meta name='generator' content='thermolimb report'>"  # what tells a page this report wrote
+
+
 def build_report(out: Path) -> Path:
     """Write ``out/index.html`` from every ``out/<demo>/summary.json`` and its figures."""
     out = Path(out)
@@ -99,8 +102,13 @@ def build_report(out: Path) -> Path:
     folders = [by_name[name] for name in in_tour_order(by_name)]
     if not folders:
         raise UsageError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
+    page = out / "index.html"
+    head = page.read_text(encoding="utf-8", errors="replace")[:2000] if page.exists() else MARK
+    if MARK not in head and "<title>thermolimb report</title>" not in head:  # (the earlier versions' pages)
+        raise UsageError(f"{page} exists and was not written by thermolimb report; move it away (the report never "
+                         f"replaces a page it did not write)")
     demos = load_demos()
-    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>thermolimb report</title>"
+    parts = [f"<!doctype html><html><head><meta charset='utf-8'>{MARK}<title>thermolimb report</title>"
              f"<style>{STYLE}</style></head><body>",
              "<h1>thermolimb report</h1>",
              "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
@@ -122,4 +130,4 @@ def build_report(out: Path) -> Path:
                   f"then <code>thermolimb demo {html.escape(name)} --quick --out {html.escape(str(out))}</code> and "
                   "the report again).</p>"]
     parts.append("</body></html>")
-    return write_text(out / "index.html", "\n".join(parts))
+    return write_text(page, "\n".join(parts))
