@@ -139,7 +139,8 @@ def _monitor(saved, out: Path, quiet: bool) -> dict:
                       publish_every_s=1.0)
     estimates = []
     follower = CsvFollower(out / "walking.csv")
-    whole = follower.poll(final=True)["knee"][0].arrays
+    pieces = follower.poll(final=True)["knee"]  # the first rows, then the rest: one run, read in two pieces
+    whole = {c: np.concatenate([p.arrays[c] for p in pieces]) for c in pieces[0].arrays}
     for lo in range(0, len(whole["time"]), 60):  # the run as it would arrive, a minute at a time
         minute = {c: v[lo:lo + 60] for c, v in whole.items()}
         estimates += session.feed({"knee": [Run(minute, lo == 0)]})
