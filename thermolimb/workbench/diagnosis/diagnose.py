@@ -425,8 +425,10 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
     first = steps[0]
     h = first.heat_source
     if h is not None and h["chosen"] == "current":  # the walk starts from the effort model, its first step the swap
-        waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"],
-                            improvement=1.0 - h["current_rmse_K"] / h["effort_rmse_K"], why=h["sentence"])
+        gain = 1.0 - h["current_rmse_K"] / h["effort_rmse_K"]
+        waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"], improvement=gain,
+                            why=f"validation RMSE {h['effort_rmse_K']:.3f} -> {h['current_rmse_K']:.3f} K "
+                                f"({-100 * gain:+.1f} %); {h['sentence']}")
         waterfall.insert(0, {"model": h["effort_model"], "rmse_K": h["effort_rmse_K"],
                              "fit_percent": h["effort_fit_percent"], "flags": h["effort_flags"], "floor_K": None})
     first.auto = waterfall
