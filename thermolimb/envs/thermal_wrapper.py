@@ -319,13 +319,11 @@ class ModelHeat:
 
 def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
     """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
+    out = np.where(T >= limit_C, 0.0, np.inf)
     rising = (steady > limit_C) & (T < limit_C)
-    # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit (no masked copies: every
-    # step of a training run calls this)
-    ratio = np.divide(T - steady, limit_C - steady, out=np.ones_like(T), where=rising)
-    out = np.log(ratio, out=np.full_like(T, np.inf), where=rising)
-    out /= rate  # positive: inf stays inf
-    out[T >= limit_C] = 0.0
+    if rising.any():  # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit
+        ratio = (T[rising] - steady[rising]) / (limit_C[rising] - steady[rising])
+        out[rising] = np.log(ratio) / (rate[rising] if np.ndim(rate) else rate)
     return out
 
 
