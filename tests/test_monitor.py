@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from monitor_logs import model_and_run
 
 from thermolimb.cli.main import main
 from thermolimb.logs.follow import CsvFollower
@@ -60,14 +61,7 @@ def test_time_to_limit_is_first_order():
 
 @pytest.fixture(scope="module")
 def model_and_log(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("monitor")
-    cal, run, model = folder / "cal.csv", folder / "run.csv", folder / "model.json"
-    assert main(["simulate", "--profile", "random", "--duration", "2400", "--dt", "1", "--network", "first_order",
-                 "--seed", "4", "--out", str(cal), "--quiet"]) == 0
-    assert main(["simulate", "--profile", "squat", "--duration", "600", "--dt", "1", "--network", "first_order",
-                 "--seed", "5", "--out", str(run), "--quiet"]) == 0
-    assert main(["fit", str(cal), "--save", str(model), "--limit-C", "60", "--quiet"]) == 0
-    return model, run
+    return model_and_run(tmp_path_factory.mktemp("monitor"), 2400, 600)
 
 
 def _monitor_while_written(model, live, out, writer_args, head_start_s):

@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
+from monitor_logs import model_and_run
 from rosbags.highlevel import AnyReader
 
 from thermolimb.cli.main import main
@@ -29,14 +30,7 @@ with open(dst, "w") as f:
 
 @pytest.fixture(scope="module")
 def model_and_log(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("recording")
-    cal, run, model = folder / "cal.csv", folder / "run.csv", folder / "model.json"
-    assert main(["simulate", "--profile", "random", "--duration", "1200", "--dt", "1", "--network", "first_order",
-                 "--seed", "4", "--out", str(cal), "--quiet"]) == 0
-    assert main(["simulate", "--profile", "squat", "--duration", "900", "--dt", "1", "--network", "first_order",
-                 "--seed", "5", "--out", str(run), "--quiet"]) == 0
-    assert main(["fit", str(cal), "--save", str(model), "--limit-C", "60", "--quiet"]) == 0
-    return model, run
+    return model_and_run(tmp_path_factory.mktemp("recording"), 1200, 900)
 
 
 def messages_in(path: Path) -> int:

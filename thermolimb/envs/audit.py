@@ -18,6 +18,7 @@ from typing import Callable
 import gymnasium as gym
 import numpy as np
 
+from ..model.experience import MARGIN, MARGIN_K
 from ..util.errors import UsageError
 from .thermal_wrapper import ThermalWrapper
 
@@ -167,10 +168,10 @@ def beyond_experience(joints, experience, strongest_Nm, peak_C) -> list[str]:
     torque, hot = [], []
     for joint, ranges, tau, peak in zip(joints, experience, strongest_Nm, peak_C):
         effort = ranges.get("effort")
-        if effort and tau > 1.05 * max(abs(effort[0]), abs(effort[1])):
+        if effort and tau > (1.0 + MARGIN) * max(abs(effort[0]), abs(effort[1])):
             torque.append((tau / max(abs(effort[0]), abs(effort[1]), 1e-12), joint, tau, effort))
         seen = ranges.get("temperature_C")
-        if seen and peak > seen[1] + 5.0:
+        if seen and peak > seen[1] + MARGIN_K:
             hot.append((joint, peak, seen[1]))
     notes = []
     if torque:
