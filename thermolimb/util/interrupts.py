@@ -13,15 +13,15 @@ ENDING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 @contextlib.contextmanager
 def held():
     """Signals that end the command wait until the block is done (then arrive as they would have); only the main
-    thread receives them, so elsewhere this does nothing."""
+    thread receives them, so elsewhere this does nothing.  Blocks nest: an inner one gives back the mask it found,
+    so a signal held by an outer block still waits for the outer block's end."""
     on_main = threading.current_thread() is threading.main_thread()
-    if on_main:
-        signal.pthread_sigmask(signal.SIG_BLOCK, ENDING)
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, ENDING) if on_main else None
     try:
         yield
     finally:
         if on_main:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, ENDING)
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
 def ignore_further() -> None:
