@@ -12,7 +12,7 @@ import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
-from ..util.interrupts import ENDING, ignore_further
+from ..util.interrupts import Terminated, ignore_further, install
 from . import audit, compare, demo, diagnose, export, fit, inspect, monitor, predict, simulate, strategies
 
 COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, export, audit, strategies, demo)
@@ -47,27 +47,12 @@ WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota 
                 errno.EFBIG: "the file is too large for the file system"}
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM (what timeout, systemd, containers and CI send) or SIGHUP (the terminal closed), met like Ctrl-C:
-    writers remove their temporaries, or complete what they were writing."""
-
-    def __init__(self, signum: int = signal.SIGTERM):
-        super().__init__(signum)
-        self.signum = signum
-
-
-def _terminate(signum, frame):
-    raise Terminated(signum)
-
-
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if not _main_thread():
         return _run(args)
-    previous = {signum: signal.getsignal(signum) for signum in ENDING}
-    signal.signal(signal.SIGTERM, _terminate)
-    signal.signal(signal.SIGHUP, _terminate)
+    previous = install()  # Ctrl-C, SIGTERM, SIGHUP: deferred inside a held block, once only (util/interrupts)
     code = None
     try:
         code = _run(args)

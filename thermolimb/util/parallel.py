@@ -176,6 +176,11 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
             if process.is_alive():
                 process.kill()
                 process.join()
+        # the pool's manager thread sees its workers gone and closes its wake-up pipe: waited for here, or the
+        # interpreter's exit hook can write to that pipe as it closes ("Exception ignored ... Bad file descriptor")
+        manager = getattr(pool, "_executor_manager_thread", None)
+        if manager is not None:
+            manager.join(STOP_GRACE_S)
 
 
 def run_jobs(func: Callable, jobs: Sequence[tuple], backend: str = "process", workers: int = 2,
