@@ -66,6 +66,23 @@ def test_a_log_followed_in_pieces_reads_as_the_whole_file_reads(tmp_path, writte
     assert follower.skipped == 0
 
 
+def test_a_log_of_many_actuators_starts_when_each_has_its_rows(tmp_path):
+    # six joints, a row each per sample: the first PROBE_ROWS rows hold too few of each for the start to read
+    path = tmp_path / "six.csv"
+    rows = [f"{0.01 * k:.2f},j{a},{a + 1},{30 + 0.01 * k:.2f}" for k in range(2 * PROBE_ROWS) for a in range(6)]
+    follower = CsvFollower(path)
+    got = {}
+    with open(path, "w") as f:
+        f.write("time,actuator,effort,temperature\n")
+        for k in range(0, len(rows), 10):
+            f.write("\n".join(rows[k:k + 10]) + "\n")
+            f.flush()
+            for name, times in _all(follower.poll()).items():
+                got.setdefault(name, []).append(times)
+    assert sorted(got) == [f"j{a}" for a in range(6)]
+    assert all(np.concatenate(got[n]).size == 2 * PROBE_ROWS for n in got)
+
+
 def test_what_fit_reads_the_monitor_reads(tmp_path, written):
     """A byte-order mark, semicolons with decimal commas and ISO time stamps: fit reads it, and so does the
     follower, to the same samples."""

@@ -111,6 +111,8 @@ class CsvFollower:
             data = [n for n, t in self.pending if t.strip() and not t.lstrip().startswith("#")]
             if len(data) <= PROBE_ROWS and not (final and len(data) > 1):
                 return {}
+            if not final and len(data) <= self._probe_rows():
+                return {}  # a log of many actuators: the start waits until each has its rows
             return self._start()
         return self._lines(numbered)
 
@@ -133,10 +135,10 @@ class CsvFollower:
     def _start(self) -> dict[str, list[Run]]:
         """The first rows read whole, as ``fit`` reads a file: the dialect, the header and the units decided; the
         lines after them read as every later line is."""
+        probe = self._probe_rows()
         lines, self.pending = self.pending, []
         data = [k for k, (_, t) in enumerate(lines) if t.strip() and not t.lstrip().startswith("#")]
-        first, rest = (lines, []) if len(data) <= PROBE_ROWS + 1 else (lines[:data[PROBE_ROWS] + 1],
-                                                                      lines[data[PROBE_ROWS] + 1:])
+        first, rest = (lines, []) if len(data) <= probe + 1 else (lines[:data[probe] + 1], lines[data[probe] + 1:])
         dialect = csv_dialect("\n".join(t for _, t in first) + "\n", self.path, self.read.get("sep"),
                               self.read.get("decimal"))
         self.dialect = dialect
@@ -160,6 +162,22 @@ class CsvFollower:
         for name, runs in self._lines(rest).items():
             out.setdefault(name, []).extend(runs)
         return out
+
+    def _probe_rows(self) -> int:
+        """The rows the start reads whole: :data:`PROBE_ROWS` for each actuator the pending rows name (a log of
+        six joints is read as six logs of one would be), as far as its actuator column can be read yet."""
+        text = "\n".join(t for _, t in self.pending) + "\n"
+        column = (self.mapping or {}).get("actuator", "actuator")
+        try:
+            dialect = csv_dialect(text, self.path, self.read.get("sep"), self.read.get("decimal"))
+            if column not in [h.strip() for h in dialect.header]:
+                return PROBE_ROWS
+            start = text.index(dialect.header_line)
+            frame = pd.read_csv(io.StringIO(text[start:]), **dialect.options)
+            frame.columns = [str(c).strip() for c in frame.columns]
+            return PROBE_ROWS * max(int(frame[column].nunique()), 1)
+        except (LogError, ValueError, KeyError, pd.errors.ParserError):
+            return PROBE_ROWS  # what cannot be read yet is refused by the start, in its words
 
     def _validate(self, frame: pd.DataFrame):
         return from_frame(frame, source=str(self.path), mapping=self.mapping,
