@@ -5,7 +5,9 @@
    actuator at a time (the worst case: the log polled after every row).  Beside it, in the same process, the
    plant's own :class:`~thermolimb.plant.observer.WindingObserver` (three nodes, a thermistor, an unknown heat
    and two loss coefficients per actuator, the rig's observer) updated for the same 30 actuators: the ratio.
-   Also the cost per sample when the monitor is fed 50 samples at a time (a 1 kHz log polled at 20 Hz).
+   Also the cost per sample when the monitor is fed 50 samples at a time (a 1 kHz log polled at 20 Hz), and
+   the step of 30 first-order actuators (the default model), which the monitor steps together as arrays,
+   beside the same stepped one by one.
 2. Keeping up: another process appends a 6-actuator canonical CSV at 1 kHz in real time (every 10 ms, ten rows
    per actuator) for ``--seconds``; the monitor follows it (MCAP output at 20 Hz) and the benchmark reports the
    share of the wall time it was busy and how far behind the writer it was when the writer stopped.
@@ -34,6 +36,7 @@ from thermolimb.plant import X8_9
 from thermolimb.plant.observer import WindingObserver
 
 TERMS = ("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag")
+FIRST_ORDER = ("joule", "effort_bias")  # Jorgensen et al.'s model, the default: stepped together as arrays
 WRITER = """
 import sys, time
 path, actuators, seconds = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
@@ -55,10 +58,10 @@ print(time.monotonic(), flush=True)
 """
 
 
-def models(names) -> ModelFile:
-    params = {p.name: p.typical for p in model_parameters(TERMS)}
+def models(names, terms=TERMS) -> ModelFile:
+    params = {p.name: p.typical for p in model_parameters(terms)}
     params.update(RC_s=40.0, frame_fraction=0.5, frame_tau_s=1200.0, sensor_tau_s=5.0, T_offset_C=25.0)
-    model = ThermalModel(TERMS, params)
+    model = ThermalModel(terms, {p.name: params[p.name] for p in model_parameters(terms)})
     residual = ResidualStats(1000, 1000.0, 0.0, 0.5, {"0.5": 0.3, "0.8": 0.6, "0.9": 0.8, "0.95": 1.0, "0.99": 1.3},
                              0.9, 20.0)
     from dataclasses import replace
@@ -71,9 +74,9 @@ def piece(times, effort, temperature, velocity, new_run: bool = False) -> list[R
     return [Run({k: np.atleast_1d(np.asarray(v, float)) for k, v in arrays.items()}, new_run)]
 
 
-def step_costs(actuators: int = 30, steps: int = 400) -> dict:
+def step_costs(actuators: int = 30, steps: int = 400, terms=TERMS, together: bool = True) -> dict:
     names = [f"j{i}" for i in range(actuators)]
-    session = Session(models(names), {}, [], publish_every_s=0.0)
+    session = Session(models(names, terms), {}, [], publish_every_s=0.0, together=together)
     rng = np.random.default_rng(0)
     session.feed({n: piece([0.0], [5.0], [30.0], [0.0], new_run=True) for n in names})
     times = []
@@ -140,15 +143,20 @@ def main(argv=None) -> dict:
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
     args = parser.parse_args(argv)
     steps = step_costs()
+    first = {"together": step_costs(terms=FIRST_ORDER), "one_by_one": step_costs(terms=FIRST_ORDER, together=False)}
     live = keeps_up(args.seconds)
-    print(f"one step, {steps['actuators']} actuators: {1e3 * steps['monitor_step_s']:.3f} ms "
-          f"(target 1 ms); the plant's winding observer for as many: {1e3 * steps['plant_observer_step_s']:.3f} ms "
-          f"(ratio {steps['ratio_monitor_to_observer']:.1f}); per sample in pieces of 50: "
-          f"{1e3 * steps['monitor_per_sample_in_pieces_of_50_s']:.3f} ms")
+    print(f"one step, {steps['actuators']} actuators with the walk's kind of model ({', '.join(TERMS)}): "
+          f"{1e3 * steps['monitor_step_s']:.3f} ms (target 1 ms); the plant's winding observer for as many: "
+          f"{1e3 * steps['plant_observer_step_s']:.3f} ms (ratio {steps['ratio_monitor_to_observer']:.1f}); per "
+          f"sample in pieces of 50: {1e3 * steps['monitor_per_sample_in_pieces_of_50_s']:.3f} ms")
+    print(f"one step, {steps['actuators']} first-order actuators ({', '.join(FIRST_ORDER)}): stepped together "
+          f"{1e3 * first['together']['monitor_step_s']:.3f} ms, one by one "
+          f"{1e3 * first['one_by_one']['monitor_step_s']:.3f} ms (ratio "
+          f"{first['one_by_one']['monitor_step_s'] / first['together']['monitor_step_s']:.1f})")
     print(f"1 kHz log of {live['actuators']} actuators for {live['seconds']:g} s: {live['samples']} samples "
           f"followed, busy {100 * live['busy_share']:.0f} % of the time, {live['behind_at_end_s']:.2f} s behind the "
           f"writer at its end; MCAP {live['mcap_bytes'] / 1e6:.1f} MB")
-    result = {"step": steps, "keeps_up": live}
+    result = {"step": steps, "first_order_step": first, "keeps_up": live}
     if args.json:
         print(json.dumps(result))
     return result

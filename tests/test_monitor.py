@@ -53,6 +53,48 @@ def test_a_run_in_pieces_carries_on_exactly():
     assert {"winding", "output", "second_node", "third_node"} <= set(state)
 
 
+def test_first_order_actuators_stepped_together_give_what_each_gives_alone():
+    from dataclasses import replace
+
+    from thermolimb.logs.follow import Run
+    from thermolimb.model.saved import ResidualStats, bare
+
+    rng = np.random.default_rng(7)
+    saved = {}
+    for k in range(8):  # Joule and bias; every other one with copper's coefficient; limits some will reach
+        terms = ("joule", "effort_bias") + (("winding_tempco",) if k % 2 else ())
+        params = {p.name: p.typical for p in model_parameters(terms)}
+        params.update(RC_s=20.0 + 10 * k, betaR_K_per_effort2=0.3 + 0.1 * k, beta_biasR_K_per_effort=0.05 * (k - 4))
+        model = ThermalModel(terms, params)
+        residual = ResidualStats(100, 100.0, 0.0, 0.2 + 0.05 * k, {"0.9": 0.3}, 0.9, 20.0)
+        saved[f"j{k}"] = replace(bare(model, f"j{k}", 45.0 + 5 * k), residual=residual)
+    sessions = [Session(ModelFile(saved), {}, [], together=together) for together in (True, False)]
+    temperature = {n: 30.0 for n in saved}
+    out = []
+    for step in range(400):
+        pieces = {}
+        for n in saved:
+            if step % 97 == 5 and n == "j3":
+                continue  # an actuator with no new row this time
+            temperature[n] += rng.normal(0.02, 0.05)
+            arrays = {"time": np.array([0.1 * step + rng.uniform(0, 0.01)]), "effort": rng.uniform(-8, 8, 1),
+                      "temperature": np.array([round(temperature[n], 1)])}
+            pieces[n] = [Run(arrays, step == 0)]
+        out.append([session.feed({n: [Run(dict(r.arrays), r.new_run) for r in v] for n, v in pieces.items()})
+                    for session in sessions])
+    for together, alone in out:
+        assert len(together) == len(alone)
+        by_name = {e.actuator: e for e in alone}
+        for e in together:
+            a = by_name[e.actuator]
+            assert (e.level, e.time_to_limit_s is None) == (a.level, a.time_to_limit_s is None)
+            np.testing.assert_allclose([e.winding_C, e.winding_std_K, e.derating, e.time_to_limit_s or 0.0],
+                                       [a.winding_C, a.winding_std_K, a.derating, a.time_to_limit_s or 0.0],
+                                       rtol=1e-9, atol=1e-9)
+    levels = Counter(e.status for together, _ in out for e in together)
+    assert levels["OK"] and (levels["WARN"] or levels["ERROR"]), levels  # the limits were approached
+
+
 def test_time_to_limit_is_first_order():
     assert first_order_reach_s(50.0, 100.0, 0.01, 75.0) == pytest.approx(np.log(2) / 0.01)
     assert first_order_reach_s(50.0, 70.0, 0.01, 75.0) is None

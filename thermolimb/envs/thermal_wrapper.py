@@ -29,13 +29,12 @@ from typing import Callable, Mapping, Sequence
 import gymnasium as gym
 import numpy as np
 
-from ..constants import COPPER_REFERENCE_C
+from ..model.first_order import FirstOrderArrays, in_family
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
 from ..plant.protection import ThermalProtection
 from ..util.errors import UsageError
 
-FAST_TERMS = {"joule", "effort_bias", "winding_tempco"}  # one node, forcing polynomial in the torque
 DEFAULT_MARGIN_K = 10.0  # warning_C defaults to this far below the limit
 OBSERVE = ("append", "dict", None)
 
@@ -274,35 +273,18 @@ class ModelHeat:
         self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
         self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each model was fitted on
         self.ambient_C = ambient_C
-        self.fast = all(set(m.terms) <= FAST_TERMS for m in self.models)
-        p = [m.params for m in self.models]
-        self.rc = np.array([q["RC_s"] for q in p])
-        self.inv_rc = 1.0 / self.rc
-        self.offset = np.array([q["T_offset_C"] for q in p])
-        self.b = np.array([q.get("betaR_K_per_effort2", 0.0) for q in p])
-        self.c = np.array([q.get("beta_biasR_K_per_effort", 0.0) for q in p])
-        self.alpha = np.array([q.get("alpha_per_K", 0.0) for q in p])
+        self.fast = all(in_family(m) for m in self.models)
+        self.arrays = FirstOrderArrays(self.models) if self.fast else None
         self.states: list[dict] = [{} for _ in self.models]
         self.T = np.zeros(len(self.models))
-        self._dt, self._decay = None, None
 
     def reset(self, start_C: float) -> None:
         self.T = np.full(len(self.models), start_C)
         self.states = [{} for _ in self.models]
 
     def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        if self.fast and not self.alpha.any():  # the rate is the winding's own: its decay over a step is known
-            if dt != self._dt:
-                self._dt, self._decay = dt, np.exp(-dt / self.rc)
-            steady = self.offset + torque * (self.b * torque - self.c)
-            self.T = steady + (self.T - steady) * self._decay
-            return self.T.copy(), reach_s(self.T, steady, self.inv_rc, limit_C)
-        if self.fast:
-            heat = self.b * torque**2
-            gain = self.alpha * heat
-            restoring = np.maximum(1.0 - gain, 1e-6)
-            steady = (self.offset + heat - self.c * torque - self.alpha * COPPER_REFERENCE_C * heat) / restoring
-            rate = restoring / self.rc
+        if self.fast:  # one node: each actuator's exact step over dt at the torque held, all at once
+            steady, rate = self.arrays.forcing(torque)
             self.T = steady + (self.T - steady) * np.exp(-rate * dt)
             return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
         steady, rate = np.empty_like(self.T), np.empty_like(self.T)

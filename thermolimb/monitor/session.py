@@ -12,7 +12,7 @@ from ..model.saved import ModelFile
 from ..model.signals import Signals
 from ..util.errors import UsageError
 from ..util.interrupts import held
-from .estimator import ActuatorMonitor, Estimate
+from .estimator import ActuatorMonitor, Estimate, update_together
 
 CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C", "power": "power_W",
             "housing": "housing_C"}
@@ -34,6 +34,7 @@ class Session:
     only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
+    together: bool = True  # first-order actuators with one new sample each step as arrays (False: one by one)
 
     def feed(self, runs: dict) -> list[Estimate]:
         """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
@@ -69,11 +70,21 @@ class Session:
                         ({c: v[lo:hi] for c, v in arrays.items()}, piece.new_run and k == 0))
         estimates = []
         for key in sorted(windows):
+            together = []  # one new sample of a first-order actuator whose filter runs: stepped with the others
             for name, parts in windows[key].items():
                 for arrays, restart in parts:
                     if restart:
                         self.monitors.pop(name, None)
-                    estimates.append(self._update(name, arrays))
+                    monitor = self.monitors.get(name)
+                    if (self.together and len(parts) == 1 and monitor is not None and monitor.together
+                            and monitor.state is not None and arrays["time"].size == 2):
+                        together.append((name, monitor, arrays))
+                    else:
+                        estimates.append(self._update(name, arrays))
+            if len(together) > 1:
+                estimates += update_together([m for _, m, _ in together], [a for _, _, a in together])
+            elif together:
+                estimates.append(self._update(together[0][0], together[0][2]))
             last = [m.last for m in self.monitors.values() if m.last is not None]
             if max(e.time_s for e in last) - self.published_at >= self.publish_every_s:
                 self.publish(last)
