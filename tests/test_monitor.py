@@ -53,7 +53,13 @@ def test_a_run_in_pieces_carries_on_exactly():
     assert {"winding", "output", "second_node", "third_node"} <= set(state)
 
 
-def test_first_order_actuators_stepped_together_give_what_each_gives_alone():
+CASCADES = (("joule", "effort_bias"), ("joule", "effort_bias", "winding_tempco"),  # Jorgensen et al.'s, copper
+            ("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag"),  # what the walk often ends with
+            ("joule", "second_node", "third_node"), ("joule", "effort_bias", "sensor_lag"))
+
+
+@pytest.mark.parametrize("families", [CASCADES[:2], CASCADES])
+def test_actuators_stepped_together_give_what_each_gives_alone(families):
     from dataclasses import replace
 
     from thermolimb.logs.follow import Run
@@ -61,10 +67,13 @@ def test_first_order_actuators_stepped_together_give_what_each_gives_alone():
 
     rng = np.random.default_rng(7)
     saved = {}
-    for k in range(8):  # Joule and bias; every other one with copper's coefficient; limits some will reach
-        terms = ("joule", "effort_bias") + (("winding_tempco",) if k % 2 else ())
+    for k in range(10):  # each family; limits some will reach; a slow mass's share of 0 in one
+        terms = families[k % len(families)]
         params = {p.name: p.typical for p in model_parameters(terms)}
-        params.update(RC_s=20.0 + 10 * k, betaR_K_per_effort2=0.3 + 0.1 * k, beta_biasR_K_per_effort=0.05 * (k - 4))
+        params.update({n: v for n, v in dict(
+            RC_s=20.0 + 10 * k, betaR_K_per_effort2=0.3 + 0.1 * k, beta_biasR_K_per_effort=0.05 * (k - 4),
+            frame_fraction=0.0 if k == 7 else 0.3, frame_tau_s=400.0 + 50 * k, body_fraction=0.2, body_tau_s=3000.0,
+            sensor_tau_s=3.0 + k, speed_K_per_rad_s=0.5, speed2_K_per_rad2_s2=0.2).items() if n in params})
         model = ThermalModel(terms, params)
         residual = ResidualStats(100, 100.0, 0.0, 0.2 + 0.05 * k, {"0.9": 0.3}, 0.9, 20.0)
         saved[f"j{k}"] = replace(bare(model, f"j{k}", 45.0 + 5 * k), residual=residual)
@@ -78,7 +87,7 @@ def test_first_order_actuators_stepped_together_give_what_each_gives_alone():
                 continue  # an actuator with no new row this time
             temperature[n] += rng.normal(0.02, 0.05)
             arrays = {"time": np.array([0.1 * step + rng.uniform(0, 0.01)]), "effort": rng.uniform(-8, 8, 1),
-                      "temperature": np.array([round(temperature[n], 1)])}
+                      "temperature": np.array([round(temperature[n], 1)]), "velocity": rng.uniform(-3, 3, 1)}
             pieces[n] = [Run(arrays, step == 0)]
         out.append([session.feed({n: [Run(dict(r.arrays), r.new_run) for r in v] for n, v in pieces.items()})
                     for session in sessions])
@@ -91,6 +100,8 @@ def test_first_order_actuators_stepped_together_give_what_each_gives_alone():
             np.testing.assert_allclose([e.winding_C, e.winding_std_K, e.derating, e.time_to_limit_s or 0.0],
                                        [a.winding_C, a.winding_std_K, a.derating, a.time_to_limit_s or 0.0],
                                        rtol=1e-9, atol=1e-9)
+    assert {n: m.state.keys() for n, m in sessions[0].monitors.items()} == {
+        n: m.state.keys() for n, m in sessions[1].monitors.items()}
     levels = Counter(e.status for together, _ in out for e in together)
     assert levels["OK"] and (levels["WARN"] or levels["ERROR"]), levels  # the limits were approached
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.first_order import FirstOrderArrays, in_family
+from ..model.first_order import FirstOrderArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
 from ..model.signals import Signals
@@ -98,7 +98,12 @@ class ActuatorMonitor:
         spread = saved.jackknife if saved.jackknife is not None else saved.covariance
         self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
                             if "sensor_tau_s" in names else 0.0)
-        self.together = in_family(self.model) and self.sigma_tau_s == 0.0  # can step with others (update_together)
+        self.together = in_family(self.model) or in_cascade(self.model)  # can step with others (update_together)
+        self.row = FirstOrderArrays.row(self.model) if self.together else None
+        self.columns = self.model.columns
+        # the slow masses whose node the model carries from piece to piece (a share of 0 carries none)
+        self.state_names = {t for t in ("second_node", "third_node") if t in self.model.terms
+                            and self.model.params[{"second_node": "frame_fraction", "third_node": "body_fraction"}[t]]}
         self.state: dict | None = None
         self.bias = 0.0
         self.P = self.miss_K**2
@@ -133,40 +138,42 @@ class ActuatorMonitor:
 
 
 def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list[Estimate]:
-    """One new sample for each of several actuators at once: each monitor ``together`` (a first-order model) with
-    its filter already running, sharing one protection; each ``arrays`` the previous sample and the new one.  The
-    same numbers as each monitor's :meth:`~ActuatorMonitor.update` (what a live log polled after every row asks
-    thirty times a millisecond), as arrays."""
+    """One new sample for each of several actuators at once: each monitor ``together`` (a model of either family of
+    :mod:`~thermolimb.model.first_order`) with its filter already running, sharing one protection; each ``arrays``
+    the previous sample and the new one, with every column its model reads.  The same numbers as each monitor's
+    :meth:`~ActuatorMonitor.update` (what a live log polled after every row asks thirty times a millisecond), as
+    arrays."""
     first = monitors[0]
-    models = FirstOrderArrays([m.model for m in monitors])
+    models = FirstOrderArrays(rows=np.array([m.row for m in monitors]))
     time_s = np.array([a["time"] for a in arrays])
     effort = np.array([a["effort"] for a in arrays])
+    speed = np.abs(np.array([a["velocity"] if "velocity" in a else np.zeros(2) for a in arrays]))
     measured = np.array([a["temperature"][1] for a in arrays])
-    winding0 = np.array([m.state["winding"] for m in monitors])
     dt = time_s[:, 1] - time_s[:, 0]
-    steady0, rate0 = models.forcing(effort[:, 0])
-    steady, rate = models.forcing(effort[:, 1])
-    rate, rate0 = np.broadcast_to(rate, dt.shape), np.broadcast_to(rate0, dt.shape)
-    sim = steady0 + (winding0 - steady0) * np.exp(-rate0 * dt)
+    before = {k: np.array([m.state.get(k, np.nan) for m in monitors]) for k in ("winding", "output")}
+    for name in ("second_node", "third_node"):
+        before[name] = np.array([m.state.get(name, o) for m, o in zip(monitors, models.offset)])
+    after = models.step(before, dt, effort, speed)
     a = np.exp(-dt / models.rc)
     q = np.array([m.miss_K**2 for m in monitors])
     r = np.array([m.r for m in monitors])
     bias = np.array([m.bias for m in monitors]) * a
     P = a * a * np.array([m.P for m in monitors]) + q * (1.0 - a * a)
     gain = P / (P + r)
-    bias += gain * (measured - sim - bias)
+    bias += gain * (measured - after["output"] - bias)
     P *= 1.0 - gain
-    winding = sim + bias
-    std = np.sqrt(P)  # no lagging sensor in the family: its share of the spread is nil
+    winding = after["winding"] + bias
+    slope = (after["output"] - before["output"]) / dt
+    std = np.sqrt(P + (np.array([m.sigma_tau_s for m in monitors]) * slope) ** 2)
     limit = np.array([m.limit_C for m in monitors])
     derate = first.protection.fraction(winding + first.sigmas * std, limit)
     estimates = []
     for k, m in enumerate(monitors):
-        m.state = {"winding": float(sim[k]), "output": float(sim[k]), "steady_C": float(steady[k]),
-                   "rate_per_s": float(rate[k])}
+        m.state = {key: float(after[key][k]) for key in ("winding", "output", "steady_C", "rate_per_s")}
+        m.state.update({name: float(after[name][k]) for name in ("second_node", "third_node") if name in m.state_names})
         m.bias, m.P = float(bias[k]), float(P[k])
-        w, ttl = float(winding[k]), first_order_reach_s(float(winding[k]), float(steady[k]), float(rate[k]),
-                                                        m.limit_C)
+        w = float(winding[k])
+        ttl = first_order_reach_s(w, float(after["steady_C"][k]), float(after["rate_per_s"][k]), m.limit_C)
         m.last = Estimate(m.saved.actuator, float(time_s[k, 1]), float(measured[k]), w, float(std[k]), ttl,
                           float(derate[k]), level(w, m.limit_C, float(derate[k]), ttl), m.limit_C)
         estimates.append(m.last)

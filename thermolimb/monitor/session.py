@@ -77,7 +77,8 @@ class Session:
                         self.monitors.pop(name, None)
                     monitor = self.monitors.get(name)
                     if (self.together and len(parts) == 1 and monitor is not None and monitor.together
-                            and monitor.state is not None and arrays["time"].size == 2):
+                            and monitor.state is not None and arrays["time"].size == 2
+                            and all(c in arrays for c in monitor.columns)):
                         together.append((name, monitor, arrays))
                     else:
                         estimates.append(self._update(name, arrays))
