@@ -32,7 +32,7 @@ import numpy as np
 
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
-from .mapping import EXTRA, OPTIONAL, REQUIRED
+from .mapping import OPTIONAL, REQUIRED
 from .plausible import KELVIN_JUMP
 from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES
 from .table import Dialect, csv_dialect, kind_of
@@ -299,16 +299,7 @@ class CsvFollower:
 
 def _arrays(log, name: str) -> dict[str, np.ndarray]:
     """An actuator's samples in a log as arrays: ``time``, ``effort``, ``temperature`` and each channel it has."""
-    s = log.series(name)
-    out = {"time": s.time_s, "effort": s.signals.effort, "temperature": s.temperature_C}
-    for column, attribute in (("velocity", "velocity"), ("current", "current_A"), ("power", "power_W"),
-                              ("ambient", "ambient_C"), ("housing", "housing_C")):
-        value = getattr(s.signals, attribute)
-        if value is not None:
-            out[column] = value
-    for key, value in s.signals.extra.items():
-        out[EXTRA + key] = value
-    return out
+    return log.arrays(name)
 
 
 def _is_header(fields: list[str]) -> bool:

@@ -146,6 +146,15 @@ class ThermalLog:
         ``units`` as ``extra.NAME``."""
         return tuple(c[len(EXTRA):] for c in self.frame.columns if c.startswith(EXTRA))
 
+    def arrays(self, actuator: str) -> dict[str, np.ndarray]:
+        """One actuator's columns as float arrays, by their canonical names (``time``, ``effort``,
+        ``temperature``, each optional channel the log has, each extra as ``extra.NAME``): its rows as read, no
+        neighbour looked up (what a follower hands on, piece by piece)."""
+        if actuator not in self.actuators:
+            raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
+        g = self._groups[actuator]
+        return {c: g[c].to_numpy(float) for c in g.columns if c != "actuator"}
+
     def series(self, actuator: str) -> ActuatorSeries:
         """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
         if actuator not in self.actuators:
