@@ -168,6 +168,7 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
     """
     with held():
         processes = list((pool._processes or {}).values())
+        manager = getattr(pool, "_executor_manager_thread", None)  # shutdown forgets it
         pool.shutdown(wait=False, cancel_futures=True)
         for process in processes:
             process.terminate()
@@ -177,8 +178,8 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
                 process.kill()
                 process.join()
         # the pool's manager thread sees its workers gone and closes its wake-up pipe: waited for here, or the
-        # interpreter's exit hook can write to that pipe as it closes ("Exception ignored ... Bad file descriptor")
-        manager = getattr(pool, "_executor_manager_thread", None)
+        # interpreter's exit hook can write to that pipe as it closes ("Exception ignored ... Bad file descriptor",
+        # a race in Python 3.11's pool between its wake-up's check and its write)
         if manager is not None:
             manager.join(STOP_GRACE_S)
 
