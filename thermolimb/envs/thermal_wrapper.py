@@ -29,7 +29,7 @@ from typing import Callable, Mapping, Sequence
 import gymnasium as gym
 import numpy as np
 
-from ..model.first_order import FirstOrderArrays, in_family
+from ..model.first_order import ModelArrays, in_family
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
 from ..plant.protection import ThermalProtection
@@ -274,7 +274,7 @@ class ModelHeat:
         self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each model was fitted on
         self.ambient_C = ambient_C
         self.fast = all(in_family(m) for m in self.models)
-        self.arrays = FirstOrderArrays(self.models) if self.fast else None
+        self.arrays = ModelArrays(self.models) if self.fast else None
         self.states: list[dict] = [{} for _ in self.models]
         self.T = np.zeros(len(self.models))
 

@@ -158,7 +158,7 @@ class CsvFollower:
         log = self._validate(frame)
         self.notes += list(log.notes)
         self.rows += len(frame)
-        out = self._take({name: _arrays(log, name) for name in log.actuators})
+        out = self._take({name: log.arrays(name) for name in log.actuators})
         for name, runs in self._lines(rest).items():
             out.setdefault(name, []).extend(runs)
         return out
@@ -257,7 +257,7 @@ class CsvFollower:
             raise LogError(f"{self.path}: {exc}") from None
         frame.columns = [str(c).strip() for c in frame.columns]
         log = self._validate(frame)
-        out = {name: _arrays(log, name) for name in log.actuators}
+        out = {name: log.arrays(name) for name in log.actuators}
         for name, arrays in out.items():
             last = self.last.get(name)
             if last is None:
@@ -295,11 +295,6 @@ class CsvFollower:
             self.last[name] = _Last(float(t[-1]), float(arrays["temperature"][-1]), step)
             out[name] = runs
         return out
-
-
-def _arrays(log, name: str) -> dict[str, np.ndarray]:
-    """An actuator's samples in a log as arrays: ``time``, ``effort``, ``temperature`` and each channel it has."""
-    return log.arrays(name)
 
 
 def _is_header(fields: list[str]) -> bool:

@@ -31,7 +31,7 @@ def in_cascade(model) -> bool:
         "third_node" not in terms or "second_node" in terms and terms.index("second_node") < terms.index("third_node"))
 
 
-class FirstOrderArrays:
+class ModelArrays:
     """The parameters of models of either family, one entry per model (a parameter a model lacks is its null)."""
 
     NAMES = (("RC_s", 0.0), ("T_offset_C", 0.0), ("betaR_K_per_effort2", 0.0), ("beta_biasR_K_per_effort", 0.0),

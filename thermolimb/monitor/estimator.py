@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.first_order import FirstOrderArrays, in_cascade, in_family
+from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
 from ..model.signals import Signals
@@ -99,11 +99,8 @@ class ActuatorMonitor:
         self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
                             if "sensor_tau_s" in names else 0.0)
         self.together = in_family(self.model) or in_cascade(self.model)  # can step with others (update_together)
-        self.row = FirstOrderArrays.row(self.model) if self.together else None
+        self.row = ModelArrays.row(self.model) if self.together else None
         self.columns = self.model.columns
-        # the slow masses whose node the model carries from piece to piece (a share of 0 carries none)
-        self.state_names = {t for t in ("second_node", "third_node") if t in self.model.terms
-                            and self.model.params[{"second_node": "frame_fraction", "third_node": "body_fraction"}[t]]}
         self.state: dict | None = None
         self.bias = 0.0
         self.P = self.miss_K**2
@@ -117,15 +114,9 @@ class ActuatorMonitor:
         self.state = keep
         decay = np.exp(-np.diff(signals.time_s) / self.model.params["RC_s"]).tolist()
         innovation = (np.asarray(measured_C, float) - sim).tolist()
-        bias, P, r, q = (0.0, self.r, self.r, self.miss_K**2) if first else (self.bias, self.P, self.r, self.miss_K**2)
+        bias, P = (0.0, self.r) if first else (self.bias, self.P)
         for k in range(0 if first else 1, signals.n):
-            if k > 0:
-                a = decay[k - 1]
-                bias *= a
-                P = a * a * P + q * (1.0 - a * a)
-            gain = P / (P + r)
-            bias += gain * (innovation[k] - bias)
-            P *= 1.0 - gain
+            bias, P = _correct(bias, P, decay[k - 1] if k > 0 else 1.0, self.miss_K**2, self.r, innovation[k])
         self.bias, self.P = bias, P
         winding = keep["winding"] + bias  # the model's winding, less what the readings say it misses
         slope = (sim[-1] - sim[-2]) / (signals.time_s[-1] - signals.time_s[-2]) if signals.n > 1 else 0.0
@@ -137,6 +128,14 @@ class ActuatorMonitor:
         return self.last
 
 
+def _correct(bias, P, a, q, r, innovation):
+    """The filter over one interval (scalars, or arrays of actuators): the disturbance ``bias`` decays with the
+    winding (``a``) as its variance ``P`` gains ``q (1 - a^2)``; then the reading's ``innovation`` corrects it."""
+    P = a * a * P + q * (1.0 - a * a)
+    gain = P / (P + r)
+    return bias * a + gain * (innovation - bias * a), P * (1.0 - gain)
+
+
 def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list[Estimate]:
     """One new sample for each of several actuators at once: each monitor ``together`` (a model of either family of
     :mod:`~thermolimb.model.first_order`) with its filter already running, sharing one protection; each ``arrays``
@@ -144,24 +143,19 @@ def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list
     :meth:`~ActuatorMonitor.update` (what a live log polled after every row asks thirty times a millisecond), as
     arrays."""
     first = monitors[0]
-    models = FirstOrderArrays(rows=np.array([m.row for m in monitors]))
+    models = ModelArrays(rows=np.array([m.row for m in monitors]))
     time_s = np.array([a["time"] for a in arrays])
     effort = np.array([a["effort"] for a in arrays])
     speed = np.abs(np.array([a["velocity"] if "velocity" in a else np.zeros(2) for a in arrays]))
     measured = np.array([a["temperature"][1] for a in arrays])
     dt = time_s[:, 1] - time_s[:, 0]
     before = {k: np.array([m.state.get(k, np.nan) for m in monitors]) for k in ("winding", "output")}
-    for name in ("second_node", "third_node"):
+    for name in STAGES:
         before[name] = np.array([m.state.get(name, o) for m, o in zip(monitors, models.offset)])
     after = models.step(before, dt, effort, speed)
-    a = np.exp(-dt / models.rc)
-    q = np.array([m.miss_K**2 for m in monitors])
-    r = np.array([m.r for m in monitors])
-    bias = np.array([m.bias for m in monitors]) * a
-    P = a * a * np.array([m.P for m in monitors]) + q * (1.0 - a * a)
-    gain = P / (P + r)
-    bias += gain * (measured - after["output"] - bias)
-    P *= 1.0 - gain
+    bias, P = _correct(np.array([m.bias for m in monitors]), np.array([m.P for m in monitors]),
+                       np.exp(-dt / models.rc), np.array([m.miss_K**2 for m in monitors]),
+                       np.array([m.r for m in monitors]), measured - after["output"])
     winding = after["winding"] + bias
     slope = (after["output"] - before["output"]) / dt
     std = np.sqrt(P + (np.array([m.sigma_tau_s for m in monitors]) * slope) ** 2)
@@ -169,8 +163,8 @@ def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list
     derate = first.protection.fraction(winding + first.sigmas * std, limit)
     estimates = []
     for k, m in enumerate(monitors):
-        m.state = {key: float(after[key][k]) for key in ("winding", "output", "steady_C", "rate_per_s")}
-        m.state.update({name: float(after[name][k]) for name in ("second_node", "third_node") if name in m.state_names})
+        # the keys the model's own run keeps: a slow mass carries its node only where it has a share
+        m.state = {key: float(after[key][k]) for key in m.state}
         m.bias, m.P = float(bias[k]), float(P[k])
         w = float(winding[k])
         ttl = first_order_reach_s(w, float(after["steady_C"][k]), float(after["rate_per_s"][k]), m.limit_C)

@@ -34,7 +34,7 @@ class Session:
     only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
-    together: bool = True  # first-order actuators with one new sample each step as arrays (False: one by one)
+    together: bool = True  # actuators of model_arrays' families with one new sample step as arrays (False: one by one)
 
     def feed(self, runs: dict) -> list[Estimate]:
         """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
@@ -70,7 +70,7 @@ class Session:
                         ({c: v[lo:hi] for c, v in arrays.items()}, piece.new_run and k == 0))
         estimates = []
         for key in sorted(windows):
-            together = []  # one new sample of a first-order actuator whose filter runs: stepped with the others
+            together = []  # one new sample of an actuator whose filter runs, its model in a family: as arrays
             for name, parts in windows[key].items():
                 for arrays, restart in parts:
                     if restart:
