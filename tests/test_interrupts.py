@@ -163,3 +163,28 @@ def test_a_name_of_any_length_gives_a_bounded_file_name_and_message(tmp_path, ca
     assert main(["fit", str(tmp_path / "long.csv"), "--quiet", "--actuator", "nope"]) == 2
     err = capsys.readouterr().err
     assert len(err) < 600 and "(50000 characters)" in err
+
+
+def test_a_signal_whose_raise_a_finalizer_swallowed_is_raised_again_where_the_loop_checks():
+    # Python runs a handler at its next bytecode, which may be inside an object's __del__: the raise is "ignored"
+    # there, and a loop that only a signal ends (monitor --follow) would go on for ever
+    swallowed = []
+
+    class DroppedAtOnce:
+        def __del__(self):
+            os.kill(os.getpid(), signal.SIGTERM)
+            sum(range(100))  # bytecodes, inside the finalizer, where the handler runs
+
+    previous, hook = interrupts.install(), sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: swallowed.append(unraisable.exc_type)
+    try:
+        DroppedAtOnce()
+        assert swallowed == [interrupts.Terminated]  # lost: the program went on
+        interrupts.on_signal(signal.SIGTERM, None)  # a second signal is still ignored ...
+        with pytest.raises(interrupts.Terminated) as caught:
+            interrupts.check()  # ... but the loop's check raises the first again
+        assert caught.value.signum == signal.SIGTERM
+    finally:
+        sys.unraisablehook = hook
+        interrupts.restore(previous)
+    interrupts.check()  # restored: nothing is ending

@@ -2,6 +2,8 @@
 which the next monitor completes and says; ended by signals, once or twice, at any gap, it is complete and said; a
 run that follows nothing never empties an earlier recording; two monitors never write one file."""
 
+import os
+import signal
 import socket
 import subprocess
 import sys
@@ -39,9 +41,22 @@ def messages_in(path: Path) -> int:
 
 
 def start(model, live, out, *extra):
-    """A monitor following ``live`` (written by another process, a row every 10 ms) into ``out``."""
+    """A monitor following ``live`` (written by another process, a row every 10 ms) into ``out``; its Python
+    stacks are dumped to its standard error if it is aborted (:func:`ended`)."""
     return subprocess.Popen([THERMOLIMB, "monitor", str(model), "--follow", str(live), "--mcap", str(out),
-                             "--publish-hz", "1", *extra], stderr=subprocess.PIPE, text=True)
+                             "--publish-hz", "1", *extra], stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "PYTHONFAULTHANDLER": "1"})
+
+
+def ended(monitor, timeout_s=60.0) -> str:
+    """The standard error of a monitor that was signalled to end; one that does not end in time fails the test with
+    where it was (a signal's end that never came must show what the process was doing)."""
+    try:
+        return monitor.communicate(timeout=timeout_s)[1]
+    except subprocess.TimeoutExpired:
+        monitor.send_signal(signal.SIGABRT)
+        pytest.fail(f"the monitor did not end within {timeout_s:g} s of its signal; its stacks:\n"
+                    + monitor.communicate()[1])
 
 
 def writer(run, live, pause=0.01):
@@ -82,8 +97,6 @@ def test_a_killed_monitor_leaves_a_readable_partial_that_the_next_one_completes(
 @pytest.mark.parametrize("signals, gap_s", [(("TERM",), 0.0), (("TERM", "TERM"), 0.0), (("TERM", "TERM"), 0.05),
                                             (("HUP",), 0.0), (("INT", "TERM"), 0.01), (("HUP", "TERM"), 0.2)])
 def test_signals_once_or_twice_end_with_a_complete_file_and_say_so(model_and_log, tmp_path, signals, gap_s):
-    import signal as sig
-
     model, run = model_and_log
     live, out = tmp_path / "live.csv", tmp_path / "out.mcap"
     w = writer(run, live, 0.002)
@@ -93,9 +106,9 @@ def test_signals_once_or_twice_end_with_a_complete_file_and_say_so(model_and_log
         partial = tmp_path / "out.mcap.partial"
         wait_for(lambda: partial.exists() and partial.stat().st_size > 4096)
         for name in signals:
-            monitor.send_signal(getattr(sig, f"SIG{name}"))
+            monitor.send_signal(getattr(signal, f"SIG{name}"))
             time.sleep(gap_s)
-        _, err = monitor.communicate(timeout=60)
+        err = ended(monitor)
     finally:
         w.kill()
     assert monitor.returncode == 0, err
@@ -139,7 +152,25 @@ def test_two_monitors_never_write_one_file_and_a_missing_folder_is_made(model_an
                                  "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
         assert second.returncode == 2 and "another monitor is writing it now" in second.stderr
         first.terminate()
-        _, err = first.communicate(timeout=60)
+        err = ended(first)
     finally:
         w.kill()
     assert first.returncode == 0 and messages_in(out) > 0, err
+
+
+def test_a_partial_appears_already_locked_and_one_made_meanwhile_by_another_monitor_is_refused(tmp_path):
+    # made and then locked, a partial could be found unlocked by a monitor starting at the same moment, taken for a
+    # killed one's and removed; it is made locked under a name of its own, then linked to its name
+    from thermolimb.monitor.recording import McapOutput, _created_locked, partial_path
+    from thermolimb.util.errors import UsageError
+
+    out = tmp_path / "out.mcap"
+    first = McapOutput(out, ["knee"])
+    try:
+        with pytest.raises(UsageError, match="another monitor is writing it now"):
+            McapOutput(out, ["knee"])  # found locked
+        with pytest.raises(UsageError, match="another monitor is writing it now"):
+            _created_locked(partial_path(out), out)  # made meanwhile (after the check): the link fails
+    finally:
+        first.file.close()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.mcap.partial"]  # no temporary of its own left

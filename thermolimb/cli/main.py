@@ -12,7 +12,7 @@ import threading
 
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
-from ..util.interrupts import Terminated, ignore_further, install
+from ..util.interrupts import Terminated, ignore_further, install, restore
 from . import audit, compare, demo, diagnose, export, fit, inspect, monitor, predict, simulate, strategies
 
 COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, export, audit, strategies, demo)
@@ -61,8 +61,7 @@ def main(argv=None) -> int:
         # the command line is ending: further signals stay ignored until the process exits (restored, a second
         # Ctrl-C would kill it by the signal after its last words); a call with argv gets them back
         if argv is not None:
-            for signum, handler in previous.items():
-                signal.signal(signum, handler)
+            restore(previous)
         else:
             ignore_further()
 

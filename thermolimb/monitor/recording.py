@@ -44,8 +44,7 @@ class McapOutput:
         self.partial = partial_path(self.path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         _take_over(self.partial, self.path)
-        self.file = open(self.partial, "xb")
-        fcntl.flock(self.file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        self.file = _created_locked(self.partial, self.path)
         self.clock, self.flushed_at, self.messages = clock, clock(), 0
         self.store = get_typestore(Stores.ROS2_HUMBLE)
         types = self.store.types
@@ -136,6 +135,36 @@ class McapOutput:
                 self.file.close()
 
 
+def _created_locked(partial: Path, target: Path):
+    """``partial``, new, opened for writing and already locked when it appears: made and locked under a name of its
+    own, then linked to ``partial`` (which fails if another monitor made it meanwhile).  Created and then locked,
+    a second monitor starting at the same moment could find it unlocked, take it for a killed monitor's and remove
+    it.  Where the file system has no hard links, created and locked as two steps."""
+    own = partial.with_name(f".{partial.name}.{os.getpid()}")
+    file = open(own, "xb")
+    try:
+        fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        try:
+            os.link(own, partial)
+        except FileExistsError:
+            raise _in_use(partial, target) from None
+        except OSError:  # no hard links here
+            file.close()
+            file = open(partial, "xb")
+            fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BaseException:
+        file.close()
+        raise
+    finally:
+        own.unlink(missing_ok=True)
+    return file
+
+
+def _in_use(partial: Path, target: Path) -> UsageError:
+    return UsageError(f"--mcap {target}: another monitor is writing it now ({partial.name} is in use); give another "
+                      f"--mcap")
+
+
 def _take_over(partial: Path, target: Path) -> None:
     """Before writing ``partial``: refuse if another monitor holds it; complete it if a killed one left it."""
     if not partial.exists():
@@ -144,8 +173,7 @@ def _take_over(partial: Path, target: Path) -> None:
         try:
             fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise UsageError(f"--mcap {target}: another monitor is writing it now ({partial.name} is in use); give "
-                             f"another --mcap") from None
+            raise _in_use(partial, target) from None
         recovered, messages = recover(partial)
         partial.unlink()
     if messages == 0:

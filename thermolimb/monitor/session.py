@@ -11,7 +11,7 @@ import numpy as np
 from ..model.saved import ModelFile
 from ..model.signals import Signals
 from ..util.errors import UsageError
-from ..util.interrupts import held
+from ..util.interrupts import check, held
 from .estimator import ActuatorMonitor, Estimate, update_together
 
 CHANNELS = {"velocity": "velocity", "current": "current_A", "ambient": "ambient_C", "power": "power_W",
@@ -157,6 +157,7 @@ def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float 
     waiting = False
     try:
         while True:
+            check()  # a signal whose raise was lost inside a library still ends the loop (util/interrupts)
             runs = follower.poll()
             _say(follower)
             if runs:
