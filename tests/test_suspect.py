@@ -61,6 +61,14 @@ def test_a_slow_joint_read_in_whole_degrees_is_not_stuck(tmp_path):
     log = read_log(path)
     assert not any("stuck" in n for n in log.notes), log.notes
     assert log.series("J2").n == t.size and len(log.runs("J2")) == 1
+    # the same joint ending on its hardest effort: its last, highest reading is held while more heat than on
+    # average comes in, but no longer than every reading before it was held -- a coarse sensor, not a ceiling
+    harder = np.where(t >= 2100.0, 2.0 * effort + 3.0, effort)
+    path.write_text("time,actuator,effort,temperature\n" + "".join(
+        f"{a},J2,{e},{c}\n" for a, e, c in zip(t, harder, temperature)))
+    log = read_log(path)
+    assert not any("ceiling" in n for n in log.notes), log.notes
+    assert log.series("J2").n == t.size
     faster = np.round(30.0 + t / 100.0)  # a degree every 100 s; its sensor hangs for ten minutes, then jumps 6 K
     faster[1300:2500] = faster[1300]
     path.write_text("time,actuator,effort,temperature\n" + "".join(

@@ -50,7 +50,11 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     at_top = temperature_C[starts] == top
     # a ceiling, once one long plateau at the top shows it, holds every stretch the readings sit on it
     long_at_top = np.flatnonzero(at_top & (lengths >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)))
-    ceiling = any(float(np.mean(heat[starts[i]:stops[i]])) > float(np.mean(heat)) for i in long_at_top)
+    # ... and longer than the sensor ever held a value below it: a coarse sensor on a slowly heating joint holds
+    # every reading as long as its last, highest one (a whole-degree step every ten minutes), a ceiling does not
+    below = int(np.max(lengths[~at_top], initial=0))
+    ceiling = any(float(np.mean(heat[starts[i]:stops[i]])) > float(np.mean(heat)) and lengths[i] > below
+                  for i in long_at_top)
     pinned = ceiling & at_top & (lengths >= CEILING_STRETCH)
     for i in np.flatnonzero(pinned | (lengths >= max(STUCK_MIN_SAMPLES, STUCK_MIN_SHARE * n))):
         a, b = int(starts[i]), int(stops[i])
