@@ -13,7 +13,7 @@ A raise can still be lost where the handler runs: inside a finalizer (an object'
 callback) Python prints "Exception ignored" and goes on, and inside library code it can vanish without a word --
 seen in 3 monitors of 100 ended by SIGTERM on a loaded machine, each time with the handler run inside pandas'
 ``read_csv`` (its NA-value set-up, an ``int()`` inside ``try ... except ValueError``), the follow loop going on for
-ever.  A loop that runs until a signal ends it (the monitor's ``--follow``) calls :func:`check` at each turn, which
+ever.  A loop that waits (the monitor's ``--follow``, a pool's results) calls :func:`check` at each turn, which
 raises again the signal taken but lost."""
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Callable, Iterator, Sequence
 
 from .errors import UsageError
-from .interrupts import held
+from .interrupts import check, held
 
 BACKENDS = ("process", "ray", "serial")
 RAY_CONNECT_TIMEOUT_S = 10.0
@@ -153,7 +153,8 @@ class Runner:
             return
         pending = {self._pool.submit(func, *job): i for i, job in enumerate(jobs)}
         while pending:
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            check()  # a signal whose raise was lost inside a library ends the wait within a second (util/interrupts)
+            done, _ = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
             for future in sorted(done, key=pending.get):
                 yield pending.pop(future), future.result()
 
