@@ -1,10 +1,13 @@
 """A careless user's battery: bad inputs on every command and both environments, each outcome classified.
 
-    python benchmarks/bad_inputs.py            # the table of outcomes and the counts
-    python benchmarks/bad_inputs.py --json     # one record per input
-    python benchmarks/bad_inputs.py --second-round   # only the second round's 51 inputs
-    python benchmarks/bad_inputs.py --third-round    # only the third round's inputs
-    python benchmarks/bad_inputs.py --fourth-round   # only the fourth round's, counted by class
+    python benchmarks/bad_inputs.py            # every input's outcome, then the counts by class
+    python benchmarks/bad_inputs.py --json     # one record per input, and the counts by class
+    python benchmarks/bad_inputs.py --round 4  # only the classes of one round (1 to 4)
+    python benchmarks/bad_inputs.py --class "model file"   # only the classes whose name holds this
+    python benchmarks/bad_inputs.py --round 4 --code ../base   # the same inputs against an earlier checkout
+
+Every input belongs to a class (what kind of mistake or fault it is: "model file", "raw lab logs",
+"interrupts"...) and to the round that added the class; the table counts each class's outcomes.
 
 Every input runs in its own process (so that a hang is a timeout, not a stuck
 benchmark) in a scratch folder holding a small valid log and its broken
@@ -21,6 +24,8 @@ variants.  An outcome is
     exit 0 without the expected refusal or word;
 ``left behind``
     refused, but a file was written or a temporary left;
+``lost``
+    a recording said written that is missing or holds fewer messages than said, or an earlier one emptied;
 ``hang``
     still running after the timeout (60 s; a Ray address that does not
     answer has its own 10 s limit).
@@ -358,25 +363,34 @@ UNREADABLE = ("empty.csv", "junk.csv", "junk.parquet", "junk.mcap", "truncated.b
 READ_ONLY = "/proc/thermolimb"  # a read-only place even for root (permission bits do not bind root)
 CLEAR, WORD = "refuse", "word"  # expected: exit 2, or exit 0 with a word on stderr (a regex)
 PARTIAL = "partial"  # expected: exit 1 (some parts failed, the rest done) with a word on stderr
-SECOND: set[str] = set()  # the names of the second round's inputs (filled as the case lists are built)
-THIRD: set[str] = set()  # the third round's
-FOURTH: set[str] = set()  # the fourth round's, each named with its class in brackets
+KIND: dict[str, tuple[int, str]] = {}  # each input's (round, class), filled as the case lists are built
+
+
+def _kind(names, round_: int, cls: str) -> None:
+    KIND.update({name: (round_, cls) for name in names})
 
 
 def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     """(name, argv, expected, regex of the word on stdout or stderr) for the command line."""
-    cases = []
+    cases, where = [], [1, ""]
+
+    def section(round_: int, cls: str):
+        where[:] = [round_, cls]
+
+    def add(name, argv, expected, pattern):
+        cases.append((name, list(argv), expected, pattern))
+        KIND[name] = tuple(where)
 
     def refuse(name, *argv, reason=None):
-        cases.append((name, list(argv), CLEAR, reason))
+        add(name, argv, CLEAR, reason)
 
     def word(name, pattern, *argv):
-        cases.append((name, list(argv), WORD, pattern))
+        add(name, argv, WORD, pattern)
 
     def partial(name, pattern, *argv):
-        cases.append((name, list(argv), PARTIAL, pattern))
+        add(name, argv, PARTIAL, pattern)
 
-    # logs as users bring them
+    section(1, "logs as users bring them")
     for log in ("no_temperature.csv", "misnamed.csv", "nan_effort.csv", "nan_time.csv", "time_backwards.csv",
                 "text_time.csv", "text_effort.csv", "blank_actuator.csv", "constant_effort.csv",
                 "hot_10000C.csv", "inf_effort.csv", "three_rows.csv", "header_only.csv", "empty.csv", "junk.csv",
@@ -392,7 +406,7 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     word("fit ISO timestamps (csv)", r"time stamps turned into seconds", "fit", "iso_time.csv", "--quiet", "--json")
     word("fit --drop-incomplete with NaN", r"left out|dropped|missing", "fit", "nan_effort.csv", "--drop-incomplete",
          "--quiet")
-    # options of the log commands
+    section(1, "options of the log commands")
     for argv in (["--map", "effort=effort,effort=temperature"], ["--map", "effort"], ["--map", "torque=effort"],
                  ["--map", "effort=nope"], ["--cv", "0"], ["--cv", "-2"], ["--cv", "abc"], ["--cv", "1000000"],
                  ["--split", "0"], ["--split", "1"], ["--split", "nan"], ["--split", "-0.5"],
@@ -410,7 +424,7 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
                  ["--table", "empty_folder"], ["--cv", "runs"], ["--backend", "ray", "--address", "127.0.0.1:1"]):
         refuse("fit --fleet " + " ".join(argv), "fit", "good.csv", "--fleet", "--quiet", *argv)
     refuse("fit --fleet bag and table mixed", "fit", "good.csv", str(BAG), "--fleet", "--quiet")
-    # simulate
+    section(1, "options of simulate")
     for argv in (["--duration", "inf"], ["--duration", "nan"], ["--duration", "1e15"], ["--duration", "0"],
                  ["--duration", "-5"], ["--duration", "ten"], ["--dt", "0"], ["--dt", "-0.1"], ["--dt", "nan"],
                  ["--dt", "100", "--duration", "10"], ["--ambient", "-500"], ["--ambient", "nan"],
@@ -422,7 +436,7 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
         refuse("simulate " + " ".join(argv), "simulate", "--out", "sim.csv", "--quiet", "--duration", "60", *argv)
     for out in ("dir.csv", "afile/a.csv", f"{READ_ONLY}/a.csv", "sim.xlsx", "empty_folder"):
         refuse(f"simulate --out {out}", "simulate", "--duration", "60", "--quiet", "--out", out)
-    # strategies
+    section(1, "options of compare-strategies")
     for argv in (["--env", "thermolimb/Nope-v0"], ["--episodes", "0"], ["--episodes", "-3"], ["--episodes", "nan"],
                  ["--seed", "-1"], ["--strategies", "teleport"], ["--strategies", ""], ["--max-time", "nan"],
                  ["--max-time", "0"], ["--max-time", "-5"], ["--max-time", "inf"], ["--workers", "0"],
@@ -430,21 +444,15 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
         base = ["compare-strategies", "--env", HEX, "--episodes", "1", "--strategies", "vertical_only", "--quiet",
                 "--plot", "strategies"]
         refuse("compare-strategies " + " ".join(argv), *base, *argv)
-    # demos and reports
+    section(1, "demos and reports")
     for argv in (["nope"], ["diagnose", "--out", "afile"], ["diagnose", "--out", READ_ONLY]):
         refuse("demo " + " ".join(argv), "demo", *argv, "--quick", "--quiet")
     for target in ("afile", "missing_folder", "empty_folder", "corrupt", "index_dir", READ_ONLY):
         refuse(f"report {target}", "report", target)
     refuse("unknown command", "frobnicate")
-    first = len(cases)
-    round_two_cases(refuse, word)
-    SECOND.update(c[0] for c in cases[first:])
-    first = len(cases)
-    round_three_cases(refuse, word, partial)
-    THIRD.update(c[0] for c in cases[first:])
-    first = len(cases)
-    round_four_cases(refuse, word, partial)
-    FOURTH.update(c[0] for c in cases[first:])
+    round_two_cases(section, refuse, word)
+    round_three_cases(section, refuse, word, partial)
+    round_four_cases(section, refuse, word)
     return cases
 
 
@@ -469,45 +477,66 @@ def write_round_four(d: Path, good: pd.DataFrame) -> None:
     (d / "m_twice.json").write_text(json.dumps({**model, "actuators": [entry, entry]}))
     edited("m_low_limit.json", lambda e: e.update(limit_C=0.0))
     knee = good[good.actuator == "knee"]
-    knee.assign(temperature=knee["temperature"] * 1.8 + 32).rename(
-        columns={"temperature": "temperature (ºF)"}).to_csv(d / "ordinal_F.csv", index=False, encoding="utf-8")
+    for file, header in (("ordinal_F.csv", "temperature (ºF)"), ("degree_F.csv", "temperature (°F)"),
+                         ("deg_F.csv", "temperature (degF)"), ("bracket_F.csv", "temperature [F]")):
+        knee.assign(temperature=knee["temperature"] * 1.8 + 32).rename(
+            columns={"temperature": header}).to_csv(d / file, index=False, encoding="utf-8")
+    # a 2 Hz log of a joint heating a degree every ten minutes, read in whole degrees: slow, not stuck
+    t = np.arange(0.0, 7200.0, 0.5)
+    effort = 3.0 + 2.0 * (np.floor(t / 600) % 2)
+    pd.DataFrame({"time": t, "actuator": "slow", "effort": effort,
+                  "temperature": np.round(30 + t / 600.0)}).to_csv(d / "slow_whole_degrees.csv", index=False)
+    # a second log in which a joint nobody asks about reads garbage
+    good.assign(temperature=good["temperature"].where(good.actuator == "knee", "err")).to_csv(
+        d / "garbage_neighbour.csv", index=False)
 
 
-def round_four_cases(refuse, word, partial) -> None:
+def round_four_cases(section, refuse, word) -> None:
     """Model files trusted blindly, predict where it knows nothing, raw lab logs, following what does not exist,
-    the model carried into other simulators."""
+    the model carried into other simulators (the monitor's recording under signals: :func:`recording_cases`)."""
+    section(4, "model file")
     for name, reason in (("m_tiny_rc.json", "RC_s"), ("m_minutes.json", "fortnights"),
                          ("m_negative_gain.json", "betaR"), ("m_negative_variance.json", "covariance"),
                          ("m_extra_param.json", "warp_K"), ("m_source.json", "term_sources|code|source"),
                          ("m_twice.json", "twice|more than once|duplicate"), ("m_low_limit.json", "limit")):
-        refuse(f"[model file] predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C",
-               "30", reason=reason)
-    word("[outside experience] predict a hold ten times the log's effort", r"extrapolated", "predict", "model.json",
+        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C",
+               "30", "--threshold", "90", reason=reason)
+    section(4, "outside the model's experience")
+    word("predict a hold ten times the log's effort", r"extrapolated", "predict", "model.json",
          "--hold", "100,0", "--duration", "600", "--start-C", "30", "--threshold", "90")
-    word("[outside experience] --ambient-C for a model without ambient", r"does not read the ambient", "predict",
+    word("--ambient-C for a model without ambient", r"does not read the ambient", "predict",
          "model.json", "--hold", "5,0", "--duration", "600", "--start-C", "30", "--ambient-C", "40", "--threshold",
          "90")
     for level in ("1", "0", "nan"):
-        refuse(f"[outside experience] predict --level {level}", "predict", "model.json", "--hold", "5,0",
-               "--duration", "60", "--start-C", "30", "--level", level, reason="--level")
-    word("[raw lab logs] a header in ºF (an ordinal sign)", r"Fahrenheit", "fit", "ordinal_F.csv", "--actuator",
-         "knee")
+        refuse(f"predict --level {level}", "predict", "model.json", "--hold", "5,0",
+               "--duration", "60", "--start-C", "30", "--threshold", "90", "--level", level, reason="--level")
+    section(4, "raw lab logs")
+    for file, header in (("ordinal_F.csv", "ºF (an ordinal sign)"), ("degree_F.csv", "°F"), ("deg_F.csv", "(degF)"),
+                         ("bracket_F.csv", "[F]")):
+        word(f"a header in {header}", r"Fahrenheit", "fit", file, "--actuator", "knee")
+    word("a slow joint read in whole degrees at 2 Hz: fitted, nothing cut as stuck", r"^(?![\s\S]*left out)[\s\S]*RC_s",
+         "fit", "slow_whole_degrees.csv")
+    word("--validate-on a log where a joint nobody asked about reads garbage", r"validation", "fit", "good.csv",
+         "--actuator", "knee", "--validate-on", "garbage_neighbour.csv")
+    section(4, "following what does not exist")
     for target in ("never_there.csv", "/dev/null", "empty_folder"):
-        refuse(f"[follow] monitor --follow {target}", "monitor", "model.json", "--follow", target, "--idle-exit",
+        refuse(f"monitor --follow {target}", "monitor", "model.json", "--follow", target, "--idle-exit",
                "1", "--mcap", "out4.mcap")
+    section(4, "the model carried into other simulators")
     for argv, reason in ((["--motor-const", "0"], "motor-const"), (["--motor-const", "nan"], "motor-const"),
                          (["--resistance", "-1"], "resistance"), (["--gear", "inf"], "gear")):
-        refuse("[travel] export " + " ".join(argv), "export", "model.json", "--mujoco", "--motor-const", "0.1",
+        refuse("export " + " ".join(argv), "export", "model.json", "--mujoco", "--motor-const", "0.1",
                "--resistance", "1", *argv, reason=reason)
     for argv, reason in ((["--env", "NoSuch-v0"], "NoSuch"), (["--policy", "nowhere:x"], "nowhere"),
                          (["--env-arg", "bogus=1"], "does not take"), (["--duration", "0"], "duration"),
                          (["--models", "m_twice.json"], "twice|more than once|duplicate")):
-        refuse("[travel] audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
+        refuse("audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
                reason=reason)
 
 
-def round_three_cases(refuse, word, partial) -> None:
+def round_three_cases(section, refuse, word, partial) -> None:
     """Outputs onto inputs, users' broken terms, flags that would do nothing, one bad part of a whole."""
+    section(3, "outputs onto inputs")
     refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv",
            reason="never replaces an input")
     refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv",
@@ -522,6 +551,7 @@ def round_three_cases(refuse, word, partial) -> None:
            "victim_terms.py", "--propose", "victim_terms.py", reason="never replaces an input")
     refuse("monitor --mcap onto the followed log", "monitor", "model.json", "--follow", "victim_follow.csv", "--mcap",
            "victim_follow.csv", "--idle-exit", "0.5", reason="never replaces an input")
+    section(3, "users' broken terms")
     for term in ("b_raises", "b_nan", "b_inf", "b_shape", "b_none", "b_missing", "b_nan_gain", "b_exits"):
         refuse(f"fit a broken term ({term})", "fit", "good.csv", "--quiet", "--actuator", "knee", "--terms",
                "broken_terms.py", "--model", f"joule,{term}", reason=f"term '{term}'")
@@ -532,10 +562,12 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py", reason="built-in")
     refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py", reason="lower < upper")
     refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv", reason="not a Python file")
+    section(3, "flags that would do nothing")
     refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv", reason="works with --fleet")
     refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
     refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
     refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+    section(3, "logs cut off, misformatted or misread")
     word("a ROS 1 bag cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
          "fit", "crash.bag", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
     refuse("numbers with thousands separators (1.000,0)", "fit", "thousands.csv", "--quiet",
@@ -560,14 +592,16 @@ def round_three_cases(refuse, word, partial) -> None:
     refuse("--map one column as both effort and temperature", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
            "--map", "time=time,effort=effort,temperature=effort", reason="to both")
     refuse("--map a pattern with {j} twice", "fit", "good.csv", "--quiet", "--map", "effort=e{j}{j},temperature=temperature", reason="uses \\{j\\} 2 times")
+    section(3, "one bad part of a whole")
     partial("a fleet over a folder with an unreadable file and one whose time goes back",
             r"2 of 4 files could not be read", "fit", "fleet_with_bad", "--fleet", "--quiet")
     partial("fit every actuator of the bag: one not identifiable, the others fitted", r"could not be analysed", "fit",
             str(BAG), "--quiet")
 
 
-def round_two_cases(refuse, word) -> None:
+def round_two_cases(section, refuse, word) -> None:
     """Silent misreadings, repeated columns and files, names of any length, workers beyond the machine."""
+    section(2, "units the numbers give away")
     for log, unit in (("epoch_ms.csv", "milliseconds"), ("epoch_us.csv", "microseconds"),
                       ("epoch_ns.csv", "nanoseconds")):
         word(f"fit time in epoch {unit}", f"counted in {unit} since 1970: converted to s", "fit", log, "--quiet")
@@ -579,6 +613,7 @@ def round_two_cases(refuse, word) -> None:
     word("fit kelvin under a degC header: taken as stated", r"T_offset_C", "fit", "stated_degC.csv", "--quiet")
     word("fit a bag in kelvin", r"taken as kelvin and converted", "fit", "kelvin_temperature.mcap", "--quiet",
          "--actuator", "knee")
+    section(2, "columns named twice, NaN in bags")
     for log in ("jump_up.csv", "jump_down.csv", "two_temperatures.csv", "two_efforts.csv", "nan_temperature.mcap",
                 "all_nan_temperature.mcap"):
         refuse(f"fit {log}", "fit", log, "--quiet")
@@ -586,6 +621,7 @@ def round_two_cases(refuse, word) -> None:
          "nan_temperature.mcap", "--quiet", "--drop-incomplete", "--actuator", "knee")
     word("fit a repeated column the log does not use", r"names column 'note' 2 times", "fit", "two_notes.csv",
          "--quiet")
+    section(2, "names of any length")
     word("fit --plot, an actuator name of 300 characters", r"wrote .*fit_k+-[0-9a-f]{10}\.png", "fit",
          "long_name.csv", "--quiet", "--plot", "plots")
     word("diagnose --plot, an actuator name of 50,000 characters", r"wrote .*residuals_k+-[0-9a-f]{10}\.png",
@@ -594,6 +630,7 @@ def round_two_cases(refuse, word) -> None:
            "nope")
     refuse("simulate --actuators knee:X8-9,knee:X8-16", "simulate", "--duration", "60", "--quiet", "--out", "sim.csv",
            "--actuators", "knee:X8-9,knee:X8-16")
+    section(2, "files reached twice, workers beyond the machine")
     word("fit --fleet the same file twice", r"each log read once", "fit", "good.csv", "good.csv", "--fleet",
          "--quiet")
     word("fit --fleet through a link to the file", r"each log read once", "fit", "good.csv", "link_to_good.csv",
@@ -681,7 +718,8 @@ def env_cases() -> list[tuple[str, list[str]]]:
         short = env_id.split("/")[1]
         for weight, value in zip(weights, (float("nan"), float("inf"), float("-inf"))):
             cases.append((f"{short} {weight}={value}", [env_id, json.dumps({weight: value}), "null", "no"]))
-    THIRD.update(c[0] for c in cases[first:])
+    _kind([c[0] for c in cases[:first]], 1, "environments")
+    _kind([c[0] for c in cases[first:]], 3, "environments")
     return cases
 
 
@@ -722,11 +760,12 @@ def fault_cases() -> list[tuple[str, list[str], str, int]]:
                           (["demo", "diagnose", "--quick", "--quiet", "--out", "demo_out"], "2")):
         cases.append((f"{' '.join(argv[:2])} ... --out {argv[-1]}, SIGTERM after {seconds} s", [*argv, f"@{seconds}"],
                       "sigterm", 143))
-    SECOND.update(c[0] for c in cases[first:])
+    _kind([c[0] for c in cases[first:]], 2, "machine and shell faults")
     for seconds in ("1", "3"):
         cases.append((f"simulate --out big.csv, SIGTERM after {seconds} s", ["simulate", "--duration", "100000",
                                                                               "--dt", "0.5", "--quiet", "--out",
                                                                               "big.csv", f"@{seconds}"], "sigterm", 143))
+    _kind([c[0] for c in cases if c[0] not in KIND], 1, "machine and shell faults")
     return cases
 
 
@@ -850,7 +889,7 @@ def run_env(name: str, args: list[str]) -> dict:
 # ------------------------------------------------------------------ round two: special files, interrupts, the API
 def special_cases() -> list[tuple[str, list[str], str]]:
     """(name, argv, target kind): outputs onto a device node, a FIFO, /dev/stdout and a link to a file."""
-    return _second([
+    return _kind_all(2, "special files", [
         ("fit --html onto a device node", ["fit", "good.csv", "--quiet", "--html", "device"], "device"),
         ("simulate --out onto a device node", ["simulate", "--duration", "60", "--quiet", "--out", "device"],
          "device"),
@@ -862,8 +901,8 @@ def special_cases() -> list[tuple[str, list[str], str]]:
     ])
 
 
-def _second(cases: list[tuple]) -> list[tuple]:
-    SECOND.update(c[0] for c in cases)
+def _kind_all(round_: int, cls: str, cases: list[tuple]) -> list[tuple]:
+    _kind([c[0] for c in cases], round_, cls)
     return cases
 
 
@@ -914,7 +953,7 @@ def interrupt_cases() -> list[tuple[str, list[str], str, int]]:
     terminal sends), SIGTERM to the main process alone (timeout, systemd, a container's stop)."""
     strategies = ["compare-strategies", "--env", HEX, "--episodes", "4", "--quiet", "--plot", "strategies"]
     fleet = ["diagnose", "fleet", "--fleet", "--quiet"]
-    return _second([("compare-strategies, Ctrl-C twice", strategies, "double_sigint", 5),
+    return _kind_all(2, "interrupts", [("compare-strategies, Ctrl-C twice", strategies, "double_sigint", 5),
                     ("diagnose --fleet, Ctrl-C twice", fleet, "double_sigint", 5),
                     ("diagnose --fleet, SIGTERM to the main process", fleet, "sigterm_main", 3),
                     ("diagnose --fleet, SIGKILL to the main process", fleet, "sigkill_main", 2)])
@@ -969,6 +1008,115 @@ def run_interrupt(d: Path, name: str, argv: list[str], how: str, repetitions: in
             outcomes.append("clear")
     worst = next((o for o in ("hang", "left behind", "traceback") if o in outcomes), "clear")
     return {"input": name, "repetitions": repetitions, "outcome": worst, "message": ", ".join(outcomes)}
+
+
+# ------------------------------------------------------------------ round four: the monitor's recording
+LIVE_WRITER = textwrap.dedent("""
+    import sys, time
+    lines = open(sys.argv[1]).read().splitlines(True)
+    with open(sys.argv[2], "w") as f:
+        for line in lines:
+            f.write(line)
+            f.flush()
+            time.sleep(0.01)
+""")
+
+
+def recording_cases() -> list[tuple[str, str]]:
+    """(name, how): a monitor following a log that grows (a row every 10 ms) into an MCAP beside an earlier
+    recording of the same name, ended by signals once or twice, killed, joined by a second monitor, or given a log
+    that never appears."""
+    return _kind_all(4, "the monitor's recording", [
+        ("monitor --mcap, SIGTERM", "TERM"), ("monitor --mcap, SIGTERM twice back to back", "TERM TERM"),
+        ("monitor --mcap, SIGHUP", "HUP"), ("monitor --mcap, Ctrl-C then SIGTERM", "INT TERM"),
+        ("monitor --mcap, SIGKILL, then the next monitor on the same --mcap", "KILL"),
+        ("monitor --mcap, a second monitor on the same --mcap", "second"),
+        ("monitor --mcap over an earlier recording, --follow a log that never appears", "never")])
+
+
+def _messages(path: Path) -> int | None:
+    """The messages of a complete MCAP (its summary), None when it has none or cannot be read."""
+    from mcap.reader import make_reader
+
+    try:
+        with open(path, "rb") as f:
+            summary = make_reader(f).get_summary()
+        return None if summary is None or summary.statistics is None else summary.statistics.message_count
+    except Exception:  # noqa: BLE001 -- any failure to read it is the finding
+        return None
+
+
+def run_recording(d: Path, name: str, how: str) -> dict:
+    """``clear`` when the run ends within 30 s of its signal, with exit 0 and a complete file holding the messages
+    it says it wrote (an earlier recording replaced only by a complete one, never emptied; a partial left by a kill
+    recovered by the next run and said); ``lost`` when a recording said written is missing or short, or an earlier
+    one is gone; ``left behind`` when a partial or a temporary stays after a complete end."""
+    import signal
+
+    folder = d / f"rec_{abs(hash(name)) % 10**8}"
+    folder.mkdir()
+    shutil.copy(d / "good.csv", folder / "source.csv")
+    out = folder / "out.mcap"
+    out.write_bytes(b"an earlier recording")  # what a run that fails or follows nothing must leave as it was
+    monitor = [sys.executable, "-m", "thermolimb.cli.main", "monitor", str(d / "model.json"), "--mcap", str(out),
+               "--publish-hz", "2", "--limit-C", "80"]
+    record = {"input": name}
+    if how == "never":
+        done = subprocess.run([*monitor, "--follow", str(folder / "nowhere.csv"), "--idle-exit", "1"],
+                              capture_output=True, text=True, timeout=TIMEOUT_S)
+        kept = out.read_bytes() == b"an earlier recording"
+        outcome = ("traceback" if "Traceback" in done.stderr else "clear" if kept and done.returncode == 2
+                   else "lost" if not kept else "silent")
+        return {**record, "exit": done.returncode, "outcome": outcome, "message": done.stderr.strip()[-110:]}
+    writer = subprocess.Popen([sys.executable, "-c", LIVE_WRITER, str(folder / "source.csv"),
+                               str(folder / "live.csv")])
+    proc = subprocess.Popen([*monitor, "--follow", str(folder / "live.csv")], stderr=subprocess.PIPE, text=True)
+    try:
+        # publishing for a while: a chunk on the disk (or, for a monitor that writes only at its end, 20 s)
+        deadline = time.monotonic() + 20.0
+        partial = folder / "out.mcap.partial"
+        while time.monotonic() < deadline and not (partial.exists() and partial.stat().st_size > 4096):
+            time.sleep(0.1)
+        second = None
+        if how == "second":
+            second = subprocess.run([*monitor, "--follow", str(folder / "source.csv"), "--idle-exit", "0.5"],
+                                    capture_output=True, text=True, timeout=TIMEOUT_S)
+            how = "TERM"
+        for k, sig in enumerate(how.split()):
+            proc.send_signal(getattr(signal, f"SIG{sig}"))
+            time.sleep(0.01 if k == 0 else 0)
+        try:
+            err = proc.communicate(timeout=30)[1]
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            return {**record, "outcome": "hang"}
+    finally:
+        writer.kill()
+        writer.wait()
+    if how == "KILL":
+        after = subprocess.run([*monitor, "--follow", str(folder / "source.csv"), "--idle-exit", "0.5"],
+                               capture_output=True, text=True, timeout=TIMEOUT_S)
+        recovered = list(folder.glob("*.recovered*.mcap"))
+        good = (after.returncode == 0 and _messages(out) and recovered and _messages(recovered[0])
+                and "killed" in after.stderr)
+        outcome = "clear" if good else ("traceback" if "Traceback" in after.stderr else "lost")
+        return {**record, "exit": after.returncode, "outcome": outcome,
+                "message": after.stderr.strip().splitlines()[0][:110] if after.stderr.strip() else ""}
+    said = re.search(r"(?:wrote|replaced) \S+(?: \((\d+) messages\))?", err)  # an older monitor gave no count
+    record.update(exit=proc.returncode, message=(said.group(0) if said else err.strip()[-110:]))
+    leftover = [p.name for p in folder.iterdir() if p.name not in ("source.csv", "live.csv", "out.mcap")]
+    kept = _messages(out)
+    if "Traceback" in err or proc.returncode != 0 or (second is not None and "Traceback" in second.stderr):
+        outcome = "traceback"
+    elif not kept or (said is not None and said.group(1) is not None and kept != int(said.group(1))):
+        outcome = "lost"  # nothing complete, or said what is not there
+    elif said is None or (second is not None and second.returncode != 2):
+        outcome = "silent"  # complete but not said, or a second monitor let write the same file
+    elif leftover:
+        outcome, record["written"] = "left behind", leftover
+    else:
+        outcome = "clear"
+    return {**record, "outcome": outcome}
 
 
 API_SNIPPET = textwrap.dedent("""
@@ -1056,7 +1204,7 @@ API_CASES = (("read_log(mapping='effort=effort')", "raise"), ("read_log(mapping=
              ("ThermalModel betaR -1e9", "raise"), ("ThermalModel betaR 1e300", "pass"),
              ("pickle a fitted FreeRunLeastSquares, FitReport and ThermalModel", "pass"),
              (f"pickle a live {HEX}", "raise"), (f"deepcopy a live {HUM}", "raise"))
-SECOND.update(f"API: {case}" for case, _ in API_CASES)
+_kind([f"API: {case}" for case, _ in API_CASES], 2, "the Python API")
 THIRD_API = tuple((f"plant {what}", "raise") for what in (
     "ambient_C=nan", "ambient_C=-273", "ambient_C=5000", "initial_C=-inf", "set_temperatures one of three",
     "set_temperatures -400", "winding_limit_C=0", "continuous above peak", "step dt=nan")) + tuple(
@@ -1065,7 +1213,7 @@ THIRD_API = tuple((f"plant {what}", "raise") for what in (
     ("plant step with a NaN and an inf effort: faulted, the state finite", "pass"),
     ("plant step 1e6 N m: saturated at the peak", "pass"))
 API_CASES = API_CASES + THIRD_API
-THIRD.update(f"API: {case}" for case, _ in THIRD_API)
+_kind([f"API: {case}" for case, _ in THIRD_API], 3, "the Python API")
 
 
 def run_api(d: Path, case: str, expected: str) -> dict:
@@ -1088,20 +1236,38 @@ def run_api(d: Path, case: str, expected: str) -> dict:
     return {"input": f"API: {case}", "outcome": outcome, "message": result["raised"] or ""}
 
 
+OUTCOMES = ("clear", "wrong reason", "silent", "traceback", "lost", "left behind", "hang", "skipped")
+
+
+def by_class(records: list[dict]) -> dict[str, dict]:
+    """Each class's outcome counts, keyed "round N: class" (a class two rounds added to has a row for each), in
+    the order of the rounds."""
+    table: dict[str, dict] = {}
+    for r in sorted(records, key=lambda r: KIND.get(r["input"], (1, ""))[0]):
+        round_, cls = KIND.get(r["input"], (1, "other"))
+        table.setdefault(f"round {round_}: {cls}", {"round": round_, "class": cls, **dict.fromkeys(OUTCOMES, 0)})[
+            r["outcome"]] += 1
+    return table
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--json", action="store_true", help="print one record per input")
+    parser.add_argument("--json", action="store_true", help="print one record per input, and the counts by class")
     parser.add_argument("--only", default="", help="run only inputs whose name contains this")
-    parser.add_argument("--second-round", action="store_true", help="run only the second round's inputs")
-    parser.add_argument("--third-round", action="store_true", help="run only the third round's inputs")
-    parser.add_argument("--fourth-round", action="store_true", help="run only the fourth round's inputs, by class")
+    parser.add_argument("--round", type=int, choices=(1, 2, 3, 4), help="run only that round's classes")
+    parser.add_argument("--class", dest="cls", default="", help="run only classes whose name contains this")
+    parser.add_argument("--code", metavar="DIR", help="run the inputs against the thermolimb checkout in DIR (an "
+                        "earlier commit's worktree: the 'before' of a round), not the installed one")
     args = parser.parse_args()
-    cli, envs, faults, special, interrupts = (cli_cases(), env_cases(), fault_cases(), special_cases(),
-                                              interrupt_cases())
+    if args.code:
+        # every command, fixture and snippet runs it: first on the path, and no working folder put before it
+        os.environ.update(PYTHONPATH=str(Path(args.code).resolve()), PYTHONSAFEPATH="1")
+    cli, envs, faults, special, interrupts, recordings = (cli_cases(), env_cases(), fault_cases(), special_cases(),
+                                                          interrupt_cases(), recording_cases())
 
     def chosen(name: str) -> bool:
-        return (args.only in name and (not args.second_round or name in SECOND)
-                and (not args.third_round or name in THIRD) and (not args.fourth_round or name in FOURTH))
+        round_, cls = KIND.get(name, (1, "other"))
+        return args.only in name and args.cls in cls and args.round in (None, round_)
 
     records = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -1112,6 +1278,7 @@ def main() -> None:
         records += [run_api(d, *case) for case in API_CASES if chosen(f"API: {case[0]}")]
         records += [run_special(d, *case) for case in special if chosen(case[0])]
         records += [run_interrupt(d, *case) for case in interrupts if chosen(case[0])]
+        records += [run_recording(d, *case) for case in recordings if chosen(case[0])]
         faults = [case for case in faults if chosen(case[0])]
         can_fill = bool(faults) and _mount_full(d)
         try:
@@ -1119,25 +1286,21 @@ def main() -> None:
         finally:
             if can_fill:
                 subprocess.run(["umount", str(d / FULL)], capture_output=True)
-    kinds = ("clear", "wrong reason", "traceback", "silent", "left behind", "hang", "skipped")
-    counts = Counter(r["outcome"] for r in records)
-    second = Counter(r["outcome"] for r in records if r["input"] in SECOND)
-    third = Counter(r["outcome"] for r in records if r["input"] in THIRD)
-    by_class: dict[str, Counter] = {}
-    for r in records:
-        if r["input"] in FOURTH:
-            by_class.setdefault(r["input"][1:r["input"].index("]")], Counter())[r["outcome"]] += 1
+    table = by_class(records)
     if args.json:
-        print(json.dumps({"counts": counts, "second_round": second, "third_round": third,
-                          "fourth_round_by_class": by_class, "inputs": records}, indent=1))
+        print(json.dumps({"code": args.code or "installed", "counts": Counter(r["outcome"] for r in records),
+                          "by_class": table, "inputs": records}, indent=1))
         return
     for r in records:
         print(f"{r['outcome']:12s} {r['input'][:70]:70s} {r.get('message', '')[:110]}")
-    print(f"{len(records)} bad inputs: " + ", ".join(f"{k} {counts[k]}" for k in kinds))
-    print(f"of them {sum(second.values())} of the second round: " + ", ".join(f"{k} {second[k]}" for k in kinds))
-    print(f"of them {sum(third.values())} of the third round: " + ", ".join(f"{k} {third[k]}" for k in kinds))
-    for name, c in by_class.items():
-        print(f"  fourth round, {name}: {sum(c.values())} inputs: " + ", ".join(f"{k} {c[k]}" for k in kinds if c[k]))
+    shown = [k for k in OUTCOMES if any(row[k] for row in table.values())]
+    print(f"\n{'round':5s}  {'class':48s} {'inputs':>6s} " + " ".join(f"{k:>12s}" for k in shown))
+    for row in table.values():
+        print(f"{row['round']:5d}  {row['class'][:48]:48s} {sum(row[k] for k in OUTCOMES):6d} "
+              + " ".join(f"{row[k]:12d}" for k in shown))
+    print(f"{'':5s}  {'all':48s} {len(records):6d} "
+          + " ".join(f"{sum(row[k] for row in table.values()):12d}" for k in shown))
+
 
 if __name__ == "__main__":
     main()
