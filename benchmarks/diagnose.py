@@ -11,14 +11,25 @@ With ``--large``, also ``thermolimb diagnose --actuator hip`` on a 6 M-row Parqu
 (three actuators of 2 M rows at 10 Hz, ``benchmarks/large_logs.py``'s log) in its
 own process: its wall time and peak resident memory (target: 15 s, 1 GB).
 
-    python benchmarks/diagnose.py [--json] [--large]
+With ``--against DIR`` (a worktree of an earlier commit: ``git worktree add ../before COMMIT``), the command
+line's diagnoses, each in its own process, by this code and by DIR's in the same run: ``diagnose --auto`` on the
+README tour's log and on the bundled UR3 joint, and with ``--large`` ``diagnose --actuator knee`` on the 6 M-row
+Parquet of the plant's log that hides speed losses (so that the checks run).  For each: wall time, peak resident
+memory, the ratio, and whether the verdicts (the model recommended, the walk's steps) are the same.
+
+    python benchmarks/diagnose.py [--json] [--large] [--against DIR]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 from thermolimb.identification import FreeRunLeastSquares, IdentifiabilityError
 from thermolimb.identification.thinning import thinned
@@ -34,7 +45,14 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
     parser.add_argument("--large", action="store_true", help="also diagnose one actuator of a 6 M-row Parquet")
+    parser.add_argument("--against", metavar="DIR", help="also time the command line's diagnoses against the "
+                        "checkout in DIR (an earlier commit's worktree), in the same run")
     args = parser.parse_args(argv)
+    if args.against:
+        record = {"against": against(args.against, args.large)}
+        if args.json:
+            print(json.dumps(record))
+        return record
 
     fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses")
     start = time.perf_counter()
@@ -108,6 +126,60 @@ def _large_parquet() -> dict:
         write_files(Path(tmp), rows, ("parquet",))
         record = measure(["diagnose", "large.parquet", "--actuator", "hip", "--quiet"], Path(tmp))
     return {**record, "rows": rows * len(NAMES)}
+
+
+UR3 = Path(__file__).resolve().parent.parent / "thermolimb" / "data" / "real" / "ur3-cobotops" / "dataset_02052023.csv"
+
+
+def _diagnose(argv: list[str], cwd: Path, code: str | None) -> dict:
+    """One ``thermolimb diagnose ... --json`` in its own process (by the checkout ``code``, else this one): wall
+    time, peak resident memory, the recommended model and the walk's steps."""
+    env = {**os.environ, **({"PYTHONPATH": str(Path(code).resolve()), "PYTHONSAFEPATH": "1"} if code else {})}
+    out_path, err_path = cwd / "diagnose.out", cwd / "diagnose.err"
+    start = time.perf_counter()
+    with open(out_path, "wb") as out_file, open(err_path, "wb") as err_file:
+        proc = subprocess.Popen([sys.executable, "-m", "thermolimb.cli.main", "diagnose", *argv, "--quiet", "--json"],
+                                cwd=cwd, env=env, stdout=out_file, stderr=err_file)
+        _, status, usage = os.wait4(proc.pid, 0)
+        proc.returncode = os.waitstatus_to_exitcode(status)
+    seconds = time.perf_counter() - start
+    out, err = out_path.read_bytes(), err_path.read_bytes()
+    try:
+        result = json.loads(out)
+        result = result[0] if isinstance(result, list) else result
+        verdict = {"model": result.get("recommended_model"),
+                   "walk": [step.get("change") for step in result.get("auto") or []]}
+    except ValueError:
+        verdict = {"error": err.decode().strip().splitlines()[-1:]}
+    return {"seconds": round(seconds, 1), "peak_MB": round(usage.ru_maxrss / 1024.0), **verdict}
+
+
+def against(code: str, large: bool) -> list[dict]:
+    """This code's diagnoses and ``code``'s, case by case, in one run (module docstring)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        cli = [sys.executable, "-m", "thermolimb.cli.main", "simulate", "--profile", "random", "--network",
+               "first_order", "--effects", "sensor_noise,quantisation,speed_losses", "--quiet"]
+        subprocess.run([*cli, "--duration", "3600", "--dt", "1", "--out", "run.csv"], cwd=d, check=True)
+        cases = [("README tour log, knee, --auto", ["run.csv", "--actuator", "knee", "--auto"]),
+                 ("UR3 J5 (bundled), --auto", [str(UR3), "--drop-incomplete", "--map", "time=Timestamp,"
+                  "effort=Current_J{j},temperature=Temperature_*{j},velocity=Speed_J{j}", "--actuator", "J5",
+                  "--auto"])]
+        if large:
+            subprocess.run([*cli, "--duration", "200000", "--dt", "0.1", "--out", "large.parquet"], cwd=d, check=True)
+            cases.append(("6 M-row Parquet hiding speed losses, knee", ["large.parquet", "--actuator", "knee"]))
+        rows = []
+        for name, argv in cases:
+            # each child's peak is its own: wait4 on a fresh process, this one holding no large frame
+            now, before = _diagnose(argv, d, None), _diagnose(argv, d, code)
+            rows.append({"case": name, "now": now, "before": before, "ratio": round(before["seconds"] /
+                                                                                  now["seconds"], 2),
+                         "same_verdict": {k: now.get(k) for k in ("model", "walk")} ==
+                         {k: before.get(k) for k in ("model", "walk")}})
+            print(f"{name:45s} now {now['seconds']:6.1f} s {now['peak_MB']:5d} MB   {code}: {before['seconds']:6.1f} s "
+                  f"{before['peak_MB']:5d} MB   {rows[-1]['ratio']:.2f}x faster now   same verdict: "
+                  f"{rows[-1]['same_verdict']} ({' '.join(filter(None, now.get('walk', []))) or now.get('model')})")
+    return rows
 
 
 if __name__ == "__main__":
