@@ -69,6 +69,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -963,7 +964,6 @@ def run_interrupt(d: Path, name: str, argv: list[str], how: str, repetitions: in
     """``clear`` when every repetition ends within 20 s with 130 (Ctrl-C) or 143 (SIGTERM) and one line, and
     no worker of it is left (zombies waiting for a PID 1 that does not reap are dead)."""
     import random
-    import signal
 
     rng = random.Random(seed)
     folder = d / "fleet"
@@ -1051,10 +1051,7 @@ def run_recording(d: Path, name: str, how: str) -> dict:
     it says it wrote (an earlier recording replaced only by a complete one, never emptied; a partial left by a kill
     recovered by the next run and said); ``lost`` when a recording said written is missing or short, or an earlier
     one is gone; ``left behind`` when a partial or a temporary stays after a complete end."""
-    import signal
-
-    folder = d / f"rec_{abs(hash(name)) % 10**8}"
-    folder.mkdir()
+    folder = Path(tempfile.mkdtemp(prefix="rec_", dir=d))
     shutil.copy(d / "good.csv", folder / "source.csv")
     out = folder / "out.mcap"
     out.write_bytes(b"an earlier recording")  # what a run that fails or follows nothing must leave as it was

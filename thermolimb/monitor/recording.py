@@ -141,6 +141,7 @@ def _created_locked(partial: Path, target: Path):
     a second monitor starting at the same moment could find it unlocked, take it for a killed monitor's and remove
     it.  Where the file system has no hard links, created and locked as two steps."""
     own = partial.with_name(f".{partial.name}.{os.getpid()}")
+    own.unlink(missing_ok=True)  # left by a killed process that had this one's number: no live one has it
     file = open(own, "xb")
     try:
         fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -34,7 +34,7 @@ class Session:
     only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
-    together: bool = True  # actuators of model_arrays' families with one new sample step as arrays (False: one by one)
+    together: bool = True  # actuators of model/first_order.py's families with one new sample step as arrays
 
     def feed(self, runs: dict) -> list[Estimate]:
         """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a

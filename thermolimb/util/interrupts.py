@@ -75,8 +75,8 @@ def _raise(signum: int):
 
 
 def check() -> None:
-    """For a loop that only a signal ends, at each turn: a signal already raised whose raise did not end the loop
-    was lost on its way (module docstring); it is raised again, here."""
+    """For a loop that waits, at each turn: a signal already raised whose raise did not end the loop was lost on
+    its way (module docstring); it is raised again, here."""
     if (_held["ending"] is not None and _held["pid"] == os.getpid() and _held["depth"] == 0
             and threading.current_thread() is threading.main_thread()):
         _raise(_held["ending"])
