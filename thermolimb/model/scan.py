@@ -56,29 +56,39 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
     n = a.shape[0]
     if b.shape != a.shape:
         raise ValueError(f"a and b must have the same shape, got {a.shape} and {b.shape}")
-    if np.any(a > 1.0) or np.any(a < 0.0):
+    if n == 0:
+        return np.full(1, float(x0))
+    lowest, highest = a.min(), a.max()  # one pass each: the range check and the constant test share them
+    if highest > 1.0 or lowest < 0.0:
         raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
+    if highest - lowest <= CONSTANT_A * (1.0 - highest):
+        return _constant_factor(float(np.mean(a)), b, float(x0))
+    with np.errstate(divide="ignore"):  # a = 0 is a step that forgets: its log is clamped like any fast decay
+        log_a = np.log(a)
+    np.maximum(log_a, _MIN_LOG_A, out=log_a)
+    L = np.cumsum(log_a)  # log of the product of a up to step k: decreasing, -decay
     out = np.empty(n + 1)
     out[0] = x0
-    if n == 0:
-        return out
-    if a.max() - a.min() <= CONSTANT_A * (1.0 - a.max()):
-        return _constant_factor(float(np.mean(a)), b, float(x0))
-    log_a = np.maximum(np.log(np.maximum(a, 1e-300)), _MIN_LOG_A)
-    cum_decay = -np.cumsum(log_a)  # decay after step k, increasing
-    if cum_decay[-1] / MAX_DECAY_PER_CHUNK > MAX_CHUNKS:
+    if -L[-1] / MAX_DECAY_PER_CHUNK > MAX_CHUNKS:
         out[1:] = _associative_scan(a, b, float(x0))
         return out
     start = 0
     state = float(x0)
+    decays = None  # -L, increasing, for the chunks' ends: only when there is more than one
     while start < n:
-        offset = cum_decay[start - 1] if start > 0 else 0.0
-        stop = int(np.searchsorted(cum_decay, offset + MAX_DECAY_PER_CHUNK, side="right"))
+        offset = L[start - 1] if start > 0 else 0.0
+        if L[-1] >= offset - MAX_DECAY_PER_CHUNK:
+            stop = n
+        else:  # the chunk ends where its decay passes MAX_DECAY_PER_CHUNK
+            decays = -L if decays is None else decays
+            stop = int(np.searchsorted(decays, MAX_DECAY_PER_CHUNK - offset, side="right"))
         stop = max(stop, start + 1)
-        # L relative to the chunk start: L_rel[i] = log prod_{j=start}^{start+i} a[j]
-        L_rel = -(cum_decay[start:stop] - offset)
-        weighted = b[start:stop] * np.exp(-L_rel)
-        out[start + 1 : stop + 1] = np.exp(L_rel) * (state + np.cumsum(weighted))
+        # decay[i] = prod_{j=start}^{start+i} a[j] = exp(L[start+i] - offset), in (exp(-30), 1]
+        decay = L[start:stop] - offset
+        np.exp(decay, out=decay)
+        summed = np.cumsum(b[start:stop] / decay)
+        summed += state
+        np.multiply(decay, summed, out=out[start + 1 : stop + 1])
         state = out[stop]
         start = stop
     return out
