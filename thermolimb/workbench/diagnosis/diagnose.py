@@ -103,7 +103,7 @@ class Diagnosis:
     model: tuple[str, ...]
     base: FitReport
     base_bic: float
-    residuals: ResidualAnalysis
+    residuals: ResidualAnalysis | None  # None in a stability replicate, which words no evidence
     candidates: list[Candidate]
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
@@ -183,11 +183,13 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     # test's signatures are taken from free runs that start where the first readings put them, alike)
     base_run = (thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
                 if not base.model.hidden_states else None)
-    # the residual of the first run fitted on, whole (its blocks held out too: a continuous free run to correlate)
+    replicating = step.contenders is not None
+    # the residual of the first run fitted on, whole (its blocks held out too: a continuous free run to correlate);
+    # it words the evidence, which a replicate does not say (a third of a replicate's time on a 2 M-row run)
     run0 = replace(train[0], fit_mask=None)
     offsets = getattr(base.estimator, "offsets_", None)
-    analysis = analyse_residuals(run0, base.model.free_run(run0, offsets=offsets[0] if offsets else None))
-    replicating = step.contenders is not None
+    analysis = (None if replicating else
+                analyse_residuals(run0, base.model.free_run(run0, offsets=offsets[0] if offsets else None)))
 
     if not replicating:
         candidates = candidate_models(model, series[0])
@@ -213,7 +215,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     for cand in progress(worth, desc="refits", disable=search.quiet):
         _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
     for cand in candidates:
-        if not cand.evidence:
+        if not cand.evidence and not replicating:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
     candidates.sort(key=_rank)
     proposal = None
