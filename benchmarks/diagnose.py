@@ -15,7 +15,8 @@ With ``--against DIR`` (a worktree of an earlier commit: ``git worktree add ../b
 line's diagnoses, each in its own process, by this code and by DIR's in the same run: ``diagnose --auto`` on the
 README tour's log and on the bundled UR3 joint, and with ``--large`` ``diagnose --actuator knee`` on the 6 M-row
 Parquet of the plant's log that hides speed losses (so that the checks run).  For each: wall time, peak resident
-memory, the ratio, and whether the verdicts (the model recommended, the walk's steps) are the same.
+memory, the ratio, and whether the verdicts (the model recommended, the walk's steps) are the same; and this
+code's time with ``--stability 0`` (what the stability check adds to the walk it checks).
 
     python benchmarks/diagnose.py [--json] [--large] [--against DIR]
 """
@@ -172,13 +173,18 @@ def against(code: str, large: bool) -> list[dict]:
         for name, argv in cases:
             # each child's peak is its own: wait4 on a fresh process, this one holding no large frame
             now, before = _diagnose(argv, d, None), _diagnose(argv, d, code)
+            unchecked = _diagnose([*argv, "--stability", "0"], d, None)  # what the stability check adds to it
             rows.append({"case": name, "now": now, "before": before, "ratio": round(before["seconds"] /
                                                                                   now["seconds"], 2),
                          "same_verdict": {k: now.get(k) for k in ("model", "walk")} ==
-                         {k: before.get(k) for k in ("model", "walk")}})
+                         {k: before.get(k) for k in ("model", "walk")},
+                         "now_without_stability": unchecked,
+                         "stability_adds": round(now["seconds"] / unchecked["seconds"] - 1.0, 2)})
             print(f"{name:45s} now {now['seconds']:6.1f} s {now['peak_MB']:5d} MB   {code}: {before['seconds']:6.1f} s "
                   f"{before['peak_MB']:5d} MB   {rows[-1]['ratio']:.2f}x faster now   same verdict: "
-                  f"{rows[-1]['same_verdict']} ({' '.join(filter(None, now.get('walk', []))) or now.get('model')})")
+                  f"{rows[-1]['same_verdict']} ({' '.join(filter(None, now.get('walk', []))) or now.get('model')});"
+                  f"   now with --stability 0: {unchecked['seconds']:.1f} s (the check adds "
+                  f"{100 * rows[-1]['stability_adds']:.0f} %)")
     return rows
 
 
