@@ -29,13 +29,12 @@ import numpy as np
 
 from ...effects import EFFECTS
 from ...identification import FreeRunLeastSquares
-from ...identification.thinning import MAX_FIT_SAMPLES, thinned
+from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.parameter_units import NOT_GIVEN
 from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.errors import TermError, ThermolimbError
 from ...util.frozen import FrozenMapping
-from ...util.parallel import Runner
 from ...util.progress import progress
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
@@ -73,7 +72,6 @@ class Search:
     stability: Stability | None = None
     max_steps: int = 6
     quiet: bool = True
-    workers: int = 2  # local processes the whole log's candidate refits run on (1: in this process)
 
     def __post_init__(self):
         if self.refit not in ("strong", "all"):
@@ -214,7 +212,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
-    _refit_all(worth, series, scheme, base, base_bic, warm, search, parallel=not replicating)
+    for cand in progress(worth, desc="refits", disable=search.quiet):
+        _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
     for cand in candidates:
         if not cand.evidence and not replicating:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
@@ -391,30 +390,6 @@ def _refit(cand: Candidate, series, scheme, base: FitReport, base_bic: float, wa
     """Refit a candidate by :func:`.refit.refit` (a deterministic profile over its nonlinear parameter, then
     the next start while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
     refit(cand, base, base_bic, lambda model, initial, fixed: _evaluate(series, model, scheme, initial, fixed), warm)
-
-
-def _refit_all(worth: list[Candidate], series, scheme, base: FitReport, base_bic: float, warm: Mapping[str, dict],
-               search: Search, parallel: bool) -> None:
-    """Refit each candidate worth it (:func:`_refit`).  The whole log's search refits them on the local workers
-    (``search.workers``) when the log is short enough to hand each worker a copy (no fit of it is thinned,
-    :mod:`~thermolimb.identification.thinning`): each refit is independent and deterministic, so the candidates
-    come back exactly as a serial search leaves them (the README tour's log: 3.8 -> 3.3 s; on the 6 M-row
-    Parquet of ``benchmarks/diagnose.py --large`` the copies took the peak from 0.9 to 2.4 GB and saved no
-    time).  A replicate is already one job of the stability check's pool: its refits run in it."""
-    jobs = [(cand, series, scheme, base, base_bic, warm.get(cand.label)) for cand in worth]
-    small = sum(s.n for s in series) <= MAX_FIT_SAMPLES
-    backend = "process" if parallel and small and search.workers > 1 and len(worth) > 1 else "serial"
-    with Runner(backend, search.workers) as runner, progress(total=len(worth), desc="refits",
-                                                            disable=search.quiet) as bar:
-        for i, done in runner.as_completed(_refitted, jobs):
-            vars(worth[i]).update(vars(done))
-            bar.update()
-
-
-def _refitted(cand: Candidate, series, scheme, base: FitReport, base_bic: float, warm: dict | None) -> Candidate:
-    """One candidate refitted (a job of :func:`_refit_all`, in this process or a worker)."""
-    _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm)
-    return cand
 
 
 def _rank(c: Candidate):
