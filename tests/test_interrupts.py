@@ -16,7 +16,7 @@ import pytest
 from thermolimb.cli.main import main
 from thermolimb.util import interrupts
 from thermolimb.util.atomic import write_text
-from thermolimb.util.parallel import WORKER_MEMORY_BYTES, worker_limit
+from thermolimb.util.parallel import STOP_GRACE_S, WORKER_MEMORY_BYTES, worker_limit
 
 CLI = [sys.executable, "-m", "thermolimb.cli.main"]
 
@@ -38,8 +38,25 @@ def _alive(group: int) -> list[str]:
 
 def _start(argv, cwd):
     # a terminal's Ctrl-C goes to every process of the foreground group: a group of its own, SIGINT not ignored
+    # (faulthandler: a process that does not end is aborted by the test, and its stacks -- every process's of the
+    # group, workers included -- are in its standard error)
     return subprocess.Popen([*CLI, *argv], cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+                            env={**os.environ, "PYTHONFAULTHANDLER": "1"})
+
+
+def _ended(proc, timeout_s=4 * STOP_GRACE_S) -> int:
+    """The exit code of a command that was signalled to end; one that does not end in time fails the test with the
+    stacks of every process of its group.  The time: a parent gives each of its two workers and the pool's manager
+    up to STOP_GRACE_S to end before it kills them (util/parallel), and a loaded CI machine needs a margin (CI once
+    saw a fleet not ended within 20 s of two Ctrl-C, with no stacks to say why: they are now shown)."""
+    try:
+        return proc.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGABRT)
+        _, err = proc.communicate()
+        pytest.fail(f"the command did not end within {timeout_s:g} s of its signals; the stacks of its group:\n"
+                    + err.decode(errors="replace"))
 
 
 def test_ctrl_c_twice_at_random_moments_ends_the_fleet_and_its_workers(fleet):
@@ -54,7 +71,7 @@ def test_ctrl_c_twice_at_random_moments_ends_the_fleet_and_its_workers(fleet):
         except ProcessLookupError:
             pass
         try:
-            code = proc.wait(timeout=20)
+            code = _ended(proc)
         finally:
             time.sleep(0.5)
             left = _alive(proc.pid)
@@ -73,7 +90,7 @@ def test_the_main_process_ended_alone_takes_its_workers_with_it(fleet, signum, e
         time.sleep(0.2)
     assert len(_alive(proc.pid)) == 3
     os.kill(proc.pid, signum)  # what timeout, systemd and the OOM killer send: to the main process only
-    assert proc.wait(timeout=20) == expected
+    assert _ended(proc) == expected
     deadline = time.monotonic() + 10
     while _alive(proc.pid) and time.monotonic() < deadline:
         time.sleep(0.2)
