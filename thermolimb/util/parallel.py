@@ -134,8 +134,11 @@ class Runner:
         """``[func(*job) for job in jobs]`` on this runner's backend."""
         if not jobs:
             return []
-        if self._pool is not None:
-            return list(self._pool.map(func, *zip(*jobs)))
+        if self._pool is not None:  # waited for a second at a time, as as_completed does (a lost signal's raise)
+            out = [None] * len(jobs)
+            for i, result in self.as_completed(func, jobs):
+                out[i] = result
+            return out
         if self._ray is not None:
             remote = self._ray.remote(func)
             return self._ray.get([remote.remote(*job) for job in jobs])
