@@ -51,11 +51,12 @@ class SlowMass(Term):
         heat = equilibrium_C - boundary_C
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
-        a = np.exp(-s.interval_s * (flow[:-1] if np.ndim(flow) else flow) / p[self.tau])
+        a, log_a = (s.decay(flow / p[self.tau]) if np.ndim(flow) == 0
+                    else (np.exp(-s.interval_s * flow[:-1] / p[self.tau]), None))
         # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
         # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it
         start = boundary_C[0] + phi * (initial_C - boundary_C[0]) + offset if state is None else state
-        frame = first_order_scan(a, (1.0 - a) * target[:-1], start)
+        frame = first_order_scan(a, (1.0 - a) * target[:-1], start, log_a)
         self.state = float(frame[-1])
         return frame + (1.0 - phi) * heat
 

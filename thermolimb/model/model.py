@@ -231,10 +231,10 @@ class ThermalModel:
         return run + responses @ delta, dict(zip(names, map(float, delta)))
 
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
-        lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
         if method == "exact":
-            a = np.exp(-lam * dt)
-            return first_order_scan(a, (1.0 - a) * u[:-1], start)
+            a, log_a = s.decay(lam) if np.ndim(lam) == 0 else (np.exp(-lam[:-1] * s.dt_s), None)
+            return first_order_scan(a, (1.0 - a) * u[:-1], start, log_a)
+        lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
         a = 1.0 - lam * dt
         b = lam * dt * u[:-1]
         if np.all(a >= 0.0):

@@ -10,6 +10,7 @@ import numpy as np
 
 from .scan import CONSTANT_A
 
+FEW_LEVELS = 8  # intervals of at most n / 8 distinct lengths are looked up, not exponentiated one by one
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
@@ -80,6 +81,25 @@ class Signals:
             return None
         step = float(dt.mean())
         return step if step > 0.0 and float(dt.max() - dt.min()) <= CONSTANT_A * step else None
+
+    @cached_property
+    def interval_levels(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(levels, index)``: the distinct intervals and each interval's among them, when they are few (a log
+        timed to the millisecond: the UR3's 7354 intervals take 228 lengths); else ``None``."""
+        dt = self.dt_s
+        levels, index = np.unique(dt, return_inverse=True)
+        return (levels, index.astype(np.int32)) if levels.size <= dt.size // FEW_LEVELS else None
+
+    def decay(self, rate_per_s: float) -> tuple[np.ndarray | float, np.ndarray | float]:
+        """``(a, log a)`` with ``a = exp(-rate_per_s * dt)`` for each interval (one number for a uniform log): the
+        factors of the recursion at a constant rate.  An exponential per distinct interval, when they are few:
+        it costs more than the scan it feeds."""
+        dt = self.interval_s
+        log_a = -rate_per_s * dt
+        levels = self.interval_levels if np.ndim(dt) else None
+        if levels is None:
+            return np.exp(log_a), log_a
+        return np.exp(-rate_per_s * levels[0])[levels[1]], log_a
 
     @cached_property
     def neighbor_mean_C(self) -> np.ndarray:
