@@ -18,12 +18,9 @@ from typing import Sequence
 
 from ..logs.bags import BAG_SUFFIXES, is_bag
 from ..util.errors import ThermolimbError, UsageError
-from ..util.parallel import Runner, run_jobs
+from ..util.parallel import Runner, one_blas_thread, run_jobs
 from .validation import RUNS, Scheme, validate_model
 
-# One BLAS thread per fit on every backend: the parallelism is across runs, two BLAS threads per process would
-# oversubscribe the cores, and a fixed thread count keeps every sum in the same order, so rows are equal bit for bit.
-BLAS_THREADS = 1
 LOG_SUFFIXES = (".csv", ".tsv", ".txt", ".parquet", ".pq") + BAG_SUFFIXES
 TABLE_COLUMNS = ("source", "actuator", "run", "samples", "duration_s")  # the first columns of a --table CSV
 
@@ -129,22 +126,9 @@ class FleetJob:
 
 def analyse_run(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool,
                 datasheet: dict | None = None) -> dict:
-    """One row: fit (and diagnose) one actuator's run, with one BLAS thread (see :data:`BLAS_THREADS`)."""
-    with _one_blas_thread():
+    """One row: fit (and diagnose) one actuator's run, with one BLAS thread (:func:`.one_blas_thread`)."""
+    with one_blas_thread():
         return _analyse(job, model, scheme, method, diagnose, datasheet)
-
-
-_CONTROLLER = None
-
-
-def _one_blas_thread():
-    """A context limiting BLAS to :data:`BLAS_THREADS` (the loaded libraries are scanned once per process)."""
-    global _CONTROLLER
-    if _CONTROLLER is None:
-        from threadpoolctl import ThreadpoolController
-
-        _CONTROLLER = ThreadpoolController()
-    return _CONTROLLER.limit(limits=BLAS_THREADS)
 
 
 UNREADABLE = "(file)"  # the actuator and run of a row that stands for a whole file that could not be read
@@ -219,7 +203,7 @@ def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str,
         log = read_log(path, **read)
     except (ThermolimbError, OSError) as err:  # one bad file is a row with its error; the others go on
         return [unreadable_row(path, err)], []
-    with _one_blas_thread():
+    with one_blas_thread():
         rows = [_analyse(job, model, scheme, method, diagnose, datasheet) for job in fleet_jobs([log], names)]
     return rows, list(log.notes)
 

@@ -47,7 +47,7 @@ chosen for free-run thermal models: subsampling or the block bootstrap
 (Kunsch, 1989) would cut a run into pieces that each need their own initial
 state and break the thermal memory the model is about; trims and a moved
 split keep every run continuous.  Replicates are seeded (the same seed gives
-the same frequencies) and run on the process pool.
+the same frequencies) and run on the process pool, one BLAS thread each.
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
-from ...util.parallel import run_jobs
+from ...util.parallel import run_jobs, with_one_blas_thread
 from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT
 from .candidates import MIN_IMPROVEMENT, Candidate
 
@@ -170,8 +170,8 @@ def selection_frequencies(diagnosis, series, search, replicate) -> dict[str, flo
         runs, scheme = p.applied(list(series), search.scheme)
         jobs.append((runs, diagnosis.model, replace(search, scheme=scheme, stability=None, quiet=True), initial, specs,
                      p.jitter([spec["fitted"] for spec in specs])))
-    taken = run_jobs(replicate, jobs, backend="process" if stability.workers > 1 else "serial",
-                     workers=stability.workers)
+    taken = run_jobs(with_one_blas_thread, [(replicate, *job) for job in jobs],
+                     backend="process" if stability.workers > 1 else "serial", workers=stability.workers)
     counts: dict[str, int] = {}
     for label in taken:
         counts[label or "none"] = counts.get(label or "none", 0) + 1
