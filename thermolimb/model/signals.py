@@ -11,6 +11,7 @@ import numpy as np
 from .scan import CONSTANT_A
 
 FEW_LEVELS = 8  # intervals of at most n / 8 distinct lengths are looked up, not exponentiated one by one
+LOOKUP_FROM = 256  # intervals: fewer are exponentiated one by one
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
@@ -87,6 +88,8 @@ class Signals:
         """``(levels, index)``: the distinct intervals and each interval's among them, when they are few (a log
         timed to the millisecond: the UR3's 7354 intervals take 228 lengths); else ``None``."""
         dt = self.dt_s
+        if dt.size < LOOKUP_FROM:  # a monitor's piece of a sample or two: sorting costs more than it saves
+            return None
         levels, index = np.unique(dt, return_inverse=True)
         return (levels, index.astype(np.int32)) if levels.size <= dt.size // FEW_LEVELS else None
 
