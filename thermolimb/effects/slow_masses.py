@@ -51,8 +51,7 @@ class SlowMass(Term):
         heat = equilibrium_C - boundary_C
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
-        a, log_a = (s.decay(flow / p[self.tau]) if np.ndim(flow) == 0
-                    else (np.exp(-s.interval_s * flow[:-1] / p[self.tau]), None))
+        a, log_a = s.decay(flow / p[self.tau])
         # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
         # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it
         start = boundary_C[0] + phi * (initial_C - boundary_C[0]) + offset if state is None else state

@@ -232,7 +232,7 @@ class ThermalModel:
 
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
         if method == "exact":
-            a, log_a = s.decay(lam) if np.ndim(lam) == 0 else (np.exp(-lam[:-1] * s.dt_s), None)
+            a, log_a = s.decay(lam)
             return first_order_scan(a, (1.0 - a) * u[:-1], start, log_a)
         lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
         a = 1.0 - lam * dt

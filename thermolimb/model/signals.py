@@ -93,10 +93,13 @@ class Signals:
         levels, index = np.unique(dt, return_inverse=True)
         return (levels, index.astype(np.int32)) if levels.size <= dt.size // FEW_LEVELS else None
 
-    def decay(self, rate_per_s: float) -> tuple[np.ndarray | float, np.ndarray | float]:
+    def decay(self, rate_per_s: float | np.ndarray) -> tuple[np.ndarray | float, np.ndarray | float | None]:
         """``(a, log a)`` with ``a = exp(-rate_per_s * dt)`` for each interval (one number for a uniform log): the
-        factors of the recursion at a constant rate.  An exponential per distinct interval, when they are few:
-        it costs more than the scan it feeds."""
+        factors of the recursion.  At a constant rate, an exponential per distinct interval when they are few (it
+        costs more than the scan it feeds); a rate per sample holds over the interval it starts (``log a`` then
+        ``None``: the scan takes it from ``a``)."""
+        if np.ndim(rate_per_s):
+            return np.exp(-rate_per_s[:-1] * self.dt_s), None
         dt = self.interval_s
         log_a = -rate_per_s * dt
         levels = self.interval_levels if np.ndim(dt) else None
