@@ -15,6 +15,7 @@ from monitor_logs import model_and_run
 from rosbags.highlevel import AnyReader
 
 from thermolimb.cli.main import main
+from thermolimb.monitor.recording import recover
 
 THERMOLIMB = str(Path(sys.executable).parent / "thermolimb")
 WRITER = """
@@ -38,6 +39,16 @@ def model_and_log(tmp_path_factory):
 def messages_in(path: Path) -> int:
     with AnyReader([path]) as reader:
         return sum(1 for _ in reader.messages())
+
+
+def whole_messages_in(partial: Path, scratch: Path) -> int:
+    """The messages of the whole chunks a monitor has written so far (what :func:`recover` would keep)."""
+    copy = scratch / "probe.mcap.partial"
+    copy.write_bytes(partial.read_bytes())
+    out, kept = recover(copy, scratch / "probe.mcap")
+    out.unlink()
+    copy.unlink()
+    return kept
 
 
 def start(model, live, out, *extra):
@@ -77,8 +88,9 @@ def test_a_killed_monitor_leaves_a_readable_partial_that_the_next_one_completes(
     w = writer(run, live)
     monitor = start(model, live, out)
     try:
-        # chunks reach the disk at least every 2 s: wait until one has, then kill without a word
-        wait_for(lambda: partial.exists() and partial.stat().st_size > 4096)
+        # chunks reach the disk at least every 2 s: wait until a whole one has (the schemas alone pass 4 KB), then
+        # kill without a word
+        wait_for(lambda: partial.exists() and whole_messages_in(partial, tmp_path) > 0)
         monitor.kill()
         monitor.wait(timeout=30)
     finally:
