@@ -209,3 +209,21 @@ def test_a_long_log_compared_at_a_stride_gives_the_same_fit(monkeypatch, estimat
     for name, value in full.params_.items():
         assert abs(thin.params_[name] - value) < full.stderr_[name], name
         assert 1 / 1.6 < thin.stderr_[name] / full.stderr_[name] < 1.6, name
+
+
+def test_a_long_logs_kept_samples_simulate_as_the_log_does():
+    """A screen simulates every k-th sample of a long log (:func:`~thermolimb.identification.thinning.coarse`), each
+    held until the next.  On 1 h of random holds at 1 Hz (the effort changes every second), every 5th sample's free
+    run stays within 4 % of the full rate's heating at the samples it keeps."""
+    from thermolimb.identification.thinning import coarse
+    from thermolimb.model import ThermalModel
+
+    series, _ = _correlated_noise_series(5, rho=0.0, duration_s=3600.0)
+    kept = coarse(series, 5)
+    assert kept.n == -(-series.n // 5) and np.array_equal(kept.time_s, series.time_s[::5])
+    assert np.array_equal(kept.temperature_C, series.temperature_C[::5])
+    model = ThermalModel(("joule", "effort_bias"), {"RC_s": 600.0, "T_offset_C": 25.0, "betaR_K_per_effort2": 0.5,
+                                                      "beta_biasR_K_per_effort": 0.1})
+    full = model.free_run(series)[::5]
+    rise = full.max() - full.min()
+    assert rise > 20.0 and np.abs(model.free_run(kept) - full).max() < 0.04 * rise

@@ -40,6 +40,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...identification import FreeRunLeastSquares, IdentifiabilityError
+from ...identification.thinning import coarse, fit_stride
 from ...model.model import model_parameters
 from ...model.terms import TERMS, Parameter
 from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
@@ -121,10 +122,12 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
     else:
         return [(np.inf, start) for start in starts]
     screened = []
+    stride = fit_stride(train)
+    shown = [coarse(s, stride) for s in train]  # a screen ranks: a long log's blocks, not its every sample
     for initial, fixed in points:
         try:
             est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
-            est.fit(list(train))
+            est.fit(shown)
         except IdentifiabilityError:
             continue
         screened.append((float(est.optimizer_result_.cost), len(screened), dict(est.params_)))
