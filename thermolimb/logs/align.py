@@ -54,7 +54,6 @@ def interval_average(time_s: np.ndarray, sample_time_s: np.ndarray, values: np.n
     last = np.maximum.accumulate(np.where(count > 0, np.arange(1, n), 0))
     out = filled[last]
     return np.append(out, out[-1])
-    return out
 
 
 def align(temperature: tuple[np.ndarray, np.ndarray], inputs: Mapping[str, tuple[np.ndarray, np.ndarray]],
