@@ -68,10 +68,10 @@ class ActuatorSeries:
             return 0.0
         return float(np.polyfit(t[sel] - t[sel][0], self.temperature_C[sel], 1)[0])
 
-    def slice(self, start: int, stop: int) -> "ActuatorSeries":
-        mask = None if self.fit_mask is None else self.fit_mask[start:stop]
-        return replace(self, signals=self.signals.slice(start, stop), temperature_C=self.temperature_C[start:stop],
-                       fit_mask=mask)
+    def slice(self, start: int, stop: int, step: int = 1) -> "ActuatorSeries":
+        mask = None if self.fit_mask is None else self.fit_mask[start:stop:step]
+        return replace(self, signals=self.signals.slice(start, stop, step),
+                       temperature_C=self.temperature_C[start:stop:step], fit_mask=mask)
 
     @property
     def fit_samples(self) -> int:

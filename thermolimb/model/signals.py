@@ -137,5 +137,5 @@ class Signals:
         changed["extra"] = {k: fn(v) for k, v in self.extra.items()}
         return replace(self, **changed)
 
-    def slice(self, start: int, stop: int) -> "Signals":
-        return self.map_arrays(lambda x: x[start:stop])
+    def slice(self, start: int, stop: int, step: int = 1) -> "Signals":
+        return self.map_arrays(lambda x: x[start:stop:step])

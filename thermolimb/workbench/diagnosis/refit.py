@@ -123,7 +123,7 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
         return [(np.inf, start) for start in starts]
     screened = []
     stride = fit_stride(train)
-    shown = [coarse(s, stride) for s in train]  # a screen ranks: a long log's blocks, not its every sample
+    shown = [coarse(s, stride) for s in train]  # a screen ranks: a long log's every stride-th sample is enough
     for initial, fixed in points:
         try:
             est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
