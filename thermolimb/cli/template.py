@@ -85,7 +85,7 @@ class LogCommand:
 
     def analyse(self, run: Run, name: str, series: list, scheme) -> tuple[dict, str]:
         """One actuator's analysis: its JSON record and its text."""
-        raise NotImplementedError
+        raise NotImplementedError  # abstract: every log command defines it
 
     def finish(self, run: Run) -> None:
         """After every actuator (writes what the command keeps across them)."""
