@@ -211,19 +211,39 @@ def test_a_long_log_compared_at_a_stride_gives_the_same_fit(monkeypatch, estimat
         assert 1 / 1.6 < thin.stderr_[name] / full.stderr_[name] < 1.6, name
 
 
-def test_a_long_logs_kept_samples_simulate_as_the_log_does():
-    """A screen simulates every k-th sample of a long log (:func:`~thermolimb.identification.thinning.coarse`), each
-    held until the next.  On 1 h of random holds at 1 Hz (the effort changes every second), every 5th sample's free
-    run stays within 4 % of the full rate's heating at the samples it keeps."""
-    from thermolimb.identification.thinning import coarse
+def test_a_long_log_on_blocks_simulates_as_the_log_does():
+    """A fit simulates a long log on blocks of k samples, each term's contribution averaged over its block
+    (:mod:`thermolimb.model.block_means`).  On 1 h of random holds at 1 Hz (the effort changes every second), blocks of
+    5 samples stay within 0.2 % of the full rate's heating at the blocks' starts, where keeping every 5th sample
+    misses by percents: heat goes with the square of the effort, and one sample is not its block."""
+    from thermolimb.identification.thinning import on_blocks
     from thermolimb.model import ThermalModel
 
     series, _ = _correlated_noise_series(5, rho=0.0, duration_s=3600.0)
-    kept = coarse(series, 5)
-    assert kept.n == -(-series.n // 5) and np.array_equal(kept.time_s, series.time_s[::5])
-    assert np.array_equal(kept.temperature_C, series.temperature_C[::5])
+    shown, rows = on_blocks(series, np.arange(0, series.n, 5), 5)
+    assert np.array_equal(shown.time_s, series.time_s[::5]) and np.array_equal(rows, np.arange(shown.n))
     model = ThermalModel(("joule", "effort_bias"), {"RC_s": 600.0, "T_offset_C": 25.0, "betaR_K_per_effort2": 0.5,
                                                       "beta_biasR_K_per_effort": 0.1})
     full = model.free_run(series)[::5]
     rise = full.max() - full.min()
-    assert rise > 20.0 and np.abs(model.free_run(kept) - full).max() < 0.04 * rise
+    assert rise > 20.0
+    assert np.abs(model.free_run(shown) - full).max() < 0.002 * rise
+    assert np.abs(model.free_run(series.slice(0, series.n, 5)) - full).max() > 0.01 * rise
+
+
+def test_blocks_take_the_rows_a_fit_compares_and_weigh_uneven_intervals():
+    """Under a scheme that holds blocks out, the rows a fit compares are among the blocks' starts; a block's mean
+    weighs each sample by its interval (a log whose sampling changes)."""
+    from thermolimb.identification.thinning import on_blocks
+    from thermolimb.model import Signals
+    from thermolimb.model.block_means import blocked
+
+    series, _ = _correlated_noise_series(5, rho=0.0, duration_s=600.0)
+    rows = np.flatnonzero(np.arange(series.n) % 7 != 3)[::4]
+    shown, places = on_blocks(series, rows, 4)
+    assert np.array_equal(shown.time_s[places], series.time_s[rows])
+    assert np.array_equal(shown.temperature_C[places], series.temperature_C[rows])
+    time_s = np.array([0.0, 1.0, 2.0, 5.0, 6.0, 7.0])
+    s = blocked(Signals(time_s=time_s, effort=np.array([1.0, 2.0, 4.0, 8.0, 16.0, 32.0])), np.array([0, 3, 5]))
+    # block 0: intervals of 1, 1 and 3 s at efforts 1, 2, 4; block 1: 1 s each at 8, 16; the last: its own sample
+    np.testing.assert_allclose(s.mean(s.full.effort), [(1 + 2 + 12) / 5.0, 12.0, 32.0])

@@ -18,8 +18,11 @@ class MotionCoolingTerm(Term):
     parameters = (airflow_parameter("cooling_per_rad_s", "the conductance to ambient", "warm"),)
     columns = ("velocity",)
 
-    def contribution(self, p, s):
-        h = p["cooling_per_rad_s"] * speed(s)
+    def forms(self, s):
+        return (speed(s),)
+
+    def combine(self, p, forms):
+        h = p["cooling_per_rad_s"] * forms[0]
         return h * p["T_offset_C"], -h
 
 

@@ -26,9 +26,12 @@ class NeighborCouplingTerm(Term):
     )
     columns = ("neighbors",)
 
-    def contribution(self, p, s):
+    def forms(self, s):
+        return (s.neighbor_mean_C,)
+
+    def combine(self, p, forms):
         k = p["neighbor_ratio"]
-        return k * s.neighbor_mean_C, -k
+        return k * forms[0], -k
 
     def features(self, s, temperature_C):
         return (s.neighbor_mean_C - temperature_C)[:, None]

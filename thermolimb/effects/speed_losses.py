@@ -25,13 +25,15 @@ class SpeedLossesTerm(Term):
     )
     columns = ("velocity",)
 
-    def contribution(self, p, s):
+    def forms(self, s):
         v = speed(s)
-        return p["speed_K_per_rad_s"] * v + p["speed2_K_per_rad2_s2"] * v**2, 0.0
+        return v, v**2
+
+    def combine(self, p, forms):
+        return p["speed_K_per_rad_s"] * forms[0] + p["speed2_K_per_rad2_s2"] * forms[1], 0.0
 
     def features(self, s, temperature_C):
-        v = speed(s)
-        return np.column_stack([v, v**2])
+        return np.column_stack(self.forms(s))
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,9 @@ estimator starts from least squares and refines every parameter by
 parameter's bounds) on the residual ``simulate(inputs) - measured`` of every
 series, each simulated from its own first measured temperature.
 
-A long log is simulated at its full rate but compared at every ``k``-th
-sample (``stride_``, see :mod:`~thermolimb.identification.thinning`).
+A long log is compared at every ``k``-th sample (``stride_``) and simulated on
+blocks of ``k`` samples while its time constants allow (``blocks_``, see
+:mod:`~thermolimb.identification.thinning`).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from .base import ThermalEstimator
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor, scaled_inverse
 from .regression import collinear_partners, independent_fractions
-from .thinning import fit_rows, fit_stride
+from .thinning import blocks_allowed, fit_rows, fit_stride, on_blocks
 
 # Output error refuses only near-exact degeneracy; a poorly determined parameter shows in its standard error.
 DEGENERATE_FRACTION = 1e-5
@@ -117,24 +118,35 @@ class FreeRunLeastSquares(ThermalEstimator):
 
         hidden = bool(hidden_states(terms))
 
-        def runs(model):
-            # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
-            # where the run's readings put them (variable projection: they are linear in the output)
-            return [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)
-                    for s, rate, r in zip(series, rates, rows)]
-
-        def residual(x):
-            values = x_all.copy()
-            values[free] = x
-            model = ThermalModel(terms, dict(zip(names, values)))
-            return np.concatenate([run[r] for run, r in zip(runs(model), rows)]) - measured
+        def residual_on(shown, shown_rows):
+            def residual(x):
+                values = x_all.copy()
+                values[free] = x
+                model = ThermalModel(terms, dict(zip(names, values)))
+                # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
+                # where the run's readings put them (variable projection: they are linear in the output)
+                runs = [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)
+                        for s, rate, r in zip(shown, rates, shown_rows)]
+                return np.concatenate([run[r] for run, r in zip(runs, shown_rows)]) - measured
+            return residual
 
         from scipy.optimize import least_squares  # scipy.optimize takes ~0.4 s to import: only when fitting
 
         x0 = x_all[free]
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
-        result = least_squares(residual, x0, bounds=(lower[free], upper[free]), x_scale=scale, method="trf",
-                               max_nfev=self.max_iterations or self.max_nfev * len(params))
+        budget = self.max_iterations or self.max_nfev * len(params)
+        # a long log is simulated on blocks of k samples, and again at its full rate if the fit ends where its time
+        # constants are not long against them (thinning.BLOCK_TIME_CONSTANTS); a short fit, which only ranks
+        # starting points, keeps its blocks
+        blocks = k > 1
+        shown, shown_rows = zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
+        result = least_squares(residual_on(shown, shown_rows), x0, bounds=(lower[free], upper[free]), x_scale=scale,
+                               method="trf", max_nfev=budget)
+        if blocks and not self.max_iterations and not blocks_allowed(ThermalModel(terms, dict(zip(names, _with(x_all, free, result.x)))), shown):
+            blocks = False
+            result = least_squares(residual_on(series, rows), result.x, bounds=(lower[free], upper[free]),
+                                   x_scale=scale, method="trf", max_nfev=budget)
+        self.blocks_ = k if blocks else 1  # the samples per block of the simulation the fit ended on
         self.optimizer_result_ = result
         self.jacobian_ = result.jac  # d simulated temperature / d free parameters, every stride_-th sample
         r = result.fun
@@ -153,11 +165,16 @@ class FreeRunLeastSquares(ThermalEstimator):
         sigma2 = float(r @ r) / dof * ar1_variance_factor(r)
         cov = np.zeros((len(names), len(names)))
         cov[np.ix_(free, free)] = sigma2 * scaled_inverse(J.T @ J)
-        values = x_all.copy()
-        values[free] = result.x
+        values = _with(x_all, free, result.x)
         final = ThermalModel(terms, dict(zip(names, values)))
         self.offsets_ = [final.place_hidden(s, r, rate)[1] if hidden else {} for s, rate, r in zip(series, rates, rows)]
         return values, cov
+
+
+def _with(values: np.ndarray, free: np.ndarray, x: np.ndarray) -> np.ndarray:
+    out = values.copy()
+    out[free] = x
+    return out
 
 
 def _time_constant_guess(series) -> float:

@@ -122,7 +122,7 @@ class ThermalModel:
         gain = 0.0
         boundary = offset
         for term in self._terms():
-            r, g = term.contribution(self.params, s)
+            r, g = s.contribution(term, self.params)
             rise += r
             if np.ndim(g) or g != 0.0:
                 gain = gain + g

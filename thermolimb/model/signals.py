@@ -130,6 +130,10 @@ class Signals:
             raise KeyError(f"this model needs the '{name}' column, which the log does not have")
         return value
 
+    def contribution(self, term, params) -> tuple[np.ndarray | float, np.ndarray | float]:
+        """``term``'s ``(rise, gain)`` on these signals (a block-averaged run, :mod:`.block_means`, averages them)."""
+        return term.contribution(params, self)
+
     def map_arrays(self, fn) -> "Signals":
         """The same signals with ``fn`` applied to the time axis and every channel present."""
         changed = {f.name: fn(getattr(self, f.name)) for f in fields(self)

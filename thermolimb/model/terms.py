@@ -70,8 +70,20 @@ class Term:
     lags_output: ClassVar[bool] = False
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
-        """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's)."""
-        return 0.0, 0.0
+        """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's); default:
+        :meth:`combine` of :meth:`forms`, or none."""
+        forms = self.forms(s)
+        return (0.0, 0.0) if forms is None else self.combine(p, forms)
+
+    def forms(self, s: Signals) -> tuple[np.ndarray, ...] | None:
+        """The per-sample arrays the contribution combines linearly, whatever the parameters (``effort**2``,
+        ``|velocity|``), or ``None`` for a term that defines :meth:`contribution` itself.  A block-averaged run
+        (:mod:`.block_means`) averages them once, not each contribution."""
+        return None
+
+    def combine(self, p: Mapping[str, float], forms: tuple) -> tuple[np.ndarray | float, np.ndarray | float]:
+        """``(rise_K, gain)`` from :meth:`forms`' arrays (or their block means), linear in them."""
+        raise NotImplementedError  # abstract: a term with forms combines them
 
     def shape_equilibrium(self, p: Mapping[str, float], s: Signals, equilibrium_C: np.ndarray,
                           initial_C: float, boundary_C: np.ndarray) -> np.ndarray:
@@ -119,8 +131,11 @@ class LinearTerm(Term):
     def regressor(self, s: Signals) -> np.ndarray:
         raise NotImplementedError  # abstract
 
-    def contribution(self, p, s):
-        return p[self.parameters[0].name] * self.regressor(s), 0.0
+    def forms(self, s):
+        return (self.regressor(s),)
+
+    def combine(self, p, forms):
+        return p[self.parameters[0].name] * forms[0], 0.0
 
     def features(self, s, temperature_C):
         return self.regressor(s)[:, None]

@@ -40,7 +40,6 @@ from dataclasses import replace
 import numpy as np
 
 from ...identification import FreeRunLeastSquares, IdentifiabilityError
-from ...identification.thinning import coarse, fit_stride
 from ...model.model import model_parameters
 from ...model.terms import TERMS, Parameter
 from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
@@ -122,12 +121,10 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
     else:
         return [(np.inf, start) for start in starts]
     screened = []
-    stride = fit_stride(train)
-    shown = [coarse(s, stride) for s in train]  # a screen ranks: a long log's every stride-th sample is enough
     for initial, fixed in points:
         try:
             est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None)
-            est.fit(shown)
+            est.fit(train)
         except IdentifiabilityError:
             continue
         screened.append((float(est.optimizer_result_.cost), len(screened), dict(est.params_)))
