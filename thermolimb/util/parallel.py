@@ -71,8 +71,19 @@ def available_memory_bytes() -> float | None:
     return min(found) if found else None
 
 
-def _worker_start(parent: int) -> None:
+_SHARED = None  # what a runner's ``shared`` gave this process: sent once to each worker, not with every job
+
+
+def shared():
+    """The ``shared`` value of the runner running this job (:class:`Runner`): data every job reads, such as the
+    log a stability check perturbs, sent to each local worker once instead of in every job."""
+    return _SHARED
+
+
+def _worker_start(parent: int, value=None) -> None:
     """Each local worker: Ctrl-C is the parent's to answer, and the worker dies when the parent does."""
+    global _SHARED
+    _SHARED = value
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
@@ -95,21 +106,26 @@ def check_ray_address(address: str | None, timeout_s: float = RAY_CONNECT_TIMEOU
 
 
 class Runner:
-    """A backend held open: ``with Runner("process", 2) as r: r.map(func, jobs)``."""
+    """A backend held open: ``with Runner("process", 2) as r: r.map(func, jobs)``.  ``shared``: a value every job
+    reads by :func:`shared` (local backends only), sent once to each worker."""
 
-    def __init__(self, backend: str = "process", workers: int = 2, address: str | None = None):
+    def __init__(self, backend: str = "process", workers: int = 2, address: str | None = None, shared=None):
         if backend not in BACKENDS:
             raise UsageError(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
-        self.backend, self.workers, self.address = backend, workers, address
+        if shared is not None and backend == "ray":
+            raise UsageError("a runner's shared value is for the local backends (process, serial), not ray")
+        self.backend, self.workers, self.address, self.shared = backend, workers, address, shared
         self._pool = None
         self._ray = None
         self._started_ray = False
 
     def __enter__(self) -> "Runner":
+        global _SHARED
+        self._before, _SHARED = _SHARED, self.shared  # serially, the jobs run here
         if self.backend == "process":
             self.workers = worker_limit(self.workers)[0]
             self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker_start,
-                                             initargs=(os.getpid(),))
+                                             initargs=(os.getpid(), self.shared))
         elif self.backend == "ray":
             try:
                 import ray
@@ -122,6 +138,8 @@ class Runner:
         return self
 
     def __exit__(self, exc_type, *exc) -> None:
+        global _SHARED
+        _SHARED = self._before
         if self._pool is not None:
             if exc_type is None:
                 self._pool.shutdown()
@@ -213,7 +231,8 @@ def with_one_blas_thread(func: Callable, *args):
 
 
 def run_jobs(func: Callable, jobs: Sequence[tuple], backend: str = "process", workers: int = 2,
-             address: str | None = None) -> list:
-    """``[func(*job) for job in jobs]`` on the chosen backend (``process``, ``ray`` or ``serial``)."""
-    with Runner(backend, workers, address) as runner:
+             address: str | None = None, shared=None) -> list:
+    """``[func(*job) for job in jobs]`` on the chosen backend (``process``, ``ray`` or ``serial``); ``shared``: see
+    :class:`Runner`."""
+    with Runner(backend, workers, address, shared) as runner:
         return runner.map(func, jobs)
