@@ -7,9 +7,10 @@ weighs each sample's forcing by ``exp(-lam (t_end - t))``, which differs from th
 weight by at most ``lam D``.  So a simulation on the blocks' grid, each block's rises and
 gains averaged over its samples (weighted by their intervals), misses the full rate's
 only by a share ``lam D`` of the fluctuations within a block, where keeping one sample
-per block misses by all of them (on the 6 M-row Parquet of ``benchmarks/diagnose.py
---large``, blocks of 15 samples at 10 Hz with RC = 83 s: 0.001 K rms and 0.022 K at most
-from the full rate's free run, against 0.44 K rms and 7.1 K for kept samples).
+per block misses by all of them (``python benchmarks/block_means.py``: the plant's 10 Hz
+random profile with speed losses, blocks of 15 samples, RC = 80.5 s: 0.0007 K rms and
+0.007 K at most from the full rate's free run, against 0.25 K rms and 2.9 K for kept
+samples).
 
 What is averaged is each term's contribution, computed from the full-rate signals: a
 term that combines arrays of the log linearly (:meth:`~.terms.Term.forms`: ``effort**2``,
