@@ -166,9 +166,9 @@ def selection_frequencies(diagnosis, series, search, replicate) -> dict[str, flo
     specs = [c.spec() for c in chosen]
     initial = dict(diagnosis.base.model.params)
     plain = replace(search, stability=None, quiet=True)
-    jobs = [(perturbed, replicate, p, diagnosis.model, plain, initial, specs,
-             p.jitter([spec["fitted"] for spec in specs])) for p in perturbations(stability, list(series), search.scheme)]
-    # the log goes to each worker once, not in every replicate (10 replicates of the 6 M-row Parquet's knee: 112 MB each)
+    jobs = [(perturbed, replicate, p, diagnosis.model, plain, initial, specs, p.jitter([s["fitted"] for s in specs]))
+            for p in perturbations(stability, list(series), search.scheme)]
+    # the log goes to each worker once, not in every replicate (the 6 M-row Parquet's knee: 112 MB a replicate)
     taken = run_jobs(with_one_blas_thread, jobs, backend="process" if stability.workers > 1 else "serial",
                      workers=stability.workers, shared=list(series))
     counts: dict[str, int] = {}
