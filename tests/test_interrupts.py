@@ -11,6 +11,7 @@ import sys
 import threading
 import time
 
+import numpy as np
 import pytest
 
 from thermolimb.cli.main import main
@@ -205,3 +206,25 @@ def test_a_signal_whose_raise_a_finalizer_swallowed_is_raised_again_where_the_lo
         sys.unraisablehook = hook
         interrupts.restore(previous)
     interrupts.check()  # restored: nothing is ending
+
+
+def _with_shared(k: int) -> tuple[int, float]:
+    from thermolimb.util.parallel import shared
+
+    return os.getpid(), float(shared()[k])
+
+
+def test_a_runners_shared_value_reaches_every_job_on_each_backend_and_is_gone_after():
+    """A value every job reads (the log a stability check perturbs) goes to each worker once, not with each job;
+    the jobs read the same on the process pool and serially, and nothing of it stays after the map."""
+    from thermolimb.util.errors import UsageError
+    from thermolimb.util.parallel import Runner, run_jobs, shared
+
+    values = np.arange(10.0) ** 2
+    pooled = run_jobs(_with_shared, [(k,) for k in range(6)], backend="process", workers=2, shared=values)
+    serial = run_jobs(_with_shared, [(k,) for k in range(6)], backend="serial", shared=values)
+    assert [v for _, v in pooled] == [v for _, v in serial] == [float(k * k) for k in range(6)]
+    assert os.getpid() not in {pid for pid, _ in pooled} and {pid for pid, _ in serial} == {os.getpid()}
+    assert shared() is None
+    with pytest.raises(UsageError, match="local backends"):
+        Runner("ray", shared=values)
