@@ -120,9 +120,7 @@ class FreeRunLeastSquares(ThermalEstimator):
 
         def residual_on(shown, shown_rows):
             def residual(x):
-                values = x_all.copy()
-                values[free] = x
-                model = ThermalModel(terms, dict(zip(names, values)))
+                model = ThermalModel(terms, dict(zip(names, _with(x_all, free, x))))
                 # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
                 # where the run's readings put them (variable projection: they are linear in the output)
                 runs = [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)

@@ -12,7 +12,9 @@ first-order linear ODE in T at every instant.
 
 A new effect is a subclass of :class:`Term` with a ``name``, its
 ``parameters`` (with units and bounds), the log ``columns`` it needs, and a
-``contribution`` method; decorate it with :func:`register_term` and every
+``contribution`` method -- or, when the contribution combines arrays of the log
+linearly, ``forms`` and ``combine``, which a long log's fit averages once per
+block (:mod:`.block_means`); decorate it with :func:`register_term` and every
 estimator, ``thermolimb fit`` and ``thermolimb diagnose`` can use it.
 """
 
