@@ -49,6 +49,10 @@ class BlockSignals(Signals):
         rise, gain = term.contribution(params, self.full)
         return self.mean(rise), self.mean(gain)
 
+    def map_arrays(self, fn):
+        raise TypeError("a block-averaged run is not sliced or mapped: do it to the full-rate signals and block them "
+                        "again (block_means.blocked)")
+
     def mean(self, values):
         """Each block's mean of ``values`` (one per sample of ``full``), weighted by the samples' intervals; a
         number stays a number.  The last grid point's block has no interval after it: its own sample."""
