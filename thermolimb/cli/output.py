@@ -10,7 +10,6 @@ from pathlib import Path
 from ..model.parameter_units import spaced
 from ..util.errors import bounded
 from ..util.jsonutil import to_jsonable
-from ..workbench.validation import set_aside_sentence
 
 
 def print_json(obj, file=None) -> None:
@@ -33,6 +32,13 @@ def format_params(report, indent: str = "  ", evidence: bool = True) -> list[str
     lines += [f"{indent}! {flag}" for flag in report.flags]
     lines += [f"{indent}{set_aside_sentence(a)}" for a in report.set_aside]
     return lines
+
+
+def set_aside_sentence(entry) -> str:
+    """One line for a term set aside or a value held (an entry of a report's ``set_aside``)."""
+    if "term" in entry:
+        return f"set aside: {entry['term']} ({entry['reason']})"
+    return f"held: {entry['parameter']} = {entry['held_at']:.2f} {entry['unit']} ({entry['reason']})"
 
 
 def html_page(args, title: str):

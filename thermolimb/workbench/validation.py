@@ -240,16 +240,12 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
                 out += _segments(model, series, [(lo, hi)], unit=unit)
         return out
     end = max(hi for _, hi in pieces)
-    rate = series.rate_K_per_s()
-    key = (id(model), rate, tuple(sorted((offsets or {}).items())),
-           *(x.__array_interface__["data"][0] for x in (series.time_s, series.signals.effort, series.temperature_C)))
-    whole = (runs or {}).get(key)
-    if whole is not None and whole.size >= end:
-        sim = whole[:end]
-    else:
-        sim = model.free_run(series.slice(0, end), rate, offsets=offsets)
-        if runs is not None:
-            runs[key] = sim
+    rate, runs = series.rate_K_per_s(), {} if runs is None else runs
+    key = (id(model), rate, str(offsets), *(x.ctypes.data for x in (series.time_s, series.signals.effort,
+                                                                     series.temperature_C)))
+    if key not in runs or runs[key].size < end:
+        runs[key] = model.free_run(series.slice(0, end), rate, offsets=offsets)
+    sim = runs[key][:end]
     for lo, hi in pieces:
         label = unit or (series.run if len(pieces) == 1 else f"{series.run or 'run'} block {lo}-{hi}")
         out.append(Segment(series.time_s[lo:hi], series.temperature_C[lo:hi], sim[lo:hi],
@@ -454,7 +450,7 @@ def identifiable_submodel(fit: Callable[[tuple[str, ...], dict], FitReport], mod
             model = tuple(t for t in model if t != term)
             continue
         loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
-                 for flag in _loose_flag(report, name)]
+                 for flag in report.flags if flag.startswith(f"{name} = ")]  # uncertain, or a time constant unseen
         if not loose:
             return replace(report, set_aside=tuple(aside))
         for name, flag in loose:
@@ -473,18 +469,6 @@ def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> N
         if not (np.isfinite(value) and p.lower <= value <= p.upper):
             raise LogError(f"--datasheet {name}={value:g} is outside what {name} can be ({p.lower:g} to {p.upper:g} "
                            f"{p.unit})")
-
-
-def _loose_flag(report: FitReport, name: str) -> list[str]:
-    """The report's flags about parameter ``name`` (uncertain, or a time constant the log cannot show)."""
-    return [f for f in report.flags if f.startswith(f"{name} = ")]
-
-
-def set_aside_sentence(entry: Mapping) -> str:
-    """One line for a term set aside or a value held (an entry of :attr:`FitReport.set_aside`)."""
-    if "term" in entry:
-        return f"set aside: {entry['term']} ({entry['reason']})"
-    return f"held: {entry['parameter']} = {entry['held_at']:.2f} {entry['unit']} ({entry['reason']})"
 
 
 def _term_to_set_aside(model: tuple[str, ...], exc: IdentifiabilityError) -> str | None:
