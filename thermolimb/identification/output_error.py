@@ -118,9 +118,12 @@ class FreeRunLeastSquares(ThermalEstimator):
 
         hidden = bool(hidden_states(terms))
 
+        def model_at(x):
+            return ThermalModel(terms, dict(zip(names, _with(x_all, free, x))))
+
         def residual_on(shown, shown_rows):
             def residual(x):
-                model = ThermalModel(terms, dict(zip(names, _with(x_all, free, x))))
+                model = model_at(x)
                 # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
                 # where the run's readings put them (variable projection: they are linear in the output)
                 runs = [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)
@@ -140,8 +143,7 @@ class FreeRunLeastSquares(ThermalEstimator):
         shown, shown_rows = zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
         result = least_squares(residual_on(shown, shown_rows), x0, bounds=(lower[free], upper[free]), x_scale=scale,
                                method="trf", max_nfev=budget)
-        if blocks and not self.max_iterations and \
-                not blocks_allowed(ThermalModel(terms, dict(zip(names, _with(x_all, free, result.x)))), shown):
+        if blocks and not self.max_iterations and not blocks_allowed(model_at(result.x), shown):
             blocks = False
             result = least_squares(residual_on(series, rows), result.x, bounds=(lower[free], upper[free]),
                                    x_scale=scale, method="trf", max_nfev=budget)
@@ -165,7 +167,7 @@ class FreeRunLeastSquares(ThermalEstimator):
         cov = np.zeros((len(names), len(names)))
         cov[np.ix_(free, free)] = sigma2 * scaled_inverse(J.T @ J)
         values = _with(x_all, free, result.x)
-        final = ThermalModel(terms, dict(zip(names, values)))
+        final = model_at(result.x)
         self.offsets_ = [final.place_hidden(s, r, rate)[1] if hidden else {} for s, rate, r in zip(series, rates, rows)]
         return values, cov
 

@@ -67,11 +67,11 @@ def blocks_allowed(model, shown) -> bool:
     """Whether the model's time constants on the blocked series ``shown`` are each at least
     ``BLOCK_TIME_CONSTANTS`` blocks long: the winding's where it is fastest (a gain such as cooling by motion
     shortens it), each slow mass's."""
+    slow = [model.params[p.name] for t in model.terms if TERMS[t].carries_state for p in TERMS[t].parameters
+            if p.unit == "s"]
     for s in shown:
         span = float(np.diff(s.time_s).max(initial=0.0))
         rate = float(np.max(model.forcing(s.signals)[1]))
-        slow = [model.params[p.name] for t in model.terms if TERMS[t].carries_state for p in TERMS[t].parameters
-                if p.unit == "s"]
         if min([1.0 / rate, *slow]) < BLOCK_TIME_CONSTANTS * span:
             return False
     return True
