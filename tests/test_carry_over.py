@@ -122,6 +122,48 @@ def test_hidden_states_are_placed_where_the_readings_put_them():
     np.testing.assert_allclose(placed, warm.temperature_C, atol=1e-8)
 
 
+def test_placed_responses_are_reused_only_across_parameters_that_move_the_rise_alone():
+    """The fit's memo of hidden-state responses: perturbing any one parameter, the placed run is the one computed
+    afresh; the effort coefficients and the offset reuse the point's responses, the others do not."""
+    log = simulate_profile("random", 1200.0, 1.0, ["knee"], [CASE_SPECS[0]], PlantEffects(), seed=2,
+                           network=NETWORKS["first_order"]).log
+    series = log.series("knee")
+    terms = ("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag")
+    base = ThermalModel(terms, {"RC_s": 60.0, "betaR_K_per_effort2": 0.2, "beta_biasR_K_per_effort": 0.1,
+                                "speed_K_per_rad_s": 0.5, "speed2_K_per_rad2_s2": 0.2, "frame_fraction": 0.5,
+                                "frame_tau_s": 900.0, "sensor_tau_s": 8.0, "T_offset_C": 25.0})
+    rows = np.arange(0, series.n, 3)
+    reused = []
+    for name in base.params:
+        memo: dict = {}
+        base.place_hidden(series, rows, memo=memo)
+        moved = base.with_params({**base.params, name: base.params[name] * 1.01})
+        placed, offsets = moved.place_hidden(series, rows, memo=memo)
+        fresh, fresh_offsets = moved.place_hidden(series, rows)
+        np.testing.assert_allclose(placed, fresh, rtol=0, atol=1e-9)
+        assert offsets == pytest.approx(fresh_offsets, abs=1e-9)
+        reused += [name] if len(memo) == 1 else []
+    assert reused == ["betaR_K_per_effort2", "beta_biasR_K_per_effort", "speed_K_per_rad_s", "speed2_K_per_rad2_s2",
+                      "T_offset_C"]
+
+
+def test_a_rise_only_term_has_no_gain_and_shapes_nothing():
+    """What ``Term.rise_only`` promises, for each of the suite's terms that declares it."""
+    from thermolimb.model.terms import TERMS, Term
+
+    shaping = ("shape_equilibrium", "shape_output", "winding_share", "initial_winding")
+    log = simulate_profile("random", 300.0, 1.0, ["knee"], [CASE_SPECS[0]], PlantEffects(), seed=2,
+                           network=NETWORKS["first_order"]).log
+    s = log.series("knee").signals
+    declared = [cls for cls in TERMS.values() if cls.rise_only]
+    assert {"joule", "effort_bias", "speed_losses"} <= {cls.name for cls in declared}
+    for cls in declared:
+        assert all(getattr(cls, m) is getattr(Term, m) for m in shaping), cls.name
+        if all(s.has(c) for c in cls.columns):
+            p = {par.name: par.typical for par in cls.parameters} | {"T_offset_C": 25.0}
+            assert np.all(np.asarray(cls().contribution(p, s)[1]) == 0.0), cls.name
+
+
 def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
     """Cut 200 s into its heating, the step test starts with its housing cooler than the first reading's share:
     placed where the readings put it, the slow mass gives the fit the whole run gives, within 2 %."""

@@ -91,3 +91,22 @@ def test_every_scan_path_equals_the_loop(low, high):
     for k in range(a.size):
         expected.append(a[k] * expected[-1] + b[k])
     np.testing.assert_allclose(first_order_scan(a, b, 0.5), expected, rtol=0, atol=1e-9)
+
+
+def test_a_kept_recursion_scans_as_a_fresh_one_and_does_not_pickle():
+    """The signals keep a constant rate's recursion for the next scan (a fit's evaluations, a simulation's
+    passes): the same one comes back, it scans any inputs as a fresh recursion does, and a pickled copy of the
+    signals (a pool's job) leaves it behind."""
+    import pickle
+
+    from thermolimb.model.scan import Recursion
+
+    rng = np.random.default_rng(6)
+    t = np.cumsum(rng.choice([0.5, 0.5, 1.0, 2.0], 6000))  # irregular intervals of a few lengths: looked up
+    s = Signals(t, rng.normal(size=t.size))
+    kept = s.recursion(1.0 / 300.0)
+    assert s.recursion(1.0 / 300.0) is kept and s.recursion(1.0 / 299.0) is not kept
+    fresh = Recursion(np.exp(-np.diff(t) / 300.0))
+    for b in (rng.normal(size=t.size - 1), np.zeros(t.size - 1)):
+        np.testing.assert_allclose(kept.run(b, 3.0), fresh.run(b, 3.0), rtol=1e-12, atol=1e-12)
+    assert "_recursions" not in pickle.loads(pickle.dumps(s)).__dict__

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.scan import first_order_scan
 from ..model.terms import Parameter, Term, register_term
 from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
@@ -51,11 +50,11 @@ class SlowMass(Term):
         heat = equilibrium_C - boundary_C
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
-        a, log_a = s.decay(flow / p[self.tau])
+        recursion = s.recursion(flow / p[self.tau])
         # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
         # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it
         start = boundary_C[0] + phi * (initial_C - boundary_C[0]) + offset if state is None else state
-        frame = first_order_scan(a, (1.0 - a) * target[:-1], start, log_a)
+        frame = recursion.run((1.0 - recursion.a) * target[:-1], start)
         self.state = float(frame[-1])
         return frame + (1.0 - phi) * heat
 

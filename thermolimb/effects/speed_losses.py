@@ -24,6 +24,7 @@ class SpeedLossesTerm(Term):
                   "rise per squared speed (iron losses)", "motion at several speeds"),
     )
     columns = ("velocity",)
+    rise_only = True
 
     def forms(self, s):
         v = speed(s)

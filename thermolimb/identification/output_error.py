@@ -122,12 +122,14 @@ class FreeRunLeastSquares(ThermalEstimator):
             return ThermalModel(terms, dict(zip(names, _with(x_all, free, x))))
 
         def residual_on(shown, shown_rows):
+            memos = [{} for _ in shown]
+
             def residual(x):
                 model = model_at(x)
                 # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
                 # where the run's readings put them (variable projection: they are linear in the output)
-                runs = [model.place_hidden(s, r, rate)[0] if hidden else model.free_run(s, rate)
-                        for s, rate, r in zip(shown, rates, shown_rows)]
+                runs = [model.place_hidden(s, r, rate, memo=m)[0] if hidden else model.free_run(s, rate)
+                        for s, rate, r, m in zip(shown, rates, shown_rows, memos)]
                 return np.concatenate([run[r] for run, r in zip(runs, shown_rows)]) - measured
             return residual
 

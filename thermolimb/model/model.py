@@ -17,7 +17,7 @@ from ..util.frozen import FrozenMapping
 from .guard import instance
 from .scan import first_order_scan
 from .signals import Signals
-from .terms import TERMS, Parameter, parse_model
+from .terms import TERMS, Parameter, is_built_in, parse_model
 
 TIME_CONSTANT = Parameter("RC_s", "s", 1e-3, np.inf, 100.0, "thermal time constant RC",
                           "temperature that changes: heating and cooling transients")
@@ -31,6 +31,9 @@ BASE_PARAMETERS = (TIME_CONSTANT, OFFSET)
 _MIN_RESTORING = 1e-6
 # fixed-point passes of a temperature-dependent heat through slow masses (see ThermalModel._coupled)
 COUPLING_PASSES = 2
+# ThermalModel.place_hidden's memo keeps the responses of this many parameter points, and at most this many bytes
+# (a finite-difference Jacobian perturbs one parameter at a time: the ones that move only the rise reuse its point's)
+MEMO_RESPONSES, MEMO_BYTES = 4, 32 << 20
 
 
 def hidden_states(terms: tuple[str, ...]) -> tuple[str, ...]:
@@ -214,26 +217,43 @@ class ThermalModel:
     def hidden_states(self) -> tuple[str, ...]:
         return hidden_states(self.terms)
 
-    def place_hidden(self, series, rows: np.ndarray, rate: float | None = None,
-                     run: np.ndarray | None = None) -> tuple[np.ndarray, dict[str, float]]:
+    def place_hidden(self, series, rows: np.ndarray, rate: float | None = None, run: np.ndarray | None = None,
+                     memo: dict | None = None) -> tuple[np.ndarray, dict[str, float]]:
         """The free run of ``series`` with its hidden states' starts placed where the readings at ``rows`` put
         them, and those offsets: the model is affine in its states, so each offset's response is one more free
         run, and the offsets are the least-squares fit of the residual at ``rows`` by those responses.
-        ``run``: the free run without offsets, when the caller has it."""
+        ``run``: the free run without offsets, when the caller has it.  ``memo``, a dict the caller keeps for this
+        series, holds the last responses: they depend only on the parameters that move more than the rise (a fit's
+        finite differences in an effort coefficient or the offset reuse them)."""
         rate = series.rate_K_per_s() if rate is None else rate
         run = self.free_run(series, rate) if run is None else run
         names = self.hidden_states
         if not names or rows.size == 0:
             return run, {}
-        responses = np.column_stack([self.free_run(series, rate, offsets={h: 1.0}) - run for h in names])
+        key = self._response_key()
+        responses = memo.pop(key, None) if memo is not None else None
+        if responses is None:
+            responses = np.column_stack([self.free_run(series, rate, offsets={h: 1.0}) - run for h in names])
+        if memo is not None:  # most recent last; a few at most, and none of a long run's
+            memo[key] = responses
+            while len(memo) > min(MEMO_RESPONSES, MEMO_BYTES // responses.nbytes):
+                memo.pop(next(iter(memo)))
         G = responses[rows]
         delta = np.linalg.lstsq(G, series.temperature_C[rows] - run[rows], rcond=1e-9)[0]
         return run + responses @ delta, dict(zip(names, map(float, delta)))
 
+    def _response_key(self) -> tuple:
+        """The terms and the values a hidden state's response depends on: all but the offset and the parameters of
+        terms that move only the rise (``Term.rise_only``, the suite's own: the model is affine in them and in its
+        states; a user's term may subclass one and add a gain)."""
+        rise = {"T_offset_C"} | {p.name for t in map(TERMS.get, self.terms) if t.rise_only and is_built_in(t)
+                                 for p in t.parameters}
+        return (self.terms, *(v for k, v in self.params.items() if k not in rise))
+
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
         if method == "exact":
-            a, log_a = s.decay(lam)
-            return first_order_scan(a, (1.0 - a) * u[:-1], start, log_a)
+            recursion = s.recursion(lam)
+            return recursion.run((1.0 - recursion.a) * u[:-1], start)
         lam, dt = (lam[:-1], s.dt_s) if np.ndim(lam) else (lam, s.interval_s)
         a = 1.0 - lam * dt
         b = lam * dt * u[:-1]

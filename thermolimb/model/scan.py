@@ -54,53 +54,89 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float, log_a: np.ndarray 
     b = np.asarray(b, dtype=float)
     a = np.asarray(a, dtype=float)
     if b.shape[0] <= SHORT and np.all((a >= 0.0) & (a <= 1.0)) and (a.ndim == 0 or a.shape == b.shape):
-        out = [float(x0)]
-        for ak, bk in zip(np.broadcast_to(a, b.shape).tolist(), b.tolist()):
-            out.append(ak * out[-1] + bk)
-        return np.array(out)
-    if a.ndim == 0 and 0.0 <= a <= 1.0:
-        return _constant_factor(float(a), b, float(x0))
-    n = a.shape[0]
-    if b.shape != a.shape:
+        return _loop(a, b, x0)
+    if a.ndim and b.shape != a.shape:
         raise ValueError(f"a and b must have the same shape, got {a.shape} and {b.shape}")
-    if n == 0:
-        return np.full(1, float(x0))
-    lowest, highest = a.min(), a.max()  # one pass each: the range check and the constant test share them
-    if highest > 1.0 or lowest < 0.0:
-        raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
-    if highest - lowest <= CONSTANT_A * (1.0 - highest):
-        return _constant_factor(float(np.mean(a)), b, float(x0))
-    if log_a is None:
-        with np.errstate(divide="ignore"):  # a = 0 is a step that forgets: its log is clamped like any fast decay
-            log_a = np.log(a)
-    log_a = np.maximum(log_a, _MIN_LOG_A)
-    L = np.cumsum(log_a)  # log of the product of a up to step k: decreasing, -decay
-    out = np.empty(n + 1)
-    out[0] = x0
-    if -L[-1] / MAX_DECAY_PER_CHUNK > n * np.log2(max(n, 2)) / ELEMENTS_PER_CHUNK:
-        out[1:] = _associative_scan(a, b, float(x0))
+    return Recursion(a, log_a).run(b, x0)
+
+
+class Recursion:
+    """The factors ``a`` of ``x[k+1] = a[k] x[k] + b[k]`` made ready once for any number of ``b``: the chunks and
+    their cumulative products (module docstring), or the one constant factor, or the associative scan's choice.
+    A simulation's passes and a fit's evaluations at the same rate share them
+    (:meth:`~thermolimb.model.signals.Signals.recursion`); :attr:`a` is the factors (a number when constant)."""
+
+    def __init__(self, a: np.ndarray | float, log_a: np.ndarray | None = None):
+        a = np.asarray(a, dtype=float)
+        self.a, self.chunks, self.associative = a, None, False
+        if a.ndim == 0:
+            if not 0.0 <= a <= 1.0:
+                raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
+            self.a = float(a)
+            return
+        n = a.shape[0]
+        if n == 0:
+            self.chunks = []
+            return
+        lowest, highest = a.min(), a.max()  # one pass each: the range check and the constant test share them
+        if highest > 1.0 or lowest < 0.0:
+            raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
+        if highest - lowest <= CONSTANT_A * (1.0 - highest):
+            self.a = float(np.mean(a))
+            return
+        if log_a is None:
+            with np.errstate(divide="ignore"):  # a = 0 is a step that forgets: its log is clamped like any fast decay
+                log_a = np.log(a)
+        log_a = np.maximum(log_a, _MIN_LOG_A)
+        L = np.cumsum(log_a)  # log of the product of a up to step k: decreasing, -decay
+        if -L[-1] / MAX_DECAY_PER_CHUNK > n * np.log2(max(n, 2)) / ELEMENTS_PER_CHUNK:
+            self.associative = True
+            return
+        a = np.maximum(a, _MIN_A)  # as the logarithm is clamped
+        self.chunks, start, decays = [], 0, None  # decays: -L, for the chunks' ends, only when there is more than one
+        while start < n:
+            offset = L[start - 1] if start > 0 else 0.0
+            if L[-1] >= offset - MAX_DECAY_PER_CHUNK:
+                stop = n
+            else:  # the chunk ends where its decay passes MAX_DECAY_PER_CHUNK
+                decays = -L if decays is None else decays
+                stop = int(np.searchsorted(decays, MAX_DECAY_PER_CHUNK - offset, side="right"))
+            stop = max(stop, start + 1)
+            # decay[i] = prod_{j=start}^{start+i} a[j] = exp(L[start+i] - offset), in (exp(-30), 1]: a product is
+            # half the cost of the exponential and as accurate (one rounding a step: ~1e-12 over 1e4 steps)
+            self.chunks.append((start, stop, np.cumprod(a[start:stop])))
+            start = stop
+
+    @property
+    def nbytes(self) -> int:
+        return np.size(self.a) * 8 + sum(c[2].nbytes for c in self.chunks or ())
+
+    def run(self, b: np.ndarray, x0: float) -> np.ndarray:
+        """``x`` for inputs ``b`` (one per factor) from ``x[0] = x0``."""
+        b = np.asarray(b, dtype=float)
+        if isinstance(self.a, float):
+            return _loop(np.asarray(self.a), b, x0) if b.shape[0] <= SHORT else _constant_factor(self.a, b, float(x0))
+        if b.shape[0] <= SHORT:
+            return _loop(self.a, b, x0)
+        out = np.empty(b.shape[0] + 1)
+        out[0] = x0
+        if self.associative:
+            out[1:] = _associative_scan(self.a, b, float(x0))
+            return out
+        state = float(x0)
+        for start, stop, decay in self.chunks:
+            summed = np.cumsum(b[start:stop] / decay)
+            summed += state
+            np.multiply(decay, summed, out=out[start + 1 : stop + 1])
+            state = out[stop]
         return out
-    a = np.maximum(a, _MIN_A)  # as the logarithm is clamped
-    start = 0
-    state = float(x0)
-    decays = None  # -L, increasing, for the chunks' ends: only when there is more than one
-    while start < n:
-        offset = L[start - 1] if start > 0 else 0.0
-        if L[-1] >= offset - MAX_DECAY_PER_CHUNK:
-            stop = n
-        else:  # the chunk ends where its decay passes MAX_DECAY_PER_CHUNK
-            decays = -L if decays is None else decays
-            stop = int(np.searchsorted(decays, MAX_DECAY_PER_CHUNK - offset, side="right"))
-        stop = max(stop, start + 1)
-        # decay[i] = prod_{j=start}^{start+i} a[j] = exp(L[start+i] - offset), in (exp(-30), 1]: a product is
-        # half the cost of the exponential and as accurate (one rounding a step: ~1e-12 over 1e4 steps)
-        decay = np.cumprod(a[start:stop])
-        summed = np.cumsum(b[start:stop] / decay)
-        summed += state
-        np.multiply(decay, summed, out=out[start + 1 : stop + 1])
-        state = out[stop]
-        start = stop
-    return out
+
+
+def _loop(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
+    out = [float(x0)]
+    for ak, bk in zip(np.broadcast_to(a, b.shape).tolist(), b.tolist()):
+        out.append(ak * out[-1] + bk)
+    return np.array(out)
 
 
 def _constant_factor(a: float, b: np.ndarray, x0: float) -> np.ndarray:

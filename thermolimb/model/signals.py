@@ -8,10 +8,11 @@ from typing import Mapping
 
 import numpy as np
 
-from .scan import CONSTANT_A
+from .scan import CONSTANT_A, Recursion
 
 FEW_LEVELS = 8  # intervals of at most n / 8 distinct lengths are looked up, not exponentiated one by one
 LOOKUP_FROM = 256  # intervals: fewer are exponentiated one by one
+RECURSIONS, RECURSION_BYTES = 8, 64 << 20  # the constant rates' recursions kept per signals (Signals.recursion)
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
@@ -93,19 +94,29 @@ class Signals:
         levels, index = np.unique(dt, return_inverse=True)
         return (levels, index.astype(np.int32)) if levels.size <= dt.size // FEW_LEVELS else None
 
-    def decay(self, rate_per_s: float | np.ndarray) -> tuple[np.ndarray | float, np.ndarray | float | None]:
-        """``(a, log a)`` with ``a = exp(-rate_per_s * dt)`` for each interval (one number for a uniform log): the
-        factors of the recursion.  At a constant rate, an exponential per distinct interval when they are few (it
-        costs more than the scan it feeds); a rate per sample holds over the interval it starts (``log a`` then
-        ``None``: the scan takes it from ``a``)."""
+    def recursion(self, rate_per_s: float | np.ndarray) -> Recursion:
+        """The factors ``a = exp(-rate_per_s * dt)`` of each interval made ready for scans
+        (:class:`~thermolimb.model.scan.Recursion`).  A constant rate's are kept: a simulation's coupling passes
+        and a fit's evaluations ask for the same rates again (``RECURSIONS`` of them, ``RECURSION_BYTES`` at most).
+        At a constant rate, an exponential per distinct interval when they are few (it costs more than the scan it
+        feeds); a rate per sample holds over the interval it starts."""
         if np.ndim(rate_per_s):
-            return np.exp(-rate_per_s[:-1] * self.dt_s), None
-        dt = self.interval_s
-        log_a = -rate_per_s * dt
-        levels = self.interval_levels if np.ndim(dt) else None
-        if levels is None:
-            return np.exp(log_a), log_a
-        return np.exp(-rate_per_s * levels[0])[levels[1]], log_a
+            return Recursion(np.exp(-rate_per_s[:-1] * self.dt_s))
+        kept = self.__dict__.setdefault("_recursions", {})
+        found = kept.pop(rate_per_s, None)
+        if found is None:
+            dt = self.interval_s
+            log_a = -rate_per_s * dt
+            levels = self.interval_levels if np.ndim(dt) else None
+            found = Recursion(np.exp(log_a) if levels is None else np.exp(-rate_per_s * levels[0])[levels[1]], log_a)
+        kept[rate_per_s] = found  # the most recent last
+        while len(kept) > RECURSIONS or (len(kept) > 1 and sum(r.nbytes for r in kept.values()) > RECURSION_BYTES):
+            kept.pop(next(iter(kept)))
+        return found
+
+    def __getstate__(self):
+        """What pickles: the signals, not the recursions kept for them (a pool's job would carry them)."""
+        return {k: v for k, v in self.__dict__.items() if k != "_recursions"}
 
     @cached_property
     def neighbor_mean_C(self) -> np.ndarray:

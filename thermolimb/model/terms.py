@@ -70,6 +70,9 @@ class Term:
     carries_state: ClassVar[bool] = False
     # a term whose output lags the winding (a thermistor's lag): the winding's start is then a hidden state too
     lags_output: ClassVar[bool] = False
+    # a term whose parameters move only the rise (its gain is 0 and it shapes no state and no output): the
+    # model's response to a hidden state's start does not depend on them (ThermalModel.place_hidden reuses it)
+    rise_only: ClassVar[bool] = False
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's); default:
@@ -129,6 +132,8 @@ class Term:
 
 class LinearTerm(Term):
     """A term whose rise is its one parameter times a regressor built from the log (linear in that parameter)."""
+
+    rise_only = True
 
     def regressor(self, s: Signals) -> np.ndarray:
         raise NotImplementedError  # abstract
