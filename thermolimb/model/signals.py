@@ -101,7 +101,8 @@ class Signals:
         At a constant rate, an exponential per distinct interval when they are few (it costs more than the scan it
         feeds); a rate per sample holds over the interval it starts."""
         if np.ndim(rate_per_s):
-            return Recursion(np.exp(-rate_per_s[:-1] * self.dt_s))
+            log_a = -rate_per_s[:-1] * self.dt_s
+            return Recursion(np.exp(log_a), log_a)
         kept = self.__dict__.setdefault("_recursions", {})
         found = kept.pop(rate_per_s, None)
         if found is None:
