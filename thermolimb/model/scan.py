@@ -109,7 +109,8 @@ class Recursion:
 
     @property
     def nbytes(self) -> int:
-        return np.size(self.a) * 8 + sum(c[2].nbytes for c in self.chunks or ())
+        """What it holds: its factors, and as many again in its chunks' products."""
+        return 8 if isinstance(self.a, float) else self.a.nbytes * (2 if self.chunks else 1)
 
     def run(self, b: np.ndarray, x0: float) -> np.ndarray:
         """``x`` for inputs ``b`` (one per factor) from ``x[0] = x0``."""
