@@ -11,7 +11,7 @@ unperturbed walk decided nothing either (targets: 100 % on plant logs -- the hid
 time, nothing taken where there is none -- and at least 95 % on real logs).  Also the cost of ``--auto``
 with stability against without it, on ``benchmarks/diagnose.py``'s log, in the same process.
 
-    python benchmarks/stability.py [--perturbations K] [--quick] [--json]
+    python benchmarks/stability.py [--perturbations K] [--quick] [--only TEXT] [--json]
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.diagnosis import auto_diagnose
 from thermolimb.workbench.diagnosis.stability import Stability
-from thermolimb.workbench.validation import SPLIT, Scheme
+from thermolimb.workbench.validation import Scheme
 
 # one-mass plant effects and the terms that name them (None: nothing hidden, nothing to take)
 PLANT_CASES = {"none": None, "speed_losses": "speed_losses", "winding_tempco": "winding_tempco",
@@ -79,18 +79,16 @@ def plant_logs(quick: bool) -> list[tuple[str, list, bool, tuple]]:
 
 def perturbed(runs, k: int):
     """Perturbation ``k`` (0: none): 0-5 rows off either end of each run, the validation scheme the command line
-    would use (leave one run out where the log has several runs, a split otherwise) with its split moved by up to
-    0.03, the replicates on seed ``k``.  (Until this round's last stop the copies were always split at 0.7 +- 0.03
-    while the log itself, with several runs, was judged by leaving one run out: on the UR3's J5 that compared two
-    schemes, not a perturbation -- 0 % "same" by the code before and after the stop's speed work alike.)"""
+    would use (leave one run out where the log has several runs; on one run the split, moved by up to 0.03, or
+    interleaved blocks, moved by up to 0.3 of a block: ``diagnosis.split_or_blocks``), the replicates on seed
+    ``k``.  (Until this round's last stop the copies were always split at 0.7 +- 0.03 while the log itself, with
+    several runs, was judged by leaving one run out: on the UR3's J5 that compared two schemes, not a perturbation
+    -- 0 % "same" by the code before and after the stop's speed work alike.)"""
     if k == 0:
         return runs, Scheme(), Stability(seed=0)
     rng = np.random.default_rng([k, 37])
     cut = [(int(rng.integers(0, 6)), int(rng.integers(0, 6))) for _ in runs]
-    moved = 0.7 + rng.uniform(-0.03, 0.03)
-    scheme = Scheme().resolved(runs)
-    if scheme.kind == SPLIT:
-        scheme = Scheme.at_split(moved)
+    scheme = Scheme(split=0.7 + rng.uniform(-0.03, 0.03), phase=rng.uniform(-0.3, 0.3))
     return [s.slice(a, s.n - b) for s, (a, b) in zip(runs, cut)], scheme, Stability(seed=k)
 
 
@@ -131,11 +129,13 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--perturbations", type=int, default=4, help="perturbed copies of each log (default 4)")
     parser.add_argument("--quick", action="store_true", help="two real and two plant logs, two perturbations")
+    parser.add_argument("--only", metavar="TEXT", help="only the logs whose name holds TEXT (e.g. pump, UR3)")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args(argv)
     k = 2 if args.quick else args.perturbations
     rows = []
     logs = [(n, r, d, None) for n, r, d in real_logs(args.quick)] + plant_logs(args.quick)
+    logs = [log for log in logs if args.only is None or args.only in log[0]]
     for name, runs, discover, hidden in logs:
         walks = [walk(runs, discover, j) for j in range(k + 1)]
         # a copy refused as too short says the tool cannot decide: the same answer as a walk that decided nothing
@@ -160,10 +160,12 @@ def main(argv=None) -> dict:
     for kind, target in (("real", 0.95), ("plant", 1.0)):
         shares = [r["same_share"] for r in rows if r["kind"] == kind]
         if shares:
+            right = [r["right_share"] for r in rows if r["kind"] == kind and "right_share" in r]
             print(f"{kind} logs: {sum(s >= target for s in shares)} of {len(shares)} at the target "
-                  f"({100 * target:.0f} % of perturbations end with the same model)")
+                  f"({100 * target:.0f} % of perturbations end with the same model)" +
+                  (f"; {sum(s == 1.0 for s in right)} of {len(right)} right in every copy" if right else ""))
     record = {"perturbations": k, "rows": rows}
-    if not args.quick:
+    if not args.quick and args.only is None:
         record["cost"] = c = cost()
         print(f"--auto on benchmarks/diagnose.py's log: {c['auto_without_s']:.2f} s without stability, "
               f"{c['auto_with_stability_s']:.2f} s with ({c['ratio']:.1f}x)")

@@ -197,3 +197,32 @@ def test_a_cycle_counter_that_resets_now_and_then_is_still_a_counter(tmp_path):
     frame.to_csv(path, index=False)
     assert read_log(path).extras == ("brake", "fan")
     assert "cycle" not in REAL_LOGS["ur3"].read()[0].extras
+
+
+def test_a_channel_that_rests_in_the_split_s_tail_is_judged_on_interleaved_blocks():
+    """A coolant pump run in bouts during the first hour and a half of two: the split's last 30 % holds the pump
+    still, so no pump form could be judged there ("not judged" on every replicate).  The default scheme of the
+    one run is then interleaved blocks, the scheme line says why, and the walk finds the pump's conductance;
+    a log whose channels move throughout keeps the split, and several runs are left one out."""
+    from thermolimb.effects import Schedule
+    from thermolimb.workbench.diagnosis.split_or_blocks import judging_scheme
+    from thermolimb.workbench.validation import Scheme
+
+    fx = PlantEffects.from_names("sensor_noise,quantisation").replace(
+        fan_cooling=FanCooling(gain=1.5, column="pump [%]", schedule=Schedule((0.0, 0.2, 0.6, 1.0),
+                                                                              hold_s=(400.0, 1200.0))))
+    log = simulate_profile("random", 2 * 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=0,
+                           network=NETWORKS["first_order"], load_scale=2.0).log
+    runs = log.runs("knee")
+    split = judging_scheme(Scheme.at_split(), runs, discover=True)
+    assert split.kind == "split"  # asked for by name: kept
+    chosen = judging_scheme(Scheme(), runs, discover=True)
+    assert chosen.kind == "interleaved" and "pump" in chosen.describe() and "last 30 %" in chosen.describe()
+    assert judging_scheme(Scheme(), runs, discover=False).kind == "split"  # no extra channel is a candidate
+    first, steps = auto_diagnose(runs, discover=True)
+    assert "pump_conductance" in steps[-1].model, first.auto
+    assert steps[-1].base.validation["rmse_K"] < 0.1
+    moving = plant_log("speed_losses").runs("knee")
+    assert judging_scheme(Scheme(), moving, discover=True).kind == "split"
+    halves = [runs[0].slice(0, 3600), runs[0].slice(3600, runs[0].n)]
+    assert judging_scheme(Scheme(), halves, discover=True).kind == "runs"

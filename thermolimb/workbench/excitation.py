@@ -99,12 +99,12 @@ class ChannelExcitation:
     judged: tuple[int, int, int]
 
     @staticmethod
-    def _enough(away: int, n: int, bouts: int) -> bool:
+    def enough(away: int, n: int, bouts: int) -> bool:
         return away >= max(MIN_EXCITED, MIN_EXCITED_SHARE * n) and (bouts >= 2 or away >= 0.1 * n)
 
     @property
     def excited(self) -> bool:
-        return self._enough(*self.fitted) and self._enough(*self.judged)
+        return self.enough(*self.fitted) and self.enough(*self.judged)
 
     def sentence(self) -> str:
         """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319 judged

@@ -59,6 +59,7 @@ class Scheme:
     restart: bool = False  # SPLIT, BLOCKS: the free run restarts at the held-out part, hidden states at rest
     held_out: tuple = ()  # HELD_OUT: the runs validated on (ActuatorSeries)
     phase: float = 0.0  # INTERLEAVED: the block grid shifted by this share of a block (stability replicates)
+    why: str = ""  # why it was chosen over the default, said after it (diagnosis.split_or_blocks)
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -100,6 +101,9 @@ class Scheme:
         return cls(HELD_OUT, held_out=tuple(held_out))
 
     def describe(self) -> str:
+        return f"{self._words()}; {self.why}" if self.why else self._words()
+
+    def _words(self) -> str:
         if self.kind == HELD_OUT:
             return "fitted on the given runs, validated on the held-out runs"
         if self.kind == RUNS:
@@ -112,7 +116,7 @@ class Scheme:
             return (f"interleaved blocks: blocks {held} of {INTERLEAVED_BLOCKS} of each run held out, the free run "
                     f"carried from the run's start through them")
         if self.kind == AUTO:
-            return "leave one run out with several runs, interleaved blocks of one run otherwise"
+            return "leave one run out with several runs, a split of one run otherwise"
         if self.kind == BLOCKS:
             start = "restarted at each block" if self.restart else "free run carried from each run's start"
             return f"{self.folds}-fold blocked cross-validation, {start}"
@@ -226,7 +230,7 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
     or restarted at ``lo - 1``.  ``runs`` keeps the free runs carried from a run's start: a free run is causal, so
     the training part of a split run is the start of the whole run's (a 1.4 M-sample run not simulated twice)."""
     if pieces is None:
-        pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
+        pieces = runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
     out = []
     if restart:
         for lo, hi in pieces:
@@ -265,7 +269,7 @@ def _offsets(estimator, k: int) -> dict[str, float] | None:
     return offsets[k] if offsets else None
 
 
-def _runs_of(mask: np.ndarray) -> list[tuple[int, int]]:
+def runs_of(mask: np.ndarray) -> list[tuple[int, int]]:
     """``(lo, hi)`` of each stretch of consecutive ``True`` in ``mask``."""
     edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(np.int8), 0]))
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])]
@@ -298,7 +302,7 @@ def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
                                f"(at least {MIN_SAMPLES // 2} to fit and {MIN_SAMPLES // 4} to validate are needed); "
                                f"use a longer log, or several runs")
             fit_on.append(replace(s, fit_mask=~held))
-            scored.append((s, _runs_of(held)))
+            scored.append((s, runs_of(held)))
         return [(fit_on, scored)]
     if scheme.kind == RUNS:
         if len(series) < 2:

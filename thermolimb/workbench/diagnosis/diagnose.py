@@ -45,6 +45,7 @@ from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
 from .refit import refit
 from .residuals import ResidualAnalysis, analyse_residuals
+from .split_or_blocks import judging_scheme
 from .stability import Stability, selection_frequencies
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
@@ -166,7 +167,7 @@ def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Sear
 
 
 def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Search, step: Step) -> Diagnosis:
-    search = replace(search, scheme=search.scheme.resolved(series))
+    search = replace(search, scheme=judging_scheme(search.scheme, series, search.discover))
     scheme = search.scheme
     base = step.base
     heat_source = None
