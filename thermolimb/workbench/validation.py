@@ -13,8 +13,8 @@ reading, chosen by a :class:`Scheme`; the default is **leave one run out** with 
 
 Why the split on one run: ``python benchmarks/transfer.py --sources ur3,wx200,bldc,pmsm`` fits the walk's model on
 one run and scores it on the joint's other runs (18 real cases).  The split made the model better there in 5 cases
-and worse in 1 (6.7 s a walk); 30 interleaved blocks 1 and 2; leave one part out 3 and 2 at 40 s a walk.
-"""
+and worse in 1 (6.7 s a walk); 30 interleaved blocks 1 and 2; leave one part out 3 and 2 at 40 s a walk.  A
+diagnosis takes interleaved blocks where the split's tail leaves a channel still (``diagnosis.split_or_blocks``)."""
 
 from __future__ import annotations
 
