@@ -199,7 +199,7 @@ def test_every_term_at_its_null_runs_as_the_base():
     checked = []
     for name, term in TERMS.items():
         base_terms = ("joule", "effort_bias") + tuple(term.requires)
-        if name in base_terms:
+        if name in base_terms or term.generated:  # a generated term (left by a discovery test) reads its log's extras
             continue
         base_values = {p.name: p.typical for p in model_parameters(base_terms)}
         base = ThermalModel(base_terms, base_values)

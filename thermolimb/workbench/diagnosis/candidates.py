@@ -285,8 +285,10 @@ def _grid(term, series) -> list[dict]:
 def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None:
     """Why a swapped heat source cannot be told from the one it replaces on this log, or ``None``."""
     a, b = instance(cand.replaces), instance(cand.effect)
-    xa = np.concatenate([np.ravel(a.features(s.signals, s.temperature_C)) for s in series])
-    xb = np.concatenate([np.ravel(b.features(s.signals, s.temperature_C)) for s in series])
+    fa, fb = ([t.features(s.signals, s.temperature_C) for s in series] for t in (a, b))
+    if any(f is None for f in fa + fb):  # a form not linear in its parameters (a conductance): the refits judge
+        return None
+    xa, xb = np.concatenate([np.ravel(f) for f in fa]), np.concatenate([np.ravel(f) for f in fb])
     if np.ptp(xa) == 0 or np.ptp(xb) == 0:
         return None
     r = float(np.corrcoef(xa, xb)[0, 1])

@@ -32,6 +32,7 @@ from ...identification import FreeRunLeastSquares
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.parameter_units import NOT_GIVEN
+from ...model.signals import EXTRA
 from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.errors import TermError, ThermolimbError
 from ...util.frozen import FrozenMapping
@@ -274,7 +275,9 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
 
 
 def _channel_candidates(model, train, every) -> list[Candidate]:
-    """The forms of every extra channel the model does not read (present on every run, varying on the training ones)."""
+    """The forms of every extra channel the model does not read (present on every run, varying on the training ones),
+    and for each form the model has taken, the same channel's other forms in its place (the score test that chose
+    it among them is local: on the held-out data another may carry over better)."""
     out = []
     for channel in unused_channels(model, train):
         if not all(channel in s.signals.extra for s in every):
@@ -283,6 +286,15 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
         for name in channel_terms(channel, train):
             out.append(Candidate(name, model + (name,), kind="channel", channel=channel, channel_unit=unit,
                                  source=TERMS[name].source))
+    for taken in model:
+        channel = next((c.removeprefix(EXTRA) for c in TERMS[taken].columns if c.startswith(EXTRA)), None)
+        if not TERMS[taken].generated or channel is None or not all(channel in s.signals.extra for s in every):
+            continue
+        forms = channel_terms(channel, train)
+        for name in forms if taken in forms else ():  # a channel's form, not a discovered form that reads it
+            if name not in model:
+                out.append(Candidate(name, tuple(name if t == taken else t for t in model), kind="swap",
+                                     replaces=taken, channel=channel, source=TERMS[name].source))
     return out
 
 
