@@ -62,13 +62,13 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float, log_a: np.ndarray 
 
 class Recursion:
     """The factors ``a`` of ``x[k+1] = a[k] x[k] + b[k]`` made ready once for any number of ``b``: the chunks and
-    their cumulative products (module docstring), or the one constant factor, or the associative scan's choice.
-    A simulation's passes and a fit's evaluations at the same rate share them
+    their cumulative products (module docstring), the one constant factor, or (``chunks`` ``None``) the associative
+    scan's choice.  A simulation's passes and a fit's evaluations at the same rate share them
     (:meth:`~thermolimb.model.signals.Signals.recursion`); :attr:`a` is the factors (a number when constant)."""
 
     def __init__(self, a: np.ndarray | float, log_a: np.ndarray | None = None):
         a = np.asarray(a, dtype=float)
-        self.a, self.chunks, self.associative = a, None, False
+        self.a, self.chunks = a, None
         if a.ndim == 0:
             if not 0.0 <= a <= 1.0:
                 raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
@@ -90,8 +90,7 @@ class Recursion:
         log_a = np.maximum(log_a, _MIN_LOG_A)
         L = np.cumsum(log_a)  # log of the product of a up to step k: decreasing, -decay
         if -L[-1] / MAX_DECAY_PER_CHUNK > n * np.log2(max(n, 2)) / ELEMENTS_PER_CHUNK:
-            self.associative = True
-            return
+            return  # the associative scan
         a = np.maximum(a, _MIN_A)  # as the logarithm is clamped
         self.chunks, start, decays = [], 0, None  # decays: -L, for the chunks' ends, only when there is more than one
         while start < n:
@@ -115,13 +114,13 @@ class Recursion:
     def run(self, b: np.ndarray, x0: float) -> np.ndarray:
         """``x`` for inputs ``b`` (one per factor) from ``x[0] = x0``."""
         b = np.asarray(b, dtype=float)
-        if isinstance(self.a, float):
-            return _loop(np.asarray(self.a), b, x0) if b.shape[0] <= SHORT else _constant_factor(self.a, b, float(x0))
         if b.shape[0] <= SHORT:
-            return _loop(self.a, b, x0)
+            return _loop(np.asarray(self.a), b, x0)
+        if isinstance(self.a, float):
+            return _constant_factor(self.a, b, float(x0))
         out = np.empty(b.shape[0] + 1)
         out[0] = x0
-        if self.associative:
+        if self.chunks is None:
             out[1:] = _associative_scan(self.a, b, float(x0))
             return out
         state = float(x0)

@@ -230,7 +230,7 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
     or restarted at ``lo - 1``.  ``runs`` keeps the free runs carried from a run's start: a free run is causal, so
     the training part of a split run is the start of the whole run's (a 1.4 M-sample run not simulated twice)."""
     if pieces is None:
-        pieces = runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
+        pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
     out = []
     if restart:
         for lo, hi in pieces:
@@ -269,7 +269,7 @@ def _offsets(estimator, k: int) -> dict[str, float] | None:
     return offsets[k] if offsets else None
 
 
-def runs_of(mask: np.ndarray) -> list[tuple[int, int]]:
+def _runs_of(mask: np.ndarray) -> list[tuple[int, int]]:
     """``(lo, hi)`` of each stretch of consecutive ``True`` in ``mask``."""
     edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(np.int8), 0]))
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])]
@@ -289,7 +289,7 @@ def make_estimator(method: str, model: str | Sequence[str]) -> ThermalEstimator:
 Fold = tuple[list[ActuatorSeries], list[tuple[ActuatorSeries, list[tuple[int, int]]]]]
 
 
-def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
+def scheme_folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
     if scheme.kind == HELD_OUT:
         return [(series, [(v, [(0, v.n)]) for v in scheme.held_out])]
     if scheme.kind == INTERLEAVED:
@@ -302,7 +302,7 @@ def _folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
                                f"(at least {MIN_SAMPLES // 2} to fit and {MIN_SAMPLES // 4} to validate are needed); "
                                f"use a longer log, or several runs")
             fit_on.append(replace(s, fit_mask=~held))
-            scored.append((s, runs_of(held)))
+            scored.append((s, _runs_of(held)))
         return [(fit_on, scored)]
     if scheme.kind == RUNS:
         if len(series) < 2:
@@ -367,7 +367,7 @@ def validate_model(
     if make is None and fixed:
         make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
     make = make or (lambda: make_estimator(method, model))
-    folds = _folds(series, scheme)
+    folds = scheme_folds(series, scheme)
     restart = scheme.restart and scheme.kind in (SPLIT, BLOCKS)
     fitted = [make().fit(fit_on) for fit_on, _ in folds]
     # a held-out unit is a whole run (named, or numbered in its order), else a block or a run's tail

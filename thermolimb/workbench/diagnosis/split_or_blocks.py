@@ -15,12 +15,10 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from ...effects import EFFECTS
-from ...logs import MIN_SAMPLES
+from ...logs import LogError
 from ..excitation import ChannelExcitation, channel_excitation
-from ..validation import AUTO, INTERLEAVED, SPLIT, Scheme, block_index, held_blocks, runs_of
+from ..validation import AUTO, INTERLEAVED, SPLIT, Scheme, scheme_folds
 
 
 def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
@@ -31,23 +29,24 @@ def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
     resolved = scheme.resolved(series)
     if scheme.kind != AUTO or resolved.kind != SPLIT:
         return resolved
-    cuts = [s.split_index(resolved.split) for s in series]
-    tail = ([replace(s, fit_mask=np.arange(s.n) < c) for s, c in zip(series, cuts)],
-            [(s.signals.slice(c, s.n), s.temperature_C[c:]) for s, c in zip(series, cuts)])
-    held = [np.isin(block_index(s, resolved.phase), held_blocks()) for s in series]
-    if any(np.count_nonzero(h) < MIN_SAMPLES // 4 or np.count_nonzero(~h) < MIN_SAMPLES // 2 for h in held):
-        return resolved  # too short to hold blocks out (validation._folds)
-    blocks = ([replace(s, fit_mask=~h) for s, h in zip(series, held)],
-              [(s.signals.slice(lo, hi), s.temperature_C[lo:hi])
-               for s, h in zip(series, held) for lo, hi in runs_of(h)])
+    blocked = replace(resolved, kind=INTERLEAVED)
+    try:
+        tail, blocks = _parts(series, resolved), _parts(series, blocked)
+    except LogError:  # too short to hold blocks out: the split, which says so itself if it cannot be made
+        return resolved
     for channel in _channels(series, discover):
         split = channel_excitation(channel, *tail)
         if (ChannelExcitation.enough(*split.fitted) and not ChannelExcitation.enough(*split.judged)
                 and channel_excitation(channel, *blocks).excited):
-            return replace(resolved, kind=INTERLEAVED, why=f"chosen over the split, whose last "
-                                                            f"{100 * (1 - resolved.split):.0f} % leaves a channel "
-                                                            f"still: {split.sentence()}")
+            return replace(blocked, why=f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % "
+                                        f"leaves a channel still: {split.sentence()}")
     return resolved
+
+
+def _parts(series, scheme: Scheme):
+    """The one fold of ``scheme`` as :func:`channel_excitation` takes it: the series fitted on, the pieces judged."""
+    [(fitted, scored)] = scheme_folds(series, scheme)
+    return fitted, [(s.signals.slice(lo, hi), s.temperature_C[lo:hi]) for s, pieces in scored for lo, hi in pieces]
 
 
 def _channels(series, discover: bool) -> list[str]:
