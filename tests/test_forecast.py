@@ -157,6 +157,29 @@ def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, 
     assert "does not read the ambient temperature" in capsys.readouterr().out
 
 
+def test_a_forecast_hotter_than_the_model_s_log_is_said_and_widened_from_there(saved_auto):
+    """The largest effort the calibration held, held for two hours from its hottest reading: inside every input's
+    range, but the forecast climbs above what the model was identified on. Said; the band is doubled from the first
+    sample above the hottest reading (plus the margin) on, and left as it was before."""
+    saved, _ = saved_auto
+    ranges = dict(saved.provenance)["ranges"]
+    largest = max(abs(v) for v in ranges["effort"])
+    hottest = ranges["temperature_C"][1]
+    plan = hold_signals(7200.0, largest, 0.0, step_s=1.0)  # sampled as the calibration was
+    asked = forecast(saved, plan, hottest - 1.0, hottest + 20.0)
+    unranged = replace(saved, provenance={k: v for k, v in dict(saved.provenance).items() if k != "ranges"})
+    plain = forecast(unranged, plan, hottest - 1.0, hottest + 20.0)
+    assert [n for n in asked.notes if "above the hottest reading" in n] == [
+        f"extrapolated: the forecast climbs to {asked.predicted_C.max():.1f} degC, above the hottest reading the "
+        f"model was identified on ({hottest:.1f} degC)"]
+    above = np.flatnonzero(asked.predicted_C > hottest + 5.0)[0]
+    half, plain_half = asked.high_C - asked.predicted_C, plain.high_C - plain.predicted_C
+    np.testing.assert_allclose(half[:above], plain_half[:above])
+    assert np.all(half[above:] > plain_half[above:])
+    cool = forecast(saved, hold_signals(600.0, 0.5 * largest, 0.0), hottest - 20.0, hottest - 15.0)
+    assert not any("hottest reading" in n for n in cool.notes)
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--hold", "10,0", "--duration", "60", "--start-C", "120"], "is not above the start"),
     (["--hold", "ten", "--duration", "60", "--start-C", "30"], "--hold expects EFFORT or EFFORT,VELOCITY"),

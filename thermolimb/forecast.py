@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import norm
 
-from .model.experience import beyond
+from .model.experience import beyond, hotter_than_seen
 from .model.model import ThermalModel
 from .model.reach import crossing_s
 from .model.saved import SavedModel
@@ -148,8 +148,10 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    notes, widen = beyond(dict(saved.provenance).get("ranges"), signals, start_C, "ambient" in model.columns,
-                          saved.channel_units.get("effort", ""))
+    ranges = dict(saved.provenance).get("ranges")
+    notes, widen = beyond(ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""))
+    hotter, widen_hot = hotter_than_seen(ranges, predicted)
+    notes, widen = notes + hotter, np.maximum(widen, widen_hot)
     half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, start_C)) ** 2)
     if notes:  # an extrapolation is never answered with a zero-width band: at least a tenth of the rise
         half = np.maximum(half, 0.1 * np.abs(predicted - start_C))

@@ -5,7 +5,8 @@ and temperature it read, and its median sample interval).  A forecast whose inpu
 extrapolate: :func:`beyond` says so, one sentence per input, and gives the factor the answer's model-error band is
 widened by -- the heat grows with the square of the effort, so an effort ``k`` times the largest seen widens it
 ``k**2``; any other input outside its range (or a log sampled more coarsely than the calibration's) at least
-doubles it.
+doubles it.  A forecast that climbs above the hottest reading the model was identified on is said to, and its
+band doubled from where it does (:func:`hotter_than_seen`).
 """
 
 from __future__ import annotations
@@ -61,3 +62,15 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
             notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: the effort "
                          f"between its readings is taken as held, which the calibration never had to")
     return notes, factor
+
+
+def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[list[str], np.ndarray]:
+    """A note when ``predicted_C`` climbs more than ``MARGIN_K`` above the hottest reading of the calibration's
+    ``ranges``, and the band's widening per sample: 2 from where it does, 1 before (the model's error was
+    measured on temperatures it saw; a 60 s answer on the way to an unseen 90 degC is not one)."""
+    seen = (ranges or {}).get("temperature_C")
+    hotter = np.asarray(predicted_C, float) > (seen[1] + MARGIN_K if seen else np.inf)
+    if not hotter.any():
+        return [], np.ones(hotter.shape)
+    return ([f"extrapolated: the forecast climbs to {float(np.max(predicted_C)):.1f} degC, above the hottest reading "
+             f"the model was identified on ({seen[1]:.1f} degC)"], np.where(np.maximum.accumulate(hotter), 2.0, 1.0))
