@@ -7,6 +7,7 @@ candidates that include the truth.
 """
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
 from thermolimb.workbench.diagnosis.candidates import Candidate, refit_failure
-from thermolimb.workbench.flags import parameter_flags
+from thermolimb.workbench.flags import parameter_flags, uncertainty_cause
 from thermolimb.workbench.validation import Scheme, burn_in, fit_and_validate, validate_model
 
 SENSOR = ["sensor_noise", "quantisation"]
@@ -141,6 +142,24 @@ def test_flags_name_vanishing_terms_far_offsets_and_unseen_time_constants(step_t
     assert "betaR_K_per_effort2 vanishes" in flags
     assert "RC_s = 1e+06 s is longer than" in flags
     assert "T_offset_C = 200.0 degC is" in flags
+
+
+def test_the_readings_behind_a_flag_are_each_log_s_own_and_not_held():
+    """The excitation and floor a flag's sentence cites are kept per log for the next fit of it, by weak reference:
+    a second log gets its own, and a log no longer used is freed."""
+    import gc
+    import weakref
+
+    log = plant_log("random", 3600.0, 1.0).series("knee")
+    quiet = replace(log, temperature_C=np.round(log.temperature_C, 0))  # 1 degC steps: another floor
+    loud = uncertainty_cause([log], 50.0)
+    again = uncertainty_cause([log], 50.0)
+    other = uncertainty_cause([quiet], 50.0)
+    assert loud == again and other != loud and "floor of" in loud[0] and "floor of" in other[0]
+    gone = weakref.ref(quiet)
+    del quiet
+    gc.collect()
+    assert gone() is None
 
 
 def test_effort_proportional_to_current_is_named_confounded_once_and_never_flips(step_test):

@@ -9,6 +9,7 @@ JSON and on their plots.
 
 from __future__ import annotations
 
+import weakref
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -92,15 +93,33 @@ def uncertainty_cause(series, train_rmse_K: float | None) -> tuple[str | None, s
     """``(sentence, counts)``: the sentence, when the log excites the model (:mod:`.excitation`) and the model
     still fits it far worse than the sensor's floor (:mod:`.floor`) -- then the model misses something, and
     the standard errors are large for that reason, not for lack of excitation; otherwise ``None``."""
-    shown = excitation(series)
+    shown, floor = _readings(series)
     if train_rmse_K is None or not shown.ample:
         return None, shown.words()
-    floor = sensor_floor(series)  # the readings' own noise: an upper bound, so that a misfit is not overstated
+    # the floor is the readings' own noise: an upper bound, so that a misfit is not overstated
     if floor.floor_K <= 0 or train_rmse_K <= FLOOR_FACTOR * floor.floor_K:
         return None, shown.words()
     return (f"large because the model misses something, not for lack of excitation: its training error, "
             f"{train_rmse_K:.3f} K, is {train_rmse_K / floor.floor_K:.0f} times the sensor's floor of "
             f"{floor.floor_K:.3f} K, while the log holds {shown.words()} -- run diagnose", shown.words())
+
+
+_READINGS: dict = {}  # the last few logs' (excitation, floor), by their series' identities
+READINGS_KEPT = 4
+
+
+def _readings(series) -> tuple:
+    """The excitation and the sensor floor of ``series``: a diagnosis flags every fit of one log (a stability
+    replicate's dozen on the 6 M-row Parquet's knee took 0.25 s each), so the last :data:`READINGS_KEPT` logs'
+    are kept, each with weak references to its series: an identity whose series is gone may be another log's."""
+    series = tuple(series)
+    key = tuple(map(id, series))
+    kept = _READINGS.get(key)
+    if kept is None or any(ref() is not s for ref, s in zip(kept[0], series)):
+        if len(_READINGS) >= READINGS_KEPT and key not in _READINGS:
+            _READINGS.pop(next(iter(_READINGS)))
+        kept = _READINGS[key] = (tuple(map(weakref.ref, series)), excitation(series), sensor_floor(series))
+    return kept[1:]
 
 
 def _uncertain(p, value: float, stderr: float | None, units, cause) -> str | None:
