@@ -206,6 +206,9 @@ def test_a_long_log_compared_at_a_stride_gives_the_same_fit(monkeypatch, estimat
     monkeypatch.setattr(thinning, "MAX_FIT_SAMPLES", series.n // 4)
     thin = estimator("joule").fit(series)
     assert thinning.fit_stride([series]) == 5
+    if estimator is LeastSquares:  # its regression averages blocks of 3 s before filtering (0.015 Hz: a 67 s period)
+        from thermolimb.identification.regression import block_samples
+        assert block_samples(thin.cutoff_hz, 1.0, 5) == 3
     for name, value in full.params_.items():
         assert abs(thin.params_[name] - value) < full.stderr_[name], name
         assert 1 / 1.6 < thin.stderr_[name] / full.stderr_[name] < 1.6, name

@@ -75,6 +75,14 @@ def test_bartlett_band_is_the_white_noise_band_for_white_series():
     assert 0.01 < np.mean(np.abs(r) > band) < 0.10  # about 5 % outside, as a 95 % band should
 
 
+def test_bartlett_band_from_the_residual_s_own_correlation_is_the_same_band():
+    """analyse_residuals passes the residual's autocorrelation it already has: the band is the one computed afresh."""
+    rng = np.random.default_rng(2)
+    x, e = np.cumsum(rng.normal(size=5000)), np.convolve(rng.normal(size=5000), np.ones(20) / 20, mode="same")
+    _, ree = cross_correlation(e, e, 80)
+    assert bartlett_band(x, e, 80, ree) == bartlett_band(x, e, 80)
+
+
 def test_bartlett_band_widens_for_coloured_series():
     rng = np.random.default_rng(1)
     kernel = np.ones(50) / 50

@@ -68,13 +68,14 @@ class FreeRunLeastSquares(ThermalEstimator):
 
     def __init__(self, model=DEFAULT_MODEL, initial: Mapping[str, float] | None = None,
                  cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None,
-                 max_iterations: int | None = None):
+                 max_iterations: int | None = None, max_samples: int | None = None):
         super().__init__(model)
         self.initial = initial
         self.cutoff_hz = cutoff_hz
         self.max_nfev = max_nfev
         self.fixed = fixed
         self.max_iterations = max_iterations
+        self.max_samples = max_samples  # compared per evaluation (None: thinning's); fewer for a fit ranking starts
 
     def _start(self, series, terms) -> np.ndarray:
         params = model_parameters(terms)
@@ -111,7 +112,7 @@ class FreeRunLeastSquares(ThermalEstimator):
             raise ValueError(f"fixed names {', '.join(unknown)}, not a parameter of model {','.join(terms)}")
         free = np.array([p.name not in (self.fixed or {}) for p in params])
         params = [p for p, f in zip(params, free) if f]
-        self.stride_ = k = fit_stride(series)
+        self.stride_ = k = fit_stride(series, self.max_samples)
         rows = [fit_rows(s, k) for s in series]
         measured = np.concatenate([s.temperature_C[r] for s, r in zip(series, rows)])
         rates = [s.rate_K_per_s() for s in series]

@@ -31,9 +31,10 @@ MAX_FIT_SAMPLES = 100_000  # rows compared per fit
 BLOCK_TIME_CONSTANTS = 40.0
 
 
-def fit_stride(series) -> int:
-    """The stride at which a fit compares ``series`` (each with ``fit_samples``, the samples it is fitted on)."""
-    return max(1, -(-sum(s.fit_samples for s in series) // MAX_FIT_SAMPLES))
+def fit_stride(series, most: int | None = None) -> int:
+    """The stride at which a fit compares ``series`` (each with ``fit_samples``, the samples it is fitted on): the
+    smallest that leaves at most ``most`` of them (default :data:`MAX_FIT_SAMPLES`)."""
+    return max(1, -(-sum(s.fit_samples for s in series) // (most or MAX_FIT_SAMPLES)))
 
 
 def fit_rows(series, stride: int) -> np.ndarray:

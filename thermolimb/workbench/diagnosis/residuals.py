@@ -92,10 +92,12 @@ def cross_correlation(x: np.ndarray, y: np.ndarray, max_lag: int) -> tuple[np.nd
     return lags, r
 
 
-def bartlett_band(x: np.ndarray, e: np.ndarray, max_lag: int) -> float:
-    """95 % band of a cross-correlation between two coloured series (Bartlett's formula)."""
+def bartlett_band(x: np.ndarray, e: np.ndarray, max_lag: int, ree: np.ndarray | None = None) -> float:
+    """95 % band of a cross-correlation between two coloured series (Bartlett's formula); ``ree``: ``e``'s own
+    correlation over the same lags, when the caller has it (one per residual, not one per input)."""
     _, rxx = cross_correlation(x, x, max_lag)
-    _, ree = cross_correlation(e, e, max_lag)
+    if ree is None:
+        _, ree = cross_correlation(e, e, max_lag)
     variance = max(float(np.sum(rxx * ree)), 1.0) / x.size
     return Z95 * float(np.sqrt(variance))
 
@@ -133,7 +135,7 @@ def analyse_residuals(series: ActuatorSeries, simulated_C: np.ndarray, max_lag_s
     cross = {}
     for name, x in candidate_inputs(series).items():
         lags, r = cross_correlation(x, e, max_lag)
-        cross[name] = Correlation(lags * dt, r, bartlett_band(x, e, max_lag))
+        cross[name] = Correlation(lags * dt, r, bartlett_band(x, e, max_lag, acf))
     return ResidualAnalysis(series.time_s, e, auto, cross, phase_rmse(series, e))
 
 
