@@ -20,6 +20,7 @@ from typing import Sequence
 import numpy as np
 
 from ..logs import ActuatorSeries
+from ..model.block_means import blocked
 from ..model.guard import instance
 from ..model.model import model_parameters
 from ..model.signals import Signals
@@ -119,9 +120,8 @@ def build_regression(
         ser = _uniform(raw)
         dt = float(ser.time_s[1] - ser.time_s[0])
         m = block_samples(cutoff_hz, dt, stride) if consistent else 1
-        n = ser.n // m
-        coarse = (lambda x: x) if m == 1 else (lambda x: np.asarray(x, float)[:n * m].reshape(n, m).mean(axis=1))
-        dt_c = m * dt
+        coarse = (lambda x: x) if m == 1 else blocked(ser.signals, np.arange(0, ser.n, m)).mean
+        n, dt_c = -(-ser.n // m), m * dt
         trim = 0 if cutoff_hz is None else min(int(np.ceil(0.5 / (cutoff_hz * dt_c))), n // 10)
         keep = np.arange(trim, n - trim, max(1, stride // m))
         centre = keep * m + m // 2  # the sample at the middle of each kept block

@@ -116,7 +116,8 @@ def _readings(series) -> tuple:
     key = tuple(map(id, series))
     kept = _READINGS.get(key)
     if kept is None or any(ref() is not s for ref, s in zip(kept[0], series)):
-        if len(_READINGS) >= READINGS_KEPT and key not in _READINGS:
+        _READINGS.pop(key, None)
+        if len(_READINGS) >= READINGS_KEPT:
             _READINGS.pop(next(iter(_READINGS)))
         kept = _READINGS[key] = (tuple(map(weakref.ref, series)), excitation(series), sensor_floor(series))
     return kept[1:]
