@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.text import Text  # noqa: E402
 
 from ..model.parameter_units import NOT_GIVEN  # noqa: E402
+from ..model.terms import readable  # noqa: E402
 from ..util.atomic import atomic_path  # noqa: E402
 from ..util.errors import bounded  # noqa: E402
 from ..workbench.validation import FitReport  # noqa: E402
@@ -132,7 +133,7 @@ def plot_comparison(results, actuator: str, path: Path) -> Path:
     for seg in first.validation_segments:
         top.plot(seg.time_s, seg.measured_C, color="k", lw=1)
     for k, (report, _) in enumerate(results):
-        label, colour = ",".join(report.model.terms), f"C{k % 10}"  # one colour per model, on every run
+        label, colour = readable(",".join(report.model.terms)), f"C{k % 10}"  # one colour per model, on every run
         for i, seg in enumerate(report.validation_segments):
             top.plot(seg.time_s, seg.simulated_C, lw=1, color=colour, label=label if i == 0 else None)
             bottom.plot(seg.time_s, seg.measured_C - seg.simulated_C, lw=0.8, color=colour)
