@@ -122,16 +122,23 @@ def test_hidden_states_are_placed_where_the_readings_put_them():
     np.testing.assert_allclose(placed, warm.temperature_C, atol=1e-8)
 
 
-def test_placed_responses_are_reused_only_across_parameters_that_move_the_rise_alone():
+@pytest.mark.parametrize("terms, extra, expected", [
+    (("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag"),
+     {"speed_K_per_rad_s": 0.5, "speed2_K_per_rad2_s2": 0.2, "sensor_tau_s": 8.0},
+     ["betaR_K_per_effort2", "beta_biasR_K_per_effort", "speed_K_per_rad_s", "speed2_K_per_rad2_s2", "T_offset_C"]),
+    # copper's coefficient scales the Joule heat: a gain on the winding that moves with betaR, whose responses differ
+    (("joule", "effort_bias", "winding_tempco", "second_node"), {"alpha_per_K": 0.004},
+     ["beta_biasR_K_per_effort", "T_offset_C"]),
+])
+def test_placed_responses_are_reused_only_across_parameters_that_move_the_rise_alone(terms, extra, expected):
     """The fit's memo of hidden-state responses: perturbing any one parameter, the placed run is the one computed
-    afresh; the effort coefficients and the offset reuse the point's responses, the others do not."""
+    afresh; the effort coefficients and the offset reuse the point's responses, the others do not, nor a
+    coefficient another term reads."""
     log = simulate_profile("random", 1200.0, 1.0, ["knee"], [CASE_SPECS[0]], PlantEffects(), seed=2,
                            network=NETWORKS["first_order"]).log
     series = log.series("knee")
-    terms = ("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag")
     base = ThermalModel(terms, {"RC_s": 60.0, "betaR_K_per_effort2": 0.2, "beta_biasR_K_per_effort": 0.1,
-                                "speed_K_per_rad_s": 0.5, "speed2_K_per_rad2_s2": 0.2, "frame_fraction": 0.5,
-                                "frame_tau_s": 900.0, "sensor_tau_s": 8.0, "T_offset_C": 25.0})
+                                "frame_fraction": 0.5, "frame_tau_s": 900.0, "T_offset_C": 25.0, **extra})
     rows = np.arange(0, series.n, 3)
     reused = []
     for name in base.params:
@@ -143,8 +150,7 @@ def test_placed_responses_are_reused_only_across_parameters_that_move_the_rise_a
         np.testing.assert_allclose(placed, fresh, rtol=0, atol=1e-9)
         assert offsets == pytest.approx(fresh_offsets, abs=1e-9)
         reused += [name] if len(memo) == 1 else []
-    assert reused == ["betaR_K_per_effort2", "beta_biasR_K_per_effort", "speed_K_per_rad_s", "speed2_K_per_rad2_s2",
-                      "T_offset_C"]
+    assert reused == expected
 
 
 def test_a_rise_only_term_has_no_gain_and_shapes_nothing():

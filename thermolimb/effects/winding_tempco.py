@@ -15,6 +15,7 @@ class WindingTempcoTerm(Term):
     """Copper resistance rising with temperature: the Joule terms times ``1 + alpha (T - 25 degC)``."""
 
     name = "winding_tempco"
+    reads = ("betaR_K_per_effort2", "currentR_K_per_A2")  # the Joule heat it scales
     label = "copper's temperature coefficient"
     description = "copper resistance rising with winding temperature"
     parameters = (

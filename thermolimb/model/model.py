@@ -245,9 +245,10 @@ class ThermalModel:
     def _response_key(self) -> tuple:
         """The terms and the values a hidden state's response depends on: all but the offset and the parameters of
         terms that move only the rise (``Term.rise_only``, the suite's own: the model is affine in them and in its
-        states; a user's term may subclass one and add a gain)."""
+        states; a user's term may subclass one and add a gain), unless another term reads them (``Term.reads``:
+        copper's coefficient makes the Joule heat's a gain on the winding's temperature)."""
         rise = {"T_offset_C"} | {p.name for t in map(TERMS.get, self.terms) if t.rise_only and is_built_in(t)
-                                 for p in t.parameters}
+                                 for p in t.parameters} - {name for t in self.terms for name in TERMS[t].reads}
         return (self.terms, *(v for k, v in self.params.items() if k not in rise))
 
     def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:

@@ -73,6 +73,9 @@ class Term:
     # a term whose parameters move only the rise (its gain is 0 and it shapes no state and no output): the
     # model's response to a hidden state's start does not depend on them (ThermalModel.place_hidden reuses it)
     rise_only: ClassVar[bool] = False
+    # parameters of other terms its contribution reads (copper's coefficient scales the Joule heat): the model is
+    # then not affine in them, whatever their own term (ThermalModel.place_hidden may not reuse responses across them)
+    reads: ClassVar[tuple[str, ...]] = ()
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's); default:
