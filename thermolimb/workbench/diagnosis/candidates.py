@@ -99,6 +99,7 @@ class Candidate:
     broken: str | None = None  # a user's term that broke its contract while being tried: set aside, and why
     selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
     selected_as: dict = field(default_factory=dict)  # how the replicates that took its effect took it, by label
+    settled_plausible: bool | None = None  # a replicate's: whether the whole log's refit of this change was plausible
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
     unexcited: str | None = None  # the channel it rides on does not move enough to judge it: why
@@ -181,13 +182,13 @@ class Candidate:
         fitted = dict(self.report.model.params) if self.report is not None else {}
         return {"effect": self.effect, "model": self.model, "kind": self.kind, "replaces": self.replaces,
                 "also_drops": self.also_drops, "channel": self.channel, "channel_unit": self.channel_unit,
-                "formula": self.formula, "fitted": fitted}
+                "formula": self.formula, "fitted": fitted, "plausible": self.plausible}
 
     @classmethod
     def from_spec(cls, spec: dict) -> "Candidate":
         return cls(spec["effect"], tuple(spec["model"]), kind=spec["kind"], replaces=spec["replaces"],
                    also_drops=tuple(spec["also_drops"]), channel=spec["channel"], channel_unit=spec["channel_unit"],
-                   formula=spec["formula"])
+                   formula=spec["formula"], settled_plausible=spec.get("plausible"))
 
     def to_json(self) -> dict:
         out = {

@@ -145,7 +145,8 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
 
     ``evaluate(model, initial, fixed)`` fits and validates a model the way the diagnosis does.  ``warm``: where
     the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`); refined
-    from there, and searched as above only if that refit fails or finds no such effect.
+    from there, and searched as above only if that refit fails or finds no such effect, or (``cand``'s
+    ``settled_plausible``) lands implausible where the whole log's refit was plausible.
     """
     term = TERMS[cand.effect] if cand.adds else None
     param = profiled_parameter(term, dict(base.model.params), base.train_series[0]) if term is not None else None
@@ -175,8 +176,13 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     # replicate asks whether a perturbed log keeps the change there, from a jittered start (searching every
     # replicate afresh cost two thirds of the stability check on the UR3's J5 and took the same changes)
     if warm is not None and attempt(warm, searched=False):
-        judge(cand, found[0], base, base_bic)
-        return
+        if not (cand.settled_plausible and term is not None and term().implausible(found[0].model.params)):
+            judge(cand, found[0], base, base_bic)
+            return
+        # the whole log's refit was plausible and this one is not: a jittered start rolled along a valley into
+        # another basin (a slow mass's share and time constant trade on a log that shows only the start of its
+        # rise), which the search below looks past, as it did for the whole log
+        found.clear()
     starts = ordered_starts(cand, base, list(base.train_series), param)
     profiled = 0
     for cost, start in starts[:MAX_REFINES]:

@@ -29,7 +29,8 @@ that contend -- every change the full search refitted that was eligible or
 came within half of the held-out gate: the base model is refitted on the
 replicate, each contender scored (score test, confounding), refitted from
 where the full search left it with the starts jittered (and searched afresh
-by :mod:`.refit`'s profile if that refit fails) and judged (held-out gain,
+by :mod:`.refit`'s profile if that refit fails, or lands implausible where the
+whole log's was plausible) and judged (held-out gain,
 BIC, plausibility, identifiability; the sensor's floor is the whole log's,
 decided once, as a perturbation that must not matter must not move it); the replicate takes
 the best eligible contender, or none.
