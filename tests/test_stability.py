@@ -182,9 +182,9 @@ class _Series:
 def test_a_replicate_whose_warm_refit_lands_implausible_searches_afresh_when_the_whole_log_s_was_plausible():
     """A replicate refits a change from where the whole log's search ended, jittered.  On a log that shows only
     the start of a slow mass's rise (the X8's body over 2 h), its share and time constant trade along a valley,
-    and a start moved along it rolls past the share's plausible bound and stays there: 6 in 10 replicates did,
-    and the mass was taken in 4.  When the whole log's refit was plausible, such a replicate searches afresh, as
-    the whole log did, and ends where it ended."""
+    and a start moved along it rolls past the share's plausible bound and stays there (the mass was taken in 4
+    replicates of 10).  When the whole log's refit was plausible, such a replicate searches afresh, as the whole
+    log did, and ends where it ended."""
     from thermolimb.plant.cases import HIDDEN_CASES
     from thermolimb.workbench.diagnosis.diagnose import _evaluate as evaluate_as_diagnose
     from thermolimb.workbench.diagnosis.split_or_blocks import judging_scheme
