@@ -188,3 +188,45 @@ def test_heat_from_current_or_effort_is_chosen_on_held_out_data():
     source = d.heat_source
     assert source["chosen"] == "current" and source["current_rmse_K"] < source["effort_rmse_K"]
     assert d.model[0] == "current_heating" and "heat source: Joule heating from current squared" in source["sentence"]
+
+
+def test_a_fit_keeps_a_slow_mass_and_the_offset_where_the_runs_can_place_them():
+    """Within three times the longest run for a slow mass's time constant (``within_runs``), and the offset at most
+    ``OFFSET_MARGIN_K`` below the coolest logged ambient, unless a term redefines it; nothing else narrows."""
+    from thermolimb.identification.bounds import OFFSET_MARGIN_K, fit_bounds
+    from thermolimb.model.model import model_parameters
+
+    log = simulate_profile("random", 600.0, 1.0, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]), PlantEffects(), seed=0).log
+    series = [log.series("knee")]
+    terms = ("joule", "effort_bias", "second_node", "third_node")
+    params = model_parameters(terms)
+    lower, upper = fit_bounds(params, terms, series)
+    for k, p in enumerate(params):
+        narrowed = p.name in ("frame_tau_s", "body_tau_s")
+        assert upper[k] == (pytest.approx(3.0 * series[0].duration_s) if narrowed else p.upper)
+        expected = series[0].signals.ambient_C.min() - OFFSET_MARGIN_K if p.name == "T_offset_C" else p.lower
+        assert lower[k] == pytest.approx(expected)
+    terms = ("joule", "effort_bias", "ambient_variation")
+    lower, _ = fit_bounds(model_parameters(terms), terms, series)
+    assert lower[[p.name for p in model_parameters(terms)].index("T_offset_C")] == -100.0
+
+
+@pytest.mark.slow
+def test_the_walk_on_a_plant_richer_than_the_model_ends_with_the_plant_s_physics():
+    """2 h of random holds on the X8 (winding, housing and body: 1.4, 24.5 and 10,100 s, the body a share of 0.55;
+    speed losses and copper's coefficient hidden; ambient 25 degC): the walk takes copper's coefficient and places
+    the slow mass and the offset near the plant's.  Before its fits were kept within the runs' reach, the same walk
+    stopped after the masses, without copper's coefficient (docs/workbench.md, benchmarks/transfer.py)."""
+    from thermolimb.workbench.diagnosis import auto_diagnose
+
+    fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+    log = simulate_profile("random", 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=1,
+                           network=NETWORKS["x8"], load_scale=1.5).log
+    _, steps = auto_diagnose([log.series("knee")])
+    final = steps[-1]
+    assert {"speed_losses", "second_node", "third_node", "winding_tempco"} <= set(final.model)
+    p = final.base.model.params
+    slow = max(p["frame_tau_s"], p["body_tau_s"])
+    assert 0.5 * 10_100 < slow < 2.0 * 10_100
+    assert 0.003 < p["alpha_per_K"] < 0.005  # copper: 0.0039 /K
+    assert abs(p["T_offset_C"] - 25.0) < 5.0

@@ -179,12 +179,13 @@ class _Series:
         self.temperature_C = temperature_C
 
 
-def test_a_replicate_whose_warm_refit_lands_implausible_searches_afresh_when_the_whole_log_s_was_plausible():
+def test_a_replicate_s_warm_refit_moved_past_the_plausible_share_returns_where_the_whole_log_s_ended():
     """A replicate refits a change from where the whole log's search ended, jittered.  On a log that shows only
-    the start of a slow mass's rise (the X8's body over 2 h), its share and time constant trade along a valley,
-    and a start moved along it rolls past the share's plausible bound and stays there (the mass was taken in 4
-    replicates of 10).  When the whole log's refit was plausible, such a replicate searches afresh, as the whole
-    log did, and ends where it ended."""
+    the start of a slow mass's rise (the X8's body over 2 h), a share and a time constant slower than the run
+    traded along a valley, and a start moved past the share's plausible bound stayed there: only searching
+    afresh, where the whole log's refit was plausible (``settled_plausible``), brought it back.  With the time
+    constant kept within three runs (``identification.bounds``) the valley is closed: the warm refit from a share
+    of 0.97 returns to the whole log's error either way."""
     from thermolimb.plant.cases import HIDDEN_CASES
     from thermolimb.workbench.diagnosis.diagnose import _evaluate as evaluate_as_diagnose
     from thermolimb.workbench.diagnosis.split_or_blocks import judging_scheme
@@ -192,13 +193,11 @@ def test_a_replicate_whose_warm_refit_lands_implausible_searches_afresh_when_the
     series = HIDDEN_CASES["slow_masses"].log(1).series("knee")
     d = diagnose([series], stability=None)
     cand = next(c for c in d.candidates if c.effect == "second_node")
-    assert cand.plausible and cand.report.model.params["frame_fraction"] > 0.9, cand.report.model.params
+    assert cand.plausible, cand.report.model.params
+    assert cand.report.model.params["frame_tau_s"] <= 3.0 * 0.7 * series.duration_s * (1 + 1e-6)
     warm = {**cand.report.model.params, "frame_fraction": 0.97}
     scheme = judging_scheme(Scheme(), [series])
-    ends = {}
     for settled in (False, True):
         trial = replace(cand, rmse_K=None, report=None, plausible=None, settled_plausible=settled)
         refit(trial, d.base, d.base_bic, lambda m, i, f: evaluate_as_diagnose([series], m, scheme, i, f), warm)
-        ends[settled] = trial
-    assert not ends[False].plausible and "frame_fraction" in ends[False].implausible_because
-    assert ends[True].plausible and ends[True].rmse_K == pytest.approx(cand.rmse_K, rel=1e-3)
+        assert trial.plausible and trial.rmse_K == pytest.approx(cand.rmse_K, rel=1e-3), settled

@@ -140,7 +140,7 @@ def test_flags_name_vanishing_terms_far_offsets_and_unseen_time_constants(step_t
                                                     "beta_biasR_K_per_effort": 0.1, "T_offset_C": 200.0})
     flags = " | ".join(parameter_flags(model, {}, [step_test]))
     assert "betaR_K_per_effort2 vanishes" in flags
-    assert "RC_s = 1e+06 s is longer than" in flags
+    assert "RC_s = 1e+06 s is 3x the log or longer" in flags
     assert "T_offset_C = 200.0 degC is" in flags
 
 

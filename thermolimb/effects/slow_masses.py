@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.terms import Parameter, Term, register_term
+from ..model.terms import LONG_TIME_CONSTANT, Parameter, Term, register_term
 from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
 
@@ -64,8 +64,11 @@ def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Paramete
         Parameter(fraction, "1", 0.0, 0.98, 0.5,
                   f"share of the steady-state rise that builds up across the {which} mass",
                   "long heating or cooling phases (several slow time constants)", plausible=(0.05, 0.95)),
+        # a mass slower than a few runs shows only the start of its rise, along which its share and time constant
+        # trade, and its start, placed per run, turns it into a free offset: a fit keeps it within the runs' reach
         Parameter(tau, "s", 1.0, 1e6, 2000.0, f"time constant of the {which} mass",
-                  "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True),
+                  "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True,
+                  within_runs=LONG_TIME_CONSTANT),
     )
 
 

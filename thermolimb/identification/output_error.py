@@ -23,6 +23,7 @@ from ..model.model import ThermalModel, hidden_states, model_parameters
 from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import IdentifiabilityError
 from .base import ThermalEstimator
+from .bounds import fit_bounds
 from .least_squares import LeastSquares
 from .metrics import ar1_variance_factor, scaled_inverse
 from .regression import collinear_partners, independent_fractions
@@ -96,16 +97,14 @@ class FreeRunLeastSquares(ThermalEstimator):
             start["RC_s"] = _time_constant_guess(series)
         start.update(given)
         x0 = np.array([start[p.name] for p in params], dtype=float)
-        lower = np.array([p.lower for p in params])
-        upper = np.array([p.upper for p in params])
+        lower, upper = fit_bounds(params, terms, series)
         span = np.where(np.isfinite(upper - lower), upper - lower, np.abs(x0) + 1.0)
         return np.clip(x0, lower + 1e-9 * span, upper - 1e-9 * span)
 
     def _fit(self, series, terms):
         params = model_parameters(terms)
         names = [p.name for p in params]
-        lower = np.array([p.lower for p in params])
-        upper = np.array([p.upper for p in params])
+        lower, upper = fit_bounds(params, terms, series)
         x_all = self._start(series, terms)
         unknown = [k for k in self.fixed or {} if k not in names]
         if unknown:

@@ -30,6 +30,8 @@ from ..util.errors import ModelSpecError
 from .parameter_units import render
 from .signals import Signals
 
+LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many run durations is extrapolated, not seen
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -45,6 +47,7 @@ class Parameter:
     null: float = 0.0  # the value at which the effect is absent (for score tests)
     nuisance: bool = False  # only meaningful once the effect is present (e.g. a second mass's time constant)
     plausible: tuple[float, float] | None = None  # the physically expected range, for a plausibility check
+    within_runs: float | None = None  # a fit keeps it within this many times the longest run it sees (None: no limit)
 
     def unit_in(self, units: Mapping[str, str] | None) -> str:
         """The unit with the log's channel units put in (``unit`` may name channels: ``K/({effort})^2``)."""

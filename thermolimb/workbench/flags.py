@@ -14,19 +14,17 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from ..identification.bounds import OFFSET_MARGIN_K, OFFSET_REDEFINED_BY
 from ..logs import ActuatorSeries
 from ..model.model import ThermalModel
 from ..model.parameter_units import spaced
+from ..model.terms import LONG_TIME_CONSTANT
 from ..util.numbers import plus_minus, significant
 from .excitation import excitation
 from .floor import FLOOR_FACTOR, sensor_floor
 
-OFFSET_MARGIN_K = 10.0  # an offset further than this (or half the logged range) from the reference is flagged
-LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many log durations is extrapolated
-SHORT_TIME_CONSTANT = 0.5  # ... or shorter than this many sampling intervals is not seen
+SHORT_TIME_CONSTANT = 0.5  # a time constant shorter than this many sampling intervals is not seen
 MAX_RELATIVE_STDERR = 0.5  # a value known to worse than half of itself is flagged
-# terms after which T_offset is no longer an ambient temperature
-OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")
 
 
 def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries],
@@ -45,8 +43,8 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         v = model.params[p.name]
         scale = abs(p.typical) if p.typical else 1.0
         if p.unit == "s":
-            if v > LONG_TIME_CONSTANT * duration:
-                flags.append(f"{p.name} = {significant(v, 3)} s is longer than {LONG_TIME_CONSTANT:g}x the log "
+            if v >= LONG_TIME_CONSTANT * duration * (1.0 - 1e-6):
+                flags.append(f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or longer "
                              f"({duration:.0f} s): the log shows the start of a change, not its time constant")
             elif v < SHORT_TIME_CONSTANT * dt:
                 flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
