@@ -78,7 +78,7 @@ class FreeRunLeastSquares(ThermalEstimator):
         self.max_iterations = max_iterations
         self.max_samples = max_samples  # compared per evaluation (None: thinning's); fewer for a fit ranking starts
 
-    def _start(self, series, terms) -> np.ndarray:
+    def _start(self, series, terms, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         params = model_parameters(terms)
         start = {p.name: p.typical for p in params}
         given = {**(self.initial or {}), **(self.fixed or {})}
@@ -97,7 +97,6 @@ class FreeRunLeastSquares(ThermalEstimator):
             start["RC_s"] = _time_constant_guess(series)
         start.update(given)
         x0 = np.array([start[p.name] for p in params], dtype=float)
-        lower, upper = fit_bounds(params, terms, series)
         span = np.where(np.isfinite(upper - lower), upper - lower, np.abs(x0) + 1.0)
         return np.clip(x0, lower + 1e-9 * span, upper - 1e-9 * span)
 
@@ -105,7 +104,7 @@ class FreeRunLeastSquares(ThermalEstimator):
         params = model_parameters(terms)
         names = [p.name for p in params]
         lower, upper = fit_bounds(params, terms, series)
-        x_all = self._start(series, terms)
+        x_all = self._start(series, terms, lower, upper)
         unknown = [k for k in self.fixed or {} if k not in names]
         if unknown:
             raise ValueError(f"fixed names {', '.join(unknown)}, not a parameter of model {','.join(terms)}")
