@@ -69,3 +69,19 @@ def test_a_bag_says_its_effort_unit_was_not_given_unless_told():
     BAG = WX200_BAG.paths[0]
     assert read_log(BAG, actuator_name="waist").units["effort"] == NOT_GIVEN
     assert read_log(BAG, actuator_name="waist", effort_unit="mA").units["effort"] == "mA"
+
+
+def test_an_implausible_value_is_said_in_the_unit_its_log_gives_and_a_one_argument_term_is_still_asked():
+    from thermolimb.model.terms import TERMS, Term, implausibility
+
+    motion = TERMS["motion_cooling"]()
+    said = implausibility(motion, {"cooling_per_rad_s": 9.0}, {"velocity": "rad/s"})
+    assert said == "cooling_per_rad_s = 9 1/(rad/s) is outside 0..5"
+    assert implausibility(motion, {"cooling_per_rad_s": 1.0}, {"velocity": "rad/s"}) is None
+
+    class Written(Term):  # a user's term written before terms took units
+        name = "written_before"
+        def implausible(self, p):
+            return "too hot" if p["x"] > 1 else None
+
+    assert implausibility(Written(), {"x": 2.0}, {"velocity": "rad/s"}) == "too hot"

@@ -27,11 +27,11 @@ class SlowMass(Term):
     tau: str
     carries_state = True  # its node's temperature carries over between pieces of a run (ThermalModel.simulate)
 
-    def implausible(self, p):
+    def implausible(self, p, units=None):
         if p[self.tau] <= p["RC_s"]:
             return (f"{self.tau} = {significant(p[self.tau], 3)} s is not slower than the winding's "
                     f"RC_s = {significant(p['RC_s'], 3)} s fitted with it")
-        return super().implausible(p)
+        return super().implausible(p, units)
 
     def winding_share(self, p):
         return 1.0 - p[self.fraction]

@@ -161,13 +161,13 @@ class GeneratedTerm(Term):
                 rise = rise + k
         return rise, gain
 
-    def implausible(self, p):
+    def implausible(self, p, units=None):
         if self.spec.conductance is not None:
             param, low, high = self.spec.conductance
             worst = min(1.0 + p[param] * low, 1.0 + p[param] * high)
             if worst <= 0.0:
                 return f"the conductance to ambient would be negative ({worst:.2f} of its value at the channel's zero)"
-        return super().implausible(p)
+        return super().implausible(p, units)
 
 
 def define(spec: Spec) -> type[Term]:
@@ -239,11 +239,11 @@ def term_source(spec: Spec) -> str:
     check = ""
     if spec.conductance is not None:
         param, low, high = spec.conductance
-        check = (f"\n    def implausible(self, p):\n"
+        check = (f"\n    def implausible(self, p, units=None):\n"
                  f"        worst = min(1.0 + p[{param!r}] * {low!r}, 1.0 + p[{param!r}] * {high!r})\n"
                  f"        if worst <= 0.0:\n"
                  f"            return f\"the conductance to ambient would be negative ({{worst:.2f}} of its value)\"\n"
-                 f"        return super().implausible(p)\n")
+                 f"        return super().implausible(p, units)\n")
     summary = (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
     return f'''@register_term
 class {class_name(spec.name)}(Term):

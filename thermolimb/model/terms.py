@@ -20,6 +20,7 @@ estimator, ``thermolimb fit`` and ``thermolimb diagnose`` can use it.
 
 from __future__ import annotations
 
+import inspect
 import re
 from dataclasses import dataclass
 from typing import ClassVar, Mapping
@@ -118,11 +119,14 @@ class Term:
         """The winding temperature behind a reading ``measured_C`` that is moving at ``rate_K_per_s``."""
         return measured_C
 
-    def implausible(self, p: Mapping[str, float]) -> str | None:
-        """Why fitted values are physically implausible, or ``None``; default: each parameter's range."""
+    def implausible(self, p: Mapping[str, float], units: Mapping[str, str] | None = None) -> str | None:
+        """Why fitted values are physically implausible, or ``None``; default: each parameter's range.
+
+        ``units`` are the log's channel units, put into the parameters' units when given.
+        """
         for par in self.parameters:
             if par.plausible and not (par.plausible[0] <= p[par.name] <= par.plausible[1]):
-                return f"{par.name} = {p[par.name]:.3g} {par.unit_in(None)} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
+                return f"{par.name} = {p[par.name]:.3g} {par.unit_in(units)} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
         return None
 
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
@@ -160,6 +164,14 @@ BUILT_IN = "thermolimb.effects."  # the package of the built-in terms, which no 
 
 def is_built_in(cls: type[Term]) -> bool:
     return cls.__module__.startswith(BUILT_IN)
+
+
+def implausibility(term: Term, p: Mapping[str, float], units: Mapping[str, str] | None) -> str | None:
+    """``term.implausible`` with the log's channel units, from a term written to take them (a user's term, or one
+    generated before terms took units, is asked with the values alone)."""
+    if "units" in inspect.signature(term.implausible).parameters:
+        return term.implausible(p, units=units)
+    return term.implausible(p)
 
 
 def register_term(cls: type[Term]) -> type[Term]:

@@ -36,7 +36,7 @@ from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance
 from ...model.model import ThermalModel, model_parameters
-from ...model.terms import TERMS
+from ...model.terms import TERMS, implausibility
 from ..flags import uncertainty_cause
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
@@ -415,7 +415,7 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
         return
     term = TERMS[cand.effect]
     params = report.model.params
-    cand.implausible_because = term().implausible(params)
+    cand.implausible_because = implausibility(term(), params, report.channel_units)
     for p in term.parameters:
         cand.params[p.name] = {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
     cand.identifiable = bool(term_identified(term, report))  # a NumPy bool is not ``False`` to ``is not False``
