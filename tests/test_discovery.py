@@ -246,3 +246,35 @@ def test_a_channel_that_rests_in_the_split_s_tail_is_judged_on_interleaved_block
     assert judging_scheme(Scheme(), moving, discover=True).kind == "split"
     halves = [runs[0].slice(0, 3600), runs[0].slice(3600, runs[0].n)]
     assert judging_scheme(Scheme(), halves, discover=True).kind == "runs"
+
+
+def test_a_fan_on_the_housing_is_found_on_the_slow_mass_written_loaded_and_carried_to_the_next_run(tmp_path, capsys):
+    """On a two-node plant the fan multiplies the housing's conductance, not the winding's: the walk takes the fan's
+    form on the second mass (robustness, not selection: the plant's back-coupled network is not the model's
+    cascade), the proposed file reloads as a user's term and, fitted on this run, predicts the next one."""
+    runs = []
+    for seed in (0, 1):
+        fx = PlantEffects.from_names("sensor_noise,quantisation,fan_cooling")
+        log = simulate_profile("random", 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
+                               network=NETWORKS["second_order"]).log
+        runs.append(tmp_path / f"fan{seed}.csv")
+        log.write(runs[-1])
+    proposal = tmp_path / "fan_terms.py"
+    assert main(["diagnose", str(runs[0]), "--actuator", "knee", "--auto", "--discover", "--propose", str(proposal),
+                 "--json", "--quiet"]) == 0
+    final = json.loads(capsys.readouterr().out)["auto"][-1]
+    assert "fan_second_node_conductance" in final["model"] and "second_node" in final["model"], final
+    assert final["rmse_K"] < 0.1
+    text = proposal.read_text()
+    assert "airflow_on = 'second_node'" in text and "def airflow_gain" in text
+    del TERMS["fan_second_node_conductance"]  # a user's file now: not the suite's own generated term
+    results = {}
+    for model in ("joule,effort_bias", ",".join(final["model"])):
+        assert main(["fit", str(runs[0]), "--actuator", "knee", "--terms", str(proposal), "--model", model,
+                     "--validate-on", str(runs[1]), "--json", "--quiet"]) == 0
+        results[model] = json.loads(capsys.readouterr().out)
+    found = results[",".join(final["model"])]
+    assert found["params"]["fan_second_node_conductance_per_unit"]["value"] == pytest.approx(
+        FanCooling().gain / FanCooling().scale, rel=0.10)  # per % of duty
+    assert found["validation"]["rmse_K"] < 0.1 < results["joule,effort_bias"]["validation"]["rmse_K"]
+    assert not TERMS["fan_second_node_conductance"].generated

@@ -12,10 +12,11 @@ import pytest
 from thermolimb.cli.main import main
 from thermolimb.identification import FreeRunLeastSquares
 from thermolimb.logs import read_log
-from thermolimb.model import load_model
+from thermolimb.model import ThermalModel, load_model
 from thermolimb.model.generated import Feature, Spec, define
 from thermolimb.model.saved import ModelFile, ModelFileError
 from thermolimb.model.terms import TERMS
+from thermolimb.util.errors import ModelSpecError
 
 
 @pytest.fixture(scope="module")
@@ -133,6 +134,32 @@ def test_a_generated_term_travels_as_data(fitted, tmp_path):
     del TERMS[spec.name]
     loaded = ModelFile.load(path)["knee"].model
     assert np.array_equal(loaded.free_run(series[0]), est.model_.free_run(series[0]))
+
+
+def test_a_generated_term_on_a_slow_mass_s_conductance_travels_as_data_and_names_a_real_mass(fitted, tmp_path):
+    log = read_log(fitted[0])
+    series = log.runs("knee")
+    spec = Spec("test_housing_flow", "the second mass's conductance grows with |velocity|", ("velocity",),
+                (Feature("test_housing_flow_per_rad_s", "1/({velocity})", "velocity", "abs_power", "|v| on second_node",
+                         "|velocity| on the second mass", lower=0.0, upper=5.0, typical=0.5),),
+                airflow_on="second_node")
+    define(spec)
+    model = ThermalModel(("joule", "second_node", "test_housing_flow"),
+                         {"RC_s": 40.0, "betaR_K_per_effort2": 0.3, "frame_fraction": 0.6, "frame_tau_s": 900.0,
+                          "test_housing_flow_per_rad_s": 0.8, "T_offset_C": 25.0})
+    still = model.with_params({**model.params, "test_housing_flow_per_rad_s": 0.0})
+    plain = ThermalModel(("joule", "second_node"), {k: v for k, v in still.params.items() if "flow" not in k})
+    assert np.array_equal(still.free_run(series[0]), plain.free_run(series[0]))  # no flow: the mass as it was
+    before = model.free_run(series[0])
+    assert not np.allclose(before, plain.free_run(series[0]))
+    record = json.loads(json.dumps(spec.to_json()))
+    assert Spec.from_json(record, "here") == spec
+    del TERMS[spec.name]
+    define(Spec.from_json(record, "here"))  # as a model file's generated terms are rebuilt on load
+    assert np.array_equal(model.free_run(series[0]), before)
+    with pytest.raises(ModelSpecError, match="changes the conductance of 'joule'; expected one of the slow masses"):
+        Spec.from_json({**record, "airflow_on": "joule"}, "here")
+    del TERMS[spec.name]
 
 
 def test_standard_errors_do_not_depend_on_the_unit_the_effort_is_logged_in(fitted, tmp_path):

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.terms import LONG_TIME_CONSTANT, Parameter, Term, register_term
+from ..model.terms import LONG_TIME_CONSTANT, Parameter, Term, airflow_terms, register_term
 from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
 
@@ -37,8 +37,11 @@ class SlowMass(Term):
         return 1.0 - p[self.fraction]
 
     def airflow(self, p, s) -> np.ndarray | float:
-        """How many times its still-air conductance to ambient this mass has (1: none moves it)."""
-        return 1.0
+        """How many times its still-air conductance to ambient this mass has (1: no term of the model moves it)."""
+        flow = 1.0
+        for term in airflow_terms(self.name, p):
+            flow = flow + term.airflow_gain(p, s)
+        return flow
 
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None, offset=0.0):
         phi = p[self.fraction]
@@ -82,10 +85,6 @@ class SecondNode(SlowMass):
     fraction, tau = "frame_fraction", "frame_tau_s"
     parameters = _slow_mass_parameters(fraction, tau, "slow")
 
-    def airflow(self, p, s):
-        h = p.get(HOUSING_AIRFLOW, 0.0)  # set by housing_motion_cooling, when the model has it
-        return 1.0 + h * speed(s) if h else 1.0
-
 
 @register_term
 class HousingMotionCooling(Term):
@@ -98,6 +97,11 @@ class HousingMotionCooling(Term):
     parameters = (airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),)
     columns = ("velocity",)
     requires = ("second_node",)
+    airflow_on = "second_node"
+
+    def airflow_gain(self, p, s):
+        h = p[HOUSING_AIRFLOW]
+        return h * speed(s) if h else 0.0
 
 
 @register_term

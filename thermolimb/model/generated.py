@@ -105,12 +105,16 @@ class Spec:
     features: tuple[Feature, ...]
     # the conductance's multiplier 1 + c x must stay positive over the channel's logged range: (param, x min, x max)
     conductance: tuple[str, float, float] | None = None
+    # the slow mass (its term's name) whose conductance to ambient the features multiply by ``1 + sum c x``, in
+    # place of the winding's: a fan on the housing; such a term adds no heat of its own
+    airflow_on: str | None = None
 
     def to_json(self) -> dict:
         return {"name": self.name, "description": self.description, "columns": list(self.columns),
                 "features": [{k: (list(v) if isinstance(v, tuple) else _number_out(v)) for k, v in asdict(f).items()}
                              for f in self.features],
-                "conductance": None if self.conductance is None else list(self.conductance)}
+                "conductance": None if self.conductance is None else list(self.conductance),
+                **({"airflow_on": self.airflow_on} if self.airflow_on else {})}
 
     @classmethod
     def from_json(cls, record, where: str) -> "Spec":
@@ -118,9 +122,11 @@ class Spec:
         try:
             features = tuple(Feature(**{k: (tuple(v) if k == "plausible" and v is not None else _number_in(v))
                                         for k, v in f.items()}) for f in record["features"])
+            conductance = record.get("conductance")
             spec = cls(str(record["name"]), str(record["description"]), tuple(map(str, record["columns"])),
-                       features, None if record.get("conductance") is None else
-                       (str(record["conductance"][0]), float(record["conductance"][1]), float(record["conductance"][2])))
+                       features, None if conductance is None else
+                       (str(conductance[0]), float(conductance[1]), float(conductance[2])),
+                       None if record.get("airflow_on") is None else str(record["airflow_on"]))
         except (KeyError, TypeError, ValueError, IndexError) as exc:
             raise ModelSpecError(f"{where}: a generated term needs name, description, columns and features "
                                  f"({type(exc).__name__}: {exc})") from None
@@ -132,6 +138,9 @@ class Spec:
                 raise ModelSpecError(f"{where}: generated term {spec.name!r}: feature {f.param!r} is not one this "
                                      f"suite writes (form {f.form!r}, inputs {inputs}); expected a form of "
                                      f"{', '.join(FORMS)} of a channel")
+        if spec.airflow_on is not None and spec.airflow_on not in SLOW_MASSES:
+            raise ModelSpecError(f"{where}: generated term {spec.name!r} changes the conductance of "
+                                 f"{spec.airflow_on!r}; expected one of the slow masses {', '.join(SLOW_MASSES)}")
         if not re.fullmatch(r"[a-z_][a-z0-9_]*", spec.name):
             raise ModelSpecError(f"{where}: generated term name {spec.name!r} is not an identifier")
         return spec
@@ -153,6 +162,8 @@ class GeneratedTerm(Term):
 
     def contribution(self, p, s):
         rise, gain = 0.0, 0.0
+        if self.spec.airflow_on:
+            return rise, gain
         for f in self.spec.features:
             k = f.sign * p[f.param] * f.values(s)
             if f.gain:
@@ -161,13 +172,27 @@ class GeneratedTerm(Term):
                 rise = rise + k
         return rise, gain
 
+    def airflow_gain(self, p, s):  # none at all, not an array of zeros: the mass's still-air recursion is kept
+        moving = [f for f in self.spec.features if p[f.param]] if self.spec.airflow_on else []
+        return sum(p[f.param] * f.values(s) for f in moving) if moving else 0.0
+
     def implausible(self, p, units=None):
         if self.spec.conductance is not None:
             param, low, high = self.spec.conductance
             worst = min(1.0 + p[param] * low, 1.0 + p[param] * high)
             if worst <= 0.0:
-                return f"the conductance to ambient would be negative ({worst:.2f} of its value at the channel's zero)"
+                return (f"the conductance {_of(self.spec)} would be negative ({worst:.2f} of its value at the "
+                        f"channel's zero)")
         return super().implausible(p, units)
+
+
+# the catalog's slow masses, whose conductance to ambient a generated term may change, in words
+SLOW_MASSES = {"second_node": "the second mass", "third_node": "the third mass"}
+
+
+def _of(spec: Spec) -> str:
+    """Whose conductance a spec's conductance feature changes, in words."""
+    return "to ambient" if spec.airflow_on is None else f"of {SLOW_MASSES[spec.airflow_on]} to ambient"
 
 
 def define(spec: Spec) -> type[Term]:
@@ -176,9 +201,10 @@ def define(spec: Spec) -> type[Term]:
     parameters = tuple(Parameter(f.param, f.unit, f.lower, f.upper, f.typical, f"coefficient of {f.words}",
                                  "the channels it reads, varying independently of the effort", plausible=f.plausible)
                        for f in spec.features)
+    mass = {} if spec.airflow_on is None else {"airflow_on": spec.airflow_on, "requires": (spec.airflow_on,)}
     cls = type(class_name(spec.name), (GeneratedTerm,),
                {"name": spec.name, "description": spec.description, "parameters": parameters,
-                "columns": spec.columns, "spec": spec, "__doc__": spec.description, "__module__": __name__})
+                "columns": spec.columns, "spec": spec, "__doc__": spec.description, "__module__": __name__, **mass})
     cls.source = term_source(spec)
     return register_term(cls)
 
@@ -236,14 +262,21 @@ def term_source(spec: Spec) -> str:
         else:
             body.append(f"        rise = rise + {coef} * ({expr})  # {f.symbol}")
     body.append("        return rise, gain")
+    method = "contribution(self, p, s)"
+    if spec.airflow_on:  # the features multiply a slow mass's conductance; the term adds no heat of its own
+        method = "airflow_gain(self, p, s)"
+        body = ["        return " + " + ".join(
+            f"p[{f.param!r}] * ({FORMS[f.form][1].format(x=_variable(f.input), power=f.power, threshold=f.threshold)})"
+            for f in spec.features) + f"  # {', '.join(f.symbol for f in spec.features)}"]
     check = ""
     if spec.conductance is not None:
         param, low, high = spec.conductance
         check = (f"\n    def implausible(self, p, units=None):\n"
                  f"        worst = min(1.0 + p[{param!r}] * {low!r}, 1.0 + p[{param!r}] * {high!r})\n"
                  f"        if worst <= 0.0:\n"
-                 f"            return f\"the conductance to ambient would be negative ({{worst:.2f}} of its value)\"\n"
+                 f"            return f\"the conductance {_of(spec)} would be negative ({{worst:.2f}} of its value)\"\n"
                  f"        return super().implausible(p, units)\n")
+    mass = f"    airflow_on = {spec.airflow_on!r}\n    requires = ({spec.airflow_on!r},)\n" if spec.airflow_on else ""
     summary = (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
     return f'''@register_term
 class {class_name(spec.name)}(Term):
@@ -255,8 +288,8 @@ class {class_name(spec.name)}(Term):
 {params},
     )
     columns = {tuple(spec.columns)!r}
-
-    def contribution(self, p, s):
+{mass}
+    def {method}:
 {chr(10).join(reads)}
 {chr(10).join(body)}
 {check}'''

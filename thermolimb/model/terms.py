@@ -80,6 +80,9 @@ class Term:
     # parameters of other terms its contribution reads (copper's coefficient scales the Joule heat): the model is
     # then not affine in them, whatever their own term (ThermalModel.place_hidden may not reuse responses across them)
     reads: ClassVar[tuple[str, ...]] = ()
+    # a term that changes a slow mass's conductance to ambient (airflow on the housing, a fan's duty) names that
+    # mass's term; :meth:`airflow_gain` is by how much, and the term adds no heat of its own
+    airflow_on: ClassVar[str | None] = None
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's); default:
@@ -118,6 +121,11 @@ class Term:
     def initial_winding(self, p: Mapping[str, float], measured_C: float, rate_K_per_s: float) -> float:
         """The winding temperature behind a reading ``measured_C`` that is moving at ``rate_K_per_s``."""
         return measured_C
+
+    def airflow_gain(self, p: Mapping[str, float], s: Signals) -> np.ndarray | float:
+        """For a term with ``airflow_on``: the increase of that mass's conductance to ambient, as a multiple of its
+        still-air value, per sample (the conductance is ``1 + airflow_gain`` times it); default 0."""
+        return 0.0
 
     def implausible(self, p: Mapping[str, float], units: Mapping[str, str] | None = None) -> str | None:
         """Why fitted values are physically implausible, or ``None``; default: each parameter's range.
@@ -172,6 +180,13 @@ def implausibility(term: Term, p: Mapping[str, float], units: Mapping[str, str] 
     if "units" in inspect.signature(term.implausible).parameters:
         return term.implausible(p, units=units)
     return term.implausible(p)
+
+
+def airflow_terms(mass: str, p: Mapping[str, float]) -> list[Term]:
+    """The terms of the model whose values are ``p`` that change the conductance of the slow mass ``mass``
+    (a model's parameter names are its terms': a term is in it when its parameters are)."""
+    return [cls() for cls in TERMS.values()
+            if cls.airflow_on == mass and cls.parameters and all(q.name in p for q in cls.parameters)]
 
 
 def register_term(cls: type[Term]) -> type[Term]:

@@ -4,7 +4,8 @@
   ``c x |effort|`` (a supply voltage times a current-like effort);
 * a change of the conductance to ambient: ``-h x (T - T_offset)``, the
   conductance times ``1 + h x`` (a fan's duty, a coolant's flow), which must
-  stay positive over the log;
+  stay positive over the log; and the same change on a slow mass's conductance
+  in place of the winding's (a fan on the housing), where the model has that mass;
 * for a temperature (a unit of degC or K, or a name saying so): a boundary
   the winding relaxes towards, ``g (x - 25 degC)`` with ``0 <= g <= 1``
   (a driver board, a coolant, a housing sensor the mapping did not name);
@@ -23,7 +24,7 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
-from ...model.generated import Feature, Spec, define, identifier
+from ...model.generated import SLOW_MASSES, Feature, Spec, define, identifier
 from ...model.parameter_units import NOT_GIVEN
 from ...model.terms import TERMS
 
@@ -67,7 +68,7 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
     x = np.concatenate([s.signals.extra[channel] for s in series])
     ident, column, template = identifier(channel), f"extra.{channel}", f"{{extra.{channel}}}"
     shown = f"`{channel}`"
-    forms: list[tuple[str, str, list[Feature], tuple[str, ...], tuple | None]] = []
+    forms: list[tuple] = []
     named, ranged = is_temperature(channel, unit), in_temperature_range(x, unit, series)
     if named or ranged:
         forms.append(("boundary", f"the winding relaxes towards the logged temperature {shown}", [Feature(
@@ -96,9 +97,16 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
             param, f"1/({template})", column, "value", f"{channel} (T - T_offset)",
             f"{shown} times the rise above the offset", gain=True, sign=-1.0, lower=lower, upper=upper,
             typical=0.1 / scale)], (), (param, float(x.min()), float(x.max()))))
+        for mass, words in SLOW_MASSES.items():  # offered where the model has that mass (the term requires it)
+            param = f"{ident}_{mass}_conductance_per_unit"
+            forms.append((f"{mass}_conductance", f"the conductance of {words} to ambient changes with {shown} (a fan "
+                          f"on the housing)", [Feature(
+                              param, f"1/({template})", column, "value", f"{channel} on {mass}",
+                              f"{shown} on the conductance of {words}", lower=lower, upper=upper,
+                              typical=0.1 / scale)], (), (param, float(x.min()), float(x.max())), mass))
     names = []
-    for form, description, features, needs, conductance in forms:
+    for form, description, features, needs, conductance, *mass in forms:  # *mass: a slow mass's conductance
         name = f"{ident}_{form}"
-        define(Spec(name, description, needs + (column,), tuple(features), conductance))
+        define(Spec(name, description, needs + (column,), tuple(features), conductance, *mass))
         names.append(name)
     return names

@@ -284,6 +284,8 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
             continue
         unit = train[0].units.get(f"extra.{channel}") or NOT_GIVEN
         for name in channel_terms(channel, train):
+            if not all(r in model for r in TERMS[name].requires):  # a slow mass's conductance, without the mass
+                continue
             out.append(Candidate(name, model + (name,), kind="channel", channel=channel, channel_unit=unit,
                                  source=TERMS[name].source))
     for taken in model:
@@ -292,7 +294,7 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
             continue
         forms = channel_terms(channel, train)
         for name in forms if taken in forms else ():  # a channel's form, not a discovered form that reads it
-            if name not in model:
+            if name not in model and all(r in model for r in TERMS[name].requires):
                 out.append(Candidate(name, tuple(name if t == taken else t for t in model), kind="swap",
                                      replaces=taken, channel=channel, source=TERMS[name].source))
     return out
