@@ -2,7 +2,8 @@
 
 For every bundled real log and actuator (the UR3's six joints, the WidowX-200 waist's two runs and its bag,
 the BLDC bench's two runs, the PMSM test bench's two profiles) and plant logs (a one-mass plant with each
-catalog effect hidden and with none; a coolant pump's duty that scales the conductance, at three gains),
+catalog effect hidden and with none; a coolant pump's duty that scales the conductance, at three gains; a fan on
+the housing of a two-node plant, which scales the slow mass's conductance),
 ``diagnose --auto`` with stability is run on the log as it is and on ``--perturbations`` perturbed copies:
 each run trimmed by 0-5 rows at either end, the validation scheme the command line would use (leave one run out
 on a log of several runs; a split otherwise, moved by up to 0.03), and the stability replicates on another seed.  Reported per log: the unperturbed walk, and the share of perturbations whose
@@ -74,6 +75,12 @@ def plant_logs(quick: bool) -> list[tuple[str, list, bool, tuple]]:
         log = simulate_profile("random", 2 * 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=0,
                                network=NETWORKS["first_order"], load_scale=2.0).log
         out.append((f"plant: pump scales conductance, gain {gain}", log.runs("knee"), True, ("pump_conductance",)))
+    if not quick:
+        fx = PlantEffects.from_names("sensor_noise,quantisation,fan_cooling")
+        log = simulate_profile("random", 2 * 3600.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=0,
+                               network=NETWORKS["second_order"]).log
+        out.append(("plant: fan on a two-node plant's housing", log.runs("knee"), True,
+                    ("fan_second_node_conductance",)))
     return out
 
 
