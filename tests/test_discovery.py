@@ -278,3 +278,19 @@ def test_a_fan_on_the_housing_is_found_on_the_slow_mass_written_loaded_and_carri
         FanCooling().gain / FanCooling().scale, rel=0.10)  # per % of duty
     assert found["validation"]["rmse_K"] < 0.1 < results["joule,effort_bias"]["validation"]["rmse_K"]
     assert not TERMS["fan_second_node_conductance"].generated
+
+
+@pytest.mark.slow
+def test_each_place_a_channel_can_act_has_its_strongest_form_refitted():
+    """On a three-mass plant log whose fan cools the slow body, the score test ranks the fan's form on the fast mass
+    first; refitted alone, it does not help (0.223 -> 0.225 K), and the form on the slow mass, the plant's physics,
+    was never refitted.  Each place (the winding, each slow mass) now has its strongest form refitted."""
+    fx = PlantEffects.from_names("sensor_noise,quantisation,fan_cooling")
+    log = simulate_profile("random", 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=1,
+                           network=NETWORKS["x8"]).log
+    d = diagnose([log.series("knee")], model="joule,effort_bias,second_node,third_node", discover=True)
+    slow = "second_node" if d.base.model.params["frame_tau_s"] > d.base.model.params["body_tau_s"] else "third_node"
+    assert d.recommended is not None and d.recommended.effect == f"fan_{slow}_conductance", d.recommended
+    assert d.recommended.rmse_K < 0.1 < d.base.validation["rmse_K"]
+    tried = {c.effect for c in d.candidates if c.kind == "channel" and c.refitted}
+    assert {"fan_second_node_conductance", "fan_third_node_conductance"} <= tried
