@@ -294,3 +294,22 @@ def test_each_place_a_channel_can_act_has_its_strongest_form_refitted():
     assert d.recommended.rmse_K < 0.1 < d.base.validation["rmse_K"]
     tried = {c.effect for c in d.candidates if c.kind == "channel" and c.refitted}
     assert {"fan_second_node_conductance", "fan_third_node_conductance"} <= tried
+
+
+@pytest.mark.slow
+def test_a_mass_and_the_channel_on_it_are_tried_together_where_no_simpler_change_helps():
+    """On seed 1's two-node fan log a second mass alone makes the held-out error worse (1.033 -> 2.132 K: fitted
+    without the fan that moves it), and the fan's form on that mass was offered only once the mass was in the model,
+    so the walk took nothing.  The mass and the fan's form on it are now one change."""
+    fx = PlantEffects.from_names("sensor_noise,quantisation,fan_cooling")
+    log = simulate_profile("random", 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=1,
+                           network=NETWORKS["second_order"]).log
+    d = diagnose([log.series("knee")], discover=True)
+    alone = next(c for c in d.candidates if c.effect == "second_node" and c.kind == "add")
+    assert alone.refitted and not alone.helps  # the mass alone
+    assert d.recommended is not None and d.recommended.brings == ("second_node",), d.recommended
+    assert d.recommended.label.startswith("+ second_node with fan_second_node_conductance")
+    assert d.recommended.rmse_K < 0.1 < d.base.validation["rmse_K"]
+    assert set(d.recommended.params) == {"frame_fraction", "frame_tau_s", "fan_second_node_conductance_per_unit"}
+    assert d.recommended.params["fan_second_node_conductance_per_unit"]["value"] == pytest.approx(
+        FanCooling().gain / FanCooling().scale, rel=0.10)

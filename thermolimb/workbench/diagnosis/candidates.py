@@ -62,7 +62,7 @@ class Candidate:
     """One change to the model tried on this log.
 
     ``kind`` is ``"add"`` (the catalog's ``effect`` joins the model),
-    ``"channel"`` (a form of the log's extra channel ``channel`` joins it),
+    ``"channel"`` (a form of the log's extra channel ``channel`` joins it, and the masses ``brings`` with it),
     ``"discovered"`` (a form found by :mod:`.discovery` joins it), ``"drop"``
     (``effect`` leaves it) or ``"swap"`` (``effect`` replaces the heat source
     ``replaces``).
@@ -92,6 +92,7 @@ class Candidate:
     starts: list[dict] = field(default_factory=list, repr=False)  # where refits start
     scan: list[tuple[dict, dict]] = field(default_factory=list, repr=False)  # (nuisance values, start there)
     channel: str | None = None  # the extra channel a "channel" candidate reads
+    brings: tuple[str, ...] = ()  # terms it needs that the model lacks, added with it (a mass its channel acts on)
     channel_unit: str | None = None
     formula: str | None = None  # a generated term's heat in symbols
     source: str | None = field(default=None, repr=False)  # a generated term's Python source (--propose)
@@ -116,7 +117,8 @@ class Candidate:
     def label(self) -> str:
         if self.kind == "channel":
             unit = "" if self.channel_unit in (None, "", "1") else f", in {self.channel_unit}"  # "1": a plain number
-            return f"+ {self.effect} (from the channel {self.channel}{unit})"
+            brought = "".join(f"{b} with " for b in self.brings)
+            return f"+ {brought}{self.effect} (from the channel {self.channel}{unit})"
         if self.kind == "discovered":
             return f"+ {self.effect} (discovered)"
         if self.kind == "drop":
@@ -182,13 +184,13 @@ class Candidate:
         fitted = dict(self.report.model.params) if self.report is not None else {}
         return {"effect": self.effect, "model": self.model, "kind": self.kind, "replaces": self.replaces,
                 "also_drops": self.also_drops, "channel": self.channel, "channel_unit": self.channel_unit,
-                "formula": self.formula, "fitted": fitted, "plausible": self.plausible}
+                "formula": self.formula, "fitted": fitted, "plausible": self.plausible, "brings": self.brings}
 
     @classmethod
     def from_spec(cls, spec: dict) -> "Candidate":
         return cls(spec["effect"], tuple(spec["model"]), kind=spec["kind"], replaces=spec["replaces"],
                    also_drops=tuple(spec["also_drops"]), channel=spec["channel"], channel_unit=spec["channel_unit"],
-                   formula=spec["formula"], settled_plausible=spec.get("plausible"))
+                   formula=spec["formula"], settled_plausible=spec.get("plausible"), brings=tuple(spec["brings"]))
 
     def to_json(self) -> dict:
         out = {
@@ -320,7 +322,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
         if cand.kind == "swap":
             cand.confounded = confounded_swap(cand, train)
         return
-    term = TERMS[cand.effect]
+    term = TERMS[cand.brings[0]] if cand.brings else TERMS[cand.effect]  # a brought mass gives its channel a gradient
     scored = []
     own_share = float("nan")
     at_null = simulate_all(base, train, stride) if base_run is None else base_run
@@ -335,6 +337,8 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     cand.score, cand.p_value, cand.partial_r2 = scored[0][0], scored[0][1], scored[0][2]
     cand.starts = [s[3] for s in scored[:REFIT_STARTS]]
     cand.starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
+    own = {p.name: p.typical for p in TERMS[cand.effect].parameters} if cand.brings else {}  # at its null: no effect
+    cand.starts, cand.scan = [{**s, **own} for s in cand.starts], [(f, {**s, **own}) for f, s in cand.scan]
     # times that are not nuisance (a sensor lag) start from the log's time scales too
     times = [p for p in term.parameters if p.unit == "s" and not p.nuisance]
     for scale in time_scales_s(train)[1:4:2] if times else ():
@@ -350,7 +354,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
 
 def _score_at(cand, term, base, train, jacobian, residual, fixed, stride, at_null):
     values = dict(base.params)
-    values.update({p.name: p.null for p in term.parameters})
+    values.update({p.name: p.null for t in (cand.effect, *cand.brings) for p in TERMS[t].parameters})
     values.update(fixed)
     extended = ThermalModel(cand.model, values)
     primary = [p for p in term.parameters if not p.nuisance]
@@ -413,14 +417,13 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
     if cand.kind == "drop":
         cand.identifiable = cand.plausible = True
         return
-    term = TERMS[cand.effect]
-    params = report.model.params
-    cand.implausible_because = implausibility(term(), params, report.channel_units)
-    for p in term.parameters:
-        cand.params[p.name] = {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
-    cand.identifiable = bool(term_identified(term, report))  # a NumPy bool is not ``False`` to ``is not False``
+    terms, params = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params
+    cand.implausible_because = next(filter(None, (implausibility(t(), params, report.channel_units) for t in terms)), None)
+    cand.params.update({p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
+                        for term in terms for p in term.parameters})
+    cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
     cand.plausible = cand.implausible_because is None
-    cand.failure = refit_failure(term, params)
+    cand.failure = next(filter(None, (refit_failure(t, params) for t in terms)), None)
 
 
 

@@ -214,8 +214,16 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
+    # a channel's form that brings its mass (more parameters at once) is tried only where no simpler change helps
+    bringing, worth = [c for c in worth if c.brings and not replicating], [c for c in worth if not c.brings or replicating]
     for cand in progress(worth, desc="refits", disable=search.quiet):
         _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
+    simpler = next((c for c in worth if c.eligible), None)
+    for cand in bringing:
+        if simpler is not None:
+            cand.skipped = f"a simpler change helps ({simpler.label}); a mass with a channel is tried only without one"
+        else:
+            _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
     for cand in candidates:
         if not cand.evidence and not replicating:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
@@ -284,10 +292,12 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
             continue
         unit = train[0].units.get(f"extra.{channel}") or NOT_GIVEN
         for name in channel_terms(channel, train):
-            if not all(r in model for r in TERMS[name].requires):  # a slow mass's conductance, without the mass
+            # a slow mass's conductance without the mass: the mass comes with it, when all it needs is in the model
+            brings = tuple(r for r in TERMS[name].requires if r not in model)
+            if not all(q in model for b in brings for q in TERMS[b].requires):
                 continue
-            out.append(Candidate(name, model + (name,), kind="channel", channel=channel, channel_unit=unit,
-                                 source=TERMS[name].source))
+            out.append(Candidate(name, model + brings + (name,), kind="channel", channel=channel, channel_unit=unit,
+                                 source=TERMS[name].source, brings=brings))
     for taken in model:
         channel = next((c.removeprefix(EXTRA) for c in TERMS[taken].columns if c.startswith(EXTRA)), None)
         if not TERMS[taken].generated or channel is None or not all(channel in s.signals.extra for s in every):
@@ -327,10 +337,9 @@ def rides(effect: str) -> str | None:
 
 def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
     """Every drop and swap; additions whose score test is significant and the few that explain most of the
-    residual (catalog effects and channels counted apart); of a channel's forms, only the strongest on each place
-    it can act (the winding, each slow mass's conductance: the others say so).  The places are ranked apart because
-    the score test is local: on a three-mass plant log whose fan cools the slow body, the fan's form on the fast
-    mass scored higher and did not help (0.223 -> 0.225 K), where the form on the slow mass, not refitted, did."""
+    residual (catalog effects and channels counted apart); of a channel's forms, only the strongest on each place it
+    can act (the winding, each slow mass: the score test is local, and ranked a fan's form on a fast mass above the
+    slow mass's that is the physics; docs/workbench.md); the others say so."""
     adds = [c for c in candidates if c.adds and c.confounded is None and c.unexcited is None]
     strongest: dict[tuple, Candidate] = {}
     for c in adds:
@@ -353,8 +362,7 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
     return chosen
 
 
-def _place(c: Candidate) -> tuple:
-    """A channel form's channel and where it acts: the winding (``None``) or the slow mass whose conductance it moves."""
+def _place(c: Candidate) -> tuple:  # a channel form's channel, and the slow mass it acts on (None: the winding)
     return c.channel, TERMS[c.effect].airflow_on
 
 
