@@ -11,6 +11,7 @@ from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
 
 HOUSING_AIRFLOW = "housing_cooling_per_rad_s"
+MIN_FLOW = 1e-3  # the least share of its still-air conductance a slow mass keeps
 
 
 class SlowMass(Term):
@@ -41,7 +42,9 @@ class SlowMass(Term):
         flow = 1.0
         for term in airflow_terms(self.name, p):
             flow = flow + term.airflow_gain(p, s)
-        return flow
+        # a channel beyond the range it was fitted on (another run) may drive 1 + h x below zero: held just above
+        # it, as the winding's restoring gain is (the term's implausibility says so)
+        return np.maximum(flow, MIN_FLOW) if np.ndim(flow) else max(flow, MIN_FLOW)
 
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None, offset=0.0):
         phi = p[self.fraction]
