@@ -13,6 +13,7 @@ from thermolimb.cli.main import main
 from thermolimb.data import REAL_LOGS
 from thermolimb.plant import NETWORKS, PlantEffects, SpeedLosses, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+from thermolimb.workbench import flags
 from thermolimb.workbench.diagnosis import Search, diagnose
 from thermolimb.workbench.diagnosis.diagnose import replicate
 from thermolimb.workbench.diagnosis.refit import ordered_starts, refit
@@ -147,6 +148,22 @@ def test_large_standard_errors_name_the_missing_effect_not_the_excitation(tmp_pa
     loose = [f for f in flags if "standard error is" in f]
     assert loose and all("the model misses something, not for lack of excitation" in f and "run diagnose" in f
                          for f in loose)
+
+
+def test_a_replicate_s_flags_start_as_said_and_leave_their_causes_unread(speed_log, monkeypatch):
+    """A stability replicate says nothing, so its flags' causes (the log's excitation and sensor floor, read on each
+    trimmed copy) are not worked out; what a flag starts with, which the datasheet's hold reads, is the same."""
+    runs = speed_log.runs("knee")
+    said = validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)).flags
+    read = []
+    monkeypatch.setattr(flags, "sensor_floor", lambda *a: read.append(a) or sensor_floor(*a))
+    with flags.unread():
+        unread = validate_model([r.slice(3, r.n) for r in runs], "joule,effort_bias", Scheme.at_split(0.7)).flags
+    loose = [f for f in said if "standard error is" in f]
+    assert loose and not read and len(unread) == len(said)
+    assert [f.split(" = ")[0] for f in unread] == [f.split(" = ")[0] for f in said]  # the same values flagged
+    assert all(f.endswith("(its cause not worked out)") for f in unread if "standard error is" in f)
+    assert all("the model misses something" in f for f in loose)  # outside, the cause is worked out and said
 
 
 def test_a_step_test_lacking_levels_is_told_so(step_test):

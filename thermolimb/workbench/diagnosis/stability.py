@@ -60,6 +60,7 @@ import numpy as np
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
 from ...util.parallel import run_jobs, shared, with_one_blas_thread
+from ..flags import unread
 from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT
 from .candidates import MIN_IMPROVEMENT, Candidate
 
@@ -189,7 +190,8 @@ def selection_frequencies(diagnosis, series, search, replicate) -> dict[str, flo
 def perturbed(replicate, p: Perturbation, model, search, initial, specs, starts):
     """``replicate`` on the runs the runner shares (:func:`~thermolimb.util.parallel.shared`), perturbed by ``p``."""
     runs, scheme = p.applied(shared(), search.scheme)
-    return replicate(runs, model, replace(search, scheme=scheme), initial, specs, starts)
+    with unread():  # a replicate says nothing: its flags' causes are not worked out
+        return replicate(runs, model, replace(search, scheme=scheme), initial, specs, starts)
 
 
 def effect_key(c: Candidate, base: tuple[str, ...]) -> tuple:
