@@ -66,6 +66,8 @@ def test_fit_text_output_has_units(sim_log, capsys):
     (["fit", "{log}", "--map", "effort=torque"], "--map effort=torque names column 'torque'"),
     (["simulate", "--effects", "magic", "--out", "{tmp}"], "unknown plant effect(s) ['magic']"),
     (["simulate", "--actuators", "knee:X9", "--out", "{tmp}"], "must be NAME:MODEL"),
+    (["simulate", "--network", "second_order", "--housing-sensor", "--duration", "60", "--out", "{tmp}"],
+     "a housing sensor needs a housing node, and actuator knee's network has winding, frame"),
 ])
 def test_bad_input_is_one_clear_line(argv, message, sim_log, tmp_path, capsys):
     argv = [a.format(log=sim_log, missing=tmp_path / "none.csv", tmp=tmp_path / "x.csv") for a in argv]
@@ -73,6 +75,7 @@ def test_bad_input_is_one_clear_line(argv, message, sim_log, tmp_path, capsys):
     err = capsys.readouterr().err
     assert message in err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.csv").exists()
 
 
 def test_fit_constant_effort_reports_what_is_missing(tmp_path, capsys):

@@ -58,6 +58,12 @@ def run_profile_in_pieces(plant: ThermalPlant, profile: Profile, include_drivers
     m = plant.n
     if include_drivers and housing_sensor and plant.driver_names:
         raise UsageError("a log with driver channels cannot also carry housing sensors; choose one")
+    lacking = [(name, spec) for name, spec in zip(plant.names, plant.specs) if housing_sensor
+               and "housing" not in spec.network.node_names]
+    if lacking:  # found before a row is written, not as a traceback once the first window is simulated
+        name, spec = lacking[0]
+        raise UsageError(f"a housing sensor needs a housing node, and actuator {name}'s network has "
+                         f"{', '.join(spec.network.node_names)}; use a network with a housing (x8, x5) or drop it")
     if profile.load.shape[1] != m:
         raise ValueError(f"profile has {profile.load.shape[1]} actuators, plant has {m}")
     continuous = np.array([s.continuous_effort for s in plant.specs])
