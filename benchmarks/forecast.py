@@ -20,9 +20,11 @@ Per seed:
 
 Part 2, real logs: the PMSM profiles and the UR3's runs, a model saved on the first half of each, the
 second half forecast from its first reading, thresholds at the highest reading within a quarter and three
-quarters of it: coverage.
+quarters of it: coverage.  Then the other runs of the same joint: the model saved on one run (PMSM profile 24
+or 46, each UR3 joint's two parts, the WidowX-200 waist's two runs, the BLDC bench's two) forecasts each
+other run from its first reading, thresholds alike: coverage, width and median error.
 
-    python benchmarks/forecast.py [--seeds 0 1 2] [--no-real] [--json]
+    python benchmarks/forecast.py [--seeds 0 1 2] [--no-plant] [--no-real] [--json]
 """
 
 from __future__ import annotations
@@ -122,47 +124,79 @@ def plant_cases(seed: int) -> list[dict]:
     return rows
 
 
-def real_logs() -> list[dict]:
-    """Each bundled PMSM profile and UR3 run: the model ``diagnose --auto`` finds on the first half (stability
-    off, for time), saved and loaded; the second half forecast from its first reading under its own inputs.
-    The thresholds are the highest reading within the first quarter and within three quarters of the second
-    half (when at least 0.5 K above its first reading): the readings' own first crossing is the truth."""
+def real_runs() -> dict[str, list[tuple[str, object]]]:
+    """``{joint: [(name, run), ...]}``: every bundled real joint's runs (PMSM profiles 24 and 46 as runs of one
+    motor, each UR3 joint's two parts, the WidowX-200 waist's two runs, the BLDC bench's two)."""
     from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
     from thermolimb.logs import parse_mapping, read_log
 
-    logs = []
+    joints: dict[str, list] = {"PMSM": []}
     for number in (24, 46):
         log = read_log(pmsm_profile(number), mapping=parse_mapping(PMSM_MAP), **PMSM_UNITS)
-        logs += [(f"PMSM profile {number}", run) for run in log.runs(log.actuators[0])]
+        joints["PMSM"] += [(f"PMSM profile {number}", run) for run in log.runs(log.actuators[0])]
     ur3 = REAL_LOGS["ur3"].read()[0]
-    logs += [(f"UR3 {joint}{run.run_label}", run) for joint in ur3.actuators for run in ur3.runs(joint)]
+    for joint in ur3.actuators:
+        joints[f"UR3 {joint}"] = [(f"UR3 {joint}{run.run_label}", run) for run in ur3.runs(joint)]
+    for source, name in (("wx200", "WidowX-200 waist"), ("bldc", "BLDC bench")):
+        logs = REAL_LOGS[source].read()
+        joints[name] = [(f"{name} {Path(log.source).stem}", log.runs(log.actuators[0])[0]) for log in logs]
+    return joints
+
+
+def real_logs(joints: dict[str, list]) -> list[dict]:
+    """Each PMSM profile and UR3 run: the model ``diagnose --auto`` finds on the first half (stability off, for
+    time), saved and loaded; the second half forecast from its first reading under its own inputs.  Then each
+    joint's other runs, forecast alike by the model found on one run.  The thresholds are the highest reading
+    within the first quarter and within three quarters of the run forecast (when at least 0.5 K above its first
+    reading): the readings' own first crossing is the truth."""
+    pairs = [(name, run.slice(0, run.n // 2), run.slice(run.n // 2 - 1, run.n), name, "second half")
+             for joint, runs in joints.items() if joint == "PMSM" or joint.startswith("UR3") for name, run in runs]
+    pairs += [(fit_name, fitted, other, other_name, "other run") for runs in joints.values()
+              for fit_name, fitted in runs for other_name, other in runs if other is not fitted]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        for name, run in logs:
-            half = run.n // 2
-            first, second = run.slice(0, half), run.slice(half - 1, run.n)
+        for name, fitted, judged, judged_name, kind in pairs:
             try:
-                _, steps = auto_diagnose([first], quiet=True, stability=None)
-            except Exception as exc:  # noqa: BLE001 -- a half too short or too flat to fit: reported as such
-                rows.append({"log": name, "refused": str(exc)})
+                _, steps = auto_diagnose([fitted], quiet=True, stability=None)
+            except Exception as exc:  # noqa: BLE001 -- a part too short or too flat to fit: reported as such
+                rows.append({"log": name, "judged_on": kind, "refused": str(exc)})
                 continue
             path = Path(folder) / "model.json"
-            ModelFile({run.actuator: saved_from_report(steps[-1].base, [])}).save(path)
-            saved = ModelFile.load(path)[run.actuator]
-            t = second.time_s - second.time_s[0]
+            ModelFile({fitted.actuator: saved_from_report(steps[-1].base, [])}).save(path)
+            saved = ModelFile.load(path)[fitted.actuator]
+            t = judged.time_s - judged.time_s[0]
+            asked = set()
             for horizon in (0.25 * t[-1], 0.75 * t[-1]):
-                threshold = float(np.max(second.temperature_C[t <= horizon]))
-                if threshold < second.temperature_C[0] + 0.5:
+                threshold = float(np.max(judged.temperature_C[t <= horizon]))
+                if threshold < judged.temperature_C[0] + 0.5 or threshold in asked:  # a run hottest early: once
                     continue
-                truth = crossing_s(t, second.temperature_C, threshold)
-                f = forecast(saved, second.signals, float(second.temperature_C[0]), threshold,
-                             initial_rate_K_per_s=second.rate_K_per_s())
+                asked.add(threshold)
+                truth = crossing_s(t, judged.temperature_C, threshold)
+                f = forecast(saved, judged.signals, float(judged.temperature_C[0]), threshold,
+                             initial_rate_K_per_s=judged.rate_K_per_s())
                 low, high = f.interval_s
-                rows.append({"log": name, "model": list(saved.model.terms), "horizon_s": horizon,
-                             "threshold_C": threshold, "true_s": truth, "predicted_s": f.time_to_threshold_s,
+                predicted = f.time_to_threshold_s
+                rows.append({"log": name, "judged_on": kind, "forecast_run": judged_name,
+                             "model": list(saved.model.terms), "horizon_s": horizon, "threshold_C": threshold,
+                             "true_s": truth, "predicted_s": predicted,
+                             "error": None if predicted is None else abs(predicted - truth) / truth,
                              "interval_s": [low, high], "width": width(low, high, f.horizon_s) / truth,
                              "covered": bool(low is not None and low <= truth and (high is None or truth <= high))})
     return rows
+
+
+def real_summary(rows: list[dict]) -> dict:
+    """Coverage of the 90 % intervals, their median width and the median error (a forecast never reaching the
+    threshold counts as 100 %), over the crossings judged."""
+    judged = [r for r in rows if "covered" in r]
+    if not judged:
+        return {"crossings": 0}
+    return {"crossings": len(judged), "runs": len({r["forecast_run"] for r in judged}),
+            "covered": sum(r["covered"] for r in judged), "coverage": float(np.mean([r["covered"] for r in judged])),
+            "median_width": float(np.median([r["width"] for r in judged])),
+            "median_error": float(np.median([1.0 if r["error"] is None else r["error"] for r in judged])),
+            "open_ended": sum(r["interval_s"][1] is None for r in judged),
+            "never_reached": sum(r["predicted_s"] is None for r in judged)}
 
 
 def width(low, high, horizon_s: float) -> float:
@@ -191,16 +225,26 @@ def main(argv=None) -> dict:
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--json", action="store_true", help="print the result record last, on one line")
     parser.add_argument("--no-real", action="store_true", help="skip the real logs (part 2)")
+    parser.add_argument("--no-plant", action="store_true", help="skip the plant (part 1)")
     args = parser.parse_args(argv)
+    result = {} if args.no_plant else plant_part(args.seeds)
+    if not args.no_real:
+        result.update(real_part())
+    if args.json:
+        print(json.dumps(result, allow_nan=False))
+    return result
+
+
+def plant_part(seeds: list[int]) -> dict:
     start = time.perf_counter()
-    rows = [row for seed in args.seeds for row in plant_cases(seed)]
-    result = {"seeds": args.seeds, "rows": rows,
+    rows = [row for seed in seeds for row in plant_cases(seed)]
+    result = {"seeds": seeds, "rows": rows,
               "summary": {label: summary(rows, label) for label in ("default", "auto", "i2t")},
               "thermistor_winding_excess_K": {
                   "median": float(np.median([r["thermistor_winding_excess_K"] for r in rows])),
                   "max": float(np.max([r["thermistor_winding_excess_K"] for r in rows]))},
               "seconds": time.perf_counter() - start}
-    print(f"plant: {len(rows)} crossings over seeds {args.seeds} ({result['seconds']:.0f} s)")
+    print(f"plant: {len(rows)} crossings over seeds {seeds} ({result['seconds']:.0f} s)")
     for label, name in (("default", "default model (fit)"), ("auto", "diagnose --auto model"),
                         ("i2t", "I2t rule, tuned")):
         for horizon, s in result["summary"][label].items():
@@ -212,27 +256,33 @@ def main(argv=None) -> dict:
     ex = result["thermistor_winding_excess_K"]
     print(f"  thermistor threshold: the winding is {ex['median']:.1f} K (median, worst {ex['max']:.1f} K) above the "
           f"threshold when the thermistor reads it")
-    if not args.no_real:
-        real = result["real"] = real_logs()
-        judged = [r for r in real if "covered" in r]
-        print(f"real logs: {len(judged)} crossings in the second halves of {len({r['log'] for r in real})} runs; "
-              f"the 90 % intervals hold the readings' own crossing in {sum(r['covered'] for r in judged)} "
-              f"({100 * np.mean([r['covered'] for r in judged]):.0f} %); "
-              f"median width {np.median([r['width'] for r in judged]):.2f}x the true time; "
-              f"{sum(r['interval_s'][1] is None for r in judged)} of them open-ended (the lower edge never reaches "
-              f"the threshold within the log)")
-        for r in real:
+    return result
+
+
+def real_part() -> dict:
+    real = real_logs(real_runs())
+    out = {"real": real, "real_summary": {}}
+    for kind, words in (("second half", "the second halves of the runs, each by the model found on its first half"),
+                        ("other run", "the other runs of each joint, each by the model found on one run")):
+        rows = [r for r in real if r["judged_on"] == kind]
+        s = out["real_summary"][kind] = real_summary(rows)
+        if s["crossings"]:
+            print(f"real logs, {words}: {s['crossings']} crossings in {s['runs']} runs; the 90 % intervals hold the "
+                  f"readings' own crossing in {s['covered']} ({100 * s['coverage']:.0f} %); median width "
+                  f"{s['median_width']:.2f}x the true time; median error {100 * s['median_error']:.0f} %; "
+                  f"{s['open_ended']} open-ended (the lower edge never reaches the threshold within the log), "
+                  f"{s['never_reached']} forecast never to reach it")
+        for r in rows:
             if "refused" in r:
                 print(f"  {r['log']}: no model ({r['refused'][:100]})")
-            else:
-                pred = "never" if r["predicted_s"] is None else f"{r['predicted_s']:.0f} s"
-                low, high = r["interval_s"]
-                span = f"[{'-' if low is None else f'{low:.0f}'}, {'open' if high is None else f'{high:.0f}'}]"
-                print(f"  {r['log']:22s} {r['threshold_C']:6.1f} degC: true {r['true_s']:5.0f} s, predicted {pred} "
-                      f"{span}{'' if r['covered'] else '  MISSED'}")
-    if args.json:
-        print(json.dumps(result, allow_nan=False))
-    return result
+                continue
+            pred = "never" if r["predicted_s"] is None else f"{r['predicted_s']:.0f} s"
+            low, high = r["interval_s"]
+            span = f"[{'-' if low is None else f'{low:.0f}'}, {'open' if high is None else f'{high:.0f}'}]"
+            on = "" if kind == "second half" else f" -> {r['forecast_run']}"
+            print(f"  {r['log'] + on:50s} {r['threshold_C']:6.1f} degC: true {r['true_s']:5.0f} s, predicted {pred} "
+                  f"{span}{'' if r['covered'] else '  MISSED'}")
+    return out
 
 
 if __name__ == "__main__":

@@ -30,7 +30,9 @@ def quick(quick_runs, name: str) -> dict:
     return done[name]
 
 
-LONG = ("hexapod-endurance", "humanoid-recovery", "humanoid-switching-map")  # a minute or more each: slow
+# a minute or more each, or near it with nothing else here reading their results (strategies 63 s, ppo-agent 44 s on
+# two idle cores): slow, so that the default run stays well under ten minutes
+LONG = ("hexapod-endurance", "humanoid-recovery", "humanoid-switching-map", "strategies", "ppo-agent")
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in LONG else n for n in DEMOS])

@@ -172,6 +172,7 @@ def test_a_step_test_lacking_levels_is_told_so(step_test):
     assert "misses something" not in said
 
 
+@pytest.mark.slow  # 42 s: four walks with their stability checks on a real log
 def test_a_real_log_trimmed_by_a_few_rows_gives_the_same_verdict():
     """The UR3's J5 (real): trimmed by up to 5 rows at either end, the search with stability recommends the same
     change (its neighbours' heat), taken in every replicate each time."""
