@@ -61,11 +61,9 @@ STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of 
 class Candidate:
     """One change to the model tried on this log.
 
-    ``kind`` is ``"add"`` (the catalog's ``effect`` joins the model),
-    ``"channel"`` (a form of the log's extra channel ``channel`` joins it, and the masses ``brings`` with it),
-    ``"discovered"`` (a form found by :mod:`.discovery` joins it), ``"drop"``
-    (``effect`` leaves it) or ``"swap"`` (``effect`` replaces the heat source
-    ``replaces``).
+    ``kind`` is ``"add"`` (the catalog's ``effect`` joins the model), ``"channel"`` (a form of the log's extra
+    channel ``channel`` joins it, and the masses ``brings`` with it), ``"discovered"`` (a form found by
+    :mod:`.discovery` joins it), ``"drop"`` (``effect`` leaves it) or ``"swap"`` (``effect`` replaces ``replaces``).
     """
 
     effect: str
@@ -109,9 +107,12 @@ class Candidate:
     robust_improvement: float | None = None  # the held-out gain without its most influential samples
     fragile: str | None = None  # the gain rests on a few held-out samples: why
     @property
-    def adds(self) -> bool:
-        """An added effect: from the catalog, a channel, or a discovered form."""
+    def adds(self) -> bool:  # an added effect: from the catalog, a channel, or a discovered form
         return self.kind in ("add", "channel", "discovered")
+
+    @property
+    def searched(self):  # the term its score test and profile search: a mass it brings (its channel's form has no
+        return TERMS[self.brings[0] if self.brings else self.effect]  # gradient at the mass's null), else its own
 
     @property
     def label(self) -> str:
@@ -322,7 +323,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
         if cand.kind == "swap":
             cand.confounded = confounded_swap(cand, train)
         return
-    term = TERMS[cand.brings[0]] if cand.brings else TERMS[cand.effect]  # a brought mass gives its channel a gradient
+    term = cand.searched
     scored = []
     own_share = float("nan")
     at_null = simulate_all(base, train, stride) if base_run is None else base_run
@@ -424,7 +425,6 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
     cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
     cand.plausible = cand.implausible_because is None
     cand.failure = next(filter(None, (refit_failure(t, params) for t in terms)), None)
-
 
 
 def term_identified(term, report) -> bool:

@@ -100,7 +100,7 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
     keep = {p.name for p in model_parameters(cand.model)}
     starts = [{k: v for k, v in start.items() if k in keep} for start in cand.starts or [{}]]
     held = dict(base.held or {})
-    term = (TERMS[cand.brings[0]] if cand.brings else TERMS[cand.effect]) if cand.adds else None
+    term = cand.searched if cand.adds else None
     if param is True:
         param = profiled_parameter(term, dict(base.model.params), train[0]) if term is not None else None
     if param is not None and param.name not in held:
@@ -149,8 +149,7 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     ``settled_plausible``) lands implausible where the whole log's refit was plausible.
     """
     term = TERMS[cand.effect] if cand.adds else None
-    profiled = TERMS[cand.brings[0]] if cand.brings else term  # a brought mass is what is searched
-    param = profiled_parameter(profiled, dict(base.model.params), base.train_series[0]) if term is not None else None
+    param = profiled_parameter(cand.searched, dict(base.model.params), base.train_series[0]) if cand.adds else None
     keep = {p.name for p in model_parameters(cand.model)}
     errors, collapsed, found = [], None, []
 
