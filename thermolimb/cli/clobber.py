@@ -1,7 +1,7 @@
 """No output lands on a file the same command reads: checked once, before any work, for every command.
 
 A recording is the one thing a user cannot make again.  Each output a command was given (``--html``,
-``--table``, ``--propose``, ``--save``, ``--mcap``, ``--layout``, ``simulate --out``; a ``--plot`` or
+``--table``, ``--propose``, ``--save``, ``--mcap``, ``--layout``, ``simulate`` and ``export --out``; a ``--plot`` or
 ``demo --out`` folder that is itself an input file) is compared with each input (the logs, ``--validate-on``,
 ``--terms``, the model file, ``--follow``; every file of a folder given as a log) by device and inode when both
 exist -- a hard or symbolic link to a log is that log -- and by resolved path otherwise.
@@ -37,7 +37,7 @@ def inputs_of(args) -> list[Path]:
 def outputs_of(args) -> list[tuple[str, Path]]:
     out = [(flag, Path(getattr(args, name))) for name, flag in OUTPUT_FILES.items() if getattr(args, name, None)]
     out += [(flag, Path(getattr(args, name))) for name, flag in OUTPUT_FOLDERS.items() if getattr(args, name, None)]
-    if getattr(args, "out", None) and args.command in ("simulate", "demo"):
+    if getattr(args, "out", None):  # simulate's log, export's snippet, demo's folder
         out.append(("--out", Path(args.out)))
     return out
 
