@@ -63,6 +63,8 @@ def test_fit_text_output_has_units(sim_log, capsys):
     (["fit", "{log}", "--actuator", "elbow"], "no actuator 'elbow'; the log has knee, hip, ankle"),
     (["fit", "{log}", "--model", "joule,copper"], "unknown model term(s) 'copper'"),
     (["fit", "{missing}"], "no such file"),
+    (["fit", "/dev/null"], "/dev/null: not a regular file (a device or a pipe)"),
+    (["fit", "{folder}"], "a folder that is not a ROS 2 bag (it has no metadata.yaml)"),
     (["fit", "{log}", "--map", "effort=torque"], "--map effort=torque names column 'torque'"),
     (["simulate", "--effects", "magic", "--out", "{tmp}"], "unknown plant effect(s) ['magic']"),
     (["simulate", "--actuators", "knee:X9", "--out", "{tmp}"], "must be NAME:MODEL"),
@@ -70,12 +72,21 @@ def test_fit_text_output_has_units(sim_log, capsys):
      "a housing sensor needs a housing node, and actuator knee's network has winding, frame"),
 ])
 def test_bad_input_is_one_clear_line(argv, message, sim_log, tmp_path, capsys):
-    argv = [a.format(log=sim_log, missing=tmp_path / "none.csv", tmp=tmp_path / "x.csv") for a in argv]
+    argv = [a.format(log=sim_log, missing=tmp_path / "none.csv", tmp=tmp_path / "x.csv", folder=tmp_path) for a in argv]
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert message in err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_log_with_a_header_and_no_rows_is_said_so(tmp_path, capsys):
+    path = tmp_path / "h.csv"
+    path.write_text("time,actuator,effort,temperature\n")
+    for chosen in ([], ["--actuator", "knee"]):  # the second read only the chosen actuator's rows, and found none
+        assert main(["fit", str(path), *chosen]) == 2
+        err = capsys.readouterr().err
+        assert "the log has no rows with measurements" in err and len(err.strip().splitlines()) == 1
 
 
 def test_fit_constant_effort_reports_what_is_missing(tmp_path, capsys):

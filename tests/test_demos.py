@@ -96,6 +96,10 @@ def test_specified_summaries_keep_their_shape(quick_runs):
 def test_report_without_results_says_what_to_run(tmp_path):
     with pytest.raises(UsageError, match="thermolimb demo all"):
         build_report(tmp_path)
+    (tmp_path / "fit").mkdir()
+    (tmp_path / "fit" / "summary.json").write_text("[1, 2]")
+    with pytest.raises(UsageError, match="summary.json holds list, not a demo's summary"):
+        build_report(tmp_path)
 
 
 def test_diagnose_demo_finds_both_hidden_effects(quick_runs):

@@ -74,6 +74,8 @@ def test_the_cli_saves_a_file_with_its_provenance_and_units(tmp_path, capsys):
     (lambda d: d["actuators"][0].update(terms=["joule", "copper"]), "term 'copper' is not registered"),
     (lambda d: d["actuators"][0]["covariance"].update(matrix=[[1.0]]), "\"covariance\" must hold"),
     (lambda d: d["actuators"][0].update(limit_C="hot"), "\"limit_C\" must be a number"),
+    (lambda d: d["actuators"][0].update(validation=None), "\"validation\" must map each held-out error's name"),
+    (lambda d: d["actuators"][0].update(channel_units=["N m"]), "\"channel_units\" must map each channel"),
 ])
 def test_a_bad_model_file_is_one_sentence(saved_auto, tmp_path, capsys, edit, message):
     document = json.loads(saved_auto[1].read_text())

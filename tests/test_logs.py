@@ -89,6 +89,19 @@ def test_wide_file_by_column_map(tmp_path):
         parse_mapping("torque=torque")
 
 
+def test_a_joint_pattern_s_shared_column_must_be_a_column(tmp_path):
+    n = 40
+    wide = pd.DataFrame({"t": np.arange(n) * 2.5, "cur1": 1.0, "cur2": 2.0, "temp1": 30.0 + np.arange(n) * 0.1,
+                         "temp2": 31.0 + np.arange(n) * 0.1})
+    path = write(tmp_path, wide, "arm.csv")
+    with pytest.raises(LogError, match=r"--map temperature=temp\* names column 'temp\*', which the file does not have "
+                                       r"\(a column per joint needs \{j\} where its number stands\)"):
+        read_log(path, mapping={"time": "t", "effort": "cur{j}", "temperature": "temp*"})
+    with pytest.raises(LogError, match=r"--map time=stamp names column 'stamp'"):
+        read_log(path, mapping={"time": "stamp", "effort": "cur{j}", "temperature": "temp{j}"})
+    assert read_log(path, mapping={"time": "t", "effort": "cur{j}", "temperature": "temp{j}"}).actuators == ("J1", "J2")
+
+
 def test_split_keeps_the_split_sample_in_both_parts():
     log = from_frame(canonical(100))
     train, valid = log.series("knee").split(0.7)

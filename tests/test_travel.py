@@ -166,7 +166,9 @@ def test_the_audit_names_the_limiting_joint(tmp_path, capsys):
     for argv, message in ((["--policy", "nowhere:thing"], "cannot import nowhere"),
                           (["--env", "NoSuchEnv-v0"], "--env NoSuchEnv-v0"),
                           (["--env-arg", "no_such_argument=1"], "does not take the arguments given"),
-                          (["--env-arg", "novalue"], "expected KEY=VALUE")):
+                          (["--env-arg", "novalue"], "expected KEY=VALUE"),
+                          (["--policy", "json:loads"], "cannot be called as loads(env, observation)"),
+                          (["--limit-C", "20"], "8 of 8 joints start at or above their limit")):
         base = ["audit", "--env", "Ant-v5", "--duration", "1"]
         assert main(base + argv) == 2
         err = capsys.readouterr().err

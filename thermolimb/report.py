@@ -63,6 +63,9 @@ def _headline_table(demo, summary: dict, folder: Path) -> str:
 
 def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     summary = _load(folder / "summary.json")
+    if not isinstance(summary, dict):
+        raise UsageError(f"{folder / 'summary.json'} holds {type(summary).__name__}, not a demo's summary (a JSON "
+                         f"object); run that demo again")
     if (folder / "details.json").is_file():  # what the demo returned under "details", written apart by the registry
         summary = {**summary, "details": _load(folder / "details.json")}
     demo = demos.get(folder.name)

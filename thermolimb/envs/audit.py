@@ -10,6 +10,7 @@ the run -- the first to reach its limit, else the one closest to it.
 
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass, field
 from importlib import import_module
@@ -105,6 +106,13 @@ def load_policy(text: str, seed: int) -> Callable:
         raise UsageError(f"--policy {text}: {module} has no {name}") from None
     if not callable(policy):
         raise UsageError(f"--policy {text}: {name} is not callable; expected a function (env, observation) -> action")
+    try:
+        inspect.signature(policy).bind(None, None)
+    except TypeError as exc:
+        raise UsageError(f"--policy {text}: {name} cannot be called as {name}(env, observation) ({exc}); expected a "
+                         f"function (env, observation) -> action") from None
+    except ValueError:  # a compiled callable with no signature to read: its first call will tell
+        pass
     return policy
 
 
@@ -132,11 +140,17 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
     wrapped = ThermalWrapper(env, observe=None, reset_heat=False, **wrapper)
     heat = "the models given" if wrapper.get("models") is not None else "the suite's plant with datasheet actuators"
     steps = int(math.ceil(duration_s / wrapped.dt_s))
-    observation, info = wrapped.reset(seed=seed)
-    temperatures = [info["temperature_C"]]
     strongest = np.zeros(len(wrapped.joints))  # each joint's largest |torque|, N m
     resets = 0
     try:
+        observation, info = wrapped.reset(seed=seed)
+        temperatures = [info["temperature_C"]]
+        below = np.flatnonzero(np.asarray(wrapped.limit_C) <= temperatures[0])
+        if below.size:
+            k = int(below[0])
+            raise UsageError(f"{len(below)} of {len(wrapped.joints)} joints start at or above their limit ("
+                             f"{wrapped.joints[k]}: limit {wrapped.limit_C[k]:g} degC, start {temperatures[0][k]:.1f} "
+                             f"degC); expected limits above where the joints start (--limit-C, --ambient-C)")
         for _ in range(steps):
             observation, _, terminated, truncated, info = wrapped.step(policy(wrapped, observation))
             temperatures.append(info["temperature_C"])

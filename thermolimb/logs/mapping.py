@@ -104,6 +104,12 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
         missing = [key for key in per_key if not set(extra) <= set(per_key[key])]
         raise LogError(f"{source}: joint(s) {extra} have a {k} column but no {', '.join(missing)} column; "
                        f"map patterns that every joint has, or name the columns one by one")
+    absent = [(k, v) for k, v in mapping.items() if k != "actuator" and JOINT not in v and v not in columns]
+    if absent:  # a channel every joint shares (time, ambient) is one column of the file
+        k, v = absent[0]
+        hint = " (a column per joint needs {j} where its number stands)" if "*" in v else ""
+        raise LogError(f"{source}: --map {k}={v} names column {v!r}, which the file does not have{hint}; its columns "
+                       f"are {shown_names(columns)}")
     name = mapping.get("actuator", DEFAULT_JOINT_NAME)
     if JOINT not in name:
         raise LogError(f"{source}: with joint patterns, --map actuator= is a name pattern with {{j}}, e.g. actuator=J{{j}}")

@@ -138,6 +138,8 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
     if key is None:  # a wide file of one actuator: read whole
         return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
     order = key_values(path, key, sep, decimal)
+    if not order:
+        raise LogError(f"{path}: the log has no rows with measurements")
     missing = [n for n in names if n not in order]
     if missing:
         raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")

@@ -40,6 +40,9 @@ def kind_of(path: Path) -> str:
         return "csv"
     if suffix in (".parquet", ".pq"):
         return "parquet"
+    if Path(path).is_dir():
+        raise LogError(f"{path}: a folder that is not a ROS 2 bag (it has no metadata.yaml); "
+                       f"expected a log file, or a ROS 2 bag's folder")
     raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt or .parquet")
 
 
@@ -218,7 +221,8 @@ def _csv_chunks(path: Path, sep, decimal, columns, rows: int):
 def _kind_checked(path: Path) -> str:
     kind = kind_of(path)
     if not Path(path).is_file():
-        raise LogError(f"{path}: no such file")
+        raise LogError(f"{path}: " + ("not a regular file (a device or a pipe); expected a log file" if
+                                      Path(path).exists() else "no such file"))
     return kind
 
 

@@ -250,7 +250,13 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
     bad = [n for n in names if not isinstance(params.get(n), dict) or not {"value", "stderr", "unit"} <= set(params[n])]
     if bad:
         raise ModelFileError(f"{where}: parameter {bad[0]} needs \"value\", \"stderr\" and \"unit\"")
-    channel_units = entry["channel_units"] if isinstance(entry["channel_units"], dict) else {}
+    channel_units, validation = entry["channel_units"], entry["validation"]
+    if not isinstance(channel_units, dict) or not all(isinstance(u, str) for u in channel_units.values()):
+        raise ModelFileError(f"{where}: \"channel_units\" must map each channel to its unit's name, got "
+                             f"{channel_units!r}")
+    if not isinstance(validation, dict) or not all(_number(v) for v in validation.values()):
+        raise ModelFileError(f"{where}: \"validation\" must map each held-out error's name to a number, got "
+                             f"{validation!r}")
     values, stderr, scale = {}, {}, np.ones(len(names))
     for k, p in enumerate(parameters):
         values[p.name], stderr[p.name], scale[k] = _parameter(p, params[p.name], channel_units, where, notes)
@@ -263,7 +269,7 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
     jackknife = None if jack is None else _covariance(jack, names, where, "jackknife") * np.outer(scale, scale)
     stats = _residual(entry["residual"], where)
     limit = entry["limit_C"]
-    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, float)) or not np.isfinite(limit)):
+    if limit is not None and (not _number(limit) or not np.isfinite(limit)):
         raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
     provenance = entry["provenance"] if isinstance(entry["provenance"], dict) else {}
     hottest = provenance.get("hottest_reading_C")
@@ -276,16 +282,20 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
         notes.append(f"{where}: its limit, {limit:g} degC, is below the {hottest:g} degC the log it was fitted on "
                      f"read: the actuator was past its limit in its own calibration -- check the limit")
     return SavedModel(str(entry["actuator"]), model, stderr, matrix, jackknife, {n: params[n]["unit"] for n in names},
-                      dict(channel_units), dict(entry["validation"]), stats, dict(provenance),
+                      dict(channel_units), dict(validation), stats, dict(provenance),
                       None if limit is None else float(limit), str(entry.get("method", "")),
                       str(entry.get("validation_scheme", "")), dict(generated))
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
 def _parameter(p, record, channel_units, where: str, notes: list) -> tuple[float, float, float]:
     """One parameter's value and standard error in the model's unit, and the factor they were converted by: a unit
     the suite knows is converted (and said), any other refused; a value outside what the parameter can be, refused."""
     value, stderr, unit = record["value"], record["stderr"], record["unit"]
-    if any(isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) for v in (value, stderr)):
+    if any(not _number(v) or not np.isfinite(v) for v in (value, stderr)):
         raise ModelFileError(f"{where}: {p.name} needs a finite value and standard error, got {value!r} ± {stderr!r}")
     if stderr < 0:
         raise ModelFileError(f"{where}: {p.name}'s standard error is negative ({stderr!r}); expected zero or more")
