@@ -102,6 +102,18 @@ def test_what_fit_reads_the_monitor_reads(tmp_path, written):
         np.testing.assert_allclose(got[name], whole.series(name).time_s)
 
 
+def test_a_row_of_units_is_followed_as_fit_reads_it(tmp_path, written):
+    header, rows = written
+    path = tmp_path / "units.csv"
+    path.write_text("\n".join([header, ",".join(["s", "-", "N m", "degC"] + [""] * (header.count(",") - 3))]
+                               + rows) + "\n")
+    whole = read_log(path)
+    got = _all(CsvFollower(path).poll(final=True))
+    for name in whole.actuators:
+        np.testing.assert_allclose(got[name], whole.series(name).time_s)
+    assert len(got[whole.actuators[0]]) == sum(row.split(",")[1] == whole.actuators[0] for row in rows)
+
+
 def test_bad_lines_are_said_with_their_number_and_skipped(tmp_path, written):
     header, rows = written
     knee = [r for r in rows if r.split(",")[1] == "knee"][: 3 * PROBE_ROWS]

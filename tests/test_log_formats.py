@@ -54,6 +54,23 @@ def test_data_logger_preamble_and_clock_times(tmp_path):
     np.testing.assert_allclose(log.frame["time"], t + 55.0, atol=1e-9)  # m:ss.s read as elapsed seconds
 
 
+def test_a_row_of_units_under_the_header_gives_the_units(tmp_path):
+    """A DAQ's export: the header, then a row of units, then numbers.  The units are read as a header's
+    ``name [unit]`` would be: the effort in mA, the temperature converted from degF."""
+    t, effort, temperature = bench_rows()
+    lines = ["time,actuator,effort,temperature", "[s],-,mA,°F"]
+    lines += [f"{s},knee,{1000 * e:.1f},{T * 9 / 5 + 32:.3f}" for s, e, T in zip(t, effort, temperature)]
+    path = tmp_path / "daq.csv"
+    path.write_text("\n".join(lines) + "\n")
+    log = read_log(path)
+    assert log.series("knee").n == N and log.units["effort"] == "mA"
+    np.testing.assert_allclose(log.frame["temperature"], temperature, atol=1e-3)
+    assert any("degrees Fahrenheit" in note for note in log.notes)
+    lines[1] = "-1.0,knee,1.0,80.0"  # numbers, not units: a data row, read as one
+    path.write_text("\n".join(lines) + "\n")
+    assert read_log(path).series("knee").n == N + 1
+
+
 def test_parquet_datetime_time_column(tmp_path):
     t, effort, temperature = bench_rows()
     frame = pd.DataFrame({"time": pd.Timestamp("2024-01-01") + pd.to_timedelta(t, unit="s"), "actuator": "knee",

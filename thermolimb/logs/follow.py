@@ -204,6 +204,9 @@ class CsvFollower:
         for k, (number, text) in enumerate(numbered):
             if not text.strip() or text.lstrip().startswith("#"):
                 continue
+            if text == self.dialect.units_line:  # kept in its place: the dialect's options skip it
+                good.append((number, text))
+                continue
             fields = [f.strip() for f in next(csv.reader([text], delimiter=sep), [])]
             if fields == header:
                 self.notes.append(f"{self.path}: line {number} repeats the header (the writer started again?); "

@@ -2,8 +2,8 @@
 
 CSV files come with commas, semicolons or tabs, decimal points or decimal
 commas (``27,875`` in a ``;``-separated file), ``#`` comment lines, a byte-order
-mark, and sometimes a preamble of metadata lines before the header (data
-loggers write one).  :func:`read_table` finds the header and the dialect
+mark, sometimes a preamble of metadata lines before the header (data
+loggers write one) and a row of units under it.  :func:`read_table` finds the header and the dialect
 from the file itself; ``sep`` and ``decimal`` override the guess.  Time
 columns may hold numbers (s), ISO-8601 timestamps or datetimes, or clock-style
 elapsed times (``1:02.5``, ``0:01:02.5``): :func:`time_seconds` turns each
@@ -23,6 +23,7 @@ import numpy as np
 from ..util.atomic import is_stream
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
+from .units import header_unit
 
 SEPARATORS = (",", ";", "\t", "|")
 SNIFF_LINES = 200
@@ -234,6 +235,7 @@ class Dialect:
     options: dict
     duplicates: dict[str, int]
     header_line: str
+    units_line: str | None = None  # a row of units under the header, skipped by ``options``
 
     @property
     def header(self) -> list[str]:
@@ -272,7 +274,13 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     counts = Counter(name.strip() for name in header)
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
                    skip_blank_lines=True)
-    names = [name.strip() for name in header]
+    names, units_line = [name.strip() for name in header], None
+    units_at, units = _units_row(content, header_at, sep, decimal, names)
+    if units and len(set(names)) == len(names):
+        # a row of units under the header (a DAQ's export): read as the header's own "name [unit]"
+        names = [f"{n} [{u}]" if u and n != "actuator" and not header_unit(n) else n for n, u in zip(names, units)]
+        options.update(names=names, header=0, skiprows=sorted(skip | {units_at}))
+        units_line = next(line for i, line in content if i == units_at)
     if "actuator" in names:
         # an actuator named NA, None or nan is a name, not a missing value, and 1 and 01 are two actuators
         from pandas._libs.parsers import STR_NA_VALUES
@@ -280,7 +288,29 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
         options.update(keep_default_na=False, dtype={"actuator": str},
                        na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
                        | {"actuator": [""]})
-    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line)
+    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line, units_line)
+
+
+_NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")
+
+
+def _units_row(content: list[tuple[int, str]], header_at: int, sep: str, decimal: str,
+               names: list[str]) -> tuple[int | None, list[str] | None]:
+    """The line under the header and its units, where it holds units: no number and no date in any field,
+    short words ("s", "N m", "[degC]", "-" for none), and numbers on the line after it."""
+    after = [(i, line) for i, line in content if i > header_at][:2]
+    if len(after) < 2:
+        return None, None
+    (at, line), (_, data) = after
+    fields = [f.strip() for f in next(csv.reader([line], delimiter=sep), [])]
+    values = [v.strip() for v in next(csv.reader([data], delimiter=sep), [])]
+    if len(fields) != len(names) or not any(fields) or any(
+            _NUMBER.match(f) or re.search(r"\d{2}", f) or len(f) > 16 for f in fields):
+        return None, None
+    if sum(bool(_NUMBER.match(v)) for v in values) * 2 < len(values):
+        return None, None
+    units = [f.strip("[]() ") for f in fields]
+    return at, ["" if u in ("", "-") else u for u in units]
 
 
 def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) -> None:
