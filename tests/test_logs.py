@@ -133,6 +133,9 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
     bench = ["time", "u_q", "coolant", "stator_winding", "motor_speed", "i_d", "ambient", "torque", "current"]
     mapping, _ = suggest_table_mapping(bench, dict.fromkeys(bench, 5))
     assert mapping["effort"] == "torque" and mapping["temperature"] == "stator_winding" and mapping["time"] == "time"
+    rostopic = ["%time", "field.header.stamp", "field.effort0", "field.temperature"]  # `rostopic echo -p`, one joint
+    mapping, notes = suggest_table_mapping(rostopic, dict.fromkeys(rostopic, 5))
+    assert mapping == {"time": "%time", "temperature": "field.temperature", "effort": "field.effort0"} and not notes
     several = ["Temperature Time [s]", "States Time [s]", "Temp [C]", "Effort [mA]"]
     mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))
     assert "time" not in mapping and any("several columns" in n for n in notes)

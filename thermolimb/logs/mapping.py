@@ -145,6 +145,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         if m and m.group("stem"):
             joint_groups.setdefault(_word(m.group("stem")), []).append((name, int(m.group("j"))))
     mapping, reasons, used = {}, [], set()
+    grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
     for channel, words in CHANNEL_WORDS:
         for word in words:
             group = next((g for key, g in joint_groups.items() if word in key.lower() and len(g) > 1), None)
@@ -152,7 +153,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                 mapping[channel] = _pattern([n for n, _ in group])
                 used |= {n for n, _ in group}
                 break
-            single = [n for n in names if word in n.lower() and n not in used and not _JOINT_COLUMN.match(n)
+            single = [n for n in names if word in n.lower() and n not in used and n not in grouped
                       and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
             if len(single) == 1:
                 mapping[channel] = single[0]
