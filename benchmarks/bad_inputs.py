@@ -2,7 +2,7 @@
 
     python benchmarks/bad_inputs.py            # every input's outcome, then the counts by class
     python benchmarks/bad_inputs.py --json     # one record per input, and the counts by class
-    python benchmarks/bad_inputs.py --round 4  # only the classes of one round (1 to 4)
+    python benchmarks/bad_inputs.py --round 4  # only the classes of one round (1 to 5)
     python benchmarks/bad_inputs.py --class "model file"   # only the classes whose name holds this
     python benchmarks/bad_inputs.py --round 4 --code ../base   # the same inputs against an earlier checkout
 
@@ -59,6 +59,10 @@ steps after it (or after ``reset`` for stepping past the end), or when
 ``gymnasium.make`` refuses its arguments in one line.  Finite continuous
 actions outside the box are clipped by design (documented), so they are not
 in the battery.
+
+The fifth round holds what a sweep of the commands the README's tour does not reach found (model files whose
+records are of the wrong kind, ``export --out`` onto its model file, a device or a folder given as a log, joint
+patterns whose shared column the file lacks, a row of units under the header, an audit's policy and limits).
 """
 
 from __future__ import annotations
@@ -148,6 +152,7 @@ def write_fixtures(d: Path) -> None:
     write_round_two(d, good)
     write_round_three(d, good)
     write_round_four(d, good)
+    write_round_five(d, good)
 
 
 BROKEN_TERMS = textwrap.dedent('''
@@ -454,6 +459,7 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     round_two_cases(section, refuse, word)
     round_three_cases(section, refuse, word, partial)
     round_four_cases(section, refuse, word)
+    round_five_cases(section, refuse, word)
     return cases
 
 
@@ -533,6 +539,56 @@ def round_four_cases(section, refuse, word) -> None:
                          (["--models", "m_twice.json"], "twice|more than once|duplicate")):
         refuse("audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
                reason=reason)
+
+
+def write_round_five(d: Path, good: pd.DataFrame) -> None:
+    """The fifth round's inputs (a sweep of the commands a walk through the README does not reach): model files
+    whose records are of the wrong kind, a wide file with joint patterns, a row of units, a report's summary that
+    is a list, a model file to export onto itself."""
+    model = json.loads((d / "model.json").read_text())
+    for name, change in (("m_validation_null.json", {"validation": None}),
+                         ("m_units_list.json", {"channel_units": ["N m"]})):
+        document = json.loads(json.dumps(model))
+        document["actuators"][0].update(change)
+        (d / name).write_text(json.dumps(document))
+    (d / "m_export_onto.json").write_text(json.dumps(model))
+    knee, hip = (good[good.actuator == a].reset_index(drop=True) for a in ("knee", "hip"))
+    pd.DataFrame({"t": knee["time"], "cur1": knee["effort"], "cur2": hip["effort"], "temp1": knee["temperature"],
+                  "temp2": hip["temperature"]}).to_csv(d / "wide_joints.csv", index=False)
+    lines = good.to_csv(index=False).splitlines()
+    (d / "units_row.csv").write_text("\n".join([lines[0], "s,-,mA,°F"] + lines[1:]) + "\n")
+    (d / "list_summary" / "fit").mkdir(parents=True)
+    (d / "list_summary" / "fit" / "summary.json").write_text("[1, 2]")
+
+
+def round_five_cases(section, refuse, word) -> None:
+    """The fifth round's sweep: what it found, each fixed in the commit it names in docs/reliability.md."""
+    section(5, "model file fields of the wrong kind")
+    for name, reason in (("m_validation_null.json", '"validation" must map'),
+                         ("m_units_list.json", '"channel_units" must map')):
+        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C", "30",
+               "--threshold", "90", reason=reason)
+    section(5, "outputs onto inputs")
+    refuse("export --out onto its own model file", "export", "m_export_onto.json", "--mujoco", "--motor-const",
+           "0.1", "--resistance", "1", "--out", "m_export_onto.json", reason="never replaces an input")
+    section(5, "what is not a log")
+    refuse("fit /dev/null", "fit", "/dev/null", reason="not a regular file")
+    refuse("fit a folder that is not a bag", "fit", "empty_folder", reason="not a ROS 2 bag")
+    refuse("fit a header-only log for one actuator", "fit", "header_only.csv", "--actuator", "knee",
+           reason="no rows with measurements")
+    refuse("report a summary that is a list", "report", "list_summary", reason="not a demo's summary")
+    section(5, "joint patterns")
+    refuse("a joint pattern with a shared column written with *", "fit", "wide_joints.csv", "--map",
+           "time=t,effort=cur{j},temperature=temp*", reason=r"temp\*.*needs \{j\}")
+    refuse("a joint pattern with a time column the file lacks", "fit", "wide_joints.csv", "--map",
+           "time=stamp,effort=cur{j},temperature=temp{j}", reason="names column 'stamp'")
+    word("a row of units under the header", r"(?=[\s\S]*Fahrenheit)[\s\S]*K/mA\^2", "fit", "units_row.csv",
+         "--actuator", "knee")
+    section(5, "audit's policy and limits")
+    refuse("audit a policy that cannot be called as (env, observation)", "audit", "--env", "Ant-v5", "--duration",
+           "1", "--policy", "json:loads", reason="cannot be called as")
+    refuse("audit limits below where the joints start", "audit", "--env", "Ant-v5", "--duration", "1",
+           "--limit-C", "20", reason="start at or above their limit")
 
 
 def round_three_cases(section, refuse, word, partial) -> None:
@@ -1251,7 +1307,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--json", action="store_true", help="print one record per input, and the counts by class")
     parser.add_argument("--only", default="", help="run only inputs whose name contains this")
-    parser.add_argument("--round", type=int, choices=(1, 2, 3, 4), help="run only that round's classes")
+    parser.add_argument("--round", type=int, choices=(1, 2, 3, 4, 5), help="run only that round's classes")
     parser.add_argument("--class", dest="cls", default="", help="run only classes whose name contains this")
     parser.add_argument("--code", metavar="DIR", help="run the inputs against the thermolimb checkout in DIR (an "
                         "earlier commit's worktree: the 'before' of a round), not the installed one")
