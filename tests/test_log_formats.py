@@ -76,7 +76,13 @@ def test_parquet_datetime_time_column(tmp_path):
     frame = pd.DataFrame({"time": pd.Timestamp("2024-01-01") + pd.to_timedelta(t, unit="s"), "actuator": "knee",
                           "effort": effort, "temperature": temperature})
     frame.to_parquet(tmp_path / "log.parquet")
-    np.testing.assert_allclose(read_log(tmp_path / "log.parquet").frame["time"], t)
+    log = read_log(tmp_path / "log.parquet")
+    np.testing.assert_allclose(log.frame["time"], t)
+    assert any("time stamps turned into seconds from the first sample" in note for note in log.notes)
+    frame.assign(time=(t + 7.0).astype(str)).to_parquet(tmp_path / "text.parquet")  # seconds written as text
+    log = read_log(tmp_path / "text.parquet")
+    np.testing.assert_allclose(log.frame["time"], t + 7.0)  # the numbers as given, not from the first sample
+    assert not any("time stamps" in note for note in log.notes)
 
 
 def test_unreadable_time_is_refused_not_guessed(tmp_path):

@@ -431,14 +431,24 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
     return _from_stamps(stamps, source, column, origin)
 
 
-def first_stamp(values: pd.Series):
-    """The first UTC timestamp of a time column, or ``None`` when it holds numbers or elapsed times."""
+def is_stamped(values: pd.Series) -> bool:
+    """Whether a time column holds time stamps (datetimes, ISO-8601 text), not numbers (as text too), durations or
+    elapsed times."""
     if pd.api.types.is_datetime64_any_dtype(values):
-        return pd.to_datetime(values, utc=True).dropna().min()
+        return True
+    if pd.api.types.is_numeric_dtype(values) or pd.api.types.is_timedelta64_dtype(values):
+        return False
     numeric = pd.to_numeric(values, errors="coerce")
     text = values.dropna().astype(str).str.strip()
-    if numeric.notna().sum() == values.notna().sum() or text.str.match(_CLOCK.pattern).all():
+    return not (numeric.notna().sum() == values.notna().sum() or text.str.match(_CLOCK.pattern).all())
+
+
+def first_stamp(values: pd.Series):
+    """The first UTC timestamp of a time column, or ``None`` when it holds numbers or elapsed times."""
+    if not is_stamped(values):
         return None
+    if pd.api.types.is_datetime64_any_dtype(values):
+        return pd.to_datetime(values, utc=True).dropna().min()
     stamps = pd.to_datetime(values, utc=True, format="ISO8601", errors="coerce")
     return stamps.dropna().min() if stamps.notna().any() else None
 

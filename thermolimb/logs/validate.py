@@ -18,7 +18,7 @@ from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
 from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
-from .table import first_stamp, refuse_duplicates, shown_names, time_seconds
+from .table import first_stamp, is_stamped, refuse_duplicates, shown_names, time_seconds
 from .units import NOT_GIVEN, channel_units
 from .wide import apply_mapping, split_units
 
@@ -118,7 +118,7 @@ def from_frame(
     origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
     out = {"time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy), "actuator": names}
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
-    if not numeric_time and not later:
+    if not numeric_time and not later and is_stamped(frame["time"]):  # numbers written as text are not stamps
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
     for c in keep:
         if c in ("time", "actuator"):
