@@ -114,6 +114,21 @@ def test_a_row_of_units_is_followed_as_fit_reads_it(tmp_path, written):
     assert len(got[whole.actuators[0]]) == sum(row.split(",")[1] == whole.actuators[0] for row in rows)
 
 
+def test_a_separator_at_the_end_of_each_data_line_is_no_field(tmp_path, written):
+    """A logger that ends each data line with a separator its header lacks: the header is still the header (not a
+    preamble), no column becomes an index, and the follower reads what fit reads."""
+    header, rows = written
+    path = tmp_path / "trailing.csv"
+    path.write_text("\n".join([header] + [row + "," for row in rows]) + "\n")
+    whole = read_log(path)
+    assert set(whole.actuators) == {row.split(",")[1] for row in rows}
+    first = rows[0].split(",")
+    assert whole.frame["actuator"].iloc[0] == first[1] and whole.frame["time"].iloc[0] == float(first[0])
+    got = _all(CsvFollower(path).poll(final=True))
+    for name in whole.actuators:
+        np.testing.assert_allclose(got[name], whole.series(name).time_s)
+
+
 def test_bad_lines_are_said_with_their_number_and_skipped(tmp_path, written):
     header, rows = written
     knee = [r for r in rows if r.split(",")[1] == "knee"][: 3 * PROBE_ROWS]

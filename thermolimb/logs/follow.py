@@ -208,6 +208,8 @@ class CsvFollower:
                 good.append((number, text))
                 continue
             fields = [f.strip() for f in next(csv.reader([text], delimiter=sep), [])]
+            if len(fields) == len(header) + 1 and not fields[-1]:  # a separator at the end of the line
+                fields.pop()
             if fields == header:
                 self.notes.append(f"{self.path}: line {number} repeats the header (the writer started again?); "
                                   f"read on")

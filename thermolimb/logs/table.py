@@ -274,6 +274,8 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     counts = Counter(name.strip() for name in header)
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
                    skip_blank_lines=True)
+    if sum(line.rstrip().endswith(sep) for line in data) * 2 > len(data) and not header_line.rstrip().endswith(sep):
+        options["index_col"] = False  # data lines end with a separator the header lacks: not an index column
     names, units_line = [name.strip() for name in header], None
     units_at, units = _units_row(content, header_at, sep, decimal, names)
     if units and len(set(names)) == len(names):
@@ -378,8 +380,9 @@ def _header_line(content: list[tuple[int, str]], sep: str) -> int:
 
 
 def _split(line: str, sep: str) -> int:
-    """Number of fields, ignoring separators inside double quotes."""
-    return len(re.sub(r'"[^"]*"', "", line).split(sep))
+    """Number of fields, ignoring separators inside double quotes and one at the end of the line (a logger that
+    ends every line with a separator writes no field after it)."""
+    return len(re.sub(r'"[^"]*"', "", line.rstrip()).removesuffix(sep).split(sep))
 
 
 def _name(sep: str) -> str:
