@@ -557,6 +557,8 @@ def write_round_five(d: Path, good: pd.DataFrame) -> None:
                   "temp2": hip["temperature"]}).to_csv(d / "wide_joints.csv", index=False)
     lines = good.to_csv(index=False).splitlines()
     (d / "units_row.csv").write_text("\n".join([lines[0], "s,-,mA,°F"] + lines[1:]) + "\n")
+    (d / "trailing_sep.csv").write_text("\n".join([lines[0]] + [line + "," for line in lines[1:]]) + "\n")
+    good.assign(time=good["time"].astype(str)).to_parquet(d / "text_seconds.parquet")
     (d / "list_summary" / "fit").mkdir(parents=True)
     (d / "list_summary" / "fit" / "summary.json").write_text("[1, 2]")
 
@@ -582,8 +584,12 @@ def round_five_cases(section, refuse, word) -> None:
            "time=t,effort=cur{j},temperature=temp*", reason=r"temp\*.*needs \{j\}")
     refuse("a joint pattern with a time column the file lacks", "fit", "wide_joints.csv", "--map",
            "time=stamp,effort=cur{j},temperature=temp{j}", reason="names column 'stamp'")
+    section(5, "logs as other tools write them")
     word("a row of units under the header", r"(?=[\s\S]*Fahrenheit)[\s\S]*K/mA\^2", "fit", "units_row.csv",
          "--actuator", "knee")
+    word("data lines that end with a separator the header lacks", r"knee: model", "fit", "trailing_sep.csv")
+    word("seconds written as text: read as given, not called time stamps", r"^(?![\s\S]*time stamps)[\s\S]*RC_s",
+         "fit", "text_seconds.parquet", "--actuator", "knee")
     section(5, "audit's policy and limits")
     refuse("audit a policy that cannot be called as (env, observation)", "audit", "--env", "Ant-v5", "--duration",
            "1", "--policy", "json:loads", reason="cannot be called as")
