@@ -156,7 +156,12 @@ def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, 
               "--json"]
     assert main(inside) == 0 and json.loads(capsys.readouterr().out)["notes"] == []
     assert main(inside[:-1] + ["--ambient-C", "40"]) == 0  # the model does not read the ambient
-    assert "does not read the ambient temperature" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "does not read the ambient temperature" in out
+    assert "extrapolated: the ambient (40.0 to 40.0 degC) leaves the 25.0 to 25.0 degC" in out  # a hotter air, said
+    assert main(inside[:-1] + ["--ambient-C", "26"]) == 0  # within the air it was identified in: unread, not beyond
+    out = capsys.readouterr().out
+    assert "does not read the ambient temperature" in out and "extrapolated" not in out
 
 
 def test_a_forecast_hotter_than_the_model_s_log_is_said_and_widened_from_there(saved_auto):

@@ -40,15 +40,16 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
             notes.append(f"extrapolated: the {name} reaches {asked:.3g}{(' ' + unit) if unit else ''}, "
                          f"{ratio:.2g} times the largest the model was identified on ({largest:.3g})")
     seen = ranges.get("ambient_C")
-    if signals.ambient_C is not None and not reads_ambient:
-        notes.append("the model does not read the ambient temperature: the one given changes nothing (its offset "
-                     "stands for the air it was identified in)")
-    elif signals.ambient_C is not None and seen:
+    if signals.ambient_C is not None:
         lo, hi = float(np.min(signals.ambient_C)), float(np.max(signals.ambient_C))
-        if lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K:
+        unread = ("the model does not read the ambient temperature: the one here changes nothing (its offset stands "
+                  "for the air it was identified in)")
+        if seen and (lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K):  # a colder or hotter air, said either way
             factor = max(factor, 2.0)
             notes.append(f"extrapolated: the ambient ({lo:.1f} to {hi:.1f} degC) leaves the {seen[0]:.1f} to "
-                         f"{seen[1]:.1f} degC the model was identified in")
+                         f"{seen[1]:.1f} degC the model was identified in" + ("" if reads_ambient else f"; {unread}"))
+        elif not reads_ambient:
+            notes.append(unread)
     seen = ranges.get("temperature_C")
     if seen and not seen[0] - MARGIN_K <= start_C <= seen[1] + MARGIN_K:
         factor = max(factor, 2.0)
