@@ -107,12 +107,14 @@ def load_policy(text: str, seed: int) -> Callable:
     if not callable(policy):
         raise UsageError(f"--policy {text}: {name} is not callable; expected a function (env, observation) -> action")
     try:
-        inspect.signature(policy).bind(None, None)
+        signature = inspect.signature(policy)
+    except ValueError:  # a compiled callable with no signature to read: its first call will tell
+        return policy
+    try:
+        signature.bind(None, None)
     except TypeError as exc:
         raise UsageError(f"--policy {text}: {name} cannot be called as {name}(env, observation) ({exc}); expected a "
                          f"function (env, observation) -> action") from None
-    except ValueError:  # a compiled callable with no signature to read: its first call will tell
-        pass
     return policy
 
 

@@ -277,7 +277,7 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     if sum(line.rstrip().endswith(sep) for line in data) * 2 > len(data) and not header_line.rstrip().endswith(sep):
         options["index_col"] = False  # data lines end with a separator the header lacks: not an index column
     names, units_line = [name.strip() for name in header], None
-    units_at, units = _units_row(content, header_at, sep, decimal, names)
+    units_at, units = _units_row(content, header_at, sep, names)
     if units and len(set(names)) == len(names):
         # a row of units under the header (a DAQ's export): read as the header's own "name [unit]"
         names = [f"{n} [{u}]" if u and n != "actuator" and not header_unit(n) else n for n, u in zip(names, units)]
@@ -296,7 +296,7 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
 _NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")
 
 
-def _units_row(content: list[tuple[int, str]], header_at: int, sep: str, decimal: str,
+def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,
                names: list[str]) -> tuple[int | None, list[str] | None]:
     """The line under the header and its units, where it holds units: no number and no date in any field,
     short words ("s", "N m", "[degC]", "-" for none), and numbers on the line after it."""
