@@ -9,6 +9,7 @@ import pytest
 from thermolimb.data import PMSM_MAP, PMSM_UNITS, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model import ThermalModel
+from thermolimb.model.experience import ambient_shift_K
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
@@ -230,3 +231,25 @@ def test_the_walk_on_a_plant_richer_than_the_model_ends_with_the_plant_s_physics
     assert 0.5 * 10_100 < slow < 2.0 * 10_100
     assert 0.003 < p["alpha_per_K"] < 0.005  # copper: 0.0039 /K
     assert abs(p["T_offset_C"] - 25.0) < 5.0
+
+
+def test_a_held_out_run_in_another_air_is_predicted_with_the_offset_following_its_ambient():
+    """Jorgensen et al.'s offset is the ambient plus the bias heat (Eq. 5): a model fitted at 20 degC predicts a run
+    at 45 degC as well as one at 20 degC once its offset follows the logged ambient, and says so; a held-out run
+    that does not log its ambient keeps the offset, 25 K off (the plant is linear in its ambient)."""
+    from dataclasses import replace
+
+    def run(ambient_C, seed):
+        return simulate_profile("random", 3600.0, 1.0, list(CASE_NAMES[:1]), list(CASE_SPECS[:1]),
+                                PlantEffects.realistic_sensor(), seed=seed, ambient_C=ambient_C).log.series("knee")
+
+    fitted_on, warm = run(20.0, 0), run(45.0, 1)
+    same_air = validate_model([fitted_on], "joule,effort_bias", Scheme.on_runs([run(20.0, 1)]))
+    other_air = validate_model([fitted_on], "joule,effort_bias", Scheme.on_runs([warm]))
+    assert "offset followed" not in same_air.scheme and "run 1 +25.0 K" in other_air.scheme
+    assert other_air.validation["rmse_K"] == pytest.approx(same_air.validation["rmse_K"], rel=1e-6)
+    unlogged = replace(warm, signals=replace(warm.signals, ambient_C=None))
+    assert validate_model([fitted_on], "joule,effort_bias", Scheme.on_runs([unlogged])).validation["rmse_K"] > 20.0
+    reads = ThermalModel(("joule", "effort_bias", "ambient_variation"), {**other_air.model.params, "ambient_gain": 1})
+    assert ambient_shift_K(other_air.model, [20.0, 20.0], warm.signals.ambient_C) == pytest.approx(25.0)
+    assert ambient_shift_K(reads, [20.0, 20.0], warm.signals.ambient_C) == 0.0  # it moves its offset itself

@@ -155,13 +155,17 @@ def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, 
     inside = ["predict", str(path), "--hold", f"{0.5 * largest:.3f},0", "--duration", "600", "--start-C", "30",
               "--json"]
     assert main(inside) == 0 and json.loads(capsys.readouterr().out)["notes"] == []
-    assert main(inside[:-1] + ["--ambient-C", "40"]) == 0  # the model does not read the ambient
-    out = capsys.readouterr().out
-    assert "does not read the ambient temperature" in out
-    assert "extrapolated: the ambient (40.0 to 40.0 degC) leaves the 25.0 to 25.0 degC" in out  # a hotter air, said
-    assert main(inside[:-1] + ["--ambient-C", "26"]) == 0  # within the air it was identified in: unread, not beyond
-    out = capsys.readouterr().out
-    assert "does not read the ambient temperature" in out and "extrapolated" not in out
+    assert main(inside + ["--ambient-C", "40"]) == 0  # the model does not read the ambient: its offset follows it
+    warm = json.loads(capsys.readouterr().out)
+    assert "extrapolated: the ambient (40.0 to 40.0 degC) leaves the 25.0 to 25.0 degC" in warm["notes"][0]
+    assert "its offset follows this log's mean ambient beyond the calibration's, +15.0 K" in warm["notes"][1]
+    assert main(inside + ["--ambient-C", "25"]) == 0
+    still = json.loads(capsys.readouterr().out)
+    assert "changes nothing" in still["notes"][0] and "extrapolated" not in still["notes"][0]
+    hours = [forecast(saved, hold_signals(36000.0, 0.5 * largest, 0.0, ambient_C=a, step_s=10.0), 30.0, 200.0)
+             for a in (25.0, 40.0)]
+    rise = hours[1].predicted_C - hours[0].predicted_C  # 15 K more of offset, reached with the model's own pace
+    assert rise[0] == pytest.approx(0.0, abs=1e-9) and rise[-1] == pytest.approx(15.0, rel=0.01)
 
 
 def test_a_forecast_hotter_than_the_model_s_log_is_said_and_widened_from_there(saved_auto):

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import norm
 
-from .model.experience import beyond, hotter_than_seen
+from .model.experience import ambient_shift_K, beyond, hotter_than_seen, shifted
 from .model.model import ThermalModel
 from .model.reach import crossing_s
 from .model.saved import SavedModel
@@ -131,8 +131,11 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
                               f"{start_C:.2f} degC; a time to reach it needs a threshold above where the joint starts")
     model = saved.model
     t = signals.time_s - signals.time_s[0]
+    ranges = dict(saved.provenance).get("ranges") or {}
+    shift = ambient_shift_K(model, ranges.get("ambient_C"), signals.ambient_C)  # the offset follows another air
 
     def run(m: ThermalModel) -> np.ndarray:
+        m = shifted(m, shift)
         if history is None:
             return m.simulate(signals, start_C, initial_rate_K_per_s=initial_rate_K_per_s)
         joined = join(history.signals, signals)
@@ -148,11 +151,11 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    ranges = dict(saved.provenance).get("ranges")
-    notes, widen = beyond(ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""))
+    notes, widen = beyond(ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""),
+                          shift)
     hotter, widen_hot = hotter_than_seen(ranges, predicted)
     notes, widen = notes + hotter, np.maximum(widen, widen_hot)
-    half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, start_C)) ** 2)
+    half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, shift)) ** 2)
     if notes:  # an extrapolation is never answered with a zero-width band: at least a tenth of the rise
         half = np.maximum(half, 0.1 * np.abs(predicted - start_C))
     low, high = predicted - half, predicted + half
@@ -201,14 +204,14 @@ def model_error_K(saved: SavedModel, level: float) -> float:
     return 0.0 if saved.residual is None else saved.residual.abs_quantile_K(level)
 
 
-def extrapolation(saved: SavedModel, predicted_C: np.ndarray, start_C: float) -> np.ndarray:
+def extrapolation(saved: SavedModel, predicted_C: np.ndarray, shift_K: float = 0.0) -> np.ndarray:
     """How far beyond what the held-out data saw a forecast goes: its rise above the model's offset over the
     held-out free run's typical (root-mean-square) rise, at least one: a model's error is mostly an error in
     its gains, which grows with the rise."""
     seen = None if saved.residual is None else saved.residual.rise_K
     if not seen or seen <= 0:
         return np.ones_like(predicted_C)
-    rise = np.abs(predicted_C - saved.model.params["T_offset_C"])
+    rise = np.abs(predicted_C - saved.model.params["T_offset_C"] - shift_K)
     return np.maximum(1.0, rise / seen)
 
 

@@ -174,7 +174,7 @@ def save_models(args, final: dict):
 
 def _checked_datasheet(values: dict[str, float], models) -> dict[str, float]:
     """``--datasheet``, checked against the models' parameters before any log is read (the one place)."""
-    from ..workbench.validation import check_datasheet
+    from ..workbench.submodel import check_datasheet
 
     try:
         check_datasheet(values, *models)

@@ -20,10 +20,10 @@ from typing import Sequence
 
 import numpy as np
 
+from ..model.model import OFFSET_REDEFINED_BY
 from ..model.terms import Parameter
 
 OFFSET_MARGIN_K = 10.0  # how far below the coolest logged ambient an offset may sit (a sensor's calibration)
-OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")  # after these, T_offset is no ambient temperature
 
 
 def fit_bounds(params: Sequence[Parameter], terms: Sequence[str], series) -> tuple[np.ndarray, np.ndarray]:

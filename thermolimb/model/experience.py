@@ -7,6 +7,11 @@ widened by -- the heat grows with the square of the effort, so an effort ``k`` t
 ``k**2``; any other input outside its range (or a log sampled more coarsely than the calibration's) at least
 doubles it.  A forecast that climbs above the hottest reading the model was identified on is said to, and its
 band doubled from where it does (:func:`hotter_than_seen`).
+
+Jorgensen et al.'s offset is the ambient plus the bias heat (Eq. 5: ``T_offset = T_amb + P_bias R``), so a model
+that does not read the ambient carries the air it was identified in inside its offset.  On a run whose logged
+ambient lies outside that air, the offset follows it (:func:`ambient_shift_K`): a motor on a bench whose coolant ran
+at 91 degC (PMSM profile 46) and then at 19 degC (profile 24) does not keep a 108 degC offset.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ from typing import Mapping
 
 import numpy as np
 
+from .model import OFFSET_REDEFINED_BY, ThermalModel
 from .signals import Signals
 
 MARGIN = 0.1  # an effort or velocity up to 10 % beyond the largest seen is within experience
@@ -23,8 +29,9 @@ RATE_RATIO = 2.0  # a sample interval up to twice the calibration's
 
 
 def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambient: bool,
-           effort_unit: str = "") -> tuple[list[str], float]:
-    """Notes on where ``signals`` from ``start_C`` leave the calibration's ``ranges``, and the band's widening."""
+           effort_unit: str = "", shift_K: float = 0.0) -> tuple[list[str], float]:
+    """Notes on where ``signals`` from ``start_C`` leave the calibration's ``ranges``, and the band's widening;
+    ``shift_K``: how far the offset follows the ambient (:func:`ambient_shift_K`)."""
     notes, factor = [], 1.0
     if not ranges:
         return notes, factor
@@ -42,14 +49,17 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
     seen = ranges.get("ambient_C")
     if signals.ambient_C is not None:
         lo, hi = float(np.min(signals.ambient_C)), float(np.max(signals.ambient_C))
-        unread = ("the model does not read the ambient temperature: the one here changes nothing (its offset stands "
-                  "for the air it was identified in)")
         if seen and (lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K):  # a colder or hotter air, said either way
             factor = max(factor, 2.0)
             notes.append(f"extrapolated: the ambient ({lo:.1f} to {hi:.1f} degC) leaves the {seen[0]:.1f} to "
-                         f"{seen[1]:.1f} degC the model was identified in" + ("" if reads_ambient else f"; {unread}"))
+                         f"{seen[1]:.1f} degC the model was identified in")
+        if shift_K:
+            notes.append(f"the model does not read the ambient temperature: its offset follows this log's mean "
+                         f"ambient beyond the calibration's, {shift_K:+.1f} K (T_offset = T_amb + P_bias R, Jorgensen "
+                         f"et al. Eq. 5)")
         elif not reads_ambient:
-            notes.append(unread)
+            notes.append("the model does not read the ambient temperature: the one here changes nothing (its offset "
+                         "stands for the air it was identified in)")
     seen = ranges.get("temperature_C")
     if seen and not seen[0] - MARGIN_K <= start_C <= seen[1] + MARGIN_K:
         factor = max(factor, 2.0)
@@ -63,6 +73,43 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
             notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: the effort "
                          f"between its readings is taken as held, which the calibration never had to")
     return notes, factor
+
+
+def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> float:
+    """How far ``model``'s offset moves on a run whose logged ambient is ``ambient_C``, the calibration's ambient
+    having spanned ``seen`` (``[low, high]`` degC): the excursion of the run's mean ambient beyond that span, kelvin
+    for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps its model unchanged, and
+    the shift grows from 0 as a run leaves it).  0 too for a model that reads the ambient itself or whose offset
+    is no ambient (:data:`~thermolimb.model.model.OFFSET_REDEFINED_BY`), and without a logged ambient."""
+    if (ambient_C is None or not seen or "T_offset_C" not in model.params or "ambient" in model.columns
+            or any(t in model.terms for t in OFFSET_REDEFINED_BY)):
+        return 0.0
+    mean = float(np.nanmean(ambient_C))
+    return mean - float(np.clip(mean, seen[0], seen[1])) if np.isfinite(mean) else 0.0
+
+
+def shifted(model: ThermalModel, shift_K: float) -> ThermalModel:
+    """``model`` with its offset moved by ``shift_K`` (itself when the shift is 0)."""
+    if not shift_K:
+        return model
+    return model.with_params({**model.params, "T_offset_C": model.params["T_offset_C"] + shift_K})
+
+
+def ambient_span(series) -> list[float] | None:
+    """``[low, high]`` of the logged ambient over ``series`` (degC), or None unless every one logs it."""
+    values = [s.signals.ambient_C for s in series]
+    if not values or any(v is None for v in values):
+        return None
+    return [float(np.nanmin([np.nanmin(v) for v in values])), float(np.nanmax([np.nanmax(v) for v in values]))]
+
+
+def moved_words(moved: list[tuple[str, float]]) -> str:
+    """The scheme's words on offsets that followed a held-out run's ambient (:func:`ambient_shift_K`): ``(label, K)`` each."""
+    if not moved:
+        return ""
+    each = ", ".join(f"{label} {shift:+.1f} K" for label, shift in moved)
+    return (f"; the offset followed the ambient of {len(moved)} held-out run{'s' if len(moved) > 1 else ''} beyond "
+            f"the fitted runs' ({each}; T_offset = T_amb + P_bias R, Jorgensen et al. Eq. 5)")
 
 
 def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[list[str], np.ndarray]:

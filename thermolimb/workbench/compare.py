@@ -8,7 +8,8 @@ from ..identification import IdentifiabilityError
 from ..identification.metrics import information_criteria
 from ..model.model import model_parameters
 from ..model.terms import parse_model
-from .validation import FitReport, Scheme, check_datasheet, validate_model
+from .submodel import check_datasheet
+from .validation import FitReport, Scheme, validate_model
 
 
 def compare_models(series, models, scheme: Scheme = Scheme(),

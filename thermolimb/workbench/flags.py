@@ -15,9 +15,9 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..identification.bounds import OFFSET_MARGIN_K, OFFSET_REDEFINED_BY
+from ..identification.bounds import OFFSET_MARGIN_K
 from ..logs import ActuatorSeries
-from ..model.model import ThermalModel
+from ..model.model import OFFSET_REDEFINED_BY, ThermalModel
 from ..model.parameter_units import spaced
 from ..model.terms import LONG_TIME_CONSTANT
 from ..util.numbers import plus_minus, significant

@@ -23,14 +23,16 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..identification import ESTIMATORS, IdentifiabilityError, ThermalEstimator
+from ..identification import ESTIMATORS, ThermalEstimator
 from ..identification.metrics import pieces_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
-from ..model.model import ThermalModel, model_parameters
+from ..model.experience import ambient_shift_K, ambient_span, moved_words, shifted
+from ..model.model import ThermalModel
 from ..model.signals import Signals
-from ..model.terms import TERMS, parse_model
+from ..model.terms import parse_model
 from .evidence import Evidence
 from .flags import parameter_flags
+from .submodel import identifiable_submodel
 
 AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = ("auto", "interleaved", "split", "blocks", "runs", "parts",
                                                            "held_out")
@@ -373,18 +375,27 @@ def validate_model(
     # a held-out unit is a whole run (named, or numbered in its order), else a block or a run's tail
     number = {id(s): k for k, s in enumerate(scheme.held_out if scheme.kind == HELD_OUT else series)}
     whole_runs = scheme.kind in (RUNS, PARTS, HELD_OUT)
-    valid = []
+    valid, moved, alive = [], [], []
     runs: dict = {}  # free runs from each run's start, by model, run and start (_segments)
-    for est, (_, scored) in zip(fitted, folds):
+    for est, (fit_on, scored) in zip(fitted, folds):
+        # another run may have run in another air; parts of one run share its air, whose swings are its own evidence
+        span = ambient_span(fit_on) if scheme.kind in (RUNS, HELD_OUT) else None
         for k, (s, pieces) in enumerate(scored):
+            judged = est.model_
             if whole_runs:  # the run's hidden states placed by its first tenth, which is not scored
                 burn = burn_in(s)
-                offsets = est.model_.place_hidden(s, np.arange(burn))[1]
-                pieces, label = [(burn, s.n)], s.run or f"run {number[id(s)] + 1}"
+                label = s.run or f"run {number[id(s)] + 1}"
+                shift = ambient_shift_K(judged, span, s.signals.ambient_C)  # another run, maybe another air
+                if shift:
+                    judged = shifted(judged, shift)
+                    moved.append((label, shift))
+                offsets = judged.place_hidden(s, np.arange(burn))[1]
+                pieces = [(burn, s.n)]
             else:  # the same run fitted on: its hidden states as the fit placed them (not for contiguous folds)
                 offsets = _offsets(est, k) if scheme.kind in (SPLIT, INTERLEAVED) else None
                 label = ""
-            valid += _segments(est.model_, s, pieces, restart, label, offsets, runs)
+            valid += _segments(judged, s, pieces, restart, label, offsets, runs)
+            alive.append(judged)  # while its id keys the free runs
     valid = tuple(valid)
     if len(folds) == 1:
         final, train_series = fitted[0], folds[0][0]
@@ -399,91 +410,9 @@ def validate_model(
         train=train_metrics, validation=_metrics(valid), train_segments=train, validation_segments=valid,
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
-                                    train_rmse_K=train_metrics["rmse_K"])), scheme=scheme.describe(),
+                                    train_rmse_K=train_metrics["rmse_K"])),
+        scheme=scheme.describe() + moved_words(moved),
         units="runs" if scheme.kind in (RUNS, HELD_OUT) else "parts" if scheme.kind == PARTS else "blocks")
-
-
-def identifiable_submodel(fit: Callable[[tuple[str, ...], dict], FitReport], model: tuple[str, ...],
-                          series: Sequence[ActuatorSeries], hold: bool = True,
-                          datasheet: Mapping[str, float] | None = None) -> FitReport:
-    """``fit(model, held)``, narrowing the model while the log cannot identify a parameter; the report says how
-    in ``set_aside``.
-
-    * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the fit
-      leaves uncertain (standard error over half of it, or a time constant over three log durations), is held
-      at that value.
-    * An offset the log cannot tell from its heating (effort never low) is held at the logged ambient's mean,
-      when the log has one and ``hold``.
-    * Otherwise a term goes: the one owning the parameter the fit could not determine or one it cannot be
-      told from, preferring a term other than the model's first heat source (on a two-level step test the
-      effort bias goes, Joule heating stays).
-
-    Raises the fit's error when none applies (the time constant without a datasheet value, an offset without
-    a logged ambient, the last heat source): then nothing the model means can be identified.
-    """
-    datasheet = dict(datasheet or {})
-    check_datasheet(datasheet, model)
-    units = series[0].units if series else {}
-    aside, held = [], {}
-
-    def hold_value(name: str, value: float, reason: str) -> None:
-        held[name] = value
-        parameter = next(p for p in model_parameters(model) if p.name == name)
-        aside.append({"parameter": name, "held_at": value, "unit": parameter.unit_in(units), "reason": reason})
-
-    while True:
-        try:
-            report = fit(model, dict(held))
-        except IdentifiabilityError as exc:
-            if exc.parameter in datasheet and exc.parameter not in held and hold:
-                hold_value(exc.parameter, datasheet[exc.parameter], f"its datasheet value: {exc}")
-                continue
-            ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
-            if exc.parameter == "T_offset_C" and hold and "T_offset_C" not in held and ambient:
-                value = float(np.mean(np.concatenate(ambient)))
-                hold_value("T_offset_C", value, f"held at the logged ambient's mean, {value:.2f} degC: {exc}")
-                continue
-            term = _term_to_set_aside(model, exc)
-            if term is None:
-                raise
-            own = exc.parameter in {p.name for p in TERMS[term].parameters}
-            what = (f"cannot identify {exc.parameter}" if own else
-                    f"cannot tell {', '.join(p.name for p in TERMS[term].parameters)} from {exc.parameter}")
-            needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
-            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {needs}"})
-            model = tuple(t for t in model if t != term)
-            continue
-        loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
-                 for flag in report.flags if flag.startswith(f"{name} = ")]  # uncertain, or a time constant unseen
-        if not loose:
-            return replace(report, set_aside=tuple(aside))
-        for name, flag in loose:
-            hold_value(name, datasheet[name], f"its datasheet value, since the log leaves it loose: {flag}")
-
-
-def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> None:
-    """Refuse a datasheet value for a parameter none of ``models`` has, or outside the parameter's bounds."""
-    params = {p.name: p for model in models for p in model_parameters(tuple(model))}
-    for name, value in datasheet.items():
-        if name not in params:
-            named = " or ".join(",".join(m) for m in models)
-            raise LogError(f"--datasheet names {name}, not a parameter of model {named}; expected one of "
-                           f"{', '.join(params)}")
-        p = params[name]
-        if not (np.isfinite(value) and p.lower <= value <= p.upper):
-            raise LogError(f"--datasheet {name}={value:g} is outside what {name} can be ({p.lower:g} to {p.upper:g} "
-                           f"{p.unit})")
-
-
-def _term_to_set_aside(model: tuple[str, ...], exc: IdentifiabilityError) -> str | None:
-    owners = [next((t for t in model if any(p.name == name for p in TERMS[t].parameters)), None)
-              for name in (exc.parameter, *exc.partners)]
-    primary = next((t for t in model if TERMS[t].is_heat_source), None)
-    candidates = sorted(dict.fromkeys(o for o in owners if o is not None), key=lambda t: t == primary)
-    for term in candidates:
-        if any(TERMS[t].is_heat_source for t in model if t != term):
-            return term
-    return None
 
 
 def fit_and_validate(

@@ -39,7 +39,8 @@ from ...util.frozen import FrozenMapping
 from ...util.progress import progress
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
-from ..validation import FitReport, Scheme, identifiable_submodel, validate_model
+from ..submodel import identifiable_submodel
+from ..validation import FitReport, Scheme, validate_model
 from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
@@ -62,7 +63,7 @@ class Search:
     explain most of the residual, and every drop and swap; ``"all"`` refits every candidate.  ``discover``:
     also the log's extra channels, and, when nothing helps and the residual has structure, a discovered form.
     ``datasheet``: values held where the log cannot identify them (``{"RC_s": 600.0}``; see
-    :func:`~thermolimb.workbench.validation.identifiable_submodel`).  ``stability``: before the best change is
+    :func:`~thermolimb.workbench.submodel.identifiable_submodel`).  ``stability``: before the best change is
     recommended, the search is repeated on perturbed replicates of the log and the change must be taken in
     enough of them (:mod:`.stability`; ``None``: not checked).  ``max_steps``: the most changes ``--auto`` takes.
     """
@@ -400,8 +401,7 @@ def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport,
 
 
 def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:
-    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``;
-    :func:`~thermolimb.workbench.validation.identifiable_submodel`)."""
+    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see submodel.py)."""
     return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, initial, held),
                                  model, series, datasheet=datasheet)
 

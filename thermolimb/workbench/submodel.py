@@ -1,0 +1,96 @@
+"""The largest part of a model a log identifies: a parameter the log cannot place is held at its datasheet value
+(or an offset at the logged ambient), else its term is set aside, and the report says which and why."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..identification import IdentifiabilityError
+from ..logs import ActuatorSeries, LogError
+from ..model.model import model_parameters
+from ..model.terms import TERMS
+
+
+def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequence[ActuatorSeries], hold: bool = True,
+                          datasheet: Mapping[str, float] | None = None):
+    """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while the
+    log cannot identify a parameter; the report says how in ``set_aside``.
+
+    * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the fit
+      leaves uncertain (standard error over half of it, or a time constant over three log durations), is held
+      at that value.
+    * An offset the log cannot tell from its heating (effort never low) is held at the logged ambient's mean,
+      when the log has one and ``hold``.
+    * Otherwise a term goes: the one owning the parameter the fit could not determine or one it cannot be
+      told from, preferring a term other than the model's first heat source (on a two-level step test the
+      effort bias goes, Joule heating stays).
+
+    Raises the fit's error when none applies (the time constant without a datasheet value, an offset without
+    a logged ambient, the last heat source): then nothing the model means can be identified.
+    """
+    datasheet = dict(datasheet or {})
+    check_datasheet(datasheet, model)
+    units = series[0].units if series else {}
+    aside, held = [], {}
+
+    def hold_value(name: str, value: float, reason: str) -> None:
+        held[name] = value
+        parameter = next(p for p in model_parameters(model) if p.name == name)
+        aside.append({"parameter": name, "held_at": value, "unit": parameter.unit_in(units), "reason": reason})
+
+    while True:
+        try:
+            report = fit(model, dict(held))
+        except IdentifiabilityError as exc:
+            if exc.parameter in datasheet and exc.parameter not in held and hold:
+                hold_value(exc.parameter, datasheet[exc.parameter], f"its datasheet value: {exc}")
+                continue
+            ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
+            if exc.parameter == "T_offset_C" and hold and "T_offset_C" not in held and ambient:
+                value = float(np.mean(np.concatenate(ambient)))
+                hold_value("T_offset_C", value, f"held at the logged ambient's mean, {value:.2f} degC: {exc}")
+                continue
+            term = _term_to_set_aside(model, exc)
+            if term is None:
+                raise
+            own = exc.parameter in {p.name for p in TERMS[term].parameters}
+            what = (f"cannot identify {exc.parameter}" if own else
+                    f"cannot tell {', '.join(p.name for p in TERMS[term].parameters)} from {exc.parameter}")
+            needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
+            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {needs}"})
+            model = tuple(t for t in model if t != term)
+            continue
+        loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
+                 for flag in report.flags if flag.startswith(f"{name} = ")]  # uncertain, or a time constant unseen
+        if not loose:
+            return replace(report, set_aside=tuple(aside))
+        for name, flag in loose:
+            hold_value(name, datasheet[name], f"its datasheet value, since the log leaves it loose: {flag}")
+
+
+def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> None:
+    """Refuse a datasheet value for a parameter none of ``models`` has, or outside the parameter's bounds."""
+    params = {p.name: p for model in models for p in model_parameters(tuple(model))}
+    for name, value in datasheet.items():
+        if name not in params:
+            named = " or ".join(",".join(m) for m in models)
+            raise LogError(f"--datasheet names {name}, not a parameter of model {named}; expected one of "
+                           f"{', '.join(params)}")
+        p = params[name]
+        if not (np.isfinite(value) and p.lower <= value <= p.upper):
+            raise LogError(f"--datasheet {name}={value:g} is outside what {name} can be ({p.lower:g} to {p.upper:g} "
+                           f"{p.unit})")
+
+
+def _term_to_set_aside(model: tuple[str, ...], exc: IdentifiabilityError) -> str | None:
+    owners = [next((t for t in model if any(p.name == name for p in TERMS[t].parameters)), None)
+              for name in (exc.parameter, *exc.partners)]
+    primary = next((t for t in model if TERMS[t].is_heat_source), None)
+    candidates = sorted(dict.fromkeys(o for o in owners if o is not None), key=lambda t: t == primary)
+    for term in candidates:
+        if any(TERMS[t].is_heat_source for t in model if t != term):
+            return term
+    return None
