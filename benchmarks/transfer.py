@@ -2,9 +2,9 @@
 
 For every bundled real source with several runs of one actuator -- the UR3's six joints (two parts of one
 log, 5.2 h apart), the WidowX-200 waist (two 600 s runs), the BLDC bench (two heating runs of the winding), the
-PMSM bench (profiles 24 and 46; ``pmsm_coolant``: each judged on the other moved to its own coolant, since the
-two ran 72 K apart and no model the walk can reach reads the coolant) -- and for plant logs richer than the model (the X8's three masses with speed
-losses and copper's tempco hidden; four duty cycles of one joint), each run in turn is the one fitted on:
+PMSM bench (profiles 24 and 46, their coolant 72 K apart: the offset of a model that does not read it follows
+each held-out run's, Jorgensen et al. Eq. 5) -- and for plant logs richer than the model (the X8's three masses
+with speed losses and copper's tempco hidden; four duty cycles of one joint), each run in turn is the one fitted on:
 
 * **default**: Jorgensen et al.'s model fitted on that run, validated on the others
   (``thermolimb fit RUN --validate-on OTHERS``);
@@ -20,7 +20,7 @@ Everything goes through the command line, so that ``--code DIR`` measures anothe
 worktree of an earlier commit) on the same runs (written once, by this checkout), in the same process tree: the
 transfer table and the walk's time before and after a change, side by side.
 
-    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,pmsm_coolant,plant] [--code DIR] [--loro]
+    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant] [--code DIR] [--loro]
 """
 
 from __future__ import annotations
@@ -73,24 +73,6 @@ def write_runs(folder: Path, sources: list[str]) -> dict[str, dict]:
         logs = [read_log(pmsm_profile(k), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
                 for k in (24, 46)]
         out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
-    if "pmsm_coolant" in sources:
-        # the two profiles ran at coolant temperatures 72 K apart (19 and 91 degC), and a model that does not read
-        # the ambient keeps its offset: each profile is also judged on a copy of the other moved to its coolant
-        # (readings and coolant shifted by the difference of the coolants' means), what a model whose offset
-        # followed the coolant kelvin for kelvin would see
-        logs = [read_log(pmsm_profile(k), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
-                for k in (24, 46)]
-        levels = [float(log.frame["ambient"].mean()) for log in logs]
-        runs = [folder / f"pmsm_profile{k}.csv" for k in (24, 46)]
-        for log, run in zip(logs, runs):
-            log.write(run)
-        judged = []
-        for k, (fitted, other) in enumerate(((0, 1), (1, 0))):
-            frame = logs[other].frame.copy()
-            frame[["temperature", "ambient"]] += levels[fitted] - levels[other]
-            judged.append([save(from_frame(frame, source="pmsm moved"), f"pmsm_profile{(24, 46)[other]}_at_coolant"
-                                f"_of_{(24, 46)[fitted]}")])
-        out["pmsm_coolant"] = {"actuators": ["pmsm"], "runs": runs, "judged_on": judged}
     if "plant" in sources:
         fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
         duties = [("random", 0), ("random", 1), ("walking", 2), ("squat", 3)]
@@ -153,7 +135,7 @@ def transfer(code, sources: dict, loro: bool) -> dict:
         runs = source["runs"]
         for actuator in source["actuators"]:
             for k, run in enumerate(runs):
-                others = source["judged_on"][k] if "judged_on" in source else [r for j, r in enumerate(runs) if j != k]
+                others = [r for j, r in enumerate(runs) if j != k]
                 row = case(code, [run], others, actuator)
                 rows.append({"source": name, "part": "one run to the others", **row})
                 _print(rows[-1])

@@ -10,6 +10,7 @@ from thermolimb.data import PMSM_MAP, PMSM_UNITS, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model import ThermalModel
 from thermolimb.model.experience import ambient_shift_K
+from thermolimb.model.model import model_parameters
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
@@ -253,3 +254,6 @@ def test_a_held_out_run_in_another_air_is_predicted_with_the_offset_following_it
     reads = ThermalModel(("joule", "effort_bias", "ambient_variation"), {**other_air.model.params, "ambient_gain": 1})
     assert ambient_shift_K(other_air.model, [20.0, 20.0], warm.signals.ambient_C) == pytest.approx(25.0)
     assert ambient_shift_K(reads, [20.0, 20.0], warm.signals.ambient_C) == 0.0  # it moves its offset itself
+    housing = ("joule", "housing_boundary")  # its offset is no ambient: the housing's reading is its boundary
+    typical = ThermalModel(housing, {p.name: p.typical for p in model_parameters(housing)})
+    assert ambient_shift_K(typical, [20.0, 20.0], warm.signals.ambient_C) == 0.0

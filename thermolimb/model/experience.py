@@ -22,6 +22,7 @@ import numpy as np
 
 from .model import OFFSET_REDEFINED_BY, ThermalModel
 from .signals import Signals
+from .terms import TERMS
 
 MARGIN = 0.1  # an effort or velocity up to 10 % beyond the largest seen is within experience
 MARGIN_K = 5.0  # an ambient or start temperature within 5 K of the range seen
@@ -80,12 +81,24 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
     having spanned ``seen`` (``[low, high]`` degC): the excursion of the run's mean ambient beyond that span, kelvin
     for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps its model unchanged, and
     the shift grows from 0 as a run leaves it).  0 too for a model that reads the ambient itself or whose offset
-    is no ambient (:data:`~thermolimb.model.model.OFFSET_REDEFINED_BY`), and without a logged ambient."""
-    if (ambient_C is None or not seen or "T_offset_C" not in model.params or "ambient" in model.columns
-            or any(t in model.terms for t in OFFSET_REDEFINED_BY)):
+    is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
+    if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model):
         return 0.0
     mean = float(np.nanmean(ambient_C))
     return mean - float(np.clip(mean, seen[0], seen[1])) if np.isfinite(mean) else 0.0
+
+
+def offset_is_ambient(model: ThermalModel) -> bool:
+    """Whether ``model``'s offset is the ambient plus the bias heat: no term reads the ambient or moves the
+    temperature heat flows to (the housing, ambient variation, a logged temperature as a boundary: a generated
+    form of a channel minus a reference temperature)."""
+    for name in model.terms:
+        term = TERMS[name]
+        spec = getattr(term, "spec", None)
+        if (name in OFFSET_REDEFINED_BY or term.boundary or "ambient" in term.columns
+                or (spec is not None and any(f.form == "minus" for f in spec.features))):
+            return False
+    return True
 
 
 def shifted(model: ThermalModel, shift_K: float) -> ThermalModel:
