@@ -222,6 +222,23 @@ def test_json_lines_and_the_estimate_follows_the_readings(model_and_log, capsys)
     assert len(records) >= 2 and set(records[-1]["actuators"]) == {"knee", "hip", "ankle"}
 
 
+def test_a_run_in_another_air_moves_the_monitor_s_offset_with_it(model_and_log, capsys):
+    """The model was identified at 25 degC: followed at 45 degC, with readings and limit 20 K higher, the monitor
+    gives what it gives at 25 degC (the offset follows the ambient, Jorgensen et al. Eq. 5), and says so once."""
+    model, run = model_and_log
+    log = CsvFollower(run).poll()
+    knee = {name: pieces for name, pieces in log.items() if name == "knee"}
+    same = Session(ModelFile.load(model), {"knee": 45.0}, [], publish_every_s=0.0).feed(knee)[-1]
+    assert "offset follows" not in capsys.readouterr().err
+    for piece in knee["knee"]:
+        piece.arrays["ambient"] = piece.arrays["ambient"] + 20.0
+        piece.arrays["temperature"] = piece.arrays["temperature"] + 20.0
+    warm = Session(ModelFile.load(model), {"knee": 65.0}, [], publish_every_s=0.0).feed(knee)[-1]
+    assert "knee: the ambient here lies beyond the 25.0 to 25.0 degC" in capsys.readouterr().err
+    assert warm.winding_C == pytest.approx(same.winding_C + 20.0, abs=1e-6)
+    assert 0 < same.time_to_limit_s < 600 and warm.time_to_limit_s == pytest.approx(same.time_to_limit_s, rel=1e-6)
+
+
 def test_the_live_view_speaks_foxglove_to_a_real_client(model_and_log, tmp_path):
     pytest.importorskip("foxglove")
     websocket = pytest.importorskip("websocket")

@@ -16,6 +16,9 @@ The forecast holds the current inputs: the model's steady state under them (its 
 ``lam`` give ``t = ln((T - u) / (L - u)) / lam`` from the estimate ``T`` to the limit ``L``; with slow masses,
 whose share of the rise builds up later, this is the soonest the winding can get there.  The derating is
 :class:`~thermolimb.plant.protection.ThermalProtection`'s on the estimate plus two standard deviations.
+
+A run whose first piece logs an ambient beyond the model file's calibration moves the model's offset with it, as
+``predict`` and held-out runs do (:func:`~thermolimb.model.experience.ambient_shift_K`); ``note`` says so.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.experience import ambient_shift_K, shifted
 from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
@@ -105,11 +109,14 @@ class ActuatorMonitor:
         self.bias = 0.0
         self.P = self.miss_K**2
         self.last: Estimate | None = None
+        self.note = ""  # what the first piece said of the model (its offset following another air)
 
     def update(self, signals: Signals, measured_C: np.ndarray) -> Estimate:
         """Advance over ``signals`` (its first sample is the previous piece's last, except on the first piece)."""
         keep: dict = {}
         first = self.state is None
+        if first:
+            self._follow_ambient(signals)
         sim = self.model.simulate(signals, float(measured_C[0]), state=self.state, keep=keep)
         self.state = keep
         decay = np.exp(-np.diff(signals.time_s) / self.model.params["RC_s"]).tolist()
@@ -126,6 +133,18 @@ class ActuatorMonitor:
         self.last = Estimate(self.saved.actuator, float(signals.time_s[-1]), float(measured_C[-1]), float(winding),
                              std, ttl, derate, level(winding, self.limit_C, derate, ttl), self.limit_C)
         return self.last
+
+    def _follow_ambient(self, signals: Signals) -> None:
+        ranges = dict(self.saved.provenance).get("ranges") or {}
+        shift = ambient_shift_K(self.saved.model, ranges.get("ambient_C"), signals.ambient_C)
+        if not shift:
+            return
+        self.model = shifted(self.saved.model, shift)
+        self.row = ModelArrays.row(self.model) if self.together else None
+        self.note = (
+            f"{self.saved.actuator}: the ambient here lies beyond the {ranges['ambient_C'][0]:.1f} to "
+            f"{ranges['ambient_C'][1]:.1f} degC the model was identified in; its offset follows it, {shift:+.1f} K "
+            f"(T_offset = T_amb + P_bias R, Jorgensen et al. Eq. 5)")
 
 
 def _correct(bias, P, a, q, r, innovation):

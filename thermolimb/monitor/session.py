@@ -98,7 +98,11 @@ class Session:
         if missing:
             raise UsageError(f"the model of {name} reads the log column {missing[0]!r}, which the followed log does "
                              f"not have")
-        return monitor.update(signals, arrays["temperature"])
+        estimate = monitor.update(signals, arrays["temperature"])
+        if monitor.note:
+            print(f"note: {monitor.note}", file=sys.stderr)
+            monitor.note = ""
+        return estimate
 
     def publish(self, estimates: list[Estimate]) -> None:
         names = {n: ",".join(m.model.terms) for n, m in self.monitors.items()}
