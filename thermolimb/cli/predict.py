@@ -34,7 +34,8 @@ def add_parser(sub):
     p.add_argument("--duration", type=number(0.0, 1e7, low_open=True, unit="s"), default=None, metavar="S",
                    help="with --hold: how long the plan is held (s)")
     p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=None,
-                   metavar="C", help="with --hold, for a model that reads the ambient temperature")
+                   metavar="C", help="with --hold: the ambient temperature (a model that does not read it moves its "
+                                     "offset with it beyond the one it was identified in)")
     p.add_argument("--draws", type=integer(0, 10000), default=64,
                    help="parameter draws for the interval (default 64; 0: model error only)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the parameter draws")
