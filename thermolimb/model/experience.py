@@ -84,8 +84,13 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
     is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
     if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model):
         return 0.0
-    mean = float(np.nanmean(ambient_C))
-    return mean - float(np.clip(mean, seen[0], seen[1])) if np.isfinite(mean) else 0.0
+    values = np.asarray(ambient_C, float)
+    values = values[np.isfinite(values)]
+    low, high = float(seen[0]), float(seen[1])
+    if values.size == 0 or not (np.isfinite(low) and np.isfinite(high)):
+        return 0.0
+    mean = float(values.mean())
+    return mean - float(np.clip(mean, low, high))
 
 
 def offset_is_ambient(model: ThermalModel) -> bool:
