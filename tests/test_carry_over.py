@@ -257,3 +257,24 @@ def test_a_held_out_run_in_another_air_is_predicted_with_the_offset_following_it
     housing = ("joule", "housing_boundary")  # its offset is no ambient: the housing's reading is its boundary
     typical = ThermalModel(housing, {p.name: p.typical for p in model_parameters(housing)})
     assert ambient_shift_K(typical, [20.0, 20.0], warm.signals.ambient_C) == 0.0
+
+
+def test_a_mass_alone_past_its_plausible_share_is_tried_as_two_masses():
+    """On the X8's three masses (back-coupled: not the catalog's form, so this is robustness, not selection),
+    squatting for 2 h, a second mass alone helps at a share past what one mass can hold; the second and third
+    together are then refitted from where it ended, and help most. Sampled every 4 s, the mass alone is plausible,
+    and the pair is not tried."""
+    fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+
+    def squats(dt_s):
+        return simulate_profile("squat", 7200.0, dt_s, list(CASE_NAMES), list(CASE_SPECS), fx, seed=3,
+                                network=NETWORKS["x8"], load_scale=1.5).log.series("knee")
+
+    d = diagnose([squats(2.0)])
+    by = {c.label: c for c in d.candidates}
+    alone, both = by["+ second_node"], by["+ second_node with third_node"]
+    assert alone.status == "implausible" and alone.helps and alone.params["frame_fraction"]["value"] > 0.95
+    assert d.candidates[0] is both and both.eligible and both.rmse_K < 0.5 * alone.rmse_K
+    d = diagnose([squats(4.0)])
+    by = {c.label: c for c in d.candidates}
+    assert by["+ second_node"].eligible and "alone helps, implausibly" in by["+ second_node with third_node"].skipped

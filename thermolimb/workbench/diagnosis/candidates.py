@@ -59,12 +59,10 @@ STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of 
 
 @dataclass
 class Candidate:
-    """One change to the model tried on this log.
-
-    ``kind`` is ``"add"`` (the catalog's ``effect`` joins the model), ``"channel"`` (a form of the log's extra
-    channel ``channel`` joins it, and the masses ``brings`` with it), ``"discovered"`` (a form found by
-    :mod:`.discovery` joins it), ``"drop"`` (``effect`` leaves it) or ``"swap"`` (``effect`` replaces ``replaces``).
-    """
+    """One change to the model tried on this log: ``kind`` ``"add"`` (the catalog's ``effect`` joins the model, with
+    the terms it ``brings``), ``"channel"`` (a form of the extra channel ``channel``, with the masses it ``brings``),
+    ``"discovered"`` (a form found by :mod:`.discovery`), ``"drop"`` (``effect`` leaves) or ``"swap"`` (``effect``
+    replaces ``replaces``)."""
 
     effect: str
     model: tuple[str, ...]
@@ -126,7 +124,7 @@ class Candidate:
             return f"- {self.effect}"
         if self.kind == "swap":
             return f"{self.effect} for {','.join((self.replaces,) + self.also_drops)}"
-        return f"+ {self.effect}"
+        return f"+ {''.join(f'{b} with ' for b in self.brings)}{self.effect}"
 
     @property
     def not_refitted_because(self) -> str:
@@ -229,9 +227,10 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
     out = []
     for name, term in TERMS.items():
+        brings = tuple(r for r in term.requires if r not in model)  # a third mass brings the second: two at once
         if (name not in model and not term.generated and _has_columns(term, series)
-                and all(r in model for r in term.requires)):
-            out.append(Candidate(name, model + (name,)))
+                and all(q in model for b in brings for q in TERMS[b].requires)):
+            out.append(Candidate(name, model + brings + (name,), brings=brings))
     sources = [n for n in model if TERMS[n].is_heat_source]
     for name in model:
         rest = tuple(t for t in model if t != name)

@@ -41,6 +41,7 @@ from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
 from ..submodel import identifiable_submodel
 from ..validation import FitReport, Scheme, validate_model
+from .bringing import brought_start, not_brought
 from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
@@ -215,16 +216,14 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         for cand in worth:
             cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
         worth = []
-    # a channel's form that brings its mass (more parameters at once) is tried only where no simpler change helps
+    # a change that brings terms with it (more parameters at once) is tried only where a simpler one calls for it
     bringing, worth = [c for c in worth if c.brings and not replicating], [c for c in worth if not c.brings or replicating]
     for cand in progress(worth, desc="refits", disable=search.quiet):
         _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
-    simpler = next((c for c in worth if c.eligible), None)
     for cand in bringing:
-        if simpler is not None:
-            cand.skipped = f"a simpler change helps ({simpler.label}); a mass with a channel is tried only without one"
-        else:
-            _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
+        cand.skipped = not_brought(cand, worth)
+        if cand.skipped is None:
+            _guarded(cand, _refit, cand, series, scheme, base, base_bic, brought_start(cand, worth))
     for cand in candidates:
         if not cand.evidence and not replicating:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
@@ -347,7 +346,7 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
         key = _place(c)
         if c.kind == "channel" and (key not in strongest or c.score > strongest[key].score):
             strongest[key] = c
-    top = {id(c) for group in ([c for c in adds if c.kind == "add"], list(strongest.values()))
+    top = {id(c) for group in ([c for c in adds if c.kind == "add" and not c.brings], list(strongest.values()))
            for c in sorted(group, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
     chosen = []
     for c in candidates:
@@ -358,7 +357,7 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
         elif c.kind == "channel" and c is not strongest[_place(c)]:
             c.skipped = f"{strongest[_place(c)].effect} explains more of the residual with the same channel {c.channel}"
             c.evidence = f"score test p = {c.p_value:.2g}; not refitted: {c.skipped}."
-        elif c.p_value < SCORE_P_VALUE or id(c) in top:
+        elif c.p_value < SCORE_P_VALUE or id(c) in top or (c.kind == "add" and c.brings):  # two masses: bringing.py
             chosen.append(c)
     return chosen
 
