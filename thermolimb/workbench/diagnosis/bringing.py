@@ -11,7 +11,9 @@ Each costs more parameters at once, so each is refitted only where the simpler c
   mass without it: with both, 0.81 K, and the walk's model predicts the plant's other duties at 12.3 K where
   Jorgensen et al.'s misses by 40.1 K (``python benchmarks/transfer.py --sources plant``).  The pair starts where
   the mass alone ended, the other at its typical values: one refit, not the profile's search (which reaches 0.797 K
-  there, at the cost of several).  On the bundled real logs no walk's verdict moves (``--sources ur3,wx200,bldc,pmsm``).
+  there, at the cost of several), and one that finds no second mass is said as failed (``refit.py``).  On the
+  bundled real logs no walk's verdict moves (``--sources ur3,wx200,bldc,pmsm``); where a UR3 joint's mass alone is
+  implausible (J5's second part, a share of 0.98) the pair's one refit adds a third to its walk's time.
 """
 
 from __future__ import annotations

@@ -228,8 +228,8 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     out = []
     for name, term in TERMS.items():
         brings = tuple(r for r in term.requires if r not in model)  # a third mass brings the second: two at once
-        if (name not in model and not term.generated and _has_columns(term, series)
-                and all(q in model for b in brings for q in TERMS[b].requires)):
+        if (name not in model and not term.generated and _has_columns(term, series) and (term.carries_state
+                or not brings) and all(q in model for b in brings for q in TERMS[b].requires)):
             out.append(Candidate(name, model + brings + (name,), brings=brings))
     sources = [n for n in model if TERMS[n].is_heat_source]
     for name in model:
