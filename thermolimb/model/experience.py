@@ -26,6 +26,7 @@ from .terms import TERMS
 
 MARGIN = 0.1  # an effort or velocity up to 10 % beyond the largest seen is within experience
 MARGIN_K = 5.0  # an ambient or start temperature within 5 K of the range seen
+EQ5 = "T_offset = T_amb + P_bias R, Jorgensen et al. Eq. 5"  # why the offset follows the ambient, as said
 RATE_RATIO = 2.0  # a sample interval up to twice the calibration's
 
 
@@ -56,8 +57,7 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
                          f"{seen[1]:.1f} degC the model was identified in")
         if shift_K:
             notes.append(f"the model does not read the ambient temperature: its offset follows this log's mean "
-                         f"ambient beyond the calibration's, {shift_K:+.1f} K (T_offset = T_amb + P_bias R, Jorgensen "
-                         f"et al. Eq. 5)")
+                         f"ambient beyond the calibration's, {shift_K:+.1f} K ({EQ5})")
         elif not reads_ambient:
             notes.append("the model does not read the ambient temperature: the one here changes nothing (its offset "
                          "stands for the air it was identified in)")
@@ -122,12 +122,13 @@ def ambient_span(series) -> list[float] | None:
 
 
 def moved_words(moved: list[tuple[str, float]]) -> str:
-    """The scheme's words on offsets that followed a held-out run's ambient (:func:`ambient_shift_K`): ``(label, K)`` each."""
+    """The scheme's words on offsets that followed held-out runs' ambient (:func:`ambient_shift_K`), given
+    ``(label, K)`` for each."""
     if not moved:
         return ""
     each = ", ".join(f"{label} {shift:+.1f} K" for label, shift in moved)
     return (f"; the offset followed the ambient of {len(moved)} held-out run{'s' if len(moved) > 1 else ''} beyond "
-            f"the fitted runs' ({each}; T_offset = T_amb + P_bias R, Jorgensen et al. Eq. 5)")
+            f"the fitted runs' ({each}; {EQ5})")
 
 
 def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[list[str], np.ndarray]:

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.experience import ambient_shift_K, shifted
+from ..model.experience import EQ5, ambient_shift_K, shifted
 from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
@@ -144,7 +144,7 @@ class ActuatorMonitor:
         self.note = (
             f"{self.saved.actuator}: the ambient here lies beyond the {ranges['ambient_C'][0]:.1f} to "
             f"{ranges['ambient_C'][1]:.1f} degC the model was identified in; its offset follows it, {shift:+.1f} K "
-            f"(T_offset = T_amb + P_bias R, Jorgensen et al. Eq. 5)")
+            f"({EQ5})")
 
 
 def _correct(bias, P, a, q, r, innovation):
