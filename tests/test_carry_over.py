@@ -259,6 +259,31 @@ def test_a_held_out_run_in_another_air_is_predicted_with_the_offset_following_it
     assert ambient_shift_K(typical, [20.0, 20.0], warm.signals.ambient_C) == 0.0
 
 
+def test_runs_in_different_air_are_fitted_with_an_offset_each_that_follows_its_air():
+    """Two runs of one joint, one at 20 degC and one at 45 degC, fitted together: each run's offset follows its
+    mean ambient (Eq. 5), so the fit is the one two runs at 20 degC give (the plant is linear in its ambient), its
+    offset 12.5 K higher, at their mean air; a third run at 20 degC is predicted as well by either, and the model's
+    provenance keeps both the air it read and the air its offset stands for."""
+    from thermolimb.model.saved import provenance
+
+    def run(ambient_C, seed):
+        return simulate_profile("random", 3600.0, 1.0, list(CASE_NAMES[:1]), list(CASE_SPECS[:1]),
+                                PlantEffects.realistic_sensor(), seed=seed, ambient_C=ambient_C).log.series("knee")
+
+    judged = Scheme.on_runs([run(20.0, 2)])
+    same = validate_model([run(20.0, 0), run(20.0, 1)], "joule,effort_bias", judged)
+    apart = validate_model([run(20.0, 0), run(45.0, 1)], "joule,effort_bias", judged)
+    assert "different air" not in same.scheme and "the one fitted is at their mean, 32.5 degC" in apart.scheme
+    assert apart.model.params["T_offset_C"] == pytest.approx(same.model.params["T_offset_C"] + 12.5, abs=0.05)
+    for name in ("RC_s", "betaR_K_per_effort2"):
+        assert apart.model.params[name] == pytest.approx(same.model.params[name], rel=1e-3)
+    assert apart.validation["rmse_K"] == pytest.approx(same.validation["rmse_K"], rel=1e-3)
+    assert apart.train["rmse_K"] == pytest.approx(same.train["rmse_K"], rel=1e-3)
+    assert apart.train_segments[1].measured_C.min() > 44.0  # shown as read, not in the common air
+    ranges = provenance([], apart.train_series)["ranges"]
+    assert ranges["ambient_C"] == pytest.approx([20.0, 45.0]) and ranges["offset_air_C"] == pytest.approx([32.5] * 2)
+
+
 def test_a_mass_alone_past_its_plausible_share_is_tried_as_two_masses():
     """On the X8's three masses (back-coupled: not the catalog's form, so this is robustness, not selection),
     squatting for 2 h, a second mass alone helps at a share past what one mass can hold; the second and third

@@ -241,12 +241,16 @@ def test_tempco_scales_the_current_heating_too():
     from thermolimb.constants import COPPER_REFERENCE_C
     from thermolimb.effects.winding_tempco import WindingTempcoTerm as WindingTempco
 
-    s = SimpleNamespace(effort=np.array([2.0, 4.0]), current_A=np.array([3.0, 1.0]))
+    s = SimpleNamespace(effort=np.array([2.0, 4.0]), current_A=np.array([3.0, 1.0]), air_shift_K=0.0)
     p = {"betaR_K_per_effort2": 0.5, "currentR_K_per_A2": 0.2, "alpha_per_K": 0.0039}
     joule = 0.5 * s.effort**2 + 0.2 * s.current_A**2
     constant, per_kelvin = WindingTempco().contribution(p, s)
     np.testing.assert_allclose(per_kelvin, 0.0039 * joule)
     np.testing.assert_allclose(constant, -0.0039 * COPPER_REFERENCE_C * joule)
+    # a run read 10 K lower to share the air of the runs fitted with it (common_air): its copper is as hot as read
+    s.air_shift_K = 10.0
+    constant, _ = WindingTempco().contribution(p, s)
+    np.testing.assert_allclose(constant, -0.0039 * (COPPER_REFERENCE_C - 10.0) * joule)
 
 
 def test_sensor_noise_is_drawn_per_actuator():

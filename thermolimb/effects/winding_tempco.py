@@ -24,18 +24,18 @@ class WindingTempcoTerm(Term):
                   "hot and cool phases at the same effort", plausible=(0.002, 0.006)),
     )
 
-    def forms(self, s):
-        return s.effort**2, (None if s.current_A is None else s.current_A**2)
+    def forms(self, s):  # the winding's readings moved to another air (Signals.air_shift_K) are added back
+        return s.effort**2, (None if s.current_A is None else s.current_A**2), s.air_shift_K
 
     def combine(self, p, forms):
-        effort2, current2 = forms
+        effort2, current2, air_shift_K = forms
         joule = 0.0
         if "betaR_K_per_effort2" in p:
             joule = joule + p["betaR_K_per_effort2"] * effort2
         if "currentR_K_per_A2" in p and current2 is not None:
             joule = joule + p["currentR_K_per_A2"] * current2
         alpha = p["alpha_per_K"]
-        return -alpha * COPPER_REFERENCE_C * joule, alpha * joule
+        return -alpha * (COPPER_REFERENCE_C - air_shift_K) * joule, alpha * joule
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ at 91 degC (PMSM profile 46) and then at 19 degC (profile 24) does not keep a 10
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Mapping
 
 import numpy as np
@@ -91,6 +92,51 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
         return 0.0
     mean = float(values.mean())
     return mean - float(np.clip(mean, low, high))
+
+
+def common_air(series: list) -> tuple[list, float | None]:
+    """Runs of one actuator logged in different air, each brought to their common air: where every run logs its
+    ambient and the runs' mean ambients lie more than ``MARGIN_K`` apart, each run's temperatures (the winding's,
+    the ambient, the housing's, the neighbours') moved by its mean ambient's excursion from the mean of the runs'
+    means, kelvin for kelvin (Eq. 5: a model whose offset does not read the ambient then has one offset per run,
+    following its air; one that reads the ambient sees the swings within each run).  ``(series, reference degC)``,
+    or the runs unchanged and ``None``."""
+    means = []
+    for s in series:
+        values = s.signals.ambient_C
+        values = None if values is None else values[np.isfinite(values)]
+        if values is None or values.size == 0:
+            return list(series), None
+        means.append(float(values.mean()))
+    if len(means) < 2 or max(means) - min(means) <= MARGIN_K:
+        return list(series), None
+    reference = float(np.mean(means))
+    return [_moved(s, mean - reference) for s, mean in zip(series, means)], reference
+
+
+def _moved(series, shift_K: float):
+    s = series.signals
+    moved = {name: getattr(s, name) - shift_K for name in ("ambient_C", "housing_C", "neighbor_temperature_C")
+             if getattr(s, name) is not None}
+    signals = replace(s, **moved, air_shift_K=s.air_shift_K + shift_K)
+    return replace(series, signals=signals, temperature_C=series.temperature_C - shift_K)
+
+
+def air_words(series: list, reference_C: float | None) -> str:
+    """The scheme's words on runs brought to their common air (:func:`common_air`)."""
+    if reference_C is None:
+        return ""
+    each = ", ".join(f"{s.run or f'run {k + 1}'} {reference_C + s.signals.air_shift_K:.1f}"
+                     for k, s in enumerate(series))
+    return (f"; the runs ran in different air (mean ambient {each} degC): each run's offset follows its own, the "
+            f"one fitted is at their mean, {reference_C:.1f} degC ({EQ5})")
+
+
+def offset_air(ranges) -> list[float] | None:
+    """The ambient span a saved model's offset stands for: its runs' common air where they ran in different air
+    (``ranges["offset_air_C"]``), else the calibration's ambient span."""
+    ranges = ranges or {}
+    return ranges.get("offset_air_C") or ranges.get("ambient_C")
 
 
 def offset_is_ambient(model: ThermalModel) -> bool:

@@ -375,8 +375,8 @@ def provenance(paths: Sequence[str | Path], series) -> dict:
         files.append({"name": path.name, "sha256": digest.hexdigest()})
     out = {"files": files, "runs": len(series), "samples": int(sum(s.n for s in series)),
            "start_s": float(min(s.time_s[0] for s in series)), "end_s": float(max(s.time_s[-1] for s in series))}
-    if series:
-        temperature = np.concatenate([s.temperature_C for s in series])
+    if series:  # as read: a run moved to the air of those fitted with it (common_air) adds its move back
+        temperature = np.concatenate([s.temperature_C + s.signals.air_shift_K for s in series])
         out["hottest_reading_C"] = float(temperature.max())
         ranges = {"temperature_C": [float(temperature.min()), float(temperature.max())],
                   "dt_s": float(np.median(np.concatenate([np.diff(s.time_s) for s in series])))}
@@ -385,6 +385,10 @@ def provenance(paths: Sequence[str | Path], series) -> dict:
             if all(v is not None for v in values):
                 v = np.concatenate(values)
                 ranges[column] = [float(v.min()), float(v.max())]
+        if "ambient_C" in ranges and any(s.signals.air_shift_K for s in series):  # the offset's air, and as read
+            ranges["offset_air_C"] = ranges["ambient_C"]
+            v = np.concatenate([s.signals.ambient_C + s.signals.air_shift_K for s in series])
+            ranges["ambient_C"] = [float(v.min()), float(v.max())]
         out["ranges"] = ranges
     return out
 

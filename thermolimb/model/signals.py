@@ -45,6 +45,9 @@ class Signals:
     housing_C: np.ndarray | None = None  # a second measured temperature: housing, case or driver board
     power_W: np.ndarray | None = None  # electrical input power
     extra: Mapping[str, np.ndarray] = field(default_factory=dict)  # channels the log carries beyond these, by name
+    # K the run's temperatures (winding, ambient, housing, neighbours) were moved down to the air of the runs it is
+    # fitted with (:func:`~thermolimb.model.experience.common_air`): what reads an absolute temperature adds it back
+    air_shift_K: float = 0.0
 
     def __post_init__(self):
         for name in ("time_s",) + tuple(CHANNELS.values()):  # lists and tuples are taken as arrays
@@ -150,7 +153,7 @@ class Signals:
     def map_arrays(self, fn) -> "Signals":
         """The same signals with ``fn`` applied to the time axis and every channel present."""
         changed = {f.name: fn(getattr(self, f.name)) for f in fields(self)
-                   if f.name not in ("neighbor_names", "extra") and getattr(self, f.name) is not None}
+                   if f.name not in ("neighbor_names", "extra", "air_shift_K") and getattr(self, f.name) is not None}
         changed["extra"] = {k: fn(v) for k, v in self.extra.items()}
         return replace(self, **changed)
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.experience import EQ5, ambient_shift_K, shifted
+from ..model.experience import EQ5, ambient_shift_K, offset_air, shifted
 from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
@@ -136,15 +136,14 @@ class ActuatorMonitor:
 
     def _follow_ambient(self, signals: Signals) -> None:
         ranges = dict(self.saved.provenance).get("ranges") or {}
-        shift = ambient_shift_K(self.saved.model, ranges.get("ambient_C"), signals.ambient_C)
+        air = offset_air(ranges)
+        shift = ambient_shift_K(self.saved.model, air, signals.ambient_C)
         if not shift:
             return
         self.model = shifted(self.saved.model, shift)
         self.row = ModelArrays.row(self.model) if self.together else None
-        self.note = (
-            f"{self.saved.actuator}: the ambient here lies beyond the {ranges['ambient_C'][0]:.1f} to "
-            f"{ranges['ambient_C'][1]:.1f} degC the model was identified in; its offset follows it, {shift:+.1f} K "
-            f"({EQ5})")
+        self.note = (f"{self.saved.actuator}: the ambient here lies beyond the {air[0]:.1f} to {air[1]:.1f} degC the "
+                     f"model's offset stands for; its offset follows it, {shift:+.1f} K ({EQ5})")
 
 
 def _correct(bias, P, a, q, r, innovation):

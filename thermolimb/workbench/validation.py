@@ -26,7 +26,7 @@ import numpy as np
 from ..identification import ESTIMATORS, ThermalEstimator
 from ..identification.metrics import pieces_metrics
 from ..logs import MIN_SAMPLES, ActuatorSeries, LogError
-from ..model.experience import ambient_shift_K, ambient_span, moved_words, shifted
+from ..model.experience import air_words, ambient_shift_K, ambient_span, common_air, moved_words, shifted
 from ..model.model import ThermalModel
 from ..model.signals import Signals
 from ..model.terms import parse_model
@@ -233,15 +233,15 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
     the training part of a split run is the start of the whole run's (a 1.4 M-sample run not simulated twice)."""
     if pieces is None:
         pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
-    out = []
+    out, air = [], series.signals.air_shift_K  # a run moved to the air of those fitted with it, shown as it read
     if restart:
         for lo, hi in pieces:
             if lo > 0:
                 part = series.slice(lo - 1, hi)
                 # the trend at the restart comes from the data before it
                 sim = model.free_run(part, series.slice(0, lo).rate_K_per_s(at_end=True))
-                out.append(Segment(part.time_s, part.temperature_C, sim, part.signals.effort, series.run, lo - 1,
-                                   unit or series.run, part.signals))
+                out.append(Segment(part.time_s, part.temperature_C + air, sim + air, part.signals.effort,
+                                   series.run, lo - 1, unit or series.run, part.signals))
             else:
                 out += _segments(model, series, [(lo, hi)], unit=unit)
         return out
@@ -254,7 +254,7 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
     sim = runs[key][:end]
     for lo, hi in pieces:
         label = unit or (series.run if len(pieces) == 1 else f"{series.run or 'run'} block {lo}-{hi}")
-        out.append(Segment(series.time_s[lo:hi], series.temperature_C[lo:hi], sim[lo:hi],
+        out.append(Segment(series.time_s[lo:hi], series.temperature_C[lo:hi] + air, sim[lo:hi] + air,
                            series.signals.effort[lo:hi], series.run, lo, label, series.signals.slice(lo, hi)))
     return out
 
@@ -364,7 +364,7 @@ def validate_model(
 
         return identifiable_submodel(fit, parse_model(model), series, hold=method == "output_error",
                                      datasheet=datasheet)
-    series = list(series)
+    series, air_C = common_air(list(series))  # runs in different air: each its own offset (Eq. 5)
     scheme = scheme.resolved(series)
     if make is None and fixed:
         make = lambda: ESTIMATORS["output_error"](model=model, fixed=fixed)  # noqa: E731
@@ -411,7 +411,7 @@ def validate_model(
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
                                     train_rmse_K=train_metrics["rmse_K"])),
-        scheme=scheme.describe() + moved_words(moved),
+        scheme=scheme.describe() + air_words(series, air_C) + moved_words(moved),
         units="runs" if scheme.kind in (RUNS, HELD_OUT) else "parts" if scheme.kind == PARTS else "blocks")
 
 
