@@ -71,6 +71,28 @@ def test_a_header_in_fahrenheit_is_converted_and_said(tmp_path, header):
     assert any("degrees Fahrenheit" in n and "converted to degC" in n for n in log.notes), log.notes
 
 
+def test_a_mapped_column_named_in_fahrenheit_without_a_unit_is_refused_and_inspect_suggests_degf(tmp_path, capsys):
+    """'motor_temp_F' logged in degF with no header unit: 68-250 degF would pass for degC, so the mapping must say
+    which; inspect's suggestion says degF, and the log read so holds degrees Celsius."""
+    path = step_test(tmp_path / "step.csv")
+    frame = pd.read_csv(path)
+    frame = frame[frame["actuator"] == "knee"].drop(columns="actuator")
+    celsius = frame.pop("temperature [degC]").to_numpy()
+    frame["motor_temp_F"] = celsius * 1.8 + 32.0
+    frame.rename(columns={"time [s]": "t", "effort [N m]": "tau"}).to_csv(path, index=False)
+    assert main(["fit", str(path), "--map", "time=t,effort=tau,temperature=motor_temp_F", "--actuator", "k"]) == 2
+    err = capsys.readouterr().err
+    assert "may say degrees Fahrenheit" in err and "temperature=motor_temp_F:degF" in err
+    assert main(["inspect", str(path), "--json"]) == 0
+    suggested = json.loads(capsys.readouterr().out)["suggested_map"]
+    assert suggested["temperature"] == "motor_temp_F:degF"
+    log = read_log(path, mapping={"time": "t", "effort": "tau", "temperature": suggested["temperature"]},
+                   actuator_name="k")
+    assert np.allclose(log.series("k").temperature_C, celsius, atol=1e-9)
+    assert main(["fit", str(path), "--map", "time=t,effort=tau,temperature=motor_temp_F:degC", "--actuator", "k",
+                 "--quiet"]) == 0  # a user who knows it is Celsius says so
+
+
 def test_a_step_test_sets_the_bias_aside_and_identifies_joule_heating(tmp_path, capsys):
     """Effort at two levels cannot tell a bias from Joule heating: the bias goes, βR is found within 2 %."""
     path = step_test(tmp_path / "step.csv")

@@ -5,8 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import suggest_table_mapping
+from ..logs.mapping import UNITS, suggest_table_mapping
+from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
+from ..logs.units import header_unit
 from .options import add_quiet
 from .output import print_json
 
@@ -49,6 +51,11 @@ def run(args) -> int:
     rows, columns = _listing(path)
     mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
                                              {c["column"]: c["values"] for c in columns})
+    for name, column in list((mapping or {}).items()):
+        if UNITS.get(name) == "degC" and fahrenheit_named(column) and header_unit(column) is None:
+            mapping[name] = f"{column}:degF"
+            reasons.append(f"{name}={column}: its name says degrees Fahrenheit, so the suggestion reads it as such; "
+                           f"write {column}:degC if it is Celsius")
     if args.json:
         print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "notes": reasons})
         return 0

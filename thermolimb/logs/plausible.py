@@ -4,6 +4,7 @@ in the log's notes, or refused in one sentence."""
 
 from __future__ import annotations
 
+import re
 from typing import Mapping
 
 import numpy as np
@@ -65,6 +66,26 @@ def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, 
             raise LogError(f"{source}: the {name} column's header gives the unit {unit!r}, which this suite does not "
                            f"read; expected degC, K or degF")
     return frame
+
+
+# a temperature column's name that may say degrees Fahrenheit without a header unit: "temp_F", "Motor Temp degF"
+_FAHRENHEIT_NAME = re.compile(r"(?:^|[_\s.-])(?:f|degf|deg_f|fahrenheit)$|[°º]f$", re.IGNORECASE)
+
+
+def fahrenheit_named(column: str) -> bool:
+    """Whether a column's name ends as degrees Fahrenheit do (``temp_F``, ``Motor Temp degF``)."""
+    return bool(_FAHRENHEIT_NAME.search(str(column).partition(TIME_OF)[0].strip()))
+
+
+def refuse_unstated_fahrenheit(mapping: Mapping[str, str], stated: Mapping[str, str], source: str) -> None:
+    """A mapped temperature column whose name ends as degrees Fahrenheit do (``temp_F``) and that states no unit is
+    refused: its readings (68-250 degF for 20-120 degC) would pass for degrees Celsius, and the log does not say."""
+    for name, column in mapping.items():
+        bare = str(column).partition(TIME_OF)[0]
+        if UNITS.get(name) == "degC" and name not in stated and fahrenheit_named(bare):
+            raise LogError(f"{source}: --map {name}={column}: the column's name may say degrees Fahrenheit, and "
+                           f"neither its header nor the mapping gives a unit; say which, {name}={bare}:degF or "
+                           f"{name}={bare}:degC")
 
 
 def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:

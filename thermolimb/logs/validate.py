@@ -15,7 +15,8 @@ from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
 from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
-from .plausible import canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch
+from .plausible import (canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch,
+                        refuse_unstated_fahrenheit)
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
 from .table import first_stamp, is_stamped, refuse_duplicates, shown_names, time_seconds
@@ -73,6 +74,8 @@ def from_frame(
     notes = []
     stated = {**(mapped_stated(mapping) if mapping else {}),
               **{k: v for k, v in given.items() if k == "time" or UNITS.get(k) == "degC"}}
+    if mapping:
+        refuse_unstated_fahrenheit(mapping, stated, source)
     later = reading is not None and reading.decided
     refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
     if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
