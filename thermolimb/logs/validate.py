@@ -15,8 +15,14 @@ from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
 from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
-from .plausible import (canonical_with_units, convert_stated, mapped_stated, plausible_units, refuse_unit_switch,
-                        refuse_unstated_fahrenheit)
+from .plausible import (
+    canonical_with_units,
+    convert_stated,
+    mapped_stated,
+    plausible_units,
+    refuse_unit_switch,
+    refuse_unstated_fahrenheit,
+)
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
 from .table import first_stamp, is_stamped, refuse_duplicates, shown_names, time_seconds
