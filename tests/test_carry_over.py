@@ -211,6 +211,17 @@ def test_a_fit_keeps_a_slow_mass_and_the_offset_where_the_runs_can_place_them():
     terms = ("joule", "effort_bias", "ambient_variation")
     lower, _ = fit_bounds(model_parameters(terms), terms, series)
     assert lower[[p.name for p in model_parameters(terms)].index("T_offset_C")] == -100.0
+    # a logged temperature as the winding's boundary (a generated form, the channel minus 25 degC) redefines it too
+    from thermolimb.workbench.diagnosis.channels import channel_terms
+
+    pmsm = [read_log(pmsm_profile(46), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
+            .series("pmsm")]
+    for terms in (("current_heating",), ("current_heating", "stator_yoke_boundary")):
+        if len(terms) > 1:
+            assert terms[1] in channel_terms("stator_yoke", pmsm)
+        lower, _ = fit_bounds(model_parameters(terms), terms, pmsm)
+        floor = pmsm[0].signals.ambient_C.min() - OFFSET_MARGIN_K if len(terms) == 1 else -100.0
+        assert lower[[p.name for p in model_parameters(terms)].index("T_offset_C")] == pytest.approx(floor)
 
 
 @pytest.mark.slow

@@ -7,7 +7,8 @@ over to the next run. Two such valleys are closed here:
   times the longest run. Slower, a run shows only the start of the mass's rise, along which its share and time
   constant trade, and the mass's start, placed per run, turns it into a free offset per run.
 * **An offset below the ambient.** ``T_offset = T_amb + P_bias R`` (Jorgensen et al., Eq. 5), and the bias heat is
-  not negative: where the log carries the ambient and no term redefines the offset, it stays at most
+  not negative: where the log carries the ambient and no term redefines the offset (``offset_is_ambient``: nor a
+  logged temperature as a boundary, a generated form of a channel minus a reference), it stays at most
   ``OFFSET_MARGIN_K`` (a sensor's calibration, not physics) below the coolest logged ambient.
 
 Measured on plant logs richer than the model (``python benchmarks/transfer.py --sources plant``: the X8's winding,
@@ -20,7 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..model.model import OFFSET_REDEFINED_BY
+from ..model.experience import offset_is_ambient
 from ..model.terms import Parameter
 
 OFFSET_MARGIN_K = 10.0  # how far below the coolest logged ambient an offset may sit (a sensor's calibration)
@@ -36,6 +37,6 @@ def fit_bounds(params: Sequence[Parameter], terms: Sequence[str], series) -> tup
     for k, p in enumerate(params):
         if p.within_runs is not None and longest > 0.0:
             upper[k] = max(min(upper[k], p.within_runs * longest), p.lower + 1e-6 * (p.upper - p.lower))
-        if p.name == "T_offset_C" and ambient and not any(t in terms for t in OFFSET_REDEFINED_BY):
+        if p.name == "T_offset_C" and ambient and offset_is_ambient(terms):
             lower[k] = max(lower[k], float(min(ambient)) - OFFSET_MARGIN_K)
     return lower, upper

@@ -83,7 +83,7 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
     for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps its model unchanged, and
     the shift grows from 0 as a run leaves it).  0 too for a model that reads the ambient itself or whose offset
     is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
-    if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model):
+    if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model.terms):
         return 0.0
     values = np.asarray(ambient_C, float)
     values = values[np.isfinite(values)]
@@ -139,11 +139,11 @@ def offset_air(ranges) -> list[float] | None:
     return ranges.get("offset_air_C") or ranges.get("ambient_C")
 
 
-def offset_is_ambient(model: ThermalModel) -> bool:
-    """Whether ``model``'s offset is the ambient plus the bias heat: no term reads the ambient or moves the
-    temperature heat flows to (the housing, ambient variation, a logged temperature as a boundary: a generated
-    form of a channel minus a reference temperature)."""
-    for name in model.terms:
+def offset_is_ambient(terms) -> bool:
+    """Whether the offset of a model of ``terms`` is the ambient plus the bias heat: no term reads the ambient or
+    moves the temperature heat flows to (the housing, ambient variation, a logged temperature as a boundary: a
+    generated form of a channel minus a reference temperature)."""
+    for name in terms:
         term = TERMS[name]
         spec = getattr(term, "spec", None)
         if (name in OFFSET_REDEFINED_BY or term.boundary or "ambient" in term.columns
