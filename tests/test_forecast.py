@@ -139,6 +139,16 @@ def test_predict_over_a_log_with_a_plot(saved_auto, richer_log, tmp_path, capsys
     out = capsys.readouterr()
     assert "knee:" in out.out and "90 % interval" in out.out or "stays below" in out.out
     assert (tmp_path / "predict_knee.png").stat().st_size > 10_000
+    # and how far the forecast ran from the log's readings, said and in the record, from the same numbers
+    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "40", "--json", "--quiet"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    series = richer_log.series("knee")
+    f = forecast(ModelFile.load(saved_auto[1])["knee"], series.signals, series.temperature_C[0], 40.0,
+                 initial_rate_K_per_s=series.rate_K_per_s(), measured_C=series.temperature_C)
+    rmse = float(np.sqrt(np.mean((f.predicted_C - series.temperature_C) ** 2)))
+    assert record["measured_rmse_K"] == pytest.approx(rmse) and 0.0 < rmse <= record["measured_max_error_K"]
+    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "40", "--quiet"]) == 0
+    assert f"against its readings: RMSE {rmse:.3g} K" in capsys.readouterr().out
 
 
 def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, capsys):

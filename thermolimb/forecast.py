@@ -74,10 +74,22 @@ class Forecast:
         low, high = self.interval_s
         return (low is not None and low <= self.measured_crossing_s) and (high is None or self.measured_crossing_s <= high)
 
+    @property
+    def measured_error_K(self) -> tuple[float, float] | None:
+        """The forecast against the log's own readings over the log: ``(RMSE, largest)`` in K, or ``None``."""
+        if self.measured_C is None:
+            return None
+        error = np.abs(self.predicted_C - self.measured_C)
+        error = error[np.isfinite(error)]
+        return (float(np.sqrt(np.mean(error**2))), float(error.max())) if error.size else None
+
     def to_json(self) -> dict:
+        error = self.measured_error_K
         return {"actuator": self.actuator, "threshold_C": self.threshold_C, "start_C": self.start_C,
                 "level": self.level, "horizon_s": self.horizon_s, "time_to_threshold_s": self.time_to_threshold_s,
                 "interval_s": list(self.interval_s), "model_error_K": self.model_error_K,
+                "measured_rmse_K": None if error is None else error[0],
+                "measured_max_error_K": None if error is None else error[1],
                 "measured_crossing_s": self.measured_crossing_s, "covers_measured": self.covers_measured,
                 "peak_predicted_C": float(np.max(self.predicted_C)), "notes": list(self.notes)}
 

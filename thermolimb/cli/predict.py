@@ -98,6 +98,9 @@ def run(args) -> int:
             if f.measured_crossing_s is not None:
                 print(f"  the log's readings reach it at {f.measured_crossing_s:.0f} s: "
                       f"{'inside' if f.covers_measured else 'outside'} the interval")
+            if f.measured_error_K is not None:
+                print(f"  over the log, the forecast against its readings: RMSE {f.measured_error_K[0]:.3g} K, "
+                      f"largest {f.measured_error_K[1]:.3g} K")
             if f.model_error_K == 0.0:
                 print("  the model file holds no held-out residual: the interval covers the parameters' "
                       "uncertainty only")
