@@ -103,6 +103,23 @@ def test_a_wrapped_mujoco_environment_passes_check_env_and_heats_as_the_model(ca
     assert np.all(temperatures[-1] > 25.0)
 
 
+def test_a_wrapped_environment_in_another_air_moves_the_model_s_offset_with_it(calibration):
+    """The model was identified at 25 degC; in a 45 degC room its offset follows the air (Jorgensen et al. Eq. 5),
+    as predict and the monitor do: an idle joint that starts at the air's temperature stays there."""
+    saved = ModelFile.load(calibration[1])["knee"]
+    for ambient in (25.0, 45.0):
+        env = ThermalWrapper(gym.make("Ant-v5"), models=saved, ambient_C=ambient)
+        env.reset(seed=0)
+        offset = env.heat.models[0].params["T_offset_C"]
+        assert offset == pytest.approx(saved.model.params["T_offset_C"] + ambient - 25.0)
+        for _ in range(200):
+            info = env.step(np.zeros(8, np.float32))[-1]
+        # idle: each winding relaxes from the air's temperature towards the offset, whichever air
+        bias = saved.model.params["T_offset_C"] - 25.0  # the offset's own distance from the air it was fitted in
+        assert np.all(np.abs(info["temperature_C"] - ambient) <= abs(bias) + 1e-9)
+        env.close()
+
+
 def test_the_same_seed_heats_the_same_and_a_vector_of_wrapped_environments_works():
     def make():
         return ThermalWrapper(gym.make("Ant-v5"), plant=X8_9, observe="dict")

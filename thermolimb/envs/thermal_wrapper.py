@@ -9,8 +9,9 @@ Each step the wrapper reads the torque each named joint was given and advances i
 * **the heat**: the user's saved models (the file ``fit`` or ``diagnose --save`` writes; one model for every joint
   when the file holds one actuator), run exactly (zero-order hold over the step) -- the first-order models of
   Jorgensen et al. (Joule heating, an effort bias, copper's coefficient) in one vectorised update, any other model
-  through :meth:`~thermolimb.model.ThermalModel.simulate` carried from step to step -- or this suite's plant with
-  datasheet actuators (``plant=X8_9``: several masses, the lot).
+  through :meth:`~thermolimb.model.ThermalModel.simulate` carried from step to step; a model that does not read the
+  ambient has its offset moved by how far ``ambient_C`` lies beyond the air it was identified in -- or this suite's
+  plant with datasheet actuators (``plant=X8_9``: several masses, the lot).
 
 What the policy sees: ``observe="append"`` adds the joints' temperatures (degC, in ``joints`` order) at the end
 of a Box observation; ``"dict"`` makes the observation ``{"observation": ..., "temperature_C": ...}``; ``None``
@@ -29,6 +30,7 @@ from typing import Callable, Mapping, Sequence
 import gymnasium as gym
 import numpy as np
 
+from ..model.experience import ambient_shift_K, offset_air, shifted
 from ..model.first_order import ModelArrays, in_family
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
@@ -269,9 +271,13 @@ class ModelHeat:
     """The joints' saved models, run exactly over each step."""
 
     def __init__(self, saved: Sequence[SavedModel], ambient_C: float):
-        self.models = [s.model for s in saved]
+        # in an air beyond the one a model's offset stands for, the offset follows it (Jorgensen et al. Eq. 5), as
+        # predict and the monitor do
+        self.shifts_K = [ambient_shift_K(s.model, offset_air(dict(s.provenance).get("ranges")), np.array([ambient_C]))
+                         for s in saved]
+        self.models = [shifted(s.model, k) for s, k in zip(saved, self.shifts_K)]
         self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
-        self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each model was fitted on
+        self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each was fitted on (audit)
         self.ambient_C = ambient_C
         self.fast = all(in_family(m) for m in self.models)
         self.arrays = ModelArrays(self.models) if self.fast else None
