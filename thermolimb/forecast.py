@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import norm
 
-from .model.experience import ambient_shift_K, beyond, hotter_than_seen, offset_air, shifted
+from .model.experience import beyond, hotter_than_seen, shifted
 from .model.model import ThermalModel
 from .model.reach import crossing_s
 from .model.saved import SavedModel
@@ -144,7 +144,7 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model = saved.model
     t = signals.time_s - signals.time_s[0]
     ranges = dict(saved.provenance).get("ranges") or {}
-    shift = ambient_shift_K(model, offset_air(ranges), signals.ambient_C)  # the offset follows another air
+    shift = saved.offset_shift_K(signals.ambient_C)  # the offset follows another air
 
     def run(m: ThermalModel) -> np.ndarray:
         m = shifted(m, shift)

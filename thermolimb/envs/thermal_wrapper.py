@@ -30,7 +30,7 @@ from typing import Callable, Mapping, Sequence
 import gymnasium as gym
 import numpy as np
 
-from ..model.experience import ambient_shift_K, offset_air, shifted
+from ..model.experience import shifted
 from ..model.first_order import ModelArrays, in_family
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
@@ -273,9 +273,7 @@ class ModelHeat:
     def __init__(self, saved: Sequence[SavedModel], ambient_C: float):
         # in an air beyond the one a model's offset stands for, the offset follows it (Jorgensen et al. Eq. 5), as
         # predict and the monitor do
-        self.shifts_K = [ambient_shift_K(s.model, offset_air(dict(s.provenance).get("ranges")), np.array([ambient_C]))
-                         for s in saved]
-        self.models = [shifted(s.model, k) for s, k in zip(saved, self.shifts_K)]
+        self.models = [shifted(s.model, s.offset_shift_K(np.array([ambient_C]))) for s in saved]
         self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
         self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each was fitted on (audit)
         self.ambient_C = ambient_C

@@ -81,8 +81,8 @@ def refuse_unstated_fahrenheit(mapping: Mapping[str, str], stated: Mapping[str, 
     """A mapped temperature column whose name ends as degrees Fahrenheit do (``temp_F``) and that states no unit is
     refused: its readings (68-250 degF for 20-120 degC) would pass for degrees Celsius, and the log does not say."""
     for name, column in mapping.items():
-        bare = str(column).partition(TIME_OF)[0]
-        if UNITS.get(name) == "degC" and name not in stated and fahrenheit_named(bare):
+        if UNITS.get(name) == "degC" and name not in stated and fahrenheit_named(column):
+            bare = str(column).partition(TIME_OF)[0]
             raise LogError(f"{source}: --map {name}={column}: the column's name may say degrees Fahrenheit, and "
                            f"neither its header nor the mapping gives a unit; say which, {name}={bare}:degF or "
                            f"{name}={bare}:degC")

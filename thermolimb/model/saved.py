@@ -27,6 +27,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..util.errors import ModelFileError, ModelSpecError
+from .experience import ambient_shift_K, offset_air
 from .generated import specs_of
 from .model import ThermalModel, model_parameters
 from .terms import TERMS
@@ -112,6 +113,16 @@ class SavedModel:
     method: str = ""
     scheme: str = ""
     generated: Mapping[str, dict] = field(default_factory=dict)  # the generated terms' specs (data, never code)
+
+    @property
+    def offset_air_C(self) -> list[float] | None:
+        """The ambient span this model's offset stands for (:func:`~.experience.offset_air`)."""
+        ranges = self.provenance.get("ranges") if isinstance(self.provenance, Mapping) else None
+        return offset_air(ranges if isinstance(ranges, Mapping) else None)
+
+    def offset_shift_K(self, ambient_C) -> float:
+        """How far the offset moves in an air logged as ``ambient_C`` (:func:`~.experience.ambient_shift_K`)."""
+        return ambient_shift_K(self.model, self.offset_air_C, ambient_C)
 
     def to_json(self) -> dict:
         names = [p.name for p in self.model.parameters]

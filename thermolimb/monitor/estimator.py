@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.experience import EQ5, ambient_shift_K, offset_air, shifted
+from ..model.experience import EQ5, shifted
 from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
@@ -135,9 +135,7 @@ class ActuatorMonitor:
         return self.last
 
     def _follow_ambient(self, signals: Signals) -> None:
-        ranges = dict(self.saved.provenance).get("ranges") or {}
-        air = offset_air(ranges)
-        shift = ambient_shift_K(self.saved.model, air, signals.ambient_C)
+        air, shift = self.saved.offset_air_C, self.saved.offset_shift_K(signals.ambient_C)
         if not shift:
             return
         self.model = shifted(self.saved.model, shift)
