@@ -57,6 +57,8 @@ def param(name, **fields):
     (lambda e, _: e["covariance"]["matrix"][0].__setitem__(1, 5.0), "not symmetric"),
     (lambda e, _: e.update(term_sources={"evil": "open('pwned', 'w')"}), "thermolimb never runs code from one"),
     (lambda e, _: e.update(generated_terms={"joule": {}}), "a generated term needs name"),
+    (lambda e, _: e["provenance"]["ranges"].update(offset_air_C=[30, "x"]), '"offset_air_C" must be [low, high]'),
+    (lambda e, _: e["provenance"]["ranges"].update(ambient_C=[40.0, 20.0]), '"ambient_C" must be [low, high]'),
 ])
 def test_a_hand_edited_model_file_is_refused_in_one_sentence(fitted, tmp_path, capsys, edit, message):
     bad = edited(fitted[1], tmp_path, edit)

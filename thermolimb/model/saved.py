@@ -283,6 +283,7 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
     if limit is not None and (not _number(limit) or not np.isfinite(limit)):
         raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
     provenance = entry["provenance"] if isinstance(entry["provenance"], dict) else {}
+    _check_ranges(provenance.get("ranges"), where)
     hottest = provenance.get("hottest_reading_C")
     seen = (provenance.get("ranges") or {}).get("temperature_C") if isinstance(provenance.get("ranges"), dict) else None
     coolest = seen[0] if isinstance(seen, list) and seen and isinstance(seen[0], (int, float)) else None
@@ -371,6 +372,25 @@ def _residual(residual, where: str) -> ResidualStats | None:
     if not all(np.isfinite(v) and v >= 0 for v in values):
         raise ModelFileError(f"{where}: \"residual\" holds an error that is negative or not finite")
     return stats
+
+
+def _check_ranges(ranges, where: str) -> None:
+    """A file's calibration ranges, which forecasts read: each a ``[low, high]`` pair of finite numbers, low first
+    (``dt_s`` one positive number); absent ones are simply not known."""
+    if ranges is None:
+        return
+    if not isinstance(ranges, dict):
+        raise ModelFileError(f"{where}: \"provenance\".\"ranges\" must be an object of [low, high] pairs, got "
+                             f"{ranges!r}")
+    for name, value in ranges.items():
+        if name == "dt_s":
+            if not (_number(value) and np.isfinite(value) and value > 0):
+                raise ModelFileError(f"{where}: \"provenance\".\"ranges\".\"dt_s\" must be a positive number of "
+                                     f"seconds, got {value!r}")
+        elif not (isinstance(value, list) and len(value) == 2 and all(_number(v) and np.isfinite(v) for v in value)
+                  and value[0] <= value[1]):
+            raise ModelFileError(f"{where}: \"provenance\".\"ranges\".\"{name}\" must be [low, high], two finite "
+                                 f"numbers with low first, got {value!r}")
 
 
 def provenance(paths: Sequence[str | Path], series) -> dict:
