@@ -22,7 +22,7 @@ from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
 from thermolimb.workbench.diagnosis.candidates import Candidate
-from thermolimb.workbench.diagnosis.diagnose import _refit
+from thermolimb.workbench.diagnosis.refit import refit_candidate
 from thermolimb.workbench.validation import Scheme
 
 
@@ -56,7 +56,7 @@ def main(argv=None) -> dict:
                                   also_drops=cand.also_drops, channel=cand.channel, channel_unit=cand.channel_unit,
                                   formula=cand.formula)
                 again.starts = list(cand.starts)
-                _refit(again, runs, Scheme(), d.base, d.base_bic, start)
+                refit_candidate(again, runs, Scheme(), d.base, d.base_bic, start)
                 if again.rmse_K is not None:
                     ends.append(again.rmse_K)
             spread = (max(ends) - min(ends)) / min(ends)

@@ -163,6 +163,9 @@ def test_two_monitors_never_write_one_file_and_a_missing_folder_is_made(model_an
         second = subprocess.run([THERMOLIMB, "monitor", str(model), "--follow", str(run), "--mcap", str(out),
                                  "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
         assert second.returncode == 2 and "another monitor is writing it now" in second.stderr
+        # the refusal can come before the first has read a row (it then ends writing nothing, by design): its end
+        # is asked once a whole chunk of messages is on the disk
+        wait_for(lambda: whole_messages_in(out.parent / "out.mcap.partial", tmp_path) > 0)
         first.terminate()
         err = ended(first)
     finally:

@@ -97,6 +97,18 @@ def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backen
     assert serial == pooled and serial["+ speed_losses"] == 1.0
 
 
+def test_refits_on_two_workers_end_as_refits_here_bit_for_bit(step_test):
+    """A diagnosis's refits go to the pool when one places a hidden state (here the second mass and the sensor's
+    lag, on a log of 480 samples): every candidate ends as it does refitted in this process, to the bit."""
+    runs = {w: diagnose([step_test], model="joule", refit="all", stability=Stability(replicates=2, workers=w))
+            for w in (1, 2)}
+    ends = {w: [(c.label, c.rmse_K, c.status, dict(c.params), c.evidence) for c in d.candidates]
+            for w, d in runs.items()}
+    assert ends[1] == ends[2]
+    assert sum(c.refitted for c in runs[2].candidates) >= 3
+    assert any(c.effect == "second_node" and c.refitted for c in runs[2].candidates)
+
+
 def test_an_effect_on_the_edge_is_reported_unstable_not_recommended():
     """The UR3's J2 (real): motion cooling passes every gate on the whole log and helps on both held-out runs, but
     the replicates do not all take it (measured: 9 of 10).  Asked for every replicate (min_frequency 1.0), it is
@@ -212,7 +224,7 @@ def test_a_replicate_s_warm_refit_moved_past_the_plausible_share_returns_where_t
     constant kept within three runs (``identification.bounds``) the valley is closed: the warm refit from a share
     of 0.97 returns to the whole log's error either way."""
     from thermolimb.plant.cases import HIDDEN_CASES
-    from thermolimb.workbench.diagnosis.diagnose import _evaluate as evaluate_as_diagnose
+    from thermolimb.workbench.diagnosis.refit import evaluate as evaluate_as_diagnose
     from thermolimb.workbench.diagnosis.split_or_blocks import judging_scheme
 
     series = HIDDEN_CASES["slow_masses"].log(1).series("knee")

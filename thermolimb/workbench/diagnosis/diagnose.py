@@ -28,31 +28,29 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ...effects import EFFECTS
-from ...identification import FreeRunLeastSquares
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.parameter_units import NOT_GIVEN
 from ...model.signals import EXTRA
 from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
-from ...util.errors import TermError, ThermolimbError
+from ...util.errors import ThermolimbError
 from ...util.frozen import FrozenMapping
-from ...util.progress import progress
+from ...util.parallel import with_one_blas_thread
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
 from ..submodel import identifiable_submodel
-from ..validation import FitReport, Scheme, validate_model
+from ..validation import FitReport, Scheme
 from .bringing import brought_start, not_brought
 from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
-from .refit import refit
+from .refit import evaluate, guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
 from .split_or_blocks import judging_scheme
 from .stability import Stability, selection_frequencies
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
-REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
 
 
 @dataclass(frozen=True)
@@ -152,13 +150,6 @@ class Diagnosis:
         return out
 
 
-def _evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
-    def make():
-        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
-
-    return validate_model(series, model, scheme, make=make)
-
-
 def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,
              **options) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making (module docstring).
@@ -166,7 +157,7 @@ def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Sear
     ``search``: how (:class:`Search`); keyword ``options`` replace its fields (``diagnose(runs, refit="all")``).
     A model already within the sensor's floor (:mod:`.floor`) is recommended no change.
     """
-    return _diagnose(list(series), parse_model(model), _search(search, options), Step())
+    return with_one_blas_thread(_diagnose, list(series), parse_model(model), _search(search, options), Step())
 
 
 def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Search, step: Step) -> Diagnosis:
@@ -203,7 +194,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     else:
         candidates = list(step.contenders)
     for cand in candidates:
-        _guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
+        guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
         _unexcited(cand, base)
     warm = step.starts or {}
     # the floor is the whole log's, decided once: a replicate is above it by construction
@@ -218,12 +209,13 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         worth = []
     # a change that brings terms with it (more parameters at once) is tried only where a simpler one calls for it
     bringing, worth = [c for c in worth if c.brings and not replicating], [c for c in worth if not c.brings or replicating]
-    for cand in progress(worth, desc="refits", disable=search.quiet):
-        _guarded(cand, _refit, cand, series, scheme, base, base_bic, warm.get(cand.label))
+    # a replicate is a worker's job already: its refits run in it
+    refit_all(worth, [warm.get(c.label) for c in worth], series, scheme, base, base_bic,
+              1 if replicating or search.stability is None else search.stability.workers, search.quiet)
     for cand in bringing:
         cand.skipped = not_brought(cand, worth)
         if cand.skipped is None:
-            _guarded(cand, _refit, cand, series, scheme, base, base_bic, brought_start(cand, worth))
+            guarded(cand, refit_candidate, cand, series, scheme, base, base_bic, brought_start(cand, worth))
     for cand in candidates:
         if not cand.evidence and not replicating:
             cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
@@ -239,7 +231,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
             params = [p.name for p in TERMS[proposal.term].parameters]
             cand.starts.insert(0, {**dict(base.model.params), **dict(zip(params, proposal.coefficients))})
             if cand.confounded is None:
-                _refit(cand, series, scheme, base, base_bic)
+                refit_candidate(cand, series, scheme, base, base_bic)
             cand.evidence = describe_discovered(cand, proposal, base.validation["rmse_K"])
             candidates = sorted(candidates + [cand], key=_rank)
     best = candidates[0] if candidates and candidates[0].eligible else None
@@ -401,25 +393,8 @@ def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport,
 
 def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:
     """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see submodel.py)."""
-    return identifiable_submodel(lambda terms, held: _evaluate(series, terms, scheme, initial, held),
+    return identifiable_submodel(lambda terms, held: evaluate(series, terms, scheme, initial, held),
                                  model, series, datasheet=datasheet)
-
-
-def _guarded(cand: Candidate, step, *args) -> None:
-    """``step(*args)`` for a candidate; a user's term that breaks its contract in it sets the candidate aside
-    with the reason (:class:`~thermolimb.model.guard.TermError`), and the diagnosis goes on."""
-    try:
-        step(*args)
-    except TermError as exc:
-        cand.broken = str(exc)
-        cand.rmse_K = None
-        cand.evidence = f"set aside: {exc}"
-
-
-def _refit(cand: Candidate, series, scheme, base: FitReport, base_bic: float, warm: dict | None = None) -> None:
-    """Refit a candidate by :func:`.refit.refit` (a deterministic profile over its nonlinear parameter, then
-    the next start while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
-    refit(cand, base, base_bic, lambda model, initial, fixed: _evaluate(series, model, scheme, initial, fixed), warm)
 
 
 def _rank(c: Candidate):
@@ -438,7 +413,7 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
     validation error, and the change that led to it with the reason.
     """
     series, search = list(series), _search(search, options)
-    steps = [_diagnose(series, parse_model(model), search, Step())]
+    steps = [with_one_blas_thread(_diagnose, series, parse_model(model), search, Step())]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
@@ -450,8 +425,8 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
             break
         visited.add(frozenset(move.model))
         moves.append(move)
-        steps.append(_diagnose(series, move.model, search, Step(base=move.report, skip=frozenset(confounded),
-                                                                 visited=frozenset(visited))))
+        steps.append(with_one_blas_thread(_diagnose, series, move.model, search, Step(
+            base=move.report, skip=frozenset(confounded), visited=frozenset(visited))))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first = steps[0]

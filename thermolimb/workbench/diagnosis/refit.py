@@ -40,8 +40,12 @@ from dataclasses import replace
 import numpy as np
 
 from ...identification import FreeRunLeastSquares, IdentifiabilityError
-from ...model.model import model_parameters
+from ...model.model import hidden_states, model_parameters
 from ...model.terms import TERMS, Parameter
+from ...util.errors import TermError
+from ...util.parallel import Runner, one_blas_thread, shared
+from ...util.progress import progress
+from ..validation import FitReport, validate_model
 from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
 
 PROFILE_POINTS = SCAN_POINTS  # values of the profiled parameter, log-spaced
@@ -53,6 +57,12 @@ SCREEN_EVALUATIONS = 2  # of each start's short fit, for a term with nothing to 
 # Parquet's knee: 20 times fewer blocks than a fit's 100,000, the same starts chosen; see docs/measurements.md)
 SCREEN_SAMPLES = 20_000
 GAIN_RANGE = (0.03, 30.0)  # a gain is profiled over these multiples of its typical size
+REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
+# a diagnosis's refits go to local workers when one of them places a hidden state (a slow mass, a lagging sensor:
+# one more free run per state and evaluation; UR3 J5's second mass 1-2 s, the others 0.1-0.3 s; without one the
+# README tour's refits take 0.02-0.08 s, less than the pool's start) and the log is at most this long (samples
+# over its runs): each refit comes back with its report, which on a long log costs more to send than it saves
+POOLED_SAMPLES = 200_000
 
 
 def profiled_parameter(term, params: dict, series) -> Parameter | None:
@@ -204,3 +214,53 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
         return
     cand.identifiable = False
     cand.failure = f"not identifiable from this log: {errors[0]}"
+
+
+def evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
+    """Fit and validate ``model`` on ``series`` by ``scheme`` the way the diagnosis does, from ``initial`` with the
+    parameters in ``fixed`` held."""
+    def make():
+        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
+
+    return validate_model(series, model, scheme, make=make)
+
+
+def guarded(cand: Candidate, step, *args) -> None:
+    """``step(*args)`` for a candidate; a user's term that breaks its contract in it sets the candidate aside
+    with the reason (:class:`~thermolimb.model.guard.TermError`), and the diagnosis goes on."""
+    try:
+        step(*args)
+    except TermError as exc:
+        cand.broken = str(exc)
+        cand.rmse_K = None
+        cand.evidence = f"set aside: {exc}"
+
+
+def refit_candidate(cand: Candidate, series, scheme, base: FitReport, base_bic: float, warm: dict | None = None):
+    """Refit a candidate by :func:`refit` (a deterministic profile over its nonlinear parameter, then the next start
+    while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
+    refit(cand, base, base_bic, lambda model, initial, fixed: evaluate(series, model, scheme, initial, fixed), warm)
+
+
+def refit_all(cands: list[Candidate], warm: list, series, scheme, base: FitReport, base_bic: float, workers: int,
+              quiet: bool = True) -> None:
+    """Refit every candidate in ``cands`` (``warm``: each one's start, or ``None``), guarded, on ``workers`` local
+    processes when more than one, one places a hidden state and the log is short (:data:`POOLED_SAMPLES`), else
+    here.  Each refit is independent of the others and runs with one BLAS thread wherever it runs, so the
+    candidates end the same, bit for bit, either way; pooled, the longest-looking (most parameters) go first."""
+    pooled = (workers > 1 and len(cands) > 1 and any(hidden_states(c.model) for c in cands)
+              and sum(s.n for s in series) <= POOLED_SAMPLES)
+    bar = progress(total=len(cands), desc="refits", disable=quiet)
+    order = sorted(range(len(cands)), key=lambda i: -len(model_parameters(cands[i].model)))
+    with Runner("process" if pooled else "serial", workers, shared=(series, scheme, base, base_bic)) as runner:
+        for i, done in runner.as_completed(_refit_job, [(cands[i], warm[i]) for i in order]):
+            cands[order[i]].__dict__.update(done.__dict__)  # a worker's copy, back into the diagnosis's candidate
+            bar.update()
+    bar.close()
+
+
+def _refit_job(cand: Candidate, warm: dict | None) -> Candidate:
+    """One candidate's refit, on the log the runner shares."""
+    with one_blas_thread():
+        guarded(cand, refit_candidate, cand, *shared(), warm)
+    return cand

@@ -74,7 +74,8 @@ START_JITTER = 0.2  # the standard deviation of the log of the factor each start
 
 @dataclass(frozen=True)
 class Stability:
-    """How many replicates, the share a change needs, their seed, and the local workers that run them."""
+    """How many replicates, the share a change needs, their seed, and the local workers that run them (and the
+    diagnosis's own refits where one places a hidden state, :func:`.refit.refit_all`)."""
 
     replicates: int = REPLICATES
     min_frequency: float = MIN_FREQUENCY
