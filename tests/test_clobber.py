@@ -54,6 +54,22 @@ def test_an_output_that_replaces_another_file_says_replaced(folder, capsys):
     assert f"replaced {out}" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("argv, said", [
+    (["fit", "{f}/run.csv", "--actuator", "knee", "--validate-on", "{f}/run.csv"], "run.csv is given twice"),
+    (["diagnose", "{f}/run.csv", "{f}/copy.csv", "--actuator", "knee"], "copy.csv holds the same readings of 'knee'"),
+    (["fit", "{f}/run.csv", "{f}/hard.csv", "--save", "{f}/twice.json"], "hard.csv holds the same readings"),
+])
+def test_a_run_given_twice_is_refused_where_it_would_be_held_out_beside_itself(folder, argv, said, capsys):
+    """The same log named twice, a link to it or a copy: fitted on and held out at once, a run would be judged on
+    the readings it was fitted on (leave one run out "helping on 2 of 2 held-out runs" on one run)."""
+    (folder / "copy.csv").write_bytes((folder / "run.csv").read_bytes())
+    assert main([a.format(f=folder) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert said in err and "give each run once" in err and len(err.strip().splitlines()) == 1
+    assert not (folder / "twice.json").exists()
+    assert main(["fit", str(folder / "run.csv"), "--actuator", "knee", "--quiet"]) == 0  # once is fine
+
+
 @pytest.mark.parametrize("names", [("NA", "None"), ("1", "01"), ("nan", "null")])
 def test_actuator_names_are_names(tmp_path, names, capsys):
     """NA, None and nan are names, not missing values; 1 and 01 are two actuators."""

@@ -140,7 +140,9 @@ def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_p
     other = frame.assign(actuator="wrist")
     other["temperature"] = np.where(np.arange(len(other)) % 2, 300.0, 27.0)
     frame.to_csv(tmp_path / "fit.csv", index=False)
-    pd.concat([frame, other]).to_csv(tmp_path / "other.csv", index=False)
+    # the knee again, read 0.25 K warmer: another run (the same run twice is refused, tests/test_clobber.py)
+    pd.concat([frame.assign(temperature=frame["temperature"] + 0.25), other]).to_csv(tmp_path / "other.csv",
+                                                                                    index=False)
     assert main(["fit", str(tmp_path / "fit.csv"), "--actuator", "knee", "--validate-on", str(tmp_path / "other.csv"),
                  "--quiet"]) == 0
     assert main(["fit", str(tmp_path / "other.csv"), "--quiet"]) == 2  # read whole, the wrist is refused

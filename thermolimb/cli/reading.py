@@ -3,8 +3,11 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..logs import ActuatorSeries, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
+from ..util.errors import UsageError
 from .options import SEPARATORS
 from .output import say
 
@@ -59,6 +62,22 @@ def read_logs(paths, args) -> list[ThermalLog]:
 def runs_of(logs: list[ThermalLog], name: str) -> list[ActuatorSeries]:
     """Actuator ``name``'s runs over every log, in order."""
     return [run for log in logs for run in log.runs(name)]
+
+
+def distinct_runs(logs: list[ThermalLog], name: str) -> None:
+    """Refuse a run of ``name`` given twice among ``logs`` (the logs and ``--validate-on``: one log named twice, or a
+    copy under another name): held out beside itself it would be judged on the readings it was fitted on."""
+    seen: list[tuple[str, ActuatorSeries]] = []
+    for log in logs:
+        for b in log.runs(name):
+            for source, a in seen:
+                if a.n == b.n and all(np.array_equal(x, y) for x, y in (
+                        (a.time_s, b.time_s), (a.temperature_C, b.temperature_C), (a.signals.effort, b.signals.effort))):
+                    what = (f"{source} is given twice" if source == log.source else
+                            f"{log.source} holds the same readings of {name!r} as {source}")
+                    raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the readings it "
+                                     f"was fitted on; give each run once")
+            seen.append((log.source, b))
 
 
 def say_notes(logs: list[ThermalLog], names) -> None:

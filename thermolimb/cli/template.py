@@ -29,7 +29,7 @@ from .options import (
     scheme_of,
 )
 from .output import existing, files_in, html_page, print_json, say, say_written
-from .reading import load_terms, read_logs, runs_of, say_notes
+from .reading import distinct_runs, load_terms, read_logs, runs_of, say_notes
 
 
 @dataclass
@@ -137,9 +137,10 @@ class LogCommand:
             try:
                 # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-                    held_runs = runs_of(held, name)
+                    runs, held_runs = runs_of(logs, name), runs_of(held, name)
+                    distinct_runs(logs + held, name)
                     scheme = Scheme.on_runs(held_runs) if held_runs else run.scheme
-                    record, text = self.analyse(run, name, runs_of(logs, name), scheme)
+                    record, text = self.analyse(run, name, runs, scheme)
             except ThermolimbError as exc:
                 # every actuator of the log: one the log cannot tell about is said, and the others go on
                 if args.actuator or len(names) == 1 or isinstance(exc, (UsageError, TermError)):
