@@ -189,7 +189,7 @@ def test_a_real_log_trimmed_by_a_few_rows_gives_the_same_verdict():
     """The UR3's J5 (real): trimmed by up to 5 rows at either end, the search with stability recommends the same
     change (its neighbours' heat), taken in every replicate each time."""
     runs = REAL_LOGS["ur3"].read()[0].runs("J5")
-    verdicts, refitted_pairs = set(), 0
+    verdicts, refitted_pairs, far_masses = set(), 0, 0
     for a, b in [(0, 0), (5, 0), (0, 5), (3, 2)]:
         d = diagnose([s.slice(a, s.n - b) for s in runs], stability=Stability(replicates=5))
         verdicts.add(d.recommended.label if d.recommended else None)
@@ -200,7 +200,13 @@ def test_a_real_log_trimmed_by_a_few_rows_gives_the_same_verdict():
         pair = by["+ second_node with third_node"]
         assert not pair.eligible and pair.selection_frequency is None  # implausible, failed or not refitted
         refitted_pairs += pair.refitted
+        # the second mass alone: implausible, its held-out error over twice the neighbours' heat's: it cannot
+        # outrank that change in a replicate, and is not re-judged (stability.BEHIND)
+        mass, best = by["+ second_node"], d.recommended
+        assert not mass.eligible and mass.selection_frequency is None
+        far_masses += mass.rmse_K is not None and mass.rmse_K > 2.0 * best.rmse_K
     assert verdicts == {"+ neighbor_coupling"}, verdicts
+    assert far_masses >= 1  # refitted, and far behind, on some copy
     assert refitted_pairs >= 1  # the pair was refitted on some copy, and not re-judged there
 
 
