@@ -211,7 +211,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     bringing, worth = [c for c in worth if c.brings and not replicating], [c for c in worth if not c.brings or replicating]
     # a replicate is a worker's job already: its refits run in it
     refit_all(worth, [warm.get(c.label) for c in worth], series, scheme, base, base_bic,
-              1 if replicating or search.stability is None else search.stability.workers, search.quiet)
+              1 if replicating else (search.stability or Stability()).workers, search.quiet)
     for cand in bringing:
         cand.skipped = not_brought(cand, worth)
         if cand.skipped is None:

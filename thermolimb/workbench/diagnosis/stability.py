@@ -75,8 +75,9 @@ BEHIND = 2.0  # an ineligible change this many times the best eligible one's hel
 
 @dataclass(frozen=True)
 class Stability:
-    """How many replicates, the share a change needs, their seed, and the local workers that run them (and the
-    diagnosis's own refits where one places a hidden state, :func:`.refit.refit_all`)."""
+    """How many replicates, the share a change needs, their seed, and the local workers that run them and the
+    diagnosis's own refits where one places a hidden state (:func:`.refit.refit_all`; with the check off, as many
+    as by default)."""
 
     replicates: int = REPLICATES
     min_frequency: float = MIN_FREQUENCY
