@@ -64,20 +64,25 @@ def runs_of(logs: list[ThermalLog], name: str) -> list[ActuatorSeries]:
     return [run for log in logs for run in log.runs(name)]
 
 
-def distinct_runs(logs: list[ThermalLog], name: str) -> None:
-    """Refuse a run of ``name`` given twice among ``logs`` (the logs and ``--validate-on``: one log named twice, or a
-    copy under another name): held out beside itself it would be judged on the readings it was fitted on."""
+def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> tuple[list, list]:
+    """Actuator ``name``'s runs over ``logs`` and over ``held`` (``--validate-on``), as :func:`runs_of` gives them;
+    a run given twice among them (one log named twice, or a copy under another name) is refused: held out beside
+    itself it would be judged on the readings it was fitted on."""
     seen: list[tuple[str, ActuatorSeries]] = []
-    for log in logs:
-        for b in log.runs(name):
-            for source, a in seen:
-                if a.n == b.n and all(np.array_equal(x, y) for x, y in (
-                        (a.time_s, b.time_s), (a.temperature_C, b.temperature_C), (a.signals.effort, b.signals.effort))):
-                    what = (f"{source} is given twice" if source == log.source else
-                            f"{log.source} holds the same readings of {name!r} as {source}")
-                    raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the readings it "
-                                     f"was fitted on; give each run once")
-            seen.append((log.source, b))
+    groups: tuple[list, list] = ([], [])
+    for group, some in zip(groups, (logs, held)):
+        for log in some:
+            for b in log.runs(name):
+                for source, a in seen:
+                    if a.n == b.n and all(np.array_equal(x, y) for x, y in ((a.time_s, b.time_s), (
+                            a.temperature_C, b.temperature_C), (a.signals.effort, b.signals.effort))):
+                        what = (f"{source} is given twice" if source == log.source else
+                                f"{log.source} holds the same readings of {name!r} as {source}")
+                        raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the "
+                                         f"readings it was fitted on; give each run once")
+                seen.append((log.source, b))
+                group.append(b)
+    return groups
 
 
 def say_notes(logs: list[ThermalLog], names) -> None:

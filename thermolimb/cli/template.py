@@ -29,7 +29,7 @@ from .options import (
     scheme_of,
 )
 from .output import existing, files_in, html_page, print_json, say, say_written
-from .reading import distinct_runs, load_terms, read_logs, runs_of, say_notes
+from .reading import distinct_runs, load_terms, read_logs, say_notes
 
 
 @dataclass
@@ -137,8 +137,7 @@ class LogCommand:
             try:
                 # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-                    runs, held_runs = runs_of(logs, name), runs_of(held, name)
-                    distinct_runs(logs + held, name)
+                    runs, held_runs = distinct_runs(logs, held, name)
                     scheme = Scheme.on_runs(held_runs) if held_runs else run.scheme
                     record, text = self.analyse(run, name, runs, scheme)
             except ThermolimbError as exc:

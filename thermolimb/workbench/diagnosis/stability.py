@@ -164,10 +164,10 @@ def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Cand
     best's share counts the replicates that take its effect, and such a change moves it only by outranking it,
     which a few rows cannot do (UR3 J5's second mass, implausible, 1.155 K against the neighbour's 0.341 K,
     taken by none of 10 replicates: 0.35 s of each replicate's 0.45 s)."""
-    ranked = [c for c in candidates if c.refitted and c.confounded is None and c.failure is None
+    judged = [c for c in candidates if c.refitted and c.confounded is None and c.failure is None
               and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT) and (c.eligible or not c.brings)]
-    best = min((c for c in ranked if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None)
-    return [c for c in ranked if best is None or c.eligible or c.rmse_K is None or c.rmse_K <= BEHIND * best.rmse_K
+    best = min((c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None)
+    return [c for c in judged if best is None or c.eligible or c.rmse_K is None or c.rmse_K <= BEHIND * best.rmse_K
             or effect_key(c, model) == effect_key(best, model)]
 
 
