@@ -99,6 +99,12 @@ def perturbed(runs, k: int):
     return [s.slice(a, s.n - b) for s, (a, b) in zip(runs, cut)], scheme, Stability(seed=k)
 
 
+def _share(x: float) -> str:
+    """0.5 as 0.5, 0.75 (15 of 20 replicates, a second batch's) as 0.75."""
+    text = f"{x:.2f}"
+    return text[:-1] if text.endswith("0") else text
+
+
 def walk(runs, discover: bool, k: int) -> dict:
     series, scheme, stability = perturbed(runs, k)
     start = time.perf_counter()
@@ -111,7 +117,7 @@ def walk(runs, discover: bool, k: int) -> dict:
     return {"final": sorted(steps[-1].model), "walk": [s.get("change", "start") for s in first.auto],
             "rmse_K": [round(s["rmse_K"], 4) for s in first.auto],
             "frequencies": [s.get("selection_frequency") for s in first.auto[1:]],
-            "unstable": None if tail is None else f"{tail['change']} ({tail['selection_frequency']:.1f})",
+            "unstable": None if tail is None else f"{tail['change']} ({_share(tail['selection_frequency'])})",
             "at_floor": bool(first.auto[-1].get("at_floor")), "seconds": time.perf_counter() - start}
 
 
@@ -159,7 +165,7 @@ def main(argv=None) -> dict:
         if w["final"] is None:
             print(f"{name:42s} refused: {w['refused']}", flush=True)
             continue
-        steps = "  ->  ".join(f"{c} {r:.3f} K" + (f" [{f:.1f}]" if f is not None else "")
+        steps = "  ->  ".join(f"{c} {r:.3f} K" + (f" [{_share(f)}]" if f is not None else "")
                               for c, r, f in zip(w["walk"], w["rmse_K"], [None] + w["frequencies"]))
         tail = f"; unstable: {w['unstable']}" if w["unstable"] else ("; at the floor" if w["at_floor"] else "")
         right = f", right {100 * row['right_share']:.0f} %" if "right_share" in row else ""

@@ -16,11 +16,15 @@ walk's model is at least 10 % better on the other runs, *worse* when it is more 
 one (its default scheme) and its model judged on the one left out, against the default model fitted on the
 same runs.
 
+``--plant NETWORK:EFFECTS`` builds the plant's four runs on another network and with other hidden effects (the
+default, ``x8:speed_losses,winding_tempco``, is the table's), to try the walk on plants it was not tuned on.
+
 Everything goes through the command line, so that ``--code DIR`` measures another checkout of the suite (a git
 worktree of an earlier commit) on the same runs (written once, by this checkout), in the same process tree: the
 transfer table and the walk's time before and after a change, side by side.
 
     python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant] [--code DIR] [--loro]
+                                  [--plant NETWORK:EFFECTS]
 """
 
 from __future__ import annotations
@@ -40,7 +44,10 @@ ROOT = Path(__file__).resolve().parents[1]
 BETTER, WORSE = 0.10, 0.05  # at least 10 % better; more than 5 % worse
 
 
-def write_runs(folder: Path, sources: list[str]) -> dict[str, dict]:
+PLANT = "x8:speed_losses,winding_tempco"
+
+
+def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str, dict]:
     """Each source's runs as canonical CSV files, one per run (all of the log's actuators in each, so that a
     model with the neighbours' heat has them): ``{source: {"actuators": [...], "runs": [paths]}}``."""
     from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
@@ -74,10 +81,11 @@ def write_runs(folder: Path, sources: list[str]) -> dict[str, dict]:
                 for k in (24, 46)]
         out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
     if "plant" in sources:
-        fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+        network, _, hidden = plant.partition(":")
+        fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
         duties = [("random", 0), ("random", 1), ("walking", 2), ("squat", 3)]
         runs = [save(simulate_profile(profile, 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
-                                      network=NETWORKS["x8"], load_scale=1.5).log, f"plant_{profile}{seed}")
+                                      network=NETWORKS[network], load_scale=1.5).log, f"plant_{profile}{seed}")
                 for profile, seed in duties]
         out["plant"] = {"actuators": ["knee"], "runs": runs}
     return out
@@ -175,10 +183,20 @@ def main(argv=None):
     parser.add_argument("--sources", default="ur3,wx200,bldc,pmsm,plant")
     parser.add_argument("--code", type=Path, default=None, help="another checkout of the suite to measure")
     parser.add_argument("--loro", action="store_true", help="also diagnose all runs but one (sources of 3+ runs)")
+    parser.add_argument("--plant", default=PLANT, metavar="NETWORK:EFFECTS",
+                        help=f"the plant's network and hidden effects (default {PLANT})")
     parser.add_argument("--json", action="store_true", help="print the record last, on one line")
     args = parser.parse_args(argv)
+    from thermolimb.plant import NETWORKS, PlantEffects
+    network, _, hidden = args.plant.partition(":")
+    if network not in NETWORKS:
+        parser.error(f"--plant {args.plant!r}: the network must be one of {', '.join(NETWORKS)}, before a colon")
+    try:
+        PlantEffects.from_names(hidden)
+    except ValueError as exc:
+        parser.error(f"--plant {args.plant!r}: {exc}")
     with tempfile.TemporaryDirectory() as folder:
-        sources = write_runs(Path(folder), args.sources.split(","))
+        sources = write_runs(Path(folder), args.sources.split(","), args.plant)
         record = transfer(args.code, sources, args.loro)
     if args.json:
         print(json.dumps(record))

@@ -92,9 +92,12 @@ def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backen
     assert all(abs(p.phase) <= 0.5 for p in blocks) and min(p.phase for p in blocks) < -0.3 < 0.3 < max(
         p.phase for p in blocks)  # the held-out blocks moved by up to half a block
     d = diagnose(runs)
-    serial = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
+    serial, n = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
     pooled = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=2)), replicate)
-    assert serial == pooled and serial["+ speed_losses"] == 1.0
+    assert (serial, n) == pooled and serial["+ speed_losses"] == 1.0 and n == 4  # unanimous: no second batch
+    far = next(c for c in d.candidates if c.label == "- effort_bias")
+    assert far.eligible and far.rmse_K > 2.0 * d.recommended.rmse_K  # eligible, and far behind the best: it could
+    assert "- effort_bias" not in serial and far.selection_frequency is None  # not outrank it (stability.BEHIND)
 
 
 def test_refits_on_two_workers_end_as_refits_here_bit_for_bit(step_test):
@@ -244,3 +247,16 @@ def test_a_replicate_s_warm_refit_moved_past_the_plausible_share_returns_where_t
         trial = replace(cand, rmse_K=None, report=None, plausible=None, settled_plausible=settled)
         refit(trial, d.base, d.base_bic, lambda m, i, f: evaluate_as_diagnose([series], m, scheme, i, f), warm)
         assert trial.plausible and trial.rmse_K == pytest.approx(cand.rmse_K, rel=1e-3), settled
+
+
+def test_a_count_on_the_threshold_is_settled_by_a_second_batch():
+    """The UR3's J2 (real): motion cooling is taken in 9 of the first 10 replicates.  Asked for 0.9, that count sits
+    on the threshold, where one replicate's throw decides: 10 more are drawn afresh and the verdict rests on all 20
+    (``stability.undecided``); asked for every replicate, 9 of 10 has failed already and no second batch runs."""
+    runs = REAL_LOGS["ur3"].read()[0].runs("J2")
+    d = diagnose(runs, stability=Stability(replicates=10, min_frequency=0.9))
+    c = next(c for c in d.candidates if c.label == "+ motion_cooling")
+    assert d.stability["replicates"] == 20 and round(20 * c.selection_frequency) >= 17  # its 9 of 10, and more
+    assert f"taken in {round(20 * c.selection_frequency)} of 20 replicates" in c.evidence.lower()
+    assert "10 more, as the first 10 left the best change within one replicate of its share" in c.evidence
+    assert (d.recommended is c) == (c.selection_frequency >= 0.9)

@@ -52,7 +52,8 @@ class Diagnose(LogCommand):
         g.add_argument("--stability", type=integer(0, 1000), default=REPLICATES, metavar="K",
                        help=f"before recommending a change, repeat the search on K perturbed replicates of the log "
                             f"(rows trimmed at either end, the split moved, other starts) and recommend it only if "
-                            f"enough of them take it (default {REPLICATES}; 0 turns the check off)")
+                            f"enough of them take it, K more where the first K leave it within one replicate of that "
+                            f"share (default {REPLICATES}; 0 turns the check off)")
         g.add_argument("--min-frequency", type=number(0.0, 1.0, low_open=True), default=MIN_FREQUENCY, metavar="F",
                        help=f"the share of replicates that must take a change for it to be recommended (default "
                             f"{MIN_FREQUENCY})")
@@ -113,13 +114,14 @@ def describe_diagnosis(d) -> str:
     if d.floor is not None:
         lines.append(f"  {d.floor.sentence(b['rmse_K'])}")
     k = d.stability["replicates"] if d.stability else None
-    lines.append(f"  {'change':32s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status")
+    w = max([32] + [len(c.label) for c in d.candidates])  # the widest label sets the column
+    lines.append(f"  {'change':{w}s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status")
     for c in d.candidates:
         if not c.refitted:
-            lines.append(f"  {c.label:32s} {'':>8s} {'':>7s} {'':>9s} {'':>6s}  {c.status}: {c.not_refitted_because}")
+            lines.append(f"  {c.label:{w}s} {'':>8s} {'':>7s} {'':>9s} {'':>6s}  {c.status}: {c.not_refitted_because}")
             continue
         taken = f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None else ""
-        lines.append(f"  {c.label:32s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
+        lines.append(f"  {c.label:{w}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
                      f"{c.status}")
         for pname, v in c.params.items():
             lines.append(f"      {pname} = {plus_minus(v['value'], v['stderr'], 4)}{spaced(v['unit'])}")

@@ -253,9 +253,11 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
     """The replicates' verdicts (:mod:`.stability`): the best change stays recommended only if taken often enough;
     each contender's evidence says how often it was taken and what varied."""
     stability = search.stability
-    frequencies = selection_frequencies(d, series, search, replicate)
-    k = stability.replicates
+    frequencies, k = selection_frequencies(d, series, search, replicate)
     varied = stability.varied(search.scheme)
+    if k > stability.replicates:
+        first = stability.replicates
+        varied += f"; {k - first} more, as the first {first} left the best change within one replicate of its share"
     d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
                    "varied": varied, "frequencies": frequencies}
     for c in d.candidates:
