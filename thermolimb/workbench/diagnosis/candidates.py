@@ -297,7 +297,7 @@ def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None
     r = float(np.corrcoef(xa, xb)[0, 1])
     if abs(r) >= COLLINEAR:
         return (f"{cand.effect} and {cand.replaces} move together on this log (correlation {r:.4f}): it cannot tell "
-                f"them apart; a log where they differ (e.g. current without torque) would")
+                f"them apart; a log in which their inputs vary apart (e.g. current without torque) can")
     return None
 
 
@@ -348,7 +348,7 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
                            f"{term.parameters[0].excitation}")
     elif own_share < CONFOUNDED_FRACTION:
         cand.confounded = (f"on this log {cand.effect} changes the simulation only as {scored[0][4]} already does "
-                           f"({100 * own_share:.2g} % of its signature is its own): a log where "
+                           f"({100 * own_share:.2g} % of its signature is its own): a log with "
                            f"{term.parameters[0].excitation} would tell them apart")
 
 

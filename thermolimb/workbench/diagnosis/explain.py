@@ -82,7 +82,7 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
                      f"widest's: no dynamics to judge on)" if _still(c) else "")
             parts.append(f"lower on {c.units[0]} of {c.units[1]} held-out {c.unit_word}{still}"
                          + ("" if 2 * c.units[0] > c.units[1] else ", not most of them: not taken"))
-        if c.fragile:
+        if c.fragile and (c.improvement or 0.0) > 0.0:  # a change that does not help has no gain to rest on
             parts.append(f"not evidence: {c.fragile}")
         if c.kind == "drop" and c.helps:
             parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
