@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 from ..logs import ActuatorSeries, ThermalLog, parse_mapping, read_log
@@ -68,20 +70,22 @@ def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> 
     """Actuator ``name``'s runs over ``logs`` and over ``held`` (``--validate-on``), as :func:`runs_of` gives them;
     a run given twice among them (one log named twice, or a copy under another name) is refused: held out beside
     itself it would be judged on the readings it was fitted on."""
-    seen: list[tuple[str, ActuatorSeries]] = []
+    seen: dict[bytes, str] = {}  # a run's readings (time, temperature, effort), digested: the log it came from
     groups: tuple[list, list] = ([], [])
     for group, some in zip(groups, (logs, held)):
         for log in some:
-            for b in log.runs(name):
-                for source, a in seen:
-                    if a.n == b.n and all(np.array_equal(x, y) for x, y in ((a.time_s, b.time_s), (
-                            a.temperature_C, b.temperature_C), (a.signals.effort, b.signals.effort))):
-                        what = (f"{source} is given twice" if source == log.source else
-                                f"{log.source} holds the same readings of {name!r} as {source}")
-                        raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the "
-                                         f"readings it was fitted on; give each run once")
-                seen.append((log.source, b))
-                group.append(b)
+            for run in log.runs(name):
+                digest = hashlib.sha256()
+                for values in (run.time_s, run.temperature_C, run.signals.effort):
+                    digest.update(np.ascontiguousarray(values, dtype=float).tobytes())
+                source = seen.get(digest.digest())
+                if source is not None:
+                    what = (f"{source} is given twice" if source == log.source else
+                            f"{log.source} holds the same readings of {name!r} as {source}")
+                    raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the "
+                                     f"readings it was fitted on; give each run once")
+                seen[digest.digest()] = log.source
+                group.append(run)
     return groups
 
 
