@@ -8,14 +8,14 @@ import pytest
 
 from thermolimb.data import PMSM_MAP, PMSM_UNITS, pmsm_profile
 from thermolimb.logs import parse_mapping, read_log
-from thermolimb.model import ThermalModel
+from thermolimb.model import DEFAULT_MODEL, ThermalModel
 from thermolimb.model.experience import ambient_shift_K
 from thermolimb.model.model import model_parameters
 from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
 from thermolimb.workbench.diagnosis.candidates import held_out_support
-from thermolimb.workbench.excitation import channel_excitation
+from thermolimb.workbench.excitation import channel_excitation, excitation
 from thermolimb.workbench.validation import INTERLEAVED, RUNS, SPLIT, Scheme, Segment, held_blocks, validate_model
 
 
@@ -181,6 +181,40 @@ def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
     for name in ("RC_s", "betaR_K_per_effort2", "frame_fraction"):
         assert cut.model.params[name] == pytest.approx(whole.model.params[name], rel=0.1), name
     assert cut.validation["rmse_K"] < 2.0 * whole.validation["rmse_K"]
+
+
+def plant_step_test(load: float, seed: int, dt_s: float = 0.5):
+    """A joint on the X8's three masses holding ``load`` times its continuous effort for 18 min, then released for
+    19 (the effort's noise 1 % of it, copper's coefficient hidden): rest and one hold, two effort levels."""
+    from dataclasses import replace
+
+    from thermolimb.plant import ThermalPlant
+    from thermolimb.plant.profiles import Profile
+    from thermolimb.plant.run import run_profile
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(2200.0 / dt_s) + 1) * dt_s
+    level = np.where(t < 1080.0, load, 0.02) + rng.normal(0.0, 0.01, t.size)
+    plant = ThermalPlant(["knee"], [replace(CASE_SPECS[0], network=NETWORKS["x8"])], rng=rng,
+                         effects=PlantEffects.from_names("sensor_noise,quantisation,winding_tempco"))
+    return run_profile(plant, Profile(t, level[:, None], np.zeros((t.size, 1)))).log.series("knee")
+
+
+def test_effort_at_two_levels_sets_the_bias_aside_and_the_model_carries_over():
+    """Fitted on one step test, the default model loses its bias: the two levels pin the offset and one heat
+    coefficient, and the bias fitted anyway (on the noise in the effort) misses a step test at another load by
+    several times more than Joule heating alone does (73.6 K against 5.8 K)."""
+    fitted, other = plant_step_test(2.0, 1), plant_step_test(1.5, 0)
+    assert excitation([fitted]).effort_levels == 2
+    reduced = validate_model([fitted], DEFAULT_MODEL, Scheme.on_runs([other]), reduce=True)
+    assert reduced.model.terms == ("joule",)
+    [aside] = reduced.set_aside
+    assert aside["term"] == "effort_bias" and "holds its effort at 2 distinct levels" in aside["reason"]
+    forced = validate_model([fitted], DEFAULT_MODEL, Scheme.on_runs([other]))
+    assert forced.model.terms == tuple(DEFAULT_MODEL)  # the fit returns both, loosely
+    assert reduced.validation["rmse_K"] < 0.5 * forced.validation["rmse_K"]
+    d = diagnose([fitted])
+    assert d.model == ("joule",) and "holds its effort at 2 distinct levels" in str(d.base.set_aside)
 
 
 def test_heat_from_current_or_effort_is_chosen_on_held_out_data():

@@ -136,8 +136,9 @@ def test_discovery_demo_names_the_brake_and_writes_a_term_file(quick_runs):
 def test_real_pmsm_data_points_to_current_heating(quick_runs):
     summary = quick(quick_runs, "pmsm-real-data")
     for name, entry in summary["profiles"].items():
-        waterfall = entry["split"]["waterfall"]  # from the default start
-        assert waterfall[0]["model"] == ["joule", "effort_bias"]
+        waterfall = entry["split"]["waterfall"]  # from the default start, narrowed to what the torque's levels pin:
+        # profile 24 holds it at two (rest and 64 N m), which cannot tell Joule heating from the effort bias
+        assert waterfall[0]["model"] == (["joule"] if name == "profile24" else ["joule", "effort_bias"]), name
         # the current's heat is taken, or shown as the change that helps but is not stable enough to take
         # (profile 46: the swap in 6 of 10 replicates, dropping the bias in 3)
         last = waterfall[-1]
