@@ -18,12 +18,15 @@ same runs.
 
 ``--plant NETWORK:EFFECTS`` builds the plant's four runs on another network and with other hidden effects (the
 default, ``x8:speed_losses,winding_tempco``, is the table's), to try the walk on plants it was not tuned on.
+``--sources step``: plain bench step tests on that plant (:func:`thermolimb.plant.duties.step_test`: 18 min held
+at 1.5, 2.0 and 2.5 times the continuous effort, then released, at 2 Hz, and one at 2.0 that starts warm), the
+kind of log a lab writes first and the one with the least to tell a model.
 
 Everything goes through the command line, so that ``--code DIR`` measures another checkout of the suite (a git
 worktree of an earlier commit) on the same runs (written once, by this checkout), in the same process tree: the
 transfer table and the walk's time before and after a change, side by side.
 
-    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant] [--code DIR] [--loro]
+    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant,step] [--code DIR] [--loro]
                                   [--plant NETWORK:EFFECTS]
 """
 
@@ -36,6 +39,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +49,7 @@ BETTER, WORSE = 0.10, 0.05  # at least 10 % better; more than 5 % worse
 
 
 PLANT = "x8:speed_losses,winding_tempco"
+STEPS = ((1.5, 0, 0.0), (2.0, 1, 0.0), (2.5, 2, 0.0), (2.0, 3, 600.0))  # load (x continuous), seed, warm-up s
 
 
 def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str, dict]:
@@ -54,6 +59,7 @@ def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str
     from thermolimb.logs import from_frame, parse_mapping, read_log
     from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
     from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
+    from thermolimb.plant.duties import step_test
 
     def save(log, name: str) -> Path:
         path = folder / f"{name}.csv"
@@ -88,6 +94,13 @@ def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str
                                       network=NETWORKS[network], load_scale=1.5).log, f"plant_{profile}{seed}")
                 for profile, seed in duties]
         out["plant"] = {"actuators": ["knee"], "runs": runs}
+    if "step" in sources:
+        network, _, hidden = plant.partition(":")
+        fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
+        spec = replace(CASE_SPECS[0], network=NETWORKS[network])
+        runs = [save(step_test(spec, fx, load, seed, warm_s), f"step{load:g}" + ("_warm" if warm_s else ""))
+                for load, seed, warm_s in STEPS]
+        out["step"] = {"actuators": ["knee"], "runs": runs}
     return out
 
 

@@ -3,6 +3,8 @@ placed where the data put them, and heat from current or from effort chosen on h
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -11,7 +13,7 @@ from thermolimb.logs import parse_mapping, read_log
 from thermolimb.model import DEFAULT_MODEL, ThermalModel
 from thermolimb.model.experience import ambient_shift_K
 from thermolimb.model.model import model_parameters
-from thermolimb.plant import NETWORKS, PlantEffects, simulate_profile
+from thermolimb.plant import NETWORKS, PlantEffects, duties, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
 from thermolimb.workbench.diagnosis.candidates import held_out_support
@@ -183,28 +185,14 @@ def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
     assert cut.validation["rmse_K"] < 2.0 * whole.validation["rmse_K"]
 
 
-def plant_step_test(load: float, seed: int, dt_s: float = 0.5):
-    """A joint on the X8's three masses holding ``load`` times its continuous effort for 18 min, then released for
-    19 (the effort's noise 1 % of it, copper's coefficient hidden): rest and one hold, two effort levels."""
-    from dataclasses import replace
-
-    from thermolimb.plant import ThermalPlant
-    from thermolimb.plant.profiles import Profile
-    from thermolimb.plant.run import run_profile
-
-    rng = np.random.default_rng(seed)
-    t = np.arange(int(2200.0 / dt_s) + 1) * dt_s
-    level = np.where(t < 1080.0, load, 0.02) + rng.normal(0.0, 0.01, t.size)
-    plant = ThermalPlant(["knee"], [replace(CASE_SPECS[0], network=NETWORKS["x8"])], rng=rng,
-                         effects=PlantEffects.from_names("sensor_noise,quantisation,winding_tempco"))
-    return run_profile(plant, Profile(t, level[:, None], np.zeros((t.size, 1)))).log.series("knee")
-
-
 def test_effort_at_two_levels_sets_the_bias_aside_and_the_model_carries_over():
-    """Fitted on one step test, the default model loses its bias: the two levels pin the offset and one heat
+    """Fitted on one step test (the X8's three masses, 18 min held, then released, at 2 Hz; copper's coefficient
+    hidden), the default model loses its bias: the two levels pin the offset and one heat
     coefficient, and the bias fitted anyway (on the noise in the effort) misses a step test at another load by
     several times more than Joule heating alone does (73.6 K against 5.8 K)."""
-    fitted, other = plant_step_test(2.0, 1), plant_step_test(1.5, 0)
+    spec = replace(CASE_SPECS[0], network=NETWORKS["x8"])
+    fx = PlantEffects.from_names("sensor_noise,quantisation,winding_tempco")
+    fitted, other = (duties.step_test(spec, fx, load, seed).series("knee") for load, seed in ((2.0, 1), (1.5, 0)))
     assert excitation([fitted]).effort_levels == 2
     reduced = validate_model([fitted], DEFAULT_MODEL, Scheme.on_runs([other]), reduce=True)
     assert reduced.model.terms == ("joule",)
