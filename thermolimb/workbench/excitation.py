@@ -37,18 +37,22 @@ class Excitation:
 
 def excitation(series) -> Excitation:
     """The counts over every run of ``series``."""
-    efforts = np.concatenate([s.signals.effort for s in series])
-    lo, hi = np.percentile(efforts, [1, 99])
-    if hi > lo:
-        counts, _ = np.histogram(np.clip(efforts, lo, hi), bins=LEVEL_BINS, range=(lo, hi))
-        levels = int(np.sum(counts >= LEVEL_SHARE * efforts.size))
-    else:
-        levels = 1
     heating = cooling = 0
     for s in series:
         h, c = _transients(s.temperature_C)
         heating, cooling = heating + h, cooling + c
-    return Excitation(levels, heating, cooling)
+    return Excitation(effort_levels(series), heating, cooling)
+
+
+def effort_levels(series) -> int:
+    """The effort's distinct levels over every run of ``series``: of :data:`LEVEL_BINS` bins over its 1-99 % range,
+    those holding :data:`LEVEL_SHARE` of the samples or more."""
+    efforts = np.concatenate([s.signals.effort for s in series])
+    lo, hi = np.percentile(efforts, [1, 99])
+    if not hi > lo:
+        return 1
+    counts, _ = np.histogram(np.clip(efforts, lo, hi), bins=LEVEL_BINS, range=(lo, hi))
+    return int(np.sum(counts >= LEVEL_SHARE * efforts.size))
 
 
 def _transients(temperature_C: np.ndarray) -> tuple[int, int]:

@@ -12,11 +12,11 @@ from ..identification import IdentifiabilityError
 from ..logs import ActuatorSeries, LogError
 from ..model.model import model_parameters
 from ..model.terms import TERMS
-from .excitation import excitation
+from .excitation import effort_levels
 
 
 def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequence[ActuatorSeries], hold: bool = True,
-                          datasheet: Mapping[str, float] | None = None):
+                          datasheet: Mapping[str, float] | None = None, levels: bool = True):
     """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while the
     log cannot identify a parameter; the report says how in ``set_aside``.
 
@@ -30,7 +30,8 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
       effort bias goes, Joule heating stays).
     * Before any fit, a log holding its effort at fewer distinct levels than the offset and the coefficients of
       heat from the effort alone (:func:`within_levels`) loses such a term other than the first heat source: the
-      fit cannot pin them, however small the noise that lets it return values.
+      fit cannot pin them, however small the noise that lets it return values (``levels=False``: not counted, as
+      in a stability replicate, whose model the whole log's count has narrowed already).
 
     Raises the fit's error when none applies (the time constant without a datasheet value, an offset without
     a logged ambient, the last heat source): then nothing the model means can be identified.
@@ -39,7 +40,7 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
     check_datasheet(datasheet, model)
     units = series[0].units if series else {}
     aside, held = [], {}
-    model = within_levels(model, series, aside)
+    model = within_levels(model, series, aside) if levels else model
 
     def hold_value(name: str, value: float, reason: str) -> None:
         held[name] = value
@@ -78,16 +79,17 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
 
 def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], aside: list) -> tuple[str, ...]:
     """``model`` without the terms of heat from the effort alone (Joule heating, the effort bias) that the log's
-    effort levels cannot pin, each said in ``aside``.  Held at N distinct levels (:func:`.excitation.excitation`),
+    effort levels cannot pin, each said in ``aside``.  Held at N distinct levels (:func:`.excitation.effort_levels`),
     the effort gives N steady states, which pin the offset and N - 1 such coefficients at most: on a step test
     (rest and one hold) Joule heating and the bias are one number between them, and a fit that returns both owes
-    its values to the noise in the effort (a plant's step tests fitted on one run: the bias at 40 +- 76 K/(N m), the
-    other runs missed by 63.6 K with it and by 8.4 K without it).  The first heat source stays."""
+    its values to the noise in the effort (``benchmarks/transfer.py --sources step``, fitted on the hold at 2.0: the
+    bias at 40 +- 76 K/(N m), the other runs missed by 63.6 K with it and by 8.4 K without).  The first heat source
+    stays."""
     alone = [t for t in model if TERMS[t].columns == ("effort",) and TERMS[t].rise_only]
     primary = next((t for t in model if TERMS[t].is_heat_source), None)
     if not series or len(alone) <= 1:
         return model
-    levels = excitation(series).effort_levels
+    levels = effort_levels(series)
     for term in [t for t in reversed(alone) if t != primary][:max(len(alone) - max(levels - 1, 1), 0)]:
         needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
         aside.append({"term": term, "reason": f"this log holds its effort at {levels} distinct level"

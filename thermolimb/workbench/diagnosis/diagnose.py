@@ -166,7 +166,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     base = step.base
     heat_source = None
     if base is None:
-        base = _identifiable_base(series, model, scheme, step.initial, search.datasheet)
+        # a replicate's model is the whole log's, its effort levels counted there once (submodel.within_levels)
+        base = _identifiable_base(series, model, scheme, step.initial, search.datasheet, step.contenders is None)
         if step.contenders is None and not step.visited:
             base, heat_source = _heat_source(base, series, scheme, search.datasheet)
         model = base.model.terms
@@ -393,10 +394,10 @@ def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport,
                  "effort_fit_percent": base.validation["fit_percent"], "effort_flags": list(base.flags)}
 
 
-def _identifiable_base(series, model, scheme, initial, datasheet=None) -> FitReport:
+def _identifiable_base(series, model, scheme, initial, datasheet=None, levels=True) -> FitReport:
     """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see submodel.py)."""
     return identifiable_submodel(lambda terms, held: evaluate(series, terms, scheme, initial, held),
-                                 model, series, datasheet=datasheet)
+                                 model, series, datasheet=datasheet, levels=levels)
 
 
 def _rank(c: Candidate):
