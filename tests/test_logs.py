@@ -120,7 +120,7 @@ def test_neighbours_are_the_adjacent_actuators_in_log_order(plant_log):
     np.testing.assert_allclose(s.neighbor_temperature_C[:, 0], log.series("knee").temperature_C)
 
 
-def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
+def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     from thermolimb.logs.mapping import suggest_table_mapping
 
     ur3 = ("Num;Timestamp;Current_J0;Temperature_T0;Current_J1;Temperature_J1;Current_J2;Temperature_J2;Speed_J0;"
@@ -140,6 +140,17 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags():
     mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))
     assert "time" not in mapping and any("several columns" in n for n in notes)
     assert mapping["temperature"] == "Temp [C]"  # a time column named after the temperature is not a temperature
+    short = ["stamp", "tau_Nm", "motor_temp", "battery_level", "travel_mm", "joint_vel"]  # short names, whole words
+    mapping, notes = suggest_table_mapping(short, dict.fromkeys(short, 5))
+    assert mapping == {"time": "stamp", "temperature": "motor_temp", "effort": "tau_Nm", "velocity": "joint_vel"}
+    inside = ["stamp", "joint1_effort", "joint1_temp", "joint2_effort", "joint2_temp", "joint1_vel", "joint2_vel"]
+    mapping, notes = suggest_table_mapping(inside, dict.fromkeys(inside, 5))  # the joint's number inside the name
+    assert mapping == {"time": "stamp", "temperature": "joint{j}_temp", "effort": "joint{j}_effort",
+                       "velocity": "joint{j}_vel"} and not notes
+    path = tmp_path / "wide.csv"
+    pd.DataFrame({c: np.arange(20.0) if c == "stamp" else np.full(20, 30.0) for c in inside}).to_csv(path, index=False)
+    log = read_log(path, mapping=mapping)  # the suggestion reads: one actuator a joint
+    assert log.actuators == ("J1", "J2")
 
 
 @pytest.mark.parametrize("suffix", [".csv", ".parquet"])

@@ -120,12 +120,15 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
     return out
 
 
-# words in a column's name that say which channel it is, most specific first (a column is matched once)
-CHANNEL_WORDS = (("time", ("timestamp", "time")), ("temperature", ("winding temp", "stator_winding", "temperature",
-                                                                   "temp")),
-                 ("effort", ("torque", "effort")), ("current", ("current",)), ("power", ("power",)),
-                 ("velocity", ("velocity", "speed")), ("ambient", ("ambient",)))
+# words in a column's name that say which channel it is, most specific first (a column is matched once); then
+# short names that say it only as a whole word of the name ("joint_vel_rad_s", "tau_Nm"; "level" is no velocity)
+CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
+                 ("temperature", ("winding temp", "stator_winding", "temperature", "temp"), ()),
+                 ("effort", ("torque", "effort"), ("tau", "nm", "load")), ("current", ("current",), ("amps", "iq")),
+                 ("power", ("power",), ()), ("velocity", ("velocity", "speed"), ("vel", "omega", "qd", "dq", "rpm")),
+                 ("ambient", ("ambient",), ()))
 _JOINT_COLUMN = re.compile(r"^(?P<stem>.*?)(?P<j>\d+)$")
+_JOINT_INSIDE = re.compile(r"^(?P<stem>\D+)(?P<j>\d+)(?P<rest>\D+)$")  # one number, inside the name
 
 
 def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str, str], list[str]]:
@@ -142,18 +145,22 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     joint_groups: dict[str, list[tuple[str, int]]] = {}
     for name in names:
         m = _JOINT_COLUMN.match(name)
+        inside = _JOINT_INSIDE.match(name)
         if m and m.group("stem"):
             joint_groups.setdefault(_word(m.group("stem")), []).append((name, int(m.group("j"))))
+        elif inside:  # joint1_effort, motor_2_temp: the name around the number says what the column holds
+            joint_groups.setdefault(f"{inside.group('stem')}{JOINT}{inside.group('rest')}", []).append(
+                (name, int(inside.group("j"))))
     mapping, reasons, used = {}, [], set()
     grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
-    for channel, words in CHANNEL_WORDS:
-        for word in words:
-            group = next((g for key, g in joint_groups.items() if word in key.lower() and len(g) > 1), None)
+    for channel, words, whole in CHANNEL_WORDS:
+        for word, says in [(w, lambda w, n: w in n.lower()) for w in words] + [(w, _says_whole) for w in whole]:
+            group = next((g for key, g in joint_groups.items() if says(word, key) and len(g) > 1), None)
             if group is not None and channel != "time":
                 mapping[channel] = _pattern([n for n, _ in group])
                 used |= {n for n, _ in group}
                 break
-            single = [n for n in names if word in n.lower() and n not in used and n not in grouped
+            single = [n for n in names if says(word, n) and n not in used and n not in grouped
                       and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
             if len(single) == 1:
                 mapping[channel] = single[0]
@@ -174,13 +181,22 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     return mapping, reasons
 
 
+def _says_whole(word: str, name: str) -> bool:
+    """Whether ``word`` is one of the words of ``name`` (split at anything but letters and digits)."""
+    return word in re.split(r"[^a-z0-9]+", name.lower())
+
+
 def _word(stem: str) -> str:
     """The name part that says what a per-joint column holds (``Temperature_T`` -> ``Temperature``)."""
     return re.split(r"[_\s\-]", stem.strip())[0] or stem
 
 
 def _pattern(names: list[str]) -> str:
-    """The joint pattern of per-joint column names: ``{j}`` for the number, ``*`` where they differ."""
+    """The joint pattern of per-joint column names: ``{j}`` for the number, ``*`` where they differ (a number inside
+    the names, ``joint1_effort``, stands where it stands: ``joint{j}_effort``)."""
+    inside = _JOINT_INSIDE.match(names[0])
+    if inside and not _JOINT_COLUMN.match(names[0]):
+        return f"{inside.group('stem')}{JOINT}{inside.group('rest')}"
     stems = [_JOINT_COLUMN.match(n).group("stem") for n in names]
     prefix = stems[0]
     for s in stems[1:]:
