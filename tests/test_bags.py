@@ -1,6 +1,7 @@
 """ROS bags in (ROS 1, ROS 2 SQLite and MCAP), MCAP out, and channels on several time bases aligned."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -198,6 +199,11 @@ def test_one_temperature_topic_per_joint_reads_with_a_joint_pattern_and_is_sugge
     assert np.allclose(log.series("hip").signals.effort, 1.0)
     assert read_log(folder).actuators == ("hip", "knee")  # the suggestion, chosen when no --map is given
     assert read_log(folder, actuator_name="knee").actuators == ("knee",)
+    # a topic whose name holds "air" inside a word is a joint's; "air" or "room" as words name the ambient
+    topics = {"/knee/temperature": "/repair/temperature", "/hip/temperature": "/room/air_temperature"}
+    mapping, _ = suggest_mapping([replace(i, topic=topics.get(i.topic, i.topic)) for i in inspect_bag(folder)])
+    assert mapping["temperature"] == "/repair/temperature.temperature"
+    assert mapping["ambient"] == "/room/air_temperature.temperature"
     assert main(["fit", str(folder), "--fleet", "--quiet", "--workers", "1", "--backend", "serial"]) == 0
 
 

@@ -35,7 +35,7 @@ from ..util.errors import LogError
 from .align import align, series_of
 from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
-from .mapping import EXTRA, JOINT
+from .mapping import EXTRA, JOINT, says_whole
 from .mcap_stream import PartialMcap, ends_early
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -162,7 +162,9 @@ def _topic_infos(reader, path: Path) -> list[TopicInfo]:
 
 
 def _is_air(topic: str) -> bool:
-    return any(word in topic.lower() for word in ("ambient", "air", "room"))
+    """A topic named for the air: ``ambient`` anywhere in it, ``air`` or ``room`` as words (``/repair/temperature``
+    is a joint's)."""
+    return "ambient" in topic.lower() or any(says_whole(word, topic) for word in ("air", "room"))
 
 
 def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list[str]]:
