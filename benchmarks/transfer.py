@@ -49,6 +49,7 @@ BETTER, WORSE = 0.10, 0.05  # at least 10 % better; more than 5 % worse
 
 
 PLANT = "x8:speed_losses,winding_tempco"
+SOURCES = ("ur3", "wx200", "bldc", "pmsm", "plant", "step")
 STEPS = ((1.5, 0, 0.0), (2.0, 1, 0.0), (2.5, 2, 0.0), (2.0, 3, 600.0))  # load (x continuous), seed, warm-up s
 
 
@@ -193,7 +194,8 @@ def _print(row: dict) -> None:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sources", default="ur3,wx200,bldc,pmsm,plant")
+    parser.add_argument("--sources", default="ur3,wx200,bldc,pmsm,plant",
+                        help=f"comma-separated, of {', '.join(SOURCES)} (default ur3,wx200,bldc,pmsm,plant)")
     parser.add_argument("--code", type=Path, default=None, help="another checkout of the suite to measure")
     parser.add_argument("--loro", action="store_true", help="also diagnose all runs but one (sources of 3+ runs)")
     parser.add_argument("--plant", default=PLANT, metavar="NETWORK:EFFECTS",
@@ -201,6 +203,10 @@ def main(argv=None):
     parser.add_argument("--json", action="store_true", help="print the record last, on one line")
     args = parser.parse_args(argv)
     from thermolimb.plant import NETWORKS, PlantEffects
+    unknown = [name for name in args.sources.split(",") if name not in SOURCES]
+    if unknown:
+        parser.error(f"--sources {args.sources!r}: {', '.join(map(repr, unknown))} is no source; expected some of "
+                     f"{', '.join(SOURCES)}, separated by commas")
     network, _, hidden = args.plant.partition(":")
     if network not in NETWORKS:
         parser.error(f"--plant {args.plant!r}: the network must be one of {', '.join(NETWORKS)}, before a colon")

@@ -3,7 +3,10 @@ placed where the data put them, and heat from current or from effort chosen on h
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -336,3 +339,13 @@ def test_a_mass_alone_past_its_plausible_share_is_tried_as_two_masses():
     d = diagnose([squats(4.0)])
     by = {c.label: c for c in d.candidates}
     assert by["+ second_node"].eligible and "alone helps, implausibly" in by["+ second_node with third_node"].skipped
+
+
+@pytest.mark.parametrize("args, said", [(["--sources", "ur3,foo"], "'foo' is no source; expected some of ur3"),
+                                        (["--plant", "x9:speed_losses"], "the network must be one of")])
+def test_the_transfer_benchmark_refuses_a_source_or_plant_it_does_not_have(args, said):
+    """Bad input to benchmarks/transfer.py: one sentence naming it and what is expected, exit 2, nothing run."""
+    root = Path(__file__).resolve().parents[1]
+    done = subprocess.run([sys.executable, str(root / "benchmarks" / "transfer.py"), *args], capture_output=True,
+                          text=True, cwd=root)
+    assert done.returncode == 2 and said in done.stderr and not done.stdout
