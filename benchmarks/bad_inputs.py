@@ -1328,6 +1328,10 @@ def main() -> None:
         round_, cls = KIND.get(name, (1, "other"))
         return args.only in name and args.cls in cls and args.round in (None, round_)
 
+    names = [case[0] for group in (cli, envs, special, interrupts, recordings, faults) for case in group]
+    if not any(map(chosen, names + [f"API: {case[0]}" for case in API_CASES])):
+        parser.error(f"no input is chosen by --only {args.only!r}, --class {args.cls!r} and --round {args.round}; "
+                     f"an input's name holds --only (e.g. {names[0]!r}) and a class's name --class")
     records = []
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)

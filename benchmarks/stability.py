@@ -147,8 +147,10 @@ def main(argv=None) -> dict:
     args = parser.parse_args(argv)
     k = 2 if args.quick else args.perturbations
     rows = []
-    logs = [(n, r, d, None) for n, r, d in real_logs(args.quick)] + plant_logs(args.quick)
+    logs = every = [(n, r, d, None) for n, r, d in real_logs(args.quick)] + plant_logs(args.quick)
     logs = [log for log in logs if args.only is None or args.only in log[0]]
+    if not logs:
+        parser.error(f"--only {args.only!r} is in no log's name; the logs are: {'; '.join(n for n, *_ in every)}")
     for name, runs, discover, hidden in logs:
         walks = [walk(runs, discover, j) for j in range(k + 1)]
         # a copy refused as too short says the tool cannot decide: the same answer as a walk that decided nothing
