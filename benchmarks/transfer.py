@@ -87,17 +87,15 @@ def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str
         logs = [read_log(pmsm_profile(k), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
                 for k in (24, 46)]
         out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
+    network, _, hidden = plant.partition(":")  # the plant of the plant's duties and of its step tests
+    fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
     if "plant" in sources:
-        network, _, hidden = plant.partition(":")
-        fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
         duties = [("random", 0), ("random", 1), ("walking", 2), ("squat", 3)]
         runs = [save(simulate_profile(profile, 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
                                       network=NETWORKS[network], load_scale=1.5).log, f"plant_{profile}{seed}")
                 for profile, seed in duties]
         out["plant"] = {"actuators": ["knee"], "runs": runs}
     if "step" in sources:
-        network, _, hidden = plant.partition(":")
-        fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
         spec = replace(CASE_SPECS[0], network=NETWORKS[network])
         runs = [save(step_test(spec, fx, load, seed, warm_s), f"step{load:g}" + ("_warm" if warm_s else ""))
                 for load, seed, warm_s in STEPS]

@@ -78,13 +78,14 @@ def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> 
                 digest = hashlib.sha256()
                 for values in (run.time_s, run.temperature_C, run.signals.effort):
                     digest.update(np.ascontiguousarray(values, dtype=float).tobytes())
-                source = seen.get(digest.digest())
+                key = digest.digest()
+                source = seen.get(key)
                 if source is not None:
                     what = (f"{source} is given twice" if source == log.source else
                             f"{log.source} holds the same readings of {name!r} as {source}")
                     raise UsageError(f"{what}: a run fitted on and held out beside itself is judged on the "
                                      f"readings it was fitted on; give each run once")
-                seen[digest.digest()] = log.source
+                seen[key] = log.source
                 group.append(run)
     return groups
 

@@ -154,7 +154,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     mapping, reasons, used = {}, [], set()
     grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
     for channel, words, whole in CHANNEL_WORDS:
-        for word, says in [(w, lambda w, n: w in n.lower()) for w in words] + [(w, says_whole) for w in whole]:
+        for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
             group = next((g for key, g in joint_groups.items() if says(word, key) and len(g) > 1), None)
             if group is not None and channel != "time":
                 mapping[channel] = _pattern([n for n, _ in group])
@@ -179,6 +179,10 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     if missing:
         reasons.append(f"no column found for {', '.join(missing)}")
     return mapping, reasons
+
+
+def _says_within(word: str, name: str) -> bool:
+    return word in name.lower()
 
 
 def says_whole(word: str, name: str) -> bool:

@@ -65,8 +65,7 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
             own = exc.parameter in {p.name for p in TERMS[term].parameters}
             what = (f"cannot identify {exc.parameter}" if own else
                     f"cannot tell {', '.join(p.name for p in TERMS[term].parameters)} from {exc.parameter}")
-            needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
-            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {needs}"})
+            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {_needs(term)}"})
             model = tuple(t for t in model if t != term)
             continue
         loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
@@ -91,13 +90,17 @@ def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], asid
         return model
     levels = effort_levels(series)
     for term in [t for t in reversed(alone) if t != primary][:max(len(alone) - max(levels - 1, 1), 0)]:
-        needs = "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
         aside.append({"term": term, "reason": f"this log holds its effort at {levels} distinct level"
                       f"{'s' if levels != 1 else ''}, which pin the offset and {max(levels - 1, 0)} coefficient"
                       f"{'s' if levels != 2 else ''} of heat from the effort alone at most; identifying {term} needs "
-                      f"{needs}"})
+                      f"{_needs(term)}"})
         model = tuple(t for t in model if t != term)
     return model
+
+
+def _needs(term: str) -> str:
+    """What identifying ``term`` needs of a log, from its parameters' excitation."""
+    return "; ".join(dict.fromkeys(p.excitation for p in TERMS[term].parameters))
 
 
 def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> None:
