@@ -215,6 +215,13 @@ def test_heat_from_current_or_effort_is_chosen_on_held_out_data():
     source = d.heat_source
     assert source["chosen"] == "current" and source["current_rmse_K"] < source["effort_rmse_K"]
     assert d.model[0] == "current_heating" and "heat source: Joule heating from current squared" in source["sentence"]
+    # profile 24 holds its torque at two levels: the effort's model starts without the bias, and says so even though
+    # the current's model wins
+    log = read_log(pmsm_profile(24), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
+    source = diagnose(log.runs("pmsm"), stability=None).heat_source
+    assert source["chosen"] == "current" and source["effort_model"] == ["joule"]
+    assert "from effort squared, effort_bias set aside: this log holds its effort at 2 distinct levels" in \
+        source["sentence"]
 
 
 def test_a_fit_keeps_a_slow_mass_and_the_offset_where_the_runs_can_place_them():

@@ -389,6 +389,9 @@ def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport,
     sentence = (f"heat source: Joule heating from {won_word} squared ({','.join(won.model.terms)}), held-out RMSE "
                 f"{won_K:.3f} K, against {lost_K:.3f} K from {lost_word} squared ({','.join(lost.model.terms)}); "
                 f"lower on {lower} of {units[1]} held-out {base.units}")
+    # what the effort's model set aside is said even where the current's wins: the walk starts without it
+    sentence += "".join(f"; from effort squared, {a['term']} set aside: {a['reason']}" for a in base.set_aside
+                        if "term" in a)
     return won, {"chosen": won_word, "effort_rmse_K": e, "current_rmse_K": c, "effort_model": list(base.model.terms),
                  "current_model": list(rival.model.terms), "sentence": sentence,
                  "effort_fit_percent": base.validation["fit_percent"], "effort_flags": list(base.flags)}
