@@ -61,9 +61,11 @@ def candidates_figure(d: Diagnosis):
     """The figure :func:`plot_candidates` writes: a failed refit's bar carries its reason, as the table does."""
     refitted = [c for c in d.candidates if c.refitted]
     others = [c for c in d.candidates if not c.refitted]
-    fig, ax = plt.subplots(figsize=(9, 0.45 * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
     # each change in words with its identifier, wrapped so that the axes keep their width
     labels = [textwrap.fill(readable(c.label), 30) for c in refitted][::-1]
+    # a row as tall as the longest label's lines need (a channel's form runs to five), so that labels do not overlap
+    row_in = max([0.45] + [0.17 * (label.count("\n") + 1) for label in labels])
+    fig, ax = plt.subplots(figsize=(9, row_in * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
     gains = [100 * c.improvement for c in refitted][::-1]
     colours = [STATUS_COLOURS.get(c.status, "tab:blue") for c in refitted][::-1]
     ax.barh(labels, gains, color=colours)
