@@ -26,8 +26,12 @@ Everything goes through the command line, so that ``--code DIR`` measures anothe
 worktree of an earlier commit) on the same runs (written once, by this checkout), in the same process tree: the
 transfer table and the walk's time before and after a change, side by side.
 
+Each run's effort is also said by how much of the offset's constant and of the effort bias's input it moves apart
+from each other and Joule heating's (under a share of 0.1 for the bias, not the offset, a fit sets the bias aside);
+``--shares`` prints those alone.
+
     python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant,step] [--code DIR] [--loro]
-                                  [--plant NETWORK:EFFECTS]
+                                  [--plant NETWORK:EFFECTS] [--shares]
 """
 
 from __future__ import annotations
@@ -149,6 +153,25 @@ def case(code, fit_on: list[Path], judged_on: list[Path], actuator: str) -> dict
     return out
 
 
+def own_shares(sources: dict) -> dict:
+    """Per source, actuator and run, the shares of the offset's constant and of the effort bias's input their own
+    beside each other and Joule heating's (:func:`thermolimb.workbench.excitation.own_shares`; the bias's under
+    ``submodel.OWN_SHARE``, the offset's not, and a fit sets the bias aside), by this checkout's code."""
+    from thermolimb.logs import read_log
+    from thermolimb.workbench.excitation import own_shares as shares_of
+
+    out = {}
+    for name, source in sources.items():
+        logs = [read_log(p) for p in source["runs"]]
+        out[name] = {a: {Path(p).stem: {k: round(v, 3) for k, v in shares_of(log.runs(a), ["joule", "effort_bias"])
+                                        .items() if k != "joule"} for p, log in zip(source["runs"], logs)}
+                     for a in source["actuators"]}
+        for a, shares in out[name].items():
+            print(f"{name:6s} {a:6s} own shares (offset / bias): "
+                  + ", ".join(f"{run} {v['T_offset_C']:.3f} / {v['effort_bias']:.3f}" for run, v in shares.items()))
+    return out
+
+
 def transfer(code, sources: dict, loro: bool) -> dict:
     rows = []
     for name, source in sources.items():
@@ -173,7 +196,7 @@ def transfer(code, sources: dict, loro: bool) -> dict:
     for part, s in summary.items():
         print(f"{part}: the walk's model is at least {100 * BETTER:.0f} % better in {s['better']} of {s['cases']} "
               f"cases, more than {100 * WORSE:.0f} % worse in {s['worse']}; median walk {s['walk_s_median']:.1f} s")
-    return {"rows": rows, "summary": summary}
+    return {"rows": rows, "summary": summary, "own_shares": own_shares(sources)}
 
 
 def _print(row: dict) -> None:
@@ -198,6 +221,8 @@ def main(argv=None):
     parser.add_argument("--loro", action="store_true", help="also diagnose all runs but one (sources of 3+ runs)")
     parser.add_argument("--plant", default=PLANT, metavar="NETWORK:EFFECTS",
                         help=f"the plant's network and hidden effects (default {PLANT})")
+    parser.add_argument("--shares", action="store_true",
+                        help="only print each run's own shares of the offset and the bias (no walks)")
     parser.add_argument("--json", action="store_true", help="print the record last, on one line")
     args = parser.parse_args(argv)
     from thermolimb.plant import NETWORKS, PlantEffects
@@ -214,7 +239,7 @@ def main(argv=None):
         parser.error(f"--plant {args.plant!r}: {exc}")
     with tempfile.TemporaryDirectory() as folder:
         sources = write_runs(Path(folder), args.sources.split(","), args.plant)
-        record = transfer(args.code, sources, args.loro)
+        record = {"own_shares": own_shares(sources)} if args.shares else transfer(args.code, sources, args.loro)
     if args.json:
         print(json.dumps(record))
     return record

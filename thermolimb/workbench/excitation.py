@@ -6,8 +6,12 @@ these counts, with the sensor's floor (:mod:`.floor`), tell them apart."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Sequence
 
 import numpy as np
+
+from ..identification.regression import independent_fractions
+from ..model.guard import instance
 
 LEVEL_BINS = 20  # effort levels: the effort's 1-99 % range in this many bins ...
 LEVEL_SHARE = 0.02  # ... each holding at least this share of the samples
@@ -53,6 +57,19 @@ def effort_levels(series) -> int:
         return 1
     counts, _ = np.histogram(np.clip(efforts, lo, hi), bins=LEVEL_BINS, range=(lo, hi))
     return int(np.sum(counts >= LEVEL_SHARE * efforts.size))
+
+
+def own_shares(series, terms: Sequence[str]) -> dict[str, float]:
+    """Of the offset's constant and of each of ``terms``' regressors over every run of ``series``, the share that
+    the others do not account for (:func:`~thermolimb.identification.regression.independent_fractions`; 1: its
+    own, 0: a combination of the others', as the effort on two levels makes the effort bias's of Joule heating's
+    and the constant): a fit tells a coefficient apart from the others' only by that share."""
+    def column(name):
+        return np.concatenate([instance(name).features(s.signals, s.temperature_C)[:, 0] for s in series])
+
+    columns = [column(t) for t in terms]
+    X = np.column_stack([np.ones_like(columns[0]), *columns])
+    return dict(zip(("T_offset_C", *terms), map(float, independent_fractions(X))))
 
 
 def _transients(temperature_C: np.ndarray) -> tuple[int, int]:

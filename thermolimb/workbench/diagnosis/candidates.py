@@ -99,7 +99,7 @@ class Candidate:
     settled_plausible: bool | None = None  # a replicate's: whether the whole log's refit of this change was plausible
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
-    unexcited: str | None = None  # the channel it rides on does not move enough to judge it: why
+    unexcited: str | None = None  # why not judged: the channel it rides on barely moves, or the effort cannot pin it
     units: tuple[int, int] | None = None  # held-out units (runs, blocks) it lowers the error on, of how many
     unit_word: str = "parts"
     robust_improvement: float | None = None  # the held-out gain without its most influential samples

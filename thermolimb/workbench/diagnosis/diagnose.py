@@ -38,7 +38,7 @@ from ...util.frozen import FrozenMapping
 from ...util.parallel import with_one_blas_thread
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
-from ..submodel import identifiable_submodel
+from ..submodel import from_effort_alone, identifiable_submodel, within_levels
 from ..validation import FitReport, Scheme
 from .bringing import brought_start, not_brought
 from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
@@ -309,8 +309,14 @@ def _unexcited(cand: Candidate, base: FitReport) -> None:
     """A change that brings in an effect riding on a channel (velocity, current, a neighbour's temperature, a
     logged extra) is judged only where that channel moves, in the data it is fitted on and in the data it is
     judged on (:func:`~thermolimb.workbench.excitation.channel_excitation`); otherwise it is not judged, and says
-    why with the counts."""
+    why with the counts.  Nor is one bringing back heat from the effort alone that the log's effort cannot pin
+    beside the model's (:func:`~thermolimb.workbench.submodel.within_levels`: the bias on a step test)."""
     if cand.kind == "drop" or cand.confounded is not None:
+        return
+    aside: list = []  # a term of heat from the effort alone this log's effort cannot tell from the model's
+    if from_effort_alone(cand.effect) and cand.effect not in within_levels(cand.model, base.train_series, aside):
+        cand.unexcited = next(a["reason"] for a in aside if a["term"] == cand.effect)
+        cand.evidence = f"not judged: {cand.unexcited}."
         return
     channel = rides(cand.effect)
     if channel is None:
@@ -318,8 +324,8 @@ def _unexcited(cand: Candidate, base: FitReport) -> None:
     counts = channel_excitation(channel, base.train_series,
                                 [(seg.signals, seg.measured_C) for seg in base.validation_segments])
     if not counts.excited:
-        cand.unexcited = f"not judged: {counts.sentence()}"
-        cand.evidence = f"{cand.unexcited}."
+        cand.unexcited = counts.sentence()
+        cand.evidence = f"not judged: {cand.unexcited}."
 
 
 def rides(effect: str) -> str | None:
