@@ -18,6 +18,7 @@ same runs.
 
 ``--plant NETWORK:EFFECTS`` builds the plant's four runs on another network and with other hidden effects (the
 default, ``x8:speed_losses,winding_tempco``, is the table's), to try the walk on plants it was not tuned on.
+``--step-K 1`` reads the plant's thermistor in whole degrees, as many servos report it.
 ``--sources step``: plain bench step tests on that plant (:func:`thermolimb.plant.duties.step_test`: 18 min held
 at 1.5, 2.0 and 2.5 times the continuous effort, then released, at 2 Hz, and one at 2.0 that starts warm), the
 kind of log a lab writes first and the one with the least to tell a model.
@@ -31,7 +32,7 @@ from each other and Joule heating's (under a share of 0.1 for the bias, not the 
 ``--shares`` prints those alone.
 
     python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant,step] [--code DIR] [--loro]
-                                  [--plant NETWORK:EFFECTS] [--shares]
+                                  [--plant NETWORK:EFFECTS] [--step-K K] [--shares]
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ SOURCES = ("ur3", "wx200", "bldc", "pmsm", "plant", "step")
 STEPS = ((1.5, 0, 0.0), (2.0, 1, 0.0), (2.5, 2, 0.0), (2.0, 3, 600.0))  # load (x continuous), seed, warm-up s
 
 
-def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str, dict]:
+def write_runs(folder: Path, sources: list[str], plant: str = PLANT, step_K: float = 0.1) -> dict[str, dict]:
     """Each source's runs as canonical CSV files, one per run (all of the log's actuators in each, so that a
     model with the neighbours' heat has them): ``{source: {"actuators": [...], "runs": [paths]}}``."""
     from thermolimb.data import PMSM_MAP, PMSM_UNITS, REAL_LOGS, pmsm_profile
@@ -93,6 +94,7 @@ def write_runs(folder: Path, sources: list[str], plant: str = PLANT) -> dict[str
         out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
     network, _, hidden = plant.partition(":")  # the plant of the plant's duties and of its step tests
     fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
+    fx = fx.replace(quantisation=replace(fx.quantisation, step_K=step_K))  # the thermistor's steps
     if "plant" in sources:
         duties = [("random", 0), ("random", 1), ("walking", 2), ("squat", 3)]
         runs = [save(simulate_profile(profile, 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
@@ -221,6 +223,9 @@ def main(argv=None):
     parser.add_argument("--loro", action="store_true", help="also diagnose all runs but one (sources of 3+ runs)")
     parser.add_argument("--plant", default=PLANT, metavar="NETWORK:EFFECTS",
                         help=f"the plant's network and hidden effects (default {PLANT})")
+    parser.add_argument("--step-K", type=float, default=0.1, metavar="K",
+                        help="the plant's thermistor reads in steps of this many K (default 0.1; 1 as servos "
+                             "reporting whole degrees)")
     parser.add_argument("--shares", action="store_true",
                         help="only print each run's own shares of the offset and the bias (no walks)")
     parser.add_argument("--json", action="store_true", help="print the record last, on one line")
@@ -233,12 +238,14 @@ def main(argv=None):
     network, _, hidden = args.plant.partition(":")
     if network not in NETWORKS:
         parser.error(f"--plant {args.plant!r}: the network must be one of {', '.join(NETWORKS)}, before a colon")
+    if not (np.isfinite(args.step_K) and args.step_K > 0):
+        parser.error(f"--step-K {args.step_K:g}: the thermistor's step must be a positive number of kelvin")
     try:
         PlantEffects.from_names(hidden)
     except ValueError as exc:
         parser.error(f"--plant {args.plant!r}: {exc}")
     with tempfile.TemporaryDirectory() as folder:
-        sources = write_runs(Path(folder), args.sources.split(","), args.plant)
+        sources = write_runs(Path(folder), args.sources.split(","), args.plant, args.step_K)
         record = {"own_shares": own_shares(sources)} if args.shares else transfer(args.code, sources, args.loro)
     if args.json:
         print(json.dumps(record))

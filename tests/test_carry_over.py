@@ -374,7 +374,8 @@ def test_a_mass_alone_past_its_plausible_share_is_tried_as_two_masses():
 
 
 @pytest.mark.parametrize("args, said", [(["--sources", "ur3,foo"], "'foo' is no source; expected some of ur3"),
-                                        (["--plant", "x9:speed_losses"], "the network must be one of")])
+                                        (["--plant", "x9:speed_losses"], "the network must be one of"),
+                                        (["--step-K", "0"], "the thermistor's step must be a positive number")])
 def test_the_transfer_benchmark_refuses_a_source_or_plant_it_does_not_have(args, said):
     """Bad input to benchmarks/transfer.py: one sentence naming it and what is expected, exit 2, nothing run."""
     root = Path(__file__).resolve().parents[1]
