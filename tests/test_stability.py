@@ -260,3 +260,21 @@ def test_a_count_on_the_threshold_is_settled_by_a_second_batch():
     assert f"taken in {round(20 * c.selection_frequency)} of 20 replicates" in c.evidence.lower()
     assert "10 more, as the first 10 left the best change within one replicate of its share" in c.evidence
     assert (d.recommended is c) == (c.selection_frequency >= 0.9)
+
+
+def test_a_replicate_whose_base_sets_a_term_aside_takes_no_change_built_on_it():
+    """A replicate refits the whole log's model on its perturbed copy, and that fit may set aside a term the copy
+    cannot identify; a contender built on the whole log's model (the term in it) is then another change, and the
+    replicate takes none of it. It raised a ValueError from inside the worker (a walk on the plant's walking duty
+    whose replicate's base lost speed losses)."""
+    from thermolimb.logs import from_frame
+    from thermolimb.workbench.diagnosis.candidates import Candidate
+
+    log = simulate_profile("pulses", 1800.0, 1.0, list(CASE_NAMES[:2]), list(CASE_SPECS[:2]),
+                           PlantEffects.realistic_sensor(), seed=4, network=NETWORKS["second_order"]).log
+    frame = log.frame.copy()
+    frame["velocity"] = 0.0  # motion cooling cannot be identified: the base fit sets it aside
+    still = from_frame(frame).series("knee")
+    assert validate_model([still], "joule,motion_cooling", reduce=True).model.terms == ("joule",)
+    contender = Candidate("second_node", ("joule", "motion_cooling", "second_node"))
+    assert replicate([still], ("joule", "motion_cooling"), Search(), None, [contender.spec()], [{}]) is None

@@ -192,8 +192,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         if search.discover:
             candidates += _channel_candidates(model, train, series + list(scheme.held_out))
         candidates = [c for c in candidates if c.label not in step.skip and frozenset(c.model) not in step.visited]
-    else:
-        candidates = list(step.contenders)
+    else:  # a contender built on a term this replicate's base set aside is not the same change here: none takes it
+        candidates = [c for c in step.contenders if set(c.model) <= {*model, c.effect, *c.brings}]
     for cand in candidates:
         guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
         _unexcited(cand, base)
