@@ -233,6 +233,38 @@ def test_effort_that_varies_only_as_its_square_sets_the_bias_aside_and_the_model
         assert not any(a.get("term") for a in reduced.set_aside)
 
 
+def test_a_bias_that_carries_the_effort_s_heat_on_efforts_of_one_sign_is_implausible():
+    """The plant's walking duty read in whole degrees (a thermistor like a servo's): a third mass beside the second
+    helps on held-out data, but its fit hands all of the effort's heat to the bias (Joule heating all but vanishes).
+    The walk's efforts hold one sign (4-9 N m), so the log cannot show that such a model cools the joint wherever
+    another duty pushes the other way (``benchmarks/transfer.py --step-K 1``: the walk's model missed the other duties
+    by 55.4 K, against 34.1 K for Jorgensen et al.'s; 15.9 K with this rule).  It is implausible, said why, and
+    dropping the bias is a change that helps.  On efforts of both signs the log shows what the bias does."""
+    from thermolimb.effects.effort_bias import carries_the_heat
+    from thermolimb.effects.readings import Quantisation
+
+    fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+    fx = fx.replace(quantisation=Quantisation(step_K=1.0))
+
+    def duty(profile, seed):
+        return simulate_profile(profile, 7200.0, 1.0, list(CASE_NAMES), list(CASE_SPECS), fx, seed=seed,
+                                network=NETWORKS["x8"], load_scale=1.5).log.series("knee")
+
+    walk = duty("walking", 2)
+    d = diagnose([walk], model="joule,effort_bias,second_node", stability=None)
+    by = {c.label: c for c in d.candidates}
+    third = by["+ third_node"]
+    assert third.helps and third.status == "implausible" and not third.eligible
+    assert "the effort bias carries the effort's heat" in third.implausible_because
+    assert third.report.model.params["betaR_K_per_effort2"] < 1e-6
+    assert by["- effort_bias"].eligible
+    heat_from_bias = {"beta_biasR_K_per_effort": -10.0, "betaR_K_per_effort2": 0.0}
+    assert carries_the_heat(heat_from_bias, [walk], walk.units) is not None
+    assert carries_the_heat(heat_from_bias, [duty("random", 0)], walk.units) is None  # both signs: not judged so
+    # a bias that moves the least Joule heat within the efforts held is an offset of the torque-current map
+    assert carries_the_heat({"beta_biasR_K_per_effort": 1.0, "betaR_K_per_effort2": 0.2}, [walk], walk.units) is None
+
+
 def test_heat_from_current_or_effort_is_chosen_on_held_out_data():
     """The PMSM bench logs torque and current: heat from current squared wins on held-out data, and says so."""
     log = read_log(pmsm_profile(46), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)

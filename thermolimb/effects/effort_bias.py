@@ -28,6 +28,32 @@ class EffortBiasTerm(LinearTerm):
         return -s.effort
 
 
+MIN_RISE_K = 0.5  # a bias whose rise at the largest effort is smaller than this carries no heat worth judging
+
+
+def carries_the_heat(p, series, units) -> str | None:
+    """Why a bias fitted beside Joule heating on ``series`` is implausible, or ``None``: the current makes ``effort -
+    bias`` (Jorgensen et al., Eq. 2), so the Joule heat is least at the effort ``beta_biasR / (2 betaR)``; where a
+    log's efforts hold one sign (1st to 99th percentile) and that lies beyond the largest of them, the bias is no
+    offset of the torque-current map but carries the heat itself, and would cool the joint wherever another duty
+    pushes the other way, which the log cannot show (``benchmarks/transfer.py --step-K 1``, fitted on the walking
+    duty).  A log with efforts of both signs shows what the bias does at each, and is left to its held-out error
+    (UR3 J5's wrist, whose bias rightly exceeds its ±0.3 N m)."""
+    if "beta_biasR_K_per_effort" not in p or "betaR_K_per_effort2" not in p or not series:
+        return None
+    bias, joule = p["beta_biasR_K_per_effort"], p["betaR_K_per_effort2"]
+    low, high = np.percentile(np.concatenate([s.signals.effort for s in series]), [1, 99])
+    largest = max(abs(low), abs(high))
+    if low < 0.0 < high or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
+        return None  # efforts of both signs show what the bias does at each; a small bias, or one within them
+    unit = (units or {}).get("effort", "")
+    said = f"the effort bias carries the effort's heat ({abs(bias) * largest:.3g} K at {largest:.3g} {unit}".rstrip()
+    where = (f": Joule heating would be least at {bias / (2.0 * joule):.3g} {unit}".rstrip() + ", beyond the efforts "
+             "the log holds, so" if 2.0 * joule * 100.0 * largest > abs(bias) else
+             f", and Joule heating all but vanishes (betaR = {joule:.2g}):")
+    return f"{said}, the log's largest effort){where} the model would cool the joint at efforts of the other sign"
+
+
 @dataclass(frozen=True)
 class EffortBias(PlantEffect):
     """Series-elastic bias: the motor current makes ``effort - bias_effort`` (Jorgensen et al., Eq. 2)."""

@@ -14,10 +14,9 @@ candidate has explained its share.  When nothing is left (``S_c_perp ~ 0``)
 the effect is *confounded* on this log with what the model already has (speed
 losses at constant speed look like an offset) and is named so, not refitted.
 
-Time scales.  An effect's time constants (parameters in seconds: a second
-mass, a sensor lag) are scanned over the time scales the log can show, from a
-few samples to half its length; the score keeps the best, and the refit starts
-from the best few of them.
+Time scales.  An effect's time constants (parameters in seconds: a second mass, a sensor lag) are scanned over the
+time scales the log can show, from a few samples to half its length; the score keeps the best, and the refit
+starts from the best few of them.
 
 Refit.  Each candidate worth it is then fitted for real (output error) and
 validated on held-out data like the base model: validation RMSE, improvement,
@@ -31,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...effects.effort_bias import carries_the_heat
 from ...identification.metrics import ar1_variance_factor, information_criteria, scaled_inverse
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
@@ -417,8 +417,9 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
     if cand.kind == "drop":
         cand.identifiable = cand.plausible = True
         return
-    terms, params = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params
-    cand.implausible_because = next(filter(None, (implausibility(t(), params, report.channel_units) for t in terms)), None)
+    terms, params, units = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params, report.channel_units
+    cand.implausible_because = next(filter(None, [*(implausibility(t(), params, units) for t in terms),
+                                                  carries_the_heat(params, report.train_series, units)]), None)
     cand.params.update({p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
                         for term in terms for p in term.parameters})
     cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
