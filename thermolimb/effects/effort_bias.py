@@ -47,11 +47,17 @@ def carries_the_heat(p, series, units) -> str | None:
     if low < 0.0 < high or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
         return None  # efforts of both signs show what the bias does at each; a small bias, or one within them
     unit = (units or {}).get("effort", "")
-    said = f"the effort bias carries the effort's heat ({abs(bias) * largest:.3g} K at {largest:.3g} {unit}".rstrip()
-    where = (f": Joule heating would be least at {bias / (2.0 * joule):.3g} {unit}".rstrip() + ", beyond the efforts "
-             "the log holds, so" if 2.0 * joule * 100.0 * largest > abs(bias) else
-             f", and Joule heating all but vanishes (betaR = {joule:.2g}):")
-    return f"{said}, the log's largest effort){where} the model would cool the joint at efforts of the other sign"
+
+    def effort(value: float) -> str:
+        return f"{value:.3g} {unit}".rstrip()
+
+    if 2.0 * joule * 100.0 * largest > abs(bias):
+        least = effort(bias / (2.0 * joule))
+        where = f": Joule heating would be least at {least}, beyond the efforts the log holds, so"
+    else:
+        where = f", and Joule heating all but vanishes (betaR = {joule:.2g}):"
+    return (f"the effort bias carries the effort's heat ({abs(bias) * largest:.3g} K at {effort(largest)}, the log's "
+            f"largest effort){where} the model would cool the joint at efforts of the other sign")
 
 
 @dataclass(frozen=True)

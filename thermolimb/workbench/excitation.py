@@ -59,15 +59,16 @@ def effort_levels(series) -> int:
     return int(np.sum(counts >= LEVEL_SHARE * efforts.size))
 
 
-def own_shares(series, terms: Sequence[str]) -> dict[str, float]:
+def own_shares(series, terms: Sequence[str]) -> dict[str, float] | None:
     """Of the offset's constant and of each of ``terms``' regressors over every run of ``series``, the share that
     the others do not account for (:func:`~thermolimb.identification.regression.independent_fractions`; 1: its
     own, 0: a combination of the others', as the effort on two levels makes the effort bias's of Joule heating's
-    and the constant): a fit tells a coefficient apart from the others' only by that share."""
-    def column(name):
-        return np.concatenate([instance(name).features(s.signals, s.temperature_C)[:, 0] for s in series])
-
-    columns = [column(t) for t in terms]
+    and the constant): a fit tells a coefficient apart from the others' only by that share.  ``None`` when a term
+    has no regressor (a form not linear in its parameters)."""
+    parts = [[instance(t).features(s.signals, s.temperature_C) for s in series] for t in terms]
+    if any(f is None for part in parts for f in part):
+        return None
+    columns = [np.concatenate([f[:, 0] for f in part]) for part in parts]
     X = np.column_stack([np.ones_like(columns[0]), *columns])
     return dict(zip(("T_offset_C", *terms), map(float, independent_fractions(X))))
 

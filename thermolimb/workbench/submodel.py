@@ -10,7 +10,6 @@ import numpy as np
 
 from ..identification import IdentifiabilityError
 from ..logs import ActuatorSeries, LogError
-from ..model.guard import instance
 from ..model.model import model_parameters
 from ..model.terms import TERMS
 from .excitation import effort_levels, own_shares
@@ -110,10 +109,8 @@ def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], asid
         model = tuple(t for t in model if t != term)
     for term in [t for t in reversed(alone) if t != primary and t in model]:
         rest = [t for t in alone if t in model]
-        if any(instance(t).features(series[0].signals, series[0].temperature_C) is None for t in rest):
-            continue
         shares = own_shares(series, rest)
-        if shares[term] < OWN_SHARE <= shares["T_offset_C"]:
+        if shares is not None and shares[term] < OWN_SHARE <= shares["T_offset_C"]:
             others = ", ".join(f"{t}'s" for t in rest if t != term)
             aside.append({"term": term, "reason": f"this log's effort moves the input of {term} almost only as it "
                           f"moves {others} and the offset's: {100 * shares[term]:.1f} % of its variation is its own, "
