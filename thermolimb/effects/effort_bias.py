@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.parameter_units import NOT_GIVEN
 from ..model.terms import LinearTerm, Parameter, register_term
 from .base import Effect, Hidden, PlantEffect, register
 
@@ -37,8 +38,9 @@ def carries_the_heat(p, series, units) -> str | None:
     log's efforts hold one sign (1st to 99th percentile) and that lies beyond the largest of them, the bias is no
     offset of the torque-current map but carries the heat itself, and would cool the joint wherever another duty
     pushes the other way, which the log cannot show (``benchmarks/transfer.py --step-K 1``, fitted on the walking
-    duty).  A log with efforts of both signs shows what the bias does at each, and is left to its held-out error
-    (UR3 J5's wrist, whose bias rightly exceeds its ±0.3 N m)."""
+    duty); a change is judged so only where its base's bias did not carry the heat already (``candidates.judge``).
+    A log with efforts of both signs shows what the bias does at each, and is left to its held-out error (UR3 J5's
+    wrist, whose bias rightly exceeds its ±0.3 N m)."""
     if "beta_biasR_K_per_effort" not in p or "betaR_K_per_effort2" not in p or not series:
         return None
     bias, joule = p["beta_biasR_K_per_effort"], p["betaR_K_per_effort2"]
@@ -49,7 +51,7 @@ def carries_the_heat(p, series, units) -> str | None:
     unit = (units or {}).get("effort", "")
 
     def effort(value: float) -> str:
-        return f"{value:.3g} {unit}".rstrip()
+        return f"{value:.3g} {unit}" if unit and unit != NOT_GIVEN else f"{value:.3g} (effort: {NOT_GIVEN})"
 
     if 2.0 * joule * 100.0 * largest > abs(bias):
         least = effort(bias / (2.0 * joule))

@@ -15,12 +15,11 @@ the effect is *confounded* on this log with what the model already has (speed
 losses at constant speed look like an offset) and is named so, not refitted.
 
 Time scales.  An effect's time constants (parameters in seconds: a second mass, a sensor lag) are scanned over the
-time scales the log can show, from a few samples to half its length; the score keeps the best, and the refit
-starts from the best few of them.
+time scales the log can show, from a few samples to half its length; the score keeps the best, and the refit starts
+from the best few of them.
 
-Refit.  Each candidate worth it is then fitted for real (output error) and
-validated on held-out data like the base model: validation RMSE, improvement,
-``delta_bic`` on the training residual, fitted values with uncertainty,
+Refit.  Each candidate worth it is then fitted for real (output error) and validated on held-out data like the base
+model: validation RMSE, improvement, ``delta_bic`` on the training residual, fitted values with uncertainty,
 plausibility, identifiability and, when the refit fails, why.
 """
 
@@ -418,8 +417,9 @@ def judge(cand: Candidate, report, base, base_bic: float) -> None:
         cand.identifiable = cand.plausible = True
         return
     terms, params, units = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params, report.channel_units
-    cand.implausible_because = next(filter(None, [*(implausibility(t(), params, units) for t in terms),
-                                                  carries_the_heat(params, report.train_series, units)]), None)
+    handed = (carries_the_heat(params, report.train_series, units)  # this change, not its base, gives the bias the heat
+              if not carries_the_heat(base.model.params, base.train_series, units) else None)
+    cand.implausible_because = next(filter(None, [*(implausibility(t(), params, units) for t in terms), handed]), None)
     cand.params.update({p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
                         for term in terms for p in term.parameters})
     cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
