@@ -263,6 +263,12 @@ def test_a_bias_that_carries_the_effort_s_heat_on_efforts_of_one_sign_is_implaus
     assert carries_the_heat(heat_from_bias, [duty("random", 0)], walk.units) is None  # both signs: not judged so
     # a bias that moves the least Joule heat within the efforts held is an offset of the torque-current map
     assert carries_the_heat({"beta_biasR_K_per_effort": 1.0, "betaR_K_per_effort2": 0.2}, [walk], walk.units) is None
+    # a step test rests at 2 % of its load with 1 % noise: the 1st percentile falls either side of zero by the seed,
+    # and the noise of an effort at rest does not make a log of both signs
+    spec = replace(CASE_SPECS[0], network=NETWORKS["x8"])
+    steps = [duties.step_test(spec, fx, 2.0, seed).series("knee") for seed in range(4)]
+    assert {bool(np.percentile(s.signals.effort, 1) < 0.0) for s in steps} == {True, False}
+    assert all(carries_the_heat(heat_from_bias, [s], s.units) is not None for s in steps)
 
 
 def test_heat_from_current_or_effort_is_chosen_on_held_out_data():

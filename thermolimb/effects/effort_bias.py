@@ -30,6 +30,8 @@ class EffortBiasTerm(LinearTerm):
 
 
 MIN_RISE_K = 0.5  # a bias whose rise at the largest effort is smaller than this carries no heat worth judging
+BOTH_SIGNS = 0.05  # efforts hold both signs when the lesser side reaches this share of the largest (at rest an
+# effort reads noise about zero: the bundled step tests' 1st percentiles are -0.011 to +0.004 N m of 12-20)
 
 
 def carries_the_heat(p, series, units) -> str | None:
@@ -39,14 +41,15 @@ def carries_the_heat(p, series, units) -> str | None:
     offset of the torque-current map but carries the heat itself, and would cool the joint wherever another duty
     pushes the other way, which the log cannot show (``benchmarks/transfer.py --step-K 1``, fitted on the walking
     duty); a change is judged so only where its base's bias did not carry the heat already (``candidates.judge``).
-    A log with efforts of both signs shows what the bias does at each, and is left to its held-out error (UR3 J5's
-    wrist, whose bias rightly exceeds its ±0.3 N m)."""
+    A log with efforts of both signs (each side reaching ``BOTH_SIGNS`` of the largest, so that the noise of an effort
+    at rest does not count) shows what the bias does at each, and is left to its held-out error (UR3 J5's wrist,
+    whose bias rightly exceeds its ±0.3 N m)."""
     if "beta_biasR_K_per_effort" not in p or "betaR_K_per_effort2" not in p or not series:
         return None
     bias, joule = p["beta_biasR_K_per_effort"], p["betaR_K_per_effort2"]
     low, high = np.percentile(np.concatenate([s.signals.effort for s in series]), [1, 99])
     largest = max(abs(low), abs(high))
-    if low < 0.0 < high or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
+    if min(-low, high) >= BOTH_SIGNS * largest or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
         return None  # efforts of both signs show what the bias does at each; a small bias, or one within them
     unit = (units or {}).get("effort", "")
 
