@@ -142,7 +142,24 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     assert mapping["temperature"] == "Temp [C]"  # a time column named after the temperature is not a temperature
     short = ["stamp", "tau_Nm", "motor_temp", "battery_level", "travel_mm", "joint_vel"]  # short names, whole words
     mapping, notes = suggest_table_mapping(short, dict.fromkeys(short, 5))
-    assert mapping == {"time": "stamp", "temperature": "motor_temp", "effort": "tau_Nm", "velocity": "joint_vel"}
+    assert mapping == {"time": "stamp", "temperature": "motor_temp", "effort": "tau_Nm:Nm", "velocity": "joint_vel"}
+    assert notes == ["effort=tau_Nm: its name ends in a unit, so the suggestion states it (Nm); change it if the name "
+                     "means otherwise"]
+    # a driver's log: the motor's thermistor beside its FETs', units at the ends of the names
+    odrive = ["timestamp_ns", "axis0.motor.motor_thermistor.temperature", "axis0.motor.fet_thermistor.temperature",
+              "Iq_measured_A", "vel_estimate_rpm", "bus_voltage"]
+    mapping, notes = suggest_table_mapping(odrive, dict.fromkeys(odrive, 5))
+    assert mapping == {"time": "timestamp_ns", "temperature": "axis0.motor.motor_thermistor.temperature",
+                       "effort": "Iq_measured_A:A", "velocity": "vel_estimate_rpm:rpm"}
+    assert "axis0.motor.fet_thermistor.temperature its electronics" in notes[0]
+    # two temperatures that do not say which is the motor's are left to the user
+    plain = ["t", "temp_1st", "temp_2nd", "torque"]
+    mapping, notes = suggest_table_mapping(plain, dict.fromkeys(plain, 5))
+    assert "temperature" not in mapping and any("several columns could be it" in n for n in notes)
+    path = tmp_path / "driver.csv"
+    pd.DataFrame({"time": np.arange(20.0), "tau_Nm": np.ones(20), "motor_temp": np.full(20, 30.0)}).to_csv(path)
+    log = read_log(path, mapping=parse_mapping("time=time,effort=tau_Nm:Nm,temperature=motor_temp"))
+    assert log.series(log.actuators[0]).units["effort"] == "Nm"
     inside = ["stamp", "joint1_effort", "joint1_temp", "joint2_effort", "joint2_temp", "joint1_vel", "joint2_vel"]
     mapping, notes = suggest_table_mapping(inside, dict.fromkeys(inside, 5))  # the joint's number inside the name
     assert mapping == {"time": "stamp", "temperature": "joint{j}_temp", "effort": "joint{j}_effort",

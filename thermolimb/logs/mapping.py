@@ -21,6 +21,7 @@ from typing import Mapping
 
 from ..util.errors import LogError
 from .table import shown_names
+from .units import header_unit
 
 REQUIRED = ("time", "actuator", "effort", "temperature")
 OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
@@ -127,6 +128,15 @@ CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
                  ("effort", ("torque", "effort"), ("tau", "nm", "load")), ("current", ("current",), ("amps", "iq")),
                  ("power", ("power",), ()), ("velocity", ("velocity", "speed"), ("vel", "omega", "qd", "dq", "rpm")),
                  ("ambient", ("ambient",), ()))
+# a unit a column's name ends in (``tau_Nm``, ``speed_rpm``, ``current_A``), by channel: the suggestion states it
+NAMED_UNITS = {"effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"}, "current": {"a": "A", "ma": "mA", "amps": "A"},
+               "velocity": {"rpm": "rpm", "rad_s": "rad/s", "rads": "rad/s", "deg_s": "deg/s", "dps": "deg/s",
+                            "m_s": "m/s"},
+               "power": {"w": "W", "mw": "mW", "kw": "kW"}}
+# words that name a motor's temperature, and words that name its electronics' (a driver's FETs, a board)
+MOTOR_WORDS = ("motor", "winding", "stator", "coil")
+ELECTRONICS_WORDS = ("fet", "mosfet", "driver", "board", "pcb", "mcu", "cpu", "inverter", "esc", "controller",
+                     "heatsink", "igbt")
 _JOINT_COLUMN = re.compile(r"^(?P<stem>.*?)(?P<j>\d+)$")
 _JOINT_INSIDE = re.compile(r"^(?P<stem>\D+)(?P<j>\d+)(?P<rest>\D+)$")  # one number, inside the name
 
@@ -166,6 +176,14 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                 mapping[channel] = single[0]
                 used.add(single[0])
                 break
+            motor = _the_motor_s(single) if channel == "temperature" else None
+            if motor is not None:
+                mapping[channel] = motor
+                used.add(motor)
+                others = ", ".join(c for c in single if c != motor)
+                reasons.append(f"temperature: {motor} names the motor, {others} its electronics; those are left to "
+                               f"diagnose --discover as extra channels")
+                break
             if len(single) > 1:
                 reasons.append(f"{channel}: several columns could be it ({', '.join(single[:4])}); name one")
                 break
@@ -175,10 +193,37 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     if "effort" not in mapping and "power" in mapping:
         mapping["effort"] = mapping["power"]
         reasons.append("no torque or effort column: the electrical power stands for effort")
+    for channel, column in list(mapping.items()):
+        unit = named_unit(channel, column)
+        if unit is not None:
+            mapping[channel] = f"{column}:{unit}"
+            reasons.append(f"{channel}={column}: its name ends in a unit, so the suggestion states it ({unit}); "
+                           f"change it if the name means otherwise")
     missing = [c for c in ("time", "effort", "temperature") if c not in mapping]
     if missing:
         reasons.append(f"no column found for {', '.join(missing)}")
     return mapping, reasons
+
+
+def named_unit(channel: str, column: str) -> str | None:
+    """The unit a column's name ends in, where its header gives none and the unit fits the channel
+    (``tau_Nm`` -> ``Nm`` for effort, ``wheel_speed_rad_s`` -> ``rad/s`` for velocity), else ``None``."""
+    if header_unit(column) is not None:
+        return None
+    words, table = re.split(r"[^a-z0-9]+", str(column).lower()), NAMED_UNITS.get(channel, {})
+    return next((table[key] for n in (2, 1) for key in ["_".join(words[-n:])] if len(words) > n and key in table),
+                None)
+
+
+def _the_motor_s(columns: list[str]) -> str | None:
+    """Of several temperature columns, the one whose name says the motor's where every other says the
+    electronics' (``motor_thermistor`` beside ``fet_thermistor``), else ``None``."""
+    def says(words, name):
+        return any(says_whole(w, name) for w in words)
+
+    motor = [c for c in columns if says(MOTOR_WORDS, c) and not says(ELECTRONICS_WORDS, c)]
+    rest = [c for c in columns if c not in motor]
+    return motor[0] if len(motor) == 1 and all(says(ELECTRONICS_WORDS, c) for c in rest) else None
 
 
 def _says_within(word: str, name: str) -> bool:

@@ -28,7 +28,7 @@ from typing import ClassVar, Mapping
 import numpy as np
 
 from ..util.errors import ModelSpecError
-from .parameter_units import render
+from .parameter_units import render, spaced
 from .signals import Signals
 
 LONG_TIME_CONSTANT = 3.0  # a time constant longer than this many run durations is extrapolated, not seen
@@ -134,7 +134,8 @@ class Term:
         """
         for par in self.parameters:
             if par.plausible and not (par.plausible[0] <= p[par.name] <= par.plausible[1]):
-                return f"{par.name} = {p[par.name]:.3g} {par.unit_in(units)} is outside {par.plausible[0]:g}..{par.plausible[1]:g}"
+                return (f"{par.name} = {p[par.name]:.3g}{spaced(par.unit_in(units))} is outside "
+                        f"{par.plausible[0]:g}..{par.plausible[1]:g}")
         return None
 
     def features(self, s: Signals, temperature_C: np.ndarray) -> np.ndarray | None:
