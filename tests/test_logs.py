@@ -156,6 +156,20 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     plain = ["t", "temp_1st", "temp_2nd", "torque"]
     mapping, notes = suggest_table_mapping(plain, dict.fromkeys(plain, 5))
     assert "temperature" not in mapping and any("several columns could be it" in n for n in notes)
+    # per-joint columns whose names share a first word (motor_temp_0 beside motor_current_0), and a PlotJuggler
+    # export (__time, /joint_states/effort.0): each channel its own pattern; a column named t is the time
+    grouped = ["t", "motor_temp_0", "motor_temp_1", "motor_current_0", "motor_current_1", "joint_pos_0", "joint_pos_1"]
+    mapping, _ = suggest_table_mapping(grouped, dict.fromkeys(grouped, 5))
+    assert mapping == {"time": "t", "temperature": "motor_temp_{j}", "effort": "motor_current_{j}"}
+    plotjuggler = ["__time", "/joint_states/effort.0", "/joint_states/effort.1", "/joint_states/velocity.0",
+                   "/joint_states/velocity.1", "/temps/data.0", "/temps/data.1"]
+    mapping, notes = suggest_table_mapping(plotjuggler, dict.fromkeys(plotjuggler, 5))
+    assert mapping == {"time": "__time", "temperature": "/temps/data.{j}", "effort": "/joint_states/effort.{j}",
+                       "velocity": "/joint_states/velocity.{j}"} and not notes
+    path = tmp_path / "plotjuggler.csv"
+    frame = pd.DataFrame({c: np.arange(20.0) if c == "__time" else np.full(20, 30.0) for c in plotjuggler})
+    frame.to_csv(path, index=False)
+    assert read_log(path, mapping=mapping).actuators == ("J0", "J1")
     path = tmp_path / "driver.csv"
     pd.DataFrame({"time": np.arange(20.0), "tau_Nm": np.ones(20), "motor_temp": np.full(20, 30.0)}).to_csv(path)
     log = read_log(path, mapping=parse_mapping("time=time,effort=tau_Nm:Nm,temperature=motor_temp"))

@@ -187,6 +187,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
             if len(single) > 1:
                 reasons.append(f"{channel}: several columns could be it ({', '.join(single[:4])}); name one")
                 break
+    if "time" not in mapping and sum(n.strip().lower() == "t" for n in names) == 1:  # a column named t alone
+        mapping["time"] = next(n for n in names if n.strip().lower() == "t")
     if "effort" not in mapping and "current" in mapping:
         mapping["effort"] = mapping.pop("current")
         reasons.append("no torque or effort column: the motor current stands for effort")
@@ -236,8 +238,10 @@ def says_whole(word: str, name: str) -> bool:
 
 
 def _word(stem: str) -> str:
-    """The name part that says what a per-joint column holds (``Temperature_T`` -> ``Temperature``)."""
-    return re.split(r"[_\s\-]", stem.strip())[0] or stem
+    """The name part that says what a per-joint column holds, without the joint's label (``Temperature_T`` ->
+    ``Temperature``, ``motor_temp_`` -> ``motor_temp``, ``/joint_states/effort.`` -> ``/joint_states/effort``)."""
+    core = re.sub(r"[\s._\-\[(]+$", "", stem.strip())
+    return re.sub(r"[\s._\-]+[A-Za-z]$", "", core) or stem
 
 
 def _pattern(names: list[str]) -> str:
