@@ -170,6 +170,12 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     frame = pd.DataFrame({c: np.arange(20.0) if c == "__time" else np.full(20, 30.0) for c in plotjuggler})
     frame.to_csv(path, index=False)
     assert read_log(path, mapping=mapping).actuators == ("J0", "J1")
+    named = ["__time", "/joint_states/hip/effort", "/joint_states/knee/effort", "/joint_states/hip/velocity",
+             "/joint_states/knee/velocity", "/motor_temperature/hip", "/motor_temperature/knee"]
+    mapping, notes = suggest_table_mapping(named, dict.fromkeys(named, 5))  # joints named, not numbered: one a map
+    assert mapping == {"time": "__time", "temperature": "/motor_temperature/hip", "effort": "/joint_states/hip/effort",
+                       "velocity": "/joint_states/hip/velocity"}
+    assert notes[0].startswith("the columns name their joints (hip, knee) rather than number them: this map reads hip")
     path = tmp_path / "driver.csv"
     pd.DataFrame({"time": np.arange(20.0), "tau_Nm": np.ones(20), "motor_temp": np.full(20, 30.0)}).to_csv(path)
     log = read_log(path, mapping=parse_mapping("time=time,effort=tau_Nm:Nm,temperature=motor_temp"))

@@ -161,7 +161,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         elif inside:  # joint1_effort, motor_2_temp: the name around the number says what the column holds
             joint_groups.setdefault(f"{inside.group('stem')}{JOINT}{inside.group('rest')}", []).append(
                 (name, int(inside.group("j"))))
-    mapping, reasons, used = {}, [], set()
+    mapping, reasons, used, several = {}, [], set(), {}
     grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
     for channel, words, whole in CHANNEL_WORDS:
         for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
@@ -185,8 +185,17 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                                f"diagnose --discover as extra channels")
                 break
             if len(single) > 1:
-                reasons.append(f"{channel}: several columns could be it ({', '.join(single[:4])}); name one")
+                several[channel] = single
                 break
+    named = _named_joints(several)
+    if named is not None and "temperature" not in mapping and ("effort" in named[0] or "current" in named[0]):
+        mapping.update(named[0])
+        reasons.append(f"the columns name their joints ({', '.join(named[1])}) rather than number them: this map "
+                       f"reads {named[1][0]} (--actuator {named[1][0]} names it); another joint takes a map of its "
+                       f"own columns")
+        several = {k: v for k, v in several.items() if k not in named[0]}
+    reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
+                for channel, cols in several.items()]
     if "time" not in mapping and sum(n.strip().lower() == "t" for n in names) == 1:  # a column named t alone
         mapping["time"] = next(n for n in names if n.strip().lower() == "t")
     if "effort" not in mapping and "current" in mapping:
@@ -215,6 +224,23 @@ def named_unit(channel: str, column: str) -> str | None:
     words, table = re.split(r"[^a-z0-9]+", str(column).lower()), NAMED_UNITS.get(channel, {})
     return next((table[key] for n in (2, 1) for key in ["_".join(words[-n:])] if len(words) > n and key in table),
                 None)
+
+
+def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str]] | None:
+    """Where a channel's several columns differ by one word, a joint's name (``/joint_states/hip/effort`` beside
+    ``/joint_states/knee/effort``), and the temperature's columns name the same joints: the first joint's column of
+    each such channel, and the joints' names in the temperature's order; else ``None``."""
+    def by_joint(columns):
+        words = [re.split(r"[^A-Za-z0-9]+", c) for c in columns]
+        common = set.intersection(*(set(w) for w in words))
+        own = [[w for w in ws if w and w not in common] for ws in words]
+        return {o[0]: c for o, c in zip(own, columns) if len(o) == 1} if all(len(o) == 1 for o in own) else {}
+
+    joints = {channel: by_joint(cols) for channel, cols in several.items()}
+    order = [j for j in joints.get("temperature", {}) if any(j in v for k, v in joints.items() if k != "temperature")]
+    if not order:
+        return None
+    return {channel: cols[order[0]] for channel, cols in joints.items() if order[0] in cols}, order
 
 
 def _the_motor_s(columns: list[str]) -> str | None:
