@@ -188,6 +188,38 @@ def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
     assert cut.validation["rmse_K"] < 2.0 * whole.validation["rmse_K"]
 
 
+def test_held_out_blocks_hold_a_step_test_s_release_and_the_walk_finds_the_housing_that_carries_over():
+    """A step test has one step of its input after its first block, its release; blocks 2, 5, 8 of 10 held it
+    20 s before a held block's end, so whether the housing's heat was judged hung on the replicates' moving the
+    grid (+ second mass taken in 5 of 10, nothing recommended; ``benchmarks/transfer.py --sources step``). The grid
+    is moved so that a held-out block holds the release in its middle half, and says so; the walk then takes the
+    plant's two slow masses in every replicate, and its model predicts step tests at other loads better than
+    Joule heating alone.  A grid whose held-out blocks hold a step already is kept."""
+    from thermolimb.workbench.diagnosis import auto_diagnose
+    from thermolimb.workbench.diagnosis.split_or_blocks import input_steps, judging_scheme, placed
+    from thermolimb.workbench.diagnosis.stability import Stability
+
+    spec = replace(CASE_SPECS[0], network=NETWORKS["x8"])
+    fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses,winding_tempco")
+    fitted = duties.step_test(spec, fx, 1.5, 0).series("knee")
+    others = [duties.step_test(spec, fx, load, seed, warm_s).series("knee")
+              for load, seed, warm_s in ((2.0, 1, 0.0), (2.0, 3, 600.0))]
+    assert input_steps(fitted) == [pytest.approx(1080.0, abs=1.0)]
+    scheme = judging_scheme(Scheme(), [fitted])
+    assert scheme.kind == INTERLEAVED and 0.2 < scheme.phase < 0.6  # the release in a held block's middle half
+    assert "held-out ones hold 1 of the effort's 1 step(s) (at 1080 s) in their middle half" in scheme.describe()
+    first, steps = auto_diagnose([fitted], stability=Stability())
+    walked = steps[-1].model
+    assert {"second_node", "third_node"} <= set(walked), [s.model for s in steps]
+    assert first.recommended.selection_frequency >= 0.8
+    default = validate_model([fitted], DEFAULT_MODEL, Scheme.on_runs(others), reduce=True)
+    walk = validate_model([fitted], walked, Scheme.on_runs(others), reduce=True)
+    assert walk.validation["rmse_K"] < 0.9 * default.validation["rmse_K"]
+    duty = simulate_profile("random", 1800.0, 1.0, list(CASE_NAMES[:1]), list(CASE_SPECS[:1]), fx, seed=0).log
+    moved = placed(Scheme(INTERLEAVED), [duty.series("knee")])  # a grid that holds a step is kept where it is
+    assert moved.phase != 0.0 and placed(moved, [duty.series("knee")]) == moved
+
+
 def test_effort_at_two_levels_sets_the_bias_aside_and_the_model_carries_over():
     """Fitted on one step test (the X8's three masses, 18 min held, then released, at 2 Hz; copper's coefficient
     hidden), the default model loses its bias: the two levels pin the offset and one heat

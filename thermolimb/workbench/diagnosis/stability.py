@@ -111,7 +111,7 @@ class Perturbation:
     held_trims: tuple[tuple[int, int], ...]
     split: float
     start_seed: int
-    phase: float = 0.0  # of an interleaved scheme's block grid, in blocks
+    phase: float = 0.0  # how far an interleaved scheme's block grid moves from where it stands, in blocks
 
     def trimmed(self, series, trims) -> list[ActuatorSeries]:
         return [s.slice(a, s.n - b) for s, (a, b) in zip(series, trims)]
@@ -119,7 +119,7 @@ class Perturbation:
     def applied(self, series, scheme):
         """The replicate's runs and scheme: each run trimmed, held-out runs too, the split or the blocks moved."""
         held = self.trimmed(scheme.held_out, self.held_trims)
-        return self.trimmed(series, self.trims), replace(scheme, split=self.split, phase=self.phase,
+        return self.trimmed(series, self.trims), replace(scheme, split=self.split, phase=scheme.phase + self.phase,
                                                          held_out=tuple(held))
 
     def jitter(self, starts: list[dict]) -> list[dict]:
