@@ -194,7 +194,8 @@ def test_held_out_blocks_hold_a_step_test_s_release_and_the_walk_finds_the_housi
     grid (+ second mass taken in 5 of 10, nothing recommended; ``benchmarks/transfer.py --sources step``). The grid
     is moved so that a held-out block holds the release in its middle half, and says so; the walk then takes the
     plant's two slow masses in every replicate, and its model predicts step tests at other loads better than
-    Joule heating alone.  A grid whose held-out blocks hold a step already is kept."""
+    Joule heating alone.  A grid whose held-out blocks hold a step already is kept.  A step test that logs no
+    current is judged on the same blocks: the split's tail holds its effort still."""
     from thermolimb.workbench.diagnosis import auto_diagnose
     from thermolimb.workbench.diagnosis.split_or_blocks import input_steps, judging_scheme, placed
     from thermolimb.workbench.diagnosis.stability import Stability
@@ -208,6 +209,14 @@ def test_held_out_blocks_hold_a_step_test_s_release_and_the_walk_finds_the_housi
     scheme = judging_scheme(Scheme(), [fitted])
     assert scheme.kind == INTERLEAVED and 0.2 < scheme.phase < 0.6  # the release in a held block's middle half
     assert "held-out ones hold 1 of the effort's 1 step(s) (at 1080 s) in their middle half" in scheme.describe()
+    # logged without its current, the split's tail holds the effort still (the joint cooled at rest): the same
+    # blocks, for that reason, where the split judged on six readings of a joint at rest
+    from thermolimb.logs import from_frame
+
+    plain = from_frame(duties.step_test(spec, fx, 1.5, 0).frame.drop(columns=["current"])).series("knee")
+    assert not plain.signals.has("current")
+    bare = judging_scheme(Scheme(), [plain])
+    assert bare.phase == scheme.phase and "whose last 30 % holds the effort still: its square spans" in bare.describe()
     first, steps = auto_diagnose([fitted], stability=Stability())
     walked = steps[-1].model
     assert {"second_node", "third_node"} <= set(walked), [s.model for s in steps]

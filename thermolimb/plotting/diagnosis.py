@@ -27,8 +27,8 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
     overlay(d.base, top, err)
     v = d.base.validation
     top.set_title(f"{d.actuator}: measured temperature and the free run of the model, {readable(','.join(d.model))}\n"
-                  f"validation (shaded) RMSE {v['rmse_K']:.3f} K, largest error {v['max_abs_K']:.3f} K; {d.base.scheme}",
-                  fontsize=10)
+                  + textwrap.fill(f"validation (shaded) RMSE {v['rmse_K']:.3f} K, largest error {v['max_abs_K']:.3f} K; "
+                                  f"{d.base.scheme}", 140), fontsize=10)
     err.set_title("residual: where the model fails", fontsize=9)
     err.set_xlabel("time (s; runs one after another)")
     ac = fig.add_subplot(grid[2, 0])
