@@ -216,7 +216,8 @@ def test_held_out_blocks_hold_a_step_test_s_release_and_the_walk_finds_the_housi
     plain = from_frame(duties.step_test(spec, fx, 1.5, 0).frame.drop(columns=["current"])).series("knee")
     assert not plain.signals.has("current")
     bare = judging_scheme(Scheme(), [plain])
-    assert bare.phase == scheme.phase and "whose last 30 % holds the effort still: its square spans" in bare.describe()
+    assert bare.phase == scheme.phase and "last 30 % holds the heat input still: the effort's square spans" in \
+        bare.describe()
     first, steps = auto_diagnose([fitted], stability=Stability())
     walked = steps[-1].model
     assert {"second_node", "third_node"} <= set(walked), [s.model for s in steps]

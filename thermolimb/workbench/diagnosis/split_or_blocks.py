@@ -1,4 +1,4 @@
-"""The scheme a diagnosis judges one run by: the split, unless its held-out tail leaves a channel or the effort still.
+"""The scheme a diagnosis judges one run by: the split, unless its held-out tail leaves a channel or the heat still.
 
 On one run the default scheme is the split (fit on the first 70 %, judge on the rest; why, in
 :mod:`~thermolimb.workbench.validation`).  A change that rides on a channel (velocity, current, a neighbour's
@@ -9,9 +9,9 @@ is judged instead on interleaved blocks, whose held-out blocks span the run, whe
 movement; the scheme line says why.  Measured on ``benchmarks/stability.py``'s pump logs (a pump's duty scaling
 the conductance, 2 h at 1 Hz, ``--discover``): under the split, nothing taken (the pump "not judged": its duty is
 away from its usual level in 23 of the 2160 samples judged on, in one bout); on the blocks, ``+ pump_conductance``.
-A run whose tail holds the effort itself still (a step test cooled to rest, PMSM profile 24's last stretch at one
-torque) is judged on the blocks too (:func:`still_tail`), and the blocks are placed where a held-out one holds a
-step of the heat input (:func:`placed`).
+A run whose tail holds the heat input still (a step test cooled to rest, PMSM profile 24's last stretch at one
+torque and one current) is judged on the blocks too (:func:`still_tail`), and the blocks are placed where a
+held-out one holds a step of the heat input (:func:`placed`).
 """
 
 from __future__ import annotations
@@ -55,27 +55,33 @@ def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
             return placed(replace(blocked, why=why), series)
     still = still_tail(series, resolved.split)
     if still is not None:
-        why = f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % holds the effort still: {still}"
+        tail = f"{100 * (1 - resolved.split):.0f} %"
+        why = f"chosen over the split, whose last {tail} holds the heat input still: {still}"
         return placed(replace(blocked, why=why), series)
     return resolved
 
 
 def still_tail(series, split: float) -> str | None:
     """Why the split's tail of every run holds the heat input still while the rest of the run moves it, or ``None``:
-    the effort squared spans under :data:`STILL_SHARE` of the run's span there (1st to 99th percentile).  A tail
-    at rest after a step test's release shows no dynamics for a change to be judged on: a step test that logs no
-    current (``benchmarks/transfer.py``'s hold at 1.5, its current column left out) was judged on its last 30 %,
-    six distinct readings of a joint cooled to rest, where two slow masses "did not help" (0.940 against 0.418 K)."""
-    spans = []
+    the effort squared, and the current squared where the log has it, span under :data:`STILL_SHARE` of the run's
+    span there (1st to 99th percentile).  A tail at rest after a step test's release shows no dynamics for a change
+    to be judged on: a step test that logs no current (``benchmarks/transfer.py``'s hold at 1.5, its current column
+    left out) was judged on its last 30 %, six distinct readings of a joint cooled to rest, where two slow masses
+    "did not help" (0.940 against 0.418 K)."""
+    spans = {}
     for s in series:
-        x = np.asarray(s.signals.effort, dtype=float) ** 2
         cut = int(np.searchsorted(s.time_s, s.time_s[0] + split * (s.time_s[-1] - s.time_s[0])))
-        whole, tail = np.ptp(np.percentile(x, [1, 99])), np.ptp(np.percentile(x[cut:], [1, 99])) if cut < x.size else 0
-        if whole <= 0.0 or tail >= STILL_SHARE * whole:
-            return None
-        spans.append(tail / whole)
-    return (f"its square spans {100 * max(spans):.1g} % of the run's there{'' if len(spans) == 1 else ' at most'}, "
-            f"so no step of its heat is held out to judge a change on")
+        for channel in ("effort", "current"):
+            if channel == "current" and not s.signals.has("current"):
+                continue
+            x = np.asarray(s.signals.channel(channel), dtype=float) ** 2
+            whole = np.ptp(np.percentile(x, [1, 99]))
+            tail = np.ptp(np.percentile(x[cut:], [1, 99])) if cut < x.size else 0.0
+            if whole <= 0.0 or tail >= STILL_SHARE * whole:
+                return None
+            spans[channel] = max(spans.get(channel, 0.0), tail / whole)
+    said = " and ".join(f"the {c}'s square spans {100 * v:.1g} %" for c, v in spans.items())
+    return f"{said} of the run's there, so no step of the heat input is held out to judge a change on"
 
 
 def placed(scheme: Scheme, series) -> Scheme:
