@@ -4,8 +4,9 @@ For each log (UR3 joints with every column kept, the WidowX-200 waist's two
 runs and its ROS 1 bag, the BLDC bench's two runs, the PMSM bench's
 profiles 24 and 46 with every column), per actuator:
 
-* the walk from Jorgensen et al.'s model on each run's own split, without and with
-  ``--discover``: the final validation RMSE and what discovery added;
+* the walk from Jorgensen et al.'s model on each run alone, judged by its default scheme (the split, or
+  interleaved blocks where the split's tail leaves a channel or the heat still: said in the row), without and
+  with ``--discover``: the final validation RMSE and what discovery added;
 * where there are several runs, leave one run out: fit on one, validate on
   the other (``--validate-on``), with ``--discover``; a channel or discovered
   term taken on one run is shown with its effect on the other.
@@ -46,7 +47,7 @@ def _walk(series, validate_on=(), discover=False) -> dict:
     return {"base_K": first.auto[0]["rmse_K"], "final_K": first.auto[-1]["rmse_K"], "model": list(steps[-1].model),
             "generated": _generated(steps[-1].model), "walk": [s.get("change", "start") for s in first.auto],
             "proposals": [d.proposal.formula for d in steps if d.proposal is not None],
-            "seconds": time.perf_counter() - start}
+            "judged": first.base.scheme.split(";")[0].split(":")[0], "seconds": time.perf_counter() - start}
 
 
 def _runs() -> dict[str, dict[str, list]]:
@@ -95,7 +96,8 @@ def main(argv=None) -> dict:
             extras = list(runs[0].signals.extra)
             for k, run in enumerate(runs):
                 catalog, found = _walk([run]), _walk([run], discover=True)
-                rows.append(_row(log, actuator, f"run {k + 1}, 70/30 split", extras, catalog, found))
+                judged = "70/30 split" if found.get("judged", "").startswith("fit on the first") else "blocks"
+                rows.append(_row(log, actuator, f"run {k + 1}, {judged}", extras, catalog, found))
             for k, run in enumerate(runs if len(runs) > 1 else []):
                 other = [r for j, r in enumerate(runs) if j != k]
                 catalog, found = _walk([run], other), _walk([run], other, discover=True)

@@ -73,6 +73,21 @@ def test_an_effect_whose_channel_barely_moves_is_not_judged(step_test):
     assert counts.fitted[:2] == (2, step_test.n) and not counts.excited
 
 
+def test_an_effect_whose_channel_holds_one_level_is_not_judged():
+    """PMSM profile 24 spins at 576 rad/s throughout but its first five samples: cut there, as a colleague trimming
+    the recording would, motion cooling fitted at one speed as a second conductance and was taken in 9 of 10
+    replicates (``benchmarks/stability.py``), where the whole log takes nothing of it.  A channel away from rest at
+    one level is no evidence for a change that rides on it, on the whole log and on the cut alike."""
+    log = read_log(pmsm_profile(24), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
+    whole = log.series("pmsm")
+    for series in (whole, whole.slice(5, whole.n - 4)):
+        d = diagnose([series], model="current_heating,second_node")
+        cand = next(c for c in d.candidates if c.effect == "motion_cooling")
+        assert cand.status == "not judged" and "but at one level (576 in magnitude" in cand.evidence, cand.evidence
+    counts = channel_excitation("velocity", [whole], [])
+    assert counts.level == pytest.approx(576.0, rel=0.01) and not counts.excited
+
+
 def test_a_gain_that_rests_on_a_few_samples_is_not_evidence():
     """Held-out residuals that a change cuts in three samples only: the gain is there, pooled, and gone without
     them."""

@@ -136,7 +136,7 @@ def test_discovery_demo_names_the_brake_and_writes_a_term_file(quick_runs):
 def test_real_pmsm_data_points_to_current_heating(quick_runs):
     summary = quick(quick_runs, "pmsm-real-data")
     for name, entry in summary["profiles"].items():
-        waterfall = entry["split"]["waterfall"]  # from the default start, narrowed to what the torque's levels pin:
+        waterfall = entry["default"]["waterfall"]  # from the default start, narrowed to what the torque's levels pin:
         # profile 24 holds it at two (rest and 64 N m), which cannot tell Joule heating from the effort bias
         assert waterfall[0]["model"] == (["joule"] if name == "profile24" else ["joule", "effort_bias"]), name
         # the current's heat is taken, or shown as the change that helps but is not stable enough to take
@@ -145,7 +145,9 @@ def test_real_pmsm_data_points_to_current_heating(quick_runs):
         assert ("current_heating" in last["model"] and "joule" not in last["model"]) or \
             "current_heating" in last.get("unstable", {}).get("change", ""), name
         assert last["rmse_K"] < 0.5 * waterfall[0]["rmse_K"], name
-    assert "speed_losses" in summary["profiles"]["profile46"]["split"]["waterfall"][-1]["model"]
+    assert "speed_losses" in summary["profiles"]["profile46"]["default"]["waterfall"][-1]["model"]
+    # profile 24's last 30 % holds one torque and one current: judged on blocks, one holding its release
+    assert "holds the heat input still" in summary["profiles"]["profile24"]["default"]["scheme"]
     cv = summary["profiles"]["profile24"]["cv4"]["waterfall"]
     assert "current_heating" in cv[-1]["model"] and cv[-1]["rmse_K"] < 0.5 * cv[0]["rmse_K"]
 

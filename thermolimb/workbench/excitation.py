@@ -119,6 +119,7 @@ class ChannelExcitation:
     channel: str
     fitted: tuple[int, int, int]  # samples away from rest, samples, bouts
     judged: tuple[int, int, int]
+    level: float | None = None  # an input away from rest at one level only (|value|): no variation to learn from
 
     @staticmethod
     def enough(away: int, n: int, bouts: int) -> bool:
@@ -126,7 +127,7 @@ class ChannelExcitation:
 
     @property
     def excited(self) -> bool:
-        return self.enough(*self.fitted) and self.enough(*self.judged)
+        return self.enough(*self.fitted) and self.enough(*self.judged) and self.level is None
 
     def sentence(self) -> str:
         """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319 judged
@@ -134,6 +135,10 @@ class ChannelExcitation:
         words = CHANNEL_WORDS.get(self.channel, f"the channel {self.channel.removeprefix('extra.')} is away from "
                                                 f"its usual level")
         (a1, n1, b1), (a2, n2, b2) = self.fitted, self.judged
+        if self.level is not None and self.enough(*self.fitted) and self.enough(*self.judged):
+            return (f"{words} in {a1 + a2} of {n1 + n2} samples, but at one level ({self.level:.4g} in magnitude, "
+                    f"within {100 * AWAY:g} % of its largest): a change riding on it acts as a constant there, which "
+                    f"the model's own terms already are; it needs the channel at two or more levels")
         return (f"{words} in {a1 + a2} of {n1 + n2} samples ({a1} of {n1} fitted on, in {b1} bout{'s' * (b1 != 1)}; "
                 f"{a2} of {n2} judged on, in {b2} bout{'s' * (b2 != 1)}); at least {MIN_EXCITED} (and "
                 f"{100 * MIN_EXCITED_SHARE:g} %) in two bouts are needed in each")
@@ -159,7 +164,22 @@ def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
             away, n = away + int(np.count_nonzero(on)), n + n_part
             bouts += int(np.count_nonzero(np.diff(np.r_[0, on.astype(np.int8)]) == 1))
         counts.append((away, n, bouts))
-    return ChannelExcitation(channel, counts[0], counts[1])
+    return ChannelExcitation(channel, counts[0], counts[1], _one_level(channel, values, scale))
+
+
+def _one_level(channel: str, moved: list[np.ndarray], scale: float) -> float | None:
+    """The level an input holds wherever it is away from rest, when its 5th to 95th percentiles there lie within the
+    rest threshold of each other (PMSM profile 24 spins at 576 rad/s throughout but its first five samples; cut by a
+    few rows at its start, motion cooling fitted there as a second conductance and was taken in 9 of 10
+    replicates, ``benchmarks/stability.py``); else ``None``.  Temperatures and extra channels are left to their
+    counts."""
+    if channel in ("neighbors", "ambient", "housing") or channel.startswith("extra.") or not np.isfinite(scale):
+        return None
+    on = np.concatenate([x[x > scale] for x in moved]) if moved else np.zeros(0)
+    if on.size == 0:
+        return None
+    low, high = np.percentile(on, [5, 95])
+    return float(np.median(on)) if high - low <= scale else None
 
 
 def _moved(channel: str, parts) -> list[np.ndarray]:
