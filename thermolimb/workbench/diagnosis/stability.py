@@ -22,7 +22,14 @@ each perturbed in ways that must not matter:
 * **other starts**: every contender's refit starts from its fitted values
   scaled by factors drawn from a log-normal of :data:`START_JITTER` (the
   profile search of :mod:`.refit` should make them irrelevant; this checks
-  it); the base model starts where the full search left it.
+  it); the base model starts where the full search left it.  The check
+  earns its cost (about 30 % of a replicate's time): on the UR3's J4, both
+  parts, ``- effort_bias`` wins 4.49 -> 3.17 K held out, and a replicate
+  refitted from the unscaled values keeps 3.31 K, but from scaled ones its
+  held-out runs' fits end elsewhere (4.50 K) with the same fit on all the data
+  to four digits: taken in 3 of 10, unstable.  Without the scaling it was
+  taken in 10 of 10 on the log and on every perturbed copy
+  (docs/measurements.md).
 
 In each replicate the search runs as in the full diagnosis on the changes
 that contend -- every change the full search refitted that was eligible or
