@@ -149,9 +149,22 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     odrive = ["timestamp_ns", "axis0.motor.motor_thermistor.temperature", "axis0.motor.fet_thermistor.temperature",
               "Iq_measured_A", "vel_estimate_rpm", "bus_voltage"]
     mapping, notes = suggest_table_mapping(odrive, dict.fromkeys(odrive, 5))
-    assert mapping == {"time": "timestamp_ns", "temperature": "axis0.motor.motor_thermistor.temperature",
+    assert mapping == {"time": "timestamp_ns:ns", "temperature": "axis0.motor.motor_thermistor.temperature",
                        "effort": "Iq_measured_A:A", "velocity": "vel_estimate_rpm:rpm"}
     assert "axis0.motor.fet_thermistor.temperature its electronics" in notes[0]
+    # a driver's logger: a joint's number joined to each word (motor1_temp beside fet1_temp), time in ms
+    logger = ["timestamp_ms", "motor1_current_mA", "motor1_temp_degC", "fet1_temp_degC", "motor1_velocity_rpm"]
+    mapping, notes = suggest_table_mapping(logger, dict.fromkeys(logger, 5))
+    assert mapping == {"time": "timestamp_ms:ms", "temperature": "motor1_temp_degC", "effort": "motor1_current_mA:mA",
+                       "velocity": "motor1_velocity_rpm:rpm"}
+    for columns, scale in ((logger, 1e3), (odrive, 1e9)):  # the stated unit read: 100 s, not 100,000 or 1e11
+        mapping, _ = suggest_table_mapping(columns, dict.fromkeys(columns, 5))
+        path = tmp_path / f"{columns[0]}.csv"
+        pd.DataFrame({c: (1.0 + np.arange(21.0) * 5.0) * scale if c == columns[0] else np.full(21, 30.0 + len(c))
+                      for c in columns}).to_csv(path, index=False)
+        log = read_log(path, mapping=mapping)
+        run = log.series(log.actuators[0])
+        assert run.duration_s == pytest.approx(100.0), columns[0]
     # two temperatures that do not say which is the motor's are left to the user
     plain = ["t", "temp_1st", "temp_2nd", "torque"]
     mapping, notes = suggest_table_mapping(plain, dict.fromkeys(plain, 5))

@@ -132,7 +132,8 @@ CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
 NAMED_UNITS = {"effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"}, "current": {"a": "A", "ma": "mA", "amps": "A"},
                "velocity": {"rpm": "rpm", "rad_s": "rad/s", "rads": "rad/s", "deg_s": "deg/s", "dps": "deg/s",
                             "m_s": "m/s"},
-               "power": {"w": "W", "mw": "mW", "kw": "kW"}}
+               "power": {"w": "W", "mw": "mW", "kw": "kW"},
+               "time": {"ms": "ms", "us": "us", "ns": "ns", "min": "min"}}  # seconds need no saying
 # words that name a motor's temperature, and words that name its electronics' (a driver's FETs, a board)
 MOTOR_WORDS = ("motor", "winding", "stator", "coil")
 ELECTRONICS_WORDS = ("fet", "mosfet", "driver", "board", "pcb", "mcu", "cpu", "inverter", "esc", "controller",
@@ -246,8 +247,8 @@ def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[s
 def _the_motor_s(columns: list[str]) -> str | None:
     """Of several temperature columns, the one whose name says the motor's where every other says the
     electronics' (``motor_thermistor`` beside ``fet_thermistor``), else ``None``."""
-    def says(words, name):
-        return any(says_whole(w, name) for w in words)
+    def says(words, name):  # a joint's number joined to the word counts (motor1_temp beside fet1_temp)
+        return bool(set(words) & set(re.findall(r"[a-z]+", name.lower())))
 
     motor = [c for c in columns if says(MOTOR_WORDS, c) and not says(ELECTRONICS_WORDS, c)]
     rest = [c for c in columns if c not in motor]

@@ -14,7 +14,7 @@ from ..util.lazy import pandas as pd
 from .mapping import OPTIONAL, REQUIRED, TIME_OF, UNITS
 from .units import CELSIUS, FAHRENHEIT, SCALED, canonical_headers, header_unit
 
-TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "min": 60.0, "h": 3600.0}
+TIME_SCALES = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0}
 # Numbers that are the seconds since 1970 of a day in 2000-2099: a time column counting milliseconds,
 # microseconds or nanoseconds since 1970 reads 1e3, 1e6 or 1e9 times as much.
 EPOCH_S = (9.46e8, 4.1e9)
