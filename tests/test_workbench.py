@@ -144,6 +144,23 @@ def test_flags_name_vanishing_terms_far_offsets_and_unseen_time_constants(step_t
     assert "T_offset_C = 200.0 degC is" in flags
 
 
+def test_a_large_relative_error_on_a_log_that_holds_what_it_needs_is_a_small_effect_s():
+    """The README tour's log holds 14 effort levels and 6 transients each way: a bias of 0.0005 +- 0.0004 K/(N m)
+    there is an effect too small to tell from none, not a want of three effort levels.  With its efforts made one-signed,
+    a bias is not told apart so, and the want is said as before; a time constant is never called a small effect."""
+    log = plant_log("random", 3600.0, 1.0, effects=["speed_losses"]).series("knee")
+    model = ThermalModel(("joule", "effort_bias"), {"RC_s": 60.0, "betaR_K_per_effort2": 0.2,
+                                                    "beta_biasR_K_per_effort": 0.0005, "T_offset_C": 25.0})
+    stderr = {"beta_biasR_K_per_effort": 0.0004, "RC_s": 40.0}
+    flags = parameter_flags(model, stderr, [log])
+    bias = next(f for f in flags if f.startswith("beta_biasR"))
+    assert "too small an effect for this log to tell from none" in bias and "effort levels" in bias
+    assert "so the log does not pin it down" in next(f for f in flags if f.startswith("RC_s"))
+    one_signed = replace(log, signals=replace(log.signals, effort=np.abs(log.signals.effort)))
+    bias = next(f for f in parameter_flags(model, stderr, [one_signed]) if f.startswith("beta_biasR"))
+    assert "so the log does not pin it down (identifying it needs effort held at three" in bias
+
+
 def test_the_readings_behind_a_flag_are_each_log_s_own_and_not_held():
     """The excitation and floor a flag's sentence cites are kept per log for the next fit of it, by weak reference:
     a second log gets its own, and a log no longer used is freed."""

@@ -47,9 +47,8 @@ def carries_the_heat(p, series, units) -> str | None:
     if "beta_biasR_K_per_effort" not in p or "betaR_K_per_effort2" not in p or not series:
         return None
     bias, joule = p["beta_biasR_K_per_effort"], p["betaR_K_per_effort2"]
-    low, high = np.percentile(np.concatenate([s.signals.effort for s in series]), [1, 99])
-    largest = max(abs(low), abs(high))
-    if min(-low, high) >= BOTH_SIGNS * largest or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
+    both, largest = both_signs(series)
+    if both or abs(bias) * largest < MIN_RISE_K or abs(bias) <= 2.0 * joule * largest:
         return None  # efforts of both signs show what the bias does at each; a small bias, or one within them
     unit = (units or {}).get("effort", "")
 
@@ -63,6 +62,14 @@ def carries_the_heat(p, series, units) -> str | None:
         where = f", and Joule heating all but vanishes (betaR = {joule:.2g}):"
     return (f"the effort bias carries the effort's heat ({abs(bias) * largest:.3g} K at {effort(largest)}, the log's "
             f"largest effort){where} the model would cool the joint at efforts of the other sign")
+
+
+def both_signs(series) -> tuple[bool, float]:
+    """Whether the efforts of ``series`` hold both signs (1st and 99th percentiles each side of zero, the lesser
+    reaching ``BOTH_SIGNS`` of the larger), and the larger's magnitude."""
+    low, high = np.percentile(np.concatenate([s.signals.effort for s in series]), [1, 99])
+    largest = max(abs(low), abs(high))
+    return bool(min(-low, high) >= BOTH_SIGNS * largest), float(largest)
 
 
 @dataclass(frozen=True)
