@@ -147,7 +147,8 @@ def test_flags_name_vanishing_terms_far_offsets_and_unseen_time_constants(step_t
 def test_a_large_relative_error_on_a_log_that_holds_what_it_needs_is_a_small_effect_s():
     """The README tour's log holds 14 effort levels and 6 transients each way: a bias of 0.0005 +- 0.0004 K/(N m)
     there is an effect too small to tell from none, not a want of three effort levels.  With its efforts made one-signed,
-    a bias is not told apart so, and the want is said as before; a time constant is never called a small effect."""
+    a bias is not told apart so, and the want is said as before; a time constant is never called a small effect.  A
+    value whose estimate moves with another's (|correlation| of 0.95 or more) names it."""
     log = plant_log("random", 3600.0, 1.0, effects=["speed_losses"]).series("knee")
     model = ThermalModel(("joule", "effort_bias"), {"RC_s": 60.0, "betaR_K_per_effort2": 0.2,
                                                     "beta_biasR_K_per_effort": 0.0005, "T_offset_C": 25.0})
@@ -156,6 +157,15 @@ def test_a_large_relative_error_on_a_log_that_holds_what_it_needs_is_a_small_eff
     bias = next(f for f in flags if f.startswith("beta_biasR"))
     assert "too small an effect for this log to tell from none" in bias and "effort levels" in bias
     assert "so the log does not pin it down" in next(f for f in flags if f.startswith("RC_s"))
+    # two estimates that move together: the flag names the partner, from the fit's covariance
+    names = [q.name for q in model.parameters]
+    sd = np.array([stderr.get(n, 0.1) for n in names])
+    corr = np.eye(len(names))
+    i, j = names.index("RC_s"), names.index("betaR_K_per_effort2")
+    corr[i, j] = corr[j, i] = -0.98
+    flags = parameter_flags(model, stderr, [log], covariance=corr * np.outer(sd, sd))
+    assert "it trades with betaR_K_per_effort2 (correlation -0.980)" in next(f for f in flags if f.startswith("RC_s"))
+    assert "too small an effect" in next(f for f in flags if f.startswith("beta_biasR"))  # its own partner is none
     one_signed = replace(log, signals=replace(log.signals, effort=np.abs(log.signals.effort)))
     bias = next(f for f in parameter_flags(model, stderr, [one_signed]) if f.startswith("beta_biasR"))
     assert "so the log does not pin it down (identifying it needs effort held at three" in bias

@@ -26,18 +26,21 @@ from .excitation import excitation
 from .floor import FLOOR_FACTOR, sensor_floor
 
 SHORT_TIME_CONSTANT = 0.5  # a time constant shorter than this many sampling intervals is not seen
+TRADES = 0.95  # a value this correlated with another's estimate (in magnitude) trades with it
 # the first-order model's heat coefficients, whose needs the excitation's counts measure (a value of 0: no such heat)
 FIRST_ORDER_COEFFICIENTS = ("betaR_K_per_effort2", "beta_biasR_K_per_effort")
 MAX_RELATIVE_STDERR = 0.5  # a value known to worse than half of itself is flagged
 
 
 def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Sequence[ActuatorSeries],
-                    held: Sequence[str] = (), train_rmse_K: float | None = None) -> list[str]:
+                    held: Sequence[str] = (), train_rmse_K: float | None = None,
+                    covariance: np.ndarray | None = None) -> list[str]:
     """One sentence per fitted value that looks like an artefact of the log rather than physics (values
     ``held``, not fitted, are the user's or the ambient's and are not judged).  A value the log does not pin
-    down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``)."""
+    down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``; the parameter it trades
+    with, from the fit's ``covariance`` over ``model.parameters``)."""
     flags = []
-    cause = _Cause(series, train_rmse_K)
+    cause = _Cause(series, train_rmse_K, _partners(model, covariance, held))
     units = series[0].units if series else {}
     duration = max(s.duration_s for s in series)
     dt = min(s.median_dt_s for s in series)
@@ -96,8 +99,9 @@ def unread():
 class _Cause:
     """Why standard errors are large, worked out once per fit and only when one is (:func:`uncertainty_cause`)."""
 
-    def __init__(self, series, train_rmse_K):
+    def __init__(self, series, train_rmse_K, partners=None):
         self.series, self.train_rmse_K, self._said = series, train_rmse_K, None
+        self.partners = partners or {}
 
     def __call__(self, p) -> str:
         if _UNREAD[0]:
@@ -107,6 +111,10 @@ class _Cause:
         misfit, counts = self._said
         if misfit:
             return misfit
+        if p.name in self.partners:
+            other, r = self.partners[p.name]
+            return (f"so the log does not pin it down: it trades with {other} (correlation {r:+.3f}), the log "
+                    f"fixing a combination of the two rather than each")
         if self._excited(p):
             return (f"too small an effect for this log to tell from none, though the log holds what identifying it "
                     f"needs ({counts})")
@@ -120,6 +128,25 @@ class _Cause:
         if p.name not in FIRST_ORDER_COEFFICIENTS or not _readings(self.series)[0].ample:
             return False
         return p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0]
+
+
+def _partners(model: ThermalModel, covariance, held) -> dict[str, tuple[str, float]]:
+    """Each fitted parameter's most correlated other and their correlation, where its magnitude is at least
+    :data:`TRADES`."""
+    names = [p.name for p in model.parameters]
+    if covariance is None or np.shape(covariance) != (len(names), len(names)):
+        return {}
+    sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    free = (sd > 0) & np.array([n not in held for n in names])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        corr = np.where(np.outer(free, free), covariance / np.outer(sd, sd), 0.0)
+    np.fill_diagonal(corr, 0.0)
+    out = {}
+    for i, name in enumerate(names):
+        j = int(np.argmax(np.abs(corr[i])))
+        if free[i] and abs(corr[i, j]) >= TRADES:
+            out[name] = (names[j], float(corr[i, j]))
+    return out
 
 
 def uncertainty_cause(series, train_rmse_K: float | None) -> tuple[str | None, str]:

@@ -410,7 +410,8 @@ def validate_model(
         train=train_metrics, validation=_metrics(valid), train_segments=train, validation_segments=valid,
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
-                                    train_rmse_K=train_metrics["rmse_K"])),
+                                    train_rmse_K=train_metrics["rmse_K"],
+                                    covariance=getattr(final, "covariance_", None))),
         scheme=scheme.describe() + air_words(series, air_C) + moved_words(moved),
         units="runs" if scheme.kind in (RUNS, HELD_OUT) else "parts" if scheme.kind == PARTS else "blocks")
 
