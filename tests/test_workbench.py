@@ -171,6 +171,22 @@ def test_a_large_relative_error_on_a_log_that_holds_what_it_needs_is_a_small_eff
     assert "so the log does not pin it down (identifying it needs effort held at three" in bias
 
 
+def test_a_flag_on_a_log_that_lacks_a_count_says_which_and_names_a_partner():
+    """The BLDC bench's two heating runs (effort: the electrical power) hold twelve effort levels and no cooling
+    transient: the default model's time constant lacks the cooling, said so (it was once told that its coefficients
+    need three effort levels), and its Joule coefficient and bias trade with each other (+0.995)."""
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.workbench.excitation import Excitation
+
+    assert Excitation(2, 3, 0).lacking() == ["three effort levels (it holds 2)", "two cooling transients (it holds 0)"]
+    runs = [r for log in REAL_LOGS["bldc"].read() for r in log.runs(log.actuators[0])]
+    flags = diagnose(runs, stability=None).base.flags  # the default model, fitted as the diagnosis fits it
+    rc = next(f for f in flags if f.startswith("RC_s"))
+    assert rc.endswith("so the log does not pin it down: it lacks two cooling transients (it holds 0)")
+    joule = next(f for f in flags if f.startswith("betaR_K_per_effort2"))
+    assert "it trades with beta_biasR_K_per_effort (correlation +0.99" in joule and "effort levels" not in joule
+
+
 def test_the_readings_behind_a_flag_are_each_log_s_own_and_not_held():
     """The excitation and floor a flag's sentence cites are kept per log for the next fit of it, by weak reference:
     a second log gets its own, and a log no longer used is freed."""

@@ -33,6 +33,13 @@ class Excitation:
         return (self.effort_levels >= MIN_LEVELS and self.heating >= MIN_TRANSIENTS
                 and self.cooling >= MIN_TRANSIENTS)
 
+    def lacking(self) -> list[str]:
+        """What the log lacks of :attr:`ample`'s counts, in words (``two cooling transients (it holds 0)``)."""
+        wants = (("three effort levels", self.effort_levels, MIN_LEVELS),
+                 ("two heating transients", self.heating, MIN_TRANSIENTS),
+                 ("two cooling transients", self.cooling, MIN_TRANSIENTS))
+        return [f"{what} (it holds {held})" for what, held, least in wants if held < least]
+
     def words(self) -> str:
         levels = f"{self.effort_levels} effort level{'s' if self.effort_levels != 1 else ''}"
         transients = "transient" if self.cooling == 1 else "transients"

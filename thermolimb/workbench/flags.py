@@ -27,8 +27,8 @@ from .floor import FLOOR_FACTOR, sensor_floor
 
 SHORT_TIME_CONSTANT = 0.5  # a time constant shorter than this many sampling intervals is not seen
 TRADES = 0.95  # a value this correlated with another's estimate (in magnitude) trades with it
-# the first-order model's heat coefficients, whose needs the excitation's counts measure (a value of 0: no such heat)
-FIRST_ORDER_COEFFICIENTS = ("betaR_K_per_effort2", "beta_biasR_K_per_effort")
+# the first-order model's time constant and heat coefficients, whose needs the excitation's counts measure
+FIRST_ORDER = ("RC_s", "betaR_K_per_effort2", "beta_biasR_K_per_effort")
 MAX_RELATIVE_STDERR = 0.5  # a value known to worse than half of itself is flagged
 
 
@@ -60,8 +60,8 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
                 flags += [flag for flag in (_uncertain(p, v, stderr.get(p.name), units, cause),) if flag]
             continue
         if p.lower == 0.0 and v <= 1e-6 * scale and not p.nuisance:
-            flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term "
-                         f"(identifying it needs {p.excitation})")
+            flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term"
+                         f"{cause.wanting(p)}")
             continue
         at_bound = False
         for bound in (p.lower, p.upper):
@@ -115,19 +115,30 @@ class _Cause:
             other, r = self.partners[p.name]
             return (f"so the log does not pin it down: it trades with {other} (correlation {r:+.3f}), the log "
                     f"fixing a combination of the two rather than each")
-        if self._excited(p):
-            return (f"too small an effect for this log to tell from none, though the log holds what identifying it "
-                    f"needs ({counts})")
+        if p.name in FIRST_ORDER:  # the counts measure what these need: say what the log lacks of them, if anything
+            lacking = _readings(self.series)[0].lacking()
+            if lacking:
+                return f"so the log does not pin it down: it lacks {', '.join(lacking)}"
+            if self._small(p):
+                return (f"too small an effect for this log to tell from none, though the log holds what identifying "
+                        f"it needs ({counts})")
         return f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
 
-    def _excited(self, p) -> bool:
-        """Whether the log holds what the counts say a heat coefficient of the first-order model needs (three
-        effort levels and two transients each way; for the bias, efforts of both signs): its large relative error
-        is then a small value's (the README tour's bias after ``+ speed_losses``, 0.000477 +- 0.00035 K/(N m) on a
-        log of 14 effort levels, once said to need three), not the log's want."""
-        if p.name not in FIRST_ORDER_COEFFICIENTS or not _readings(self.series)[0].ample:
-            return False
-        return p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0]
+    def wanting(self, p) -> str:
+        """What identifying ``p`` needs, for a vanishing value's flag: for the first-order model's, what the log
+        lacks of it, or nothing where it holds it all (the BLDC bench's Joule coefficient on twelve effort levels was
+        told it needed three)."""
+        if p.name not in FIRST_ORDER or _UNREAD[0]:
+            return f" (identifying it needs {p.excitation})"
+        lacking = _readings(self.series)[0].lacking()
+        return f"; it lacks {', '.join(lacking)}" if lacking else ", though it holds what identifying it needs"
+
+    def _small(self, p) -> bool:
+        """Whether a heat coefficient of the first-order model on a log that holds what the counts say it needs
+        (for the bias, efforts of both signs too) is a small value: its large relative error is then not the log's
+        want (the README tour's bias after ``+ speed_losses``, 0.000477 +- 0.00035 K/(N m) on a log of 14 effort
+        levels, was once said to need three)."""
+        return p.name in FIRST_ORDER[1:] and (p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0])
 
 
 def _partners(model: ThermalModel, covariance, held) -> dict[str, tuple[str, float]]:
