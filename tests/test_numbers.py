@@ -5,7 +5,8 @@ import math
 from hypothesis import given
 from hypothesis import strategies as st
 
-from thermolimb.util.numbers import plus_minus, significant
+from thermolimb.util.numbers import places3, plus_minus, significant
+from thermolimb.workbench.floor import SensorFloor
 
 
 def test_a_standard_error_in_the_hundreds_is_written_out():
@@ -25,3 +26,10 @@ def test_significant_reads_back_as_the_value_to_its_digits(x, digits):
     assert math.isclose(back, x, rel_tol=10.0 ** (1 - digits), abs_tol=1e-300)
     if "e" in text:
         assert abs(back) >= 1e6 or back != round(back) or abs(back) < 1e-4
+
+
+def test_a_floor_under_a_thousandth_of_a_kelvin_is_not_written_as_none():
+    """A smooth thermistor's noise floor (0.00021 K) read "a 0.000 K noise floor" and "sensor's floor, 0.000 K"."""
+    assert places3(0.061) == "0.061" and places3(0.2894) == "0.289" and places3(0.0) == "0.000"
+    assert places3(0.00021) == "0.00021" and places3(0.0039) == "0.0039"
+    assert "against a 0.00021 K noise floor" in SensorFloor(0.0, 0.0, 0.00021).sentence(0.5)

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.terms import readable
+from ..util.numbers import places3
 from ..workbench.diagnosis.diagnose import Diagnosis
 from .fits import overlay, plot_comparison, plt, save
 
@@ -128,7 +129,7 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
         ax.text(i, v, f"{v:.3f} K", ha="center", va="bottom", fontsize=8)
     floor = steps[-1].get("floor_K")
     if floor:
-        ax.axhline(floor, color="0.4", ls="--", lw=0.8, label=f"sensor's floor, {floor:.3f} K")
+        ax.axhline(floor, color="0.4", ls="--", lw=0.8, label=f"sensor's floor, {places3(floor)} K")
         ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(np.arange(len(rmse)), labels, rotation=0, fontsize=7)
     ax.set_ylabel("validation RMSE (K)")

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..model.terms import readable
 from ..util.atomic import write_text
+from ..util.numbers import places3
 from .diagnosis import STATUS_COLOURS
 from .fits import run_offsets
 
@@ -149,7 +150,8 @@ def waterfall_figure(steps: list[dict], actuator: str):
                                                       for k in kinds], "width": 2}}))
     floor = steps[-1].get("floor_K")
     if floor:
-        fig.add_hline(y=floor, line_dash="dash", line_color="gray", annotation_text=f"sensor's floor, {floor:.3f} K")
+        fig.add_hline(y=floor, line_dash="dash", line_color="gray",
+                      annotation_text=f"sensor's floor, {places3(floor)} K")
     fig.update_layout(height=380, title=f"{actuator}: validation RMSE at each step of the search",
                       yaxis_title="validation RMSE (K)", margin={"t": 60, "b": 80})
     return fig

@@ -5,6 +5,12 @@ from __future__ import annotations
 import math
 
 
+def places3(x: float) -> str:
+    """``x`` to three decimal places (a temperature error in K), or to two significant figures where three places
+    would show too little of it (a sensor floor of 0.00021 K, not 0.000 K)."""
+    return f"{x:.3f}" if not 0.0 < abs(x) < 0.01 else significant(x, 2)
+
+
 def significant(x: float, digits: int = 2) -> str:
     """``x`` to ``digits`` significant figures as ``format(x, 'g')`` writes it, except that a number between
     ``10**digits`` and a million is written to the unit (``360``, where ``format(360.4, '.2g')`` gives

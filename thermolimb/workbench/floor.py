@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..util.numbers import places3
+
 FLOOR_FACTOR = 1.25  # a validation error within this of the floor (an excess error below 0.75 floors) is at it
 GRID_SHARE = 0.95  # readings on the same grid for it to be a quantisation step
 MAD_TO_SIGMA = 1.4826  # a normal distribution's standard deviation over its median absolute deviation
@@ -51,8 +53,9 @@ class SensorFloor:
         return self.floor_K > 0 and rmse_K <= FLOOR_FACTOR * self.floor_K
 
     def sentence(self, rmse_K: float) -> str:
-        what = (f"a {self.floor_K:.3f} K quantisation floor ({self.step_K:.3g} degC steps)" if self.kind == "quantisation"
-                else f"a {self.floor_K:.3f} K noise floor (the readings' sample-to-sample noise)")
+        floor = places3(self.floor_K)
+        what = (f"a {floor} K quantisation floor ({self.step_K:.3g} degC steps)" if self.kind == "quantisation"
+                else f"a {floor} K noise floor (the readings' sample-to-sample noise)")
         if self.reached(rmse_K):
             return f"validation RMSE {rmse_K:.3f} K against {what}: nothing more can be told apart here"
         return f"validation RMSE {rmse_K:.3f} K against {what}"
