@@ -28,7 +28,7 @@ def test_significant_reads_back_as_the_value_to_its_digits(x, digits):
         assert abs(back) >= 1e6 or back != round(back) or abs(back) < 1e-4
 
 
-def test_a_floor_under_a_thousandth_of_a_kelvin_is_not_written_as_none():
+def test_a_floor_under_a_hundredth_of_a_kelvin_is_not_written_as_none():
     """A smooth thermistor's noise floor (0.00021 K) read "a 0.000 K noise floor" and "sensor's floor, 0.000 K"."""
     assert places3(0.061) == "0.061" and places3(0.2894) == "0.289" and places3(0.0) == "0.000"
     assert places3(0.00021) == "0.00021" and places3(0.0039) == "0.0039"
