@@ -30,8 +30,7 @@ class Excitation:
     @property
     def ample(self) -> bool:
         """Enough of each for the first-order model's parameters (three levels pin RC, betaR and a bias)."""
-        return (self.effort_levels >= MIN_LEVELS and self.heating >= MIN_TRANSIENTS
-                and self.cooling >= MIN_TRANSIENTS)
+        return not self.lacking()
 
     def lacking(self) -> list[str]:
         """What the log lacks of :attr:`ample`'s counts, in words (``two cooling transients (it holds 0)``)."""

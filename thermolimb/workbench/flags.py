@@ -40,7 +40,7 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
     down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``; the parameter it trades
     with, from the fit's ``covariance`` over ``model.parameters``)."""
     flags = []
-    cause = _Cause(series, train_rmse_K, _partners(model, covariance, held))
+    cause = _Cause(series, train_rmse_K, model, covariance)
     units = series[0].units if series else {}
     duration = max(s.duration_s for s in series)
     dt = min(s.median_dt_s for s in series)
@@ -99,9 +99,9 @@ def unread():
 class _Cause:
     """Why standard errors are large, worked out once per fit and only when one is (:func:`uncertainty_cause`)."""
 
-    def __init__(self, series, train_rmse_K, partners=None):
+    def __init__(self, series, train_rmse_K, model=None, covariance=None):
         self.series, self.train_rmse_K, self._said = series, train_rmse_K, None
-        self.partners = partners or {}
+        self.model, self.covariance = model, covariance
 
     def __call__(self, p) -> str:
         if _UNREAD[0]:
@@ -111,53 +111,53 @@ class _Cause:
         misfit, counts = self._said
         if misfit:
             return misfit
-        if p.name in self.partners:
-            other, r = self.partners[p.name]
-            return (f"so the log does not pin it down: it trades with {other} (correlation {r:+.3f}), the log "
-                    f"fixing a combination of the two rather than each")
-        if p.name in FIRST_ORDER:  # the counts measure what these need: say what the log lacks of them, if anything
-            lacking = _readings(self.series)[0].lacking()
-            if lacking:
-                return f"so the log does not pin it down: it lacks {', '.join(lacking)}"
-            if self._small(p):
-                return (f"too small an effect for this log to tell from none, though the log holds what identifying "
-                        f"it needs ({counts})")
+        partner = _partner(self.model, self.covariance, p.name)
+        if partner is not None:
+            return (f"so the log does not pin it down: it trades with {partner[0]} (correlation {partner[1]:+.3f}), "
+                    f"the log fixing a combination of the two rather than each")
+        lacking = self._lacking(p)
+        if lacking:
+            return f"so the log does not pin it down: it lacks {', '.join(lacking)}"
+        if lacking is not None and self._small(p):
+            return (f"too small an effect for this log to tell from none, though the log holds what identifying "
+                    f"it needs ({counts})")
         return f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
 
     def wanting(self, p) -> str:
         """What identifying ``p`` needs, for a vanishing value's flag: for the first-order model's, what the log
         lacks of it, or nothing where it holds it all (the BLDC bench's Joule coefficient on twelve effort levels was
         told it needed three)."""
-        if p.name not in FIRST_ORDER or _UNREAD[0]:
+        lacking = None if _UNREAD[0] else self._lacking(p)
+        if lacking is None:
             return f" (identifying it needs {p.excitation})"
-        lacking = _readings(self.series)[0].lacking()
         return f"; it lacks {', '.join(lacking)}" if lacking else ", though it holds what identifying it needs"
 
+    def _lacking(self, p) -> list[str] | None:
+        """What the log lacks of the counts the first-order model's values need (:data:`FIRST_ORDER`: the counts
+        measure their needs), or ``None`` for any other value."""
+        return _readings(self.series)[0].lacking() if p.name in FIRST_ORDER else None
+
     def _small(self, p) -> bool:
-        """Whether a heat coefficient of the first-order model on a log that holds what the counts say it needs
-        (for the bias, efforts of both signs too) is a small value: its large relative error is then not the log's
+        """Whether a heat coefficient of the first-order model, on a log that holds what the counts say it needs
+        (for the bias, efforts of both signs too), is a small value: its large relative error is then not the log's
         want (the README tour's bias after ``+ speed_losses``, 0.000477 +- 0.00035 K/(N m) on a log of 14 effort
-        levels, was once said to need three)."""
-        return p.name in FIRST_ORDER[1:] and (p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0])
+        levels, was once said to need three).  A time constant is never "small"."""
+        return p.unit != "s" and (p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0])
 
 
-def _partners(model: ThermalModel, covariance, held) -> dict[str, tuple[str, float]]:
-    """Each fitted parameter's most correlated other and their correlation, where its magnitude is at least
-    :data:`TRADES`."""
-    names = [p.name for p in model.parameters]
-    if covariance is None or np.shape(covariance) != (len(names), len(names)):
-        return {}
+def _partner(model: ThermalModel | None, covariance, name: str) -> tuple[str, float] | None:
+    """The fitted parameter whose estimate moves most with ``name``'s, and their correlation, where its magnitude is
+    at least :data:`TRADES`; else ``None`` (a held value has no variance, so no partner)."""
+    names = [p.name for p in model.parameters] if model is not None else []
+    if covariance is None or np.shape(covariance) != (len(names), len(names)) or name not in names:
+        return None
     sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
-    free = (sd > 0) & np.array([n not in held for n in names])
+    i = names.index(name)
     with np.errstate(divide="ignore", invalid="ignore"):
-        corr = np.where(np.outer(free, free), covariance / np.outer(sd, sd), 0.0)
-    np.fill_diagonal(corr, 0.0)
-    out = {}
-    for i, name in enumerate(names):
-        j = int(np.argmax(np.abs(corr[i])))
-        if free[i] and abs(corr[i, j]) >= TRADES:
-            out[name] = (names[j], float(corr[i, j]))
-    return out
+        corr = np.where((sd > 0) & (sd[i] > 0), covariance[i] / (sd * sd[i]), 0.0)
+    corr[i] = 0.0
+    j = int(np.argmax(np.abs(corr)))
+    return (names[j], float(corr[j])) if abs(corr[j]) >= TRADES else None
 
 
 def uncertainty_cause(series, train_rmse_K: float | None) -> tuple[str | None, str]:
