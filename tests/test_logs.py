@@ -136,10 +136,14 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     rostopic = ["%time", "field.header.stamp", "field.effort0", "field.temperature"]  # `rostopic echo -p`, one joint
     mapping, notes = suggest_table_mapping(rostopic, dict.fromkeys(rostopic, 5))
     assert mapping == {"time": "%time", "temperature": "field.temperature", "effort": "field.effort0"} and not notes
-    several = ["Temperature Time [s]", "States Time [s]", "Temp [C]", "Effort [mA]"]
-    mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))
+    several = ["Temperature Time [s]", "States Time [s]", "Commands Time [s]", "Temp [C]", "Effort [mA]"]
+    mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))  # a time column per topic
+    assert mapping == {"temperature": "Temp [C]@Temperature Time [s]", "effort": "Effort [mA]@States Time [s]"}
+    assert notes == ["each channel has a time column of its own: temperature on Temperature Time [s] (5 values); "
+                     "effort on States Time [s] (5 values)"]
+    several = ["Logger A Time [s]", "Logger B Time [s]", "Temp [C]", "Effort [mA]"]
+    mapping, notes = suggest_table_mapping(several, dict.fromkeys(several, 5))  # no name says which
     assert "time" not in mapping and any("several columns" in n for n in notes)
-    assert mapping["temperature"] == "Temp [C]"  # a time column named after the temperature is not a temperature
     short = ["stamp", "tau_Nm", "motor_temp", "battery_level", "travel_mm", "joint_vel"]  # short names, whole words
     mapping, notes = suggest_table_mapping(short, dict.fromkeys(short, 5))
     assert mapping == {"time": "stamp", "temperature": "motor_temp", "effort": "tau_Nm:Nm", "velocity": "joint_vel"}
@@ -245,3 +249,50 @@ def test_fit_reads_the_neighbours_only_for_a_model_with_their_coupling(tmp_path)
     assert reads_neighbours(Namespace(model=["joule", "joule,neighbor_coupling"], discovers=False))
     assert reads_neighbours(Namespace(model="joule,effort_bias"))  # diagnose: it may propose the coupling
     assert reads_neighbours(Namespace())  # a command without models reads what it always did
+
+
+def test_inspect_pairs_each_channel_with_its_own_time_and_reads_topics_merged_on_one(tmp_path, capsys):
+    """A log of topics on time bases of their own is read as its lab wrote it, from what ``inspect`` suggests:
+    the WidowX-200's exports (a time column per topic, summary columns of one value beside them) pair each
+    channel with its time column; a table whose rows are messages of different topics under one time column
+    (the temperature and the effort never on one row) is read on each channel's own samples, and the plain map
+    is refused in a sentence that gives that map.  A mapped column with no value at all is refused by name."""
+    from thermolimb.cli.main import main
+    from thermolimb.data import REAL_DIR
+
+    for path in sorted((REAL_DIR / "interbotix-wx200").glob("*.csv")):
+        assert main(["inspect", str(path)]) == 0
+        out = capsys.readouterr().out
+        line = next(x for x in out.splitlines() if x.startswith("suggested: --map "))
+        mapping = line.removeprefix("suggested: --map ").strip('"')
+        assert mapping == ("temperature=Temp [C]@Temperature Time [s],effort=Effort [mA]@States Time [s],"
+                           "velocity=Velocity [rad/s]@States Time [s]"), path.name
+        assert "each channel has a time column of its own" in out
+        log = read_log(path, mapping=parse_mapping(mapping))
+        run = log.series(log.actuators[0])
+        assert run.n >= 20 and np.ptp(run.temperature_C) >= 1.0, path.name
+    t = np.arange(400.0)
+    effort = 5.0 + 4.0 * np.sin(t / 40.0)
+    temperature = 30.0 + np.cumsum(effort**2) * 1e-3
+    merged = pd.DataFrame({"t_s": t, "tau_Nm": np.where(t % 2 == 1, effort, np.nan),
+                           "motor_temp_C": np.where(t % 2 == 0, np.round(temperature, 2), np.nan), "i_A": np.nan})
+    path = tmp_path / "merged.csv"
+    merged.to_csv(path, index=False)
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert 'suggested: --map "temperature=motor_temp_C@t_s,effort=tau_Nm@t_s:Nm,time=t_s"' in out
+    assert "the temperature and the effort are logged on different rows (0 of the temperature's rows" in out
+    for flags in ([], ["--drop-incomplete"]):
+        assert main(["fit", str(path), "--map", "time=t_s,effort=tau_Nm,temperature=motor_temp_C", *flags]) == 2
+        err = capsys.readouterr().err
+        assert "the temperature and the effort are logged on different rows (0 of the temperature's 200 rows" in err
+        assert '--map "time=t_s,effort=tau_Nm@t_s,temperature=motor_temp_C@t_s" --drop-incomplete' in err
+    log = read_log(path, mapping=parse_mapping("time=t_s,effort=tau_Nm@t_s:Nm,temperature=motor_temp_C@t_s"),
+                   drop_incomplete=True)
+    run = log.series(log.actuators[0])
+    # t = 0 precedes the first effort; each reading holds the effort of its interval, logged a second after it
+    assert run.n == 199 and np.allclose(run.signals.effort[:-1], effort[3:-1:2])
+    with pytest.raises(LogError, match="column 'current' \\(the file's 'i_A'\\) holds no value in any of its 400 "
+                                       "rows; expected numbers in A, or leave current out of --map"):
+        read_log(path, mapping=parse_mapping("time=t_s,effort=tau_Nm,temperature=motor_temp_C,current=i_A"),
+                 drop_incomplete=True)

@@ -5,10 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import UNITS, suggest_table_mapping
+from ..logs.mapping import JOINT, TIME_OF, UNITS, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
-from ..logs.units import header_unit
+from ..logs.units import header_unit, split_unit
 from .options import add_quiet
 from .output import print_json
 
@@ -56,6 +56,15 @@ def run(args) -> int:
             mapping[name] = f"{column}:degF"
             reasons.append(f"{name}={column}: its name says degrees Fahrenheit, so the suggestion reads it as such; "
                            f"write {column}:degC if it is Celsius")
+    apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows)
+    if apart:
+        time = split_unit(mapping["time"])[0]
+        for channel in [k for k in mapping if k not in ("time", "actuator")]:
+            column, unit = split_unit(mapping[channel])
+            mapping[channel] = f"{column}{TIME_OF}{time}" + (f":{unit}" if unit else "")
+        reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
+                       f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
+                       f"the inputs averaged over each temperature sample's interval; add --drop-incomplete")
     if args.json:
         print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "notes": reasons})
         return 0
@@ -85,3 +94,22 @@ def _listing(path: Path) -> tuple[int, list[dict]]:
             if str(c) not in first and len(present):
                 first[str(c)] = str(present.iloc[0])
     return rows, [{"column": c, "values": k, "first": first.get(c, "")} for c, k in counts.items()]
+
+
+def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[str, int] | None:
+    """Where the suggested temperature and an input share the time column but fewer than half of the temperature's
+    rows hold the input (topics merged into one table), the first such input and how many rows hold both; else
+    ``None``.  Read again in pieces, only when a mapped column misses values."""
+    if (not mapping or "time" not in mapping or "temperature" not in mapping
+            or any(JOINT in v or TIME_OF in v for v in mapping.values())):
+        return None
+    columns = {k: split_unit(v)[0] for k, v in mapping.items() if k not in ("time", "actuator")}
+    if all(values.get(c, 0) == rows for c in columns.values()):
+        return None
+    both = dict.fromkeys(columns, 0)
+    for chunk in table_chunks(path):
+        has_temperature = chunk[columns["temperature"]].notna()
+        for k, c in columns.items():
+            both[k] += int((has_temperature & chunk[c].notna()).sum())
+    thin = [k for k in columns if k != "temperature" and both[k] < 0.5 * both["temperature"]]
+    return (thin[0], both[thin[0]]) if thin else None

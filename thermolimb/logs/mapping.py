@@ -21,7 +21,7 @@ from typing import Mapping
 
 from ..util.errors import LogError
 from .table import shown_names
-from .units import header_unit
+from .units import header_unit, split_unit
 
 REQUIRED = ("time", "actuator", "effort", "temperature")
 OPTIONAL = ("velocity", "current", "power", "ambient", "housing")
@@ -31,6 +31,8 @@ JOINT = "{j}"
 EXTRA = "extra."  # a channel the model does not read, kept for the diagnosis to try: --map extra.NAME=COLUMN
 TIME_OF = "@"  # column@time_column: a channel sampled on a time base of its own
 DEFAULT_JOINT_NAME = "J{j}"
+STATE_WORDS = ("state", "feedback", "measured")  # a topic of measurements, not of commands
+SUMMARY_VALUES = 20  # a column with fewer values than this, beside one with ten times as many, is no channel
 
 
 def parse_mapping(text: str | None) -> dict[str, str]:
@@ -152,7 +154,10 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     a torque or effort column, the current stands for effort (said in the
     reasons).  Only a suggestion: the user checks it against the listing.
     """
-    names = [str(c) for c in columns if values.get(str(c), 0) > 0]
+    most = max(values.values(), default=0)
+    # a column of a few values beside ones of many is a summary (Max Temp [C]: 1 value), not a channel
+    names = [str(c) for c in columns if values.get(str(c), 0) >= min(SUMMARY_VALUES, 0.1 * most) > 0
+             or values.get(str(c), 0) == most > 0]
     joint_groups: dict[str, list[tuple[str, int]]] = {}
     for name in names:
         m = _JOINT_COLUMN.match(name)
@@ -197,8 +202,9 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         several = {k: v for k, v in several.items() if k not in named[0]}
     reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
                 for channel, cols in several.items()]
-    if "time" not in mapping and sum(n.strip().lower() == "t" for n in names) == 1:  # a column named t alone
-        mapping["time"] = next(n for n in names if n.strip().lower() == "t")
+    bare = [n for n in names if _bare_time(n)]
+    if "time" not in mapping and len(bare) == 1:  # a column named t alone, or with a unit (t_s, t_ms, t [s])
+        mapping["time"] = bare[0]
     if "effort" not in mapping and "current" in mapping:
         mapping["effort"] = mapping.pop("current")
         reasons.append("no torque or effort column: the motor current stands for effort")
@@ -211,10 +217,41 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
             mapping[channel] = f"{column}:{unit}"
             reasons.append(f"{channel}={column}: its name ends in a unit, so the suggestion states it ({unit}); "
                            f"change it if the name means otherwise")
-    missing = [c for c in ("time", "effort", "temperature") if c not in mapping]
+    timed = _own_time_columns(mapping, several.get("time", []), values) if "time" not in mapping else None
+    if timed is not None:
+        reasons = [r for r in reasons if not r.startswith("time: several")]
+        by_time = {t: [k for k in timed if timed[k] == t] for t in timed.values()}
+        reasons.append("each channel has a time column of its own: " + "; ".join(
+            f"{' and '.join(ks)} on {t} ({values[t]} values)" for t, ks in by_time.items()))
+        for k, t in timed.items():
+            column, unit = split_unit(mapping[k])
+            mapping[k] = f"{column}{TIME_OF}{t}" + (f":{unit}" if unit else "")
+    missing = [c for c in ("time", "effort", "temperature") if c not in mapping
+               and not (c == "time" and TIME_OF in mapping.get("temperature", ""))]
     if missing:
         reasons.append(f"no column found for {', '.join(missing)}")
     return mapping, reasons
+
+
+def _own_time_columns(mapping: dict[str, str], times: list[str], values: Mapping[str, int]) -> dict | None:
+    """Where a file has several time columns (one per topic: ``Temperature Time [s]`` beside ``States Time [s]``),
+    each mapped channel's own: the one time column holding as many values as the channel, or of several such, the
+    one whose name shares a word with the channel's column (``Temp`` in ``Temperature``), else the one of measured
+    states (``States Time [s]``, a ROS joint_states topic, not ``Commands Time [s]``).  ``None`` unless the
+    temperature and the effort each have one."""
+    def words(name):
+        return [w for w in re.split(r"[^a-z0-9]+", name.lower()) if len(w) >= 3 and w != "time"]
+
+    out = {}
+    for channel, column in ((k, split_unit(v)[0]) for k, v in mapping.items()):
+        same = [t for t in times if values.get(t) == values.get(column)]
+        if len(same) > 1:
+            named = [t for t in same
+                     if any(a.startswith(b) or b.startswith(a) for a in words(t) for b in words(column))]
+            same = named or [t for t in same if any(w.startswith(STATE_WORDS) for w in words(t))]
+        if len(same) == 1:
+            out[channel] = same[0]
+    return out if {"temperature", "effort"} <= set(out) else None
 
 
 def named_unit(channel: str, column: str) -> str | None:
@@ -253,6 +290,13 @@ def _the_motor_s(columns: list[str]) -> str | None:
     motor = [c for c in columns if says(MOTOR_WORDS, c) and not says(ELECTRONICS_WORDS, c)]
     rest = [c for c in columns if c not in motor]
     return motor[0] if len(motor) == 1 and all(says(ELECTRONICS_WORDS, c) for c in rest) else None
+
+
+def _bare_time(name: str) -> bool:
+    """Whether a column's name is ``t`` alone or ``t`` and a unit of time (``t_s``, ``t_ms``, ``t [s]``)."""
+    words = [w for w in re.split(r"[^a-z0-9]+", name.lower()) if w]
+    units = ("s", "sec", *NAMED_UNITS["time"])
+    return words[:1] == ["t"] and (len(words) == 1 or (len(words) == 2 and words[1] in units))
 
 
 def _says_within(word: str, name: str) -> bool:

@@ -14,7 +14,7 @@ from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
-from .mapping import EXTRA, OPTIONAL, REQUIRED, UNITS
+from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS
 from .plausible import (
     canonical_with_units,
     convert_stated,
@@ -110,11 +110,17 @@ def from_frame(
     if empty.any():
         notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
         frame = frame.loc[~empty].reset_index(drop=True)
+    if not frame.empty:
+        refuse_empty_columns(frame, measured, mapping, source)
+    apart = on_other_rows(frame, measured, mapping, from_map) if mapping and not later else None
     if drop_incomplete:
         incomplete = frame[measured].isna().any(axis=1).to_numpy()
+        if incomplete.any() and apart is not None and incomplete.all():
+            raise LogError(f"{source}: no row holds every channel: {apart}")
         if incomplete.any():
             notes.append(f"{source}: {int(incomplete.sum())} incomplete sample(s) left out (--drop-incomplete), first "
-                         f"at row {int(np.flatnonzero(incomplete)[0])}; the inputs before them are held")
+                         f"at row {int(np.flatnonzero(incomplete)[0])}; the inputs before them are held"
+                         + ("" if apart is None else f" ({apart})"))
             frame = frame.loc[~incomplete].reset_index(drop=True)
     if frame.empty:
         raise LogError(f"{source}: the log has no rows with measurements")
@@ -155,11 +161,10 @@ def from_frame(
         nan = ~np.isfinite(values)
         if nan.any():
             row = int(np.flatnonzero(nan)[0])
-            raise LogError(
-                f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), "
-                f"first at row {row}; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out "
-                f"with --drop-incomplete)"
-            )
+            fix = (f"; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out with "
+                   f"--drop-incomplete)" if apart is None else f": {apart}")
+            raise LogError(f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), first at "
+                           f"row {row}{fix}")
     if later:
         out["time"] = out["time"] * reading.time_scale if reading.time_scale != 1.0 else out["time"]
     else:
@@ -270,3 +275,36 @@ def _blank(names: pd.Series) -> np.ndarray:
         empty = np.array([c.strip() == "" for c in names.cat.categories] + [True])
         return empty[codes]
     return (names.isna() | (names.str.strip() == "")).to_numpy()
+
+
+def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] | None, source: str) -> None:
+    """A channel whose column holds no value at all is refused by name (leaving out incomplete rows would leave
+    none): the column is not logged, or another one was meant."""
+    for c in measured:
+        if frame[c].isna().all():
+            named = f" (the file's {mapping[c]!r})" if mapping and c in mapping else ""
+            fix = "" if c in REQUIRED else f", or leave {c} out" + (" of --map" if mapping else " of the file")
+            raise LogError(f"{source}: column {c!r}{named} holds no value in any of its {len(frame)} rows; expected "
+                           f"numbers in {UNITS[c]}{fix}")
+
+
+def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units: Mapping[str, str]) -> str | None:
+    """Where the temperature and an input share one time column but are logged on different rows (topics merged
+    into one table: fewer than half the temperature's rows hold the input), how to read each on its own samples
+    (:mod:`.align`); else ``None``."""
+    if "time" not in mapping or any(TIME_OF in str(v) for v in mapping.values()):
+        return None
+    has_temperature = frame["temperature"].notna().to_numpy()
+    inputs = [c for c in measured if c != "temperature"]
+    held = {c: int(frame.loc[has_temperature, c].notna().sum()) for c in inputs}
+    thin = [c for c in inputs if held[c] < 0.5 * has_temperature.sum()]
+    if not thin:
+        return None
+    def unit(c):
+        return f":{units[c]}" if c in units else ""
+
+    spec = ",".join([f"time={mapping['time']}{unit('time')}"]
+                    + [f"{c}={mapping[c]}{TIME_OF}{mapping['time']}{unit(c)}" for c in measured])
+    return (f"the temperature and the {thin[0]} are logged on different rows ({held[thin[0]]} of the temperature's "
+            f"{int(has_temperature.sum())} rows hold the {thin[0]}): read each on its own samples with "
+            f"--map \"{spec}\" --drop-incomplete")
