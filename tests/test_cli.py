@@ -89,6 +89,34 @@ def test_a_log_with_a_header_and_no_rows_is_said_so(tmp_path, capsys):
         assert "the log has no rows with measurements" in err and len(err.strip().splitlines()) == 1
 
 
+def test_runs_of_one_actuator_in_files_of_their_own_need_its_name_and_a_time_in_hours_is_said(tmp_path, capsys):
+    """Two single-actuator files read by one map name their actuators after themselves: given together without
+    --actuator, the refusal says so and how to read them as runs of one actuator.  A log whose time reads an hour
+    as one second (its temperature moving tens of kelvin per second) is said to be in another unit."""
+    t = np.arange(0.0, 1200.0, 2.0)
+    effort = np.where((t // 120) % 2 == 0, 8.0, 1.0) * (1.0 + 0.1 * (t // 240))
+    for name, load in (("monday", 1.0), ("tuesday", 1.1)):
+        pd.DataFrame({"t_s": t, "tau": load * effort, "temp": 25.0 + 0.2 * (load * effort) ** 2
+                      * (1 - np.exp(-t / 300.0))}).to_csv(tmp_path / f"{name}.csv", index=False)
+    files = [str(tmp_path / "monday.csv"), "--validate-on", str(tmp_path / "tuesday.csv")]
+    assert main(["fit", *files, "--map", "time=t_s,effort=tau,temperature=temp"]) == 2
+    err = capsys.readouterr().err
+    assert (f"tuesday.csv: its actuator is named 'tuesday' after the file, as {tmp_path / 'monday.csv'}'s is "
+            f"'monday' (the map names no actuator); to read the files as runs of one actuator, name it: "
+            f"--actuator NAME") in err and len(err.strip().splitlines()) == 1
+    assert main(["fit", *files, "--map", "time=t_s,effort=tau,temperature=temp", "--actuator", "joint"]) == 0
+    assert "joint: model joule,effort_bias" in capsys.readouterr().out
+    temp = 25.0 + 0.2 * effort**2 * (1 - np.exp(-t / 300.0))
+    pd.DataFrame({"t_s": t / 3600.0, "tau": effort, "temp": temp}).to_csv(tmp_path / "hours.csv", index=False)
+    main(["fit", str(tmp_path / "hours.csv"), "--map", "time=t_s,effort=tau,temperature=temp"])
+    span, hours = np.ptp(temp), t[-1] / 3600.0
+    assert (f"the temperature moves {span:.1f} K over the log's {hours:.3g} s ({span / hours:.0f} K/s on average), "
+            "faster than any winding heats for long: if the time column counts minutes or hours, state it"
+            ) in capsys.readouterr().err
+    assert main(["fit", str(tmp_path / "hours.csv"), "--map", "time=t_s:h,effort=tau,temperature=temp"]) == 0
+    assert "faster than any winding" not in capsys.readouterr().err
+
+
 def test_fit_constant_effort_reports_what_is_missing(tmp_path, capsys):
     n = 600
     t = np.arange(n, dtype=float)

@@ -101,9 +101,14 @@ class Forecast:
             head = (f"{self.actuator}: the prediction stays below {where} over {self.horizon_s:.0f} s "
                     f"(peak {np.max(self.predicted_C):.1f} degC)")
             return head + ("" if low is None else f"; at {100 * self.level:.0f} % it may reach it from {low:.0f} s")
-        upper = "beyond the horizon" if high is None else f"{high:.0f} s"
-        return (f"{self.actuator}: reaches {where} in {self.time_to_threshold_s:.0f} s "
-                f"({100 * self.level:.0f} % interval {low:.0f} s to {upper})")
+        upper = "beyond the horizon" if high is None else f"{seconds(high)} s"
+        return (f"{self.actuator}: reaches {where} in {seconds(self.time_to_threshold_s)} s "
+                f"({100 * self.level:.0f} % interval {seconds(low)} s to {upper})")
+
+
+def seconds(value: float) -> str:
+    """A time in whole seconds, or to a tenth under ten (an interval of 1.6 to 2.4 s is not "2 s to 2 s")."""
+    return f"{value:.1f}" if abs(value) < 10 else f"{value:.0f}"
 
 
 def parameter_draws(saved: SavedModel, draws: int, seed: int, spread: str = "jackknife") -> list[ThermalModel]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import sys
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from ..logs import LogError
 from ..util.errors import TermError, ThermolimbError, UsageError
@@ -132,6 +133,11 @@ class LogCommand:
         for name in names:
             missing = [log for log in logs + held if name not in log.actuators]
             if missing:
+                named = [log for log in logs + held if log.actuators == (Path(log.source).stem,)]
+                if len(named) == len(logs + held) and not args.actuator:  # each file's one actuator named after it
+                    raise UsageError(f"{missing[0].source}: its actuator is named {missing[0].actuators[0]!r} after "
+                                     f"the file, as {logs[0].source}'s is {name!r} (the map names no actuator); to "
+                                     f"read the files as runs of one actuator, name it: --actuator NAME")
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
             try:

@@ -22,6 +22,8 @@ EPOCH_UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1
 # A temperature column whose every reading lies here is in kelvin: no actuator stays at 200 degC or more
 # for a whole log (the hottest insulation class is rated 180-220 degC), while 200-500 K is -73 to 227 degC.
 KELVIN_READINGS = (200.0, 500.0)
+SHORT_S = 60.0  # a log shorter than this is looked at for a time unit larger than seconds
+FASTEST_K_PER_S = 10.0  # no winding heats faster than this on average over a whole log
 KELVIN_JUMP = (263.15, 283.15)  # a step this large between two readings is a switch between degC and K
 
 
@@ -99,6 +101,19 @@ def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
     return out
 
 
+def slowest_rate(out: dict[str, np.ndarray]) -> tuple[float, float] | None:
+    """Of the actuators of a log, the smallest average rate of its temperature's span over its time span (K/s),
+    with that span (K); ``None`` when an actuator's time does not move."""
+    rates = []
+    for name in np.unique(np.asarray(out["actuator"], dtype=str)):
+        mine = np.asarray(out["actuator"], dtype=str) == name
+        t, T = out["time"][mine], out["temperature"][mine]
+        if np.ptp(t) <= 0:
+            return None
+        rates.append((float(np.ptp(T) / np.ptp(t)), float(np.ptp(T))))
+    return min(rates) if rates else None
+
+
 def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numeric_time: bool, source: str,
                      notes: list) -> dict:
     """Unit mistakes a log's numbers show, where no header states the unit: time counted in milliseconds (or
@@ -122,9 +137,15 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
             if hi - lo >= 2 * 86400.0:  # only a log of days is looked at step by step
                 step = float(np.median(np.diff(np.unique(t))))
                 if step >= 100.0:
-                        notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
+                    notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
                                  f"the time column counts milliseconds, state it: a header 'time [ms]' or --map "
                                  f"time=COLUMN:ms")
+            elif 0 < hi - lo < SHORT_S:
+                rate = slowest_rate(out)
+                if rate is not None and rate[0] > FASTEST_K_PER_S:
+                    notes.append(f"{source}: the temperature moves {rate[1]:.1f} K over the log's {hi - lo:.3g} s "
+                                 f"({rate[0]:.0f} K/s on average), faster than any winding heats for long: if the "
+                                 f"time column counts minutes or hours, state it: --map time=COLUMN:min or :h")
     for name in out:
         if UNITS.get(name) != "degC" or name in stated:
             continue

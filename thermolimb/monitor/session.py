@@ -49,8 +49,10 @@ class Session:
             if name not in self.models.actuators:
                 if name not in self.ignored:
                     self.ignored.add(name)
-                    print(f"note: the followed log's actuator {name!r} is not in the model file; it is not "
-                          f"watched", file=sys.stderr)
+                    known = ", ".join(self.models.actuators)
+                    print(f"note: the followed log's actuator {name!r} is not in the model file (it holds {known}); "
+                          f"it is not watched (a file of one actuator is named after the file unless --actuator "
+                          f"NAME names it)", file=sys.stderr)
                 continue
             for piece in pieces:
                 arrays = piece.arrays
