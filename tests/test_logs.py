@@ -47,7 +47,14 @@ def test_not_numeric(tmp_path):
 def test_time_not_increasing(tmp_path):
     frame = canonical()
     frame.loc[10, "time"] = frame.loc[9, "time"]
-    with pytest.raises(LogError, match=r"time does not increase for actuator 'knee' at row 10"):
+    with pytest.raises(LogError, match=r"time does not increase for actuator 'knee' at row 10") as error:
+        read_log(write(tmp_path, frame))
+    assert "clocks restart" not in str(error.value)  # a repeated stamp is no restart
+    frame = canonical()
+    frame.loc[20:, "time"] -= frame.loc[20, "time"]  # two recordings joined: the second's clock starts at zero
+    with pytest.raises(LogError, match=r"at row 20 \(t = .* s then 0 s\); expected strictly increasing time in "
+                                       r"seconds; if the file joins recordings whose clocks restart, give each as a "
+                                       r"file of its own \(a run each\)"):
         read_log(write(tmp_path, frame))
 
 

@@ -195,9 +195,12 @@ def from_frame(
         steps = np.diff(t)
         if np.any(steps <= 0):
             k = int(np.flatnonzero(steps <= 0)[0])
+            back = t[k + 1] < t[k] - 10 * float(np.median(steps))  # far back: a clock that restarts
             raise LogError(
                 f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
                 f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
+                + ("; if the file joins recordings whose clocks restart, give each as a file of its own (a run each)" if back
+                   else "")
             )
         if len(g) < MIN_SAMPLES and not later:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
