@@ -36,14 +36,21 @@ def test_interval_average_keeps_the_heat_of_a_sinusoid():
     assert np.all(np.abs(mean) < 0.05)
 
 
-def test_interval_average_holds_through_empty_intervals_and_uses_the_interval_that_follows():
+def test_interval_average_holds_each_sample_until_the_next_and_weighs_it_by_that_time():
     t = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
     t_in = np.array([-0.5, 0.1, 0.5, 2.2, 2.5, 4.0])
     x = np.array([9.0, 1.0, -3.0, 2.0, 2.0, 5.0])
-    assert interval_average(t, t_in, x, False).tolist() == [-1.0, -1.0, 2.0, 2.0, 2.0]
+    # [0, 1): 9 held 0.1 s, 1 for 0.4 s, -3 for 0.5 s; [1, 2): -3 held through; [2, 3): -3 for 0.2 s, 2 for 0.8 s
+    assert np.allclose(interval_average(t, t_in, x, False), [-0.2, -3.0, 1.0, 2.0, 2.0])
     # nothing in [0, 1): the last value before 0 s is held
-    assert interval_average(t, np.array([-1.0, 1.5, 5.0]), np.array([7.0, 8.0, 9.0]), False).tolist() == \
-        [7.0, 8.0, 8.0, 8.0, 8.0]
+    assert np.allclose(interval_average(t, np.array([-1.0, 1.5, 5.0]), np.array([7.0, 8.0, 9.0]), False),
+                       [7.0, 7.5, 8.0, 8.0, 8.0])
+    # two topics stamped alike but for microseconds of jitter: each interval holds its own sample, whichever side
+    # of the temperature's stamp it fell
+    stamps = np.arange(0.0, 20.0)
+    jitter = np.where(np.arange(20) % 2 == 0, -1e-6, 1e-6)
+    effort = np.arange(20.0) ** 2
+    assert np.allclose(interval_average(stamps[1:-1], stamps + jitter, effort, False)[:-1], effort[1:-2], atol=1e-3)
 
 
 def test_align_keeps_the_temperature_samples_and_leaves_out_those_outside_the_inputs():

@@ -302,8 +302,10 @@ def test_inspect_pairs_each_channel_with_its_own_time_and_reads_topics_merged_on
     log = read_log(path, mapping=parse_mapping("time=t_s,effort=tau_Nm@t_s:Nm,temperature=motor_temp_C@t_s"),
                    drop_incomplete=True)
     run = log.series(log.actuators[0])
-    # t = 0 precedes the first effort; each reading holds the effort of its interval, logged a second after it
-    assert run.n == 199 and np.allclose(run.signals.effort[:-1], effort[3:-1:2])
+    # t = 0 precedes the first effort; a reading's two-second interval holds for a second each the effort logged a
+    # second before it and the one a second after (their root mean square: the heat of the interval)
+    assert run.n == 199
+    assert np.allclose(run.signals.effort[:-1], np.sqrt((effort[1:396:2] ** 2 + effort[3:398:2] ** 2) / 2.0))
     with pytest.raises(LogError, match="column 'current' \\(the file's 'i_A'\\) holds no value in any of its 400 "
                                        "rows; expected numbers in A, or leave current out of --map"):
         read_log(path, mapping=parse_mapping("time=t_s,effort=tau_Nm,temperature=motor_temp_C,current=i_A"),

@@ -7,12 +7,16 @@ time columns alike:
   temperature is interpolated, so no measurement is invented.
 * An input's value at temperature sample ``k`` is its average over the
   interval that sample opens, ``[t_k, t_k+1)``: the interval over which the
-  model holds it (zero-order hold).  Effort, current and velocity are averaged
-  as signed root mean squares (the sign of their mean), so that their squares,
-  which the Joule and speed losses use, equal the interval's mean square
-  exactly; a sinusoidal effort does not average to zero heat.  Other inputs
-  (ambient, housing temperature, power) are plain means.
-* An interval holding no input sample keeps the input's last value before it
+  model holds it (zero-order hold).  Each input sample holds until the next
+  one, and counts for the time it holds within the interval: a sample a few
+  microseconds before ``t_k`` (two topics stamped alike but for jitter) counts
+  for the interval it almost all lies in, not for the one before.  Effort,
+  current and velocity are averaged as signed root mean squares (the sign of
+  their mean), so that their squares, which the Joule and speed losses use,
+  equal the interval's mean square exactly; a sinusoidal effort does not
+  average to zero heat.  Other inputs (ambient, housing temperature, power)
+  are plain means.
+* An interval holding no input sample holds the input's last value before it
   (a slow input stays held, as the model holds it).
 * Temperature samples before an input's first sample or after its last are
   left out (the input is unknown there) and said in the notes; no overlap at
@@ -33,27 +37,31 @@ ROOT_MEAN_SQUARE = ("effort", "current", "velocity")
 
 def interval_average(time_s: np.ndarray, sample_time_s: np.ndarray, values: np.ndarray,
                      root_mean_square: bool) -> np.ndarray:
-    """``values`` sampled at ``sample_time_s`` averaged over each ``[time_s[k], time_s[k+1])``.
+    """``values`` sampled at ``sample_time_s``, each held until the next sample (zero-order hold), averaged over
+    each ``[time_s[k], time_s[k+1])`` by the time each value holds within it.
 
-    ``time_s`` must lie within ``[sample_time_s[0], sample_time_s[-1]]``.
-    Returns one value per ``time_s``; the last repeats the one before.
+    ``time_s`` must lie within ``[sample_time_s[0], sample_time_s[-1]]`` (the last sample holds beyond).
+    Returns one value per ``time_s``; the last repeats the one before.  An interval one value holds throughout
+    gets that value exactly (the average is taken as its first value plus the others' weighted differences).
     """
-    n = time_s.size
-    slot = np.searchsorted(time_s, sample_time_s, side="right") - 1
-    inside = (slot >= 0) & (slot < n - 1)
-    count = np.bincount(slot[inside], minlength=n - 1).astype(float)
-    x = values[inside]
-    total = np.bincount(slot[inside], weights=x, minlength=n - 1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = total / count
-        if root_mean_square:
-            square = np.bincount(slot[inside], weights=x * x, minlength=n - 1) / count
-            mean = np.where(mean < 0.0, -1.0, 1.0) * np.sqrt(square)
-    before = np.searchsorted(sample_time_s, time_s[0], side="right") - 1
-    filled = np.concatenate(([values[max(before, 0)]], mean))
-    last = np.maximum.accumulate(np.where(count > 0, np.arange(1, n), 0))
-    out = filled[last]
-    return np.append(out, out[-1])
+    s = np.asarray(sample_time_s, float)
+    x = np.asarray(values, float)
+    t = np.asarray(time_s, float)
+    edges = np.union1d(t, s[(s > t[0]) & (s < t[-1])])  # the pieces on which one value holds, in one interval
+    starts, length = edges[:-1], np.diff(edges)
+    held = x[np.clip(np.searchsorted(s, starts, side="right") - 1, 0, s.size - 1)]
+    interval = np.searchsorted(t, starts, side="right") - 1
+    n = t.size - 1
+    span = np.bincount(interval, weights=length, minlength=n)
+
+    def average(y: np.ndarray) -> np.ndarray:
+        first = y[np.searchsorted(interval, np.arange(n))]
+        return first + np.bincount(interval, weights=(y - first[interval]) * length, minlength=n) / span
+
+    mean = average(held)
+    if root_mean_square:
+        mean = np.where(mean < 0.0, -1.0, 1.0) * np.sqrt(np.maximum(average(held * held), 0.0))
+    return np.append(mean, mean[-1])
 
 
 def align(temperature: tuple[np.ndarray, np.ndarray], inputs: Mapping[str, tuple[np.ndarray, np.ndarray]],
