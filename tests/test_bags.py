@@ -12,7 +12,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG, WX200_EXPORT
-from thermolimb.logs import LogError, read_log
+from thermolimb.logs import LogError, bags, read_log
 from thermolimb.logs.align import align, interval_average
 from thermolimb.logs.bag_writer import write_mcap
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
@@ -167,23 +167,32 @@ def test_plant_run_in_the_per_joint_layout_reads_back_by_the_suggested_pattern(p
         assert b.n >= a.n // 5 - 1
 
 
-def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None):
+def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
+                shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or
-    one per joint of ``temperature_joints``, the common per-joint layout)."""
+    one per joint of ``temperature_joints``, the common per-joint layout, named by ``topic``).  ``shuffled``: the
+    joints named in another order every other message; ``grippers``: a second publisher on the JointState topic,
+    a gripper's position alone (no effort, no velocity), between the joints' messages."""
     store = get_typestore(Stores.ROS2_HUMBLE)
     JointState, Header, Time = (store.types[k] for k in
                                 ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
     Temperature = store.types["sensor_msgs/msg/Temperature"]
     with Writer(folder, version=8, storage_plugin=StoragePlugin.SQLITE3) as w:
         states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-        temps = {j: w.add_connection(f"/{j}/temperature", Temperature.__msgtype__, typestore=store)
+        temps = {j: w.add_connection(topic.format(j=j), Temperature.__msgtype__, typestore=store)
                  for j in (temperature_joints or [joint])}
-        for t in t_states:
+        for k, t in enumerate(t_states):
             ns = int(t * 1e9) + 10**18
             h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
-            msg = JointState(header=h, name=["hip", joint], position=np.zeros(2), velocity=np.zeros(2),
-                             effort=np.array([1.0, 3.0 + np.sin(np.pi * t)]))
+            order = [1, 0] if shuffled and k % 2 else [0, 1]
+            names, effort = np.array(["hip", joint]), np.array([1.0, 3.0 + np.sin(np.pi * t)])
+            msg = JointState(header=h, name=list(names[order]), position=np.zeros(2), velocity=np.zeros(2),
+                             effort=effort[order])
             w.write(states, ns, store.serialize_cdr(msg, JointState.__msgtype__))
+            if grippers:
+                msg = JointState(header=h, name=["gripper"], position=np.zeros(1), velocity=np.zeros(0),
+                                 effort=np.zeros(0))
+                w.write(states, ns + 1000, store.serialize_cdr(msg, JointState.__msgtype__))
         for t in t_temps:
             ns = int(t * 1e9) + 10**18
             h = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
@@ -212,6 +221,25 @@ def test_one_temperature_topic_per_joint_reads_with_a_joint_pattern_and_is_sugge
     assert mapping["temperature"] == "/repair/temperature.temperature"
     assert mapping["ambient"] == "/room/air_temperature.temperature"
     assert main(["fit", str(folder), "--fleet", "--quiet", "--workers", "1", "--backend", "serial"]) == 0
+
+
+def test_joint_topics_named_inside_a_word_joints_in_any_order_and_a_second_publisher_read_as_one(tmp_path):
+    """Per-joint temperature topics whose name holds the joint inside a word (``/motors/knee_motor/temperature``)
+    are suggested as a pattern; a JointState topic that names its joints in another order from message to message,
+    and carries a gripper's position-only messages between, reads every joint's own effort."""
+    folder = _sqlite_bag(tmp_path / "bag", np.arange(0.0, 200.0, 0.05), np.arange(1.0, 200.0, 2.0),
+                         temperature_joints=["hip", "knee"], topic="/motors/{j}_motor/temperature", shuffled=True,
+                         grippers=True)
+    mapping, reasons = suggest_mapping(inspect_bag(folder))
+    assert mapping["temperature"] == "/motors/{j}_motor/temperature.temperature" and not reasons
+    log = read_log(folder, mapping=mapping)
+    assert log.actuators == ("hip", "knee")
+    assert np.allclose(log.series("hip").signals.effort, 1.0)
+    knee = log.series("knee")
+    assert np.allclose(knee.signals.effort[:-1] ** 2, 9.0 + 0.5, rtol=1e-3)  # 3 + sin: its mean square over 2 s
+    assert np.allclose(knee.temperature_C, 30.0 + 0.02 * knee.time_s, atol=0.05)
+    joints = ("left_knee", "knee")  # the longest name a topic holds is its joint's
+    assert bags._joint_topic_pattern(["/t/left_knee/temp", "/t/knee/temp"], joints) == "/t/{j}/temp"
 
 
 def test_ros2_sqlite_bag_with_a_scalar_temperature_topic(tmp_path):

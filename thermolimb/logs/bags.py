@@ -23,6 +23,7 @@ Without ``--map`` a mapping is suggested from the topics (see
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -207,13 +208,18 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
 
 
 def _joint_topic_pattern(topics: list[str], joints: tuple[str, ...]) -> str | None:
-    """``/robot/{j}/temperature`` when every topic is one pattern with a joint's name in place of ``{j}``."""
+    """``/robot/{j}/temperature`` (or ``/motors/{j}_motor/temperature``) when every topic is one pattern with a
+    joint's name in place of ``{j}``: the name as a word of the topic, bounded by anything but a letter or a digit,
+    the longest such name where several fit (``left_knee`` over ``knee``)."""
     patterns = set()
     for topic in topics:
-        named = [j for j in joints if j and j in topic.split("/")]
-        if len(named) != 1:
+        found = [(j, m) for j in joints if j
+                 for m in [re.search(rf"(?<![A-Za-z0-9]){re.escape(j)}(?![A-Za-z0-9])", topic)] if m]
+        longest = [(j, m) for j, m in found if len(j) == max(len(k) for k, _ in found)]
+        if len(longest) != 1:
             return None
-        patterns.add("/".join(JOINT if part == named[0] else part for part in topic.split("/")))
+        m = longest[0][1]
+        patterns.add(topic[:m.start()] + JOINT + topic[m.end():])
     return patterns.pop() if len(patterns) == 1 else None
 
 
