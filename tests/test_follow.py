@@ -66,6 +66,26 @@ def test_a_log_followed_in_pieces_reads_as_the_whole_file_reads(tmp_path, writte
     assert follower.skipped == 0
 
 
+def test_a_piece_whose_optional_cells_are_blank_is_left_out_with_drop_incomplete(tmp_path):
+    """Followed with --drop-incomplete, a piece of one row whose current cell is blank is that row left out, as the
+    whole file's reading leaves it out: a column empty in one piece is not refused as a column empty in the log."""
+    path = tmp_path / "blank.csv"
+    rows = [f"{k:.1f},knee,{1 + k % 3},{30 + 0.01 * k:.2f},{'' if k % 50 == 49 else 0.5 * (1 + k % 3)}"
+            for k in range(300)]
+    follower = CsvFollower(path, read={"drop_incomplete": True})
+    got = []
+    with open(path, "w") as f:
+        f.write("time,actuator,effort,temperature,current\n")
+        for k, row in enumerate(rows):
+            f.write(row + "\n")
+            f.flush()
+            if k >= PROBE_ROWS and k % 50 in (48, 49):  # the blank row (49) arrives alone
+                got += [r.arrays["time"] for r in follower.poll().get("knee", [])]
+    got += [r.arrays["time"] for r in follower.poll(final=True).get("knee", [])]
+    np.testing.assert_array_equal(np.concatenate(got), read_log(path, drop_incomplete=True).series("knee").time_s)
+    assert not any("holds no value" in n for n in follower.notes)  # a piece's blank cell is no empty column
+
+
 def test_a_log_of_many_actuators_starts_when_each_has_its_rows(tmp_path):
     # six joints, a row each per sample: the first PROBE_ROWS rows hold too few of each for the start to read
     path = tmp_path / "six.csv"

@@ -110,7 +110,7 @@ def from_frame(
     if empty.any():
         notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
         frame = frame.loc[~empty].reset_index(drop=True)
-    if not frame.empty:
+    if not frame.empty and not later:  # a later piece of a followed log may be a row whose optional cell is blank
         refuse_empty_columns(frame, measured, mapping, source)
     apart = on_other_rows(frame, measured, mapping, from_map) if mapping and not later else None
     if drop_incomplete:
