@@ -53,9 +53,21 @@ def test_time_not_increasing(tmp_path):
     frame = canonical()
     frame.loc[20:, "time"] -= frame.loc[20, "time"]  # two recordings joined: the second's clock starts at zero
     with pytest.raises(LogError, match=r"at row 20 \(t = .* s then 0 s\); expected strictly increasing time in "
-                                       r"seconds; if the file joins recordings whose clocks restart, give each as a "
-                                       r"file of its own \(a run each\)"):
+                                       r"seconds; if it joins recordings whose clocks restart, give each as a file of "
+                                       r"its own \(a run each\)"):
         read_log(write(tmp_path, frame))
+    # a long log of several actuators read by a map that names no actuator column: its rows are one actuator's
+    long = canonical().rename(columns={"actuator": "motor_id", "temperature": "winding_temp"})
+    long = pd.concat([long.assign(motor_id=1), long.assign(motor_id=2)]).sort_values("time", kind="stable")
+    with pytest.raises(LogError, match=r"\(t = 0 s then 0 s\); expected strictly increasing time in seconds; if the "
+                                       r"file holds rows of several actuators, map the column naming them "
+                                       r"\(--map actuator=COLUMN\)$"):
+        read_log(write(tmp_path, long), mapping=parse_mapping("time=time,effort=effort,temperature=winding_temp"))
+    from thermolimb.logs.mapping import suggest_table_mapping
+
+    mapping, _ = suggest_table_mapping(list(long.columns), dict.fromkeys(long.columns, len(long)))
+    assert mapping["actuator"] == "motor_id"
+    assert read_log(write(tmp_path, long), mapping=mapping).actuators == ("1", "2")
 
 
 def test_too_short(tmp_path):
@@ -261,9 +273,11 @@ def test_fit_reads_the_neighbours_only_for_a_model_with_their_coupling(tmp_path)
 def test_inspect_pairs_each_channel_with_its_own_time_and_reads_topics_merged_on_one(tmp_path, capsys):
     """A log of topics on time bases of their own is read as its lab wrote it, from what ``inspect`` suggests:
     the WidowX-200's exports (a time column per topic, summary columns of one value beside them) pair each
-    channel with its time column, or, where those columns agree on every row, read each row as one sample; a table whose rows are messages of different topics under one time column
-    (the temperature and the effort never on one row) is read on each channel's own samples, and the plain map
-    is refused in a sentence that gives that map.  A mapped column with no value at all is refused by name."""
+    channel with its time column, or, where those columns agree on every row, read each row as one sample; a table
+    whose rows are messages of different topics under one time column (the temperature and the effort never on one
+    row) is read on each channel's own samples, and the plain map is refused in a sentence that gives that map. A
+    mapped column with no value at all is refused by name.
+    """
     from thermolimb.cli.main import main
     from thermolimb.data import REAL_DIR
 

@@ -32,6 +32,7 @@ EXTRA = "extra."  # a channel the model does not read, kept for the diagnosis to
 TIME_OF = "@"  # column@time_column: a channel sampled on a time base of its own
 DEFAULT_JOINT_NAME = "J{j}"
 STATE_WORDS = ("state", "feedback", "measured")  # a topic of measurements, not of commands
+ACTUATOR_WORDS = ("actuator", "joint", "motor", "axis", "servo", "drive")  # a column naming each row's actuator
 SUMMARY_VALUES = 20  # a column with fewer values than this, beside one with ten times as many, is no channel
 
 
@@ -202,6 +203,9 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         several = {k: v for k, v in several.items() if k not in named[0]}
     reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
                 for channel, cols in several.items()]
+    ids = [n for n in names if n not in mapping.values() and _names_actuators(n)]
+    if len(ids) == 1 and not any(JOINT in v for v in mapping.values()):  # a long log: one row per actuator and time
+        mapping["actuator"] = ids[0]
     bare = [n for n in names if _bare_time(n)]
     if "time" not in mapping and len(bare) == 1:  # a column named t alone, or with a unit (t_s, t_ms, t [s])
         mapping["time"] = bare[0]
@@ -290,6 +294,13 @@ def _the_motor_s(columns: list[str]) -> str | None:
     motor = [c for c in columns if says(MOTOR_WORDS, c) and not says(ELECTRONICS_WORDS, c)]
     rest = [c for c in columns if c not in motor]
     return motor[0] if len(motor) == 1 and all(says(ELECTRONICS_WORDS, c) for c in rest) else None
+
+
+def _names_actuators(name: str) -> bool:
+    """Whether a column's name says it names the actuator of each row (``actuator``, ``joint``, ``motor_id``,
+    ``Joint Name``, ``axis``): a word for an actuator, and no other words than ``id``, ``name``, ``nr``."""
+    words = [w for w in re.split(r"[^a-z0-9]+", name.lower()) if w]
+    return bool(words) and words[0] in ACTUATOR_WORDS and all(w in ("id", "name", "nr", "no") for w in words[1:])
 
 
 def _bare_time(name: str) -> bool:

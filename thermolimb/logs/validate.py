@@ -195,13 +195,15 @@ def from_frame(
         steps = np.diff(t)
         if np.any(steps <= 0):
             k = int(np.flatnonzero(steps <= 0)[0])
-            back = t[k + 1] < t[k] - 10 * float(np.median(steps))  # far back: a clock that restarts
-            raise LogError(
-                f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
-                f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
-                + ("; if the file joins recordings whose clocks restart, give each as a file of its own (a run each)" if back
-                   else "")
-            )
+            hints = []
+            if mapping and "actuator" not in mapping and not any("{j}" in v for v in mapping.values()):
+                hints.append("if the file holds rows of several actuators, map the column naming them "
+                             "(--map actuator=COLUMN)")
+            if t[k + 1] < t[k] - 10 * float(np.median(steps)):  # far back: a clock that restarts
+                hints.append("if it joins recordings whose clocks restart, give each as a file of its own (a run each)")
+            raise LogError(f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
+                           f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
+                           + "".join(f"; {h}" for h in hints))
         if len(g) < MIN_SAMPLES and not later:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         refuse_unit_switch(g, name, source)
