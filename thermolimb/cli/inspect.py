@@ -62,18 +62,14 @@ def run(args) -> int:
     apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows)
     if apart:
         time = split_unit(mapping["time"])[0]
-        for channel in [k for k in mapping if k not in ("time", "actuator")]:
-            column, unit = split_unit(mapping[channel])
-            mapping[channel] = f"{column}{TIME_OF}{time}" + (f":{unit}" if unit else "")
+        _timed(mapping, time)
         reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
                        f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
                        f"the inputs averaged over each temperature sample's interval; add --drop-incomplete")
     together = _times_agree(path, mapping, rows)
     if together is not None:
         time, spread = together
-        for channel in [k for k in mapping if k not in ("time", "actuator")]:
-            column, unit = split_unit(mapping[channel])
-            mapping[channel] = column.partition(TIME_OF)[0] + (f":{unit}" if unit else "")
+        _timed(mapping, None)
         mapping["time"] = time
         reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
         reasons.append(f"the channels' time columns agree on every row (to {1e3 * spread:.2g} ms, under a tenth "
@@ -107,6 +103,14 @@ def _listing(path: Path) -> tuple[int, list[dict]]:
             if str(c) not in first and len(present):
                 first[str(c)] = str(present.iloc[0])
     return rows, [{"column": c, "values": k, "first": first.get(c, "")} for c, k in counts.items()]
+
+
+def _timed(mapping: dict, time: str | None) -> None:
+    """Each channel of ``mapping`` read on ``time``'s samples (``COLUMN@TIME``), or with ``None`` on the rows."""
+    for channel in [k for k in mapping if k not in ("time", "actuator")]:
+        column, unit = split_unit(mapping[channel])
+        column = column.partition(TIME_OF)[0]
+        mapping[channel] = (column if time is None else f"{column}{TIME_OF}{time}") + (f":{unit}" if unit else "")
 
 
 def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[str, int] | None:
