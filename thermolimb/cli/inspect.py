@@ -7,10 +7,11 @@ from pathlib import Path
 import numpy as np
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import JOINT, TIME_OF, UNITS, suggest_table_mapping
+from ..logs.mapping import TIME_OF, UNITS, is_pattern, on_time, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
 from ..logs.units import header_unit, split_unit
+from ..logs.validate import apart, held_beside_temperature
 from ..util.lazy import pandas as pd
 from .options import add_quiet
 from .output import print_json
@@ -62,14 +63,14 @@ def run(args) -> int:
     apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows)
     if apart:
         time = split_unit(mapping["time"])[0]
-        _timed(mapping, time)
+        mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
         reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
                        f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
                        f"the inputs averaged over each temperature sample's interval; add --drop-incomplete")
     together = _times_agree(path, mapping, rows)
     if together is not None:
         time, spread = together
-        _timed(mapping, None)
+        mapping.update({k: on_time(v, None) for k, v in mapping.items() if k not in ("time", "actuator")})
         mapping["time"] = time
         reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
         reasons.append(f"the channels' time columns agree on every row (to {1e3 * spread:.2g} ms, under a tenth "
@@ -105,31 +106,23 @@ def _listing(path: Path) -> tuple[int, list[dict]]:
     return rows, [{"column": c, "values": k, "first": first.get(c, "")} for c, k in counts.items()]
 
 
-def _timed(mapping: dict, time: str | None) -> None:
-    """Each channel of ``mapping`` read on ``time``'s samples (``COLUMN@TIME``), or with ``None`` on the rows."""
-    for channel in [k for k in mapping if k not in ("time", "actuator")]:
-        column, unit = split_unit(mapping[channel])
-        column = column.partition(TIME_OF)[0]
-        mapping[channel] = (column if time is None else f"{column}{TIME_OF}{time}") + (f":{unit}" if unit else "")
-
-
 def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[str, int] | None:
     """Where the suggested temperature and an input share the time column but fewer than half of the temperature's
     rows hold the input (topics merged into one table), the first such input and how many rows hold both; else
     ``None``.  Read again in pieces, only when a mapped column misses values."""
-    if (not mapping or "time" not in mapping or "temperature" not in mapping
-            or any(JOINT in v or TIME_OF in v for v in mapping.values())):
+    if (not mapping or "time" not in mapping or "temperature" not in mapping or is_pattern(mapping)
+            or any(TIME_OF in v for v in mapping.values())):
         return None
     columns = {k: split_unit(v)[0] for k, v in mapping.items() if k not in ("time", "actuator")}
     if all(values.get(c, 0) == rows for c in columns.values()):
         return None
-    both = dict.fromkeys(columns, 0)
+    held = dict.fromkeys(columns, 0)
     for chunk in table_chunks(path):
-        has_temperature = chunk[columns["temperature"]].notna()
-        for k, c in columns.items():
-            both[k] += int((has_temperature & chunk[c].notna()).sum())
-    thin = [k for k in columns if k != "temperature" and both[k] < 0.5 * both["temperature"]]
-    return (thin[0], both[thin[0]]) if thin else None
+        channels = pd.DataFrame({k: chunk[c] for k, c in columns.items()})
+        for k, n in held_beside_temperature(channels, list(columns)).items():
+            held[k] += n
+    thin = apart(held)
+    return (thin, held[thin]) if thin else None
 
 
 def _times_agree(path: Path, mapping: dict, rows: int) -> tuple[str, float] | None:
@@ -137,7 +130,7 @@ def _times_agree(path: Path, mapping: dict, rows: int) -> tuple[str, float] | No
     row and agree within a tenth of the median step (the WidowX-200's bearing runs: within 5.4 ms of steps of
     90 ms), the temperature's time column, which then reads every row as one sample, and the largest disagreement
     (s); else ``None``."""
-    if not mapping or "time" in mapping or any(JOINT in v for v in mapping.values()):
+    if not mapping or "time" in mapping or is_pattern(mapping):
         return None
     timed = {k: split_unit(v)[0].partition(TIME_OF)[2] for k, v in mapping.items() if k != "actuator"}
     if not all(timed.values()) or len(set(timed.values())) < 2:

@@ -67,6 +67,14 @@ def parse_mapping(text: str | None) -> dict[str, str]:
     return mapping
 
 
+def on_time(value: str, time: str | None) -> str:
+    """A mapped channel ``COLUMN[@TIME][:UNIT]`` read on ``time``'s samples (``COLUMN@TIME:UNIT``), or with ``None``
+    on the rows of the file (``COLUMN:UNIT``)."""
+    column, unit = split_unit(value)
+    column = column.partition(TIME_OF)[0]
+    return (column if time is None else f"{column}{TIME_OF}{time}") + (f":{unit}" if unit else "")
+
+
 def is_pattern(mapping: Mapping[str, str]) -> bool:
     return any(JOINT in v for k, v in mapping.items() if k != "actuator")
 
@@ -204,7 +212,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
                 for channel, cols in several.items()]
     ids = [n for n in names if n not in mapping.values() and _names_actuators(n)]
-    if len(ids) == 1 and not any(JOINT in v for v in mapping.values()):  # a long log: one row per actuator and time
+    if len(ids) == 1 and not is_pattern(mapping):  # a long log: one row per actuator and time
         mapping["actuator"] = ids[0]
     bare = [n for n in names if _bare_time(n)]
     if "time" not in mapping and len(bare) == 1:  # a column named t alone, or with a unit (t_s, t_ms, t [s])
@@ -227,9 +235,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         by_time = {t: [k for k in timed if timed[k] == t] for t in timed.values()}
         reasons.append("each channel has a time column of its own: " + "; ".join(
             f"{' and '.join(ks)} on {t} ({values[t]} values)" for t, ks in by_time.items()))
-        for k, t in timed.items():
-            column, unit = split_unit(mapping[k])
-            mapping[k] = f"{column}{TIME_OF}{t}" + (f":{unit}" if unit else "")
+        mapping.update({k: on_time(mapping[k], t) for k, t in timed.items()})
     missing = [c for c in ("time", "effort", "temperature") if c not in mapping
                and not (c == "time" and TIME_OF in mapping.get("temperature", ""))]
     if missing:

@@ -104,9 +104,9 @@ def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
 def slowest_rate(out: dict[str, np.ndarray]) -> tuple[float, float] | None:
     """Of the actuators of a log, the smallest average rate of its temperature's span over its time span (K/s),
     with that span (K); ``None`` when an actuator's time does not move."""
-    rates = []
-    for name in np.unique(np.asarray(out["actuator"], dtype=str)):
-        mine = np.asarray(out["actuator"], dtype=str) == name
+    rates, names = [], np.asarray(out["actuator"], dtype=str)
+    for name in np.unique(names):
+        mine = names == name
         t, T = out["time"][mine], out["temperature"][mine]
         if np.ptp(t) <= 0:
             return None

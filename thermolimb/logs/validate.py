@@ -14,7 +14,7 @@ from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
-from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS
+from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, is_pattern, on_time
 from .plausible import (
     canonical_with_units,
     convert_stated,
@@ -196,7 +196,7 @@ def from_frame(
         if np.any(steps <= 0):
             k = int(np.flatnonzero(steps <= 0)[0])
             hints = []
-            if mapping and "actuator" not in mapping and not any("{j}" in v for v in mapping.values()):
+            if mapping and "actuator" not in mapping and not is_pattern(mapping):
                 hints.append("if the file holds rows of several actuators, map the column naming them "
                              "(--map actuator=COLUMN)")
             if t[k + 1] < t[k] - 10 * float(np.median(steps)):  # far back: a clock that restarts
@@ -293,23 +293,30 @@ def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] 
                            f"numbers in {UNITS[c]}{fix}")
 
 
+def held_beside_temperature(frame, channels: list[str]) -> dict[str, int]:
+    """Of ``frame``'s rows that hold a temperature, how many hold each of ``channels`` too (the temperature itself:
+    how many hold one)."""
+    has_temperature = frame["temperature"].notna().to_numpy()
+    return {c: int(frame.loc[has_temperature, c].notna().sum()) for c in channels}
+
+
+def apart(held: Mapping[str, int]) -> str | None:
+    """The first input that fewer than half of the temperature's rows hold (:func:`held_beside_temperature`): a
+    channel logged on rows of its own, as topics merged into one table are; else ``None``."""
+    return next((c for c, n in held.items() if c != "temperature" and n < 0.5 * held["temperature"]), None)
+
+
 def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units: Mapping[str, str]) -> str | None:
-    """Where the temperature and an input share one time column but are logged on different rows (topics merged
-    into one table: fewer than half the temperature's rows hold the input), how to read each on its own samples
-    (:mod:`.align`); else ``None``."""
+    """Where the temperature and an input share one time column but are logged on different rows (:func:`apart`),
+    how to read each on its own samples (:mod:`.align`); else ``None``."""
     if "time" not in mapping or any(TIME_OF in str(v) for v in mapping.values()):
         return None
-    has_temperature = frame["temperature"].notna().to_numpy()
-    inputs = [c for c in measured if c != "temperature"]
-    held = {c: int(frame.loc[has_temperature, c].notna().sum()) for c in inputs}
-    thin = [c for c in inputs if held[c] < 0.5 * has_temperature.sum()]
-    if not thin:
+    held = held_beside_temperature(frame, measured)
+    thin = apart(held)
+    if thin is None:
         return None
-    def unit(c):
-        return f":{units[c]}" if c in units else ""
-
-    spec = ",".join([f"time={mapping['time']}{unit('time')}"]
-                    + [f"{c}={mapping[c]}{TIME_OF}{mapping['time']}{unit(c)}" for c in measured])
-    return (f"the temperature and the {thin[0]} are logged on different rows ({held[thin[0]]} of the temperature's "
-            f"{int(has_temperature.sum())} rows hold the {thin[0]}): read each on its own samples with "
+    stated = {c: f"{mapping[c]}:{units[c]}" if c in units else mapping[c] for c in ["time", *measured]}
+    spec = ",".join([f"time={stated['time']}"] + [f"{c}={on_time(stated[c], mapping['time'])}" for c in measured])
+    return (f"the temperature and the {thin} are logged on different rows ({held[thin]} of the temperature's "
+            f"{held['temperature']} rows hold the {thin}): read each on its own samples with "
             f"--map \"{spec}\" --drop-incomplete")
