@@ -208,10 +208,41 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     assert read_log(path, mapping=mapping).actuators == ("J0", "J1")
     named = ["__time", "/joint_states/hip/effort", "/joint_states/knee/effort", "/joint_states/hip/velocity",
              "/joint_states/knee/velocity", "/motor_temperature/hip", "/motor_temperature/knee"]
-    mapping, notes = suggest_table_mapping(named, dict.fromkeys(named, 5))  # joints named, not numbered: one a map
-    assert mapping == {"time": "__time", "temperature": "/motor_temperature/hip", "effort": "/joint_states/hip/effort",
-                       "velocity": "/joint_states/hip/velocity"}
-    assert notes[0].startswith("the columns name their joints (hip, knee) rather than number them: this map reads hip")
+    mapping, notes = suggest_table_mapping(named, dict.fromkeys(named, 5))  # joints named, not numbered: {j} a name
+    assert mapping == {"time": "__time", "temperature": "/motor_temperature/{j}", "effort": "/joint_states/{j}/effort",
+                       "velocity": "/joint_states/{j}/velocity"}
+    assert notes[0].startswith("the columns name their joints (hip, knee) rather than number them: {j} in this map")
+    # a PlotJuggler export of a quadruped: names with underscores, a gripper in the JointState without a temperature,
+    # positions beside: every heated joint is an actuator named so, in the file's order, its position an extra channel
+    joints = ("FR_hip", "FR_calf", "FL_calf")
+    quad = ["__time"] + [f"/joint_states/{j}/{f}" for j in (*joints, "gripper") for f in ("position", "effort")] + [
+        f"/motor_temperatures/{j}/temperature" for j in joints]
+    mapping, notes = suggest_table_mapping(quad, dict.fromkeys(quad, 5))
+    assert mapping == {"time": "__time", "temperature": "/motor_temperatures/{j}/temperature",
+                       "effort": "/joint_states/{j}/effort"}
+    path = tmp_path / "quad.csv"
+    pd.DataFrame({c: np.arange(20.0) if c == "__time" else 30.0 + (np.arange(20) % (3 + len(c) % 5)) for c in quad}
+                 ).to_csv(path, index=False)
+    log = read_log(path, mapping=mapping)
+    assert log.actuators == joints
+    calf = log.series("FR_calf")
+    assert np.array_equal(calf.signals.extra["/joint_states/position"],
+                          pd.read_csv(path)["/joint_states/FR_calf/position"])
+    assert np.array_equal(calf.signals.effort, pd.read_csv(path)["/joint_states/FR_calf/effort"])
+    # rostopic echo -p of a JointState, its temperatures merged in: field.name{j} names each joint's actuator
+    echo = ["%time", "field.header.seq"] + [f"field.{f}{i}" for f in ("name", "effort", "temperature") for i in (0, 1)]
+    mapping, notes = suggest_table_mapping(echo, dict.fromkeys(echo, 5))
+    assert mapping == {"time": "%time", "temperature": "field.temperature{j}", "effort": "field.effort{j}",
+                       "actuator": "field.name{j}"}
+    frame = pd.DataFrame({c: np.arange(20.0) if c in echo[:2] else np.full(20, 30.0) for c in echo}).assign(
+        **{"field.name0": "left_knee", "field.name1": "right_knee"})
+    frame.to_csv(path := tmp_path / "echo.csv", index=False)
+    log = read_log(path, mapping=mapping)
+    assert log.actuators == ("left_knee", "right_knee") and not log.extras
+    frame.loc[5, "field.name1"] = "right_hip"
+    frame.to_csv(path, index=False)
+    with pytest.raises(LogError, match="column 'field.name1', which holds 2 names"):
+        read_log(path, mapping=mapping)
     path = tmp_path / "driver.csv"
     pd.DataFrame({"time": np.arange(20.0), "tau_Nm": np.ones(20), "motor_temp": np.full(20, 30.0)}).to_csv(path)
     log = read_log(path, mapping=parse_mapping("time=time,effort=tau_Nm:Nm,temperature=motor_temp"))

@@ -43,7 +43,8 @@ def add_log_input(p, required: bool = True, positional: bool = True):
     p.add_argument("--map", default=None, metavar="CANONICAL=COLUMN,...",
                    help="read a wide file by naming its columns, e.g. effort=torque,temperature=stator_winding,"
                         "housing=case_temp (a second sensor); for one column per joint use {j} for the joint number "
-                        "and * for any text: effort=Current_J{j},temperature=Temperature_*{j}; a column on a time base "
+                        "(or its name) and * for any text: effort=Current_J{j},temperature=Temperature_*{j}; a column "
+                        "on a time base "
                         "of its own as COLUMN@TIME_COLUMN; for a bag, /topic.field "
                         "(effort=/joint_states.effort,temperature=/temperatures.temps; see thermolimb inspect)")
     p.add_argument("--velocity-unit", default=None, choices=sorted(VELOCITY_UNITS),

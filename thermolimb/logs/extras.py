@@ -49,29 +49,47 @@ def unmapped(columns, mapping: Mapping[str, str]) -> list[str]:
     return [str(c) for c in columns if str(c) not in used]
 
 
-def joint_extras(columns, mapping: Mapping[str, str], joints: list[int]) -> tuple[dict[int, dict[str, str]], list[str]]:
+def joint_extras(columns, mapping: Mapping[str, str],
+                 joints: list[int | str]) -> tuple[dict[int | str, dict[str, str]], list[str]]:
     """Per-joint extra columns (``{joint: {stem: column}}``, only stems every joint has) and shared ones, for a
-    file mapped with joint patterns; columns the mapping uses are not extras."""
-    used = {str(c) for c in columns if any(_matches(c, t) for t in mapping.values())}
-    per_stem: dict[str, dict[int, str]] = {}
+    file mapped with joint patterns; columns the mapping uses are not extras.  Joints named in the columns
+    (``/joint_states/FR_hip/position``) give stems without the name (``/joint_states/position``)."""
+    named = any(isinstance(j, str) for j in joints)
+    used = {str(c) for c in columns if any(_matches(c, t, named) for t in mapping.values())}
+    per_stem: dict[str, dict[int | str, str]] = {}
     shared = []
     for c in (str(c) for c in columns):
         if c in used:
             continue
-        m = _PER_JOINT.match(c)
-        if m and int(m.group("j")) in joints:
-            per_stem.setdefault(m.group("stem"), {})[int(m.group("j"))] = c
-        elif not m:
+        joint, stem = _named_joint(c, joints) if named else _numbered_joint(c)
+        if joint in joints:
+            per_stem.setdefault(stem, {})[joint] = c
+        elif joint is None:
             shared.append(c)
     complete = {stem: cols for stem, cols in per_stem.items() if set(joints) <= set(cols)}
     return {j: {stem: cols[j] for stem, cols in complete.items()} for j in joints}, shared
 
 
-def _matches(column, template: str) -> bool:
+def _numbered_joint(column: str) -> tuple[int | None, str]:
+    m = _PER_JOINT.match(column)
+    return (int(m.group("j")), m.group("stem")) if m else (None, column)
+
+
+def _named_joint(column: str, joints: list[str]) -> tuple[str | None, str]:
+    """The longest of ``joints`` a column's name holds between separators, and the name without it."""
+    for joint in sorted(joints, key=len, reverse=True):
+        m = re.search(rf"(^|[^A-Za-z0-9]){re.escape(joint)}($|[^A-Za-z0-9])", column)
+        if m:
+            return joint, (column[:m.start()] + m.group(1) + column[m.end():]).strip("._- ")
+    return None, column
+
+
+def _matches(column, template: str, named: bool = False) -> bool:
     if JOINT not in template and "*" not in template:
         return str(column) == template
     parts = re.split(r"(\{j\}|\*)", template)
-    body = "".join("\\d+" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
+    joint = "[^/]+" if named else "\\d+"
+    body = "".join(joint if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
     return re.fullmatch(body, str(column)) is not None
 
 

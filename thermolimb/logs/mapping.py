@@ -7,6 +7,8 @@ number and ``*`` for any text, so ``effort=Current_J{j},temperature=Temperature_
 finds every joint that has both columns (``Temperature_T0`` and
 ``Temperature_J1`` alike).  Joints are named by ``actuator=NAME{j}`` (default
 ``J{j}``) and ordered by number, which makes consecutive joints neighbours.
+Where no column has a number there, ``{j}`` stands for a joint's name (a PlotJuggler export's
+``/joint_states/{j}/effort``: ``FR_hip``, ``FR_thigh``): joints are named so and kept in the file's order.
 Columns without ``{j}`` (time, ambient) are shared by every joint.
 
 A channel on a time base of its own names its time column after ``@``:
@@ -16,6 +18,7 @@ channels are then aligned on the temperature's samples (:mod:`thermolimb.logs.al
 
 from __future__ import annotations
 
+import os
 import re
 from typing import Mapping
 
@@ -79,25 +82,36 @@ def is_pattern(mapping: Mapping[str, str]) -> bool:
     return any(JOINT in v for k, v in mapping.items() if k != "actuator")
 
 
-def _regex(template: str) -> re.Pattern:
+def _regex(template: str, joint: str = r"\d+") -> re.Pattern:
     parts = re.split(r"(\{j\}|\*)", template)
-    body = "".join("(?P<j>\\d+)" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
+    body = "".join(f"(?P<j>{joint})" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
     return re.compile(f"^{body}$")
 
 
-def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[int, str, dict[str, str]]]:
-    """``[(joint number, actuator name, {canonical: column})]`` for every joint of a pattern mapping, in joint order."""
+def _by_name(columns: list[str], templates: dict[str, str]) -> bool:
+    """Whether ``{j}`` stands for joints' names: some pattern matches no column with a number in its place, and every
+    pattern matches one with text there."""
+    def finds(template, joint):
+        return any(_regex(template, joint).match(c) for c in columns)
+
+    return (not all(finds(t, r"\d+") for t in templates.values())
+            and all(finds(t, r"[^/]+") for t in templates.values()))
+
+
+def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[int | str, str, dict[str, str]]]:
+    """``[(joint, actuator name, {canonical: column})]`` for every joint of a pattern mapping: joints numbered in the
+    columns in the order of their numbers, joints named there (:func:`_by_name`) in the file's order."""
     columns = [str(c) for c in columns]
-    per_key: dict[str, dict[int, str]] = {}
-    for key, template in mapping.items():
-        if key == "actuator" or JOINT not in template:
-            continue
-        regex = _regex(template)
-        found: dict[int, str] = {}
+    templates = {k: v for k, v in mapping.items() if k != "actuator" and JOINT in v}
+    named = _by_name(columns, templates)
+    per_key: dict[str, dict[int | str, str]] = {}
+    for key, template in templates.items():
+        regex = _regex(template, r"[^/]+" if named else r"\d+")
+        found: dict[int | str, str] = {}
         for c in columns:
             m = regex.match(c)
             if m:
-                j = int(m.group("j"))
+                j = m.group("j") if named else int(m.group("j"))
                 if j in found:
                     raise LogError(f"{source}: --map {key}={template} matches both {found[j]!r} and {c!r} for joint "
                                    f"{j}; make the pattern specific to one column per joint")
@@ -106,11 +120,15 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
             raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
                            f"{shown_names(columns)}")
         per_key[key] = found
-    joints = sorted(set.intersection(*(set(v) for v in per_key.values())))
+    common = set.intersection(*(set(v) for v in per_key.values()))
+    joints = [j for j in next(iter(per_key.values())) if j in common] if named else sorted(common)
     if not joints:
-        raise LogError(f"{source}: no joint number has a column for every pattern of --map "
-                       + "; ".join(f"{k}: joints {sorted(v)}" for k, v in per_key.items()))
-    partial = {k: sorted(set(v) - set(joints)) for k, v in per_key.items() if set(v) - set(joints)}
+        raise LogError(f"{source}: no joint has a column for every pattern of --map "
+                       + "; ".join(f"{k}: joints {list(v)}" for k, v in per_key.items()))
+    # a named joint the temperature's pattern does not find (a JointState's gripper) is no actuator to read
+    unheated = set().union(*per_key.values()) - set(per_key.get("temperature", {})) if named else set()
+    partial = {k: [j for j in v if j not in common and j not in unheated] for k, v in per_key.items()}
+    partial = {k: v for k, v in partial.items() if v}
     if partial:
         k, extra = next(iter(partial.items()))
         missing = [key for key in per_key if not set(extra) <= set(per_key[key])]
@@ -122,7 +140,7 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
         hint = " (a column per joint needs {j} where its number stands)" if "*" in v else ""
         raise LogError(f"{source}: --map {k}={v} names column {v!r}, which the file does not have{hint}; its columns "
                        f"are {shown_names(columns)}")
-    name = mapping.get("actuator", DEFAULT_JOINT_NAME)
+    name = mapping.get("actuator", JOINT if named else DEFAULT_JOINT_NAME)
     if JOINT not in name:
         raise LogError(f"{source}: with joint patterns, --map actuator= is a name pattern with {{j}}, e.g. actuator=J{{j}}")
     out = []
@@ -202,12 +220,15 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
             if len(single) > 1:
                 several[channel] = single
                 break
-    named = _named_joints(several)
+    label = next((g for key, g in joint_groups.items() if says_whole("name", key) and len(g) > 1), None)
+    if label is not None and is_pattern(mapping):  # field.name0 .. field.name3: each joint's name (rostopic echo -p)
+        mapping["actuator"] = _pattern([n for n, _ in label])
+        reasons.append(f"{mapping['actuator']} names each joint: its value names the joint's actuator")
+    named = _named_joints(several) if not is_pattern(mapping) else None
     if named is not None and "temperature" not in mapping and ("effort" in named[0] or "current" in named[0]):
         mapping.update(named[0])
-        reasons.append(f"the columns name their joints ({', '.join(named[1])}) rather than number them: this map "
-                       f"reads {named[1][0]} (--actuator {named[1][0]} names it); another joint takes a map of its "
-                       f"own columns")
+        reasons.append(f"the columns name their joints ({', '.join(named[1])}) rather than number them: {JOINT} in "
+                       f"this map stands for a joint's name")
         several = {k: v for k, v in several.items() if k not in named[0]}
     reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
                 for channel, cols in several.items()]
@@ -275,20 +296,33 @@ def named_unit(channel: str, column: str) -> str | None:
 
 
 def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str]] | None:
-    """Where a channel's several columns differ by one word, a joint's name (``/joint_states/hip/effort`` beside
-    ``/joint_states/knee/effort``), and the temperature's columns name the same joints: the first joint's column of
-    each such channel, and the joints' names in the temperature's order; else ``None``."""
-    def by_joint(columns):
-        words = [re.split(r"[^A-Za-z0-9]+", c) for c in columns]
-        common = set.intersection(*(set(w) for w in words))
-        own = [[w for w in ws if w and w not in common] for ws in words]
-        return {o[0]: c for o, c in zip(own, columns) if len(o) == 1} if all(len(o) == 1 for o in own) else {}
-
-    joints = {channel: by_joint(cols) for channel, cols in several.items()}
-    order = [j for j in joints.get("temperature", {}) if any(j in v for k, v in joints.items() if k != "temperature")]
-    if not order:
+    """Where a channel's several columns differ only in a joint's name between separators
+    (``/joint_states/FR_hip/effort`` beside ``/joint_states/FR_calf/effort``), and the temperature's columns name
+    the same joints: each such channel's pattern with ``{j}`` for the name, and the joints' names in the
+    temperature's order; else ``None``."""
+    joints = {channel: _name_pattern(cols) for channel, cols in several.items()}
+    joints = {channel: found for channel, found in joints.items() if found is not None}
+    heated = joints.get("temperature", (None, []))[1]
+    inputs = [c for c in joints if c != "temperature" and len(set(joints[c][1]) & set(heated)) >= 2]
+    if not inputs:
         return None
-    return {channel: cols[order[0]] for channel, cols in joints.items() if order[0] in cols}, order
+    return {channel: joints[channel][0] for channel in ["temperature", *inputs]}, heated
+
+
+def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:
+    """The pattern of columns that differ only in the text between a common head and tail, cut at separators
+    (``/`` and ``.`` first, then ``_``, ``-`` and spaces): ``("/joint_states/{j}/effort", ["FR_hip", "FR_calf"])``,
+    or ``None``."""
+    if len(columns) < 2:
+        return None
+    for separators in ("/.", "/._- "):
+        head, tail = os.path.commonprefix(columns), os.path.commonprefix([c[::-1] for c in columns])[::-1]
+        head = head[:max((head.rfind(s) + 1 for s in separators), default=0)]
+        tail = tail[min((i for i, ch in enumerate(tail) if ch in separators), default=len(tail)):]
+        names = [c[len(head):len(c) - len(tail)] for c in columns]
+        if (head or tail) and all(names) and len(set(names)) == len(names) and not any("/" in n for n in names):
+            return f"{head}{JOINT}{tail}", names
+    return None
 
 
 def _the_motor_s(columns: list[str]) -> str | None:

@@ -29,9 +29,10 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
     if is_pattern(mapping):
         parts = []
         joints = expand_joints(frame.columns, mapping, source)
-        per_joint, shared = extras.joint_extras(frame.columns, {k: v for k, v in mapping.items() if k != "actuator"},
-                                                [j for j, _, _ in joints])
+        per_joint, shared = extras.joint_extras(frame.columns, mapping, [j for j, _, _ in joints])
         for j, name, cols in joints:
+            if "actuator" in mapping and name in frame.columns:  # actuator=field.name{j}: a column names the joint
+                name = _joint_name(frame[name], name, source)
             part = pd.DataFrame({k: frame[v] for k, v in cols.items()})
             part.insert(1, "actuator", name)
             for stem, column in per_joint[j].items():
@@ -65,6 +66,15 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
     if "actuator" not in out.columns:
         out["actuator"] = actuator_name
     return out
+
+
+def _joint_name(column: pd.Series, header: str, source: str) -> str:
+    """The one name a per-joint column holds (a ``rostopic echo -p`` export's ``field.name0``)."""
+    names = column.dropna().astype(str).str.strip().unique()
+    if len(names) != 1 or not names[0]:
+        raise LogError(f"{source}: --map actuator= reads the joint's name from column {header!r}, which holds "
+                       f"{len(names)} names ({shown_names(list(names))}); expected one name on every row")
+    return names[0]
 
 
 def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
