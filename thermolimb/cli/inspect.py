@@ -66,7 +66,7 @@ def run(args) -> int:
         mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
         reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
                        f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
-                       f"the inputs averaged over each temperature sample's interval; add --drop-incomplete")
+                       f"the inputs averaged over each temperature sample's interval")
     together = _times_agree(path, mapping, rows)
     if together is not None:
         time, spread = together

@@ -123,8 +123,8 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
     common = set.intersection(*(set(v) for v in per_key.values()))
     joints = [j for j in next(iter(per_key.values())) if j in common] if named else sorted(common)
     if not joints:
-        raise LogError(f"{source}: no joint has a column for every pattern of --map "
-                       + "; ".join(f"{k}: joints {list(v)}" for k, v in per_key.items()))
+        raise LogError(f"{source}: no joint {'name' if named else 'number'} has a column for every pattern of "
+                       "--map " + "; ".join(f"{k}: joints {list(v)}" for k, v in per_key.items()))
     # a named joint the temperature's pattern does not find (a JointState's gripper) is no actuator to read
     unheated = set().union(*per_key.values()) - set(per_key.get("temperature", {})) if named else set()
     partial = {k: [j for j in v if j not in common and j not in unheated] for k, v in per_key.items()}

@@ -319,4 +319,4 @@ def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units:
     spec = ",".join([f"time={stated['time']}"] + [f"{c}={on_time(stated[c], mapping['time'])}" for c in measured])
     return (f"the temperature and the {thin} are logged on different rows ({held[thin]} of the temperature's "
             f"{held['temperature']} rows hold the {thin}): read each on its own samples with "
-            f"--map \"{spec}\" --drop-incomplete")
+            f"--map \"{spec}\"")

@@ -68,6 +68,17 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
     return out
 
 
+def _others_message(frame: pd.DataFrame, key: str, column: str, time_column: str, targets: dict,
+                    mapping: Mapping[str, str]) -> pd.Series:
+    """Rows of a table of topics merged on one time column where ``column`` is blank and another channel on the
+    same time column holds a value: another topic's message, not a missing reading."""
+    mates = [c for k, (c, _, t) in targets.items() if k != key and (t or mapping.get("time")) == time_column
+             and c in frame.columns and c != column]
+    if not mates:
+        return pd.Series(False, index=frame.index)
+    return frame[column].isna() & frame[mates].notna().any(axis=1)
+
+
 def _joint_name(column: pd.Series, header: str, source: str) -> str:
     """The one name a per-joint column holds (a ``rostopic echo -p`` export's ``field.name0``)."""
     names = column.dropna().astype(str).str.strip().unique()
@@ -100,8 +111,12 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
             if c not in frame.columns:
                 raise LogError(f"{source}: --map {key}={value} names column {c!r}, which the file does not have; "
                                f"its columns are {shown_names(frame.columns)}")
-        columns[key] = series_of(time_seconds(frame[time_column].dropna(), source, time_column, origin),
-                                 pd.to_numeric(frame.loc[frame[time_column].notna(), column], errors="coerce"),
+        rows = frame[time_column].notna() & ~_others_message(frame, key, column, time_column, targets, mapping)
+        if not rows.all() and (~rows & frame[time_column].notna()).any():
+            notes.append(f"{source}: {key} read on the {int(rows.sum())} rows of {time_column} that hold it (the "
+                         f"other {int((~rows & frame[time_column].notna()).sum())} hold other channels' messages)")
+        columns[key] = series_of(time_seconds(frame.loc[rows, time_column], source, time_column, origin),
+                                 pd.to_numeric(frame.loc[rows, column], errors="coerce"),
                                  source, key, drop_incomplete, notes)
     aligned, more = align(columns.pop("temperature"), columns, source)
     notes += more
