@@ -100,6 +100,13 @@ def test_wide_file_by_column_map(tmp_path):
     series = log.series("profile")
     np.testing.assert_allclose(series.signals.velocity, 600.0 * 2 * np.pi / 60)
     np.testing.assert_allclose(series.signals.ambient_C, 19.5)
+    # revolutions a second (ODrive's and moteus's velocity), stated after the column or in the header
+    for unit in ("rev/s", "turn/s"):
+        turns = read_log(path, mapping={**mapping, "velocity": f"motor_speed:{unit}"}).series("profile")
+        np.testing.assert_allclose(turns.signals.velocity, 600.0 * 2 * np.pi)
+    write(tmp_path, wide.rename(columns={"motor_speed": "vel_estimate [rev/s]"}), "odrive.csv")
+    turns = read_log(tmp_path / "odrive.csv", mapping={**mapping, "velocity": "vel_estimate [rev/s]"})
+    np.testing.assert_allclose(turns.series("odrive").signals.velocity, 600.0 * 2 * np.pi)
     with pytest.raises(LogError, match=r"--map effort=torq names column 'torq', which the file does not have"):
         read_log(path, mapping={**mapping, "effort": "torq"})
     with pytest.raises(LogError, match=r"--map does not name the column\(s\) for time, temperature; add time=COLUMN"):
@@ -168,6 +175,13 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     assert mapping == {"time": "stamp", "temperature": "motor_temp", "effort": "tau_Nm:Nm", "velocity": "joint_vel"}
     assert notes == ["effort=tau_Nm: its name ends in a unit, so the suggestion states it (Nm); change it if the name "
                      "means otherwise"]
+    # per-joint temperatures of the motor and of what is not the motor (moteus's servo1.temperature is its board's;
+    # an ODrive's FETs), whichever comes first in the file
+    for other in ("servo{}.temperature", "axis{}.motor.fet_thermistor.temperature"):
+        drivers = ["time"] + [f.format(i) for i in (1, 2) for f in (other, "servo{}.motor_temperature", "servo{}.torque")]
+        mapping, notes = suggest_table_mapping(drivers, dict.fromkeys(drivers, 5))
+        assert mapping["temperature"] == "servo{j}.motor_temperature", other
+        assert notes[0].startswith("temperature: servo{j}.motor_temperature names the motor, " + other.format("{j}"))
     # a driver's log: the motor's thermistor beside its FETs', units at the ends of the names
     odrive = ["timestamp_ns", "axis0.motor.motor_thermistor.temperature", "axis0.motor.fet_thermistor.temperature",
               "Iq_measured_A", "vel_estimate_rpm", "bus_voltage"]

@@ -160,7 +160,7 @@ CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
 # a unit a column's name ends in (``tau_Nm``, ``speed_rpm``, ``current_A``), by channel: the suggestion states it
 NAMED_UNITS = {"effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"}, "current": {"a": "A", "ma": "mA", "amps": "A"},
                "velocity": {"rpm": "rpm", "rad_s": "rad/s", "rads": "rad/s", "deg_s": "deg/s", "dps": "deg/s",
-                            "m_s": "m/s"},
+                            "rev_s": "rev/s", "rps": "rev/s", "turns_s": "turn/s", "m_s": "m/s"},
                "power": {"w": "W", "mw": "mW", "kw": "kW"},
                "time": {"ms": "ms", "us": "us", "ns": "ns", "min": "min"}}  # seconds need no saying
 # words that name a motor's temperature, and words that name its electronics' (a driver's FETs, a board)
@@ -198,10 +198,14 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
     for channel, words, whole in CHANNEL_WORDS:
         for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
-            group = next((g for key, g in joint_groups.items() if says(word, key) and len(g) > 1), None)
-            if group is not None and channel != "time":
-                mapping[channel] = _pattern([n for n, _ in group])
-                used |= {n for n, _ in group}
+            groups = {key: g for key, g in joint_groups.items() if says(word, key) and len(g) > 1}
+            if groups and channel != "time":
+                key = (_the_motor_s(list(groups)) if channel == "temperature" else None) or next(iter(groups))
+                mapping[channel] = _pattern([n for n, _ in groups[key]])
+                used |= {n for n, _ in groups[key]}
+                if len(groups) > 1:
+                    reasons.append(_others_left(channel, mapping[channel], [_pattern([n for n, _ in g])
+                                                                            for k, g in groups.items() if k != key]))
                 break
             single = [n for n in names if says(word, n) and n not in used and n not in grouped
                       and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
@@ -213,9 +217,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
             if motor is not None:
                 mapping[channel] = motor
                 used.add(motor)
-                others = ", ".join(c for c in single if c != motor)
-                reasons.append(f"temperature: {motor} names the motor, {others} its electronics; those are left to "
-                               f"diagnose --discover as extra channels")
+                reasons.append(_others_left(channel, motor, [c for c in single if c != motor]))
                 break
             if len(single) > 1:
                 several[channel] = single
@@ -325,15 +327,25 @@ def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:
     return None
 
 
-def _the_motor_s(columns: list[str]) -> str | None:
-    """Of several temperature columns, the one whose name says the motor's where every other says the
-    electronics' (``motor_thermistor`` beside ``fet_thermistor``), else ``None``."""
-    def says(words, name):  # a joint's number joined to the word counts (motor1_temp beside fet1_temp)
-        return bool(set(words) & set(re.findall(r"[a-z]+", name.lower())))
+def _says(words, name: str) -> bool:  # a joint's number joined to the word counts (motor1_temp beside fet1_temp)
+    return bool(set(words) & set(re.findall(r"[a-z]+", name.lower())))
 
-    motor = [c for c in columns if says(MOTOR_WORDS, c) and not says(ELECTRONICS_WORDS, c)]
-    rest = [c for c in columns if c not in motor]
-    return motor[0] if len(motor) == 1 and all(says(ELECTRONICS_WORDS, c) for c in rest) else None
+
+def _the_motor_s(columns: list[str]) -> str | None:
+    """Of several temperature columns, the one whose name says the motor's where no other does
+    (``motor_thermistor`` beside ``fet_thermistor``; moteus's ``servo1.motor_temperature`` beside its board's
+    ``servo1.temperature``), else ``None``."""
+    motor = [c for c in columns if _says(MOTOR_WORDS, c) and not _says(ELECTRONICS_WORDS, c)]
+    return motor[0] if len(motor) == 1 else None
+
+
+def _others_left(channel: str, chosen: str, others: list[str]) -> str:
+    """Why one of several columns that could be a channel was taken, and what the others are left as."""
+    if channel == "temperature" and _says(MOTOR_WORDS, chosen):
+        kind = "its electronics" if all(_says(ELECTRONICS_WORDS, c) for c in others) else "no motor"
+        return (f"temperature: {chosen} names the motor, {', '.join(others)} {kind}; those are left to "
+                f"diagnose --discover as extra channels")
+    return f"{channel}: {chosen} taken of several that could be it ({', '.join([chosen, *others])}); check it"
 
 
 def _names_actuators(name: str) -> bool:

@@ -13,7 +13,7 @@ effort in mA.  Each log carries the units of its ``effort``, ``velocity``,
 * otherwise the channel's unit is "unit not given", and every unit built on
   it says so instead of guessing.
 
-Velocity given in rpm or deg/s is converted to rad/s when the log is read.
+Velocity given in rpm, deg/s, rev/s or turn/s is converted to rad/s when the log is read.
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ from typing import Mapping
 from ..model.parameter_units import CANONICAL, NOT_GIVEN, SCALED
 
 # units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's name
-KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "%",
-         "s", "ms", "us", "ns", "min", "h", "degC", "K", "degF")
+KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "rev/s",
+         "turn/s", "%", "s", "ms", "us", "ns", "min", "h", "degC", "K", "degF")
 CELSIUS = ("degC", "°C", "C", "deg C", "celsius", "Celsius")  # what a header may call degrees Celsius
 # ... and degrees Fahrenheit (a thrust stand's "Temp (ºF)": an ordinal sign, not a degree sign, is common)
 FAHRENHEIT = ("degF", "°F", "ºF", "F", "deg F", "fahrenheit", "Fahrenheit")

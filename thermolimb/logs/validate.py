@@ -31,7 +31,9 @@ from .wide import apply_mapping, split_units
 
 # no working actuator's winding, housing or air reads outside this: readings beyond are not degC
 TEMPERATURE_RANGE_C = (-100.0, 500.0)
-VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0}
+# revolutions a second: ODrive's and moteus's native velocity (turns/s, rev/s)
+VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": np.pi / 180.0,
+                  "rev/s": 2.0 * np.pi, "turn/s": 2.0 * np.pi}
 
 
 @dataclass
