@@ -129,6 +129,27 @@ def test_an_effect_on_the_edge_is_reported_unstable_not_recommended():
     assert row["selection_frequency"] == edge.selection_frequency and row["status"] == "unstable"
 
 
+def test_where_the_replicates_overturn_the_whole_logs_best_change_the_change_they_take_is_recommended():
+    """Stability selection keeps what most perturbed copies take: where the whole log's best change is taken in too
+    few replicates and another eligible change in enough, that one is recommended (the most often taken, then the
+    lower error); an implausible or harmful change is not, however often taken, and with none the walk stops."""
+    from thermolimb.workbench.diagnosis.candidates import Candidate
+    from thermolimb.workbench.diagnosis.stability import steadier
+
+    def change(effect, rmse_K, share, kind="add", **kw):
+        model = ("joule",) if kind == "drop" else ("joule", "effort_bias", effect)
+        return Candidate(effect, model, kind=kind, rmse_K=rmse_K, improvement=1.0 - rmse_K / 5.808, delta_bic=-100.0,
+                         **{"plausible": True, "identifiable": True, "selection_frequency": share, **kw})
+
+    best = change("effort_bias", 4.545, 0.0, kind="drop")
+    speed, lag = change("speed_losses", 4.605, 1.0), change("sensor_lag", 4.7, 0.8)
+    odd, worse = change("winding_tempco", 4.0, 1.0, plausible=False), change("motion_cooling", 5.9, 1.0)
+    assert steadier([best, lag, speed, odd, worse], best, Stability()) is speed
+    assert steadier([best, lag], best, Stability()) is lag
+    assert steadier([best, lag], best, Stability(min_frequency=0.9)) is None
+    assert steadier([best, odd, worse], best, Stability()) is None
+
+
 def test_the_floor_is_said_when_the_model_is_already_good(tmp_path, capsys):
     """A first-order plant with 0.1 degC steps and nothing hidden: the first-order model is already at the
     sensor's floor, so nothing is recommended, and the text and the JSON say why with the same numbers."""

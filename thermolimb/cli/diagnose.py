@@ -131,10 +131,15 @@ def describe_diagnosis(d) -> str:
         lines.append("  recommended: none (the evidence above is too thin to carry a recommendation)")
     elif d.at_floor:
         lines.append("  recommended: none (the model is already at the sensor's floor)")
-    elif d.unstable is not None:
+    elif d.unstable is not None and d.recommended is None:
         lines.append(f"  recommended: none ({d.unstable.label} helps but is {d.unstable.unstable_because})")
     else:
         warn = f" (on {evidence.verdict} evidence: a hint)" if d.recommended and evidence.thin else ""
+        if d.unstable is not None:
+            u, r = d.unstable, d.recommended
+            warn += (f" ({r.label} taken in {round(r.selection_frequency * k)} of {k} replicates; {u.label} helps "
+                     f"more on the whole log, {u.rmse_K:.3f} against {r.rmse_K:.3f} K, but is taken in "
+                     f"{round(u.selection_frequency * k)} of {k})")
         lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}{warn}")
     if d.auto:
         lines.append("  steps:")

@@ -48,7 +48,7 @@ from .explain import describe, describe_discovered
 from .refit import evaluate, guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
 from .split_or_blocks import judging_scheme
-from .stability import Stability, selection_frequencies
+from .stability import Stability, selection_frequencies, steadier
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 
@@ -112,7 +112,8 @@ class Diagnosis:
     proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
     floor: SensorFloor | None = None  # what the readings can resolve
     stability: dict | None = None  # the replicates' verdicts, when the best change was checked for stability
-    unstable: Candidate | None = None  # the best change, when it helps but is not taken often enough
+    unstable: Candidate | None = None  # the best change, when it helps but is not taken often enough (recommended
+    # then only if the replicates take another change often enough: stability.steadier)
     heat_source: dict | None = None  # where a log has both: heat from effort or from current, chosen on held-out data
 
     @property
@@ -274,7 +275,7 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
     best = d.recommended
     if best.selection_frequency < stability.min_frequency:
         best.unstable_because = best.stability_sentence
-        d.unstable, d.recommended = best, None
+        d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
 
 
 def _channel_candidates(model, train, every) -> list[Candidate]:
@@ -477,7 +478,7 @@ def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dic
                    selection_frequency=move.selection_frequency)
         out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
                       f"BIC {move.delta_bic:+.1f}" + (f", {move.stability_sentence}" if move.stability_sentence else ""))
-    if d.unstable is not None:  # where the walk stopped: a change that helps, not taken often enough
+    if d.unstable is not None and d.recommended is None:  # where the walk stopped: it helps, not taken often enough
         c = d.unstable
         out["unstable"] = {"change": c.label, "rmse_K": c.rmse_K, "selection_frequency": c.selection_frequency,
                            "replicates": d.stability["replicates"], "why": c.unstable_because}
