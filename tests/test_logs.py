@@ -178,7 +178,8 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     # per-joint temperatures of the motor and of what is not the motor (moteus's servo1.temperature is its board's;
     # an ODrive's FETs), whichever comes first in the file
     for other in ("servo{}.temperature", "axis{}.motor.fet_thermistor.temperature"):
-        drivers = ["time"] + [f.format(i) for i in (1, 2) for f in (other, "servo{}.motor_temperature", "servo{}.torque")]
+        drivers = ["time"] + [f.format(i) for i in (1, 2)
+                              for f in (other, "servo{}.motor_temperature", "servo{}.torque")]
         mapping, notes = suggest_table_mapping(drivers, dict.fromkeys(drivers, 5))
         assert mapping["temperature"] == "servo{j}.motor_temperature", other
         assert notes[0].startswith("temperature: servo{j}.motor_temperature names the motor, " + other.format("{j}"))
@@ -243,6 +244,13 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     assert np.array_equal(calf.signals.extra["/joint_states/position"],
                           pd.read_csv(path)["/joint_states/FR_calf/position"])
     assert np.array_equal(calf.signals.effort, pd.read_csv(path)["/joint_states/FR_calf/effort"])
+    pd.read_csv(path).drop(columns="/joint_states/FL_calf/effort").to_csv(path, index=False)  # a joint left out, said
+    _, notes = suggest_table_mapping([c for c in quad if c != "/joint_states/FL_calf/effort"], dict.fromkeys(quad, 5))
+    assert notes[0].endswith("{j} in this map stands for a joint's name; FL_calf has no effort column, so it is not "
+                             "read")
+    log = read_log(path, mapping=mapping)
+    assert log.actuators == joints[:2] and "joint(s) FL_calf not read: the map finds their temperature but not " \
+        "effort" in str(log.notes)
     # rostopic echo -p of a JointState, its temperatures merged in: field.name{j} names each joint's actuator
     echo = ["%time", "field.header.seq"] + [f"field.{f}{i}" for f in ("name", "effort", "temperature") for i in (0, 1)]
     mapping, notes = suggest_table_mapping(echo, dict.fromkeys(echo, 5))

@@ -98,9 +98,12 @@ def _by_name(columns: list[str], templates: dict[str, str]) -> bool:
             and all(finds(t, r"[^/]+") for t in templates.values()))
 
 
-def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tuple[int | str, str, dict[str, str]]]:
+def expand_joints(columns, mapping: Mapping[str, str], source: str,
+                  notes: list[str] | None = None) -> list[tuple[int | str, str, dict[str, str]]]:
     """``[(joint, actuator name, {canonical: column})]`` for every joint of a pattern mapping: joints numbered in the
-    columns in the order of their numbers, joints named there (:func:`_by_name`) in the file's order."""
+    columns in the order of their numbers, joints named there (:func:`_by_name`) in the file's order.  A numbered
+    joint with some of the patterns' columns and not others is refused; a named one is left out and said in
+    ``notes`` (topics exported together name different joints: a gripper in the JointState, no temperature)."""
     columns = [str(c) for c in columns]
     templates = {k: v for k, v in mapping.items() if k != "actuator" and JOINT in v}
     named = _by_name(columns, templates)
@@ -125,11 +128,13 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str) -> list[tupl
     if not joints:
         raise LogError(f"{source}: no joint {'name' if named else 'number'} has a column for every pattern of "
                        "--map " + "; ".join(f"{k}: joints {list(v)}" for k, v in per_key.items()))
-    # a named joint the temperature's pattern does not find (a JointState's gripper) is no actuator to read
-    unheated = set().union(*per_key.values()) - set(per_key.get("temperature", {})) if named else set()
-    partial = {k: [j for j in v if j not in common and j not in unheated] for k, v in per_key.items()}
+    partial = {k: [j for j in v if j not in common] for k, v in per_key.items()}
     partial = {k: v for k, v in partial.items() if v}
-    if partial:
+    heated = [j for j in per_key.get("temperature", {}) if j not in common]
+    if named and heated and notes is not None:
+        notes.append(f"{source}: joint(s) {', '.join(heated)} not read: the map finds their temperature but not "
+                     + ", ".join(k for k in per_key if not set(heated) <= set(per_key[k])))
+    if partial and not named:
         k, extra = next(iter(partial.items()))
         missing = [key for key in per_key if not set(extra) <= set(per_key[key])]
         raise LogError(f"{source}: joint(s) {extra} have a {k} column but no {', '.join(missing)} column; "
@@ -230,7 +235,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     if named is not None and "temperature" not in mapping and ("effort" in named[0] or "current" in named[0]):
         mapping.update(named[0])
         reasons.append(f"the columns name their joints ({', '.join(named[1])}) rather than number them: {JOINT} in "
-                       f"this map stands for a joint's name")
+                       f"this map stands for a joint's name" + (f"; {', '.join(named[2])}, so it is not read"
+                                                                if named[2] else ""))
         several = {k: v for k, v in several.items() if k not in named[0]}
     reasons += [f"{channel}: several columns could be it ({', '.join(cols[:4])}); name one"
                 for channel, cols in several.items()]
@@ -297,18 +303,19 @@ def named_unit(channel: str, column: str) -> str | None:
                 None)
 
 
-def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str]] | None:
+def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str], list[str]] | None:
     """Where a channel's several columns differ only in a joint's name between separators
     (``/joint_states/FR_hip/effort`` beside ``/joint_states/FR_calf/effort``), and the temperature's columns name
-    the same joints: each such channel's pattern with ``{j}`` for the name, and the joints' names in the
-    temperature's order; else ``None``."""
+    the same joints: each such channel's pattern with ``{j}`` for the name, the joints' names in the
+    temperature's order, and which of them lack an input's column; else ``None``."""
     joints = {channel: _name_pattern(cols) for channel, cols in several.items()}
     joints = {channel: found for channel, found in joints.items() if found is not None}
     heated = joints.get("temperature", (None, []))[1]
     inputs = [c for c in joints if c != "temperature" and len(set(joints[c][1]) & set(heated)) >= 2]
     if not inputs:
         return None
-    return {channel: joints[channel][0] for channel in ["temperature", *inputs]}, heated
+    lacking = [f"{j} has no {c} column" for c in inputs for j in heated if j not in joints[c][1]]
+    return {channel: joints[channel][0] for channel in ["temperature", *inputs]}, heated, lacking
 
 
 def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:

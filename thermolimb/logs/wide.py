@@ -27,8 +27,8 @@ def split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict
 def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
                    drop_incomplete: bool = False) -> pd.DataFrame:
     if is_pattern(mapping):
-        parts = []
-        joints = expand_joints(frame.columns, mapping, source)
+        parts, notes = [], []
+        joints = expand_joints(frame.columns, mapping, source, notes)
         per_joint, shared = extras.joint_extras(frame.columns, mapping, [j for j, _, _ in joints])
         for j, name, cols in joints:
             if "actuator" in mapping and name in frame.columns:  # actuator=field.name{j}: a column names the joint
@@ -40,7 +40,9 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
             for column in shared:
                 part[EXTRA + column] = frame[column].to_numpy()
             parts.append(part)
-        return pd.concat(parts, ignore_index=True)
+        out = pd.concat(parts, ignore_index=True)
+        out.attrs["notes"] = notes
+        return out
     if any(TIME_OF in v for v in mapping.values()):
         return _aligned(frame, mapping, source, actuator_name, drop_incomplete)
     absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
