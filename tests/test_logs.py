@@ -379,3 +379,18 @@ def test_inspect_pairs_each_channel_with_its_own_time_and_reads_topics_merged_on
                                        "rows; expected numbers in A, or leave current out of --map"):
         read_log(path, mapping=parse_mapping("time=t_s,effort=tau_Nm,temperature=motor_temp_C,current=i_A"),
                  drop_incomplete=True)
+    # a PlotJuggler export of two topics at their own rates, joints named in the columns: each joint read on its own
+    # samples as the one-joint table above is
+    plot = pd.DataFrame({"__time": t, "/joint_states/hip/effort": merged["tau_Nm"],
+                         "/joint_states/knee/effort": 2.0 * merged["tau_Nm"],
+                         "/temps/hip/temperature": merged["motor_temp_C"],
+                         "/temps/knee/temperature": merged["motor_temp_C"] + 1.0})
+    plot.to_csv(path := tmp_path / "plotjuggler.csv", index=False)
+    assert main(["inspect", str(path)]) == 0
+    map_ = "time=__time,temperature=/temps/{j}/temperature@__time,effort=/joint_states/{j}/effort@__time"
+    assert f'suggested: --map "{map_}"' in capsys.readouterr().out
+    log = read_log(path, mapping=parse_mapping(map_))
+    assert log.actuators == ("hip", "knee")
+    assert np.array_equal(log.series("hip").signals.effort, run.signals.effort)
+    assert np.allclose(log.series("knee").signals.effort, 2.0 * run.signals.effort)
+    assert np.array_equal(log.series("knee").temperature_C, run.temperature_C + 1.0)

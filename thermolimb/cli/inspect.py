@@ -7,11 +7,12 @@ from pathlib import Path
 import numpy as np
 
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import TIME_OF, UNITS, is_pattern, on_time, suggest_table_mapping
+from ..logs.mapping import TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
 from ..logs.units import header_unit, split_unit
 from ..logs.validate import apart, held_beside_temperature
+from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from .options import add_quiet
 from .output import print_json
@@ -110,10 +111,16 @@ def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[
     """Where the suggested temperature and an input share the time column but fewer than half of the temperature's
     rows hold the input (topics merged into one table), the first such input and how many rows hold both; else
     ``None``.  Read again in pieces, only when a mapped column misses values."""
-    if (not mapping or "time" not in mapping or "temperature" not in mapping or is_pattern(mapping)
+    if (not mapping or "time" not in mapping or "temperature" not in mapping
             or any(TIME_OF in v for v in mapping.values())):
         return None
-    columns = {k: split_unit(v)[0] for k, v in mapping.items() if k not in ("time", "actuator")}
+    columns = {k: split_unit(v)[0] for k, v in mapping.items() if k != "time"}
+    if is_pattern(columns):  # the first joint's columns stand for every joint's
+        try:
+            columns = expand_joints(list(values), columns, str(path))[0][2]
+        except LogError:
+            return None
+    columns.pop("actuator", None)
     if all(values.get(c, 0) == rows for c in columns.values()):
         return None
     held = dict.fromkeys(columns, 0)

@@ -28,11 +28,19 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
                    drop_incomplete: bool = False) -> pd.DataFrame:
     if is_pattern(mapping):
         parts, notes = [], []
-        joints = expand_joints(frame.columns, mapping, source, notes)
-        per_joint, shared = extras.joint_extras(frame.columns, mapping, [j for j, _, _ in joints])
+        timed = {k: v.partition(TIME_OF)[2] for k, v in mapping.items() if TIME_OF in v}
+        plain = {k: v.partition(TIME_OF)[0] for k, v in mapping.items()}
+        joints = expand_joints(frame.columns, plain, source, notes)
+        per_joint, shared = extras.joint_extras(frame.columns, plain, [j for j, _, _ in joints])
         for j, name, cols in joints:
             if "actuator" in mapping and name in frame.columns:  # actuator=field.name{j}: a column names the joint
                 name = _joint_name(frame[name], name, source)
+            if timed:  # each joint's channels on time bases of their own (topics merged on one time column)
+                part = _aligned(frame, {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
+                                source, name, drop_incomplete)
+                notes += [n for n in part.attrs["notes"] if n not in notes]
+                parts.append(part)
+                continue
             part = pd.DataFrame({k: frame[v] for k, v in cols.items()})
             part.insert(1, "actuator", name)
             for stem, column in per_joint[j].items():
@@ -93,8 +101,6 @@ def _joint_name(column: pd.Series, header: str, source: str) -> str:
 def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actuator_name: str,
              drop_incomplete: bool) -> pd.DataFrame:
     """A wide file whose channels have time columns of their own, put on the temperature's samples."""
-    if is_pattern(mapping):
-        raise LogError(f"{source}: --map cannot mix joint patterns ({{j}}) with per-channel time columns (@)")
     if "temperature" not in mapping or ("time" not in mapping and TIME_OF not in mapping["temperature"]):
         raise LogError(f"{source}: with per-channel time columns, --map names temperature=COLUMN@TIME_COLUMN "
                        f"(or time=COLUMN for the channels without their own)")
