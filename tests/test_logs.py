@@ -251,6 +251,8 @@ def test_inspect_suggests_a_map_for_wide_files_as_for_bags(tmp_path):
     log = read_log(path, mapping=mapping)
     assert log.actuators == joints[:2] and "joint(s) FL_calf not read: the map finds their temperature but not " \
         "effort" in str(log.notes)
+    with pytest.raises(LogError, match="--map temperature=/motor_temperatures/{j}/temp matches no column"):
+        read_log(path, mapping={**mapping, "temperature": "/motor_temperatures/{j}/temp"})  # named for what is wrong
     # rostopic echo -p of a JointState, its temperatures merged in: field.name{j} names each joint's actuator
     echo = ["%time", "field.header.seq"] + [f"field.{f}{i}" for f in ("name", "effort", "temperature") for i in (0, 1)]
     mapping, notes = suggest_table_mapping(echo, dict.fromkeys(echo, 5))

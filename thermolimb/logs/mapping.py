@@ -106,6 +106,10 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
     ``notes`` (topics exported together name different joints: a gripper in the JointState, no temperature)."""
     columns = [str(c) for c in columns]
     templates = {k: v for k, v in mapping.items() if k != "actuator" and JOINT in v}
+    for key, template in templates.items():  # a pattern that finds no column by a joint's name finds none by number
+        if not any(_regex(template, r"[^/]+").match(c) for c in columns):
+            raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
+                           f"{shown_names(columns)}")
     named = _by_name(columns, templates)
     per_key: dict[str, dict[int | str, str]] = {}
     for key, template in templates.items():

@@ -94,7 +94,8 @@ def _joint_name(column: pd.Series, header: str, source: str) -> str:
     names = column.dropna().astype(str).str.strip().unique()
     if len(names) != 1 or not names[0]:
         raise LogError(f"{source}: --map actuator= reads the joint's name from column {header!r}, which holds "
-                       f"{len(names)} names ({shown_names(list(names))}); expected one name on every row")
+                       f"{len(names)} names ({', '.join(names[:3])}{', ...' if len(names) > 3 else ''}); expected "
+                       f"one name on every row")
     return names[0]
 
 
