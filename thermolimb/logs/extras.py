@@ -27,7 +27,7 @@ from typing import Mapping
 import numpy as np
 
 from ..util.lazy import pandas as pd
-from .mapping import EXTRA, JOINT, OPTIONAL, REQUIRED
+from .mapping import EXTRA, JOINT, NAME, NUMBER, OPTIONAL, REQUIRED, pattern_regex
 from .table import shown_names
 from .units import header_unit
 
@@ -87,10 +87,7 @@ def _named_joint(column: str, joints: list[str]) -> tuple[str | None, str]:
 def _matches(column, template: str, named: bool = False) -> bool:
     if JOINT not in template and "*" not in template:
         return str(column) == template
-    parts = re.split(r"(\{j\}|\*)", template)
-    joint = "[^/]+" if named else "\\d+"
-    body = "".join(joint if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
-    return re.fullmatch(body, str(column)) is not None
+    return pattern_regex(template, NAME if named else NUMBER).match(str(column)) is not None
 
 
 def collect(frame: pd.DataFrame, given: Mapping[str, str | None], explicit: Mapping[str, str],

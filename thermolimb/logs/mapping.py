@@ -82,38 +82,35 @@ def is_pattern(mapping: Mapping[str, str]) -> bool:
     return any(JOINT in v for k, v in mapping.items() if k != "actuator")
 
 
-def _regex(template: str, joint: str = r"\d+") -> re.Pattern:
+NUMBER, NAME = r"\d+", r"[^/]+"  # what {j} stands for in a column: a joint's number, or its name (one path segment)
+
+
+def pattern_regex(template: str, joint: str = NUMBER) -> re.Pattern:
+    """A column pattern (``{j}`` for the joint, ``*`` for any text) as an anchored regex, the joint as group ``j``."""
     parts = re.split(r"(\{j\}|\*)", template)
     body = "".join(f"(?P<j>{joint})" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
     return re.compile(f"^{body}$")
 
 
-def _by_name(columns: list[str], templates: dict[str, str]) -> bool:
-    """Whether ``{j}`` stands for joints' names: some pattern matches no column with a number in its place, and every
-    pattern matches one with text there."""
-    def finds(template, joint):
-        return any(_regex(template, joint).match(c) for c in columns)
-
-    return (not all(finds(t, r"\d+") for t in templates.values())
-            and all(finds(t, r"[^/]+") for t in templates.values()))
-
-
 def expand_joints(columns, mapping: Mapping[str, str], source: str,
                   notes: list[str] | None = None) -> list[tuple[int | str, str, dict[str, str]]]:
     """``[(joint, actuator name, {canonical: column})]`` for every joint of a pattern mapping: joints numbered in the
-    columns in the order of their numbers, joints named there (:func:`_by_name`) in the file's order.  A numbered
+    columns in the order of their numbers, joints named there (where a number finds no column) in the file's order.  A numbered
     joint with some of the patterns' columns and not others is refused; a named one is left out and said in
     ``notes`` (topics exported together name different joints: a gripper in the JointState, no temperature)."""
     columns = [str(c) for c in columns]
     templates = {k: v for k, v in mapping.items() if k != "actuator" and JOINT in v}
+    def finds(template, joint):
+        return any(pattern_regex(template, joint).match(c) for c in columns)
+
     for key, template in templates.items():  # a pattern that finds no column by a joint's name finds none by number
-        if not any(_regex(template, r"[^/]+").match(c) for c in columns):
+        if not finds(template, NAME):
             raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
                            f"{shown_names(columns)}")
-    named = _by_name(columns, templates)
+    named = not all(finds(t, NUMBER) for t in templates.values())  # {j} stands for a name where a number finds none
     per_key: dict[str, dict[int | str, str]] = {}
     for key, template in templates.items():
-        regex = _regex(template, r"[^/]+" if named else r"\d+")
+        regex = pattern_regex(template, NAME if named else NUMBER)
         found: dict[int | str, str] = {}
         for c in columns:
             m = regex.match(c)
@@ -123,9 +120,6 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
                     raise LogError(f"{source}: --map {key}={template} matches both {found[j]!r} and {c!r} for joint "
                                    f"{j}; make the pattern specific to one column per joint")
                 found[j] = c
-        if not found:
-            raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
-                           f"{shown_names(columns)}")
         per_key[key] = found
     common = set.intersection(*(set(v) for v in per_key.values()))
     joints = [j for j in next(iter(per_key.values())) if j in common] if named else sorted(common)
