@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.logs import LogError, from_frame, read_log
+from thermolimb.logs import LogError, from_frame, parse_mapping, read_log
 from thermolimb.logs.bag_writer import write_mcap
 
 
@@ -112,3 +112,43 @@ def test_model_parameters_outside_their_bounds_are_refused_unless_an_unconstrain
     with pytest.raises(ValueError, match=r"betaR_K_per_effort2 = -1e\+09 is outside its bounds \[0, inf\]"):
         ThermalModel(("joule",), values)
     assert ThermalModel(("joule",), values, bounded=False).params["betaR_K_per_effort2"] == -1e9
+
+
+def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path):
+    """A PlotJuggler export of joint states at 20 Hz and a temperature topic at 1 Hz, its blanks filled (each
+    reading repeated until the next, 7 ms after the joint state it follows), is read on the temperature's updates:
+    its readings as the sensor gave them, the effort's root mean square over each second.  Read row by row, the
+    filled walk took ``+ sensor_lag`` on a plant without one (thermolimb/logs/held.py).  The plant's own readings,
+    quantised to 0.1 degC on the same 20 Hz rows, are not held and are read row by row."""
+    from thermolimb.plant import X8_9, PlantEffects, simulate_profile
+
+    fx = PlantEffects.from_names("sensor_noise,quantisation,speed_losses")
+    hip = simulate_profile("random", 600.0, 0.05, ["hip"], [X8_9], fx, seed=1).log.series("hip")
+    t, effort, temperature = hip.time_s, hip.signals.effort, hip.temperature_C
+    second = np.flatnonzero(np.isclose(t % 1.0, 0.0) | np.isclose(t % 1.0, 1.0))
+    states = pd.DataFrame({"__time": t, "/joint_states/hip/effort": effort})
+    temps = pd.DataFrame({"__time": t[second] + 0.007, "/temps/hip/temperature": temperature[second]})
+    export = pd.concat([states, temps]).sort_values("__time", kind="stable").ffill().iloc[1:]
+    export.to_csv(path := tmp_path / "plotjuggler.csv", index=False)
+    log = read_log(path, mapping=parse_mapping("time=__time,temperature=/temps/{j}/temperature,"
+                                               "effort=/joint_states/{j}/effort"))
+    assert "hip's temperature holds each reading for about 20 rows: it changes only on a 1 s clock" in str(log.notes)
+    run = log.series("hip")
+    assert run.n == second.size  # every update a sample, the first and the last rows' among them
+    assert np.allclose(run.time_s, t[second] + 0.007, atol=1e-9)
+    assert np.array_equal(run.temperature_C, temperature[second])
+    # each second's effort: the 20 Hz rows it holds (the first 7 ms still the row before's), as heat
+    rows = export["__time"].to_numpy()
+    held = export["/joint_states/hip/effort"].to_numpy()
+    for k in (3, 100, 400):
+        inside = (rows >= run.time_s[k]) & (rows < run.time_s[k + 1])
+        pieces = np.diff(np.r_[run.time_s[k], rows[inside][1:], run.time_s[k + 1]])
+        assert np.isclose(run.signals.effort[k] ** 2, np.sum(held[inside] ** 2 * pieces) / pieces.sum())
+    plain = read_log(write(tmp_path, pd.DataFrame({"time": t, "actuator": "hip", "effort": effort,
+                                                   "temperature": temperature})))
+    assert plain.series("hip").n == t.size and not any("holds each reading" in n for n in plain.notes)
+
+
+def write(tmp_path, frame):
+    frame.to_csv(path := tmp_path / "log.csv", index=False)
+    return path

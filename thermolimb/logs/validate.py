@@ -14,6 +14,7 @@ from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
+from .held import read_on_updates
 from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, is_pattern, on_time
 from .plausible import (
     canonical_with_units,
@@ -209,6 +210,8 @@ def from_frame(
         if len(g) < MIN_SAMPLES and not later:
             raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
         refuse_unit_switch(g, name, source)
+        if reading is None:  # a log followed piece by piece is read as its pieces come
+            g = read_on_updates(g, name, source, notes)
         if not later:
             g = leave_out(g, name, source, notes, MIN_SAMPLES)
             note = fahrenheit_note(g["temperature"].to_numpy(), g["effort"].to_numpy(),
