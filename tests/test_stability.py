@@ -299,3 +299,25 @@ def test_a_replicate_whose_base_sets_a_term_aside_takes_no_change_built_on_it():
     assert validate_model([still], "joule,motion_cooling", reduce=True).model.terms == ("joule",)
     contender = Candidate("second_node", ("joule", "motion_cooling", "second_node"))
     assert replicate([still], ("joule", "motion_cooling"), Search(), None, [contender.spec()], [{}]) is None
+
+
+def test_a_replicate_s_fits_compare_fewer_samples_and_validate_at_the_full_rate(speed_log, monkeypatch):
+    """Replicates fit on at most ``REPLICATE_SAMPLES`` compared samples (the thinning long fits use: every k-th
+    sample, simulated on blocks of k where the time constants allow) and judge on every held-out sample: on a log
+    thinned to a third, the held-out error is the same to a thousandth of a kelvin and the replicates take the same
+    change."""
+    from thermolimb.workbench.diagnosis import stability
+    from thermolimb.workbench.diagnosis.refit import compared_on, evaluate
+
+    runs = speed_log.runs("knee")
+    split = Scheme.at_split(0.7)
+    full = evaluate(runs, ("joule", "effort_bias", "speed_losses"), split)
+    with compared_on(1000):
+        thin = evaluate(runs, ("joule", "effort_bias", "speed_losses"), split)
+    assert full.estimator.stride_ == 1 and thin.estimator.stride_ == 3
+    assert sum(s.time_s.size for s in thin.validation_segments) == sum(s.time_s.size for s in full.validation_segments)
+    assert abs(thin.validation["rmse_K"] - full.validation["rmse_K"]) < 0.001  # 0.05925 and 0.05924 K
+    monkeypatch.setattr(stability, "REPLICATE_SAMPLES", 1000)
+    d = diagnose(runs)
+    frequencies, _ = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
+    assert frequencies["+ speed_losses"] == 1.0

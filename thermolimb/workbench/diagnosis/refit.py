@@ -35,6 +35,8 @@ screened first, with the same fallback.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import replace
 
 import numpy as np
@@ -216,11 +218,26 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     cand.failure = f"not identifiable from this log: {errors[0]}"
 
 
+_COMPARED = ContextVar("compared", default=None)  # samples a fit compares at most (None: thinning's own)
+
+
+@contextmanager
+def compared_on(samples: int):
+    """Fits made by :func:`evaluate` within compare at most ``samples`` samples of what they fit on (a stability
+    replicate's, :mod:`.stability`); validation stays at the full rate."""
+    token = _COMPARED.set(samples)
+    try:
+        yield
+    finally:
+        _COMPARED.reset(token)
+
+
 def evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
     """Fit and validate ``model`` on ``series`` by ``scheme`` the way the diagnosis does, from ``initial`` with the
     parameters in ``fixed`` held."""
     def make():
-        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None)
+        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None,
+                                   max_samples=_COMPARED.get())
 
     return validate_model(series, model, scheme, make=make)
 

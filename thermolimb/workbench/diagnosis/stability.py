@@ -57,6 +57,14 @@ chosen for free-run thermal models: subsampling or the block bootstrap
 state and break the thermal memory the model is about; trims and a moved
 split keep every run continuous.  Replicates are seeded (the same seed gives
 the same frequencies) and run on the process pool, one BLAS thread each.
+
+A replicate's fits compare at most :data:`REPLICATE_SAMPLES` samples (every
+k-th, simulated on blocks of k: :mod:`~thermolimb.identification.thinning`,
+never on blocks longer than the model's time constants allow, which would be
+simulated at the full rate) and judge on every held-out sample.  On
+``benchmarks/stability.py``'s ``cost()`` log (72,000 samples) the check's
+share of the walk fell from 73-80 % to 38-41 %, the frequencies unchanged;
+logs of fewer samples are fitted as before (docs/measurements.md).
 """
 
 from __future__ import annotations
@@ -65,18 +73,21 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ...identification.thinning import longest_block
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
 from ...util.parallel import run_jobs, shared, with_one_blas_thread
 from ..flags import unread
 from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT
 from .candidates import MIN_IMPROVEMENT, Candidate
+from .refit import compared_on
 
 REPLICATES = 10
 MIN_FREQUENCY = 0.8
 TRIM_ROWS = 5  # at most, off each end of a run
 SPLIT_JITTER = 0.05  # a little: at 0.1 a tenth of a run changed sides between fit and validation, enough to
 # change a verdict honestly (the field-weakening plant case: its current^2 swap taken in 7 of 10 at 0.1, 10 of 10 here)
+REPLICATE_SAMPLES = 20_000  # a replicate's fits compare at most these (thinning.py); it validates at the full rate
 START_JITTER = 0.2  # the standard deviation of the log of the factor each start's values are scaled by
 BEHIND = 2.0  # a change of another effect this many times the best eligible one's held-out error does not contend
 
@@ -202,10 +213,12 @@ def selection_frequencies(diagnosis, series, search, replicate) -> tuple[dict[st
     plain = replace(search, stability=None, quiet=True)
     keys = {c.label: effect_key(c, diagnosis.model) for c in chosen}
 
+    samples = replicate_samples(diagnosis.base.model, series)
+
     def batch(b: int) -> list:
         drawn = perturbations(stability, list(series), search.scheme, b)
         jobs = [(perturbed, replicate, p, diagnosis.model, plain, initial, specs,
-                 p.jitter([s["fitted"] for s in specs])) for p in drawn]
+                 p.jitter([s["fitted"] for s in specs]), samples) for p in drawn]
         # the log goes to each worker once, not in every replicate (the 6 M-row Parquet's knee: 112 MB a replicate)
         return run_jobs(with_one_blas_thread, jobs, backend="process" if stability.workers > 1 else "serial",
                         workers=stability.workers, shared=list(series))
@@ -252,10 +265,18 @@ def undecided(count: int, stability: Stability) -> bool:
     return count == needed - 1 and count + k >= np.ceil(stability.min_frequency * 2 * k - 1e-9)
 
 
-def perturbed(replicate, p: Perturbation, model, search, initial, specs, starts):
-    """``replicate`` on the runs the runner shares (:func:`~thermolimb.util.parallel.shared`), perturbed by ``p``."""
+def replicate_samples(model, series) -> int:
+    """The samples a replicate's fits compare at most: :data:`REPLICATE_SAMPLES`, or more where so few would need
+    blocks longer than ``model``'s time constants allow (:func:`~thermolimb.identification.thinning.longest_block`),
+    which a fit would simulate at the full rate: slower, not faster."""
+    return max(REPLICATE_SAMPLES, -(-sum(s.n for s in series) // longest_block(model, series)))
+
+
+def perturbed(replicate, p: Perturbation, model, search, initial, specs, starts, samples: int):
+    """``replicate`` on the runs the runner shares (:func:`~thermolimb.util.parallel.shared`), perturbed by ``p``,
+    its fits comparing at most ``samples`` samples."""
     runs, scheme = p.applied(shared(), search.scheme)
-    with unread():  # a replicate says nothing: its flags' causes are not worked out
+    with unread(), compared_on(samples):  # a replicate says nothing: its flags' causes are not worked out
         return replicate(runs, model, replace(search, scheme=scheme), initial, specs, starts)
 
 
