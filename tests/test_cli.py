@@ -221,3 +221,46 @@ def test_every_command_accepts_quiet():
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
     missing = [name for name, p in sub.choices.items() if not any("--quiet" in a.option_strings for a in p._actions)]
     assert missing == [] and len(sub.choices) >= len(COMMANDS), missing
+
+
+def test_a_motor_the_table_lists_but_nothing_drives_is_said_so(sim_log, tmp_path, capsys):
+    """A Unitree-like low-state table lists every motor slot; the unused ones read 0 degC at 0 N m throughout.
+    Each is not analysed, in a sentence that says why (before, "cannot identify RC_s"), and the others are."""
+    frame = pd.read_csv(sim_log)
+    table = {"stamp": frame.loc[frame["actuator"] == "knee", "time"].to_numpy()}
+    for j, name in enumerate(["knee", "hip", None]):
+        rows = frame[frame["actuator"] == name] if name else None
+        for field, column in (("temperature", "temperature"), ("tau_est", "effort")):
+            table[f"motor_state.{j}.{field}"] = rows[column].to_numpy() if name else np.zeros(table["stamp"].size)
+    pd.DataFrame(table).to_csv(path := tmp_path / "lowstate.csv", index=False)
+    args = ["fit", str(path), "--map", "time=stamp,temperature=motor_state.{j}.temperature,"
+                                       "effort=motor_state.{j}.tau_est", "--quiet"]
+    assert main(args) == 1
+    out = capsys.readouterr().out
+    assert "J0: model joule,effort_bias" in out and "J1: model joule,effort_bias" in out
+    assert (f"J2: not analysed: the temperature of J2 reads 0 degC on every one of its {table['stamp'].size} samples "
+            f"and its effort 0 throughout: a motor that is not connected") in out
+    assert main([*args, "--actuator", "J2"]) == 2
+    assert "a model needs a temperature that changes" in capsys.readouterr().err
+
+
+def test_a_run_written_otherwise_is_validated_on_by_its_own_map(sim_log, tmp_path, capsys):
+    """``--validate-on`` reads its logs with ``--validate-map`` where given: the next run of the same joint,
+    exported by another tool with other column names, is held out beside a canonical log."""
+    other = tmp_path / "sim2.csv"
+    assert main(["simulate", "--profile", "random", "--duration", "3600", "--dt", "1", "--network", "first_order",
+                 "--effects", "effort_bias,sensor_noise,quantisation", "--seed", "4", "--out", str(other),
+                 "--quiet"]) == 0
+    knee = pd.read_csv(other).query("actuator == 'knee'")
+    knee[["time", "effort", "temperature"]].set_axis(["t_s", "tau", "motor_temp"], axis=1).to_csv(
+        wide := tmp_path / "export.csv", index=False)
+    args = ["fit", str(sim_log), "--actuator", "knee", "--validate-on", str(wide), "--quiet"]
+    assert main(args) == 2  # read by the canonical log's (empty) map, the export has no column named effort
+    assert "missing column(s)" in capsys.readouterr().err
+    assert main([*args, "--validate-map", "time=t_s,effort=tau,temperature=motor_temp", "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert "validated on" in record["validation_scheme"] and record["validation"]["rmse_K"] < 1.0
+    assert main([*args, "--validate-map", "time=t_s,effort=torque,temperature=motor_temp"]) == 2
+    assert "--validate-map effort=torque names column 'torque', which the file does not have" in capsys.readouterr().err
+    assert main(["fit", str(sim_log), "--validate-map", "time=t_s", "--quiet"]) == 2
+    assert "--validate-map maps the --validate-on logs" in capsys.readouterr().err

@@ -89,7 +89,11 @@ def add_validation(p):
                    help="blocked cross-validation over K contiguous folds; 'runs': leave one run out; 'interleaved': "
                         "blocks 2, 5 and 8 of 10 of each run held out; 'parts': each third of each run held out in turn")
     p.add_argument("--validate-on", nargs="+", default=None, metavar="LOG",
-                   help="fit on the LOGs given first and validate on these runs (read with the same options)")
+                   help="fit on the LOGs given first and validate on these runs (read with the same options, "
+                        "but --validate-map)")
+    p.add_argument("--validate-map", default=None, metavar="MAP",
+                   help="the --map of the --validate-on logs where they are written otherwise (another export, a "
+                        "bag beside a CSV: \"\" lets a bag suggest its own); default: --map")
     p.add_argument("--restart-at-split", action="store_true",
                    help="restart the validation free run at the split from the measured temperature, hidden states "
                         "at rest (default: carried from each run's start through the training part)")
@@ -101,6 +105,8 @@ def add_validation(p):
 def scheme_of(args) -> Scheme:
     if args.validate_on and args.cv:
         raise UsageError("--validate-on and --cv are two ways to validate; give one")
+    if args.validate_map is not None and not args.validate_on:
+        raise UsageError("--validate-map maps the --validate-on logs; give those logs with it")
     if args.split is not None and args.cv:
         raise UsageError("--split and --cv are two ways to validate (a split, or folds); give one")
     if args.cv == "runs":

@@ -30,7 +30,7 @@ from .options import (
     scheme_of,
 )
 from .output import existing, files_in, html_page, print_json, say, say_written
-from .reading import distinct_runs, load_terms, read_logs, say_notes
+from .reading import distinct_runs, load_terms, read_held, read_logs, refuse_flat, say_notes
 
 
 @dataclass
@@ -124,7 +124,7 @@ class LogCommand:
         text (or with ``--json`` one record, a list when several actuators), the page, the files written."""
         args = run.args
         logs = read_logs(args.logs, args)
-        held = read_logs(args.validate_on, args) if args.validate_on else []
+        held = read_held(args)
         names = [args.actuator] if args.actuator else list(logs[0].actuators)
         say_notes(logs + held, names)
         before = files_in(args.plot)
@@ -144,6 +144,7 @@ class LogCommand:
                 # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
                     runs, held_runs = distinct_runs(logs, held, name)
+                    refuse_flat(runs + held_runs, name)
                     scheme = Scheme.on_runs(held_runs) if held_runs else run.scheme
                     record, text = self.analyse(run, name, runs, scheme)
             except ThermolimbError as exc:

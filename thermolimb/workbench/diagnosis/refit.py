@@ -236,8 +236,8 @@ def evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
     """Fit and validate ``model`` on ``series`` by ``scheme`` the way the diagnosis does, from ``initial`` with the
     parameters in ``fixed`` held."""
     def make():
-        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS, fixed=fixed or None,
-                                   max_samples=_COMPARED.get())
+        return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS,
+                                   fixed=fixed or None, max_samples=_COMPARED.get())
 
     return validate_model(series, model, scheme, make=make)
 
