@@ -5,6 +5,8 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from thermolimb.logs import LogError, from_frame, parse_mapping, read_log
 from thermolimb.logs.bag_writer import write_mcap
@@ -114,7 +116,7 @@ def test_model_parameters_outside_their_bounds_are_refused_unless_an_unconstrain
     assert ThermalModel(("joule",), values, bounded=False).params["betaR_K_per_effort2"] == -1e9
 
 
-def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path):
+def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path, capsys):
     """A PlotJuggler export of joint states at 20 Hz and a temperature topic at 1 Hz, its blanks filled (each
     reading repeated until the next, 7 ms after the joint state it follows), is read on the temperature's updates:
     its readings as the sensor gave them, the effort's root mean square over each second.  Read row by row, the
@@ -133,6 +135,17 @@ def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path):
     log = read_log(path, mapping=parse_mapping("time=__time,temperature=/temps/{j}/temperature,"
                                                "effort=/joint_states/{j}/effort"))
     assert "hip's temperature holds each reading for about 20 rows: it changes only on a 1 s clock" in str(log.notes)
+    # inspect reads the file with the map it suggests and says so, as fit would (the row before the first
+    # temperature message holds none: the suggestion then carries --drop-incomplete)
+    from thermolimb.cli.main import main
+
+    pd.concat([states.iloc[:1], export]).to_csv(blank := tmp_path / "blank_first.csv", index=False)
+    for file, flag in ((path, ""), (blank, " --drop-incomplete")):
+        assert main(["inspect", str(file)]) == 0
+        out = capsys.readouterr().out
+        assert ('suggested: --map "time=__time,temperature=/temps/hip/temperature,effort=/joint_states/hip/effort"'
+                + flag + "\n") in out
+        assert f"note: read with this map: {file.stem}'s temperature holds each reading for about 20 rows" in out
     run = log.series("hip")
     assert run.n == second.size  # every update a sample, the first and the last rows' among them
     assert np.allclose(run.time_s, t[second] + 0.007, atol=1e-9)
@@ -152,3 +165,43 @@ def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path):
 def write(tmp_path, frame):
     frame.to_csv(path := tmp_path / "log.csv", index=False)
     return path
+
+
+@settings(max_examples=60, deadline=None)
+@given(rows_per_update=st.integers(4, 60), phase=st.floats(0.0, 0.99), jitter=st.floats(0.0, 0.3),
+       resolution=st.sampled_from([0.01, 0.1, 0.5]), seed=st.integers(0, 2**16))
+def test_a_held_reading_is_found_on_its_clock_and_a_sampled_one_is_not(rows_per_update, phase, jitter, resolution,
+                                                                        seed):
+    """Whatever the update period (4 to 60 rows), the phase, the rows' jitter (up to 0.3 of a row) and the
+    sensor's resolution, a temperature repeated until its next update is found with its period (to 1 %) where most
+    updates change its reading, and the same temperature read on every row (quantised, not held) is not.  (A held
+    reading that changes on fewer than half its updates moves by less than a step in two: its half-update delay is
+    under a quarter of a step, beneath the sensor's own resolution.)"""
+    from thermolimb.logs.held import update_grid
+
+    rng = np.random.default_rng(seed)
+    n = 400 * rows_per_update
+    t = np.arange(n) * 0.05 + rng.uniform(-jitter, jitter, n) * 0.05 * (np.arange(n) > 0)
+    truth = 30.0 + 20.0 * (1.0 - np.exp(-t / (0.3 * t[-1]))) + 2.0 * np.sin(t / (0.05 * t[-1]))
+    period = rows_per_update * 0.05
+    updates = np.floor((t - phase * period) / period)  # the update each row follows (its reading repeated)
+    at = np.searchsorted(t, (np.maximum(updates, 0.0)) * period + phase * period)
+    held = np.round(truth[np.minimum(at, n - 1)] / resolution) * resolution
+    found = update_grid(t, held)
+    if np.count_nonzero(np.diff(held)) >= 0.5 * 400:  # most updates change it (else its lag is under a quarter step)
+        assert found is not None and abs(found[0] / period - 1.0) < 0.01
+    assert update_grid(t, np.round(truth / resolution) * resolution) is None
+
+
+def test_inspect_says_why_its_map_would_be_refused(tmp_path, frame, capsys):
+    """``inspect`` reads the file with the map it suggests, as ``fit`` would: a temperature logged in hundredths of
+    a degree is listed, mapped, and said to be refused, in the sentence ``fit`` would give."""
+    from thermolimb.cli.main import main
+
+    wide = frame.drop(columns="actuator").rename(columns={"time": "t_s", "effort": "torque_Nm",
+                                                          "temperature": "motor_temp"})
+    wide.assign(motor_temp=100 * wide["motor_temp"]).to_csv(path := tmp_path / "counts.csv", index=False)
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert 'suggested: --map "' in out
+    assert "note: read with this map, the file is refused: " in out and "expected degC between" in out

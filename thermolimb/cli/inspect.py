@@ -6,16 +6,19 @@ from pathlib import Path
 
 import numpy as np
 
+from ..logs import read_log
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
 from ..logs.mapping import TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
 from ..logs.units import header_unit, split_unit
 from ..logs.validate import apart, held_beside_temperature
-from ..util.errors import LogError
+from ..util.errors import LogError, ThermolimbError
 from ..util.lazy import pandas as pd
 from .options import add_quiet
 from .output import print_json
+
+READ_ROWS = 2_000_000  # a table of at most these rows is read with the map suggested, as fit would read it
 
 
 def add_parser(sub):
@@ -76,8 +79,12 @@ def run(args) -> int:
         reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
         reasons.append(f"the channels' time columns agree on every row (to {1e3 * spread:.2g} ms, under a tenth "
                        f"of a step): the rows are samples of every channel, read on {time}")
+    flags = []
+    if mapping and rows <= READ_ROWS:
+        flags, read_notes = _read_with(path, mapping)
+        reasons += read_notes
     if args.json:
-        print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "notes": reasons})
+        print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "flags": flags, "notes": reasons})
         return 0
     shown = [c for c in columns if c["values"] > 0]
     empty = len(columns) - len(shown)
@@ -87,10 +94,29 @@ def run(args) -> int:
         print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}")
     if mapping:
         text = ",".join(f"{k}={v}" for k, v in mapping.items())
-        print(f'suggested: --map "{text}"' + ("  (add --actuator NAME to read one joint)" if "{j}" in text else ""))
+        print(f'suggested: --map "{text}"' + "".join(f" {f}" for f in flags)
+              + ("  (add --actuator NAME to read one joint)" if "{j}" in text else ""))
     for reason in reasons:
         print(f"note: {reason}")
     return 0
+
+
+def _read_with(path: Path, mapping: dict) -> tuple[list[str], list[str]]:
+    """The file read with the suggested map, as ``fit`` would read it: the flags it needs (``--drop-incomplete``
+    where a channel misses readings) and what reading it says (a temperature held between its updates, samples
+    left out), or why it cannot be read so."""
+    flags = []
+    try:
+        try:
+            log = read_log(path, mapping=mapping)
+        except LogError as exc:
+            if "--drop-incomplete" not in str(exc):
+                raise
+            flags.append("--drop-incomplete")
+            log = read_log(path, mapping=mapping, drop_incomplete=True)
+    except ThermolimbError as exc:  # whatever reading refuses, inspect says and still lists the file
+        return flags, [f"read with this map, the file is refused: {exc}"]
+    return flags, [f"read with this map: {note.removeprefix(f'{path}: ')}" for note in log.notes]
 
 
 def _listing(path: Path) -> tuple[int, list[dict]]:

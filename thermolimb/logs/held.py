@@ -44,10 +44,13 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
     row = float(np.median(np.diff(t)))
     gaps = np.diff(changed)
     period = float(np.median(gaps[gaps < 1.5 * gaps.min()]))
-    if period < MIN_ROWS * row:
+    period = float(np.median(gaps[(gaps > 0.5 * period) & (gaps < 1.5 * period)]))  # the whole one-period cluster
+    if period < 0.5 * MIN_ROWS * row:  # gaps of a row or two: a sensor read on every row
         return None
-    periods = np.maximum(np.round(gaps / period), 1.0).sum()
-    period = float((changed[-1] - changed[0]) / periods)  # refined over the whole log
+    for _ in range(3):  # refined over the whole log: its span over the periods its gaps hold
+        period = float((changed[-1] - changed[0]) / np.maximum(np.round(gaps / period), 1.0).sum())
+    if period < 0.99 * MIN_ROWS * row:
+        return None
     tolerance = 1.01 * row + 0.01 * period
     offset = changed - changed[0]
     residual = offset - period * np.round(offset / period)
