@@ -157,6 +157,13 @@ def test_a_temperature_held_between_its_updates_is_read_on_them(tmp_path, capsys
         inside = (rows >= run.time_s[k]) & (rows < run.time_s[k + 1])
         pieces = np.diff(np.r_[run.time_s[k], rows[inside][1:], run.time_s[k + 1]])
         assert np.isclose(run.signals.effort[k] ** 2, np.sum(held[inside] ** 2 * pieces) / pieces.sum())
+    # a recording resumed after a pause restarts the clock at another phase: each run read on its own
+    resumed = export.assign(__time=export["__time"] + t[-1] + 100.43)
+    pd.concat([export, resumed]).to_csv(both := tmp_path / "resumed.csv", index=False)
+    log = read_log(both, mapping=parse_mapping("time=__time,temperature=/temps/{j}/temperature,"
+                                               "effort=/joint_states/{j}/effort"))
+    assert "(in 2 of its 2 runs)" in str(log.notes) and "read on its 1202 updates" in str(log.notes)
+    assert [r.n for r in log.runs("hip")] == [second.size, second.size]
     plain = read_log(write(tmp_path, pd.DataFrame({"time": t, "actuator": "hip", "effort": effort,
                                                    "temperature": temperature})))
     assert plain.series("hip").n == t.size and not any("holds each reading" in n for n in plain.notes)

@@ -16,7 +16,8 @@ quantised temperature changes when it crosses a step, at instants that follow it
 regular steps drift off any one grid as soon as the slope changes.  A temperature updated irregularly is not
 recognised (said in docs/logs.md).
 
-**How it is read.**  The log's samples become the grid's instants within it (each taking the value the column
+**How it is read.**  Each run between logging pauses on its own clock (a recording resumed restarts it).  The
+log's samples become the grid's instants within it (each taking the value the column
 shows just after the instant, so an update a row late counts); the inputs are averaged over each interval by
 :mod:`.align`'s rule, as for a temperature logged on its own time column.
 """
@@ -27,6 +28,7 @@ import numpy as np
 
 from ..util.lazy import pandas as pd
 from .align import ROOT_MEAN_SQUARE, interval_average
+from .series import gaps
 
 MIN_CHANGES = 20
 MIN_ROWS = 4
@@ -79,19 +81,29 @@ def on_updates(time_s: np.ndarray, columns: dict[str, np.ndarray], period_s: flo
 
 def read_on_updates(rows, name: str, source: str, notes: list[str]):
     """One actuator's rows (a frame of :func:`~.validate.from_frame`'s columns) read on its temperature's updates
-    when the temperature is held (module docstring), said in ``notes``; else the rows as they are."""
+    where the temperature is held (module docstring), each run between logging pauses on its own clock (a
+    recording resumed restarts it), said in ``notes``; else the rows as they are."""
     t = rows["time"].to_numpy(float)
-    grid = update_grid(t, rows["temperature"].to_numpy(float))
-    if grid is None:
+    cuts = [0, *gaps(t), t.size]
+    pieces, found = [], []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        piece = rows.iloc[a:b]
+        grid = update_grid(t[a:b], piece["temperature"].to_numpy(float))
+        if grid is None:
+            pieces.append(piece)
+            continue
+        row = float(np.median(np.diff(t[a:b])))
+        numeric = {c: piece[c].to_numpy(float) for c in rows.columns if c not in ("time", "actuator")}
+        out = on_updates(t[a:b], numeric, *grid, row)
+        out["actuator"] = np.repeat(piece["actuator"].to_numpy()[:1], out["time"].size)
+        pieces.append(pd.DataFrame({c: out[c] for c in rows.columns}))
+        found.append((grid[0], row, out["time"].size))
+    if not found:
         return rows
-    period, phase = grid
-    row = float(np.median(np.diff(t)))
-    numeric = {c: rows[c].to_numpy(float) for c in rows.columns if c not in ("time", "actuator")}
-    out = on_updates(t, numeric, period, phase, row)
-    n = out["time"].size
-    notes.append(f"{source}: {name}'s temperature holds each reading for about {period / row:.0f} rows: it changes "
-                 f"only on a {period:.3g} s clock among rows {row:.3g} s apart, a reading repeated until the next "
-                 f"(read row by row it would be half an update late, which a model takes for a lagging sensor); read "
-                 f"on its {n} updates, the inputs averaged over each interval")
-    out["actuator"] = np.repeat(rows["actuator"].to_numpy()[:1], n)
-    return pd.DataFrame({c: out[c] for c in rows.columns})
+    period, row = found[0][:2]
+    runs = "" if len(cuts) == 2 else f" (in {len(found)} of its {len(cuts) - 1} runs)"
+    notes.append(f"{source}: {name}'s temperature holds each reading for about {period / row:.0f} rows{runs}: it "
+                 f"changes only on a {period:.3g} s clock among rows {row:.3g} s apart, a reading repeated until the "
+                 f"next (read row by row it would be half an update late, which a model takes for a lagging sensor); "
+                 f"read on its {sum(n for *_, n in found)} updates, the inputs averaged over each interval")
+    return pieces[0] if len(pieces) == 1 else pd.concat(pieces, ignore_index=True)
