@@ -40,9 +40,10 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
     t, values = np.asarray(time_s, float), np.asarray(temperature_C, float)
     if t.size < 2 * MIN_ROWS:
         return None
-    changed = t[np.flatnonzero(np.diff(values) != 0) + 1]
-    if changed.size < MIN_CHANGES:
+    changed = np.flatnonzero(np.diff(values) != 0) + 1
+    if changed.size < MIN_CHANGES or changed.size > 2 * t.size / MIN_ROWS:  # more changes than a held column has
         return None
+    changed = t[changed]
     row = float(np.median(np.diff(t)))
     gaps = np.diff(changed)
     period = float(np.median(gaps[gaps < 1.5 * gaps.min()]))
