@@ -103,19 +103,13 @@ def run(args) -> int:
 
 def _read_with(path: Path, mapping: dict) -> tuple[list[str], list[str]]:
     """The file read with the suggested map, as ``fit`` would read it: the flags it needs (``--drop-incomplete``
-    where a channel misses readings) and what reading it says (a temperature held between its updates, samples
-    left out), or why it cannot be read so."""
-    flags = []
+    where a channel misses readings: read so once, it says what it left out) and what reading it says (a
+    temperature held between its updates, samples left out), or why it cannot be read so."""
     try:
-        try:
-            log = read_log(path, mapping=mapping)
-        except LogError as exc:
-            if "--drop-incomplete" not in str(exc):
-                raise
-            flags.append("--drop-incomplete")
-            log = read_log(path, mapping=mapping, drop_incomplete=True)
+        log = read_log(path, mapping=mapping, drop_incomplete=True)
     except ThermolimbError as exc:  # whatever reading refuses, inspect says and still lists the file
-        return flags, [f"read with this map, the file is refused: {exc}"]
+        return [], [f"read with this map, the file is refused: {exc}"]
+    flags = ["--drop-incomplete"] if any("(--drop-incomplete)" in note for note in log.notes) else []
     return flags, [f"read with this map: {note.removeprefix(f'{path}: ')}" for note in log.notes]
 
 

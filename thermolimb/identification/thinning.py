@@ -67,22 +67,21 @@ def on_blocks(series, rows: np.ndarray, stride: int):
 def longest_block(model, series) -> int:
     """The most samples of ``series`` one block may hold for ``model`` by :func:`blocks_allowed`'s rule (each time
     constant at least :data:`BLOCK_TIME_CONSTANTS` blocks long): a stride beyond it is simulated at the full rate."""
-    slow = [model.params[p.name] for t in model.terms if TERMS[t].carries_state for p in TERMS[t].parameters
-            if p.unit == "s"]
-    fastest = min([1.0 / float(np.max(model.forcing(s.signals)[1])) for s in series] + slow)
-    step = max(float(np.diff(s.time_s).max(initial=0.0)) for s in series)
-    return max(1, int(fastest / (BLOCK_TIME_CONSTANTS * step))) if step > 0 else 1
+    steps = [(_fastest_s(model, s), float(np.diff(s.time_s).max(initial=0.0))) for s in series]
+    return max(1, min((int(fastest / (BLOCK_TIME_CONSTANTS * step)) for fastest, step in steps if step > 0),
+                      default=1))
 
 
 def blocks_allowed(model, shown) -> bool:
     """Whether the model's time constants on the blocked series ``shown`` are each at least
-    ``BLOCK_TIME_CONSTANTS`` blocks long: the winding's where it is fastest (a gain such as cooling by motion
-    shortens it), each slow mass's."""
+    ``BLOCK_TIME_CONSTANTS`` blocks long."""
+    return all(_fastest_s(model, s) >= BLOCK_TIME_CONSTANTS * float(np.diff(s.time_s).max(initial=0.0))
+               for s in shown)
+
+
+def _fastest_s(model, series) -> float:
+    """``model``'s shortest time constant on ``series``: the winding's where it is fastest (a gain such as cooling
+    by motion shortens it), each slow mass's."""
     slow = [model.params[p.name] for t in model.terms if TERMS[t].carries_state for p in TERMS[t].parameters
             if p.unit == "s"]
-    for s in shown:
-        span = float(np.diff(s.time_s).max(initial=0.0))
-        rate = float(np.max(model.forcing(s.signals)[1]))
-        if min([1.0 / rate, *slow]) < BLOCK_TIME_CONSTANTS * span:
-            return False
-    return True
+    return min([1.0 / float(np.max(model.forcing(series.signals)[1])), *slow])
