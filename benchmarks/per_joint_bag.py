@@ -54,7 +54,7 @@ def _rows(table: Path) -> dict[str, dict]:
 def measure(folder: Path, seed: int = 0) -> dict:
     run = simulate_profile("random", 3600.0, 0.1, JOINTS, [X8_9, X8_16, X8_9], PlantEffects.realistic_sensor(), seed)
     csv = run.log.write(folder / "run.csv")
-    bag = write_mcap(run.log, folder / "run.mcap", per_joint=True, temperature_every=10)
+    bag = write_mcap(run.log, folder / "run.mcap", layout="per_joint", temperature_every=10)
     inspected, _ = _run(["inspect", str(bag)])
     suggested = next(line.split("--map ", 1)[1].split()[0] for line in inspected.splitlines() if "--map " in line)
     _, bag_s = _run(["diagnose", str(bag), "--map", suggested, "--fleet", "--workers", "2", "--quiet",

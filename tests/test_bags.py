@@ -8,13 +8,13 @@ import pandas as pd
 import pytest
 from conftest import FIRST_ORDER_X8
 from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from thermolimb.cli.main import main
 from thermolimb.data import WX200_BAG, WX200_EXPORT
 from thermolimb.logs import LogError, bags, read_log
 from thermolimb.logs.align import align, interval_average
-from thermolimb.logs.bag_writer import write_mcap
+from thermolimb.logs.bag_writer import CONTROL_DEFINITIONS, DYNAMIC_TYPE, INTERFACE_TYPE, write_mcap
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
@@ -103,7 +103,7 @@ def test_a_bag_keeps_the_other_numeric_fields_of_its_mapped_topics_as_extra_chan
     named = read_log(BAG, mapping="effort=/wx200/joint_states.effort,temperature=/wx200/temperatures/joint_group.temps,"
                                   "extra.angle=/wx200/joint_states.position", actuator_name="waist")
     assert named.extras == ("angle", "velocity")  # the user's name; velocity is no longer mapped, so it is extra
-    constant = read_log(write_mcap(plant_run, tmp_path / "run.mcap", per_joint=True))
+    constant = read_log(write_mcap(plant_run, tmp_path / "run.mcap", layout="per_joint"))
     assert constant.extras == ()
 
 
@@ -157,7 +157,7 @@ def test_plant_run_round_trips_through_mcap(plant_run, tmp_path):
 def test_plant_run_in_the_per_joint_layout_reads_back_by_the_suggested_pattern(plant_run, tmp_path):
     """One sensor_msgs/Temperature topic per joint, every fifth sample: read with the {j} pattern the reader
     suggests, each joint gets its own temperatures at their own stamps."""
-    path = write_mcap(plant_run, tmp_path / "run.mcap", per_joint=True, temperature_every=5)
+    path = write_mcap(plant_run, tmp_path / "run.mcap", layout="per_joint", temperature_every=5)
     back = read_log(path)
     assert back.actuators == plant_run.actuators
     assert any("/{j}/temperature.temperature" in n for n in back.notes)
@@ -165,6 +165,66 @@ def test_plant_run_in_the_per_joint_layout_reads_back_by_the_suggested_pattern(p
         a, b = plant_run.series(name), back.series(name)
         assert np.array_equal(b.temperature_C, a.temperature_C[::5][:b.n])
         assert b.n >= a.n // 5 - 1
+
+
+def test_a_ros2_control_recording_is_read_from_its_dynamic_joint_states(plant_run, tmp_path):
+    """ros2_control's joint state broadcaster publishes a hardware's state interfaces per joint on
+    /dynamic_joint_states (control_msgs/DynamicJointState, its definition stored in the MCAP): inspect suggests the
+    temperature there, the current beside it, and every joint reads back its own, at their own stamps."""
+    path = write_mcap(plant_run, tmp_path / "run.mcap", layout="ros2_control", temperature_every=2)
+    mapping, reasons = suggest_mapping(inspect_bag(path))
+    assert not reasons and mapping == {"effort": "/joint_states.effort", "velocity": "/joint_states.velocity",
+                                       "temperature": "/dynamic_joint_states.temperature",
+                                       "current": "/dynamic_joint_states.current", "ambient": "/ambient.temperature"}
+    back = read_log(path)
+    assert back.actuators == plant_run.actuators
+    for name in plant_run.actuators:
+        a, b = plant_run.series(name), back.series(name)
+        assert np.array_equal(b.temperature_C, a.temperature_C[::2][:b.n]) and b.n >= a.n // 2 - 1
+        assert np.array_equal(b.signals.current_A[:-1], a.signals.current_A[::2][:b.n - 1])  # one value an interval
+    assert main(["fit", str(path), "--actuator", "knee", "--quiet"]) == 0
+
+
+def _control_bag(folder, times):
+    """A ROS 2 bag of /dynamic_joint_states alone, as a user records it: hip and knee with their interfaces
+    (position, velocity, effort, the motor's temperature and the driver's FETs'), a gripper with position and
+    effort only."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    for msgtype, definition in CONTROL_DEFINITIONS.items():
+        store.register(get_types_from_msg(definition, msgtype))
+    Dynamic, Interface, Header, Time = (store.types[k] for k in (DYNAMIC_TYPE, INTERFACE_TYPE, "std_msgs/msg/Header",
+                                                                 "builtin_interfaces/msg/Time"))
+    joint = ["position", "velocity", "effort", "motor_temperature", "fet_temperature"]
+    with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        conn = w.add_connection("/dynamic_joint_states", DYNAMIC_TYPE, typestore=store)
+        for t in times:
+            ns = int(t * 1e9) + 10**18
+            values = [Interface(interface_names=joint, values=np.array([0.0, 0.5, 2.0, 30.0 + 0.01 * t, 40.0])),
+                      Interface(interface_names=joint, values=np.array([0.0, 0.0, 3.0, 31.0 + 0.02 * t, 41.0])),
+                      Interface(interface_names=["position", "effort"], values=np.array([0.01, 0.2]))]
+            msg = Dynamic(header=Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id=""),
+                          joint_names=["hip", "knee", "gripper"], interface_values=values)
+            w.write(conn, ns, store.serialize_cdr(msg, DYNAMIC_TYPE))
+    return folder
+
+
+def test_dynamic_joint_states_alone_give_the_motor_s_temperature_and_leave_out_a_joint_without_one(tmp_path):
+    """Recorded without /joint_states, the effort comes from the interfaces too; of two temperatures the motor's
+    is taken (the FETs' comes along as an extra channel), and a gripper with no temperature interface is not an
+    actuator of the fleet rather than a reason to refuse it."""
+    folder = _control_bag(tmp_path / "bag", np.arange(0.0, 300.0, 0.5))
+    mapping, reasons = suggest_mapping(inspect_bag(folder))
+    assert not reasons and mapping == {"effort": "/dynamic_joint_states.effort",
+                                       "velocity": "/dynamic_joint_states.velocity",
+                                       "temperature": "/dynamic_joint_states.motor_temperature"}
+    log = read_log(folder)
+    assert log.actuators == ("hip", "knee")
+    knee = log.series("knee")
+    assert np.allclose(knee.temperature_C, 31.0 + 0.02 * knee.time_s) and np.allclose(knee.signals.effort, 3.0)
+    assert np.allclose(knee.signals.extra["fet_temperature"], 41.0)
+    with pytest.raises(LogError, match="no field 'temp'; its numeric fields are position, velocity, effort"):
+        read_log(folder, mapping={"effort": "/dynamic_joint_states.effort",
+                                  "temperature": "/dynamic_joint_states.temp"})
 
 
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",

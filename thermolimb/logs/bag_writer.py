@@ -7,9 +7,13 @@ Topics (receive time = the log's time stamps, from the Unix epoch 0 plus ``START
   the file: ``name``, ``temperature`` (degC) and, when the log has them, ``current`` (A), ``housing`` (degC)
 * ``/ambient`` — ``sensor_msgs/msg/Temperature`` (degC), when the log has an ambient channel
 
-With ``per_joint=True`` the temperatures go instead, as many robots publish them, to one
+With ``layout="per_joint"`` the temperatures go instead, as many robots publish them, to one
 ``sensor_msgs/msg/Temperature`` topic per joint, ``/<joint>/temperature`` (read back with
 ``temperature=/{j}/temperature.temperature``, which ``inspect`` suggests), every ``temperature_every``-th sample.
+With ``layout="ros2_control"`` they go, as ros2_control's joint state broadcaster publishes a hardware's state
+interfaces, to ``/dynamic_joint_states`` (``control_msgs/msg/DynamicJointState``: per joint its interfaces'
+names and values, ``position``, ``velocity``, ``effort``, ``temperature`` and, when the log has it, ``current``),
+beside ``/joint_states``.
 
 Every actuator must share one time base (as the plant's logs do).
 """
@@ -31,6 +35,11 @@ float64[] temperature
 float64[] current
 float64[] housing
 """
+INTERFACE_TYPE, DYNAMIC_TYPE = "control_msgs/msg/InterfaceValue", "control_msgs/msg/DynamicJointState"
+CONTROL_DEFINITIONS = {INTERFACE_TYPE: "string[] interface_names\nfloat64[] values\n",
+                       DYNAMIC_TYPE: "std_msgs/Header header\nstring[] joint_names\n"
+                                     "control_msgs/InterfaceValue[] interface_values\n"}
+LAYOUTS = ("thermal", "per_joint", "ros2_control")
 START_NS = 1_700_000_000 * 10**9
 MAPPING = ("effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature")
 
@@ -41,11 +50,14 @@ def _matrix(log, column: str) -> np.ndarray | None:
     return np.column_stack([g[column].to_numpy(float) for _, g in log.frame.groupby("actuator", sort=False)])
 
 
-def write_mcap(log, path: str | Path, per_joint: bool = False, temperature_every: int = 1) -> Path:
-    """Write ``log`` to ``path`` (``.mcap``), whole or not at all (layouts: module docstring)."""
+def write_mcap(log, path: str | Path, layout: str = "thermal", temperature_every: int = 1) -> Path:
+    """Write ``log`` to ``path`` (``.mcap``), whole or not at all (``layout``: one of :data:`LAYOUTS`, module
+    docstring)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+    if layout not in LAYOUTS:
+        raise ValueError(f"layout must be one of {', '.join(LAYOUTS)}, got {layout!r}")
     path = Path(path)
     names = list(log.actuators)
     groups = [g["time"].to_numpy(float) for _, g in log.frame.groupby("actuator", sort=False)]
@@ -55,25 +67,34 @@ def write_mcap(log, path: str | Path, per_joint: bool = False, temperature_every
     time_s = groups[0]
     store = get_typestore(Stores.ROS2_HUMBLE)
     store.register(get_types_from_msg(THERMAL_DEFINITION, THERMAL_TYPE))
+    for msgtype, definition in CONTROL_DEFINITIONS.items():
+        store.register(get_types_from_msg(definition, msgtype))
     JointState = store.types["sensor_msgs/msg/JointState"]
     Header = store.types["std_msgs/msg/Header"]
     Time = store.types["builtin_interfaces/msg/Time"]
     Thermal = store.types[THERMAL_TYPE]
     TemperatureMsg = store.types["sensor_msgs/msg/Temperature"]
+    Interface, Dynamic = store.types[INTERFACE_TYPE], store.types[DYNAMIC_TYPE]
     effort, temperature = _matrix(log, "effort"), _matrix(log, "temperature")
     velocity, current, housing = _matrix(log, "velocity"), _matrix(log, "current"), _matrix(log, "housing")
     ambient = _matrix(log, "ambient")
     zeros = np.zeros(len(names))
     empty = np.zeros(0)
+    still = np.zeros_like(effort)
+    interfaces = {"position": still, "velocity": still if velocity is None else velocity, "effort": effort,
+                  "temperature": temperature} | ({} if current is None else {"current": current})
+    stacked = np.stack(list(interfaces.values()), axis=-1)  # sample x joint x interface
     with atomic_path(path) as tmp:
         folder = Path(tempfile.mkdtemp(prefix=".bag-", dir=path.parent)) / "bag"
         try:
             with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
                 states = writer.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-                thermal = None if per_joint else writer.add_connection("/thermal", THERMAL_TYPE, typestore=store,
-                                                                       msgdef=THERMAL_DEFINITION)
+                thermal = None if layout != "thermal" else writer.add_connection(
+                    "/thermal", THERMAL_TYPE, typestore=store, msgdef=THERMAL_DEFINITION)
+                dynamic = None if layout != "ros2_control" else writer.add_connection(
+                    "/dynamic_joint_states", DYNAMIC_TYPE, typestore=store)
                 joints = [writer.add_connection(f"/{n}/temperature", TemperatureMsg.__msgtype__, typestore=store)
-                          for n in names] if per_joint else []
+                          for n in names] if layout == "per_joint" else []
                 air = writer.add_connection("/ambient", TemperatureMsg.__msgtype__, typestore=store) \
                     if ambient is not None else None
                 for k, t in enumerate(time_s):
@@ -88,6 +109,11 @@ def write_mcap(log, path: str | Path, per_joint: bool = False, temperature_every
                                        current=current[k].copy() if current is not None else empty,
                                        housing=housing[k].copy() if housing is not None else empty)
                         writer.write(thermal, ns, store.serialize_cdr(heat, THERMAL_TYPE))
+                    if dynamic is not None and k % temperature_every == 0:
+                        values = [Interface(interface_names=list(interfaces), values=stacked[k, j].copy())
+                                  for j in range(len(names))]
+                        msg = Dynamic(header=header, joint_names=names, interface_values=values)
+                        writer.write(dynamic, ns, store.serialize_cdr(msg, DYNAMIC_TYPE))
                     for j, conn in enumerate(joints if k % temperature_every == 0 else ()):
                         msg = TemperatureMsg(header=header, temperature=float(temperature[k, j]), variance=0.0)
                         writer.write(conn, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))

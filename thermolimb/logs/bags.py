@@ -13,7 +13,9 @@ A field that is an array is indexed by joint name through the message's
 string array (``name``, ``names``, ``joint_names``): one actuator per joint
 found in every mapped array topic (``--actuator`` picks one).  A scalar
 field (``sensor_msgs/Temperature.temperature``) belongs to the actuator
-given by ``--actuator``, except the ambient, which every joint shares.  Time is each message's receive time in the bag (one
+given by ``--actuator``, except the ambient, which every joint shares.  ros2_control's
+``control_msgs/DynamicJointState`` (a hardware's state interfaces per joint, ``/dynamic_joint_states``) reads as
+one array per interface: ``temperature=/dynamic_joint_states.temperature``.  Time is each message's receive time in the bag (one
 clock for every topic), in seconds from the bag's start.  Channels are put on
 the temperature's own samples by :mod:`thermolimb.logs.align`.
 
@@ -36,7 +38,7 @@ from ..util.errors import LogError
 from .align import align, series_of
 from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
-from .mapping import EXTRA, JOINT, says_whole
+from .mapping import EXTRA, JOINT, says_whole, the_motor_s
 from .mcap_stream import PartialMcap, ends_early
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -97,10 +99,36 @@ SCHEMALESS = ("{path}: its channels carry no message schema (a schemaless MCAP);
               "definitions: record with schemas (ros2 bag record writes them)")
 
 
+@dataclass(frozen=True)
+class Interfaces:
+    """A ros2_control ``DynamicJointState`` (per joint, its state interfaces' names and values) as one array per
+    interface over the joints that have it, so that ``/dynamic_joint_states.temperature`` maps as a JointState's
+    ``effort`` does; an interface name's dots and slashes read as ``_`` (a field's path splits on dots)."""
+
+    msgtype: str
+    joint_names: tuple[str, ...]
+    arrays: Mapping[str, tuple[tuple[str, ...], np.ndarray]]  # interface -> (its joints, their values)
+
+    @classmethod
+    def of(cls, msg) -> "Interfaces":
+        joints, values = {}, {}
+        for joint, interfaces in zip(msg.joint_names, msg.interface_values):
+            for name, value in zip(interfaces.interface_names, np.asarray(interfaces.values, float).tolist()):
+                key = re.sub(r"[./]", "_", name)
+                joints.setdefault(key, []).append(joint)
+                values.setdefault(key, []).append(value)
+        return cls(msg.__msgtype__, tuple(msg.joint_names),
+                   {k: (tuple(joints[k]), np.array(values[k])) for k in joints})
+
+
+def _flat(msg):
+    return Interfaces.of(msg) if hasattr(msg, "interface_values") and hasattr(msg, "joint_names") else msg
+
+
 def _messages(reader, path: Path, connections):
     try:
         for conn, stamp_ns, raw in reader.messages(connections=connections):
-            yield conn, stamp_ns, reader.deserialize(raw, conn.msgtype)
+            yield conn, stamp_ns, _flat(reader.deserialize(raw, conn.msgtype))
     except LogError:
         raise
     except Exception as err:
@@ -111,6 +139,8 @@ def _messages(reader, path: Path, connections):
 
 
 def _fields(msg) -> dict[str, object]:
+    if isinstance(msg, Interfaces):
+        return {k: values for k, (_, values) in msg.arrays.items()}
     return {k: getattr(msg, k) for k in getattr(msg, "__dataclass_fields__", {}) if k != "__msgtype__"}
 
 
@@ -133,7 +163,10 @@ def _numeric_fields(msg, prefix: str = "") -> list[str]:
     return out
 
 
-def _joint_names(msg) -> tuple[str, ...]:
+def _joint_names(msg, field: str | None = None) -> tuple[str, ...]:
+    """The joints a message names (those of ``field``'s values, where they are its own: an interface's)."""
+    if isinstance(msg, Interfaces):
+        return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
     for k in NAME_FIELDS:
         v = getattr(msg, k, None)
         if isinstance(v, (list, tuple)) and all(isinstance(s, str) for s in v):
@@ -171,15 +204,19 @@ def _is_air(topic: str) -> bool:
 def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list[str]]:
     """A mapping from the topics, and the reasons it is or is not unique.
 
-    Effort and velocity come from the one ``JointState`` topic.  The
-    temperature is the one numeric field naming a temperature in a topic with
-    joint names, or else the one ``Temperature`` topic not named for the air;
-    a ``Temperature`` topic named ambient, air or room is the ambient, and
-    fields named ``current`` or ``housing`` beside the temperature are mapped too.
+    Effort and velocity come from the one ``JointState`` topic (or, without one, the one ``DynamicJointState``
+    with an effort interface).  The temperature is the one numeric field naming a temperature in a topic with
+    joint names (of several, the one naming the motor's where no other does, as in a table: ``motor_temperature``
+    beside ``fet_temperature``), or else the one ``Temperature`` topic not named for the air; a ``Temperature``
+    topic named ambient, air or room is the ambient, and fields named ``current`` or ``housing`` beside the
+    temperature are mapped too.
     """
     reasons = []
-    states = [i for i in infos if i.msgtype.endswith("/JointState")]
+    states = [i for i in infos if i.msgtype.endswith("/JointState")] or \
+        [i for i in infos if i.msgtype.endswith("/DynamicJointState") and "effort" in i.numeric_fields]
     temps = [(i, f) for i in infos if i.joint_names for f in i.numeric_fields if "temp" in f.lower()]
+    motor = the_motor_s([f"{i.topic}.{f}" for i, f in temps]) if len(temps) > 1 else None
+    temps = [(i, f) for i, f in temps if motor in (None, f"{i.topic}.{f}")]
     scalars = [i for i in infos if i.msgtype.endswith("/Temperature")]
     if not temps:
         temps = [(i, "temperature") for i in scalars if not _is_air(i.topic)]
@@ -234,11 +271,12 @@ def _split_target(key: str, target: str, path: Path) -> tuple[str, str]:
 def _value(msg, field: str, topic: str, path: Path):
     value = msg
     for part in field.split("."):
-        if not hasattr(value, "__dataclass_fields__") or part not in value.__dataclass_fields__:
+        fields = _fields(value) if hasattr(value, "__dataclass_fields__") else {}
+        if part not in fields:
             have = ", ".join(_numeric_fields(msg)) or "no numeric field"
-            raise LogError(f"{path}: topic {topic} ({msg.__msgtype__}) has no field {field!r}; its numeric fields "
-                           f"are {have}")
-        value = getattr(value, part)
+            kind = msg.msgtype if isinstance(msg, Interfaces) else msg.__msgtype__
+            raise LogError(f"{path}: topic {topic} ({kind}) has no field {field!r}; its numeric fields are {have}")
+        value = fields[part]
     if not _numeric(value) and not (isinstance(value, (list, np.ndarray)) and len(value) == 0):
         raise LogError(f"{path}: field {topic}.{field} holds {type(value).__name__} values, not numbers; expected "
                        f"a number or an array of numbers per joint")
@@ -263,7 +301,7 @@ def _collect(reader, path: Path, mapping: Mapping[str, str]):
                 times, values, names = data[key]
                 times.append((stamp_ns - start) / 1e9)
                 values.append(_value(msg, field, topic, path))
-                names.append(_joint_names(msg))
+                names.append(_joint_names(msg, field))
     for key, (topic, _) in wanted.items():
         if not data[key][0]:
             raise LogError(f"{path}: topic {topic} (--map {key}) has no messages; expected a time series")

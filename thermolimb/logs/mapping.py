@@ -203,7 +203,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
         for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
             groups = {key: g for key, g in joint_groups.items() if says(word, key) and len(g) > 1}
             if groups and channel != "time":
-                key = (_the_motor_s(list(groups)) if channel == "temperature" else None) or next(iter(groups))
+                key = (the_motor_s(list(groups)) if channel == "temperature" else None) or next(iter(groups))
                 mapping[channel] = _pattern([n for n, _ in groups[key]])
                 used |= {n for n, _ in groups[key]}
                 if len(groups) > 1:
@@ -216,7 +216,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                 mapping[channel] = single[0]
                 used.add(single[0])
                 break
-            motor = _the_motor_s(single) if channel == "temperature" else None
+            motor = the_motor_s(single) if channel == "temperature" else None
             if motor is not None:
                 mapping[channel] = motor
                 used.add(motor)
@@ -336,7 +336,7 @@ def _says(words, name: str) -> bool:  # a joint's number joined to the word coun
     return bool(set(words) & set(re.findall(r"[a-z]+", name.lower())))
 
 
-def _the_motor_s(columns: list[str]) -> str | None:
+def the_motor_s(columns: list[str]) -> str | None:
     """Of several temperature columns, the one whose name says the motor's where no other does
     (``motor_thermistor`` beside ``fet_thermistor``; moteus's ``servo1.motor_temperature`` beside its board's
     ``servo1.temperature``), else ``None``."""
