@@ -182,6 +182,7 @@ def test_a_ros2_control_recording_is_read_from_its_dynamic_joint_states(plant_ru
         a, b = plant_run.series(name), back.series(name)
         assert np.array_equal(b.temperature_C, a.temperature_C[::2][:b.n]) and b.n >= a.n // 2 - 1
         assert np.array_equal(b.signals.current_A[:-1], a.signals.current_A[::2][:b.n - 1])  # one value an interval
+        assert set(b.signals.extra) <= {"joint_states_position", "dynamic_joint_states_position"}  # no effort again
     assert main(["fit", str(path), "--actuator", "knee", "--quiet"]) == 0
 
 

@@ -332,11 +332,13 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, dro
 def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:
     """Every numeric field of a topic the mapping reads that the mapping does not use, as an extra channel
     (``extra.position=/joint_states.position``; named ``TOPIC_FIELD`` where two topics share a field name).
-    Topics named with ``{j}`` are not searched; extras the user named stay as named."""
+    Topics named with ``{j}`` are not searched; extras the user named stay as named; a field named for a channel
+    the mapping reads from another topic (the effort a ros2_control recording holds in /joint_states and again in
+    /dynamic_joint_states) is that channel again, no extra."""
     used = set(mapping.values())
     topics = {v.partition(".")[0] for v in mapping.values() if JOINT not in v}
     fields = [(i.topic, f) for i in infos if i.topic in topics for f in i.numeric_fields
-              if f"{i.topic}.{f}" not in used]
+              if f"{i.topic}.{f}" not in used and f not in mapping]
     counts = Counter(f for _, f in fields)
     out = {}
     for topic, field in fields:
