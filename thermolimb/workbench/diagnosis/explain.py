@@ -6,7 +6,7 @@ from ...effects import EFFECTS, HOT_AND_COOL, PHASES
 from ...model.parameter_units import spaced
 from ...model.terms import TERMS
 from ...util.numbers import plus_minus
-from .candidates import SCORE_P_VALUE, Candidate
+from .candidates import MIN_IMPROVEMENT, SCORE_P_VALUE, Candidate
 from .residuals import ResidualAnalysis
 
 # the residual's correlation a log column gives (an effect the catalog does not describe: a user's)
@@ -73,6 +73,10 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         parts.append(f"score test p = {c.p_value:.2g}")
     if c.failure:
         parts.append(f"refit failed: {c.failure}")
+        if getattr(TERMS.get(c.effect), "carries_state", False) and (c.improvement or 0.0) >= MIN_IMPROVEMENT:
+            parts.append(f"yet the held-out error falls from {base_rmse:.3f} K to {c.rmse_K:.3f} K by where it starts "
+                         f"its state on each run alone: a run that does not begin in a steady state, or a mass slower "
+                         f"than this log can size (runs from rest long enough to show it, or several duties, tell)")
     elif c.refitted:
         if c.kind == "channel":
             parts.append(_fitted(c))
