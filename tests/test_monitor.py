@@ -206,6 +206,30 @@ def test_the_monitor_follows_an_mcap_being_recorded(model_and_log, tmp_path):
     assert counts["/thermolimb/hip/winding_temperature"] == samples - 1 and counts["/diagnostics"] == samples - 1
 
 
+def test_the_monitor_follows_a_ros2_control_recording_as_a_recorded_bag_is_read(model_and_log, tmp_path):
+    """ros2_control's /dynamic_joint_states (a hardware's state interfaces per joint), followed live: each joint gets
+    its own temperatures, and a field the message lacks is refused naming those it has, as the bag reader does."""
+    from thermolimb.logs import LogError, read_log
+    from thermolimb.logs.bag_writer import write_mcap
+    from thermolimb.logs.follow_mcap import McapFollower
+
+    model, run = model_and_log
+    log = read_log(run)
+    path = write_mcap(log, tmp_path / "control.mcap", layout="ros2_control")
+    effort = "effort=/joint_states.effort,velocity=/joint_states.velocity"
+    pieces = McapFollower(path, f"{effort},temperature=/dynamic_joint_states.temperature").poll(final=True)
+    assert set(pieces) == set(log.actuators)
+    for name in log.actuators:
+        series = log.series(name)
+        assert np.array_equal(np.concatenate([p.arrays["temperature"] for p in pieces[name]]), series.temperature_C)
+        assert np.array_equal(np.concatenate([p.arrays["effort"] for p in pieces[name]]), series.signals.effort)
+    with pytest.raises(LogError, match="has no field 'temp'; its numeric fields are position, velocity, effort, temp"):
+        McapFollower(path, f"{effort},temperature=/dynamic_joint_states.temp").poll()
+    done = main(["monitor", str(model), "--follow", str(path), "--map", f"{effort},temperature=/dynamic_joint_states."
+                 "temperature", "--json-lines", "--idle-exit", "0.2", "--publish-hz", "0.01", "--quiet"])
+    assert done == 0
+
+
 def test_json_lines_and_the_estimate_follows_the_readings(model_and_log, capsys):
     model, run = model_and_log
     session = Session(ModelFile.load(model), {}, [], publish_every_s=0.0)

@@ -121,14 +121,15 @@ class Interfaces:
                    {k: (tuple(joints[k]), np.array(values[k])) for k in joints})
 
 
-def _flat(msg):
+def flat_message(msg):
+    """``msg`` as the readers take it: a ros2_control ``DynamicJointState`` as :class:`Interfaces`, any other as is."""
     return Interfaces.of(msg) if hasattr(msg, "interface_values") and hasattr(msg, "joint_names") else msg
 
 
 def _messages(reader, path: Path, connections):
     try:
         for conn, stamp_ns, raw in reader.messages(connections=connections):
-            yield conn, stamp_ns, _flat(reader.deserialize(raw, conn.msgtype))
+            yield conn, stamp_ns, flat_message(reader.deserialize(raw, conn.msgtype))
     except LogError:
         raise
     except Exception as err:
@@ -163,7 +164,7 @@ def _numeric_fields(msg, prefix: str = "") -> list[str]:
     return out
 
 
-def _joint_names(msg, field: str | None = None) -> tuple[str, ...]:
+def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
     """The joints a message names (those of ``field``'s values, where they are its own: an interface's)."""
     if isinstance(msg, Interfaces):
         return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
@@ -191,7 +192,7 @@ def _topic_infos(reader, path: Path) -> list[TopicInfo]:
         infos.append(TopicInfo(conn.topic, conn.msgtype, count,
                                (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
                                tuple(_numeric_fields(msg)) if msg is not None else (),
-                               _joint_names(msg) if msg is not None else ()))
+                               joint_names(msg) if msg is not None else ()))
     return infos
 
 
@@ -268,7 +269,9 @@ def _split_target(key: str, target: str, path: Path) -> tuple[str, str]:
     return topic, field
 
 
-def _value(msg, field: str, topic: str, path: Path):
+def field_value(msg, field: str, topic: str, path: Path):
+    """``msg``'s ``field`` (``a.b`` inside a sub-message): a number or an array of numbers, else a one-sentence
+    refusal naming the message's numeric fields."""
     value = msg
     for part in field.split("."):
         fields = _fields(value) if hasattr(value, "__dataclass_fields__") else {}
@@ -300,8 +303,8 @@ def _collect(reader, path: Path, mapping: Mapping[str, str]):
             if conn.topic == topic:
                 times, values, names = data[key]
                 times.append((stamp_ns - start) / 1e9)
-                values.append(_value(msg, field, topic, path))
-                names.append(_joint_names(msg, field))
+                values.append(field_value(msg, field, topic, path))
+                names.append(joint_names(msg, field))
     for key, (topic, _) in wanted.items():
         if not data[key][0]:
             raise LogError(f"{path}: topic {topic} (--map {key}) has no messages; expected a time series")

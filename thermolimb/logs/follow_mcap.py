@@ -6,8 +6,9 @@ the monitor lags by a chunk.
 
 Which fields are efforts, velocities and temperatures is a mapping in the syntax of the bag readers
 (``effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature``; the
-default is the layout :mod:`thermolimb.logs.bag_writer` writes).  A field is an array of one value per actuator,
-named by the message's ``name`` field; a topic with ``{j}`` (``temperature=/{j}/temperature.temperature``)
+default is the layout :mod:`thermolimb.logs.bag_writer` writes).  Messages are read as :mod:`thermolimb.logs.bags`
+reads a recorded bag: a field is an array of one value per actuator, named by the message's name array (a
+ros2_control ``/dynamic_joint_states``: each state interface over the joints that have it); a topic with ``{j}`` (``temperature=/{j}/temperature.temperature``)
 is one actuator's, named by what ``{j}`` matched.  Each temperature message makes a sample of its actuators,
 with the latest effort and velocity held (zero-order hold).
 """
@@ -21,6 +22,7 @@ import numpy as np
 
 from ..util.errors import LogError
 from .bag_writer import MAPPING as SUITE_LAYOUT
+from .bags import field_value, flat_message, joint_names
 from .follow import Run
 from .mapping import parse_mapping
 from .mcap_stream import McapStream
@@ -89,7 +91,7 @@ class McapFollower:
         wanted = [(key, t) for key, t in self.mapping.items() if t.matches(topic)]
         if not wanted:
             return
-        msg = self.stream.deserialize(data, msgtype)
+        msg = flat_message(self.stream.deserialize(data, msgtype))
         for key, target in wanted:
             values = target.values(msg, topic, self.source)
             if key in self.latest:
@@ -113,7 +115,7 @@ class _Target:
     """One mapping entry: a topic (``{j}``: one per actuator) and a field of its messages."""
 
     def __init__(self, key: str, text: str):
-        topic, _, field = text.rpartition(".")
+        topic, _, field = text.partition(".")
         if not topic.startswith("/") or not field:
             raise LogError(f"--map {key}={text}: expected /TOPIC.FIELD (e.g. {key}=/joint_states.{key})")
         self.topic, self.field = topic, field
@@ -123,14 +125,11 @@ class _Target:
         return bool(self.pattern.match(topic))
 
     def values(self, msg, topic: str, source) -> dict[str, float]:
-        value = getattr(msg, self.field, None)
-        if value is None:
-            raise LogError(f"{source}: messages on {topic} have no field {self.field!r}")
+        value = field_value(msg, self.field, topic, source)
         joint = self.pattern.match(topic).groupdict().get("j")
         if joint is not None:
             return {joint: float(value)}
-        names = list(getattr(msg, "name", []) or [])
-        return {str(n): float(v) for n, v in zip(names, list(value))}
+        return {str(n): float(v) for n, v in zip(joint_names(msg, self.field), list(value))}
 
 
 def _targets(mapping: dict[str, str]) -> dict[str, _Target]:
