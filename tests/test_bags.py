@@ -228,6 +228,63 @@ def test_dynamic_joint_states_alone_give_the_motor_s_temperature_and_leave_out_a
                                   "temperature": "/dynamic_joint_states.temp"})
 
 
+MOTOR_STATE = """uint8 mode
+float32 q
+float32 dq
+float32 ddq
+float32 tau_est
+float32 q_raw
+float32 dq_raw
+float32 ddq_raw
+int8 temperature
+uint32 lost
+uint32[2] reserve
+"""
+LOW_STATE = """uint8 level_flag
+unitree_go/MotorState[4] motor_state
+int8 temperature_ntc1
+float32 power_v
+uint32 tick
+"""
+
+
+def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run, tmp_path):
+    """A Unitree robot's /lowstate (unitree_go/LowState, its definition stored in the MCAP): an array of MotorState
+    sub-messages, one per motor slot, with no joint names.  Its fields read across the array, the motors numbered
+    from 0; inspect suggests the motor's temperature (not the board's temperature_ntc1), the estimated torque and
+    the filtered speed (dq, not dq_raw); and the slots nothing drives are said to be so by fit."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    for msgtype, definition in (("unitree_go/msg/MotorState", MOTOR_STATE), ("unitree_go/msg/LowState", LOW_STATE)):
+        store.register(get_types_from_msg(definition, msgtype))
+    Low, Motor = store.types["unitree_go/msg/LowState"], store.types["unitree_go/msg/MotorState"]
+    series = [plant_run.series(name) for name in plant_run.actuators]
+    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        conn = w.add_connection("/lowstate", Low.__msgtype__, typestore=store)
+        for k, t in enumerate(series[0].time_s):
+            motors = [Motor(mode=1, q=0.0, dq=s.signals.velocity[k], ddq=0.0, tau_est=s.signals.effort[k], q_raw=0.0,
+                            dq_raw=s.signals.velocity[k] + 0.3, ddq_raw=0.0, temperature=int(s.temperature_C[k]), lost=0,
+                            reserve=np.zeros(2, np.uint32)) for s in series]
+            motors += [Motor(mode=0, q=0.0, dq=0.0, ddq=0.0, tau_est=0.0, q_raw=0.0, dq_raw=0.0, ddq_raw=0.0,
+                             temperature=0, lost=0, reserve=np.zeros(2, np.uint32)) for _ in range(4 - len(series))]
+            msg = Low(level_flag=255, motor_state=motors, temperature_ntc1=40, power_v=24.0, tick=k)
+            w.write(conn, int(t * 1e9) + 10**18, store.serialize_cdr(msg, Low.__msgtype__))
+    folder = tmp_path / "bag"
+    (info,) = inspect_bag(folder)
+    assert info.joint_names == ("0", "1", "2", "3") and "motor_state.tau_est" in info.numeric_fields
+    mapping, reasons = suggest_mapping([info])
+    assert not reasons and mapping == {"temperature": "/lowstate.motor_state.temperature",
+                                       "effort": "/lowstate.motor_state.tau_est",
+                                       "velocity": "/lowstate.motor_state.dq"}
+    log = read_log(folder)
+    assert log.actuators == ("0", "1", "2", "3")
+    for k, s in enumerate(series):
+        back = log.series(str(k))
+        assert np.array_equal(back.temperature_C, np.floor(s.temperature_C)[:back.n])  # whole degrees, as sent
+        assert np.allclose(back.signals.effort[:-1], s.signals.effort[:back.n - 1], rtol=1e-6, atol=1e-5)
+    assert main(["fit", str(folder), "--actuator", "1", "--quiet"]) == 0
+    assert main(["fit", str(folder), "--actuator", "3", "--quiet"]) == 2  # an empty slot: said, not fitted
+
+
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
                 shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or

@@ -38,12 +38,11 @@ from ..util.errors import LogError
 from .align import align, series_of
 from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
-from .mapping import EXTRA, JOINT, says_whole, the_motor_s
+from .mapping import EXTRA, JOINT, says_whole, suggest_table_mapping, the_motor_s
 from .mcap_stream import PartialMcap, ends_early
+from .messages import field_value, flat_message, joint_names, numeric_fields
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
-NAME_FIELDS = ("name", "names", "joint_names", "joint_name")
-NUMERIC_KINDS = "biuf"
 
 
 def is_bag(path: str | Path) -> bool:
@@ -99,33 +98,6 @@ SCHEMALESS = ("{path}: its channels carry no message schema (a schemaless MCAP);
               "definitions: record with schemas (ros2 bag record writes them)")
 
 
-@dataclass(frozen=True)
-class Interfaces:
-    """A ros2_control ``DynamicJointState`` (per joint, its state interfaces' names and values) as one array per
-    interface over the joints that have it, so that ``/dynamic_joint_states.temperature`` maps as a JointState's
-    ``effort`` does; an interface name's dots and slashes read as ``_`` (a field's path splits on dots)."""
-
-    msgtype: str
-    joint_names: tuple[str, ...]
-    arrays: Mapping[str, tuple[tuple[str, ...], np.ndarray]]  # interface -> (its joints, their values)
-
-    @classmethod
-    def of(cls, msg) -> "Interfaces":
-        joints, values = {}, {}
-        for joint, interfaces in zip(msg.joint_names, msg.interface_values):
-            for name, value in zip(interfaces.interface_names, np.asarray(interfaces.values, float).tolist()):
-                key = re.sub(r"[./]", "_", name)
-                joints.setdefault(key, []).append(joint)
-                values.setdefault(key, []).append(value)
-        return cls(msg.__msgtype__, tuple(msg.joint_names),
-                   {k: (tuple(joints[k]), np.array(values[k])) for k in joints})
-
-
-def flat_message(msg):
-    """``msg`` as the readers take it: a ros2_control ``DynamicJointState`` as :class:`Interfaces`, any other as is."""
-    return Interfaces.of(msg) if hasattr(msg, "interface_values") and hasattr(msg, "joint_names") else msg
-
-
 def _messages(reader, path: Path, connections):
     try:
         for conn, stamp_ns, raw in reader.messages(connections=connections):
@@ -137,42 +109,6 @@ def _messages(reader, path: Path, connections):
             raise LogError(SCHEMALESS.format(path=path)) from None
         raise LogError(f"{path}: a message could not be read ({type(err).__name__}: {err}); the bag looks "
                        f"truncated or damaged") from None
-
-
-def _fields(msg) -> dict[str, object]:
-    if isinstance(msg, Interfaces):
-        return {k: values for k, (_, values) in msg.arrays.items()}
-    return {k: getattr(msg, k) for k in getattr(msg, "__dataclass_fields__", {}) if k != "__msgtype__"}
-
-
-def _numeric(value) -> bool:
-    if isinstance(value, np.ndarray):
-        return value.size > 0 and value.dtype.kind in NUMERIC_KINDS
-    if isinstance(value, (list, tuple)):
-        return bool(value) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def _numeric_fields(msg, prefix: str = "") -> list[str]:
-    out = []
-    for k, v in _fields(msg).items():
-        if hasattr(v, "__dataclass_fields__"):
-            if k not in ("header", "stamp"):
-                out += _numeric_fields(v, f"{prefix}{k}.")
-        elif _numeric(v):
-            out.append(prefix + k)
-    return out
-
-
-def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
-    """The joints a message names (those of ``field``'s values, where they are its own: an interface's)."""
-    if isinstance(msg, Interfaces):
-        return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
-    for k in NAME_FIELDS:
-        v = getattr(msg, k, None)
-        if isinstance(v, (list, tuple)) and all(isinstance(s, str) for s in v):
-            return tuple(v)
-    return ()
 
 
 def inspect_bag(path: str | Path) -> list[TopicInfo]:
@@ -191,7 +127,7 @@ def _topic_infos(reader, path: Path) -> list[TopicInfo]:
         count = conn.msgcount
         infos.append(TopicInfo(conn.topic, conn.msgtype, count,
                                (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
-                               tuple(_numeric_fields(msg)) if msg is not None else (),
+                               tuple(numeric_fields(msg)) if msg is not None else (),
                                joint_names(msg) if msg is not None else ()))
     return infos
 
@@ -225,17 +161,20 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
         pattern = _joint_topic_pattern([i.topic for i, _ in temps], states[0].joint_names)
         if pattern is not None:
             temps = [(TopicInfo(pattern, temps[0][0].msgtype, 0, 0.0, (), ()), temps[0][1])]
-    if len(states) != 1:
+    beside = _beside(*temps[0]) if not states and len(temps) == 1 else {}
+    if len(states) != 1 and "effort" not in beside:
         reasons.append(f"{len(states)} sensor_msgs/JointState topics ({', '.join(i.topic for i in states) or 'none'})")
     if len(temps) != 1:
         reasons.append(f"{len(temps)} temperature fields ("
                        f"{', '.join(f'{i.topic}.{f}' for i, f in temps) or 'none'})")
     if reasons:
         return None, reasons
-    state, (temp, field) = states[0], temps[0]
-    mapping = {"effort": f"{state.topic}.effort", "temperature": f"{temp.topic}.{field}"}
-    if "velocity" in state.numeric_fields:
-        mapping["velocity"] = f"{state.topic}.velocity"
+    (temp, field) = temps[0]
+    mapping = {"effort": f"{states[0].topic}.effort"} if states else {}
+    mapping["temperature"] = f"{temp.topic}.{field}"
+    if states and "velocity" in states[0].numeric_fields:
+        mapping["velocity"] = f"{states[0].topic}.velocity"
+    mapping.update(beside)
     for channel in ("current", "housing"):
         if channel in temp.numeric_fields:
             mapping[channel] = f"{temp.topic}.{channel}"
@@ -243,6 +182,18 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     if len(air) == 1:
         mapping["ambient"] = f"{air[0].topic}.temperature"
     return mapping, reasons
+
+
+def _beside(info: TopicInfo, field: str) -> dict[str, str]:
+    """Effort and velocity among the fields beside the temperature's (in its sub-message, or its message), named as a
+    table's columns are read (``tau_est``, ``dq``): where no JointState gives them (a Unitree ``LowState``'s
+    ``motor_state``, a driver's own per-motor message)."""
+    prefix = field.rpartition(".")[0]
+    leaves = [f.rpartition(".")[2] for f in info.numeric_fields if f.rpartition(".")[0] == prefix and f != field]
+    leaves = [f for f in leaves if not says_whole("raw", f)] or leaves  # dq beside its unfiltered dq_raw
+    found, _ = suggest_table_mapping(leaves, dict.fromkeys(leaves, 1))
+    return {k: f"{info.topic}.{prefix + '.' if prefix else ''}{found[k].partition(':')[0]}"
+            for k in ("effort", "velocity") if k in found}
 
 
 def _joint_topic_pattern(topics: list[str], joints: tuple[str, ...]) -> str | None:
@@ -267,23 +218,6 @@ def _split_target(key: str, target: str, path: Path) -> tuple[str, str]:
         raise LogError(f"{path}: --map {key}={target} is not of the form /topic.field for a bag, e.g. "
                        f"{key}=/joint_states.{key}")
     return topic, field
-
-
-def field_value(msg, field: str, topic: str, path: Path):
-    """``msg``'s ``field`` (``a.b`` inside a sub-message): a number or an array of numbers, else a one-sentence
-    refusal naming the message's numeric fields."""
-    value = msg
-    for part in field.split("."):
-        fields = _fields(value) if hasattr(value, "__dataclass_fields__") else {}
-        if part not in fields:
-            have = ", ".join(_numeric_fields(msg)) or "no numeric field"
-            kind = msg.msgtype if isinstance(msg, Interfaces) else msg.__msgtype__
-            raise LogError(f"{path}: topic {topic} ({kind}) has no field {field!r}; its numeric fields are {have}")
-        value = fields[part]
-    if not _numeric(value) and not (isinstance(value, (list, np.ndarray)) and len(value) == 0):
-        raise LogError(f"{path}: field {topic}.{field} holds {type(value).__name__} values, not numbers; expected "
-                       f"a number or an array of numbers per joint")
-    return value
 
 
 def _collect(reader, path: Path, mapping: Mapping[str, str]):

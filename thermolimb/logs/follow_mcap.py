@@ -22,10 +22,10 @@ import numpy as np
 
 from ..util.errors import LogError
 from .bag_writer import MAPPING as SUITE_LAYOUT
-from .bags import field_value, flat_message, joint_names
 from .follow import Run
 from .mapping import parse_mapping
 from .mcap_stream import McapStream
+from .messages import field_value, flat_message, joint_names
 
 CHANNELS = ("effort", "velocity", "temperature")
 

@@ -1,0 +1,116 @@
+"""A bag message's fields as the readers take them: numbers, arrays of numbers per joint and the names that index
+them, fields inside sub-messages (``imu.temperature``) and across an array of sub-messages, one number per element
+(a Unitree ``LowState``'s ``motor_state.temperature``, its motors numbered from 0), and ros2_control's
+``DynamicJointState`` as one array per state interface.  Shared by the recorded bag's reader (:mod:`.bags`) and
+the followed recording's (:mod:`.follow_mcap`)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..util.errors import LogError
+
+NAME_FIELDS = ("name", "names", "joint_names", "joint_name")
+NUMERIC_KINDS = "biuf"
+
+
+@dataclass(frozen=True)
+class Interfaces:
+    """A ros2_control ``DynamicJointState`` (per joint, its state interfaces' names and values) as one array per
+    interface over the joints that have it, so that ``/dynamic_joint_states.temperature`` maps as a JointState's
+    ``effort`` does; an interface name's dots and slashes read as ``_`` (a field's path splits on dots)."""
+
+    msgtype: str
+    joint_names: tuple[str, ...]
+    arrays: Mapping[str, tuple[tuple[str, ...], np.ndarray]]  # interface -> (its joints, their values)
+
+    @classmethod
+    def of(cls, msg) -> "Interfaces":
+        joints, values = {}, {}
+        for joint, interfaces in zip(msg.joint_names, msg.interface_values):
+            for name, value in zip(interfaces.interface_names, np.asarray(interfaces.values, float).tolist()):
+                key = re.sub(r"[./]", "_", name)
+                joints.setdefault(key, []).append(joint)
+                values.setdefault(key, []).append(value)
+        return cls(msg.__msgtype__, tuple(msg.joint_names),
+                   {k: (tuple(joints[k]), np.array(values[k])) for k in joints})
+
+
+def flat_message(msg):
+    """``msg`` as the readers take it: a ros2_control ``DynamicJointState`` as :class:`Interfaces`, any other as is."""
+    return Interfaces.of(msg) if hasattr(msg, "interface_values") and hasattr(msg, "joint_names") else msg
+
+
+def _fields(msg) -> dict[str, object]:
+    if isinstance(msg, Interfaces):
+        return {k: values for k, (_, values) in msg.arrays.items()}
+    return {k: getattr(msg, k) for k in getattr(msg, "__dataclass_fields__", {}) if k != "__msgtype__"}
+
+
+def _numeric(value) -> bool:
+    if isinstance(value, np.ndarray):
+        return value.size > 0 and value.dtype.kind in NUMERIC_KINDS
+    if isinstance(value, (list, tuple)):
+        return bool(value) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _message_array(value) -> bool:
+    """An array of sub-messages, one per motor (a Unitree ``LowState``'s ``motor_state``)."""
+    return isinstance(value, (list, tuple)) and bool(value) and all(hasattr(v, "__dataclass_fields__") for v in value)
+
+
+def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
+    """The fields holding numbers (``a.b`` inside a sub-message; inside an array of sub-messages, its elements'
+    numbers, one per element: ``motor_state.temperature``)."""
+    out = []
+    for k, v in _fields(msg).items():
+        if hasattr(v, "__dataclass_fields__"):
+            if k not in ("header", "stamp"):
+                out += numeric_fields(v, f"{prefix}{k}.", scalars)
+        elif _message_array(v) and not scalars:
+            out += numeric_fields(v[0], f"{prefix}{k}.", scalars=True)
+        elif _numeric(v) and not (scalars and isinstance(v, (list, tuple, np.ndarray))):
+            out.append(prefix + k)
+    return out
+
+
+def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
+    """The joints a message names (those of ``field``'s values, where they are its own: an interface's); without a
+    name array, an array of sub-messages (on ``field``'s path, or the first) numbers them from 0."""
+    if isinstance(msg, Interfaces):
+        return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
+    for k in NAME_FIELDS:
+        v = getattr(msg, k, None)
+        if isinstance(v, (list, tuple)) and all(isinstance(s, str) for s in v):
+            return tuple(v)
+    value, path = msg, field.split(".") if field else [k for k, v in _fields(msg).items() if _message_array(v)][:1]
+    for part in path:
+        value = _fields(value).get(part) if hasattr(value, "__dataclass_fields__") else None
+        if _message_array(value):
+            return tuple(str(k) for k in range(len(value)))
+    return ()
+
+
+def field_value(msg, field: str, topic: str, path: Path):
+    """``msg``'s ``field`` (``a.b`` inside a sub-message): a number or an array of numbers, else a one-sentence
+    refusal naming the message's numeric fields."""
+    value, parts = msg, field.split(".")
+    for k, part in enumerate(parts):
+        if _message_array(value):  # one number per element: the rest of the path in each
+            return np.array([field_value(v, ".".join(parts[k:]), topic, path) for v in value], float)
+        fields = _fields(value) if hasattr(value, "__dataclass_fields__") else {}
+        if part not in fields:
+            have = ", ".join(numeric_fields(msg)) or "no numeric field"
+            kind = msg.msgtype if isinstance(msg, Interfaces) else msg.__msgtype__
+            raise LogError(f"{path}: topic {topic} ({kind}) has no field {field!r}; its numeric fields are {have}")
+        value = fields[part]
+    if not _numeric(value) and not (isinstance(value, (list, np.ndarray)) and len(value) == 0):
+        raise LogError(f"{path}: field {topic}.{field} holds {type(value).__name__} values, not numbers; expected "
+                       f"a number or an array of numbers per joint")
+    return value
