@@ -262,8 +262,8 @@ def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run
         conn = w.add_connection("/lowstate", Low.__msgtype__, typestore=store)
         for k, t in enumerate(series[0].time_s):
             motors = [Motor(mode=1, q=0.0, dq=s.signals.velocity[k], ddq=0.0, tau_est=s.signals.effort[k], q_raw=0.0,
-                            dq_raw=s.signals.velocity[k] + 0.3, ddq_raw=0.0, temperature=int(s.temperature_C[k]), lost=0,
-                            reserve=np.zeros(2, np.uint32)) for s in series]
+                            dq_raw=s.signals.velocity[k] + 0.3, ddq_raw=0.0, temperature=int(s.temperature_C[k]),
+                            lost=0, reserve=np.zeros(2, np.uint32)) for s in series]
             motors += [Motor(mode=0, q=0.0, dq=0.0, ddq=0.0, tau_est=0.0, q_raw=0.0, dq_raw=0.0, ddq_raw=0.0,
                              temperature=0, lost=0, reserve=np.zeros(2, np.uint32)) for _ in range(4 - len(series))]
             msg = Low(level_flag=255, motor_state=motors, temperature_ntc1=40, power_v=24.0, tick=k)

@@ -15,9 +15,9 @@ found in every mapped array topic (``--actuator`` picks one).  A scalar
 field (``sensor_msgs/Temperature.temperature``) belongs to the actuator
 given by ``--actuator``, except the ambient, which every joint shares.  ros2_control's
 ``control_msgs/DynamicJointState`` (a hardware's state interfaces per joint, ``/dynamic_joint_states``) reads as
-one array per interface: ``temperature=/dynamic_joint_states.temperature``.  Time is each message's receive time in the bag (one
-clock for every topic), in seconds from the bag's start.  Channels are put on
-the temperature's own samples by :mod:`thermolimb.logs.align`.
+one array per interface (``temperature=/dynamic_joint_states.temperature``), an array of sub-messages across its
+elements (:mod:`.messages`).  Time is each message's receive time in the bag (one clock for every topic), in
+seconds from the bag's start.  Channels are put on the temperature's own samples by :mod:`thermolimb.logs.align`.
 
 Without ``--map`` a mapping is suggested from the topics (see
 :func:`suggest_mapping`, ``thermolimb inspect``) and used when it is unique.
