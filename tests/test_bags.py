@@ -285,6 +285,34 @@ def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run
     assert main(["fit", str(folder), "--actuator", "3", "--quiet"]) == 2  # an empty slot: said, not fitted
 
 
+def test_an_array_of_motor_states_each_naming_its_motor_reads_each_by_its_name(plant_run, tmp_path):
+    """A servo driver's list of motor states (each element with its own name, speed, load and temperature, as
+    Dynamixel drivers publish them; no JointState): the motors are named by their elements, the load stands for the
+    effort and the speed for the velocity."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    definitions = {"servo_msgs/msg/MotorState": "string name\nfloat64 position\nfloat64 speed\nfloat64 load\n"
+                                                "float64 voltage\nint32 temperature\n",
+                   "servo_msgs/msg/MotorStateList": "servo_msgs/MotorState[] motor_states\n"}
+    for msgtype, definition in definitions.items():
+        store.register(get_types_from_msg(definition, msgtype))
+    State, List = store.types["servo_msgs/msg/MotorState"], store.types["servo_msgs/msg/MotorStateList"]
+    series = {name: plant_run.series(name) for name in plant_run.actuators}
+    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        conn = w.add_connection("/motor_states", List.__msgtype__, typestore=store)
+        for k, t in enumerate(series["hip"].time_s):
+            states = [State(name=n, position=0.0, speed=s.signals.velocity[k], load=s.signals.effort[k], voltage=12.0,
+                            temperature=int(s.temperature_C[k])) for n, s in series.items()]
+            w.write(conn, int(t * 1e9) + 10**18, store.serialize_cdr(List(motor_states=states), List.__msgtype__))
+    mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
+    assert not reasons and mapping == {"temperature": "/motor_states.motor_states.temperature",
+                                       "effort": "/motor_states.motor_states.load",
+                                       "velocity": "/motor_states.motor_states.speed"}
+    log = read_log(tmp_path / "bag")
+    assert log.actuators == plant_run.actuators
+    knee = log.series("knee")
+    assert np.array_equal(knee.temperature_C, np.floor(series["knee"].temperature_C)[:knee.n])
+
+
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
                 shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or

@@ -82,7 +82,8 @@ def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
 
 def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
     """The joints a message names (those of ``field``'s values, where they are its own: an interface's); without a
-    name array, an array of sub-messages (on ``field``'s path, or the first) numbers them from 0."""
+    name array, an array of sub-messages (on ``field``'s path, or the first) names them by their own ``name`` (a
+    Dynamixel Workbench state list), else numbers them from 0 (a Unitree ``LowState``)."""
     if isinstance(msg, Interfaces):
         return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
     for k in NAME_FIELDS:
@@ -93,7 +94,9 @@ def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
     for part in path:
         value = _fields(value).get(part) if hasattr(value, "__dataclass_fields__") else None
         if _message_array(value):
-            return tuple(str(k) for k in range(len(value)))
+            own = next(([getattr(v, k) for v in value] for k in NAME_FIELDS
+                        if all(isinstance(getattr(v, k, None), str) for v in value)), None)
+            return tuple(own) if own and len(set(own)) == len(own) else tuple(str(k) for k in range(len(value)))
     return ()
 
 
