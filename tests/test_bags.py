@@ -248,7 +248,7 @@ uint32 tick
 """
 
 
-def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run, tmp_path):
+def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run, tmp_path, capsys):
     """A Unitree robot's /lowstate (unitree_go/LowState, its definition stored in the MCAP): an array of MotorState
     sub-messages, one per motor slot, with no joint names.  Its fields read across the array, the motors numbered
     from 0; inspect suggests the motor's temperature (not the board's temperature_ntc1), the estimated torque and
@@ -283,6 +283,10 @@ def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run
         assert np.allclose(back.signals.effort[:-1], s.signals.effort[:back.n - 1], rtol=1e-6, atol=1e-5)
     assert main(["fit", str(folder), "--actuator", "1", "--quiet"]) == 0
     assert main(["fit", str(folder), "--actuator", "3", "--quiet"]) == 2  # an empty slot: said, not fitted
+    capsys.readouterr()
+    assert main(["fit", str(folder), "--fleet", "--quiet", "--workers", "1", "--backend", "serial"]) == 0
+    rows = capsys.readouterr().out.splitlines()
+    assert [r.split()[0] for r in rows if "a motor that is not connected" in r] == ["2", "3"]
 
 
 def test_an_array_of_motor_states_each_naming_its_motor_reads_each_by_its_name(plant_run, tmp_path):

@@ -69,7 +69,11 @@ def test_a_run_that_cannot_be_identified_gives_an_error_row(fleet_logs):
     frame.loc[frame["actuator"] == "a1", "effort"] = 0.0
     frame.loc[frame["actuator"] == "a1", "temperature"] = 25.0
     rows = fit_fleet([replace(log, frame=frame)], "joule,effort_bias", backend="serial", actuators=["a0", "a1"])
-    assert rows[0]["error"] is None
+    assert rows[0]["error"] is None  # a slot nothing drives, said as fit says it of one actuator
+    assert "a motor that is not connected" in rows[1]["error"] and "params" not in rows[1]
+    frame.loc[frame["actuator"] == "a1", "temperature"] = 25.0 + 0.1 * (np.arange(len(frame)) % 7 == 0)[
+        frame["actuator"] == "a1"]
+    rows = fit_fleet([replace(log, frame=frame)], "joule,effort_bias", backend="serial", actuators=["a0", "a1"])
     assert "cannot identify" in rows[1]["error"] and "params" not in rows[1]
 
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..logs import ActuatorSeries, ThermalLog, parse_mapping, read_log
 from ..logs.bags import is_bag
-from ..util.errors import LogError, ThermolimbError, UsageError
+from ..util.errors import LogError, UsageError
 from .options import SEPARATORS
 from .output import say
 
@@ -102,20 +102,6 @@ def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> 
                 seen[key] = log.source
                 group.append(run)
     return groups
-
-
-def refuse_flat(runs: list, name: str) -> None:
-    """An actuator whose temperature reads one value on every sample is refused in one sentence (no model is
-    identified from it); at zero effort throughout, most likely a motor the robot's table lists but nothing drives
-    (a Unitree low-state table's unused slots read 0 degC and 0 N m)."""
-    values = np.concatenate([r.temperature_C for r in runs]) if runs else np.empty(0)
-    if values.size == 0 or np.ptp(values) > 0:
-        return
-    idle = not any(np.any(r.signals.effort) for r in runs)
-    why = (" and its effort 0 throughout: a motor that is not connected, or a slot the logger fills in" if idle
-           else "")
-    raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} degC on every one of its {values.size} "
-                          f"samples{why}; a model needs a temperature that changes")
 
 
 def say_notes(logs: list[ThermalLog], names) -> None:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..logs import LogError
 from ..util.errors import TermError, ThermolimbError, UsageError
+from ..workbench.excitation import refuse_flat
 from ..workbench.validation import Scheme
 from .options import (
     add_fleet,
@@ -30,7 +31,7 @@ from .options import (
     scheme_of,
 )
 from .output import existing, files_in, html_page, print_json, say, say_written
-from .reading import distinct_runs, load_terms, read_held, read_logs, refuse_flat, say_notes
+from .reading import distinct_runs, load_terms, read_held, read_logs, say_notes
 
 
 @dataclass

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..identification.regression import independent_fractions
 from ..model.guard import instance
+from ..util.errors import ThermolimbError
 
 LEVEL_BINS = 20  # effort levels: the effort's 1-99 % range in this many bins ...
 LEVEL_SHARE = 0.02  # ... each holding at least this share of the samples
@@ -209,3 +210,17 @@ def _scale(channel: str, moved: list[np.ndarray]) -> float:
     top = float(np.percentile(whole, 99)) if whole.size else 0.0
     top = top if top > 0 else float(np.max(whole, initial=0.0))  # a channel at rest nearly always: its largest
     return AWAY * top if top > 0 else np.inf
+
+
+def refuse_flat(runs: list, name: str) -> None:
+    """An actuator whose temperature reads one value on every sample is refused in one sentence (no model is
+    identified from it); at zero effort throughout, most likely a motor the robot's table lists but nothing drives
+    (a Unitree low-state table's unused slots read 0 degC and 0 N m)."""
+    values = np.concatenate([r.temperature_C for r in runs]) if runs else np.empty(0)
+    if values.size == 0 or np.ptp(values) > 0:
+        return
+    idle = not any(np.any(r.signals.effort) for r in runs)
+    why = (" and its effort 0 throughout: a motor that is not connected, or a slot the logger fills in" if idle
+           else "")
+    raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} degC on every one of its {values.size} "
+                          f"samples{why}; a model needs a temperature that changes")
