@@ -317,6 +317,36 @@ def test_an_array_of_motor_states_each_naming_its_motor_reads_each_by_its_name(p
     assert np.array_equal(knee.temperature_C, np.floor(series["knee"].temperature_C)[:knee.n])
 
 
+def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_order(plant_run, tmp_path):
+    """Temperatures published as a std_msgs/Float64MultiArray (no joint names) beside a JointState: inspect suggests
+    the array, and its values are read in the order the JointState names the joints, which a note says."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    JointState, Array = store.types["sensor_msgs/msg/JointState"], store.types["std_msgs/msg/Float64MultiArray"]
+    Header, Time = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    Layout = store.types["std_msgs/msg/MultiArrayLayout"]
+    series = [plant_run.series(name) for name in plant_run.actuators]
+    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
+        temps = w.add_connection("/motor_temperatures", Array.__msgtype__, typestore=store)
+        for k, t in enumerate(series[0].time_s):
+            ns = int(t * 1e9) + 10**18
+            header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            state = JointState(header=header, name=list(plant_run.actuators), position=np.zeros(len(series)),
+                               velocity=np.array([s.signals.velocity[k] for s in series]),
+                               effort=np.array([s.signals.effort[k] for s in series]))
+            w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
+            array = Array(layout=Layout(dim=[], data_offset=0), data=np.array([s.temperature_C[k] for s in series]))
+            w.write(temps, ns + 1000, store.serialize_cdr(array, Array.__msgtype__))
+    mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
+    assert not reasons and mapping["temperature"] == "/motor_temperatures.data"
+    log = read_log(tmp_path / "bag")
+    assert log.actuators == plant_run.actuators
+    assert any("/motor_temperatures names no joints: its 2 values are read in the order /joint_states names them "
+               "(hip, knee)" in n for n in log.notes)
+    for s in series:
+        assert np.array_equal(log.series(s.actuator).temperature_C, s.temperature_C[:log.series(s.actuator).n])
+
+
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
                 shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or

@@ -155,6 +155,9 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     motor = the_motor_s([f"{i.topic}.{f}" for i, f in temps]) if len(temps) > 1 else None
     temps = [(i, f) for i, f in temps if motor in (None, f"{i.topic}.{f}")]
     scalars = [i for i in infos if i.msgtype.endswith("/Temperature")]
+    if not temps and len(states) == 1:  # an array named for temperature, no joint names: read in the joints' order
+        temps = [(i, "data") for i in infos if "temp" in i.topic.lower() and not _is_air(i.topic)
+                 and not i.joint_names and i.msgtype.endswith("MultiArray") and "data" in i.numeric_fields]
     if not temps:
         temps = [(i, "temperature") for i in scalars if not _is_air(i.topic)]
     if len(states) == 1 and len(temps) > 1:  # one Temperature topic per joint, named after it (/knee/temperature)
@@ -323,6 +326,7 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
         if any(JOINT in target for target in mapping.values()):
             return _read_joint_topics(reader, path, mapping, actuator, notes, drop_incomplete)
         wanted, data = _collect(reader, path, mapping)
+    _in_joint_order(wanted, data, path, notes)
     joints = _joints(wanted, data, actuator, path)
     frames = []
     for joint in joints:
@@ -383,6 +387,19 @@ def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[st
                 raise
             notes.append(f"{path}: extra channel {key[len(EXTRA):]} not kept for {joint or path.stem}: {exc}")
     return series
+
+
+def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
+    """An array topic that names no joints (temperatures in a ``Float64MultiArray``) read in the order of the mapped
+    topic that names them, where every message holds as many values; said."""
+    named = next(((k, data[k][2][0]) for k in wanted if np.ndim(data[k][1][0]) > 0 and data[k][2][0]), None)
+    for key, (times, values, names) in data.items():
+        if named is None or np.ndim(values[0]) == 0 or names[0]:
+            continue
+        if all(len(v) == len(named[1]) for v in values):
+            data[key] = (times, values, [named[1]] * len(values))
+            notes.append(f"{path}: {wanted[key][0]} names no joints: its {len(named[1])} values are read in the "
+                         f"order {wanted[named[0]][0]} names them ({', '.join(named[1])}); check that it is theirs")
 
 
 def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
