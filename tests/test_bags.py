@@ -16,6 +16,7 @@ from thermolimb.logs import LogError, bags, read_log
 from thermolimb.logs.align import align, interval_average
 from thermolimb.logs.bag_writer import CONTROL_DEFINITIONS, DYNAMIC_TYPE, INTERFACE_TYPE, write_mcap
 from thermolimb.logs.bags import inspect_bag, suggest_mapping
+from thermolimb.logs.follow_mcap import McapFollower
 from thermolimb.plant import ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
 from thermolimb.workbench.validation import Scheme, validate_model
@@ -345,6 +346,11 @@ def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_o
                "(hip, knee)" in n for n in log.notes)
     for s in series:
         assert np.array_equal(log.series(s.actuator).temperature_C, s.temperature_C[:log.series(s.actuator).n])
+    follower = McapFollower(tmp_path / "bag", "effort=/joint_states.effort,temperature=/motor_temperatures.data")
+    pieces = follower.poll(final=True)  # followed live alike
+    for s in series:
+        assert np.array_equal(np.concatenate([p.arrays["temperature"] for p in pieces[s.actuator]]), s.temperature_C)
+    assert any("read in the order the efforts name them (hip, knee)" in n for n in follower.notes)
 
 
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",

@@ -7,8 +7,9 @@ the monitor lags by a chunk.
 Which fields are efforts, velocities and temperatures is a mapping in the syntax of the bag readers
 (``effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature``; the
 default is the layout :mod:`thermolimb.logs.bag_writer` writes).  Messages are read as :mod:`thermolimb.logs.bags`
-reads a recorded bag: a field is an array of one value per actuator, named by the message's name array (a
-ros2_control ``/dynamic_joint_states``: each state interface over the joints that have it); a topic with ``{j}`` (``temperature=/{j}/temperature.temperature``)
+reads a recorded bag (:mod:`.messages`): a field is an array of one value per actuator, named by the message's
+name array (a ros2_control ``/dynamic_joint_states``: each state interface over the joints that have it; an array
+naming none, in the order the efforts name them); a topic with ``{j}`` (``temperature=/{j}/temperature.temperature``)
 is one actuator's, named by what ``{j}`` matched.  Each temperature message makes a sample of its actuators,
 with the latest effort and velocity held (zero-order hold).
 """
@@ -94,6 +95,8 @@ class McapFollower:
         msg = flat_message(self.stream.deserialize(data, msgtype))
         for key, target in wanted:
             values = target.values(msg, topic, self.source)
+            if not values and key not in self.latest:  # an array naming no joints: in the order the efforts name them
+                values = target.in_order(msg, topic, self.source, list(self.latest["effort"]), self.notes)
             if key in self.latest:
                 self.latest[key].update(values)
                 continue
@@ -130,6 +133,17 @@ class _Target:
         if joint is not None:
             return {joint: float(value)}
         return {str(n): float(v) for n, v in zip(joint_names(msg, self.field), list(value))}
+
+    def in_order(self, msg, topic: str, source, names: list[str], notes: list[str]) -> dict[str, float]:
+        """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many, said
+        once, as the recorded bag's reader does."""
+        value = np.atleast_1d(field_value(msg, self.field, topic, source))
+        if not names or len(value) != len(names):
+            return {}
+        said = f"{source}: {topic} names no joints: its {len(names)} values are read in the order the efforts name them"
+        if not any(n.startswith(said) for n in notes):
+            notes.append(f"{said} ({', '.join(names)}); check that it is theirs")
+        return {n: float(v) for n, v in zip(names, value)}
 
 
 def _targets(mapping: dict[str, str]) -> dict[str, _Target]:
