@@ -353,6 +353,46 @@ def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_o
     assert any("read in the order the efforts name them (hip, knee)" in n for n in follower.notes)
 
 
+def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(plant_run, tmp_path):
+    """An arm's cyclic feedback (a Kinova's base_feedback: an array of actuator feedbacks, no names, each with the
+    motor's and the core's temperatures) beside a JointState: the motor's temperature is suggested, and read in
+    the order the JointState names the joints (said)."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    definitions = {"arm_msgs/msg/ActuatorFeedback": "float32 position\nfloat32 velocity\nfloat32 torque\n"
+                                                    "float32 current_motor\nfloat32 temperature_motor\n"
+                                                    "float32 temperature_core\n",
+                   "arm_msgs/msg/Feedback": "arm_msgs/ActuatorFeedback[] actuators\n"}
+    for msgtype, definition in definitions.items():
+        store.register(get_types_from_msg(definition, msgtype))
+    JointState, Header, Time = (store.types[k] for k in
+                                ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
+    Actuator, Feedback = store.types["arm_msgs/msg/ActuatorFeedback"], store.types["arm_msgs/msg/Feedback"]
+    series = [plant_run.series(name) for name in plant_run.actuators]
+    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
+        feedback = w.add_connection("/base_feedback", Feedback.__msgtype__, typestore=store)
+        for k, t in enumerate(series[0].time_s):
+            ns = int(t * 1e9) + 10**18
+            header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            state = JointState(header=header, name=list(plant_run.actuators), position=np.zeros(len(series)),
+                               velocity=np.array([s.signals.velocity[k] for s in series]),
+                               effort=np.array([s.signals.effort[k] for s in series]))
+            w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
+            actuators = [Actuator(position=0.0, velocity=s.signals.velocity[k], torque=s.signals.effort[k],
+                                  current_motor=0.0, temperature_motor=s.temperature_C[k], temperature_core=40.0)
+                         for s in series]
+            w.write(feedback, ns + 1000, store.serialize_cdr(Feedback(actuators=actuators), Feedback.__msgtype__))
+    mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
+    assert not reasons and mapping["effort"] == "/joint_states.effort"
+    assert mapping["temperature"] == "/base_feedback.actuators.temperature_motor"
+    log = read_log(tmp_path / "bag", mapping=mapping)
+    assert log.actuators == plant_run.actuators
+    assert any("/base_feedback names no joints: its 2 values are read in the order /joint_states names them" in n
+               for n in log.notes)
+    knee = log.series("knee")
+    assert np.allclose(knee.temperature_C, series[1].temperature_C[:knee.n], atol=1e-5)  # float32 on the wire
+
+
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
                 shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or

@@ -40,7 +40,7 @@ from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
 from .mapping import EXTRA, JOINT, says_whole, suggest_table_mapping, the_motor_s
 from .mcap_stream import PartialMcap, ends_early
-from .messages import field_value, flat_message, joint_names, numeric_fields
+from .messages import field_value, flat_message, joint_names, numbered, numeric_fields
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 
@@ -128,7 +128,7 @@ def _topic_infos(reader, path: Path) -> list[TopicInfo]:
         infos.append(TopicInfo(conn.topic, conn.msgtype, count,
                                (count - 1) / duration_s if duration_s > 0 and count > 1 else 0.0,
                                tuple(numeric_fields(msg)) if msg is not None else (),
-                               joint_names(msg) if msg is not None else ()))
+                               numbered(msg) if msg is not None else ()))
     return infos
 
 
@@ -390,13 +390,16 @@ def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[st
 
 
 def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
-    """An array topic that names no joints (temperatures in a ``Float64MultiArray``) read in the order of the mapped
-    topic that names them, where every message holds as many values; said."""
+    """An array topic that names no joints read in the order of the mapped topic that names them, where every
+    message holds as many values (temperatures in a ``Float64MultiArray``, a Kinova's ``actuators``), said; where no
+    mapped topic names them, its elements numbered from 0 (a Unitree ``LowState``'s motor slots)."""
     named = next(((k, data[k][2][0]) for k in wanted if np.ndim(data[k][1][0]) > 0 and data[k][2][0]), None)
     for key, (times, values, names) in data.items():
-        if named is None or np.ndim(values[0]) == 0 or names[0]:
+        if np.ndim(values[0]) == 0 or names[0]:
             continue
-        if all(len(v) == len(named[1]) for v in values):
+        if named is None and len({len(v) for v in values}) == 1:
+            data[key] = (times, values, [tuple(str(k) for k in range(len(values[0])))] * len(values))
+        elif named is not None and all(len(v) == len(named[1]) for v in values):
             data[key] = (times, values, [named[1]] * len(values))
             notes.append(f"{path}: {wanted[key][0]} names no joints: its {len(named[1])} values are read in the "
                          f"order {wanted[named[0]][0]} names them ({', '.join(named[1])}); check that it is theirs")

@@ -95,8 +95,9 @@ class McapFollower:
         msg = flat_message(self.stream.deserialize(data, msgtype))
         for key, target in wanted:
             values = target.values(msg, topic, self.source)
-            if not values and key not in self.latest:  # an array naming no joints: in the order the efforts name them
-                values = target.in_order(msg, topic, self.source, list(self.latest["effort"]), self.notes)
+            if not values:  # an array naming no joints: in the order the efforts name them, else numbered from 0
+                order = list(self.latest["effort"]) if key not in self.latest else []
+                values = target.in_order(msg, topic, self.source, order, self.notes)
             if key in self.latest:
                 self.latest[key].update(values)
                 continue
@@ -136,9 +137,11 @@ class _Target:
 
     def in_order(self, msg, topic: str, source, names: list[str], notes: list[str]) -> dict[str, float]:
         """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many, said
-        once, as the recorded bag's reader does."""
+        once, or without ``names`` numbered from 0, as the recorded bag's reader does."""
         value = np.atleast_1d(field_value(msg, self.field, topic, source))
-        if not names or len(value) != len(names):
+        if not names:
+            return {str(k): float(v) for k, v in enumerate(value)}
+        if len(value) != len(names):
             return {}
         said = f"{source}: {topic} names no joints: its {len(names)} values are read in the order the efforts name them"
         if not any(n.startswith(said) for n in notes):

@@ -82,22 +82,36 @@ def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
 
 def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
     """The joints a message names (those of ``field``'s values, where they are its own: an interface's); without a
-    name array, an array of sub-messages (on ``field``'s path, or the first) names them by their own ``name`` (a
-    Dynamixel Workbench state list), else numbers them from 0 (a Unitree ``LowState``)."""
+    name array, those an array of sub-messages (on ``field``'s path, or the first) names in its elements' own
+    ``name`` (a servo driver's list of motor states); else none (the readers then take another topic's order, or
+    number them: :func:`numbered`)."""
     if isinstance(msg, Interfaces):
         return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
     for k in NAME_FIELDS:
         v = getattr(msg, k, None)
         if isinstance(v, (list, tuple)) and all(isinstance(s, str) for s in v):
             return tuple(v)
+    array = _array_on(msg, field)
+    own = next(([getattr(v, k) for v in array] for k in NAME_FIELDS
+                if all(isinstance(getattr(v, k, None), str) for v in array)), None) if array else None
+    return tuple(own) if own and len(set(own)) == len(own) else ()
+
+
+def numbered(msg, field: str | None = None) -> tuple[str, ...]:
+    """The joints a message names, else its array of sub-messages' elements numbered from 0 (a Unitree
+    ``LowState``'s motor slots)."""
+    array = _array_on(msg, field)
+    return joint_names(msg, field) or (tuple(str(k) for k in range(len(array))) if array else ())
+
+
+def _array_on(msg, field: str | None):
+    """The array of sub-messages on ``field``'s path (without a field, the message's first), or ``None``."""
     value, path = msg, field.split(".") if field else [k for k, v in _fields(msg).items() if _message_array(v)][:1]
     for part in path:
         value = _fields(value).get(part) if hasattr(value, "__dataclass_fields__") else None
         if _message_array(value):
-            own = next(([getattr(v, k) for v in value] for k in NAME_FIELDS
-                        if all(isinstance(getattr(v, k, None), str) for v in value)), None)
-            return tuple(own) if own and len(set(own)) == len(own) else tuple(str(k) for k in range(len(value)))
-    return ()
+            return value
+    return None
 
 
 def field_value(msg, field: str, topic: str, path: Path):
