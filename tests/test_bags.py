@@ -391,6 +391,11 @@ def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(p
                for n in log.notes)
     knee = log.series("knee")
     assert np.allclose(knee.temperature_C, series[1].temperature_C[:knee.n], atol=1e-5)  # float32 on the wire
+    # beside a JointState that names a gripper too, which value is whose cannot be told: said, not guessed
+    wanted = {"effort": ("/joint_states", "effort"), "temperature": ("/base_feedback", "actuators.temperature_motor")}
+    data = {"effort": ([0.0], [np.zeros(3)], [("hip", "knee", "finger")]), "temperature": ([0.0], [np.zeros(2)], [()])}
+    with pytest.raises(LogError, match="names no joints and holds 2 values a message, where /joint_states names 3"):
+        bags._in_joint_order(wanted, data, tmp_path / "bag", [])
 
 
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",

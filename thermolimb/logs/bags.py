@@ -403,6 +403,10 @@ def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
             data[key] = (times, values, [named[1]] * len(values))
             notes.append(f"{path}: {wanted[key][0]} names no joints: its {len(named[1])} values are read in the "
                          f"order {wanted[named[0]][0]} names them ({', '.join(named[1])}); check that it is theirs")
+        elif named is not None and not key.startswith(EXTRA):
+            raise LogError(f"{path}: {wanted[key][0]} names no joints and holds {len(values[0])} values a message, "
+                           f"where {wanted[named[0]][0]} names {len(named[1])} ({', '.join(named[1][:8])}): which "
+                           f"value is whose cannot be told; map a topic that names its joints")
 
 
 def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
