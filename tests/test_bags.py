@@ -318,26 +318,33 @@ def test_an_array_of_motor_states_each_naming_its_motor_reads_each_by_its_name(p
     assert np.array_equal(knee.temperature_C, np.floor(series["knee"].temperature_C)[:knee.n])
 
 
+def _beside_joint_states(run, folder, store, topic: str, msgtype: str, message) -> list:
+    """An MCAP bag of ``run``'s JointState and, 1 us after each, ``message(k, series)`` on ``topic``: the series."""
+    JointState, Header, Time = (store.types[k] for k in
+                                ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
+    series = [run.series(name) for name in run.actuators]
+    with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
+        other = w.add_connection(topic, msgtype, typestore=store)
+        for k, t in enumerate(series[0].time_s):
+            ns = int(t * 1e9) + 10**18
+            header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
+            state = JointState(header=header, name=list(run.actuators), position=np.zeros(len(series)),
+                               velocity=np.array([s.signals.velocity[k] for s in series]),
+                               effort=np.array([s.signals.effort[k] for s in series]))
+            w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
+            w.write(other, ns + 1000, store.serialize_cdr(message(k, series), msgtype))
+    return series
+
+
 def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_order(plant_run, tmp_path):
     """Temperatures published as a std_msgs/Float64MultiArray (no joint names) beside a JointState: inspect suggests
     the array, and its values are read in the order the JointState names the joints, which a note says."""
     store = get_typestore(Stores.ROS2_HUMBLE)
-    JointState, Array = store.types["sensor_msgs/msg/JointState"], store.types["std_msgs/msg/Float64MultiArray"]
-    Header, Time = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
-    Layout = store.types["std_msgs/msg/MultiArrayLayout"]
-    series = [plant_run.series(name) for name in plant_run.actuators]
-    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
-        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-        temps = w.add_connection("/motor_temperatures", Array.__msgtype__, typestore=store)
-        for k, t in enumerate(series[0].time_s):
-            ns = int(t * 1e9) + 10**18
-            header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
-            state = JointState(header=header, name=list(plant_run.actuators), position=np.zeros(len(series)),
-                               velocity=np.array([s.signals.velocity[k] for s in series]),
-                               effort=np.array([s.signals.effort[k] for s in series]))
-            w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
-            array = Array(layout=Layout(dim=[], data_offset=0), data=np.array([s.temperature_C[k] for s in series]))
-            w.write(temps, ns + 1000, store.serialize_cdr(array, Array.__msgtype__))
+    Array, Layout = store.types["std_msgs/msg/Float64MultiArray"], store.types["std_msgs/msg/MultiArrayLayout"]
+    series = _beside_joint_states(plant_run, tmp_path / "bag", store, "/motor_temperatures", Array.__msgtype__,
+                                  lambda k, series: Array(layout=Layout(dim=[], data_offset=0),
+                                                          data=np.array([s.temperature_C[k] for s in series])))
     mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
     assert not reasons and mapping["temperature"] == "/motor_temperatures.data"
     log = read_log(tmp_path / "bag")
@@ -364,24 +371,12 @@ def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(p
                    "arm_msgs/msg/Feedback": "arm_msgs/ActuatorFeedback[] actuators\n"}
     for msgtype, definition in definitions.items():
         store.register(get_types_from_msg(definition, msgtype))
-    JointState, Header, Time = (store.types[k] for k in
-                                ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
     Actuator, Feedback = store.types["arm_msgs/msg/ActuatorFeedback"], store.types["arm_msgs/msg/Feedback"]
-    series = [plant_run.series(name) for name in plant_run.actuators]
-    with Writer(tmp_path / "bag", version=8, storage_plugin=StoragePlugin.MCAP) as w:
-        states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
-        feedback = w.add_connection("/base_feedback", Feedback.__msgtype__, typestore=store)
-        for k, t in enumerate(series[0].time_s):
-            ns = int(t * 1e9) + 10**18
-            header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
-            state = JointState(header=header, name=list(plant_run.actuators), position=np.zeros(len(series)),
-                               velocity=np.array([s.signals.velocity[k] for s in series]),
-                               effort=np.array([s.signals.effort[k] for s in series]))
-            w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
-            actuators = [Actuator(position=0.0, velocity=s.signals.velocity[k], torque=s.signals.effort[k],
-                                  current_motor=0.0, temperature_motor=s.temperature_C[k], temperature_core=40.0)
-                         for s in series]
-            w.write(feedback, ns + 1000, store.serialize_cdr(Feedback(actuators=actuators), Feedback.__msgtype__))
+    series = _beside_joint_states(plant_run, tmp_path / "bag", store, "/base_feedback", Feedback.__msgtype__,
+                                  lambda k, series: Feedback(actuators=[
+                                      Actuator(position=0.0, velocity=s.signals.velocity[k], torque=s.signals.effort[k],
+                                               current_motor=0.0, temperature_motor=s.temperature_C[k],
+                                               temperature_core=40.0) for s in series]))
     mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
     assert not reasons and mapping["effort"] == "/joint_states.effort"
     assert mapping["temperature"] == "/base_feedback.actuators.temperature_motor"
