@@ -283,6 +283,11 @@ def test_a_unitree_low_state_reads_each_motor_of_its_motor_state_array(plant_run
         assert np.array_equal(back.temperature_C, np.floor(s.temperature_C)[:back.n])  # whole degrees, as sent
         assert np.allclose(back.signals.effort[:-1], s.signals.effort[:back.n - 1], rtol=1e-6, atol=1e-5)
     assert main(["fit", str(folder), "--actuator", "1", "--quiet"]) == 0
+    for field, said in (("motor_state.temp", "LowState\\) has no field 'motor_state.temp'; its numeric fields are "
+                                              "level_flag, motor_state.mode"),
+                        ("motor_state.reserve", "holds several numbers in each element of motor_state")):
+        with pytest.raises(LogError, match=said):
+            read_log(folder, mapping={"effort": "/lowstate.motor_state.tau_est", "temperature": f"/lowstate.{field}"})
     assert main(["fit", str(folder), "--actuator", "3", "--quiet"]) == 2  # an empty slot: said, not fitted
     capsys.readouterr()
     assert main(["fit", str(folder), "--fleet", "--quiet", "--workers", "1", "--backend", "serial"]) == 0

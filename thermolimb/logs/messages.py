@@ -119,8 +119,12 @@ def field_value(msg, field: str, topic: str, path: Path):
     refusal naming the message's numeric fields."""
     value, parts = msg, field.split(".")
     for k, part in enumerate(parts):
-        if _message_array(value):  # one number per element: the rest of the path in each
-            return np.array([field_value(v, ".".join(parts[k:]), topic, path) for v in value], float)
+        if _message_array(value) and part in _fields(value[0]):  # one number per element: the rest of the path
+            each = [field_value(v, ".".join(parts[k:]), topic, path) for v in value]
+            if any(np.ndim(v) for v in each):
+                raise LogError(f"{path}: field {topic}.{field} holds several numbers in each element of "
+                               f"{'.'.join(parts[:k])}; expected one number per element (per motor)")
+            return np.array(each, float)
         fields = _fields(value) if hasattr(value, "__dataclass_fields__") else {}
         if part not in fields:
             have = ", ".join(numeric_fields(msg)) or "no numeric field"
