@@ -363,6 +363,9 @@ def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_o
     for s in series:
         assert np.array_equal(np.concatenate([p.arrays["temperature"] for p in pieces[s.actuator]]), s.temperature_C)
     assert any("read in the order the efforts name them (hip, knee)" in n for n in follower.notes)
+    array = Array(layout=Layout(dim=[], data_offset=0), data=np.array([30.0, 31.0]))  # beside three named joints
+    with pytest.raises(LogError, match="names no joints and holds 2 values a message, where the efforts name 3"):
+        follower.mapping["temperature"].in_order(array, "/motor_temperatures", "live.mcap", ["a", "b", "c"], [])
 
 
 def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(plant_run, tmp_path):

@@ -142,7 +142,9 @@ class _Target:
         if not names:
             return {str(k): float(v) for k, v in enumerate(value)}
         if len(value) != len(names):
-            return {}
+            raise LogError(f"{source}: {topic} names no joints and holds {len(value)} values a message, where the "
+                           f"efforts name {len(names)} ({', '.join(names[:8])}): which value is whose cannot be told; "
+                           f"map a topic that names its joints")
         said = f"{source}: {topic} names no joints: its {len(names)} values are read in the order the efforts name them"
         if not any(n.startswith(said) for n in notes):
             notes.append(f"{said} ({', '.join(names)}); check that it is theirs")
