@@ -323,14 +323,17 @@ def test_an_array_of_motor_states_each_naming_its_motor_reads_each_by_its_name(p
     assert np.array_equal(knee.temperature_C, np.floor(series["knee"].temperature_C)[:knee.n])
 
 
-def _beside_joint_states(run, folder, store, topic: str, msgtype: str, message) -> list:
-    """An MCAP bag of ``run``'s JointState and, 1 us after each, ``message(k, series)`` on ``topic``: the series."""
+def _beside_joint_states(run, folder, store, topic: str, msgtype: str, message, each=None) -> list:
+    """An MCAP bag of ``run``'s JointState and, 1 us after each, ``message(k, series)`` on ``topic`` (and with
+    ``each``, ``each(k, s)`` of the same type on ``/<joint>/motor_temp``): the series."""
     JointState, Header, Time = (store.types[k] for k in
                                 ("sensor_msgs/msg/JointState", "std_msgs/msg/Header", "builtin_interfaces/msg/Time"))
     series = [run.series(name) for name in run.actuators]
     with Writer(folder, version=8, storage_plugin=StoragePlugin.MCAP) as w:
         states = w.add_connection("/joint_states", JointState.__msgtype__, typestore=store)
         other = w.add_connection(topic, msgtype, typestore=store)
+        joints = [w.add_connection(f"/{s.actuator}/motor_temp", msgtype, typestore=store) for s in series] if each \
+            else []
         for k, t in enumerate(series[0].time_s):
             ns = int(t * 1e9) + 10**18
             header = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="")
@@ -339,6 +342,8 @@ def _beside_joint_states(run, folder, store, topic: str, msgtype: str, message) 
                                effort=np.array([s.signals.effort[k] for s in series]))
             w.write(states, ns, store.serialize_cdr(state, JointState.__msgtype__))
             w.write(other, ns + 1000, store.serialize_cdr(message(k, series), msgtype))
+            for conn, s in zip(joints, series):
+                w.write(conn, ns + 2000, store.serialize_cdr(each(k, s), msgtype))
     return series
 
 
@@ -399,6 +404,23 @@ def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(p
     data = {"effort": ([0.0], [np.zeros(3)], [("hip", "knee", "finger")]), "temperature": ([0.0], [np.zeros(2)], [()])}
     with pytest.raises(LogError, match="names no joints and holds 2 values a message, where /joint_states names 3"):
         bags._in_joint_order(wanted, data, tmp_path / "bag", [])
+
+
+def test_a_plain_number_per_joint_named_for_its_temperature_reads_as_a_temperature_topic(plant_run, tmp_path):
+    """Temperatures as a std_msgs/Float64 per joint (``/hip/motor_temp``), the air as another (``/ambient_temp``),
+    beside a JointState: suggested and read as per-joint Temperature topics are."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    Number = store.types["std_msgs/msg/Float64"]
+    series = _beside_joint_states(plant_run, tmp_path / "bag", store, "/ambient_temp", Number.__msgtype__,
+                                  lambda k, series: Number(data=25.0),
+                                  each=lambda k, s: Number(data=float(s.temperature_C[k])))
+    mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
+    assert not reasons and mapping["temperature"] == "/{j}/motor_temp.data"
+    assert mapping["ambient"] == "/ambient_temp.data"
+    log = read_log(tmp_path / "bag")
+    assert log.actuators == plant_run.actuators
+    for s in series:
+        assert np.array_equal(log.series(s.actuator).temperature_C, s.temperature_C[:log.series(s.actuator).n])
 
 
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",

@@ -144,9 +144,9 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     Effort and velocity come from the one ``JointState`` topic (or, without one, the one ``DynamicJointState``
     with an effort interface).  The temperature is the one numeric field naming a temperature in a topic with
     joint names (of several, the one naming the motor's where no other does, as in a table: ``motor_temperature``
-    beside ``fet_temperature``), or else the one ``Temperature`` topic not named for the air; a ``Temperature``
-    topic named ambient, air or room is the ambient, and fields named ``current`` or ``housing`` beside the
-    temperature are mapped too.
+    beside ``fet_temperature``), or else the one ``Temperature`` topic (or ``std_msgs`` number named for a
+    temperature) not named for the air, one per joint making a ``{j}`` pattern; such a topic named ambient, air or
+    room is the ambient, and fields named ``current`` or ``housing`` beside the temperature are mapped too.
     """
     reasons = []
     states = [i for i in infos if i.msgtype.endswith("/JointState")] or \
@@ -154,12 +154,14 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     temps = [(i, f) for i in infos if i.joint_names for f in i.numeric_fields if "temp" in f.lower()]
     motor = the_motor_s([f"{i.topic}.{f}" for i, f in temps]) if len(temps) > 1 else None
     temps = [(i, f) for i, f in temps if motor in (None, f"{i.topic}.{f}")]
-    scalars = [i for i in infos if i.msgtype.endswith("/Temperature")]
+    scalars = [(i, "temperature") for i in infos if i.msgtype.endswith("/Temperature")] + \
+        [(i, "data") for i in infos if "temp" in i.topic.lower() and i.msgtype.startswith("std_msgs/")
+         and i.numeric_fields == ("data",)]  # a std_msgs/Float64 per joint, named for its temperature
     if not temps and len(states) == 1:  # an array named for temperature, no joint names: read in the joints' order
         temps = [(i, "data") for i in infos if "temp" in i.topic.lower() and not _is_air(i.topic)
                  and not i.joint_names and i.msgtype.endswith("MultiArray") and "data" in i.numeric_fields]
     if not temps:
-        temps = [(i, "temperature") for i in scalars if not _is_air(i.topic)]
+        temps = [(i, f) for i, f in scalars if not _is_air(i.topic)]
     if len(states) == 1 and len(temps) > 1:  # one Temperature topic per joint, named after it (/knee/temperature)
         pattern = _joint_topic_pattern([i.topic for i, _ in temps], states[0].joint_names)
         if pattern is not None:
@@ -181,9 +183,9 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     for channel in ("current", "housing"):
         if channel in temp.numeric_fields:
             mapping[channel] = f"{temp.topic}.{channel}"
-    air = [i for i in scalars if _is_air(i.topic)]
+    air = [(i, f) for i, f in scalars if _is_air(i.topic)]
     if len(air) == 1:
-        mapping["ambient"] = f"{air[0].topic}.temperature"
+        mapping["ambient"] = f"{air[0][0].topic}.{air[0][1]}"
     return mapping, reasons
 
 
