@@ -371,6 +371,8 @@ def test_temperatures_in_an_array_without_joint_names_read_in_the_joint_states_o
     array = Array(layout=Layout(dim=[], data_offset=0), data=np.array([30.0, 31.0]))  # beside three named joints
     with pytest.raises(LogError, match="names no joints and holds 2 values a message, where the efforts name 3"):
         follower.mapping["temperature"].in_order(array, "/motor_temperatures", "live.mcap", ["a", "b", "c"], [])
+    empty = Array(layout=Layout(dim=[], data_offset=0), data=np.zeros(0))  # a publisher with nothing for them
+    assert follower.mapping["temperature"].in_order(empty, "/motor_temperatures", "live.mcap", ["a", "b"], []) == {}
 
 
 def test_a_feedback_array_that_names_no_joints_reads_in_the_joint_states_order(plant_run, tmp_path):

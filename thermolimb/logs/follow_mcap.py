@@ -139,6 +139,8 @@ class _Target:
         """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many, said
         once, or without ``names`` numbered from 0, as the recorded bag's reader does."""
         value = np.atleast_1d(field_value(msg, self.field, topic, source))
+        if value.size == 0 or joint_names(msg, self.field):  # an empty array (a gripper's publisher): no sample
+            return {}
         if not names:
             return {str(k): float(v) for k, v in enumerate(value)}
         if len(value) != len(names):
