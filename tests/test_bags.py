@@ -425,6 +425,43 @@ def test_a_plain_number_per_joint_named_for_its_temperature_reads_as_a_temperatu
         assert np.array_equal(log.series(s.actuator).temperature_C, s.temperature_C[:log.series(s.actuator).n])
 
 
+def test_a_driver_s_diagnostics_read_each_joint_s_temperature_from_its_status(plant_run, tmp_path):
+    """Temperatures reported on /diagnostics (diagnostic_msgs/DiagnosticArray: per status, key-value strings), a
+    status per joint named around the joint's name, and one that is no joint's: the motor's key is suggested, each
+    status read as its joint's (said), strings that are no number skipped."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    Array, Status, KeyValue = (store.types[f"diagnostic_msgs/msg/{k}"] for k in
+                               ("DiagnosticArray", "DiagnosticStatus", "KeyValue"))
+    Header, Time = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+
+    def diagnostics(k, series):
+        statuses = [Status(level=0, name=f"Joint {s.actuator}: motor driver", message="OK", hardware_id="can0",
+                           values=[KeyValue(key="Motor temperature", value=f"{s.temperature_C[k]:.6f}"),
+                                   KeyValue(key="Board temperature", value="41.5"),
+                                   KeyValue(key="Mode", value="POSITION")]) for s in series]
+        statuses.append(Status(level=0, name="Battery", message="OK", hardware_id="bms",
+                               values=[KeyValue(key="Voltage", value="24.1")]))
+        return Array(header=Header(stamp=Time(sec=0, nanosec=0), frame_id=""), status=statuses)
+
+    series = _beside_joint_states(plant_run, tmp_path / "bag", store, "/diagnostics", Array.__msgtype__, diagnostics)
+    (info,) = [i for i in inspect_bag(tmp_path / "bag") if i.topic == "/diagnostics"]
+    assert set(info.numeric_fields) == {"Motor_temperature", "Board_temperature", "Voltage"}
+    mapping, reasons = suggest_mapping(inspect_bag(tmp_path / "bag"))
+    assert not reasons and mapping["temperature"] == "/diagnostics.Motor_temperature"
+    log = read_log(tmp_path / "bag")
+    assert log.actuators == plant_run.actuators
+    assert any("'Joint hip: motor driver' as hip" in n for n in log.notes)
+    for s in series:
+        back = log.series(s.actuator)
+        assert np.allclose(back.temperature_C, s.temperature_C[:back.n], atol=1e-6)
+        assert not back.signals.extra  # the diagnostics' other keys are not offered as channels
+    pieces = McapFollower(tmp_path / "bag", "effort=/joint_states.effort,temperature=/diagnostics.Motor_temperature"
+                          ).poll(final=True)  # followed live alike
+    for s in series:
+        assert np.allclose(np.concatenate([p.arrays["temperature"] for p in pieces[s.actuator]]), s.temperature_C,
+                           atol=1e-6)
+
+
 def _sqlite_bag(folder, t_states, t_temps, joint="knee", temperature_joints=None, topic="/{j}/temperature",
                 shuffled=False, grippers=False):
     """A ROS 2 SQLite bag: JointState for two joints, and a scalar sensor_msgs/Temperature topic for ``joint`` (or

@@ -40,7 +40,7 @@ from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
 from .mapping import EXTRA, JOINT, says_whole, suggest_table_mapping, the_motor_s
 from .mcap_stream import PartialMcap, ends_early
-from .messages import field_value, flat_message, joint_names, numbered, numeric_fields
+from .messages import field_value, flat_message, joint_names, named_within, numbered, numeric_fields
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 
@@ -276,10 +276,11 @@ def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str,
     (``extra.position=/joint_states.position``; named ``TOPIC_FIELD`` where two topics share a field name).
     Topics named with ``{j}`` are not searched; extras the user named stay as named; a field named for a channel
     the mapping reads from another topic (the effort a ros2_control recording holds in /joint_states and again in
-    /dynamic_joint_states) is that channel again, no extra."""
+    /dynamic_joint_states) is that channel again, no extra; a diagnostics topic's many keys are not searched."""
     used = set(mapping.values())
     topics = {v.partition(".")[0] for v in mapping.values() if JOINT not in v}
-    fields = [(i.topic, f) for i in infos if i.topic in topics for f in i.numeric_fields
+    fields = [(i.topic, f) for i in infos if i.topic in topics and not i.msgtype.endswith("/DiagnosticArray")
+              for f in i.numeric_fields
               if f"{i.topic}.{f}" not in used and f not in mapping]
     counts = Counter(f for _, f in fields)
     out = {}
@@ -329,6 +330,7 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
             return _read_joint_topics(reader, path, mapping, actuator, notes, drop_incomplete)
         wanted, data = _collect(reader, path, mapping)
     _in_joint_order(wanted, data, path, notes)
+    _named_within(wanted, data, path, notes)
     joints = _joints(wanted, data, actuator, path)
     frames = []
     for joint in joints:
@@ -409,6 +411,23 @@ def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
             raise LogError(f"{path}: {wanted[key][0]} names no joints and holds {len(values[0])} values a message, "
                            f"where {wanted[named[0]][0]} names {len(named[1])} ({', '.join(named[1][:8])}): which "
                            f"value is whose cannot be told; map a topic that names its joints")
+
+
+def _named_within(wanted, data, path: Path, notes: list[str]) -> None:
+    """A topic whose names share none with the effort's but hold them as words (a diagnostics status "Joint knee
+    motor" for the JointState's "knee"; of several joints a name holds, the longest) read as the joints'; said."""
+    arrays = [k for k in wanted if not k.startswith(EXTRA) and np.ndim(data[k][1][0]) > 0 and data[k][2][0]]
+    reference = set(data["effort"][2][0]) if "effort" in arrays else set()
+    for key in arrays:
+        names = set().union(*data[key][2])
+        if not reference or names & reference:
+            continue
+        rename = named_within(names, reference)
+        if rename:
+            times, values, per_message = data[key]
+            data[key] = (times, values, [tuple(rename.get(n, n) for n in names) for names in per_message])
+            notes.append(f"{path}: {wanted[key][0]} names the joints within longer names, read as theirs: "
+                         + ", ".join(f"{n!r} as {j}" for n, j in sorted(rename.items(), key=lambda x: x[1])))
 
 
 def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:

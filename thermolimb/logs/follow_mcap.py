@@ -26,7 +26,7 @@ from .bag_writer import MAPPING as SUITE_LAYOUT
 from .follow import Run
 from .mapping import parse_mapping
 from .mcap_stream import McapStream
-from .messages import field_value, flat_message, joint_names
+from .messages import field_value, flat_message, joint_names, named_within
 
 CHANNELS = ("effort", "velocity", "temperature")
 
@@ -98,6 +98,9 @@ class McapFollower:
             if not values:  # an array naming no joints: in the order the efforts name them, else numbered from 0
                 order = list(self.latest["effort"]) if key not in self.latest else []
                 values = target.in_order(msg, topic, self.source, order, self.notes)
+            elif key not in self.latest and self.latest["effort"] and not values.keys() & self.latest["effort"].keys():
+                within = named_within(values, self.latest["effort"])  # a status per joint, named around it
+                values = {within[n]: v for n, v in values.items() if n in within}
             if key in self.latest:
                 self.latest[key].update(values)
                 continue

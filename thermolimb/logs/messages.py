@@ -7,6 +7,7 @@ the followed recording's (:mod:`.follow_mcap`)."""
 from __future__ import annotations
 
 import re
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Mapping
@@ -21,29 +22,66 @@ NUMERIC_KINDS = "biuf"
 
 @dataclass(frozen=True)
 class Interfaces:
-    """A ros2_control ``DynamicJointState`` (per joint, its state interfaces' names and values) as one array per
-    interface over the joints that have it, so that ``/dynamic_joint_states.temperature`` maps as a JointState's
-    ``effort`` does; an interface name's dots and slashes read as ``_`` (a field's path splits on dots)."""
+    """Per joint, named numbers, as one array per name over the joints that have it: a ros2_control
+    ``DynamicJointState`` (each joint's state interfaces), so that ``/dynamic_joint_states.temperature`` maps as a
+    JointState's ``effort`` does, or a ``diagnostic_msgs/DiagnosticArray`` (each status's key-value strings that
+    read as numbers: ``/diagnostics.Motor_temperature``).  A name's characters other than letters and digits read
+    as ``_`` (a field's path splits on dots)."""
 
     msgtype: str
     joint_names: tuple[str, ...]
     arrays: Mapping[str, tuple[tuple[str, ...], np.ndarray]]  # interface -> (its joints, their values)
 
     @classmethod
-    def of(cls, msg) -> "Interfaces":
-        joints, values = {}, {}
-        for joint, interfaces in zip(msg.joint_names, msg.interface_values):
-            for name, value in zip(interfaces.interface_names, np.asarray(interfaces.values, float).tolist()):
-                key = re.sub(r"[./]", "_", name)
+    def of(cls, msgtype: str, named: list[tuple[str, list[tuple[str, float]]]]) -> "Interfaces":
+        """From ``[(joint, [(name, value), ...]), ...]``, a joint named twice taken once."""
+        joints, values, seen = {}, {}, set()
+        for joint, pairs in named:
+            if joint in seen:
+                continue
+            seen.add(joint)
+            for name, value in pairs:
+                key = re.sub(r"[^0-9A-Za-z]+", "_", name).strip("_")
                 joints.setdefault(key, []).append(joint)
                 values.setdefault(key, []).append(value)
-        return cls(msg.__msgtype__, tuple(msg.joint_names),
+        return cls(msgtype, tuple(dict.fromkeys(j for j, _ in named)),
                    {k: (tuple(joints[k]), np.array(values[k])) for k in joints})
 
 
+def _number(text: str) -> float | None:
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return None
+    return value if np.isfinite(value) else None
+
+
 def flat_message(msg):
-    """``msg`` as the readers take it: a ros2_control ``DynamicJointState`` as :class:`Interfaces`, any other as is."""
-    return Interfaces.of(msg) if hasattr(msg, "interface_values") and hasattr(msg, "joint_names") else msg
+    """``msg`` as the readers take it: a ros2_control ``DynamicJointState`` or a ``DiagnosticArray`` as
+    :class:`Interfaces`, any other as is."""
+    if hasattr(msg, "interface_values") and hasattr(msg, "joint_names"):
+        return Interfaces.of(msg.__msgtype__, [
+            (joint, list(zip(i.interface_names, np.asarray(i.values, float).tolist())))
+            for joint, i in zip(msg.joint_names, msg.interface_values)])
+    statuses = getattr(msg, "status", None)
+    if isinstance(statuses, list) and all(hasattr(s, "values") and hasattr(s, "name") for s in statuses):
+        return Interfaces.of(msg.__msgtype__, [
+            (s.name, [(kv.key, v) for kv in s.values for v in [_number(kv.value)] if v is not None])
+            for s in statuses])
+    return msg
+
+
+def named_within(names, joints) -> dict[str, str]:
+    """``{name: joint}`` for each of ``names`` that holds one of ``joints`` as a word (bounded by anything but a
+    letter or a digit; of several, the longest), a joint that two names hold being neither's."""
+    rename = {}
+    for name in names:
+        found = [j for j in joints if re.search(rf"(?<![A-Za-z0-9]){re.escape(j)}(?![A-Za-z0-9])", name)]
+        longest = [j for j in found if len(j) == max(map(len, found))]
+        if len(longest) == 1:
+            rename[name] = longest[0]
+    taken = Counter(rename.values())
+    return {n: j for n, j in rename.items() if taken[j] == 1}
 
 
 def _fields(msg) -> dict[str, object]:
