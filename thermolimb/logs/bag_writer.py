@@ -83,7 +83,8 @@ def write_mcap(log, path: str | Path, layout: str = "thermal", temperature_every
     still = np.zeros_like(effort)
     interfaces = {"position": still, "velocity": still if velocity is None else velocity, "effort": effort,
                   "temperature": temperature} | ({} if current is None else {"current": current})
-    stacked = np.stack(list(interfaces.values()), axis=-1)  # sample x joint x interface
+    # sample x joint x interface, for the ros2_control layout alone
+    stacked = np.stack(list(interfaces.values()), axis=-1) if layout == "ros2_control" else None
     with atomic_path(path) as tmp:
         folder = Path(tempfile.mkdtemp(prefix=".bag-", dir=path.parent)) / "bag"
         try:

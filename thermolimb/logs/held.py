@@ -45,13 +45,14 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
         return None
     changed = t[changed]
     row = float(np.median(np.diff(t)))
-    gaps = np.diff(changed)
-    period = float(np.median(gaps[gaps < 1.5 * gaps.min()]))
-    period = float(np.median(gaps[(gaps > 0.5 * period) & (gaps < 1.5 * period)]))  # the whole one-period cluster
-    if period < 0.5 * MIN_ROWS * row:  # gaps of a row or two: a sensor read on every row
+    spacing = np.diff(changed)
+    period = float(np.median(spacing[spacing < 1.5 * spacing.min()]))
+    cluster = (spacing > 0.5 * period) & (spacing < 1.5 * period)  # the whole one-period cluster
+    period = float(np.median(spacing[cluster]))
+    if period < 0.5 * MIN_ROWS * row:  # changes a row or two apart: a sensor read on every row
         return None
-    for _ in range(3):  # refined over the whole log: its span over the periods its gaps hold
-        period = float((changed[-1] - changed[0]) / np.maximum(np.round(gaps / period), 1.0).sum())
+    for _ in range(3):  # refined over the whole log: its span over the periods its changes are apart
+        period = float((changed[-1] - changed[0]) / np.maximum(np.round(spacing / period), 1.0).sum())
     if period < 0.99 * MIN_ROWS * row:
         return None
     tolerance = 1.01 * row + 0.01 * period
