@@ -175,13 +175,19 @@ def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, 
     hours = [forecast(saved, hold_signals(36000.0, 0.5 * largest, 0.0, ambient_C=a, step_s=10.0), 30.0, 200.0)
              for a in (25.0, 40.0)]
     rise = hours[1].predicted_C - hours[0].predicted_C  # 15 K more of offset, reached with the model's own pace
-    assert rise[0] == pytest.approx(0.0, abs=1e-9) and rise[-1] == pytest.approx(15.0, rel=0.01)
+    # (and more where the model has copper's coefficient: a winding in warmer air has more resistance)
+    plan = hold_signals(36000.0, 0.5 * largest, 0.0, step_s=10.0)
+    steady = saved.model.with_params({**saved.model.params, "T_offset_C": saved.model.params["T_offset_C"] + 15.0})
+    expected = steady.equilibrium_C(plan)[-1] - saved.model.equilibrium_C(plan)[-1]
+    assert expected >= 15.0 and ("winding_tempco" in saved.model.terms or expected == pytest.approx(15.0))
+    assert rise[0] == pytest.approx(0.0, abs=1e-9) and rise[-1] == pytest.approx(expected, rel=0.01)
 
 
 def test_a_forecast_hotter_than_the_model_s_log_is_said_and_widened_from_there(saved_auto):
     """The largest effort the calibration held, held for two hours from its hottest reading: inside every input's
     range, but the forecast climbs above what the model was identified on. Said; the band is doubled from the first
-    sample above the hottest reading (plus the margin) on, and left as it was before."""
+    sample above the hottest reading (plus the margin) on, and left as it was before (but for the floor every
+    extrapolation's band has, a tenth of the rise)."""
     saved, _ = saved_auto
     ranges = dict(saved.provenance)["ranges"]
     largest = max(abs(v) for v in ranges["effort"])
@@ -195,7 +201,8 @@ def test_a_forecast_hotter_than_the_model_s_log_is_said_and_widened_from_there(s
         f"model was identified on ({hottest:.1f} degC)"]
     above = np.flatnonzero(asked.predicted_C > hottest + 5.0)[0]
     half, plain_half = asked.high_C - asked.predicted_C, plain.high_C - plain.predicted_C
-    np.testing.assert_allclose(half[:above], plain_half[:above])
+    floor = 0.1 * np.abs(asked.predicted_C - asked.start_C)  # an extrapolation's band: at least a tenth of the rise
+    np.testing.assert_allclose(half[:above], np.maximum(plain_half, floor)[:above])
     assert np.all(half[above:] > plain_half[above:])
     cool = forecast(saved, hold_signals(600.0, 0.5 * largest, 0.0), hottest - 20.0, hottest - 15.0)
     assert not any("hottest reading" in n for n in cool.notes)
@@ -241,3 +248,21 @@ def test_a_coarser_log_than_the_calibration_s_is_said(saved_auto, richer_log, tm
     assert main(["predict", str(saved_auto[1]), str(path), "--threshold", "40", "--json", "--quiet"]) == 0
     record = json.loads(capsys.readouterr().out)
     assert any("sampled every 60 s, the model's calibration every 1 s" in n for n in record["notes"]), record
+
+
+def test_after_a_warm_history_the_gap_to_the_reading_fades_with_the_slow_mass(saved_auto):
+    """Ten minutes at the continuous effort, then held there (the plant itself, noise-free): the forecast given
+    the history runs the model over it, and whatever the model then misses of the last reading is slow, so the
+    correction fades with the slow mass's time constant, as the lead profile's errors are measured. Faded with the
+    winding's instead, the model's own gap came back within half a minute and the crossing 60 s away was forecast
+    at 16-32 s on benchmarks/forecast.py's seeds."""
+    from thermolimb.plant.duties import held_duty
+
+    saved = ModelFile.load(saved_auto[1])["knee"]
+    assert "second_node" in saved.model.terms
+    duty = held_duty(SPEC, PlantEffects.from_names(RICHER), SPEC.continuous_effort, 0.0, 600.0, 1.0,
+                     SPEC.continuous_effort, 600.0)
+    for horizon in (60, 300):
+        threshold = float(duty.sensor_C[horizon])
+        f = forecast(saved, duty.signals, duty.start_C, threshold, history=duty.history)
+        assert f.time_to_threshold_s == pytest.approx(horizon, rel=0.2), (horizon, f.time_to_threshold_s)

@@ -252,6 +252,7 @@ def test_the_catalog_keeps_its_order():
     the end of its family, and no tool sorting imports reorders it (thermolimb/effects/__init__.py's MODULES)."""
     from thermolimb.model import TERMS
 
-    assert list(TERMS)[:14] == ["joule", "effort_bias", "current_heating", "power_heating", "housing_boundary",
+    assert list(TERMS)[:15] == ["joule", "effort_bias", "current_heating", "power_heating", "housing_boundary",
                                 "winding_tempco", "speed_losses", "neighbor_coupling", "ambient_variation",
-                                "motion_cooling", "second_node", "housing_motion_cooling", "third_node", "sensor_lag"]
+                                "motion_cooling", "second_node", "housing_motion_cooling", "housing_friction",
+                                "third_node", "sensor_lag"]

@@ -137,7 +137,8 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
 
     ``history``, an :class:`~thermolimb.logs.ActuatorSeries` that ends where the forecast starts (what a
     monitor has seen), places the model's slow states: the model runs over it from its first reading, and the
-    difference between its last reading and the model there fades with the winding's time constant.
+    difference between its last reading and the model there fades with its slow mass's time constant
+    (:attr:`~thermolimb.model.ThermalModel.gap_fade_s`; the winding's in a model without one).
     """
     if not 0.0 < level < 1.0:
         raise ValueError(f"level must lie between 0 and 1, got {level}")
@@ -158,7 +159,7 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
         joined = join(history.signals, signals)
         whole = m.simulate(joined, history.temperature_C[0], initial_rate_K_per_s=history.rate_K_per_s())
         ahead = whole[history.n - 1:]
-        return ahead + (start_C - ahead[0]) * np.exp(-t / m.params["RC_s"])
+        return ahead + (start_C - ahead[0]) * np.exp(-t / m.gap_fade_s)
 
     predicted = run(model)
     z = float(ndtri(0.5 + level / 2.0))

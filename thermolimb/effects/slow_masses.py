@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.terms import LONG_TIME_CONSTANT, Parameter, Term, airflow_terms, register_term
+from ..model.terms import LONG_TIME_CONSTANT, TERMS, Parameter, Term, airflow_terms, register_term
 from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
 
@@ -58,11 +58,24 @@ class SlowMass(Term):
         target = boundary_C + phi * heat / flow
         recursion = s.recursion(flow / p[self.tau])
         # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
-        # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it
-        start = boundary_C[0] + phi * (initial_C - boundary_C[0]) + offset if state is None else state
+        # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it;
+        # what the inputs put into the masses at the first sample (friction) is heat, which the proportion leaves out
+        # as it leaves out the effort's
+        rest = boundary_C[0] - heat_into_masses(p, s)
+        start = rest + phi * (initial_C - rest) + offset if state is None else state
         frame = recursion.run((1.0 - recursion.a) * target[:-1], start)
         self.state = float(frame[-1])
         return frame + (1.0 - phi) * heat
+
+
+def heat_into_masses(p, s) -> float:
+    """The rise the model's heats put into its slow masses (friction in the housing) give at the first sample."""
+    rise = 0.0
+    for cls in TERMS.values():
+        if cls.heats_slow_mass and cls.parameters and all(q.name in p for q in cls.parameters):
+            r = s.contribution(cls(), p)[0]
+            rise += float(r[0]) if np.ndim(r) else float(r)
+    return rise
 
 
 def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Parameter, Parameter]:
@@ -108,6 +121,30 @@ class HousingMotionCooling(Term):
 
 
 @register_term
+class HousingFriction(Term):
+    """Bearing and gear friction heat the housing (the second mass), not the winding: ``k |v|`` of steady rise
+    that reaches the winding only through the slow mass, where speed losses' rise builds up partly across the
+    winding itself.  Iron losses stay in the winding (``speed_losses``' squared speed)."""
+
+    name = "housing_friction"
+    label = "friction heat in the housing"
+    description = "friction heat put into the housing (the second mass), reaching the winding through it"
+    parameters = (Parameter("housing_speed_K_per_rad_s", "K/({velocity})", 0.0, np.inf, 1.0,
+                            "steady rise per unit speed of heat put into the housing (bearing and gear friction)",
+                            "motion at several speeds, held for a slow time constant"),)
+    columns = ("velocity",)
+    requires = ("second_node",)
+    heats_slow_mass = True
+    rise_only = True
+
+    def forms(self, s):
+        return (speed(s),)
+
+    def combine(self, p, forms):
+        return p["housing_speed_K_per_rad_s"] * forms[0], 0.0
+
+
+@register_term
 class ThirdNode(SlowMass):
     """A third thermal mass: actuators whose housing and body both store heat (three time scales)."""
 
@@ -122,4 +159,5 @@ class ThirdNode(SlowMass):
 # nothing switched on hides the slow masses: the X8's own housing and body are them
 register(Effect("second_node", SecondNode, residual=SLOW_DRIFT, hidden=Hidden("slow_masses", None)),
          Effect("housing_motion_cooling", HousingMotionCooling, residual="|velocity|", rides="velocity"),
+         Effect("housing_friction", HousingFriction, residual="|velocity|", rides="velocity"),
          Effect("third_node", ThirdNode, residual=SLOW_DRIFT))

@@ -51,4 +51,4 @@ class SpeedLosses(PlantEffect):
 
 
 register(Effect("speed_losses", SpeedLossesTerm, SpeedLosses, residual="|velocity|",
-                hidden=Hidden("speed_losses", "speed_losses"), rides="velocity"))
+                hidden=Hidden("speed_losses", "speed_losses", also=("housing_friction",)), rides="velocity"))

@@ -16,7 +16,8 @@ import numpy as np
 from ..constants import COPPER_REFERENCE_C
 
 FAMILY = frozenset({"joule", "effort_bias", "winding_tempco"})  # one node, forcing polynomial in the effort
-CASCADE = frozenset({"joule", "effort_bias", "speed_losses", "second_node", "third_node", "sensor_lag"})
+CASCADE = frozenset({"joule", "effort_bias", "speed_losses", "second_node", "housing_friction", "third_node",
+                     "sensor_lag"})
 STAGES = ("second_node", "third_node")
 
 
@@ -36,14 +37,15 @@ class ModelArrays:
 
     NAMES = (("RC_s", 0.0), ("T_offset_C", 0.0), ("betaR_K_per_effort2", 0.0), ("beta_biasR_K_per_effort", 0.0),
              ("alpha_per_K", 0.0), ("speed_K_per_rad_s", 0.0), ("speed2_K_per_rad2_s2", 0.0), ("frame_fraction", 0.0),
-             ("frame_tau_s", 1.0), ("body_fraction", 0.0), ("body_tau_s", 1.0), ("sensor_tau_s", 0.0))
+             ("frame_tau_s", 1.0), ("body_fraction", 0.0), ("body_tau_s", 1.0), ("sensor_tau_s", 0.0),
+             ("housing_speed_K_per_rad_s", 0.0))
 
     def __init__(self, models: Sequence = (), rows: np.ndarray | None = None):
         """From the models, or from their :meth:`row` stacked (a caller that steps the same models often keeps
         the rows)."""
         columns = (np.array([self.row(m) for m in models]) if rows is None else rows).T
         (self.rc, self.offset, self.b, self.c, self.alpha, self.k1, self.k2, frame, frame_tau, body, body_tau,
-         self.sensor_tau) = columns
+         self.sensor_tau, self.kh) = columns
         self.copper = bool(self.alpha.any())
         self.stages = [(frame, frame_tau), (body, body_tau)]  # (share, time constant): share 0 is no stage
 
@@ -59,7 +61,7 @@ class ModelArrays:
         heat = self.b * effort**2
         rise = heat - self.c * effort
         if speed is not None:
-            rise = rise + self.k1 * speed + self.k2 * speed**2
+            rise = rise + (self.k1 + self.kh) * speed + self.k2 * speed**2
         if not self.copper:
             return self.offset + rise, 1.0 / self.rc
         restoring = np.maximum(1.0 - self.alpha * heat, 1e-6)
@@ -72,11 +74,13 @@ class ModelArrays:
         u0, rate0 = self.forcing(effort[:, 0], None if speed is None else speed[:, 0])
         u1, rate1 = self.forcing(effort[:, 1], None if speed is None else speed[:, 1])
         shaped, out = u0, {}
+        # friction put into the housing reaches the winding through the stages, as the ambient does
+        boundary = self.offset if speed is None else self.offset + self.kh * speed[:, 0]
         for name, (phi, tau) in zip(STAGES, self.stages):
-            heat = shaped - self.offset
+            heat = shaped - boundary
             a = np.exp(-dt / tau)
             node = state.get(name, self.offset)
-            out[name] = a * node + (1.0 - a) * (self.offset + phi * heat)
+            out[name] = a * node + (1.0 - a) * (boundary + phi * heat)
             shaped = node + (1.0 - phi) * heat  # the stage's shaping of the first sample
         a = np.exp(-np.broadcast_to(rate0, dt.shape) * dt)
         winding = a * state["winding"] + (1.0 - a) * shaped

@@ -97,6 +97,13 @@ class ThermalModel:
             cols += [c for c in TERMS[name].columns if c not in cols]
         return tuple(cols)
 
+    @property
+    def gap_fade_s(self) -> float:
+        """How fast a forecast's gap to the reading it starts from fades (s): the first slow mass's time constant,
+        else the winding's.  After a history the model has run over, what it misses of the last reading sits in
+        its slow state (the winding has long settled on it), and fades as that state does."""
+        return self.params.get("frame_tau_s", self.params["RC_s"])
+
     def with_params(self, values) -> "ThermalModel":
         """The same structure with new values (a mapping, or a vector in parameter order)."""
         if not isinstance(values, Mapping):
@@ -130,7 +137,7 @@ class ThermalModel:
             rise += r
             if np.ndim(g) or g != 0.0:
                 gain = gain + g
-            if term.boundary:
+            if term.boundary or term.heats_slow_mass:
                 boundary = boundary + r
         restoring = np.maximum(1.0 - gain, _MIN_RESTORING)
         rise += offset

@@ -67,6 +67,9 @@ class Term:
     # a boundary term moves the temperature heat finally flows to (the ambient): it reaches the winding
     # through every slow mass, where a heat term's rise builds up partly across each
     boundary: ClassVar[bool] = False
+    # a heat put into the slow mass (friction in the housing): its whole rise reaches the winding through the slow
+    # masses, as the boundary's does, while the offset stays the ambient (it needs a slow mass: ``requires``)
+    heats_slow_mass: ClassVar[bool] = False
     requires: ClassVar[tuple[str, ...]] = ()  # terms this one builds on (a third mass needs a second)
     generated: ClassVar[bool] = False  # written by a diagnosis (thermolimb.model.generated), not offered by the catalog
     # a term with a thermal state of its own (a slow mass) takes ``state=`` in shape_equilibrium, the value an

@@ -50,11 +50,11 @@ LEAD_STARTS = 400  # start points per lead, spread over the runs
 def lead_profile(report) -> dict:
     """How far a forecast started from a reading drifts from the readings after each lead: over every run the model
     was fitted on, from start points spread over it, the error a forecast makes -- the free run's residual after
-    the lead, less the residual at the start faded with the winding's time constant, as
+    the lead, less the residual at the start faded as the forecast fades it (``gap_fade_s``), as
     :func:`thermolimb.forecast.forecast` corrects a forecast to its start -- and its quantiles per lead.  The runs
     include the data fitted on, so each quantile is scaled by the held-out error over the training error (never
     below one).  Leads longer than half the longest run are not measured."""
-    model, rc = report.model, report.model.params["RC_s"]
+    model, fade = report.model, report.model.gap_fade_s
     offsets = getattr(report.estimator, "offsets_", None) or [None] * len(report.train_series)
     runs = []
     for s, offset in zip(report.train_series, offsets):
@@ -72,7 +72,7 @@ def lead_profile(report) -> dict:
             usable = np.flatnonzero(t <= t[-1] - lead)
             starts = usable[:: max(1, usable.size // LEAD_STARTS)] if usable.size else usable
             ends = np.searchsorted(t, t[starts] + lead)
-            errors.append(np.abs(r[ends] - r[starts] * np.exp(-(t[ends] - t[starts]) / rc)))
+            errors.append(np.abs(r[ends] - r[starts] * np.exp(-(t[ends] - t[starts]) / fade)))
         errors = np.concatenate(errors)
         table.append(scale * np.quantile(errors, RESIDUAL_QUANTILES) if errors.size else np.zeros(len(RESIDUAL_QUANTILES)))
     table = np.array(table)
