@@ -6,8 +6,8 @@ Per seed:
 
 1. a 2 h calibration log (random holds and motions, 1 Hz);
 2. two models identified on it and saved to a model file, then loaded back: the default model
-   (``fit``) and the model ``diagnose --auto`` ends with, its stability check off (with it on, the first step is
-   unstable on two of the three seeds' logs and the walk stops at the start: docs/model-file.md);
+   (``fit``) and the model ``diagnose --auto`` ends with, its stability check off (with it on, seed 0's first step
+   is unstable and its walk stops at the start; seeds 1 and 2 end where they do here: docs/model-file.md);
 3. held duties (loads 0.8, 1.0, 1.2, 1.5 of the continuous effort, at rest and at 2 rad/s) from rest and from a
    warm state (10 min at the continuous effort, which the forecast is given as its history, as a monitor
    has it), each run on the plant itself; the thresholds are the plant's

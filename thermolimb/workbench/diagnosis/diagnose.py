@@ -48,7 +48,7 @@ from .explain import describe, describe_discovered
 from .refit import evaluate, guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
 from .split_or_blocks import judging_scheme
-from .stability import Stability, selection_frequencies, steadier
+from .stability import Stability, in_some_order, selection_frequencies, steadier
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 
@@ -273,7 +273,7 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
         c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
         c.evidence = f"{c.evidence} {c.stability_sentence[0].upper()}{c.stability_sentence[1:]}.".strip()
     best = d.recommended
-    if best.selection_frequency < stability.min_frequency:
+    if best.selection_frequency < stability.min_frequency and not in_some_order(d.candidates, best, stability):
         best.unstable_because = best.stability_sentence
         d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
 
