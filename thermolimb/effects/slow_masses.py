@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.terms import LONG_TIME_CONSTANT, TERMS, Parameter, Term, airflow_terms, register_term
+from ..model.terms import LONG_TIME_CONSTANT, Parameter, Term, airflow_terms, register_term, terms_in
 from ..util.numbers import significant
 from .base import SLOW_DRIFT, Effect, Hidden, airflow_parameter, register, speed
 
@@ -70,12 +70,7 @@ class SlowMass(Term):
 
 def heat_into_masses(p, s) -> float:
     """The rise the model's heats put into its slow masses (friction in the housing) give at the first sample."""
-    rise = 0.0
-    for cls in TERMS.values():
-        if cls.heats_slow_mass and cls.parameters and all(q.name in p for q in cls.parameters):
-            r = s.contribution(cls(), p)[0]
-            rise += float(r[0]) if np.ndim(r) else float(r)
-    return rise
+    return sum(float(np.ravel(s.contribution(cls(), p)[0])[0]) for cls in terms_in(p) if cls.heats_slow_mass)
 
 
 def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Parameter, Parameter]:

@@ -4,8 +4,9 @@ wrapper, the monitor) exactly as :meth:`ThermalModel.simulate` steps each.
 Two families qualify.  The first-order one: Jorgensen et al.'s Joule heating, an effort bias and copper's
 coefficient on one node, whose forcing is a polynomial in the effort.  The cascade one: Joule heating, an effort
 bias and speed losses, behind slow masses (a second and a third, each a cascade stage; friction may heat the
-second, reaching the winding through the stages as the ambient does) and read through a lagging sensor -- what ``diagnose --auto`` often ends with; its forcing gains nothing from the temperature, so
-every stage is a first-order recursion of its own."""
+second, reaching the winding through the stages as the ambient does) and read through a lagging sensor -- what
+``diagnose --auto`` often ends with; its forcing gains nothing from the temperature, so every stage is a
+first-order recursion of its own."""
 
 from __future__ import annotations
 

@@ -186,11 +186,15 @@ def implausibility(term: Term, p: Mapping[str, float], units: Mapping[str, str] 
     return term.implausible(p)
 
 
+def terms_in(p: Mapping[str, float]) -> list[type[Term]]:
+    """The term classes with parameters of the model whose values are ``p`` (a model's parameter names are its
+    terms': a term is in it when its parameters are)."""
+    return [cls for cls in TERMS.values() if cls.parameters and all(q.name in p for q in cls.parameters)]
+
+
 def airflow_terms(mass: str, p: Mapping[str, float]) -> list[Term]:
-    """The terms of the model whose values are ``p`` that change the conductance of the slow mass ``mass``
-    (a model's parameter names are its terms': a term is in it when its parameters are)."""
-    return [cls() for cls in TERMS.values()
-            if cls.airflow_on == mass and cls.parameters and all(q.name in p for q in cls.parameters)]
+    """The terms of the model whose values are ``p`` that change the conductance of the slow mass ``mass``."""
+    return [cls() for cls in terms_in(p) if cls.airflow_on == mass]
 
 
 def register_term(cls: type[Term]) -> type[Term]:

@@ -262,18 +262,20 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
         varied += f"; {k - first} more, as the first {first} left the best change within one replicate of its share"
     d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
                    "varied": varied, "frequencies": frequencies}
+    best = d.recommended
+    ordered = best.selection_frequency < stability.min_frequency and in_some_order(d.candidates, best, stability)
     for c in d.candidates:
         if c.selection_frequency is None:
             continue
         taken = round(c.selection_frequency * k)
         verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
+        verdict = ordered if ordered and c is best else verdict
         split = ""
         if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
             split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
         c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
         c.evidence = f"{c.evidence} {c.stability_sentence[0].upper()}{c.stability_sentence[1:]}.".strip()
-    best = d.recommended
-    if best.selection_frequency < stability.min_frequency and not in_some_order(d.candidates, best, stability):
+    if best.selection_frequency < stability.min_frequency and not ordered:
         best.unstable_because = best.stability_sentence
         d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
 

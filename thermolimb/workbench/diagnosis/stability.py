@@ -254,26 +254,21 @@ def steadier(candidates: list[Candidate], best: Candidate, stability: Stability)
     return max(steady, key=lambda c: (c.selection_frequency, -c.rmse_K), default=None)
 
 
-def in_some_order(candidates: list[Candidate], best: Candidate, stability: Stability) -> bool:
-    """Whether the replicates that do not take ``best``, an addition, take other additions that also help on the whole
-    log, so that together they take one often enough: they agree that the model needs these, not on which comes
-    first, and the walk takes the whole log's best (its sentence says so), where at least half of the replicates
-    take it and none takes another change more often.  On ``benchmarks/forecast.py``'s seed-1 calibration log the
-    replicates took ``+ speed_losses`` in 6 of 10 and ``+ second_node`` in 4; the walk stopped at the start, where
-    taking speed losses leads to the second mass, the sensor's lag and the friction on the housing, each in 10 of
-    10 (0.073 K held out; seed 2's replicates take the mass first, 10 of 10, and end there too)."""
+def in_some_order(candidates: list[Candidate], best: Candidate, stability: Stability) -> str:
+    """Where the replicates that do not take ``best``, an addition, take other additions that also help on the whole
+    log, so that together they take one often enough, the words that say so (else ``""``): they agree that the model
+    needs these, not on which comes first, and the walk takes the whole log's best, where at least half of the
+    replicates take it and none takes another change more often.  On ``benchmarks/forecast.py``'s seed-1 calibration
+    log the replicates took ``+ speed_losses`` in 6 of 10 and ``+ second_node`` in 4; the walk stopped at the start,
+    where taking speed losses leads to the second mass, the sensor's lag and the friction on the housing, each in 10
+    of 10 (0.073 K held out; seed 2's replicates take the mass first, 10 of 10, and end there too)."""
     adds = [c for c in candidates if c.adds and c.eligible and (c.selection_frequency or 0.0) > 0.0]
-    if not best.adds or best not in adds or len(adds) < 2 or best.selection_frequency < 0.5 or any(
-            c.selection_frequency > best.selection_frequency for c in adds):
-        return False  # the whole log's best must be what most replicates take (UR3 J0's part 2: 3 of 10, not it)
-    k = round(sum(c.selection_frequency for c in adds) * 1000) / 1000
-    if k < stability.min_frequency:
-        return False
+    if (best not in adds or len(adds) < 2 or best.selection_frequency < 0.5
+            or any(c.selection_frequency > best.selection_frequency for c in adds)  # UR3 J0's part 2: 3 of 10 take it
+            or sum(c.selection_frequency for c in adds) < stability.min_frequency - 1e-9):
+        return ""
     others = " or ".join(f"{c.label} ({c.selection_frequency:.0%})" for c in adds if c is not best)
-    best.stability_sentence = best.stability_sentence.replace(": not recommended", "") + (
-        f"; the others take {others}, which helps too: they agree on adding, not on which comes first")
-    best.evidence = best.evidence.replace(": not recommended.", f"; {best.stability_sentence.split('; ', 1)[1]}.")
-    return True
+    return f"; the others take {others}, which helps too: they agree on adding, not on which comes first"
 
 
 def undecided(count: int, stability: Stability) -> bool:
