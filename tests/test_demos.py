@@ -193,10 +193,6 @@ def test_forecast_demo_saves_forecasts_and_monitors(quick_runs):
     assert m["publications"] >= 1000 and m["rmse_K"] <= 1.01 * m["thermistor_rmse_K"]  # it follows the whole walk
 
 
-@pytest.mark.xfail(strict=True, reason="this round's walk stops before the sensor lag on the demo's richer log "
-                                       "(after + housing_friction, + sensor_lag: 0.335 -> 0.340 K): without it the "
-                                       "monitor's winding is the reading, and its 2-sd band holds the plant's true "
-                                       "winding 1.2 % of the time (issue 46, left open)")
 def test_the_forecast_demo_s_monitor_band_holds_the_true_winding(quick_runs):
     m = quick(quick_runs, "forecast")["monitor"]
     assert m["rmse_K"] < m["thermistor_rmse_K"] and m["true_within_2sd"] > 0.8

@@ -112,10 +112,14 @@ def test_refits_on_two_workers_end_as_refits_here_bit_for_bit(step_test):
     assert any(c.effect == "second_node" and c.refitted for c in runs[2].candidates)
 
 
-def test_an_effect_on_the_edge_is_reported_unstable_not_recommended():
+def test_an_effect_on_the_edge_is_reported_unstable_not_recommended(monkeypatch):
     """The UR3's J2 (real): motion cooling passes every gate on the whole log and helps on both held-out runs, but
     the replicates do not all take it (measured: 9 of 10).  Asked for every replicate (min_frequency 1.0), it is
-    shown with its frequency and not recommended; the default rule (0.8) would take it."""
+    shown with its frequency and not recommended; the default rule (0.8) would take it.  No pair is tried here
+    (together.MEMBERS 0): with the sensor's lag, motion cooling is taken in 10 of 10 (tests/test_together.py)."""
+    from thermolimb.workbench.diagnosis import together
+
+    monkeypatch.setattr(together, "MEMBERS", 0)
     runs = REAL_LOGS["ur3"].read()[0].runs("J2")
     d = diagnose(runs, stability=Stability(replicates=10, min_frequency=1.0))
     edge = d.unstable
@@ -270,10 +274,14 @@ def test_a_replicate_s_warm_refit_moved_past_the_plausible_share_returns_where_t
         assert trial.plausible and trial.rmse_K == pytest.approx(cand.rmse_K, rel=1e-3), settled
 
 
-def test_a_count_on_the_threshold_is_settled_by_a_second_batch():
+def test_a_count_on_the_threshold_is_settled_by_a_second_batch(monkeypatch):
     """The UR3's J2 (real): motion cooling is taken in 9 of the first 10 replicates.  Asked for 0.9, that count sits
     on the threshold, where one replicate's throw decides: 10 more are drawn afresh and the verdict rests on all 20
-    (``stability.undecided``); asked for every replicate, 9 of 10 has failed already and no second batch runs."""
+    (``stability.undecided``); asked for every replicate, 9 of 10 has failed already and no second batch runs.  No
+    pair is tried (together.MEMBERS 0), whose own check would decide after it (tests/test_together.py)."""
+    from thermolimb.workbench.diagnosis import together
+
+    monkeypatch.setattr(together, "MEMBERS", 0)
     runs = REAL_LOGS["ur3"].read()[0].runs("J2")
     d = diagnose(runs, stability=Stability(replicates=10, min_frequency=0.9))
     c = next(c for c in d.candidates if c.label == "+ motion_cooling")

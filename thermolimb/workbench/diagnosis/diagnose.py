@@ -49,6 +49,7 @@ from .refit import evaluate, guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
 from .split_or_blocks import judging_scheme
 from .stability import Stability, in_some_order, selection_frequencies, steadier
+from .together import take_together
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 
@@ -244,6 +245,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         d.recommended = None
     elif recommended is not None and search.stability is not None:
         _check_stability(d, series, search)
+    if not replicating and d.recommended is None and not d.at_floor and base.evidence.rankable:
+        take_together(d, series, search, base_bic, step.visited, _rank, lambda d: _check_stability(d, series, search))
     return d
 
 
@@ -273,8 +276,10 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
         split = ""
         if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
             split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
+        said = (lambda s: f" {s[0].upper()}{s[1:]}." if s else "")  # a check again (a pair: .together) replaces it
+        evidence = c.evidence.removesuffix(said(c.stability_sentence))
         c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
-        c.evidence = f"{c.evidence} {c.stability_sentence[0].upper()}{c.stability_sentence[1:]}.".strip()
+        c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()
     if best.selection_frequency < stability.min_frequency and not ordered:
         best.unstable_because = best.stability_sentence
         d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
@@ -367,11 +372,9 @@ def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]
 
 
 def _moves_heat(c: Candidate) -> bool:
-    """A catalog addition that puts a heat the model has on the winding into a slow mass (friction in the housing):
-    refitted whatever its score.  The score is local, and such a heat's signature is nearly spanned by the winding's
-    own term for it (speed losses split between the fast and the slow parts), so its gain shows only once the
-    winding's share reaches its bound: on the forecast benchmark's calibration log (docs/workbench.md) the score
-    said p = 0.55 where the refit cut the held-out error from 0.931 to 0.335 K."""
+    """An addition that moves a heat the model has on the winding into a slow mass (friction in the housing): refitted
+    whatever its local score, which the winding's own term for that heat nearly spans (p = 0.55 where the refit cut
+    the held-out error from 0.931 to 0.335 K on the forecast benchmark's calibration log: docs/workbench.md)."""
     return TERMS[c.effect].heats_slow_mass
 
 
@@ -453,8 +456,7 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
             base=move.report, skip=frozenset(confounded), visited=frozenset(visited))))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
-    first = steps[0]
-    h = first.heat_source
+    first, h = steps[0], steps[0].heat_source
     if h is not None and h["chosen"] == "current":  # the walk starts from the effort model, its first step the swap
         gain = 1.0 - h["current_rmse_K"] / h["effort_rmse_K"]
         waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"], improvement=gain,

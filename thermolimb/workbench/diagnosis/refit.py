@@ -195,8 +195,8 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
         # another basin (a slow mass's share and time constant trade on a log that shows only the start of its
         # rise), which the search below looks past, as it did for the whole log
         found.clear()
-    if cand.kind == "add" and cand.brings:  # two masses at once: one refit from where one ended (bringing.py)
-        cand.failure = f"refitted from where {cand.brings[0]} alone ended, the masses found no {cand.effect}"
+    if cand.kind == "add" and cand.brings:  # two masses at once, a pair: one refit from where one ended
+        cand.failure = f"refitted from where {cand.brings[0]} alone ended, no {cand.effect} was found with it"
         return
     starts = ordered_starts(cand, base, list(base.train_series), param)
     profiled = 0
