@@ -113,8 +113,7 @@ class Diagnosis:
     proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
     floor: SensorFloor | None = None  # what the readings can resolve
     stability: dict | None = None  # the replicates' verdicts, when the best change was checked for stability
-    unstable: Candidate | None = None  # the best change, when it helps but is not taken often enough (recommended
-    # then only if the replicates take another change often enough: stability.steadier)
+    unstable: Candidate | None = None  # the best change, helping but not taken often enough (stability.steadier)
     heat_source: dict | None = None  # where a log has both: heat from effort or from current, chosen on held-out data
 
     @property
@@ -246,7 +245,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     elif recommended is not None and search.stability is not None:
         _check_stability(d, series, search)
     if not replicating and d.recommended is None and not d.at_floor and base.evidence.rankable:
-        take_together(d, series, search, base_bic, step.visited, _rank, lambda d: _check_stability(d, series, search))
+        take_together(d, series, search, base_bic, step.visited, _rank,
+                      lambda d, stability: _check_stability(d, series, replace(search, stability=stability)))
     return d
 
 
