@@ -40,7 +40,8 @@ def test_speed_losses_and_the_housing_help_together_where_each_alone_does_not_ca
     assert pair.rmse_K <= 0.9 * min(c["+ speed_losses"].rmse_K, c["+ second_node"].rmse_K)
     assert pair.evidence.startswith(f"together: + speed_losses alone {c['+ speed_losses'].rmse_K:.3f} K")
     assert "alone" in d.stability  # the first check, of the changes alone, is kept beside the one that decided
-    assert d.stability["alone"]["frequencies"]["+ speed_losses"] == 0.6
+    assert d.stability["alone"]["frequencies"]["+ speed_losses"] == 0.6 == c["+ speed_losses"].selection_frequency
+    assert c["+ speed_losses"].evidence.count("Taken in 6 of 10 replicates") == 1
 
 
 def test_the_lagging_sensor_and_copper_s_coefficient_reach_the_floor_together(calibration):

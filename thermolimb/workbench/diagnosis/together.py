@@ -72,9 +72,13 @@ def take_together(d, series, search, base_bic: float, visited: frozenset, rank, 
         return
     d.recommended, d.unstable = best, None
     if search.stability is not None:
+        first = {id(c): c.selection_frequency for c in d.candidates}
         for c in d.candidates:  # the check decides again with the pairs among the contenders; what the first said
             c.selection_frequency = None  # of a change it does not re-judge stays in that change's words
         alone = d.stability
         check(d, replace(search.stability, min_frequency=PAIR_FREQUENCY))
         if alone is not None:
             d.stability["alone"] = alone
+            for c in d.candidates:  # and its share, where both checks ran as many replicates
+                if c.selection_frequency is None and alone["replicates"] == d.stability["replicates"]:
+                    c.selection_frequency = first.get(id(c))
