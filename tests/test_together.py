@@ -107,3 +107,18 @@ def test_a_pair_is_taken_only_where_every_replicate_takes_it(monkeypatch):
     assert pair.selection_frequency == 0.9 and d.stability["min_frequency"] == 1.0 and pair.status == "unstable"
     monkeypatch.setattr(together, "PAIR_FREQUENCY", 0.8)
     assert diagnose(copy, scheme=scheme, stability=Stability(seed=1)).recommended.label == pair.label
+
+
+def test_a_pair_is_not_taken_by_the_order_rule():
+    """The UR3's J2 (real), fitted on its second run with --discover and judged on its first: the replicates take
+    + motion_cooling with sensor_lag in 6 of 10 and a protective-stop channel's form in 4. The order rule
+    (stability.in_some_order) would read that as agreeing on adding and take the pair; a pair needs every
+    replicate, so the step recommends nothing."""
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.workbench.validation import Scheme
+
+    runs = REAL_LOGS["ur3"].read()[0].runs("J2")
+    d = diagnose([runs[1]], discover=True, stability=Stability(), scheme=Scheme.on_runs([runs[0]]))
+    pair = _by_label(d)["+ motion_cooling with sensor_lag"]
+    assert d.recommended is None and d.unstable is pair and pair.selection_frequency == 0.6
+    assert "they agree on adding" not in pair.evidence and "not recommended" in pair.evidence

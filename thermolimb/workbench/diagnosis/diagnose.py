@@ -246,7 +246,7 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         _check_stability(d, series, search)
     if not replicating and d.recommended is None and not d.at_floor and base.evidence.rankable:
         take_together(d, series, search, base_bic, step.visited, _rank,
-                      lambda d, stability: _check_stability(d, series, replace(search, stability=stability)))
+                      lambda d, stability: _check_stability(d, series, replace(search, stability=stability), False))
     return d
 
 
@@ -254,7 +254,7 @@ def _at_floor(floor, base) -> bool:
     return floor is not None and floor.reached(base.validation["rmse_K"])
 
 
-def _check_stability(d: Diagnosis, series, search: Search) -> None:
+def _check_stability(d: Diagnosis, series, search: Search, order: bool = True) -> None:
     """The replicates' verdicts (:mod:`.stability`): the best change stays recommended only if taken often enough;
     each contender's evidence says how often it was taken and what varied."""
     stability = search.stability
@@ -265,8 +265,8 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
         varied += f"; {k - first} more, as the first {first} left the best change within one replicate of its share"
     d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
                    "varied": varied, "frequencies": frequencies}
-    best = d.recommended
-    ordered = best.selection_frequency < stability.min_frequency and in_some_order(d.candidates, best, stability)
+    best, short = d.recommended, d.recommended.selection_frequency < stability.min_frequency
+    ordered = order and short and in_some_order(d.candidates, best, stability)  # not for a pair (.together)
     for c in d.candidates:
         if c.selection_frequency is None:
             continue
@@ -280,7 +280,7 @@ def _check_stability(d: Diagnosis, series, search: Search) -> None:
         evidence = c.evidence.removesuffix(said(c.stability_sentence))
         c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
         c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()
-    if best.selection_frequency < stability.min_frequency and not ordered:
+    if short and not ordered:
         best.unstable_because = best.stability_sentence
         d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
 

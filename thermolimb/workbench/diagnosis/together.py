@@ -14,7 +14,7 @@ want (a catalog effect refitted alone, plausible, its BIC lower than the model's
 values from its own refit.  A pair is kept only if it beats each member alone by the held-out gate
 (:data:`~.candidates.MIN_IMPROVEMENT`): both are needed.  It is then judged like any change (its label
 ``+ A with B``) and checked on the same replicates, but taken only where every replicate takes it
-(:data:`PAIR_FREQUENCY`): it is the best of a search over combinations, each member of which failed alone, and
+(:data:`PAIR_FREQUENCY`; the order rule, ``stability.in_some_order``, does not lower that): it is the best of a search over combinations, each member of which failed alone, and
 stability selection asks a higher share where more is searched (Meinshausen and Buhlmann, 2010, bound the false
 selections by the number searched).  At the 0.8 a single change needs, both runs of the UR3's J0 took
 ``+ speed_losses with neighbor_coupling`` (0.880 -> 0.161 K held out) in 15 of 20 replicates, and one of four
