@@ -122,3 +122,4 @@ def test_a_pair_is_not_taken_by_the_order_rule():
     pair = _by_label(d)["+ motion_cooling with sensor_lag"]
     assert d.recommended is None and d.unstable is pair and pair.selection_frequency == 0.6
     assert "they agree on adding" not in pair.evidence and "not recommended" in pair.evidence
+    assert "a pair is taken only where every replicate takes it. Taken in 6 of 10" in pair.evidence

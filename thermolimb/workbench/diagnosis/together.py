@@ -14,9 +14,10 @@ want (a catalog effect refitted alone, plausible, its BIC lower than the model's
 values from its own refit.  A pair is kept only if it beats each member alone by the held-out gate
 (:data:`~.candidates.MIN_IMPROVEMENT`): both are needed.  It is then judged like any change (its label
 ``+ A with B``) and checked on the same replicates, but taken only where every replicate takes it
-(:data:`PAIR_FREQUENCY`; the order rule, ``stability.in_some_order``, does not lower that): it is the best of a search over combinations, each member of which failed alone, and
-stability selection asks a higher share where more is searched (Meinshausen and Buhlmann, 2010, bound the false
-selections by the number searched).  At the 0.8 a single change needs, both runs of the UR3's J0 took
+(:data:`PAIR_FREQUENCY`; the order rule, ``stability.in_some_order``, does not lower that, and the pair's line
+says so): it is the best of a search over combinations, each member of which failed alone, and stability selection
+asks a higher share where more is searched (Meinshausen and Buhlmann, 2010, bound the false selections by the
+number searched).  At the 0.8 a single change needs, both runs of the UR3's J0 took
 ``+ speed_losses with neighbor_coupling`` (0.880 -> 0.161 K held out) in 15 of 20 replicates, and one of four
 copies of the log cut by a few rows took it (``benchmarks/stability.py --only "UR3 J0"``: 75 % the same verdict;
 100 % with every replicate asked, where 7 of 10 take it).
@@ -36,8 +37,9 @@ PAIR_FREQUENCY = 1.0  # a pair is taken only where every replicate takes it (mod
 
 
 def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, base, base_bic: float,
-          visited: frozenset) -> list[Candidate]:
-    """The pairs of additions that help together and beat each member alone by the gate, refitted and judged."""
+          visited: frozenset, checked: bool = False) -> list[Candidate]:
+    """The pairs of additions that help together and beat each member alone by the gate, refitted and judged
+    (``checked``: their lines say what the stability check will ask of them)."""
     members = sorted((c for c in candidates if c.kind == "add" and not c.brings and c.refitted and c.failure is None
                       and c.confounded is None and c.unexcited is None and c.broken is None
                       and c.plausible is not False and c.identifiable is not False and c.delta_bic < 0),
@@ -54,7 +56,8 @@ def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, b
         guarded(pair, refit_candidate, pair, series, scheme, base, base_bic, start)
         if pair.refitted and pair.rmse_K <= (1.0 - MIN_IMPROVEMENT) * a.rmse_K:
             pair.evidence = (f"together: {a.label} alone {a.rmse_K:.3f} K, {b.label} alone {b.rmse_K:.3f} K held out; "
-                             f"validation RMSE goes from {base.validation['rmse_K']:.3f} K to {pair.rmse_K:.3f} K.")
+                             f"validation RMSE goes from {base.validation['rmse_K']:.3f} K to {pair.rmse_K:.3f} K"
+                             + ("; a pair is taken only where every replicate takes it." if checked else "."))
             kept.append(pair)
     return kept
 
@@ -63,7 +66,7 @@ def take_together(d, series, search, base_bic: float, visited: frozenset, rank, 
     """Where diagnosis ``d`` recommends nothing, its pairs (:func:`pairs`) join its candidates (sorted by ``rank``),
     and the best eligible one is recommended, checked by ``check(d, stability)`` when the search checks, at
     :data:`PAIR_FREQUENCY`."""
-    found = pairs(d.candidates, d.model, series, search.scheme, d.base, base_bic, visited)
+    found = pairs(d.candidates, d.model, series, search.scheme, d.base, base_bic, visited, search.stability is not None)
     if not found:
         return
     d.candidates = sorted(d.candidates + found, key=rank)
