@@ -267,6 +267,7 @@ def _check_stability(d: Diagnosis, series, search: Search, order: bool = True) -
                    "varied": varied, "frequencies": frequencies}
     best, short = d.recommended, d.recommended.selection_frequency < stability.min_frequency
     ordered = order and short and in_some_order(d.candidates, best, stability)  # not for a pair (.together)
+    said = (lambda s: f" {s[0].upper()}{s[1:]}." if s else "")  # a check again (a pair: .together) replaces it
     for c in d.candidates:
         if c.selection_frequency is None:
             continue
@@ -276,7 +277,6 @@ def _check_stability(d: Diagnosis, series, search: Search, order: bool = True) -
         split = ""
         if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
             split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
-        said = (lambda s: f" {s[0].upper()}{s[1:]}." if s else "")  # a check again (a pair: .together) replaces it
         evidence = c.evidence.removesuffix(said(c.stability_sentence))
         c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
         c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()

@@ -57,9 +57,13 @@ def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, b
         if pair.refitted and pair.rmse_K <= (1.0 - MIN_IMPROVEMENT) * a.rmse_K:
             pair.evidence = (f"together: {a.label} alone {a.rmse_K:.3f} K, {b.label} alone {b.rmse_K:.3f} K held out; "
                              f"validation RMSE goes from {base.validation['rmse_K']:.3f} K to {pair.rmse_K:.3f} K"
-                             + ("; a pair is taken only where every replicate takes it." if checked else "."))
+                             + (f"; a pair is taken only where {_share()} takes it." if checked else "."))
             kept.append(pair)
     return kept
+
+
+def _share() -> str:  # what the check asks of a pair, in words
+    return "every replicate" if PAIR_FREQUENCY >= 1.0 else f"{PAIR_FREQUENCY:.0%} of the replicates"
 
 
 def take_together(d, series, search, base_bic: float, visited: frozenset, rank, check) -> None:
@@ -70,7 +74,7 @@ def take_together(d, series, search, base_bic: float, visited: frozenset, rank, 
     if not found:
         return
     d.candidates = sorted(d.candidates + found, key=rank)
-    best = next((c for c in d.candidates if any(c is f for f in found) and c.eligible), None)
+    best = next((c for c in sorted(found, key=rank) if c.eligible), None)
     if best is None:
         return
     d.recommended, d.unstable = best, None
