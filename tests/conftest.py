@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from thermolimb.model import TERMS
 from thermolimb.plant import (
     FIRST_ORDER_NETWORK,
     X8_9,
@@ -37,6 +38,18 @@ def first_order_log(seed: int, duration_s=2 * 3600.0, dt_s=1.0, motion_probabili
     effects = PlantEffects(effort_bias=EffortBias(BIAS_EFFORT_NM), sensor_noise=SensorNoise(), quantisation=Quantisation())
     plant = ThermalPlant(["knee"], [FIRST_ORDER_X8], effects, rng=rng)
     return run_profile(plant, profile).log
+
+
+@pytest.fixture(autouse=True)
+def _terms_as_found():
+    """Each test leaves the catalog of terms as it found it. A user's terms file loaded with --terms registers its
+    terms for the rest of the process, as it should for a user; in tests it made a later file's catalog depend on
+    which files pytest-xdist's loadfile put in the same process, which differs between machines (test_together.py
+    failed in CI after test_discovery.py had loaded a discovered speed form there)."""
+    before = dict(TERMS)
+    yield
+    TERMS.clear()
+    TERMS.update(before)
 
 
 @pytest.fixture(scope="session")
