@@ -123,3 +123,22 @@ def test_a_pair_is_not_taken_by_the_order_rule():
     assert d.recommended is None and d.unstable is pair and pair.selection_frequency == 0.6
     assert "they agree on adding" not in pair.evidence and "not recommended" in pair.evidence
     assert "a pair is taken only where every replicate takes it. Taken in 6 of 10" in pair.evidence
+
+
+def test_a_pair_is_judged_only_where_each_member_s_channel_moves(holds_log):
+    """A replicate judges a pair it did not build itself; where one member rides a channel that does not move there,
+    the pair is not judged, as that member alone is not. On a log of holds whose joint moves in two samples (as in
+    a step test), + speed_losses alone is not judged for its velocity, and neither is + speed_losses with
+    second_node (before, only the second member's channel was looked at, and the second mass rides none)."""
+    from thermolimb.workbench.diagnosis.candidates import Candidate
+    from thermolimb.workbench.diagnosis.diagnose import _unexcited
+
+    s = holds_log.series("knee")
+    velocity = s.signals.velocity.copy()
+    velocity[[1000, 1001]] = 2.0
+    d = diagnose([replace(s, signals=replace(s.signals, velocity=velocity))])
+    alone = _by_label(d)["+ speed_losses"]
+    pair = Candidate("second_node", d.model + ("speed_losses", "second_node"), brings=("speed_losses",))
+    _unexcited(pair, d.base)
+    assert pair.label == "+ speed_losses with second_node" and "velocity is away from rest in 2 of" in alone.unexcited
+    assert pair.unexcited == alone.unexcited and pair.evidence == f"not judged: {alone.unexcited}."

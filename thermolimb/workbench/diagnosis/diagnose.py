@@ -326,14 +326,13 @@ def _unexcited(cand: Candidate, base: FitReport) -> None:
         cand.unexcited = next(a["reason"] for a in aside if a["term"] == cand.effect)
         cand.evidence = f"not judged: {cand.unexcited}."
         return
-    channel = rides(cand.effect)
-    if channel is None:
-        return
-    counts = channel_excitation(channel, base.train_series,
-                                [(seg.signals, seg.measured_C) for seg in base.validation_segments])
-    if not counts.excited:
-        cand.unexcited = counts.sentence()
-        cand.evidence = f"not judged: {cand.unexcited}."
+    for channel in filter(None, map(rides, (*cand.brings, cand.effect))):  # a pair's members: each its own channel
+        counts = channel_excitation(channel, base.train_series,
+                                    [(seg.signals, seg.measured_C) for seg in base.validation_segments])
+        if not counts.excited:
+            cand.unexcited = counts.sentence()
+            cand.evidence = f"not judged: {cand.unexcited}."
+            return
 
 
 def rides(effect: str) -> str | None:
