@@ -55,7 +55,7 @@ class ActuatorSeries:
 
     @property
     def median_dt_s(self) -> float:
-        return float(np.median(np.diff(self.time_s)))
+        return self.signals.median_dt_s
 
     def rate_K_per_s(self, at_end: bool = False, window_s: float = 60.0) -> float:
         """Slope of the measured temperature over the first (or last) ``window_s`` seconds (least squares)."""

@@ -77,6 +77,12 @@ class Signals:
         return np.diff(self.time_s)
 
     @cached_property
+    def median_dt_s(self) -> float:
+        """The median sampling interval (s), worked out once (a long log's replicates asked it 20 times: 0.2 s)."""
+        dt = self.__dict__.get("dt_s")
+        return float(np.median(np.diff(self.time_s) if dt is None else dt))
+
+    @cached_property
     def uniform_dt_s(self) -> float | None:
         """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``.
         The intervals are not kept for this: a uniform log needs only its one step."""
