@@ -23,9 +23,11 @@ DECISION_S = 0.2
 def train(timesteps: int, seed: int = 0):
     import gymnasium as gym
     from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import Logger
 
     env = gym.make(HEXAPOD_ID, max_time_s=6.0, decision_s=DECISION_S)
     model = PPO("MlpPolicy", env, n_steps=256, batch_size=64, n_epochs=4, seed=seed, verbose=0, device="cpu")
+    model.set_logger(Logger(None, []))  # a logger of its own: SB3's default makes an empty SB3-<date> folder in /tmp
     model.learn(total_timesteps=timesteps)
     env.close()
     return model

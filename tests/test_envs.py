@@ -1,7 +1,9 @@
 """The Gymnasium contract of both environments, strategies and their comparison."""
 
 import json
+import tempfile
 from contextlib import closing
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -106,8 +108,10 @@ def test_ppo_agent_trains_for_a_few_thousand_steps():
     pytest.importorskip("stable_baselines3")
     from thermolimb_demos.ppo_agent import evaluate_agent, train
 
+    before = set(Path(tempfile.gettempdir()).glob("SB3-*"))
     model = train(2048, seed=0)
     assert model.num_timesteps >= 2048
+    assert set(Path(tempfile.gettempdir()).glob("SB3-*")) == before  # nothing left behind in the temporary folder
     returns = evaluate_agent(model, 1)
     assert np.isfinite(returns).all()
 
