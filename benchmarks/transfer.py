@@ -19,6 +19,8 @@ same runs.
 ``--plant NETWORK:EFFECTS`` builds the plant's four runs on another network and with other hidden effects (the
 default, ``x8:speed_losses,winding_tempco``, is the table's), to try the walk on plants it was not tuned on.
 ``--step-K 1`` reads the plant's thermistor in whole degrees, as many servos report it.
+``--sources pmsm-sensors``: the PMSM's two profiles read at its other sensors (the stator's tooth and yoke
+thermocouples, the magnet's telemetry), on which nothing in the walk was tuned.
 ``--sources step``: plain bench step tests on that plant (:func:`thermolimb.plant.duties.step_test`: 18 min held
 at 1.5, 2.0 and 2.5 times the continuous effort, then released, at 2 Hz, and one at 2.0 that starts warm), the
 kind of log a lab writes first and the one with the least to tell a model.
@@ -31,7 +33,7 @@ Each run's effort is also said by how much of the offset's constant and of the e
 from each other and Joule heating's (under a share of 0.1 for the bias, not the offset, a fit sets the bias aside);
 ``--shares`` prints those alone.
 
-    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant,step] [--code DIR] [--loro]
+    python benchmarks/transfer.py [--json] [--sources ur3,wx200,bldc,pmsm,plant,step,pmsm-sensors] [--code DIR] [--loro]
                                   [--plant NETWORK:EFFECTS] [--step-K K] [--shares]
 """
 
@@ -54,7 +56,8 @@ BETTER, WORSE = 0.10, 0.05  # at least 10 % better; more than 5 % worse
 
 
 PLANT = "x8:speed_losses,winding_tempco"
-SOURCES = ("ur3", "wx200", "bldc", "pmsm", "plant", "step")
+SOURCES = ("ur3", "wx200", "bldc", "pmsm", "plant", "step", "pmsm-sensors")
+PMSM_SENSORS = ("stator_tooth", "stator_yoke", "pm")  # the PMSM's other thermocouples and its magnet's telemetry
 STEPS = ((1.5, 0, 0.0), (2.0, 1, 0.0), (2.5, 2, 0.0), (2.0, 3, 600.0))  # load (x continuous), seed, warm-up s
 
 
@@ -88,10 +91,11 @@ def write_runs(folder: Path, sources: list[str], plant: str = PLANT, step_K: flo
     if "bldc" in sources:
         logs = REAL_LOGS["bldc"].read()
         out["bldc"] = {"actuators": ["bldc"], "runs": [save(log, Path(log.source).stem) for log in logs]}
-    if "pmsm" in sources:
-        logs = [read_log(pmsm_profile(k), mapping=parse_mapping(PMSM_MAP), actuator_name="pmsm", **PMSM_UNITS)
-                for k in (24, 46)]
-        out["pmsm"] = {"actuators": ["pmsm"], "runs": [save(log, f"pmsm_profile{k}") for log, k in zip(logs, (24, 46))]}
+    for sensor in ["stator_winding"] * ("pmsm" in sources) + list(PMSM_SENSORS) * ("pmsm-sensors" in sources):
+        mapping = parse_mapping(PMSM_MAP.replace("temperature=stator_winding", f"temperature={sensor}"))
+        logs = [read_log(pmsm_profile(k), mapping=mapping, actuator_name="pmsm", **PMSM_UNITS) for k in (24, 46)]
+        name = "pmsm" if sensor == "stator_winding" else f"pmsm_{sensor}"
+        out[name] = {"actuators": ["pmsm"], "runs": [save(log, f"{name}_profile{k}") for log, k in zip(logs, (24, 46))]}
     network, _, hidden = plant.partition(":")  # the plant of the plant's duties and of its step tests
     fx = PlantEffects.from_names(f"sensor_noise,quantisation,{hidden}")
     fx = fx.replace(quantisation=replace(fx.quantisation, step_K=step_K))  # the thermistor's steps
@@ -169,7 +173,7 @@ def own_shares(sources: dict) -> dict:
                                         .items() if k != "joule"} for p, log in zip(source["runs"], logs)}
                      for a in source["actuators"]}
         for a, shares in out[name].items():
-            print(f"{name:6s} {a:6s} own shares (offset / bias): "
+            print(f"{name:17s} {a:6s} own shares (offset / bias): "
                   + ", ".join(f"{run} {v['T_offset_C']:.3f} / {v['effort_bias']:.3f}" for run, v in shares.items()))
     return out
 
@@ -203,14 +207,14 @@ def transfer(code, sources: dict, loro: bool) -> dict:
 
 def _print(row: dict) -> None:
     if "error" in row:
-        print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on'])}: {row['error']}")
+        print(f"{row['source']:17s} {row['actuator']:6s} fit on {','.join(row['fit_on'])}: {row['error']}")
         return
     steps = " ".join(s for s in row["steps"][1:]) or "(no change)"
 
     def kelvin(key):
         return f"{row[key]:.3f} K" if row.get(key) is not None else f"failed ({row.get(key.replace('_K', '_error'))})"
 
-    print(f"{row['source']:6s} {row['actuator']:6s} fit on {','.join(row['fit_on']):36s} default "
+    print(f"{row['source']:17s} {row['actuator']:6s} fit on {','.join(row['fit_on']):36s} default "
           f"{kelvin('default_K')}, walk {kelvin('walk_K')} ({row.get('ratio', float('nan')):.2f}x, "
           f"{row.get('verdict', '?')}): {steps}  [{row['walk_s']:.1f} s]")
 
