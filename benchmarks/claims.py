@@ -73,6 +73,12 @@ CLAIMS = (
            ("predict", "knee.json", "--hold", "20,1", "--duration", "3600", "--start-C", "30")),
           r"reaches 90\.0 degC from 30\.0 degC in (\d+) s \(90 % interval (\d+) s to (\d+) s\)",
           (91.0, 77.0, 112.0), tolerance=0.03),
+    Claim("tour-forecast", "README.md",
+          "held the true time in 93 % and 81 % of cases at 1 and 15 min, 0.27 and 0.37 times as wide",
+          (("BENCHMARK", "forecast.py", "--no-real"),),
+          r"diagnose --auto model\s+horizon\s+60s:.*?coverage (\d+) %, median width ([\d.]+)x.*?"
+          r"diagnose --auto model\s+horizon\s+900s:.*?coverage (\d+) %, median width ([\d.]+)x",
+          (93.0, 0.27, 81.0, 0.37)),
     Claim("bag-diagnose", "docs/logs.md",
           "takes nothing: dropping the effort bias helps on the held-out part (0.598 → 0.510 K",
           (("diagnose", str(BAG), "--actuator", "waist", "--quiet"),),
