@@ -215,3 +215,27 @@ def test_the_time_to_a_limit_is_when_the_first_order_response_crosses_it():
         crossed = np.flatnonzero(path >= limit[k])
         expected = np.inf if not crossed.size else t[crossed[0]]
         assert got[k] == pytest.approx(expected, abs=0.02), (k, got[k], expected)
+
+
+def test_the_audit_figure_names_the_hottest_joints_and_says_what_the_grey_lines_are(tmp_path):
+    """Eight joints: the six hottest are named, and the two others are one grey entry of the legend."""
+    import matplotlib.pyplot as plt
+
+    from thermolimb.envs.audit import AuditResult
+    from thermolimb.plotting.audit import plot_audit
+
+    time_s = np.linspace(0.0, 60.0, 61)
+    peaks = np.arange(8) + 30.0
+    result = AuditResult("Toy-v0", "random", tuple(f"j{k}" for k in range(8)), time_s,
+                         25.0 + np.outer(time_s / 60.0, peaks - 25.0), np.full(8, 80.0), 0, "the suite's plant")
+    captured = {}
+    real_save = plt.Figure.savefig
+
+    def savefig(fig, *args, **kwargs):
+        captured["labels"] = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        return real_save(fig, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(plt.Figure, "savefig", savefig)
+        plot_audit(result, tmp_path / "audit.png")
+    assert captured["labels"] == ["j2", "j3", "j4", "j5", "j6", "j7", "2 other joints, lower peaks", "limit 80 degC"]
