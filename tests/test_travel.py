@@ -74,6 +74,20 @@ def test_export_says_what_it_drops_and_what_that_costs(calibration, capsys):
     assert refused.value.code == 2 and "--motor-const" in capsys.readouterr().err
 
 
+def test_export_says_once_what_dropping_several_terms_costs(calibration, tmp_path, capsys):
+    """A model with speed losses beside the bias: both are dropped, in one sentence with the cost of dropping both
+    (a sentence per term repeated the same cost, as if each cost it)."""
+    log, _ = calibration
+    model = tmp_path / "speed.json"
+    assert main(["fit", str(log), "--actuator", "knee", "--model", "joule,effort_bias,speed_losses", "--save",
+                 str(model), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["export", str(model), str(log), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8",
+                 "--gear", "12", "--actuator", "knee"]) == 0
+    said = [line for line in capsys.readouterr().err.splitlines() if "dropped" in line]
+    assert len(said) == 1 and "effort_bias and speed_losses dropped" in said[0] and "K RMSE" in said[0], said
+
+
 def _torques_and_temperatures(env, steps, seed=0):
     obs, info = env.reset(seed=seed)
     env.action_space.seed(seed)

@@ -86,15 +86,15 @@ def _check(run_in_mujoco, export, series) -> dict | None:
 
 def _say(export, record, have_log: bool) -> None:
     cost = record.get("cost")
-    for term in export.dropped:
+    if export.dropped:  # one sentence: the cost is of dropping them all
+        dropped = (f"{export.actuator}: {' and '.join(export.dropped)} dropped (MuJoCo's dcmotor has one thermal "
+                   f"node, heated by its current)")
         if cost:
-            say(f"{export.actuator}: {term} dropped (MuJoCo's dcmotor has one thermal node, heated by its current): "
-                f"on the log the saved model's free run is {cost['saved_rmse_K']:.3f} K RMSE from the readings, the "
-                f"exported one's {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the two, "
-                f"{cost['samples']} samples)")
+            say(f"{dropped}: on the log the saved model's free run is {cost['saved_rmse_K']:.3f} K RMSE from the "
+                f"readings, the exported one's {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the "
+                f"two, {cost['samples']} samples)")
         else:
-            say(f"{export.actuator}: {term} dropped (MuJoCo's dcmotor has one thermal node, heated by its current); "
-                f"give the calibration log to measure what that costs")
+            say(f"{dropped}; give the calibration log to measure what that costs")
     for note in export.notes:
         say(f"{export.actuator}: {note}")
     check = record.get("check")
