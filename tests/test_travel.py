@@ -253,3 +253,37 @@ def test_the_audit_figure_names_the_hottest_joints_and_says_what_the_grey_lines_
         patch.setattr(plt.Figure, "savefig", savefig)
         plot_audit(result, tmp_path / "audit.png")
     assert captured["labels"] == ["j2", "j3", "j4", "j5", "j6", "j7", "2 other joints, lower peaks", "limit 80 degC"]
+
+
+def test_a_refit_on_the_log_carries_what_dropping_a_term_loses():
+    """The UR3's J1 (real, its first run; heat from the motor current with a bias the data pins down): the saved
+    model without its bias misses its own log by 16.7 K RMSE; the one node MuJoCo holds, fitted again on that log,
+    by 0.04 K (docs/travel.md)."""
+    from dataclasses import replace
+
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.mujoco_export import cost_of_dropping, refitted
+    from thermolimb.workbench.saving import saved_from_report
+    from thermolimb.workbench.validation import Scheme, validate_model
+
+    runs = REAL_LOGS["ur3"].read()[0].runs("J1")[:1]
+    saved = saved_from_report(validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)), [])
+    saved = replace(saved, channel_units={**saved.channel_units, "effort": "A"})
+    export = to_dcmotor(saved, Motor(0.1, 1.0, 10.0))
+    again = refitted(saved, export, runs)
+    assert again.dropped == export.dropped == ("effort_bias",) and again.exported.terms == ("joule",)
+    truncated, refit = (cost_of_dropping(saved, e, runs)["exported_rmse_K"] for e in (export, again))
+    assert truncated > 10.0 and refit < 0.1, (truncated, refit)
+
+
+def test_export_refit_needs_a_log_and_exports_the_refitted_node(calibration, capsys):
+    log, model = calibration
+    argv = ["export", str(model), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--gear", "12",
+            "--actuator", "knee", "--refit"]
+    assert main(argv) == 2 and "give the model's calibration LOG" in capsys.readouterr().err
+    assert main(argv[:2] + [str(log)] + argv[2:] + ["--json"]) == 0
+    out = capsys.readouterr()
+    record = json.loads(out.out)
+    assert record["refit"]["exported"] and record["cost"]["exported_rmse_K"] == record["refit"]["rmse_K"]
+    assert record["thermal"]["timeconst_s"] == pytest.approx(record["refit"]["params"]["RC_s"])
+    assert "refitted on the log without them" in out.err and record["check"]["share_of_rise"] < 0.005

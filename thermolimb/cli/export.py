@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+from ..util.errors import UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import print_json, say
 from .reading import load_model_file, read_logs, runs_of
@@ -30,6 +31,10 @@ def add_parser(sub):
     p.add_argument("--out", type=output_file, default=None, metavar="FILE.xml",
                    help="write the snippet to FILE.xml instead of standard output")
     add_log_input(p, required=False)
+    p.add_argument("--refit", action="store_true",
+                   help="with a LOG, where terms are dropped: fit the one thermal node MuJoCo holds (heat gain, RC, "
+                        "offset) again on the log and export that, not the saved model without them; without "
+                        "--refit, what such a refit gives is said")
     add_terms(p)
     p.add_argument("--json", action="store_true", help="the attributes, what was dropped and the check as JSON")
     add_quiet(p)
@@ -38,22 +43,30 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..mujoco_export import Motor, cost_of_dropping, mjcf_snippet, run_in_mujoco, to_dcmotor
+    from ..mujoco_export import Motor, cost_of_dropping, mjcf_snippet, refitted, run_in_mujoco, to_dcmotor
 
+    if args.refit and not args.logs:
+        raise UsageError("--refit fits the exported model again on a log: give the model's calibration LOG too")
     models = load_model_file(args)
     names = [args.actuator] if args.actuator else list(models.actuators)
     motor = Motor(args.motor_const, args.resistance, args.gear)
     exports = [to_dcmotor(models[name], motor) for name in names]
     logs = read_logs(args.logs, args) if args.logs else []
     records = []
-    for export in exports:
+    for k, export in enumerate(exports):
+        saved, series = models[export.actuator], runs_of(logs, export.actuator) if logs else []
+        refit = refitted(saved, export, series) if series and export.dropped else None
+        if refit is not None and args.refit:
+            export = exports[k] = refit
         record = {"actuator": export.actuator, "thermal": dict(zip(
             ("resistance_K_per_W", "capacitance_J_per_K", "timeconst_s", "tempcoef_per_K", "reftemp_C", "ambient_C"),
             (export.resistance_K_per_W, export.capacitance_J_per_K, export.timeconst_s, export.tempcoef_per_K,
              export.reftemp_C, export.ambient_C))), "dropped": list(export.dropped), "notes": list(export.notes)}
-        series = runs_of(logs, export.actuator) if logs else []
         if series:
-            record["cost"] = cost_of_dropping(models[export.actuator], export, series)
+            record["cost"] = cost_of_dropping(saved, export, series)
+            if refit is not None:
+                record["refit"] = {"exported": export is refit, "params": dict(refit.exported.params),
+                                   "rmse_K": cost_of_dropping(saved, refit, series)["exported_rmse_K"]}
             record["check"] = _check(run_in_mujoco, export, series[0])
         _say(export, record, bool(logs))
         records.append(record)
@@ -85,14 +98,18 @@ def _check(run_in_mujoco, export, series) -> dict | None:
 
 
 def _say(export, record, have_log: bool) -> None:
-    cost = record.get("cost")
+    cost, refit = record.get("cost"), record.get("refit")
     if export.dropped:  # one sentence: the cost is of dropping them all
         dropped = (f"{export.actuator}: {' and '.join(export.dropped)} dropped (MuJoCo's dcmotor has one thermal "
                    f"node, heated by its current)")
+        exported = "the exported one's, refitted on the log without them," if refit and refit["exported"] else \
+            "the exported one's"
         if cost:
             say(f"{dropped}: on the log the saved model's free run is {cost['saved_rmse_K']:.3f} K RMSE from the "
-                f"readings, the exported one's {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the "
-                f"two, {cost['samples']} samples)")
+                f"readings, {exported} {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the "
+                f"two, {cost['samples']} samples)"
+                + (f"; refitted on the log without them, one node's would be {refit['rmse_K']:.3f} K (--refit "
+                   f"exports it)" if refit and not refit["exported"] else ""))
         else:
             say(f"{dropped}; give the calibration log to measure what that costs")
     for note in export.notes:
