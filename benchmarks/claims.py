@@ -79,6 +79,11 @@ CLAIMS = (
           r"diagnose --auto model\s+horizon\s+60s:.*?coverage (\d+) %, median width ([\d.]+)x.*?"
           r"diagnose --auto model\s+horizon\s+900s:.*?coverage (\d+) %, median width ([\d.]+)x",
           (93.0, 0.27, 81.0, 0.37)),
+    Claim("travel-refit", "docs/travel.md",
+          "| UR3 J1 | 33.00 | 0.00018 | 0.0006 % | effort_bias: 0.040 → 16.705 | 0.041 |",
+          (("BENCHMARK", "travel.py", "--blocks", "1", "--steps", "20"),),
+          r"UR3 J1 .*?rise\s+([\d.]+) K.*?dropped effort_bias: ([\d.]+) -> ([\d.]+) K RMSE on the log, refitted ([\d.]+) K",
+          (33.00, 0.040, 16.705, 0.041)),
     Claim("bag-diagnose", "docs/logs.md",
           "takes nothing: dropping the effort bias helps on the held-out part (0.598 → 0.510 K",
           (("diagnose", str(BAG), "--actuator", "waist", "--quiet"),),
