@@ -287,3 +287,24 @@ def test_export_refit_needs_a_log_and_exports_the_refitted_node(calibration, cap
     assert record["refit"]["exported"] and record["cost"]["exported_rmse_K"] == record["refit"]["rmse_K"]
     assert record["thermal"]["timeconst_s"] == pytest.approx(record["refit"]["params"]["RC_s"])
     assert "refitted on the log without them" in out.err and record["check"]["share_of_rise"] < 0.005
+
+
+def test_an_export_whose_heat_gain_is_nil_says_the_joint_will_not_heat():
+    """The UR3's J5 (real): its saved model puts its heat in the bias, Joule heating at its bound (1.3e-16 against a
+    standard error of 6.1 K/A^2); one node without the bias would not heat in MuJoCo, refitted or not, and says so."""
+    from dataclasses import replace
+
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.mujoco_export import refitted
+    from thermolimb.workbench.saving import saved_from_report
+    from thermolimb.workbench.validation import Scheme, validate_model
+
+    runs = REAL_LOGS["ur3"].read()[0].runs("J5")[:1]
+    saved = saved_from_report(validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)), [])
+    saved = replace(saved, channel_units={**saved.channel_units, "effort": "A"})
+    export = to_dcmotor(saved, Motor(0.1, 1.0, 10.0))
+    for e in (export, refitted(saved, export, runs)):
+        assert any(n.startswith("its heat gain is nil (betaR_K_per_effort2 = ") for n in e.notes), e.notes
+    j1 = REAL_LOGS["ur3"].read()[0].runs("J1")[:1]
+    saved = saved_from_report(validate_model(j1, "joule,effort_bias", Scheme.at_split(0.7)), [])
+    assert not any("nil" in n for n in to_dcmotor(replace(saved, channel_units={"effort": "A"}), Motor(0.1, 1.0)).notes)

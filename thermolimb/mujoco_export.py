@@ -15,7 +15,8 @@ first-order model reads ``RC dT/dt = T_offset + beta R F^2 - T`` on the effort `
   more.
 
 What MuJoCo's one-node state cannot hold -- a second mass, an effort bias, a lagging sensor, speed losses,
-anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`).  The check
+anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`); on that log
+the one node can be fitted again without them (:func:`refitted`, ``export --refit``).  The check
 (:func:`run_in_mujoco`): the exported actuator, driven in MuJoCo by a log's torque with its rotor held, against this
 suite's free run of the same (exported) model; ``benchmarks/travel.py`` prints the difference.
 """
@@ -28,6 +29,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from .constants import COPPER_REFERENCE_C
+from .identification import FreeRunLeastSquares
 from .model.model import ThermalModel, model_parameters
 from .model.saved import SavedModel
 from .model.signals import Signals
@@ -35,6 +37,7 @@ from .util.errors import UsageError
 
 TORQUE_UNITS = ("N m", "Nm", "N·m", "N.m")
 CURRENT_UNITS = ("A",)
+NIL = 1e-6  # a heat gain under this share of its standard error is nil (at its bound): said
 CHECK_SUBSTEPS = 20  # MuJoCo steps per log interval in the check (its act integration is explicit)
 
 
@@ -123,6 +126,12 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
                      "current-controlled drive) keeps the torque and heats more")
     if unit in CURRENT_UNITS:
         notes.append("the model's heat is from the motor current: in MuJoCo that is the torque over the motor constant")
+    name = "betaR_K_per_effort2" if source == "joule" else "currentR_K_per_A2"
+    se = float(saved.stderr.get(name, 0.0))
+    if gain < NIL * se:  # the UR3's J5: its heat is its bias's, 1.3e-16 +- 6.1 K/A^2 from the current squared
+        notes.append(f"its heat gain is nil ({name} = {gain:.2g} ± {se:.2g} {saved.units.get(name, '')}, at its "
+                     f"bound): MuJoCo's node will not heat this joint; what warmed it on the log was another term "
+                     f"or the log's drift")
     return DcMotorThermal(saved.actuator, motor, float(r_th), float(p["RC_s"] / r_th), float(p["RC_s"]),
                           float(tempcoef), COPPER_REFERENCE_C, float(p["T_offset_C"]), exported,
                           tuple(t for t in model.terms if t not in kept), tuple(notes), current=unit in CURRENT_UNITS)
@@ -150,10 +159,8 @@ def refitted(saved: SavedModel, export: DcMotorThermal, series) -> DcMotorTherma
     ``T_offset_C``) fitted again on a log (one actuator's runs), from the exported values, and exported: what
     was dropped then no longer leaves the kept parameters where the whole model had put them (the UR3's J1, heat from
     its current with a bias: 16.7 K RMSE on its log with the bias dropped, 0.041 K refitted; docs/travel.md)."""
-    from .identification import FreeRunLeastSquares
-
-    model = FreeRunLeastSquares(model=export.exported.terms, initial=dict(export.exported.params)).fit(series).model_
-    again = to_dcmotor(replace(saved, model=model), export.motor)
+    fit = FreeRunLeastSquares(model=export.exported.terms, initial=dict(export.exported.params)).fit(series)
+    again = to_dcmotor(replace(saved, model=fit.model_, stderr=fit.stderr_), export.motor)
     return replace(again, dropped=export.dropped,
                    notes=again.notes + ("refitted on the log without what was dropped (one thermal node)",))
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..util.errors import UsageError
+from ..util.errors import ThermolimbError, UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import print_json, say
 from .reading import load_model_file, read_logs, runs_of
@@ -55,7 +55,14 @@ def run(args) -> int:
     records = []
     for k, export in enumerate(exports):
         saved, series = models[export.actuator], runs_of(logs, export.actuator) if logs else []
-        refit = refitted(saved, export, series) if series and export.dropped else None
+        refit, refit_error = None, None
+        if series and export.dropped:
+            try:
+                refit = refitted(saved, export, series)
+            except ThermolimbError as exc:  # said beside the export; with --refit, the export's own error
+                if args.refit:
+                    raise
+                refit_error = str(exc)
         if refit is not None and args.refit:
             export = exports[k] = refit
         record = {"actuator": export.actuator, "thermal": dict(zip(
@@ -67,6 +74,8 @@ def run(args) -> int:
             if refit is not None:
                 record["refit"] = {"exported": export is refit, "params": dict(refit.exported.params),
                                    "rmse_K": cost_of_dropping(saved, refit, series)["exported_rmse_K"]}
+            elif refit_error:
+                record["refit"] = {"exported": False, "error": refit_error}
             record["check"] = _check(run_in_mujoco, export, series[0])
         _say(export, record, bool(logs))
         records.append(record)
@@ -109,7 +118,9 @@ def _say(export, record, have_log: bool) -> None:
                 f"readings, {exported} {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the "
                 f"two, {cost['samples']} samples)"
                 + (f"; refitted on the log without them, one node's would be {refit['rmse_K']:.3f} K (--refit "
-                   f"exports it)" if refit and not refit["exported"] else ""))
+                   f"exports it)" if refit and "rmse_K" in refit and not refit["exported"] else "")
+                + (f"; one node could not be fitted again on the log: {refit['error']}" if refit and "error" in refit
+                   else ""))
         else:
             say(f"{dropped}; give the calibration log to measure what that costs")
     for note in export.notes:
