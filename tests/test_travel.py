@@ -308,3 +308,21 @@ def test_an_export_whose_heat_gain_is_nil_says_the_joint_will_not_heat():
     j1 = REAL_LOGS["ur3"].read()[0].runs("J1")[:1]
     saved = saved_from_report(validate_model(j1, "joule,effort_bias", Scheme.at_split(0.7)), [])
     assert not any("nil" in n for n in to_dcmotor(replace(saved, channel_units={"effort": "A"}), Motor(0.1, 1.0)).notes)
+
+
+def test_a_refit_the_log_cannot_make_is_said_beside_the_export(calibration, tmp_path, capsys):
+    """A log whose effort never moves cannot refit one node's heat gain: the export goes on and says why; asked
+    for with --refit, the same sentence ends it (exit 2)."""
+    import pandas as pd
+
+    log, model = calibration
+    still = tmp_path / "still.csv"
+    frame = pd.read_csv(log)
+    frame.assign(effort=0.0).to_csv(still, index=False)
+    argv = ["export", str(model), str(still), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--actuator",
+            "knee"]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "one node could not be fitted again on the log: cannot identify betaR_K_per_effort2" in err, err
+    assert main(argv + ["--refit"]) == 2
+    assert "cannot identify betaR_K_per_effort2" in capsys.readouterr().err
