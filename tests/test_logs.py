@@ -30,6 +30,20 @@ def test_missing_column(tmp_path):
         read_log(path)
 
 
+def test_a_canonical_file_of_one_actuator_needs_no_actuator_column(tmp_path):
+    """``time [s], effort, temperature [K]`` and nothing naming the actuator: one actuator, named after the file, or
+    by the one actuator asked for (as a wide file read with --map is); it was refused for its missing actuator column
+    though every channel was there."""
+    frame = canonical().drop(columns="actuator").rename(columns={"time": "time [s]", "temperature": "temperature [K]"})
+    frame["temperature [K]"] += 273.15
+    path = write(tmp_path, frame, "wrist.csv")
+    log = read_log(path)
+    assert log.actuators == ("wrist",) and log.series("wrist").temperature_C[0] == pytest.approx(25.0)
+    assert read_log(path, actuators=["knee"]).actuators == ("knee",)
+    with pytest.raises(LogError, match="missing column"):  # a channel missing is still refused
+        read_log(write(tmp_path, canonical().drop(columns=["actuator", "effort"]), "other.csv"))
+
+
 def test_nan(tmp_path):
     frame = canonical()
     frame.loc[7, "temperature"] = np.nan

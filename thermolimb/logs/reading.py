@@ -135,8 +135,9 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
     sep, decimal, options = request.sep, request.decimal, request.options(path)
     columns = column_names(path, sep, decimal)
     key = next((c for c in columns if base_name(c) == "actuator"), None)
-    if key is None:  # a wide file of one actuator: read whole
-        return from_frame(read_table(path, sep=sep, decimal=decimal), actuator_name=path.stem, **options)
+    if key is None:  # a file of one actuator: read whole, named by the one actuator asked for (as a wide file is)
+        return from_frame(read_table(path, sep=sep, decimal=decimal),
+                          actuator_name=names[0] if len(names) == 1 else path.stem, **options)
     order = key_values(path, key, sep, decimal)
     if not order:
         raise LogError(f"{path}: the log has no rows with measurements")
