@@ -264,3 +264,17 @@ def test_a_run_written_otherwise_is_validated_on_by_its_own_map(sim_log, tmp_pat
     assert "--validate-map effort=torque names column 'torque', which the file does not have" in capsys.readouterr().err
     assert main(["fit", str(sim_log), "--validate-map", "time=t_s", "--quiet"]) == 2
     assert "--validate-map maps the --validate-on logs" in capsys.readouterr().err
+
+
+def test_an_option_a_command_does_not_take_is_refused_with_the_one_meant(capsys):
+    """``--models`` for ``--model``: the command's own parser refuses it (exit 2, one line) and names the option
+    that is close; an option close to none is refused plainly."""
+    with pytest.raises(SystemExit) as refused:
+        main(["compare", "run.csv", "--models", "joule"])
+    err = capsys.readouterr().err
+    assert refused.value.code == 2
+    assert err.startswith("thermolimb compare: error: unrecognized arguments: --models joule; did you mean --model "
+                          "(not --models)?") and len(err.strip().splitlines()) == 1
+    with pytest.raises(SystemExit):
+        main(["fit", "run.csv", "--nothing"])
+    assert "unrecognized arguments: --nothing (see --help)" in capsys.readouterr().err

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import difflib
 import errno
 import os
 import signal
@@ -38,6 +39,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMANDS:
         module.add_parser(sub)
+    parser.commands = sub.choices  # each command's parser, by name
     return parser
 
 
@@ -49,7 +51,9 @@ WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota 
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        refuse_unknown(parser, args.command, unknown)
     if not _main_thread():
         return _run(args)
     previous = install()  # Ctrl-C, SIGTERM, SIGHUP: deferred inside a held block, once only (util/interrupts)
@@ -64,6 +68,16 @@ def main(argv=None) -> int:
             restore(previous)
         else:
             ignore_further()
+
+
+def refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
+    """Arguments the command does not take, refused by the command's own parser, with the option meant where one is
+    close (``--models`` for ``--model``)."""
+    sub = parser.commands[command]
+    options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
+    meant = [f"{close[0]} (not {word})" for word in (u.split("=")[0] for u in unknown if u.startswith("--"))
+             for close in [difflib.get_close_matches(word, options, n=1, cutoff=0.8)] if close]
+    sub.error(f"unrecognized arguments: {' '.join(unknown)}" + (f"; did you mean {', '.join(meant)}?" if meant else ""))
 
 
 def _main_thread() -> bool:
