@@ -66,6 +66,31 @@ def test_a_log_followed_in_pieces_reads_as_the_whole_file_reads(tmp_path, writte
     assert follower.skipped == 0
 
 
+def test_a_note_every_piece_would_repeat_is_said_once(tmp_path, written):
+    """Temperatures stated in kelvin: the first piece says they are converted, and no piece appended after it says
+    so again (every appended line repeated it: a monitor following a log for hours said it each second)."""
+    header, rows = written
+    columns = header.split(",")
+    k = columns.index("temperature")
+    columns[k] = "temperature [K]"
+
+    def kelvin(line):
+        fields = line.split(",")
+        fields[k] = f"{float(fields[k]) + 273.15:.2f}"
+        return ",".join(fields)
+
+    path = tmp_path / "kelvin.csv"
+    follower = CsvFollower(path)
+    with open(path, "w") as f:
+        f.write(",".join(columns) + "\n")
+        for start in range(0, 600, 150):
+            f.write("\n".join(kelvin(line) for line in rows[start:start + 150]) + "\n")
+            f.flush()
+            follower.poll()
+    said = [n for n in follower.notes if "read in K" in n]
+    assert len(said) == 1 and follower.rows == 600, follower.notes
+
+
 def test_a_piece_whose_optional_cells_are_blank_is_left_out_with_drop_incomplete(tmp_path):
     """Followed with --drop-incomplete, a piece of one row whose current cell is blank is that row left out, as the
     whole file's reading leaves it out: a column empty in one piece is not refused as a column empty in the log."""

@@ -87,6 +87,7 @@ class CsvFollower:
         self.pending: list[tuple[int, str]] = []  # the first lines, until the dialect is decided
         self.dialect: Dialect | None = None
         self.reading = Reading()
+        self._said: set[str] = set()  # what the notes have said of this file (a replaced file says it again)
 
     @property
     def started(self) -> bool:
@@ -156,7 +157,7 @@ class CsvFollower:
         frame.columns = [str(c).strip() for c in frame.columns]
         frame.attrs["duplicate_columns"] = dialect.duplicates
         log = self._validate(frame)
-        self.notes += list(log.notes)
+        self._say(log.notes)
         self.rows += len(frame)
         out = self._take({name: log.arrays(name) for name in log.actuators})
         for name, runs in self._lines(rest).items():
@@ -246,7 +247,7 @@ class CsvFollower:
                 queue[:0] = [lines[:half], lines[half:]]
                 continue
             self.rows += len(lines)
-            self.notes += notes
+            self._say(notes, (lines[0][0], lines[-1][0]))
             for name, runs in self._take(arrays).items():
                 out.setdefault(name, []).extend(runs)
         return out
@@ -273,8 +274,17 @@ class CsvFollower:
             if KELVIN_JUMP[0] <= abs(jump) <= KELVIN_JUMP[1]:
                 raise LogError(f"the temperature of {name} jumps by {jump:+.1f} K from the reading before: part of "
                                f"the log reads kelvin, part degC")
-        return out, [f"{self.path}: lines {lines[0][0]} to {lines[-1][0]}: {note.removeprefix(f'{self.path}: ')}"
-                     for note in log.notes]
+        return out, list(log.notes)
+
+    def _say(self, notes, lines: tuple[int, int] | None = None) -> None:
+        """Each of a piece's notes once: a later piece's that an earlier one said already (a unit converted, said
+        again for every line appended) is not said again; a new one names the lines it comes from."""
+        prefix = f"{self.path}: "
+        for note in notes:
+            body = note.removeprefix(prefix)
+            if body not in self._said:
+                self._said.add(body)
+                self.notes.append(prefix + (f"lines {lines[0]} to {lines[1]}: " if lines else "") + body)
 
     def _take(self, samples: dict[str, dict[str, np.ndarray]]) -> dict[str, list[Run]]:
         """Each actuator's samples cut into runs at pauses longer than the run rule; the readings they end on
