@@ -106,6 +106,12 @@ def test_runs_of_one_actuator_in_files_of_their_own_need_its_name_and_a_time_in_
             f"--actuator NAME") in err and len(err.strip().splitlines()) == 1
     assert main(["fit", *files, "--map", "time=t_s,effort=tau,temperature=temp", "--actuator", "joint"]) == 0
     assert "joint: model joule,effort_bias" in capsys.readouterr().out
+    for name in ("monday", "tuesday"):  # the canonical names, no actuator column: read without a map
+        frame = pd.read_csv(tmp_path / f"{name}.csv")
+        frame.set_axis(["time", "effort", "temperature"], axis=1).to_csv(tmp_path / f"{name}.csv", index=False)
+    assert main(["fit", *files]) == 2
+    assert "(the file has no actuator column); to read the files" in capsys.readouterr().err
+    assert main(["fit", *files, "--actuator", "joint", "--quiet"]) == 0
     temp = 25.0 + 0.2 * effort**2 * (1 - np.exp(-t / 300.0))
     pd.DataFrame({"t_s": t / 3600.0, "tau": effort, "temp": temp}).to_csv(tmp_path / "hours.csv", index=False)
     main(["fit", str(tmp_path / "hours.csv"), "--map", "time=t_s,effort=tau,temperature=temp"])

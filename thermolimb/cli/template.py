@@ -137,8 +137,9 @@ class LogCommand:
                 named = [log for log in logs + held if log.actuators == (Path(log.source).stem,)]
                 if len(named) == len(logs + held) and not args.actuator:  # each file's one actuator named after it
                     raise UsageError(f"{missing[0].source}: its actuator is named {missing[0].actuators[0]!r} after "
-                                     f"the file, as {logs[0].source}'s is {name!r} (the map names no actuator); to "
-                                     f"read the files as runs of one actuator, name it: --actuator NAME")
+                                     f"the file, as {logs[0].source}'s is {name!r} ("
+                                     f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
+                                     f"); to read the files as runs of one actuator, name it: --actuator NAME")
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
             try:
