@@ -493,8 +493,10 @@ def write_round_four(d: Path, good: pd.DataFrame) -> None:
     effort = 3.0 + 2.0 * (np.floor(t / 600) % 2)
     pd.DataFrame({"time": t, "actuator": "slow", "effort": effort,
                   "temperature": np.round(30 + t / 600.0)}).to_csv(d / "slow_whole_degrees.csv", index=False)
-    # a second log in which a joint nobody asks about reads garbage
-    good.assign(temperature=good["temperature"].where(good.actuator == "knee", "err")).to_csv(
+    # a second run, in which a joint nobody asks about reads garbage (the knee's readings its own: the same readings
+    # as good.csv's are refused as a run held out beside itself)
+    other = good.assign(temperature=good["temperature"] + 0.3)
+    other.assign(temperature=other["temperature"].where(other.actuator == "knee", "err")).to_csv(
         d / "garbage_neighbour.csv", index=False)
 
 
@@ -1239,6 +1241,7 @@ API_SNIPPET = textwrap.dedent("""
             value = float(case.split()[-1])
             return ThermalModel(("joule",), {"RC_s": 40.0, "betaR_K_per_effort2": value, "T_offset_C": 25.0})
         if case == "pickle a fitted FreeRunLeastSquares, FitReport and ThermalModel":
+            from thermolimb.model import DEFAULT_MODEL
             from thermolimb.workbench.validation import Scheme, validate_model
             report = validate_model([series], DEFAULT_MODEL, Scheme())
             for obj in (report, report.estimator, report.model):
