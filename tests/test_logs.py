@@ -44,6 +44,19 @@ def test_a_canonical_file_of_one_actuator_needs_no_actuator_column(tmp_path):
         read_log(write(tmp_path, canonical().drop(columns=["actuator", "effort"]), "other.csv"))
 
 
+def test_inspect_says_when_a_file_reads_without_a_map(tmp_path, capsys):
+    """Canonical names (bare, or with the unit in the header): inspect says no --map is needed; a file whose
+    columns need the map (``tau`` for the effort) is not said to."""
+    from thermolimb.cli.main import main
+
+    frame = canonical().drop(columns="actuator").rename(columns={"temperature": "temperature [degC]"})
+    said = "read the file as it is, without --map"
+    assert main(["inspect", str(write(tmp_path, frame, "plain.csv"))]) == 0
+    assert said in capsys.readouterr().out
+    assert main(["inspect", str(write(tmp_path, frame.rename(columns={"effort": "tau"}), "tau.csv"))]) == 0
+    assert said not in capsys.readouterr().out
+
+
 def test_nan(tmp_path):
     frame = canonical()
     frame.loc[7, "temperature"] = np.nan

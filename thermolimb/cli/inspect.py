@@ -11,7 +11,7 @@ from ..logs.bags import inspect_bag, is_bag, suggest_mapping
 from ..logs.mapping import TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
-from ..logs.units import header_unit, split_unit
+from ..logs.units import base_name, header_unit, split_unit
 from ..logs.validate import apart, held_beside_temperature
 from ..util.errors import LogError, ThermolimbError
 from ..util.lazy import pandas as pd
@@ -79,6 +79,9 @@ def run(args) -> int:
         reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
         reasons.append(f"the channels' time columns agree on every row (to {1e3 * spread:.2g} ms, under a tenth "
                        f"of a step): the rows are samples of every channel, read on {time}")
+    if mapping and _as_it_is(mapping):
+        reasons.insert(0, "the columns carry the canonical names: fit, compare and diagnose read the file as it is, "
+                          "without --map")
     flags = []
     if mapping and rows <= READ_ROWS:
         flags, read_notes = _read_with(path, mapping)
@@ -99,6 +102,16 @@ def run(args) -> int:
     for reason in reasons:
         print(f"note: {reason}")
     return 0
+
+
+def _as_it_is(mapping: dict) -> bool:
+    """Whether the suggested map names each channel by its canonical column (bare, or with its unit in the header:
+    ``temperature [K]``), as a log is read without a map."""
+    def canonical(name, value):
+        column, unit = split_unit(value)
+        return unit is None and (column == name or (header_unit(column) is not None and base_name(column) == name))
+
+    return {"time", "effort", "temperature"} <= set(mapping) and all(canonical(k, v) for k, v in mapping.items())
 
 
 def _read_with(path: Path, mapping: dict) -> tuple[list[str], list[str]]:
