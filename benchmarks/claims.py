@@ -84,6 +84,13 @@ CLAIMS = (
           (("BENCHMARK", "travel.py", "--blocks", "1", "--steps", "20"),),
           r"UR3 J1 .*?rise\s+([\d.]+) K.*?dropped effort_bias: ([\d.]+) -> ([\d.]+) K RMSE on the log, refitted ([\d.]+) K",
           (33.00, 0.040, 16.705, 0.041)),
+    Claim("pmsm-sensors-transfer", "docs/workbench.md",
+          "| stator tooth | profile 24 | 75.244 K | 10.661 K | heat from current, `+ second_node` |",
+          (("BENCHMARK", "transfer.py", "--sources", "pmsm-sensors"),),
+          r"fit on pmsm_stator_tooth_profile24\s+default ([\d.]+) K, walk ([\d.]+) K.*?"
+          r"fit on pmsm_pm_profile46\s+default ([\d.]+) K, walk ([\d.]+) K.*?better in (\d+) of (\d+) cases, more "
+          r"than 5 % worse in (\d+)",
+          (75.244, 10.661, 74.230, 56.249, 6.0, 6.0, 0.0)),
     Claim("bag-diagnose", "docs/logs.md",
           "takes nothing: dropping the effort bias helps on the held-out part (0.598 → 0.510 K",
           (("diagnose", str(BAG), "--actuator", "waist", "--quiet"),),
