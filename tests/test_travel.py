@@ -255,20 +255,27 @@ def test_the_audit_figure_names_the_hottest_joints_and_says_what_the_grey_lines_
     assert captured["labels"] == ["j2", "j3", "j4", "j5", "j6", "j7", "2 other joints, lower peaks", "limit 80 degC"]
 
 
+def _ur3_saved(joint: str):
+    """The UR3's first run of ``joint`` and Jorgensen et al.'s model fitted on its first 70 %, its effort the motor
+    current (A), as benchmarks/travel.py exports it."""
+    from dataclasses import replace
+
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.workbench.saving import saved_from_report
+    from thermolimb.workbench.validation import Scheme, validate_model
+
+    runs = REAL_LOGS["ur3"].read()[0].runs(joint)[:1]
+    saved = saved_from_report(validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)), [])
+    return runs, replace(saved, channel_units={**saved.channel_units, "effort": "A"})
+
+
 def test_a_refit_on_the_log_carries_what_dropping_a_term_loses():
     """The UR3's J1 (real, its first run; heat from the motor current with a bias the data pins down): the saved
     model without its bias misses its own log by 16.7 K RMSE; the one node MuJoCo holds, fitted again on that log,
     by 0.04 K (docs/travel.md)."""
-    from dataclasses import replace
-
-    from thermolimb.data import REAL_LOGS
     from thermolimb.mujoco_export import cost_of_dropping, refitted
-    from thermolimb.workbench.saving import saved_from_report
-    from thermolimb.workbench.validation import Scheme, validate_model
 
-    runs = REAL_LOGS["ur3"].read()[0].runs("J1")[:1]
-    saved = saved_from_report(validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)), [])
-    saved = replace(saved, channel_units={**saved.channel_units, "effort": "A"})
+    runs, saved = _ur3_saved("J1")
     export = to_dcmotor(saved, Motor(0.1, 1.0, 10.0))
     again = refitted(saved, export, runs)
     assert again.dropped == export.dropped == ("effort_bias",) and again.exported.terms == ("joule",)
@@ -292,22 +299,14 @@ def test_export_refit_needs_a_log_and_exports_the_refitted_node(calibration, cap
 def test_an_export_whose_heat_gain_is_nil_says_the_joint_will_not_heat():
     """The UR3's J5 (real): its saved model puts its heat in the bias, Joule heating at its bound (1.3e-16 against a
     standard error of 6.1 K/A^2); one node without the bias would not heat in MuJoCo, refitted or not, and says so."""
-    from dataclasses import replace
-
-    from thermolimb.data import REAL_LOGS
     from thermolimb.mujoco_export import refitted
-    from thermolimb.workbench.saving import saved_from_report
-    from thermolimb.workbench.validation import Scheme, validate_model
 
-    runs = REAL_LOGS["ur3"].read()[0].runs("J5")[:1]
-    saved = saved_from_report(validate_model(runs, "joule,effort_bias", Scheme.at_split(0.7)), [])
-    saved = replace(saved, channel_units={**saved.channel_units, "effort": "A"})
+    runs, saved = _ur3_saved("J5")
     export = to_dcmotor(saved, Motor(0.1, 1.0, 10.0))
     for e in (export, refitted(saved, export, runs)):
         assert any(n.startswith("its heat gain is nil (betaR_K_per_effort2 = ") for n in e.notes), e.notes
-    j1 = REAL_LOGS["ur3"].read()[0].runs("J1")[:1]
-    saved = saved_from_report(validate_model(j1, "joule,effort_bias", Scheme.at_split(0.7)), [])
-    assert not any("nil" in n for n in to_dcmotor(replace(saved, channel_units={"effort": "A"}), Motor(0.1, 1.0)).notes)
+    _, saved = _ur3_saved("J1")
+    assert not any("nil" in n for n in to_dcmotor(saved, Motor(0.1, 1.0)).notes)
 
 
 def test_a_refit_the_log_cannot_make_is_said_beside_the_export(calibration, tmp_path, capsys):

@@ -99,12 +99,13 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     """Map one saved model onto a dcmotor's thermal state (module docstring); what does not map is dropped, said."""
     model, p = saved.model, saved.model.params
     if "joule" in model.terms:
-        source, gain, unit = "joule", p["betaR_K_per_effort2"], saved.channel_units.get("effort", "N m")
+        source, name, unit = "joule", "betaR_K_per_effort2", saved.channel_units.get("effort", "N m")
     elif "current_heating" in model.terms:
-        source, gain, unit = "current_heating", p["currentR_K_per_A2"], "A"
+        source, name, unit = "current_heating", "currentR_K_per_A2", "A"
     else:
         raise UsageError(f"{saved.actuator}: the model ({','.join(model.terms)}) has no Joule heating (from effort or "
                          f"current); MuJoCo's dcmotor heats only by its current")
+    gain = p[name]
     if unit in TORQUE_UNITS:
         r_th = gain * (motor.gear * motor.motor_const) ** 2 / motor.resistance_ohm
     elif unit in CURRENT_UNITS:
@@ -126,7 +127,6 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
                      "current-controlled drive) keeps the torque and heats more")
     if unit in CURRENT_UNITS:
         notes.append("the model's heat is from the motor current: in MuJoCo that is the torque over the motor constant")
-    name = "betaR_K_per_effort2" if source == "joule" else "currentR_K_per_A2"
     se = float(saved.stderr.get(name, 0.0))
     if gain < NIL * se:  # the UR3's J5: its heat is its bias's, 1.3e-16 +- 6.1 K/A^2 from the current squared
         notes.append(f"its heat gain is nil ({name} = {gain:.2g} ± {se:.2g} {saved.units.get(name, '')}, at its "

@@ -72,8 +72,9 @@ def run(args) -> int:
         if series:
             record["cost"] = cost_of_dropping(saved, export, series)
             if refit is not None:
+                cost = record["cost"] if export is refit else cost_of_dropping(saved, refit, series)
                 record["refit"] = {"exported": export is refit, "params": dict(refit.exported.params),
-                                   "rmse_K": cost_of_dropping(saved, refit, series)["exported_rmse_K"]}
+                                   "rmse_K": cost["exported_rmse_K"]}
             elif refit_error:
                 record["refit"] = {"exported": False, "error": refit_error}
             record["check"] = _check(run_in_mujoco, export, series[0])

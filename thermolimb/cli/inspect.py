@@ -8,7 +8,7 @@ import numpy as np
 
 from ..logs import read_log
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
+from ..logs.mapping import REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
 from ..logs.units import base_name, header_unit, split_unit
@@ -111,7 +111,7 @@ def _as_it_is(mapping: dict) -> bool:
         column, unit = split_unit(value)
         return unit is None and (column == name or (header_unit(column) is not None and base_name(column) == name))
 
-    return {"time", "effort", "temperature"} <= set(mapping) and all(canonical(k, v) for k, v in mapping.items())
+    return set(REQUIRED) - {"actuator"} <= set(mapping) and all(canonical(k, v) for k, v in mapping.items())
 
 
 def _read_with(path: Path, mapping: dict) -> tuple[list[str], list[str]]:

@@ -96,7 +96,7 @@ def from_frame(
         notes += frame.attrs.get("notes", [])
     else:
         frame = canonical_with_units(frame, source, given, channel, notes, stated)
-        if "actuator" not in frame.columns and {"time", "effort", "temperature"} <= set(frame.columns):
+        if "actuator" not in frame.columns and set(REQUIRED) - {"actuator"} <= set(frame.columns):
             frame = frame.assign(actuator=actuator_name)  # one actuator's file, named as a wide file's is
     if later:
         stated.update(reading.stated)
