@@ -233,6 +233,22 @@ def test_a_rotated_file_is_said_and_followed_from_its_start(tmp_path, written):
     assert follower.rows == 4 * PROBE_ROWS
 
 
+def test_a_file_written_again_from_its_start_starts_a_new_run(tmp_path, written):
+    """A log truncated in place and written again from t = 0 (same inode, shorter): said, and each actuator's first
+    piece is a new run -- the monitor joined it to the old run's readings and died on time going back."""
+    header, rows = written
+    path = tmp_path / "again.csv"
+    path.write_text("\n".join([header] + rows[: 4 * PROBE_ROWS]) + "\n")
+    follower = CsvFollower(path)
+    follower.poll()
+    with open(path, "w") as f:  # truncated, the same file
+        f.write("\n".join([header] + rows[: 2 * PROBE_ROWS]) + "\n")
+    runs = follower.poll(final=True)
+    said = "\n".join(follower.notes)
+    assert "replaced under the same name" in said and "time starts again at t = 0 s" in said, said
+    assert runs and all(pieces[0].new_run and pieces[0].arrays["time"][0] == 0.0 for pieces in runs.values())
+
+
 def _write(path, lines):
     path.write_text("\n".join(lines) + "\n")
     return path

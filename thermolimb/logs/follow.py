@@ -102,7 +102,8 @@ class CsvFollower:
         except FileNotFoundError:
             return {}
         if self._inode is not None and (stat.st_ino != self._inode or stat.st_size < self.offset):
-            self.notes.append(f"{self.path}: the file was replaced under the same name (rotated) after line "
+            self.notes.append(f"{self.path}: the file was replaced under the same name (rotated, or cut short and "
+                              f"written again) after line "
                               f"{self.line}; following the new file from its start")
             self._restart()
         self._inode = stat.st_ino
@@ -302,9 +303,13 @@ class CsvFollower:
             for a, b in pauses:
                 self.notes.append(f"{self.path}: {name} paused for {b - a:.0f} s (from t = {a:g} s): a new run, its "
                                   f"estimate started again from the reading after the pause")
+            back = last is not None and t[0] <= last.time_s  # a file written again from its start (truncated)
+            if back:
+                self.notes.append(f"{self.path}: {name}'s time starts again at t = {t[0]:g} s after {last.time_s:g} "
+                                  f"s: a new run, its estimate started again from its first reading")
             runs, lo = [], 0
             for k in cuts + [t.size]:
-                first_new = last is None or (lo == 0 and t[0] - last.time_s > limit)
+                first_new = last is None or (lo == 0 and (t[0] - last.time_s > limit or back))
                 runs.append(Run({key: v[lo:k] for key, v in arrays.items()}, bool(lo > 0 or first_new)))
                 lo = k
             self.last[name] = _Last(float(t[-1]), float(arrays["temperature"][-1]), step)
