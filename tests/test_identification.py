@@ -173,6 +173,25 @@ def test_least_squares_standard_errors_match_the_spread_of_estimates_over_noise_
     assert np.all((ratio > 0.5) & (ratio < 5.0)), ratio.round(2).tolist()
 
 
+@pytest.mark.parametrize("cutoff_hz, dt_s, shape, axis", [(0.015, 1.0, (3600,), 0), (0.2, 1.0, (500, 3), 0),
+                                                      (1.0, 0.1, (4, 2000), 1), (0.015, 1.0, (10,), 0)])
+def test_the_low_pass_filter_is_scipy_signals_zero_phase_butterworth(cutoff_hz, dt_s, shape, axis):
+    """The regression's filter, a second-order section solved by LAPACK, computed the way scipy.signal does it
+    (``sosfiltfilt`` of ``butter(2, ...)``): the same coefficients to rounding, the same output to 1e-12 of its
+    size (the difference equation's rounding over a few thousand steps), along either axis and on a short run."""
+    from scipy.signal import butter, sosfiltfilt
+
+    from thermolimb.identification.regression import butterworth2, lowpass
+
+    wn = cutoff_hz / (0.5 / dt_s)
+    b, a = butterworth2(wn)
+    np.testing.assert_allclose(np.r_[b, 1.0, a], butter(2, wn, output="sos")[0], rtol=0, atol=1e-15)
+    x = 20.0 + np.cumsum(np.random.default_rng(3).normal(size=shape), axis=axis)
+    expected = sosfiltfilt(butter(2, wn, output="sos"), x, axis=axis)
+    np.testing.assert_allclose(lowpass(x, cutoff_hz, dt_s, axis=axis), expected, rtol=0,
+                               atol=1e-12 * np.abs(expected).max())
+
+
 def test_newey_west_weighted_sum_equals_the_sum_over_lags():
     """``hac_covariance`` forms the Bartlett-weighted sum of the score's autocovariances by one correlation per
     score; the sum over lags written out must give the same matrix (a wrong weight, lag or transpose would not)."""

@@ -118,6 +118,23 @@ def test_the_command_line_starts_without_the_heavy_libraries():
                                  "scipy.stats", "scipy.optimize", "rosbags", "plotly", "threadpoolctl", "ray")) == []
 
 
+def test_a_diagnosis_loads_neither_scipy_signal_nor_scipy_stats(tmp_path):
+    """Half a second of every command line went to importing them for a filter, a convolution and a distribution
+    the suite now computes with what the fit loads anyway (LAPACK, scipy.fft, scipy.special): a whole ``diagnose
+    --auto`` on a plant log, its low-pass start and score tests included, loads neither, nor the other commands."""
+    log = tmp_path / "run.csv"
+
+    def command(*words: str) -> str:  # the command line in this interpreter, what it prints put aside
+        return (f"import os; from thermolimb.cli.main import main; shown, sys.stdout = sys.stdout, open(os.devnull, "
+                f"'w'); main({list(words)!r}); sys.stdout = shown")
+
+    assert loaded_by(command("simulate", "--profile", "random", "--duration", "900", "--dt", "1", "--network",
+                             "first_order", "--quiet", "--out", str(log)), ("scipy.signal",)) == []
+    assert loaded_by(command("diagnose", str(log), "--actuator", "knee", "--auto", "--quiet", "--stability", "0"),
+                     ("scipy.signal", "scipy.stats", "scipy.interpolate", "thermolimb.plant.plant",
+                      "thermolimb.cli.audit", "scipy.optimize")) == ["scipy.optimize"]
+
+
 # what a checkout holds at its top level: the package folders, the docs and tests, and the build and CI files
 TOP_LEVEL = {".ci", ".gitignore", "Makefile", "README.md", "pyproject.toml", "setup.cfg", "benchmarks", "demos",
              "docs", "hexapod_pb", "humanoid_pb", "tests", "thermolimb", "urdf"}

@@ -83,7 +83,7 @@ def test_model_spec_errors():
 @pytest.mark.parametrize("low, high", [(0.999, 1.0), (0.0, 0.2), (0.9993, 0.9993), (0.05, 0.05), (1.0, 1.0)])
 def test_every_scan_path_equals_the_loop(low, high):
     """Slow decay takes the chunked cumulative sums, fast decay the associative scan, one constant factor the
-    compiled IIR filter (slow, fast, and none)."""
+    chunked sums with its powers made once (slow, fast, and none)."""
     rng = np.random.default_rng(5)
     a = rng.uniform(low, high, 20000)
     b = rng.normal(size=20000)

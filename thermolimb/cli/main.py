@@ -6,6 +6,7 @@ import argparse
 import contextlib
 import difflib
 import errno
+import importlib
 import os
 import signal
 import sys
@@ -14,9 +15,12 @@ import threading
 from .. import __version__
 from ..util.errors import ThermolimbError, bounded
 from ..util.interrupts import Terminated, ignore_further, install, restore
-from . import audit, compare, demo, diagnose, export, fit, inspect, monitor, predict, simulate, strategies
 
-COMMANDS = (inspect, simulate, fit, compare, diagnose, predict, monitor, export, audit, strategies, demo)
+# the commands, each a module of this package, in the order --help lists them; a command line imports only the one
+# it runs (the others' imports, the plant's and the audit's among them, cost a diagnosis a third of a second)
+COMMANDS = ("inspect", "simulate", "fit", "compare", "diagnose", "predict", "monitor", "export", "audit",
+            "strategies", "demo")
+MODULE_OF = {"compare-strategies": "strategies", "report": "demo"}  # the commands named otherwise than their module
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.
 USER_ERRORS = (ThermolimbError,)
@@ -29,7 +33,8 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser: every command's, or (``only``, a command's name) that command's alone."""
     parser = Parser(
         prog="thermolimb",
         description="Thermal models of robot actuators: simulate a thermal plant, identify models from "
@@ -37,8 +42,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"thermolimb {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for module in COMMANDS:
-        module.add_parser(sub)
+    only = MODULE_OF.get(only, only)
+    for name in (only,) if only in COMMANDS else COMMANDS:
+        importlib.import_module(f"{__package__}.{name}").add_parser(sub)
     parser.commands = sub.choices  # each command's parser, by name
     return parser
 
@@ -50,7 +56,8 @@ WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota 
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(words[0] if words else None)  # a command first: only its parser (the rest: --help)
     args, unknown = parser.parse_known_args(argv)
     if unknown:
         refuse_unknown(parser, args.command, unknown)

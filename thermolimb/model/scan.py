@@ -16,8 +16,9 @@ chunk boundaries.  A caller that has ``log a`` (``-rate * dt``) passes it: the
 logarithm costs more than the rest of the scan (7355 samples: 53 us of ~240).
 
 When ``a`` is one constant to rounding (a uniformly sampled log and a
-time-invariant rate; see ``CONSTANT_A``), the recursion is a first-order IIR filter: ``scipy.signal.lfilter``
-runs it in one compiled pass.
+time-invariant rate; see ``CONSTANT_A``), the chunks all share one decay, ``a^1 .. a^m``: it is worked out once
+per chunk length and kept (a first-order IIR filter; ``scipy.signal.lfilter`` ran it in one compiled pass, as fast,
+but importing ``scipy.signal`` cost every command line half a second).
 
 When the series decays so fast that it would need many chunks for its length (a
 time constant of a few samples), an associative scan is used instead: the pairs
@@ -68,7 +69,7 @@ class Recursion:
 
     def __init__(self, a: np.ndarray | float, log_a: np.ndarray | None = None):
         a = np.asarray(a, dtype=float)
-        self.a, self.chunks = a, None
+        self.a, self.chunks, self._decay = a, None, None  # _decay: a constant factor's powers, once made
         if a.ndim == 0:
             if not 0.0 <= a <= 1.0:
                 raise ValueError("first_order_scan needs 0 <= a <= 1 (a decaying recursion)")
@@ -108,8 +109,10 @@ class Recursion:
 
     @property
     def nbytes(self) -> int:
-        """What it holds: its factors, and as many again in its chunks' products."""
-        return 8 if isinstance(self.a, float) else self.a.nbytes * (2 if self.chunks else 1)
+        """What it holds: its factors, and as many again in its chunks' products (a constant factor: its powers)."""
+        if isinstance(self.a, float):
+            return 8 + (0 if self._decay is None else self._decay.nbytes)
+        return self.a.nbytes * (2 if self.chunks else 1)
 
     def run(self, b: np.ndarray, x0: float) -> np.ndarray:
         """``x`` for inputs ``b`` (one per factor) from ``x[0] = x0``."""
@@ -117,7 +120,8 @@ class Recursion:
         if b.shape[0] <= SHORT:
             return _loop(np.asarray(self.a), b, x0)
         if isinstance(self.a, float):
-            return _constant_factor(self.a, b, float(x0))
+            out, self._decay = _constant_factor(self.a, b, float(x0), self._decay)
+            return out
         out = np.empty(b.shape[0] + 1)
         out[0] = x0
         if self.chunks is None:
@@ -139,14 +143,30 @@ def _loop(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
     return np.array(out)
 
 
-def _constant_factor(a: float, b: np.ndarray, x0: float) -> np.ndarray:
-    """The recursion with one factor ``a``: a first-order IIR filter, one compiled pass."""
-    from scipy.signal import lfilter
-
-    inputs = np.empty(b.shape[0] + 1)  # x0 as the first input of a filter at rest gives x[0] = x0: no copy after
-    inputs[0] = x0
-    inputs[1:] = b
-    return lfilter([1.0], [1.0, -a], inputs)
+def _constant_factor(a: float, b: np.ndarray, x0: float, decay: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The recursion with one factor ``a``: the chunked sums of the module docstring, every chunk with the same
+    decay ``a^1 .. a^m`` (``m`` steps make ``MAX_DECAY_PER_CHUNK`` e-folds), which it returns for the next call
+    at the same factor (``decay``: at least as long as the chunks this call needs, or ``None``); the associative
+    scan where the chunks would be many (a decay of a few samples)."""
+    n = b.shape[0]
+    out = np.empty(n + 1)
+    out[0] = state = x0
+    log_a = max(float(np.log(a)), _MIN_LOG_A) if a > 0.0 else _MIN_LOG_A
+    per_chunk = n if log_a == 0.0 else max(1, min(n, int(MAX_DECAY_PER_CHUNK / -log_a)))
+    if n / per_chunk > n * np.log2(max(n, 2)) / ELEMENTS_PER_CHUNK:
+        out[1:] = _associative_scan(np.full(n, max(a, _MIN_A)), b, x0)
+        return out, decay
+    if decay is None or decay.shape[0] < per_chunk:
+        decay = np.cumprod(np.full(per_chunk, max(a, _MIN_A)))  # as a varying factor's chunks are
+    for start in range(0, n, per_chunk):
+        stop = min(start + per_chunk, n)
+        d = decay[: stop - start]
+        summed = np.cumsum(b[start:stop] / d)
+        summed += state
+        np.multiply(d, summed, out=out[start + 1 : stop + 1])
+        state = out[stop]
+    return out, decay
 
 
 def _associative_scan(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:

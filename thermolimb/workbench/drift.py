@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..identification.metrics import chi2_sf
+
 DRIFT_PARAMS = ("RC_s", "betaR_K_per_effort2", "T_offset_C")
 ALPHA = 1e-3
 MIN_CHANGE = 0.05
@@ -25,8 +27,6 @@ MIN_CHANGE = 0.05
 def drift(rows: list[dict], params: tuple[str, ...] = DRIFT_PARAMS, alpha: float = ALPHA,
           min_change: float = MIN_CHANGE) -> list[dict]:
     """One record per actuator with two or more fitted runs, in the rows' order."""
-    from scipy.stats import chi2
-
     by_actuator: dict[str, list[dict]] = {}
     for row in rows:
         if not row.get("error") and row.get("params"):
@@ -45,7 +45,7 @@ def drift(rows: list[dict], params: tuple[str, ...] = DRIFT_PARAMS, alpha: float
             w = 1.0 / s**2
             mean = float(np.sum(w * v) / np.sum(w))
             stat = float(np.sum(((v - mean) / s) ** 2))
-            p_value = float(chi2.sf(stat, len(v) - 1))
+            p_value = chi2_sf(stat, len(v) - 1)
             change = float((v.max() - v.min()) / abs(mean)) if mean != 0 else float("inf")
             moved = p_value < alpha and change > min_change
             record["params"][p] = {"values": v.tolist(), "stderrs": s.tolist(), "mean": mean, "chi2": stat,

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...effects.effort_bias import carries_the_heat
-from ...identification.metrics import ar1_variance_factor, information_criteria, scaled_inverse
+from ...identification.metrics import ar1_variance_factor, chi2_isf, chi2_sf, information_criteria, scaled_inverse
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance
@@ -384,19 +384,13 @@ def _score_at(cand, term, base, train, jacobian, residual, fixed, stride, at_nul
     score = n_eff * r2
     # a Gauss-Newton step from the null, clipped into the bounds, starts the refit
     step = {p.name: float(np.clip(p.null + b, p.lower, p.upper)) for p, b in zip(primary, beta)}
-    return score, float(_chi2().sf(score, S.shape[1])), r2, step, share, partner
+    return score, chi2_sf(score, S.shape[1]), r2, step, share, partner
 
 
 def bic(residual: np.ndarray, n_params: int) -> float:
     """BIC on the training residual; it overstates evidence for correlated residuals, which is why a
     recommendation also needs a held-out improvement."""
     return information_criteria(residual, n_params)["bic"]
-
-
-def _chi2():
-    from scipy.stats import chi2  # scipy.stats takes ~0.3 s to import: only when a diagnosis runs
-
-    return chi2
 
 
 def judge(cand: Candidate, report, base, base_bic: float) -> None:
@@ -446,7 +440,7 @@ def term_identified(term, report) -> bool:
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False
     wald = float(theta @ scaled_inverse(cov) @ theta)
-    if wald > _chi2().ppf(1.0 - WALD_LEVEL, len(primary)):
+    if wald > chi2_isf(WALD_LEVEL, len(primary)):
         return True
     # a model that still fits far worse than the sensor's floor has standard errors inflated by what it misses,
     # not by a lack of excitation: then they say nothing of whether the log determines the term
