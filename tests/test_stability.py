@@ -333,10 +333,13 @@ def test_a_replicate_s_fits_compare_fewer_samples_and_validate_at_the_full_rate(
 
 def test_replicates_that_agree_on_adding_but_not_on_the_order_let_the_walk_go_on():
     """benchmarks/forecast.py's seed-1 calibration log (a winding on a heavier housing, speed losses, copper's
-    coefficient and a lagging thermistor hidden): six of ten replicates take speed losses first, the other four the
-    second mass, which helps on the whole log too. Before, the walk stopped at Jorgensen et al.'s model; it now
-    takes the whole log's best, says why, and each later step is taken in 10 of 10 (the mass, the sensor's lag, the
-    friction on the housing), the model the walk without its check ends with."""
+    coefficient and a lagging thermistor hidden): most replicates take speed losses first, the others the second
+    mass, which helps on the whole log too. Before, the walk stopped at Jorgensen et al.'s model; it now takes the
+    whole log's best, says why, and each later step is taken in 10 of 10 (the mass, the sensor's lag, the friction
+    on the housing), the model the walk without its check ends with.  How the replicates split sits on fits that
+    end in one valley or the other: 6 and 4 of 10 with scipy.signal's filters, 14 and 6 of 20 with the suite's own
+    (ten more drawn, as the first ten left it within one replicate of its share), which differ from them by 1e-13;
+    the test holds what the rule rests on, not the split."""
     from thermolimb.plant import X8_9
     from thermolimb.workbench.diagnosis import auto_diagnose
 
@@ -344,9 +347,13 @@ def test_replicates_that_agree_on_adding_but_not_on_the_order_let_the_walk_go_on
     fx = PlantEffects.from_names(["sensor_noise", "quantisation", "speed_losses", "winding_tempco", "sensor_lag"])
     series = simulate_profile("random", 7200.0, 1.0, ["knee"], [spec], fx, seed=1).log.series("knee")
     first, steps = auto_diagnose([series], stability=Stability())
-    assert first.stability["frequencies"] == {"+ speed_losses": 0.6, "+ second_node": 0.4, "none": 0.0}
+    shares = first.stability["frequencies"]
+    assert set(shares) == {"+ speed_losses", "+ second_node", "none"} and shares["none"] == 0.0, shares
+    assert 0.5 <= shares["+ speed_losses"] < 0.8
+    assert shares["+ second_node"] == pytest.approx(1.0 - shares["+ speed_losses"])
     assert first.recommended.effect == "speed_losses" and first.unstable is None
-    assert "the others take + second_node (40%), which helps too" in first.recommended.evidence
+    assert (f"the others take + second_node ({100 * shares['+ second_node']:.0f}%), which helps too"
+            in first.recommended.evidence)
     assert [s.get("change") for s in first.auto][1:] == ["+ speed_losses", "+ second_node", "+ sensor_lag",
                                                         "+ housing_friction"], first.auto
     assert all(s.recommended is None or s.recommended.selection_frequency == 1.0 for s in steps[1:])

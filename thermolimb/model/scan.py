@@ -16,9 +16,10 @@ chunk boundaries.  A caller that has ``log a`` (``-rate * dt``) passes it: the
 logarithm costs more than the rest of the scan (7355 samples: 53 us of ~240).
 
 When ``a`` is one constant to rounding (a uniformly sampled log and a
-time-invariant rate; see ``CONSTANT_A``), the chunks all share one decay, ``a^1 .. a^m``: it is worked out once
-per chunk length and kept (a first-order IIR filter; ``scipy.signal.lfilter`` ran it in one compiled pass, as fast,
-but importing ``scipy.signal`` cost every command line half a second).
+time-invariant rate; see ``CONSTANT_A``), the chunks all share one decay, ``a^1 .. a^m``, worked out once and
+kept, and short chunks run side by side (``_constant_factor``).  This is a first-order IIR filter:
+``scipy.signal.lfilter`` ran it in one compiled pass, up to twice as fast on a long log, but importing
+``scipy.signal`` cost every command line half a second.
 
 When the series decays so fast that it would need many chunks for its length (a
 time constant of a few samples), an associative scan is used instead: the pairs
@@ -152,7 +153,8 @@ def _constant_factor(a: float, b: np.ndarray, x0: float, decay: np.ndarray | Non
     """The recursion with one factor ``a``: the chunked sums of the module docstring, every chunk ``m`` steps long
     (``MAX_DECAY_PER_CHUNK`` e-folds) with the same decay ``a^1 .. a^m``.  Long chunks run one after the other;
     shorter ones (``LOOPED_STEPS``) run side by side, as the columns of one array, and the states they hand on follow
-    the recursion of factor ``a^m`` from chunk to chunk (the associative scan, over as many values as chunks).  Returns the decay for the next call at the same factor (``decay``: one kept from an earlier call)."""
+    the recursion of factor ``a^m`` from chunk to chunk (the associative scan, over as many values as chunks).
+    Returns the decay for the next call at the same factor (``decay``: one kept from an earlier call)."""
     n = b.shape[0]
     log_a = max(float(np.log(a)), _MIN_LOG_A) if a > 0.0 else _MIN_LOG_A
     m = n if log_a == 0.0 else max(1, min(n, int(MAX_DECAY_PER_CHUNK / -log_a)))
