@@ -16,9 +16,11 @@ line's diagnoses, each in its own process, by this code and by DIR's in the same
 README tour's log and on the bundled UR3 joint, and with ``--large`` ``diagnose --actuator knee`` on the 6 M-row
 Parquet of the plant's log that hides speed losses (so that the checks run).  For each: wall time, peak resident
 memory, the ratio, and whether the verdicts (the model recommended, the walk's steps) are the same; and this
-code's time with ``--stability 0`` (what the stability check adds to the walk it checks).
+code's time with ``--stability 0`` (what the stability check adds to the walk it checks).  ``--repeat K`` runs each
+of the three K times, alternated, and gives the medians (with the fastest and slowest beside them): this machine's
+speed drifts by a quarter from one minute to the next, and one run of each can put a ratio anywhere in that band.
 
-    python benchmarks/diagnose.py [--json] [--large] [--against DIR]
+    python benchmarks/diagnose.py [--json] [--large] [--against DIR [--repeat K]]
 """
 
 from __future__ import annotations
@@ -31,6 +33,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 from thermolimb.identification import FreeRunLeastSquares, IdentifiabilityError
 from thermolimb.identification.thinning import thinned
@@ -48,9 +52,13 @@ def main(argv=None) -> dict:
     parser.add_argument("--large", action="store_true", help="also diagnose one actuator of a 6 M-row Parquet")
     parser.add_argument("--against", metavar="DIR", help="also time the command line's diagnoses against the "
                         "checkout in DIR (an earlier commit's worktree), in the same run")
+    parser.add_argument("--repeat", type=int, default=1, metavar="K", help="with --against: run each case K times, "
+                        "alternated, and give the medians")
     args = parser.parse_args(argv)
+    if args.repeat < 1:
+        parser.error(f"--repeat takes a whole number of at least 1, got {args.repeat}")
     if args.against:
-        record = {"against": against(args.against, args.large)}
+        record = {"against": against(args.against, args.large, args.repeat)}
         if args.json:
             print(json.dumps(record))
         return record
@@ -152,11 +160,12 @@ def _diagnose(argv: list[str], cwd: Path, code: str | None) -> dict:
                    "walk": [step.get("change") for step in result.get("auto") or []]}
     except ValueError:
         verdict = {"error": err.decode().strip().splitlines()[-1:]}
-    return {"seconds": round(seconds, 1), "peak_MB": round(usage.ru_maxrss / 1024.0), **verdict}
+    return {"seconds": round(seconds, 2), "peak_MB": round(usage.ru_maxrss / 1024.0), **verdict}
 
 
-def against(code: str, large: bool) -> list[dict]:
-    """This code's diagnoses and ``code``'s, case by case, in one run (module docstring)."""
+def against(code: str, large: bool, repeat: int = 1) -> list[dict]:
+    """This code's diagnoses and ``code``'s, case by case, in one run, each ``repeat`` times alternated (module
+    docstring)."""
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)
         cli = [sys.executable, "-m", "thermolimb.cli.main", "simulate", "--profile", "random", "--network",
@@ -171,21 +180,38 @@ def against(code: str, large: bool) -> list[dict]:
             cases.append(("6 M-row Parquet hiding speed losses, knee", ["large.parquet", "--actuator", "knee"]))
         rows = []
         for name, argv in cases:
-            # each child's peak is its own: wait4 on a fresh process, this one holding no large frame
-            now, before = _diagnose(argv, d, None), _diagnose(argv, d, code)
-            unchecked = _diagnose([*argv, "--stability", "0"], d, None)  # what the stability check adds to it
+            runs = {"now": [], "before": [], "unchecked": []}
+            for _ in range(repeat):
+                # each child's peak is its own: wait4 on a fresh process, this one holding no large frame
+                runs["now"].append(_diagnose(argv, d, None))
+                runs["before"].append(_diagnose(argv, d, code))
+                runs["unchecked"].append(_diagnose([*argv, "--stability", "0"], d, None))  # what the check adds
+            now, before, unchecked = (_median(runs[k]) for k in ("now", "before", "unchecked"))
             rows.append({"case": name, "now": now, "before": before, "ratio": round(before["seconds"] /
                                                                                   now["seconds"], 2),
-                         "same_verdict": {k: now.get(k) for k in ("model", "walk")} ==
-                         {k: before.get(k) for k in ("model", "walk")},
+                         "same_verdict": len({_verdict(r) for r in runs["now"] + runs["before"]}) == 1,
                          "now_without_stability": unchecked,
-                         "stability_adds": round(now["seconds"] / unchecked["seconds"] - 1.0, 2)})
-            print(f"{name:45s} now {now['seconds']:6.1f} s {now['peak_MB']:5d} MB   {code}: {before['seconds']:6.1f} s "
-                  f"{before['peak_MB']:5d} MB   {rows[-1]['ratio']:.2f}x faster now   same verdict: "
-                  f"{rows[-1]['same_verdict']} ({' '.join(filter(None, now.get('walk', []))) or now.get('model')});"
-                  f"   now with --stability 0: {unchecked['seconds']:.1f} s (the check adds "
+                         "stability_adds": round(now["seconds"] / unchecked["seconds"] - 1.0, 2), "repeat": repeat})
+            spread = (lambda r: f" ({r['fastest_s']:.1f}-{r['slowest_s']:.1f})") if repeat > 1 else (lambda r: "")
+            print(f"{name:45s} now {now['seconds']:6.1f} s{spread(now)} {now['peak_MB']:5d} MB   {code}: "
+                  f"{before['seconds']:6.1f} s{spread(before)} {before['peak_MB']:5d} MB   {rows[-1]['ratio']:.2f}x "
+                  f"faster now   same verdict: {rows[-1]['same_verdict']} "
+                  f"({' '.join(filter(None, now.get('walk', []))) or now.get('model')});   now with --stability 0: "
+                  f"{unchecked['seconds']:.1f} s{spread(unchecked)} (the check adds "
                   f"{100 * rows[-1]['stability_adds']:.0f} %)")
     return rows
+
+
+def _verdict(run: dict) -> str:
+    return json.dumps({k: run.get(k) for k in ("model", "walk")})
+
+
+def _median(runs: list[dict]) -> dict:
+    """One case's runs by one code as one: the median time, with the fastest and the slowest, the largest peak,
+    and the first run's verdict (every run's is compared in :func:`against`)."""
+    seconds = sorted(r["seconds"] for r in runs)
+    return {**runs[0], "seconds": round(float(np.median(seconds)), 2), "fastest_s": seconds[0],
+            "slowest_s": seconds[-1], "peak_MB": max(r["peak_MB"] for r in runs)}
 
 
 if __name__ == "__main__":
