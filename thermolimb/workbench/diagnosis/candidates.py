@@ -485,7 +485,8 @@ def held_out_support(base_segments, segments) -> tuple[tuple[int, int, int], flo
     ec = np.concatenate([c.measured_C - c.simulated_C for c in segments])
     k = max(MIN_INFLUENTIAL, int(np.ceil(INFLUENTIAL_SHARE * eb.size)))
     gain = eb**2 - ec**2
-    rest = np.argsort(gain)[: max(eb.size - k, 1)]
+    kept = max(eb.size - k, 1)  # the samples left: those of least gain, picked without sorting them all
+    rest = np.argpartition(gain, kept - 1)[:kept] if kept < eb.size else np.arange(eb.size)
     robust = 1.0 - float(np.sqrt(np.sum(ec[rest] ** 2) / max(np.sum(eb[rest] ** 2), 1e-300)))
     fragile = None
     if robust < KEPT_GAIN * MIN_IMPROVEMENT:
