@@ -1,6 +1,7 @@
 """Signals from a terminal, a supervisor or the kernel end every worker and the command within seconds, and outputs
 onto special files keep what they are."""
 
+import json
 import os
 import random
 import shutil
@@ -228,3 +229,19 @@ def test_a_runners_shared_value_reaches_every_job_on_each_backend_and_is_gone_af
     assert shared() is None
     with pytest.raises(UsageError, match="local backends"):
         Runner("ray", shared=values)
+
+
+def test_one_blas_thread_holds_scipys_openblas_too_when_limited_before_scipy_is_loaded():
+    """A command that limits BLAS before its first fit (the command line imports lazily) holds SciPy's LAPACK,
+    an OpenBLAS of its own beside NumPy's, at one thread too: a scan that missed it left two workers' SVDs spinning
+    on two threads each (30 ms instead of 0.4 ms).  In a fresh interpreter, where nothing has loaded SciPy."""
+    code = ("import json, sys; from thermolimb.util.parallel import one_blas_thread\n"
+            "assert 'scipy.linalg' not in sys.modules\n"
+            "with one_blas_thread():\n"
+            "    from threadpoolctl import threadpool_info\n"
+            "    blas = [(i['filepath'], i['num_threads']) for i in threadpool_info() if i['user_api'] == 'blas']\n"
+            "print(json.dumps(blas))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    blas = json.loads(out)
+    assert any("scipy_openblas-" in path or "scipy/" in path for path, _ in blas), blas  # SciPy's own is seen
+    assert blas and all(threads == 1 for _, threads in blas), blas

@@ -215,9 +215,16 @@ _CONTROLLER = None
 
 
 def one_blas_thread():
-    """A context limiting BLAS to :data:`BLAS_THREADS` (the loaded libraries are scanned once per process)."""
+    """A context limiting BLAS to :data:`BLAS_THREADS` (the loaded libraries are scanned once per process).
+
+    SciPy's LAPACK is an OpenBLAS of its own, beside NumPy's, loaded with :mod:`scipy.linalg`: it is loaded here
+    before the scan, or a scan made before a command's first fit (the command line imports its modules lazily)
+    misses it, and its solvers keep two threads each.  Two workers' SVDs then took 30 ms where they take 0.4 ms
+    (UR3 J5's refits: 5.9 s pooled against 3.5 s here, before this import).
+    """
     global _CONTROLLER
     if _CONTROLLER is None:
+        import scipy.linalg  # noqa: F401  (its OpenBLAS, for the scan)
         from threadpoolctl import ThreadpoolController
 
         _CONTROLLER = ThreadpoolController()
