@@ -39,6 +39,16 @@ def test_time_steps_too_long_for_seconds_are_said(frame):
     assert any("if the time column counts milliseconds" in note for note in log.notes)
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.one_of(st.integers(-5, 5).map(float), st.just(float("nan"))), max_size=30), st.booleans())
+def test_the_distinct_steps_are_numpys_unique_then_diff_in_order_or_not(values, in_order):
+    """The long-step check's steps skip the sort where the stamps are in order already; the same steps always."""
+    from thermolimb.logs.plausible import _distinct_steps
+
+    t = np.sort(values) if in_order else np.asarray(values, dtype=float)
+    assert np.array_equal(_distinct_steps(t), np.diff(np.unique(t)), equal_nan=True)
+
+
 def test_temperatures_in_kelvin_are_converted_and_said(frame):
     kelvin = frame.assign(temperature=frame["temperature"] + 273.15, ambient=295.15)
     log = from_frame(kelvin)

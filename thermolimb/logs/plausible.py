@@ -135,7 +135,7 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
                 break
         else:
             if hi - lo >= 2 * 86400.0:  # only a log of days is looked at step by step
-                step = float(np.median(np.diff(np.unique(t))))
+                step = float(np.median(_distinct_steps(t)))
                 if step >= 100.0:
                     notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
                                  f"the time column counts milliseconds, state it: a header 'time [ms]' or --map "
@@ -160,6 +160,13 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
         else:
             decided["stated"].setdefault(name, "degC")
     return decided
+
+
+def _distinct_steps(t: np.ndarray) -> np.ndarray:
+    """The steps between the distinct time stamps, ``np.diff(np.unique(t))``: without the sort where they are in
+    order already (a 2 M-sample run's sort, 0.14 s)."""
+    steps = np.diff(t)
+    return steps[steps > 0] if np.all(steps >= 0) else np.diff(np.unique(t))
 
 
 def refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:
