@@ -132,7 +132,7 @@ def test_a_winding_heated_by_fast_pulses_is_not_a_dropout(tmp_path):
     assert len(notes) == 1 and "and 1 more stretches (2 samples)" in notes[0], notes
 
 
-def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_path):
+def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_path, capsys):
     """In the log validated on, another joint reads garbage (kelvin every other row, then stuck): --actuator
     knee reads and checks the knee only, in both logs."""
     from thermolimb.cli.main import main
@@ -145,4 +145,12 @@ def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_p
                                                                                     index=False)
     assert main(["fit", str(tmp_path / "fit.csv"), "--actuator", "knee", "--validate-on", str(tmp_path / "other.csv"),
                  "--quiet"]) == 0
-    assert main(["fit", str(tmp_path / "other.csv"), "--quiet"]) == 2  # read whole, the wrist is refused
+    capsys.readouterr()
+    # read whole, the wrist is set aside with one note naming it and why, and the knee is fitted
+    assert main(["fit", str(tmp_path / "other.csv"), "--quiet"]) == 0
+    out, err = capsys.readouterr()
+    assert "actuator 'wrist'" in err and "that actuator is set aside, the others are read" in err
+    assert out.startswith("knee: model")
+    # asked for by name, the wrist is refused with the reason it was set aside
+    assert main(["fit", str(tmp_path / "other.csv"), "--actuator", "wrist", "--quiet"]) == 2
+    assert "temperature of actuator 'wrist' jumps by +273.0 K" in capsys.readouterr().err

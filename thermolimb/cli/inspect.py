@@ -8,7 +8,15 @@ import numpy as np
 
 from ..logs import read_log
 from ..logs.bags import inspect_bag, is_bag, suggest_mapping
-from ..logs.mapping import REQUIRED, TIME_OF, UNITS, expand_joints, is_pattern, on_time, suggest_table_mapping
+from ..logs.mapping import (
+    REQUIRED,
+    TIME_OF,
+    UNITS,
+    expand_joints,
+    is_pattern,
+    on_time,
+    suggest_table_mapping,
+)
 from ..logs.plausible import fahrenheit_named
 from ..logs.table import table_chunks
 from ..logs.units import base_name, header_unit, split_unit
@@ -17,6 +25,7 @@ from ..util.errors import LogError, ThermolimbError
 from ..util.lazy import pandas as pd
 from .options import add_quiet
 from .output import print_json
+from .types import names_list
 
 READ_ROWS = 2_000_000  # a table of at most these rows is read with the map suggested, as fit would read it
 
@@ -29,6 +38,8 @@ def add_parser(sub):
         "Parquet file: its columns, how many values each holds, and its first values.",
     )
     p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a ROS 2 bag folder), CSV or Parquet")
+    p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
+                   help="the column names of a CSV file written without a header row, in the file's order")
     p.add_argument("--json", action="store_true", help="print the listing as JSON")
     add_quiet(p)
     p.set_defaults(func=run)
@@ -56,22 +67,31 @@ def run(args) -> int:
         else:
             print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with --map channel=/topic.field")
         return 0
-    rows, columns = _listing(path)
+    rows, columns, first_line = _listing(path, args.columns)
+    flat = {c["column"] for c in columns if c.get("flat")}
     mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
-                                             {c["column"]: c["values"] for c in columns})
+                                             {c["column"]: c["values"] for c in columns}, flat)
+    if first_line is not None and not args.columns:
+        reasons.insert(0, f"the file has no header row (its first line, {first_line.strip()[:60]!r}, holds numbers): "
+                          f"its columns are listed as column1 to column{len(columns)}; name them with --columns "
+                          f"NAME,NAME,... (in the file's order), here and in fit, diagnose and the others")
+    left = _left_for(mapping, columns, flat)
+    if left:
+        reasons.append(f"effort: no column's name says torque, effort, current or power; if {' or '.join(left[:3])} "
+                       f"drives the heat (a torque, a current, a command or duty), add effort={left[0]} to the map")
     for name, column in list((mapping or {}).items()):
         if UNITS.get(name) == "degC" and fahrenheit_named(column) and header_unit(column) is None:
             mapping[name] = f"{column}:degF"
             reasons.append(f"{name}={column}: its name says degrees Fahrenheit, so the suggestion reads it as such; "
                            f"write {column}:degC if it is Celsius")
-    apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows)
+    apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows, args.columns)
     if apart:
         time = split_unit(mapping["time"])[0]
         mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
         reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
                        f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
                        f"the inputs averaged over each temperature sample's interval")
-    together = _times_agree(path, mapping, rows)
+    together = _times_agree(path, mapping, rows, args.columns)
     if together is not None:
         time, spread = together
         mapping.update({k: on_time(v, None) for k, v in mapping.items() if k not in ("time", "actuator")})
@@ -84,7 +104,14 @@ def run(args) -> int:
                           "without --map")
     flags = []
     if mapping and rows <= READ_ROWS:
-        flags, read_notes = _read_with(path, mapping)
+        trial = {**mapping, "effort": left[0]} if left else mapping  # read as it would be with the words to add
+        flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
+        if "time" in mapping and split_unit(mapping["time"])[1] is None and any(
+                "if the time column counts milliseconds" in note for note in read_notes):
+            mapping["time"] = trial["time"] = f"{mapping['time']}:ms"  # steps of hundreds of s over days: ms
+            reasons.append(f"time={split_unit(mapping['time'])[0]}: read as seconds, its steps of hundreds span days; "
+                           f"the suggestion reads it in ms (change it if the log did run for days)")
+            flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
         reasons += read_notes
     if args.json:
         print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "flags": flags, "notes": reasons})
@@ -94,7 +121,8 @@ def run(args) -> int:
     print(f"{path}: {rows} row(s), {len(columns)} column(s)"
           + (f" ({empty} without any value, not shown)" if empty else ""))
     for c in shown:
-        print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}")
+        print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}"
+              + ("  (never varies)" if c.get("flat") else ""))
     if mapping:
         text = ",".join(f"{k}={v}" for k, v in mapping.items())
         print(f'suggested: --map "{text}"' + "".join(f" {f}" for f in flags)
@@ -114,33 +142,64 @@ def _as_it_is(mapping: dict) -> bool:
     return set(REQUIRED) - {"actuator"} <= set(mapping) and all(canonical(k, v) for k, v in mapping.items())
 
 
-def _read_with(path: Path, mapping: dict) -> tuple[list[str], list[str]]:
+def _left_for(mapping: dict, columns: list[dict], flat: set) -> list[str]:
+    """Where no column was found for the effort: the numeric columns that vary and no channel takes (a command, a
+    duty or a current the suggestion could not tell by its name), whose first is the word to add."""
+    if "effort" in mapping or "temperature" not in mapping:
+        return []
+    taken = {split_unit(v)[0].partition(TIME_OF)[0] for v in mapping.values()}
+    left = [c["column"] for c in columns if c["column"] not in taken and c["column"] not in flat and c["values"] > 0
+            and c.get("numeric")]
+    return left
+
+
+def _read_with(path: Path, mapping: dict, names=None, effort: str | None = None) -> tuple[list[str], list[str]]:
     """The file read with the suggested map, as ``fit`` would read it: the flags it needs (``--drop-incomplete``
     where a channel misses readings: read so once, it says what it left out) and what reading it says (a
     temperature held between its updates, samples left out), or why it cannot be read so."""
+    with_names = f" and {effort} as the effort" if effort else ""
     try:
-        log = read_log(path, mapping=mapping, drop_incomplete=True)
+        log = read_log(path, mapping=mapping, drop_incomplete=True, columns=names)
     except ThermolimbError as exc:  # whatever reading refuses, inspect says and still lists the file
-        return [], [f"read with this map, the file is refused: {exc}"]
-    flags = ["--drop-incomplete"] if any("(--drop-incomplete)" in note for note in log.notes) else []
-    return flags, [f"read with this map: {note.removeprefix(f'{path}: ')}" for note in log.notes]
+        return [], [f"read with this map{with_names}, the file is refused: {exc}"]
+    from ..logs.suspect import disturbed_spans
+
+    notes = list(log.notes)
+    for run in (r for name in log.actuators for r in log.runs(name)):
+        spans = disturbed_spans(run.temperature_C, run.signals.effort)
+        if spans:
+            t = run.time_s
+            notes.append(f"{run.run or run.actuator}: the readings jump up by {spans[0][3]:.1f} K as the effort steps "
+                         f"down at {t[spans[0][1]]:g} s ({len(spans)} driven interval(s) so): a sensor that reads low "
+                         f"while driven; fit and diagnose refuse such readings")
+    flags = ["--drop-incomplete"] if any("(--drop-incomplete)" in note for note in notes) else []
+    flags += [f"--columns {','.join(names)}"] if names else []
+    return flags, [f"read with this map{with_names}: {note.removeprefix(f'{path}: ')}" for note in notes]
 
 
-def _listing(path: Path) -> tuple[int, list[dict]]:
-    """Rows, and each column's count of values and first value, read in pieces: a file of any size in the
-    memory of one piece."""
-    rows, counts, first = 0, {}, {}
-    for chunk in table_chunks(path):
+def _listing(path: Path, names=None) -> tuple[int, list[dict], str | None]:
+    """Rows; each column's count of values, first value, whether it holds numbers and whether they never vary
+    (``flat``); and the first line of a file without a header row (else ``None``).  Read in pieces: a file of
+    any size in the memory of one piece."""
+    rows, counts, first, low, high, first_line = 0, {}, {}, {}, {}, None
+    for chunk in table_chunks(path, names=names):
         rows += len(chunk)
+        first_line = chunk.attrs.get("headerless") if not names else None
         for c in chunk.columns:
             present = chunk[c].dropna()
             counts[str(c)] = counts.get(str(c), 0) + len(present)
             if str(c) not in first and len(present):
                 first[str(c)] = str(present.iloc[0])
-    return rows, [{"column": c, "values": k, "first": first.get(c, "")} for c, k in counts.items()]
+            numbers = pd.to_numeric(present, errors="coerce").dropna()
+            if len(numbers):
+                low[str(c)] = min(low.get(str(c), np.inf), float(numbers.min()))
+                high[str(c)] = max(high.get(str(c), -np.inf), float(numbers.max()))
+    listing = [{"column": c, "values": k, "first": first.get(c, ""), "numeric": c in low,
+                "flat": c in low and low[c] == high[c]} for c, k in counts.items()]
+    return rows, listing, first_line
 
 
-def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[str, int] | None:
+def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int, names=None) -> tuple[str, int] | None:
     """Where the suggested temperature and an input share the time column but fewer than half of the temperature's
     rows hold the input (topics merged into one table), the first such input and how many rows hold both; else
     ``None``.  Read again in pieces, only when a mapped column misses values."""
@@ -157,7 +216,7 @@ def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[
     if all(values.get(c, 0) == rows for c in columns.values()):
         return None
     held = dict.fromkeys(columns, 0)
-    for chunk in table_chunks(path):
+    for chunk in table_chunks(path, names=names):
         channels = pd.DataFrame({k: chunk[c] for k, c in columns.items()})
         for k, n in held_beside_temperature(channels, list(columns)).items():
             held[k] += n
@@ -165,7 +224,7 @@ def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int) -> tuple[
     return (thin, held[thin]) if thin else None
 
 
-def _times_agree(path: Path, mapping: dict, rows: int) -> tuple[str, float] | None:
+def _times_agree(path: Path, mapping: dict, rows: int, names=None) -> tuple[str, float] | None:
     """Where a suggestion reads each channel on a time column of its own and those columns hold a value on every
     row and agree within a tenth of the median step (the WidowX-200's bearing runs: within 5.4 ms of steps of
     90 ms), the temperature's time column, which then reads every row as one sample, and the largest disagreement
@@ -176,7 +235,7 @@ def _times_agree(path: Path, mapping: dict, rows: int) -> tuple[str, float] | No
     if not all(timed.values()) or len(set(timed.values())) < 2:
         return None
     times = list(dict.fromkeys(timed.values()))
-    parts = [chunk[times] for chunk in table_chunks(path)]
+    parts = [chunk[times] for chunk in table_chunks(path, names=names)]
     frame = pd.concat(parts, ignore_index=True).apply(pd.to_numeric, errors="coerce")
     if len(frame) != rows or frame.isna().any().any() or rows < 3:
         return None

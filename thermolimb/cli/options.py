@@ -10,7 +10,16 @@ from ..model.terms import DEFAULT_MODEL, TERMS
 from ..util.errors import UsageError
 from ..util.parallel import BACKENDS
 from ..workbench.validation import PARTS, Scheme
-from .types import assignments, folds, fraction, integer, number, output_dir, output_file
+from .types import (
+    assignments,
+    folds,
+    fraction,
+    integer,
+    names_list,
+    number,
+    output_dir,
+    output_file,
+)
 
 DEFAULT_SPLIT = 0.7
 
@@ -57,6 +66,9 @@ def add_log_input(p, required: bool = True, positional: bool = True):
                    help="CSV separator (default: found from the file)")
     p.add_argument("--decimal", default=None, choices=(".", ","),
                    help="decimal mark in a CSV (default: found from the file; ',' in ';'-separated files that use it)")
+    p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
+                   help="the column names of a CSV file written without a header row, in the file's order (read "
+                        "without them, its columns are column1, column2, ...)")
     p.add_argument("--drop-incomplete", action="store_true",
                    help="leave out samples with a missing value (and say how many) instead of refusing the file")
     p.add_argument("--actuator", default=None, metavar="NAME", action=Once,

@@ -40,7 +40,7 @@ def read_options(args, path) -> dict:
     return {"mapping": mapping, "velocity_unit": args.velocity_unit, "effort_unit": args.effort_unit,
             "actuator_name": args.actuator if is_bag(path) else name,
             "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
-            "drop_incomplete": args.drop_incomplete,
+            "drop_incomplete": args.drop_incomplete, "columns": getattr(args, "columns", None),
             # one actuator of a canonical table: only its rows are read (and its neighbours' temperatures)
             "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None,
             "neighbours": reads_neighbours(args)}

@@ -16,8 +16,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..logs import LogError
+from ..logs.validate import SET_ASIDE
 from ..util.errors import TermError, ThermolimbError, UsageError
-from ..workbench.excitation import refuse_flat
+from ..workbench.excitation import refuse_unfittable
 from ..workbench.validation import Scheme
 from .options import (
     add_fleet,
@@ -140,13 +141,16 @@ class LogCommand:
                                      f"the file, as {logs[0].source}'s is {name!r} ("
                                      f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
                                      f"); to read the files as runs of one actuator, name it: --actuator NAME")
+                aside = next((n for n in missing[0].notes if f"actuator {name!r}" in n and SET_ASIDE in n), None)
+                if aside is not None:
+                    raise LogError(aside.replace(f"; {SET_ASIDE}", ""))
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
             try:
                 # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
                     runs, held_runs = distinct_runs(logs, held, name)
-                    refuse_flat(runs + held_runs, name)
+                    refuse_unfittable(runs + held_runs, name)
                     scheme = Scheme.on_runs(held_runs) if held_runs else run.scheme
                     record, text = self.analyse(run, name, runs, scheme)
             except ThermolimbError as exc:

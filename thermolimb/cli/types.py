@@ -119,3 +119,11 @@ def output_dir(text: str):
 
 SEED = integer(0, 2**32 - 1)
 AMBIENT_C = number(-60.0, 150.0, unit="degC")
+
+
+def names_list(text: str) -> tuple[str, ...]:
+    """Comma-separated names (``--columns time,effort,temperature``), each given once."""
+    names = tuple(n.strip() for n in text.split(","))
+    if not all(names) or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"expected comma-separated names, each once, got {text!r}")
+    return names

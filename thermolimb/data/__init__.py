@@ -59,6 +59,14 @@ REAL_LOGS = {log.name: log for log in (
             actuator="bldc", description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz"),
 )}
 
+# A hobby motor's thermocouple logs as the lab's Arduino wrote them (the first day's without a header row): ten
+# runs whose sensor reads low while the motor is driven, which fit and diagnose refuse, naming the intervals.
+GIMBALBOT_COLUMNS = ("timeSinceStart", "pwmOut", "tempCelsius", "tempRefCelsius")  # the first day's, unwritten
+GIMBALBOT = RealLog("gimbalbot", tuple(f"gimbalbot-esc-motor/test01262015-0{k}-{kind}.csv" for k, kind in (
+    (1, "control"), (2, "control"), (3, "control"), (4, "justnozzles"), (5, "justnozzles"), (6, "justnozzles"),
+    (7, "3x8venturi"))), "time=timeSinceStart:ms,effort=pwmOut,temperature=tempCelsius,ambient=tempRefCelsius",
+    actuator="motor", drop_incomplete=True, description="hobby BLDC on an ESC, thermocouple disturbed while driven")
+
 # The same 106 s WidowX-200 run twice: the ROS 1 bag as recorded, and the package's CSV export of it
 # (three time bases, each from zero at its own first sample).
 WX200_BAG = RealLog("wx200-bag", ("interbotix-wx200/waist_diagnostics.bag",), "", actuator="waist",

@@ -61,3 +61,12 @@ def env_info(env_id: str) -> EnvInfo:
 def env_class(env_id: str) -> type:
     module, _, name = env_info(env_id).entry_point.partition(":")
     return getattr(import_module(module), name)
+
+
+def __getattr__(name: str):
+    """``thermolimb.envs.ThermalWrapper``, imported when first asked for (it imports Gymnasium and the model)."""
+    if name == "ThermalWrapper":
+        from .thermal_wrapper import ThermalWrapper
+
+        return ThermalWrapper
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -40,7 +40,14 @@ from .bag1_partial import PartialBag1
 from .bag1_partial import ends_early as bag1_ends_early
 from .mapping import EXTRA, JOINT, says_whole, suggest_table_mapping, the_motor_s
 from .mcap_stream import PartialMcap, ends_early
-from .messages import field_value, flat_message, joint_names, named_within, numbered, numeric_fields
+from .messages import (
+    field_value,
+    flat_message,
+    joint_names,
+    named_within,
+    numbered,
+    numeric_fields,
+)
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 

@@ -27,8 +27,8 @@ from typing import Mapping
 import numpy as np
 
 from ..util.lazy import pandas as pd
+from .dialect import shown_names
 from .mapping import EXTRA, JOINT, NAME, NUMBER, OPTIONAL, REQUIRED, pattern_regex
-from .table import shown_names
 from .units import header_unit
 
 _HEADER_UNIT = re.compile(r"\s*[\[(][^\[\]()]*[\])]\s*$")

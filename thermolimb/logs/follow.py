@@ -32,10 +32,11 @@ import numpy as np
 
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
+from .dialect import Dialect, csv_dialect
 from .mapping import OPTIONAL, REQUIRED
 from .plausible import KELVIN_JUMP
 from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES
-from .table import Dialect, csv_dialect, kind_of
+from .table import kind_of
 from .validate import Reading, from_frame
 
 PROBE_ROWS = 4 * MIN_SAMPLES  # rows the dialect, header and units are decided on (fewer when the writer pauses)

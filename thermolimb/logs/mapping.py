@@ -23,7 +23,7 @@ import re
 from typing import Mapping
 
 from ..util.errors import LogError
-from .table import shown_names
+from .dialect import shown_names
 from .units import header_unit, split_unit
 
 REQUIRED = ("time", "actuator", "effort", "temperature")
@@ -174,7 +174,14 @@ _JOINT_COLUMN = re.compile(r"^(?P<stem>.*?)(?P<j>\d+)$")
 _JOINT_INSIDE = re.compile(r"^(?P<stem>\D+)(?P<j>\d+)(?P<rest>\D+)$")  # one number, inside the name
 
 
-def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str, str], list[str]]:
+# a channel a column that never varies (all zeros, or one value throughout) is not suggested for while another can
+VARYING_CHANNELS = ("temperature", "effort", "current", "power", "velocity")
+# words that make a temperature column the air's or a reference junction's (a thermocouple chip's own), not the motor's
+AMBIENT_WORDS = ("ambient", "ref", "reference", "room", "air", "coldjunction", "cj")
+
+
+def suggest_table_mapping(columns, values: Mapping[str, int],
+                          flat=frozenset()) -> tuple[dict[str, str], list[str]]:
     """A ``--map`` for a wide table from its column names, and what could not be decided.
 
     Columns with no value are ignored.  Per-joint columns (a name ending in
@@ -183,6 +190,10 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
     (``Temperature_T0``, ``Temperature_J1`` -> ``Temperature_*{j}``).  Without
     a torque or effort column, the current stands for effort (said in the
     reasons).  Only a suggestion: the user checks it against the listing.
+
+    ``flat`` names the columns whose values never vary (all zeros, one value throughout): never suggested as a
+    sensor or an input over columns that vary (a driver's three all-zero per-FET temperatures beside the motor's).
+    A temperature whose name says the air's or a reference junction's (``tempRefCelsius``) is the ambient.
     """
     most = max(values.values(), default=0)
     # a column of a few values beside ones of many is a summary (Max Temp [C]: 1 value), not a channel
@@ -199,9 +210,17 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                 (name, int(inside.group("j"))))
     mapping, reasons, used, several = {}, [], set(), {}
     grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
+    def varies(group):
+        return not all(n in flat for n, _ in group)
+
     for channel, words, whole in CHANNEL_WORDS:
         for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
             groups = {key: g for key, g in joint_groups.items() if says(word, key) and len(g) > 1}
+            if channel in VARYING_CHANNELS and groups:
+                # groups that never vary are no sensor while a column (grouped or single) saying the word varies
+                alive = {key: g for key, g in groups.items() if varies(g)}
+                if alive or any(says(word, n) and n not in flat and n not in grouped for n in names):
+                    groups = alive
             if groups and channel != "time":
                 key = (the_motor_s(list(groups)) if channel == "temperature" else None) or next(iter(groups))
                 mapping[channel] = _pattern([n for n, _ in groups[key]])
@@ -212,6 +231,16 @@ def suggest_table_mapping(columns, values: Mapping[str, int]) -> tuple[dict[str,
                 break
             single = [n for n in names if says(word, n) and n not in used and n not in grouped
                       and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
+            if channel in VARYING_CHANNELS and any(n not in flat for n in single):
+                single = [n for n in single if n not in flat]
+            if channel == "temperature" and len(single) > 1 and not all(map(_says_ambient, single)):
+                air = [n for n in single if _says_ambient(n)]
+                single = [n for n in single if not _says_ambient(n)]
+                if len(air) == 1 and "ambient" not in mapping:
+                    mapping["ambient"] = air[0]
+                    used.add(air[0])
+                    reasons.append(f"ambient={air[0]}: its name says the air's or a reference junction's "
+                                   f"temperature, not the motor's")
             if len(single) == 1:
                 mapping[channel] = single[0]
                 used.add(single[0])
@@ -372,8 +401,13 @@ def _says_within(word: str, name: str) -> bool:
 
 
 def says_whole(word: str, name: str) -> bool:
-    """Whether ``word`` is one of the words of ``name`` (split at anything but letters and digits)."""
-    return word in re.split(r"[^a-z0-9]+", name.lower())
+    """Whether ``word`` is one of the words of ``name`` (split at anything but letters and digits, and where a
+    lower-case letter meets a capital: ``tempRefCelsius``)."""
+    return word in re.split(r"[^a-z0-9]+", re.sub(r"(?<=[a-z])(?=[A-Z])", " ", str(name)).lower())
+
+
+def _says_ambient(name: str) -> bool:
+    return any(says_whole(w, name) for w in AMBIENT_WORDS)
 
 
 def _word(stem: str) -> str:

@@ -35,6 +35,7 @@ def read_log(
     effort_unit: str | None = None,
     actuators: Sequence[str] | None = None,
     neighbours: bool = True,
+    columns: Sequence[str] | None = None,
 ) -> ThermalLog:
     """Read and validate a log.
 
@@ -71,6 +72,10 @@ def read_log(
         With ``actuators``: ``False`` reads nothing of the actuators beside
         them, for models without neighbour coupling (their series then have
         no neighbour temperatures).
+    columns
+        The column names of a CSV file written without a header row, in the
+        file's order (read without them, its columns are ``column1``, ...,
+        and a note says so).
     """
     if isinstance(mapping, str):  # the command line's form, "effort=torque,temperature=winding"
         mapping = parse_mapping(mapping)
@@ -79,7 +84,7 @@ def read_log(
                        f"{type(mapping).__name__}")
     path = Path(path)
     request = _Request(mapping or {}, velocity_unit, actuator_name, sep, decimal, drop_incomplete, effort_unit,
-                       tuple(actuators or ()), neighbours)
+                       tuple(actuators or ()), neighbours, tuple(columns or ()))
     return READERS[log_format(path)](path, request)
 
 
@@ -96,6 +101,7 @@ class _Request:
     effort_unit: str | None
     actuators: tuple[str, ...]
     neighbours: bool
+    columns: tuple[str, ...] = ()
 
     def options(self, path: Path) -> dict:
         """The keyword arguments of :func:`~.validate.from_frame` every table reader passes."""
@@ -120,9 +126,9 @@ def _read_bag(path: Path, request: _Request) -> ThermalLog:
 
 
 def _read_table(path: Path, request: _Request) -> ThermalLog:
-    if request.actuators and not request.mapping:
+    if request.actuators and not request.mapping and not request.columns:
         return _read_selected(path, list(request.actuators), request)
-    frame = read_table(path, sep=request.sep, decimal=request.decimal)
+    frame = read_table(path, sep=request.sep, decimal=request.decimal, names=request.columns)
     return from_frame(frame, mapping=request.mapping or None, actuator_name=request.actuator_name or path.stem,
                       **request.options(path))
 
@@ -133,14 +139,19 @@ READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table}
 def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLog:
     """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
     sep, decimal, options = request.sep, request.decimal, request.options(path)
-    columns = column_names(path, sep, decimal)
+    columns = column_names(path, sep, decimal, request.columns)
     key = next((c for c in columns if base_name(c) == "actuator"), None)
     if key is None:  # a file of one actuator: read whole, named by the one actuator asked for (as a wide file is)
-        return from_frame(read_table(path, sep=sep, decimal=decimal),
+        return from_frame(read_table(path, sep=sep, decimal=decimal, names=request.columns),
                           actuator_name=names[0] if len(names) == 1 else path.stem, **options)
-    order = key_values(path, key, sep, decimal)
+    order, blank = key_values(path, key, sep, decimal)
     if not order:
         raise LogError(f"{path}: the log has no rows with measurements")
+    if blank and not request.drop_incomplete:
+        raise LogError(f"{path}: column {key!r} is blank in {blank} row(s); expected an actuator name in every row "
+                       f"(or leave those rows out with --drop-incomplete)")
+    notes = ((f"{path}: {blank} row(s) with a blank actuator name left out (--drop-incomplete)",) if blank
+             else ())
     missing = [n for n in names if n not in order]
     if missing:
         raise LogError(f"{path}: no actuator {missing[0]!r}; the log has {', '.join(order)}")
@@ -158,4 +169,4 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
         del near
         near_temperatures = {n: around._temperature_of(n) for n in around.actuators}
     release_freed()  # the pieces' pages
-    return replace(log, order=tuple(order), neighbours=FrozenMapping(near_temperatures))
+    return replace(log, order=tuple(order), neighbours=FrozenMapping(near_temperatures), notes=notes + log.notes)

@@ -168,8 +168,10 @@ class ThermalLog:
 
         order = self.order or self.actuators
         i = order.index(actuator)
+        # a neighbour whose reading never changes (a joint set aside as "nothing to learn") brings no heat to read
         others = [order[j] for j in (i - 1, i + 1)
-                  if 0 <= j < len(order) and (order[j] in groups or order[j] in self.neighbours)]
+                  if 0 <= j < len(order) and (order[j] in groups or order[j] in self.neighbours)
+                  and np.ptp(self._temperature_of(order[j])[1]) > 0]
         neighbors = None
         if others:
             neighbors = np.column_stack([np.interp(t, *self._temperature_of(o)) for o in others])

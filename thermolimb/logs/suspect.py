@@ -63,12 +63,35 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
                                 f"ceiling)"))
         elif b < n and abs(temperature_C[b] - temperature_C[a]) <= ONE_STEP * step:
             continue  # left by one step: a slow change the sensor resolves no finer, not a hung sensor
+        elif a == 0 and b == n:
+            continue  # one reading throughout: a joint that did not warm (the fit says there is nothing to learn)
         elif float(np.ptp(effort[a:b])) >= EFFORT_MOVES * effort_range:
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
     spans += [(a, b, "a dropout (a reading far from both its neighbours, and back)") for a, b in
               dropouts(temperature_C, heat)]
+    spans += [(a, b, f"held at {temperature_C[a]:g} degC after a jump of more than {DROPOUT_K:g} K and back (a "
+                     f"sensor open, shorted or not yet configured reads a fixed value)")
+              for a, b in held_away(temperature_C, starts, stops)]
     return sorted(spans)
+
+
+def held_away(values: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> list[tuple[int, int]]:
+    """Plateaus longer than a dropout (more than :data:`DROPOUT_MAX_SAMPLES` readings of exactly one value),
+    however long, entered by a jump of more than :data:`DROPOUT_K` and left by one back: the value a sensor reads
+    when open, shorted or unconfigured (0, -40, 85, 127 degC...).  What marks one is the jump and the return to
+    within half the jump of the reading before it, not the value: a motor that warms to 85 degC and sits there
+    was not entered by a jump."""
+    n = values.size
+    pick = np.flatnonzero((stops - starts > DROPOUT_MAX_SAMPLES) & (starts > 0) & (stops < n))
+    if pick.size == 0:
+        return []
+    a, b = starts[pick], stops[pick]
+    before, held, after = values[a - 1], values[a], values[b]
+    into, back = held - before, after - held
+    away = ((np.abs(into) > DROPOUT_K) & (np.abs(back) > DROPOUT_K) & (np.sign(into) != np.sign(back))
+            & (np.abs(after - before) < 0.5 * np.abs(into)))
+    return [(int(x), int(y)) for x, y in zip(a[away], b[away])]
 
 
 def dropouts(values: np.ndarray, heat: np.ndarray) -> list[tuple[int, int]]:
@@ -119,6 +142,53 @@ def _heated(values: np.ndarray, heat: np.ndarray, a: int, b: int, before: float)
     w = DROPOUT_MAX_SAMPLES
     around = np.concatenate([heat[max(0, a - 1 - w):a - 1], heat[b - 1:b - 1 + w]])
     return around.size > 0 and float(np.mean(heat[a - 1:b - 1])) >= 2.0 * float(np.median(around))
+
+
+DISTURBED_MIN_K = 5.0  # a jump up as the effort steps down at least this large...
+DISTURBED_SAMPLES = 3  # ...over this many samples, and faster than the readings ever rose while driven
+
+
+def disturbed_spans(temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple[int, int, float, float]]:
+    """``(start, stop, fall_K, jump_K)`` of each span over which the effort is driven (its magnitude above the
+    middle of its range) and the readings jump up as it stops.
+
+    A winding cannot heat by kelvins the moment its heat is taken away, nor faster than it heated while the heat
+    came in: readings that do read low while the actuator is driven (a thermocouple or thermistor disturbed by
+    the drive's electromagnetic noise), and often fall as it starts.  The jump is the rise of the readings'
+    3-sample median over :data:`DISTURBED_SAMPLES` samples after the span, at least :data:`DISTURBED_MIN_K` and
+    more than any such rise within the span; the fall, the reading before the span less the lowest of its first
+    quarter (reported, not required).
+
+    Parameters
+    ----------
+    temperature_C, effort
+        One run's readings and effort, sample by sample.
+
+    Returns
+    -------
+    list of (int, int, float, float)
+        The spans' first and one-past-last samples, the fall at the start and the jump at the end (K).
+    """
+    magnitude = np.abs(np.asarray(effort, float))
+    n, w = magnitude.size, DISTURBED_SAMPLES
+    if n < 4 * w or not np.ptp(magnitude) > 0:
+        return []
+    smooth = np.median(np.stack([temperature_C[:-2], temperature_C[1:-1], temperature_C[2:]]), axis=0)
+    smooth = np.concatenate([temperature_C[:1], smooth, temperature_C[-1:]])
+    driven = magnitude > float(np.min(magnitude)) + 0.5 * float(np.ptp(magnitude))
+    edges = np.flatnonzero(np.diff(driven.astype(np.int8))) + 1
+    bounds = np.concatenate([[0], edges, [n]])
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if not driven[a] or b > n - w or b - a < 2 * w:
+            continue
+        jump = float(smooth[b + w - 1] - smooth[b - 1])
+        inside = smooth[a:b]
+        fastest = float(np.max(inside[w:] - inside[:-w], initial=0.0))
+        if jump >= DISTURBED_MIN_K and jump > fastest:
+            fall = float(smooth[a - 1] - np.min(inside[:max(w, (b - a) // 4)])) if a > 0 else 0.0
+            out.append((int(a), int(b), fall, jump))
+    return out
 
 
 def leave_out(group, name: str, source: str, notes: list[str], min_samples: int):

@@ -12,10 +12,7 @@ into seconds from the first sample.
 
 from __future__ import annotations
 
-import csv
 import re
-from collections import Counter
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -23,12 +20,9 @@ import numpy as np
 from ..util.atomic import is_stream
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
-from .units import header_unit
+from .dialect import check_names, file_dialect, separator_name
 
-SEPARATORS = (",", ";", "\t", "|")
-SNIFF_LINES = 200
 CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
-_DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
 
 
@@ -47,25 +41,36 @@ def kind_of(path: Path) -> str:
     raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt or .parquet")
 
 
-def read_table(path: Path, sep: str | None = None, decimal: str | None = None) -> pd.DataFrame:
-    """The file as a data frame of raw columns (nothing validated yet)."""
+def read_table(path: Path, sep: str | None = None, decimal: str | None = None, names=None) -> pd.DataFrame:
+    """The file as a data frame of raw columns (nothing validated yet).
+
+    ``names``: the column names of a CSV file written without a header row (``--columns``); such a file read
+    without them has its columns named ``column1``, ``column2``, ... (``frame.attrs["headerless"]`` holds its
+    first line, for the note that says so).
+    """
     if _kind_checked(path) == "parquet":
         try:
-            return pd.read_parquet(path)
+            frame = pd.read_parquet(path)
         except (ValueError, OSError) as exc:
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
-    options, duplicates = _csv_options(path, sep, decimal)
+        check_names(names, list(frame.columns), None, path)
+        return frame
+    dialect = file_dialect(path, sep, decimal)
+    options = dialect.named(names, path)
     try:
         frame = pd.read_csv(path, low_memory=False, **options)
     except (ValueError, OSError, pd.errors.ParserError) as exc:
-        raise LogError(f"{path}: cannot be read as a {_name(options['sep'])}-separated CSV file: {exc}") from None
+        raise LogError(f"{path}: cannot be read as a {separator_name(options['sep'])}-separated CSV file: {exc}") from None
     frame.columns = [str(c).strip() for c in frame.columns]
-    frame.attrs["duplicate_columns"] = duplicates
+    frame.attrs["duplicate_columns"] = dialect.duplicates
+    frame.attrs["headerless"] = dialect.header_line if dialect.headerless else None
+    frame.attrs["named"] = bool(names) and dialect.headerless
     return frame
 
 
-def column_names(path: Path, sep: str | None = None, decimal: str | None = None) -> list[str]:
-    """The file's column names as its header gives them (stripped), without reading its rows."""
+def column_names(path: Path, sep: str | None = None, decimal: str | None = None, names=None) -> list[str]:
+    """The file's column names as its header gives them (stripped), without reading its rows (a file without a
+    header row: ``names``, or ``column1``, ``column2``, ...)."""
     if _kind_checked(path) == "parquet":
         import pyarrow.parquet as pq
 
@@ -73,38 +78,51 @@ def column_names(path: Path, sep: str | None = None, decimal: str | None = None)
             return list(pq.ParquetFile(path).schema_arrow.names)
         except (ValueError, OSError) as exc:
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
-    options, _ = _csv_options(path, sep, decimal)
+    options = file_dialect(path, sep, decimal).named(names, path)
+    if "names" in options:
+        return list(options["names"])
     header = pd.read_csv(path, nrows=0, **options)
     return [str(c).strip() for c in header.columns]
 
 
 def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None, columns=None,
-                 rows: int = CHUNK_ROWS):
+                 rows: int = CHUNK_ROWS, names=None):
     """The file's rows in frames of at most ``rows`` rows, with only the ``columns`` kept (a set of names, or
-    ``None`` for all): what a large file is read through, in constant memory."""
+    ``None`` for all): what a large file is read through, in constant memory.  ``names``: as
+    :func:`read_table`'s."""
     if _kind_checked(path) == "parquet":
         for batch in _parquet_batches(path, columns, rows):
             yield batch.to_pandas()
         return
-    yield from _csv_chunks(path, sep, decimal, columns, rows)
+    yield from _csv_chunks(path, sep, decimal, columns, rows, names)
 
 
-def key_values(path: Path, key: str, sep: str | None = None, decimal: str | None = None) -> list[str]:
-    """The distinct values (as text) of the column named ``key``, in the order they first appear, read in
-    pieces."""
+def key_values(path: Path, key: str, sep: str | None = None, decimal: str | None = None) -> tuple[list[str], int]:
+    """The distinct values (as text) of the column named ``key``, in the order they first appear, and how many
+    rows leave it blank; read in pieces."""
     order: dict[str, None] = {}
+    blank = 0
     if _kind_checked(path) == "parquet":
         import pyarrow as pa
         import pyarrow.compute as pc
 
         for batch in _parquet_batches(path, {key}, CHUNK_ROWS):
-            values = pc.unique(pc.drop_null(pc.cast(batch.column(0), pa.string())))
-            order.update(dict.fromkeys(values.to_pylist()))
+            values = pc.unique(pc.cast(batch.column(0), pa.string())).to_pylist()
+            named = [v for v in values if v is not None and v.strip()]
+            if len(named) < len(values):  # a blank or missing name: counted row by row, only then
+                text = pc.cast(batch.column(0), pa.string())
+                blank += batch.num_rows - int(pc.sum(pc.is_in(text, value_set=pa.array(named, pa.string())),
+                                                     min_count=0).as_py() or 0)
+            order.update(dict.fromkeys(named))
         pa.default_memory_pool().release_unused()
-        return list(order)
+        return list(order), blank
     for chunk in _csv_chunks(path, sep, decimal, {key}, CHUNK_ROWS):
-        order.update(dict.fromkeys(str(a) for a in pd.unique(chunk.iloc[:, 0].dropna().astype(str))))
-    return list(order)
+        column = chunk.iloc[:, 0]
+        present = column.dropna().astype(str)
+        named = present[present.str.strip() != ""]
+        blank += len(column) - len(named)
+        order.update(dict.fromkeys(str(a) for a in pd.unique(named)))
+    return list(order), blank
 
 
 def rows_where(path: Path, key: str, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
@@ -207,16 +225,18 @@ def _parquet_batches(path: Path, columns, rows: int):
         raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
 
 
-def _csv_chunks(path: Path, sep, decimal, columns, rows: int):
-    options, duplicates = _csv_options(path, sep, decimal)
+def _csv_chunks(path: Path, sep, decimal, columns, rows: int, names=None):
+    dialect = file_dialect(path, sep, decimal)
+    options, duplicates = dialect.named(names, path), dialect.duplicates
     usecols = (lambda c: str(c).strip() in columns) if columns is not None else None
     try:
         for chunk in pd.read_csv(path, chunksize=rows, usecols=usecols, **options):
             chunk.columns = [str(c).strip() for c in chunk.columns]
             chunk.attrs["duplicate_columns"] = duplicates
+            chunk.attrs["headerless"] = dialect.header_line if dialect.headerless else None
             yield chunk
     except (ValueError, OSError, pd.errors.ParserError) as exc:
-        raise LogError(f"{path}: cannot be read as a {_name(options['sep'])}-separated CSV file: {exc}") from None
+        raise LogError(f"{path}: cannot be read as a {separator_name(options['sep'])}-separated CSV file: {exc}") from None
 
 
 def _kind_checked(path: Path) -> str:
@@ -225,94 +245,6 @@ def _kind_checked(path: Path) -> str:
         raise LogError(f"{path}: " + ("not a regular file (a device or a pipe); expected a log file" if
                                       Path(path).exists() else "no such file"))
     return kind
-
-
-@dataclass(frozen=True)
-class Dialect:
-    """How a CSV file is written: ``pandas.read_csv``'s keyword arguments for it, the column names its header
-    repeats (name -> count), and its header line."""
-
-    options: dict
-    duplicates: dict[str, int]
-    header_line: str
-    units_line: str | None = None  # a row of units under the header, skipped by ``options``
-
-    @property
-    def header(self) -> list[str]:
-        return next(csv.reader([self.header_line], delimiter=self.options["sep"]), [])
-
-
-def _csv_options(path: Path, sep: str | None, decimal: str | None) -> tuple[dict, dict[str, int]]:
-    """The keyword arguments of ``pandas.read_csv`` for the file's dialect (guessed where not given), and the
-    column names its header repeats (name -> count)."""
-    _refuse_binary(path)
-    head, comments = _scan(path)
-    dialect = _dialect(head, comments, path, sep, decimal)
-    return dialect.options, dialect.duplicates
-
-
-def csv_dialect(text: str, source, sep: str | None = None, decimal: str | None = None) -> Dialect:
-    """The dialect of a CSV file's first lines (a file being written, read so far), as :func:`read_table` finds it."""
-    if "\x00" in text:
-        raise LogError(f"{source}: not a text file (it holds NUL bytes); expected a CSV log")
-    lines = [line.removeprefix("\ufeff") if i == 0 else line for i, line in enumerate(text.splitlines())]
-    comments = {i for i, line in enumerate(lines) if line.lstrip().startswith("#")}
-    return _dialect(lines[:SNIFF_LINES], comments, source, sep, decimal)
-
-
-def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal: str | None) -> Dialect:
-    content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
-    if not content:
-        raise LogError(f"{path}: the file has no header line and no data")
-    sep = sep or _guess_separator([line for _, line in content])
-    header_at = _header_line(content, sep)
-    data = [line for i, line in content if i > header_at]
-    decimal = decimal or ("," if sep != "," and any(_DECIMAL_COMMA.search(line) for line in data) else ".")
-    skip = comments | set(range(header_at))
-    header_line = next(line for i, line in content if i == header_at)
-    header = next(csv.reader([header_line], delimiter=sep), [])
-    counts = Counter(name.strip() for name in header)
-    options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
-                   skip_blank_lines=True)
-    if sum(line.rstrip().endswith(sep) for line in data) * 2 > len(data) and not header_line.rstrip().endswith(sep):
-        options["index_col"] = False  # data lines end with a separator the header lacks: not an index column
-    names, units_line = [name.strip() for name in header], None
-    units_at, units = _units_row(content, header_at, sep, names)
-    if units and len(set(names)) == len(names):
-        # a row of units under the header (a DAQ's export): read as the header's own "name [unit]"
-        names = [f"{n} [{u}]" if u and n != "actuator" and not header_unit(n) else n for n, u in zip(names, units)]
-        options.update(names=names, header=0, skiprows=sorted(skip | {units_at}))
-        units_line = next(line for i, line in content if i == units_at)
-    if "actuator" in names:
-        # an actuator named NA, None or nan is a name, not a missing value, and 1 and 01 are two actuators
-        from pandas._libs.parsers import STR_NA_VALUES
-
-        options.update(keep_default_na=False, dtype={"actuator": str},
-                       na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
-                       | {"actuator": [""]})
-    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line, units_line)
-
-
-_NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")
-
-
-def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,
-               names: list[str]) -> tuple[int | None, list[str] | None]:
-    """The line under the header and its units, where it holds units: no number and no date in any field,
-    short words ("s", "N m", "[degC]", "-" for none), and numbers on the line after it."""
-    after = [(i, line) for i, line in content if i > header_at][:2]
-    if len(after) < 2:
-        return None, None
-    (at, line), (_, data) = after
-    fields = [f.strip() for f in next(csv.reader([line], delimiter=sep), [])]
-    values = [v.strip() for v in next(csv.reader([data], delimiter=sep), [])]
-    if len(fields) != len(names) or not any(fields) or any(
-            _NUMBER.match(f) or re.search(r"\d{2}", f) or len(f) > 16 for f in fields):
-        return None, None
-    if sum(bool(_NUMBER.match(v)) for v in values) * 2 < len(values):
-        return None, None
-    units = [f.strip("[]() ") for f in fields]
-    return at, ["" if u in ("", "-") else u for u in units]
 
 
 def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) -> None:
@@ -324,69 +256,6 @@ def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) 
                            f"(rename all but one, or --map to another column)")
         notes.append(f"{source}: the header names column {name!r} {count} times; read as {name!r}, "
                      + ", ".join(repr(f"{name}.{k}") for k in range(1, count)))
-
-
-def shown_names(names, limit: int = 300) -> str:
-    """Column names for a one-line message: a name with unprintable characters quoted, the list cut at ``limit``."""
-    text = ", ".join(str(n) if str(n).isprintable() else repr(str(n)) for n in names)
-    return text if len(text) <= limit else text[:limit] + f"... ({len(names)} columns)"
-
-
-def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
-    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB is not a CSV log."""
-    with open(path, "rb") as f:
-        head = f.read(sniff_bytes)
-    control = sum(head.count(bytes([b])) for b in range(32) if b not in (9, 10, 12, 13))
-    if b"\x00" in head or control > max(16, 0.05 * len(head)):
-        raise LogError(f"{path}: not a text file ({control} control bytes in its first {len(head)}); expected a "
-                       "CSV log, or a .parquet, .bag or .mcap file named as such")
-
-
-def _scan(path: Path) -> tuple[list[str], set[int]]:
-    """The first ``SNIFF_LINES`` lines, and the indices of every ``#`` comment line in the file."""
-    head, comments = [], set()
-    with open(path, encoding="utf-8-sig", errors="replace", newline="") as f:
-        for i, line in enumerate(f):
-            if i < SNIFF_LINES:
-                head.append(line.rstrip("\r\n"))
-            if line.lstrip().startswith("#"):
-                comments.add(i)
-    return head, comments
-
-
-def _guess_separator(lines: list[str]) -> str:
-    """The separator that splits the most lines into the same number (>1) of fields."""
-    best, best_score = ",", -1.0
-    for sep in SEPARATORS:
-        counts = [_split(line, sep) for line in lines]
-        modal = max(set(counts), key=counts.count)
-        if modal < 2:
-            continue
-        score = counts.count(modal) + 1e-3 * modal
-        if score > best_score:
-            best, best_score = sep, score
-    return best
-
-
-def _header_line(content: list[tuple[int, str]], sep: str) -> int:
-    """Index of the header: the first line with as many fields as most lines after it (skips a preamble)."""
-    counts = [_split(line, sep) for _, line in content]
-    tail = counts[len(counts) // 2:] or counts
-    modal = max(set(tail), key=tail.count)
-    for (i, _), c in zip(content, counts):
-        if c >= modal:
-            return i
-    return content[0][0]
-
-
-def _split(line: str, sep: str) -> int:
-    """Number of fields, ignoring separators inside double quotes and one at the end of the line (a logger that
-    ends every line with a separator writes no field after it)."""
-    return len(re.sub(r'"[^"]*"', "", line.rstrip()).removesuffix(sep).split(sep))
-
-
-def _name(sep: str) -> str:
-    return {",": "comma", ";": "semicolon", "\t": "tab", "|": "bar"}.get(sep, repr(sep))
 
 
 def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np.ndarray:

@@ -30,12 +30,20 @@ CELSIUS = ("degC", "°C", "C", "deg C", "celsius", "Celsius")  # what a header m
 # ... and degrees Fahrenheit (a thrust stand's "Temp (ºF)": an ordinal sign, not a degree sign, is common)
 FAHRENHEIT = ("degF", "°F", "ºF", "F", "deg F", "fahrenheit", "Fahrenheit")
 _HEADER = re.compile(r"[\[(]\s*([^\[\]()]+?)\s*[\])]\s*$")
+# units whose spelling in any case means one thing (``RPM``, ``DegC``); ``mA`` and ``MA``, ``ms`` and ``Ms`` do not
+SPELLINGS = {u.lower(): u for u in ("rpm", "rad/s", "deg/s", "rev/s", "turn/s", "degC", "degF")}
+
+
+def spelled(unit: str) -> str:
+    """A unit in the spelling the suite uses where its case says nothing (``RPM`` -> ``rpm``, ``DegC`` -> ``degC``)."""
+    return SPELLINGS.get(unit.strip().lower(), unit)
 
 
 def header_unit(column: str) -> str | None:
-    """The unit a column's header gives at its end (``Effort [mA]`` -> ``mA``, ``Power (W)`` -> ``W``), or ``None``."""
+    """The unit a column's header gives at its end (``Effort [mA]`` -> ``mA``, ``Power (W)`` -> ``W``,
+    ``Speed [RPM]`` -> ``rpm``), or ``None``."""
     m = _HEADER.search(str(column).partition("@")[0])
-    return m.group(1) if m else None
+    return spelled(m.group(1)) if m else None
 
 
 def base_name(column) -> str:
@@ -59,8 +67,8 @@ def canonical_headers(columns, names) -> tuple[dict[str, str], dict[str, str]]:
 def split_unit(value: str) -> tuple[str, str | None]:
     """``COLUMN:UNIT`` -> ``(COLUMN, UNIT)`` when UNIT is a known unit; otherwise the whole value is the column."""
     column, sep, unit = str(value).rpartition(":")
-    if sep and unit.strip() in KNOWN and column:
-        return column, unit.strip()
+    if sep and spelled(unit) in KNOWN and column:
+        return column, spelled(unit)
     return str(value), None
 
 

@@ -14,6 +14,7 @@ from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from . import extras
+from .dialect import shown_names
 from .held import read_on_updates
 from .mapping import EXTRA, OPTIONAL, REQUIRED, TIME_OF, UNITS, is_pattern, on_time
 from .plausible import (
@@ -26,7 +27,7 @@ from .plausible import (
 )
 from .series import MIN_SAMPLES, ThermalLog
 from .suspect import fahrenheit_note, leave_out
-from .table import first_stamp, is_stamped, refuse_duplicates, shown_names, time_seconds
+from .table import first_stamp, is_stamped, refuse_duplicates, time_seconds
 from .units import NOT_GIVEN, channel_units
 from .wide import apply_mapping, split_units
 
@@ -87,6 +88,12 @@ def from_frame(
         refuse_unstated_fahrenheit(mapping, stated, source)
     later = reading is not None and reading.decided
     refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
+    first_line = frame.attrs.get("headerless")
+    if first_line is not None and not later:
+        notes.append(f"{source}: the file has no header row (its first line, {first_line.strip()[:60]!r}, holds "
+                     + ("numbers): its columns are named by --columns" if frame.attrs.get("named") else
+                        f"numbers): its columns are read as column1 to column{len(frame.columns)}; name them with "
+                        f"--columns NAME,NAME,... (in the file's order) to map them by name"))
     if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
         notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
                      f"suite converts ({', '.join(VELOCITY_UNITS)}); taken as not given -- name it with --velocity-unit")
@@ -118,6 +125,7 @@ def from_frame(
     if not frame.empty and not later:  # a later piece of a followed log may be a row whose optional cell is blank
         refuse_empty_columns(frame, measured, mapping, source)
     apart = on_other_rows(frame, measured, mapping, from_map) if mapping and not later else None
+    frame = _as_numbers(frame, measured, source, notes, drop_incomplete)
     if drop_incomplete:
         incomplete = frame[measured].isna().any(axis=1).to_numpy()
         if incomplete.any() and apart is not None and incomplete.all():
@@ -131,9 +139,14 @@ def from_frame(
         raise LogError(f"{source}: the log has no rows with measurements")
     names = _as_text(frame["actuator"])
     blank = frame["actuator"].isna().to_numpy() | _blank(names)
-    if blank.any():
+    if blank.any() and drop_incomplete and not blank.all():
+        notes.append(f"{source}: {int(blank.sum())} row(s) with a blank actuator name left out (--drop-incomplete), "
+                     f"first at row {int(np.flatnonzero(blank)[0])}")
+        frame, names = frame.loc[~blank].reset_index(drop=True), names[~blank].reset_index(drop=True)
+    elif blank.any():
         row = int(np.flatnonzero(blank)[0])
-        raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row")
+        raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row "
+                       f"(or leave such rows out with --drop-incomplete)")
     # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
     origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
     out = {"time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy), "actuator": names}
@@ -155,7 +168,7 @@ def from_frame(
                 raise LogError(f"{source}: column {c!r} writes numbers with thousands separators ({value!r} at row "
                                f"{row}); expected plain numbers in {UNITS[c]}: export without the separators")
             raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
-                           f"expected {UNITS[c]}")
+                           f"expected {UNITS[c]} (or leave such samples out with --drop-incomplete)")
         out[c] = values.to_numpy(float, copy=copy)
     explicit = {k: v for k, v in mapping.items() if k.startswith(EXTRA)}
     extra_values, extra_units, extra_notes = extras.collect(frame, given, explicit, source)
@@ -194,7 +207,7 @@ def from_frame(
         out[EXTRA + name] = values
         channel[EXTRA + name] = extra_units[name] or NOT_GIVEN
     out = pd.DataFrame(out, copy=False)
-    parts = []
+    parts, set_aside = [], []
     for name, g in _by_actuator(out):
         t = g["time"].to_numpy()
         steps = np.diff(t)
@@ -209,20 +222,68 @@ def from_frame(
             raise LogError(f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
                            f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
                            + "".join(f"; {h}" for h in hints))
-        if len(g) < MIN_SAMPLES and not later:
-            raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are needed")
-        refuse_unit_switch(g, name, source)
-        if reading is None:  # a log followed piece by piece is read as its pieces come
-            g = read_on_updates(g, name, source, notes)
+        try:  # one actuator's trouble stays its own: of several, it is set aside and said, the others read
+            if len(g) < MIN_SAMPLES and not later:
+                raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are "
+                               f"needed")
+            refuse_unit_switch(g, name, source)
+            if reading is None:  # a log followed piece by piece is read as its pieces come
+                g = read_on_updates(g, name, source, notes)
+            if not later:
+                g = leave_out(g, name, source, notes, MIN_SAMPLES)
+        except LogError as exc:
+            if later or out["actuator"].nunique() == 1:
+                raise
+            set_aside.append(exc)
+            notes.append(f"{exc}; {SET_ASIDE}")
+            continue
         if not later:
-            g = leave_out(g, name, source, notes, MIN_SAMPLES)
             note = fahrenheit_note(g["temperature"].to_numpy(), g["effort"].to_numpy(),
                                    g["ambient"].to_numpy() if "ambient" in g else None, source, name)
             if note:
                 notes.append(note)
         parts.append(g)
+    if not parts:
+        raise set_aside[0]
     whole = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     return ThermalLog(whole, source, tuple(notes), FrozenMapping(channel))
+
+
+SET_ASIDE = "that actuator is set aside, the others are read"
+_UTF7_MINUS = "+AC0-"  # a minus sign written by an encoder in UTF-7 ('+AC0-2.5' for -2.5)
+
+
+def _as_numbers(frame: pd.DataFrame, measured: list[str], source: str, notes: list[str],
+                drop_incomplete: bool) -> pd.DataFrame:
+    """The measured columns with minus signs an encoder wrote in UTF-7 read as minus signs, and, with
+    ``drop_incomplete``, cells that are not numbers made missing (so that their samples are left out), each said
+    once with its count, first row and value.  Without ``drop_incomplete`` such a cell is refused later, by the
+    column's check; numbers with thousands separators are left to it too (dropping them would drop the log)."""
+    changed = {}
+    for c in measured:
+        column = frame[c]
+        if pd.api.types.is_numeric_dtype(column) or c == "actuator":
+            continue
+        text = column.astype("string")
+        mangled = text.str.contains(_UTF7_MINUS, regex=False).fillna(False).to_numpy(bool)
+        if mangled.any():
+            row = int(np.flatnonzero(mangled)[0])
+            notes.append(f"{source}: column {c!r} writes minus signs as {_UTF7_MINUS!r} (UTF-7) in "
+                         f"{int(mangled.sum())} cell(s), first at row {row} ({column.iloc[row]!r}): read as '-'")
+            column = text.str.replace(_UTF7_MINUS, "-", regex=False)
+        values = pd.to_numeric(column, errors="coerce")
+        bad = (values.isna() & column.notna() & (column.astype("string").str.strip() != "")).to_numpy(bool)
+        if drop_incomplete and bad.any():
+            row = int(np.flatnonzero(bad)[0])
+            if _THOUSANDS.match(str(column.iloc[row]).strip()):
+                changed[c] = column
+                continue
+            notes.append(f"{source}: column {c!r} holds {int(bad.sum())} cell(s) that are not numbers, first at row "
+                         f"{row} ({column.iloc[row]!r}); their samples are left out (--drop-incomplete)")
+            changed[c] = values
+        elif mangled.any():
+            changed[c] = column
+    return frame.assign(**changed) if changed else frame
 
 
 # 1.000,0 / 12.345.678,9 (a point groups, a comma is the decimal) or 1,000.0 (the other way round)

@@ -9,8 +9,9 @@ from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from . import extras
 from .align import align, series_of
+from .dialect import shown_names
 from .mapping import EXTRA, REQUIRED, TIME_OF, expand_joints, is_pattern
-from .table import first_stamp, shown_names, time_seconds
+from .table import first_stamp, time_seconds
 from .units import KNOWN, split_unit
 
 

@@ -224,3 +224,33 @@ def refuse_flat(runs: list, name: str) -> None:
            else "")
     raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} degC on every one of its {values.size} "
                           f"samples{why}; a model needs a temperature that changes")
+
+
+def refuse_disturbed(runs: list, name: str) -> None:
+    """An actuator whose readings fall as its effort steps up and jump as it steps down
+    (:func:`~thermolimb.logs.suspect.disturbed_spans`) is refused in one sentence naming the intervals: a model
+    fitted through them would take the heat going in for cooling (a time constant of days)."""
+    from ..logs.suspect import disturbed_spans
+
+    found = [(run, a, b, fall, jump) for run in runs
+             for a, b, fall, jump in disturbed_spans(run.temperature_C, run.signals.effort)]
+    if not found:
+        return
+    run, a, b, fall, jump = found[0]
+    t = run.time_s
+    where = "; ".join(f"{r.run + ': ' if r.run else ''}{r.time_s[x]:g} s to {r.time_s[y - 1]:g} s"
+                      for r, x, y, _, _ in found[:4]) + (f" and {len(found) - 4} more" if len(found) > 4 else "")
+    raise ThermolimbError(
+        f"the temperature of {name} reads low while it is driven: "
+        + (f"it falls by {fall:.1f} K as the effort steps up at {t[a]:g} s and " if fall >= 1.0 else "it ")
+        + f"jumps by {jump:.1f} K as the effort steps down at {t[b]:g} s, against the heat put in (a sensor "
+        f"disturbed by the drive, e.g. its electromagnetic noise); driven intervals read so: {where}. A model "
+        f"fitted through them would take heating for cooling, so none is fitted: log the sensor with the drive's "
+        f"noise filtered or shielded, or give runs whose readings are taken with the drive off")
+
+
+def refuse_unfittable(runs: list, name: str) -> None:
+    """What no model is fitted from, refused in one sentence: a temperature that never changes
+    (:func:`refuse_flat`), or one that reads low while the actuator is driven (:func:`refuse_disturbed`)."""
+    refuse_flat(runs, name)
+    refuse_disturbed(runs, name)

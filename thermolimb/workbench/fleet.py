@@ -19,7 +19,7 @@ from typing import Sequence
 from ..logs.bags import BAG_SUFFIXES, is_bag
 from ..util.errors import ThermolimbError, UsageError
 from ..util.parallel import Runner, one_blas_thread, run_jobs
-from .excitation import refuse_flat
+from .excitation import refuse_unfittable
 from .validation import RUNS, Scheme, validate_model
 
 LOG_SUFFIXES = (".csv", ".tsv", ".txt", ".parquet", ".pq") + BAG_SUFFIXES
@@ -147,7 +147,7 @@ def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: b
     row = {"source": job.source, "actuator": job.actuator, "run": job.run, "samples": int(series.n),
            "duration_s": float(series.duration_s)}
     try:
-        refuse_flat([series], job.actuator)  # a slot nothing drives is said so, not "cannot identify"
+        refuse_unfittable([series], job.actuator)  # a slot nothing drives is said so, not "cannot identify"
         if diagnose:
             from .diagnosis import diagnose as run_diagnosis
 

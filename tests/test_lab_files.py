@@ -1,0 +1,185 @@
+"""Lab files as their labs wrote them: read right or said why.  A file without a header row is detected and
+named with --columns; a minus sign an encoder wrote in UTF-7 is a minus; a cell of junk is dropped and counted
+under --drop-incomplete (refused with that option named otherwise); units spelt in any case where that is
+unambiguous; a blank actuator name counted or refused, never dropped in silence; inspect never suggests a
+column that never varies over one that does; one actuator's trouble stays its own; a sensor that reads low while
+driven (the GimbalBot thermocouple) is refused with its intervals; a sensor held at a fixed value after a jump is
+set aside however long.  Tests of selection on real files (the GimbalBot runs) and on plant logs."""
+
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermolimb.cli.main import main
+from thermolimb.data import GIMBALBOT, GIMBALBOT_COLUMNS, REAL_DIR
+from thermolimb.logs import read_log
+from thermolimb.logs.suspect import disturbed_spans, suspect_spans
+from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
+from thermolimb.util.errors import LogError
+
+DAY_ONE = REAL_DIR / "gimbalbot-esc-motor" / "test01252015-01-control.csv"
+GIMBALBOT_MAP = GIMBALBOT.mapping
+
+
+def test_a_file_without_a_header_row_is_said_and_named_with_columns(capsys):
+    """The first day's files start with data: no sample is taken for a header, the columns are column1..4 with
+    a note naming --columns, and --columns names them (then the lab's own map reads them)."""
+    assert main(["inspect", str(DAY_ONE)]) == 0
+    out = capsys.readouterr().out
+    assert "column1" in out and "the file has no header row (its first line, '245000,15,23.50,24.19'" in out
+    raw = pd.read_csv(DAY_ONE, header=None, skiprows=2)  # the file's blank first line and its stray '2'
+    log = read_log(DAY_ONE, mapping="time=column1:ms,effort=column2,temperature=column3", drop_incomplete=True)
+    assert any("no header row" in n and "--columns" in n for n in log.notes)
+    assert log.frame["time"].iloc[0] == 245.0 and int(raw[0].iloc[0]) == 245000  # the first sample kept, in s
+    named = read_log(DAY_ONE, mapping=GIMBALBOT_MAP, drop_incomplete=True, columns=GIMBALBOT_COLUMNS)
+    assert len(named.frame) == len(log.frame) == int(raw[2].notna().sum())
+
+
+@pytest.mark.parametrize("columns, said", [
+    (("a", "b", "c"), "--columns gives 3 name(s) and the file has 4 column(s)"),
+    (("a", "a", "b", "c"), "expected a name for each column, each name once"),
+])
+def test_columns_that_do_not_fit_the_file_are_refused(columns, said):
+    with pytest.raises(LogError, match=said.replace("(", r"\(").replace(")", r"\)")):
+        read_log(DAY_ONE, mapping="time=a,effort=b,temperature=c", columns=columns)
+
+
+def test_columns_given_for_a_file_with_a_header_must_be_its_own(tmp_path):
+    path = tmp_path / "headed.csv"
+    path.write_text("t,e,T\n" + "".join(f"{k},{k % 3},{20 + k / 10}\n" for k in range(40)))
+    with pytest.raises(LogError, match="names the columns of a file without a header row, and this file has one"):
+        read_log(path, mapping="time=x,effort=y,temperature=z", columns=("x", "y", "z"))
+    assert len(read_log(path, mapping="time=t,effort=e,temperature=T", columns=("t", "e", "T")).frame) == 40
+
+
+def _plant_frame(seconds=1200.0):
+    spec = replace(X8_9, network=NETWORKS["first_order"])
+    return simulate_profile("random", seconds, 1.0, ["knee"], [spec], PlantEffects.from_names("sensor_noise"),
+                            seed=2).log.frame.copy()
+
+
+def test_a_minus_sign_written_in_utf7_is_a_minus_and_junk_is_dropped_and_counted(tmp_path):
+    frame = _plant_frame()
+    text = frame["temperature"].map(lambda v: f"{v:.3f}")
+    text.iloc[50] = "#ERR"
+    effort = frame["effort"].map(lambda v: f"{v:.6f}")
+    effort.iloc[35] = f"+AC0-{abs(frame['effort'].iloc[35]):.6f}"
+    path = tmp_path / "junk.csv"
+    frame.assign(temperature=text, effort=effort).to_csv(path, index=False)
+    with pytest.raises(LogError, match=r"not numeric at row 50 \('#ERR'\); expected degC \(or leave such samples out "
+                                       r"with --drop-incomplete\)"):
+        read_log(path)
+    log = read_log(path, drop_incomplete=True)
+    assert any("column 'effort' writes minus signs as '+AC0-' (UTF-7) in 1 cell(s), first at row 35" in n
+               for n in log.notes)
+    assert any("holds 1 cell(s) that are not numbers, first at row 50 ('#ERR')" in n for n in log.notes)
+    assert len(log.frame) == len(frame) - 1
+    assert log.frame["effort"].iloc[35] == pytest.approx(-abs(frame["effort"].iloc[35]), abs=1e-6)
+
+
+def test_units_in_any_case_where_unambiguous(tmp_path):
+    frame = _plant_frame(300.0)
+    path = tmp_path / "rpm.csv"
+    pd.DataFrame({"t [s]": frame["time"], "tau [N m]": frame["effort"], "T [DegC]": frame["temperature"],
+                  "Speed [RPM]": 60.0}).to_csv(path, index=False)
+    log = read_log(path, mapping="time=t [s],effort=tau [N m],temperature=T [DegC],velocity=Speed [RPM]")
+    assert log.units["velocity"] == "rad/s" and log.frame["velocity"].iloc[0] == pytest.approx(2 * np.pi)
+
+
+def test_a_blank_actuator_name_is_refused_or_counted_never_dropped_in_silence(tmp_path):
+    frame = _plant_frame(300.0)
+    frame.loc[10, "actuator"] = ""
+    path = tmp_path / "blank.csv"
+    frame.to_csv(path, index=False)
+    for actuators in (None, ["knee"]):  # read whole, and the one actuator read in pieces
+        with pytest.raises(LogError, match="blank .* --drop-incomplete"):
+            read_log(path, actuators=actuators)
+        log = read_log(path, actuators=actuators, drop_incomplete=True)
+        assert any("1 row(s) with a blank actuator name left out" in n for n in log.notes)
+        assert len(log.frame) == len(frame) - 1
+
+
+def test_inspect_never_suggests_a_column_that_never_varies_over_one_that_does(tmp_path, capsys):
+    """A motor controller's log: three all-zero per-FET temperatures and the scalar motor temperature, an RPM,
+    and a thermocouple's reference junction: the motor's is suggested, the reference as the ambient."""
+    frame = _plant_frame(600.0)
+    path = tmp_path / "vesc.csv"
+    pd.DataFrame({"Time [s]": frame["time"], "Current [A]": frame["effort"], "MOSFET Temp 1": 0.0,
+                  "MOSFET Temp 2": 0.0, "MOSFET Temp 3": 0.0, "Motor Temp": frame["temperature"],
+                  "tempRefCelsius": 24.0 + 0.001 * frame["time"]}).to_csv(path, index=False)
+    assert main(["inspect", str(path), "--json"]) == 0
+    import json
+
+    suggested = json.loads(capsys.readouterr().out)["suggested_map"]
+    assert suggested["temperature"] == "Motor Temp" and suggested["ambient"] == "tempRefCelsius"
+
+
+def test_inspect_tells_the_words_to_add_for_the_lab_s_own_files(capsys):
+    """A GimbalBot day-two file: time in ms, the reference junction as ambient, and the effort to add named."""
+    assert main(["inspect", str(GIMBALBOT.paths[4])]) == 0
+    out = capsys.readouterr().out
+    assert 'suggested: --map "time=timeSinceStart:ms,ambient=tempRefCelsius,temperature=tempCelsius"' in out
+    assert "add effort=pwmOut to the map" in out and "a sensor that reads low while driven" in out
+
+
+def test_every_gimbalbot_run_is_refused_with_its_driven_interval_and_plant_logs_are_not():
+    """Each of the ten runs reads low while driven (falls at the start on day two, jumps at the end on both
+    days): refused, naming the interval.  Plant logs with a lagging sensor, sampled coarsely, are left alone."""
+    day_one = [REAL_DIR / "gimbalbot-esc-motor" / f"test01252015-0{k}-control.csv" for k in (1, 2, 3)]
+    logs = GIMBALBOT.read() + [read_log(p, mapping=GIMBALBOT_MAP, drop_incomplete=True, columns=GIMBALBOT_COLUMNS)
+                               for p in day_one]
+    for log in logs:
+        (run,) = log.runs(log.actuators[0])
+        spans = disturbed_spans(run.temperature_C, run.signals.effort)
+        assert len(spans) == 1 and spans[0][3] > 5.0
+    for dt in (1.0, 10.0, 30.0):
+        spec = replace(X8_9, network=NETWORKS["x8"])
+        log = simulate_profile("pulses", 7200.0, dt, ["knee"], [spec],
+                               PlantEffects.from_names("sensor_noise,sensor_lag,quantisation"), seed=0).log
+        (run,) = log.runs("knee")
+        assert disturbed_spans(run.temperature_C, run.signals.effort) == []
+
+
+def test_fit_refuses_a_sensor_that_reads_low_while_driven_naming_the_interval(capsys):
+    path = GIMBALBOT.paths[4]
+    assert main(["fit", str(path), "--map", GIMBALBOT_MAP, "--drop-incomplete", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "reads low while it is driven" in err and "jumps by" in err and "91.5 s to 210 s" in err
+
+
+def test_a_joint_whose_reading_never_changes_is_not_a_faulty_sensor_and_is_no_neighbour(tmp_path, capsys):
+    """An arm log: one joint at rest reads 28 degC throughout while its current jitters.  It is not "a reading a
+    sensor cannot have meant": the others are read, fitted and validated; it is said to have nothing to learn;
+    it is offered to no neighbour."""
+    frame = _plant_frame(1800.0)
+    rng = np.random.default_rng(0)
+    wide = pd.DataFrame({"time": frame["time"], "Current_J1": frame["effort"], "Temp_1": frame["temperature"],
+                         "Current_J2": rng.normal(0.0, 0.05, len(frame)), "Temp_2": 28.0,
+                         "Current_J3": frame["effort"] * 0.8, "Temp_3": frame["temperature"] * 0.9 + 2.5})
+    path = tmp_path / "arm.csv"
+    wide.to_csv(path, index=False)
+    mapping = "time=time,effort=Current_J{j},temperature=Temp_{j}"
+    assert suspect_spans(wide["time"].to_numpy(), wide["Temp_2"].to_numpy(), wide["Current_J2"].to_numpy()) == []
+    log = read_log(path, mapping=mapping)
+    assert set(log.actuators) == {"J1", "J2", "J3"}
+    assert "J2" not in log.series("J1").signals.neighbor_names + log.series("J3").signals.neighbor_names
+    other = tmp_path / "arm2.csv"  # another run of the arm: the idle joint as dull as before
+    wide.assign(Temp_3=wide["Temp_3"] + 0.25, Temp_1=wide["Temp_1"] + 0.25).to_csv(other, index=False)
+    assert main(["fit", str(path), "--map", mapping, "--actuator", "J3", "--validate-on", str(other), "--quiet"]) == 0
+    assert main(["fit", str(path), "--map", mapping, "--quiet"]) == 1  # J2 said not fitted, the others fitted
+    out = capsys.readouterr().out
+    assert "J1: model" in out and "J3: model" in out and "J2: not analysed: the temperature of J2 reads 28" in out
+
+
+@pytest.mark.parametrize("value, samples", [(0.0, 50), (-40.0, 20), (85.0, 120)])
+def test_a_sensor_held_at_a_fixed_value_after_a_jump_is_set_aside_however_long(value, samples):
+    frame = _plant_frame(1800.0)
+    t = frame["temperature"].to_numpy().copy()
+    t[600:600 + samples] = value
+    spans = suspect_spans(frame["time"].to_numpy(), t, frame["effort"].to_numpy())
+    assert (600, 600 + samples) in [(a, b) for a, b, _ in spans]
+    # a motor that warms to 85 degC and sits there, entered without a jump, is kept
+    warm = np.concatenate([np.linspace(30.0, 85.0, 600), np.full(300, 85.0), np.linspace(85.0, 60.0, 900)])
+    assert suspect_spans(frame["time"].to_numpy(), warm, np.zeros_like(warm)) == []
