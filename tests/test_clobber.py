@@ -93,3 +93,48 @@ def test_a_map_mistake_is_named_for_what_it_is(tmp_path, mapping, message, capsy
     assert main(["fit", str(tmp_path / "one.csv"), "--actuator", "a", "--map", mapping, "--quiet"]) == 2
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("argv, target", [
+    (["export", "{f}/knee.json", "--mujoco", "--motor-const", "0.1", "--resistance", "1", "--out", "{o}/robot.xml"],
+     "robot.xml"),
+    (["monitor", "{f}/knee.json", "--follow", "{f}/run.csv", "--json-lines", "--idle-exit", "0.2", "--limit-C", "90",
+      "--layout", "{o}/layout.json"], "layout.json"),
+    (["audit", "--env", "Ant-v5", "--duration", "0.1", "--plant", "x8-9", "--plot", "{o}"], "audit.png"),
+])
+def test_a_file_the_suite_did_not_write_is_never_replaced_and_its_own_is_said_replaced(folder, tmp_path, argv,
+                                                                                       target, capsys):
+    """The user's MJCF, layout or figure where an output would go: refused in one sentence, exit 2, the file as
+    it was; once the suite's own file is there, a second run replaces it and says so."""
+    if argv[0] == "audit":
+        pytest.importorskip("mujoco")
+    mine = tmp_path / target
+    mine.write_bytes(b"<mujoco model='my whole robot'/>\n")
+    filled = [a.format(f=folder, o=tmp_path) for a in argv]
+    assert main(filled) == 2
+    err = capsys.readouterr().err
+    assert "was not written by thermolimb" in err and len(err.strip().splitlines()) == 1
+    assert mine.read_bytes() == b"<mujoco model='my whole robot'/>\n"
+    mine.unlink()
+    assert main(filled) == 0
+    assert f"wrote {mine}" in capsys.readouterr().err
+    assert main(filled) == 0
+    assert f"replaced {mine}" in capsys.readouterr().err
+
+
+def test_a_summary_the_demo_did_not_write_is_not_replaced(tmp_path, capsys):
+    (tmp_path / "thermal-fit").mkdir()
+    (tmp_path / "thermal-fit" / "summary.json").write_text('{"mine": 1}')
+    assert main(["demo", "thermal-fit", "--quick", "--quiet", "--out", str(tmp_path)]) == 2
+    assert "summary.json exists and was not written by thermolimb" in capsys.readouterr().err
+    assert (tmp_path / "thermal-fit" / "summary.json").read_text() == '{"mine": 1}'
+
+
+def test_an_actuator_named_with_dashes_writes_well_formed_xml(tmp_path):
+    """An XML comment may not hold '--': a name that does is written so that the snippet still parses."""
+    import xml.etree.ElementTree as ET
+
+    from thermolimb.mujoco_export import commented
+
+    assert "--" not in commented("a--b---") and not commented("x-").endswith("-")
+    ET.fromstring(f"<r><!-- {commented('left--knee-')}: note --></r>")

@@ -325,3 +325,107 @@ def test_a_refit_the_log_cannot_make_is_said_beside_the_export(calibration, tmp_
     assert "one node could not be fitted again on the log: cannot identify betaR_K_per_effort2" in err, err
     assert main(argv + ["--refit"]) == 2
     assert "cannot identify betaR_K_per_effort2" in capsys.readouterr().err
+
+
+def _with_effort_unit(calibration, unit):
+    from dataclasses import replace
+
+    saved = ModelFile.load(calibration[1])
+    name, model = next(iter(saved.actuators.items()))
+    return replace(model, channel_units={**model.channel_units, "effort": unit})
+
+
+def test_a_model_of_current_is_refused_by_the_wrapper_without_a_torque_constant_and_converted_with_one(calibration):
+    """A model fitted on a current in mA heats from 1000 mA per A: the environment's torque (N m) over the torque
+    constant (N m/A) is that current; without the constant the wrapper refuses in one sentence naming both units."""
+    from thermolimb.util.errors import UsageError
+
+    in_mA = _with_effort_unit(calibration, "mA")
+    with pytest.raises(UsageError, match=r"current in mA; AntEnv gives torques in N m: pass torque_constant"):
+        ThermalWrapper(gym.make("Ant-v5"), models=in_mA)
+    k_t = 2.0  # N m/A
+    env = ThermalWrapper(gym.make("Ant-v5"), models=in_mA, torque_constant_Nm_per_A=k_t, observe=None)
+    assert env.reader.per_effort == pytest.approx(1000.0 / k_t, rel=0, abs=0)
+    in_Nm = ThermalWrapper(gym.make("Ant-v5"), models=_with_effort_unit(calibration, "N m"), observe=None)
+    assert in_Nm.reader.per_effort is None
+    with pytest.raises(UsageError, match="cannot turn into W"):
+        ThermalWrapper(gym.make("Ant-v5"), models=_with_effort_unit(calibration, "W"))
+
+
+@pytest.mark.parametrize("option, value, words", [
+    ("start_C", float("nan"), "start_C must be a finite number"),
+    ("limit_C", float("nan"), "limit_C must be a finite number"),
+    ("limit_C", -5.0, "8 of 8 joints start at or above their limit"),
+    ("penalty", -1.0, "penalty must be a finite number >= 0"),
+    ("ambient_C", 1e6, "ambient_C must be a finite number between -60 and 400 degC"),
+    ("warning_C", 399.0, "warning_C .* must not lie above limit_C"),
+    ("joints", "hip_1", "joints must be a list of joint names"),
+])
+def test_the_wrapper_refuses_values_out_of_their_range_in_one_sentence(option, value, words):
+    from thermolimb.util.errors import UsageError
+
+    with pytest.raises(UsageError, match=words):
+        ThermalWrapper(gym.make("Ant-v5"), plant=X8_9, **{option: value})
+
+
+def test_a_step_before_reset_is_refused_and_a_wrapped_env_runs_in_subprocesses():
+    """Gymnasium's own order (reset first), and a wrapped environment that pickles: an asynchronous vector env
+    builds it in two worker processes and steps it there, heating as the same env in this process does."""
+    import pickle
+
+    env = ThermalWrapper(gym.make("Ant-v5"), plant=X8_9, observe="dict")
+    with pytest.raises(gym.error.ResetNeeded, match="reset"):
+        env.step(env.action_space.sample())
+    pickle.loads(pickle.dumps(env.reader))  # the readers are plain objects
+
+    def make():
+        return ThermalWrapper(gym.make("Ant-v5"), plant=X8_9, observe="dict")
+
+    envs = gym.vector.AsyncVectorEnv([make, make], context="spawn")
+    try:
+        obs, _ = envs.reset(seed=[1, 2])
+        actions = np.zeros(envs.action_space.shape)
+        obs, _, _, _, info = envs.step(actions)
+        assert info["temperature_C"].shape == (2, 8) and np.all(np.isfinite(info["temperature_C"]))
+    finally:
+        envs.close()
+
+
+POLICIES = '''
+import numpy as np
+def raises(env, obs): raise RuntimeError("boom")
+def none(env, obs): return None
+def short(env, obs): return np.zeros(3)
+def nan(env, obs): return np.full(env.action_space.shape, np.nan)
+def chatty(env, obs):
+    print("hello from the policy")
+    return np.zeros(env.action_space.shape)
+'''
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--policy", "userpolicy:raises"], "--policy userpolicy:raises raised RuntimeError at step 0: boom"),
+    (["--policy", "userpolicy:none"], "returned None at step 0; expected an action of shape (8,)"),
+    (["--policy", "userpolicy:short"], "returned shape (3,) at step 0; expected an action of shape (8,)"),
+    (["--policy", "userpolicy:nan"], "returned 8 value(s) that are not finite (NaN or inf) at step 0"),
+    (["--env-arg", "frame_skip=0"], "could not be made with frame_skip=0: ZeroDivisionError"),
+    (["--env-arg", "xml_file={tmp}/userpolicy.py"], "could not be made with xml_file="),
+    (["--env-arg", "render_mode=human"], "render_mode=human: the audit draws no window"),
+    (["--env-arg", "healthy_reward=nan"], "failed at step 0: TypeError"),
+])
+def test_the_user_s_policy_and_environment_arguments_get_one_sentence(tmp_path, monkeypatch, argv, said, capsys):
+    (tmp_path / "userpolicy.py").write_text(POLICIES)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    argv = [a.format(tmp=tmp_path) for a in argv]
+    assert main(["audit", "--env", "Ant-v5", "--duration", "0.2", "--plant", "x8-9", *argv]) == 2
+    err = capsys.readouterr().err
+    assert said in err and len(err.strip().splitlines()) == 1
+
+
+def test_what_a_policy_prints_goes_to_standard_error_and_the_json_stays_whole(tmp_path, monkeypatch, capsys):
+    (tmp_path / "userpolicy.py").write_text(POLICIES)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert main(["audit", "--env", "Ant-v5", "--duration", "0.2", "--plant", "x8-9", "--policy", "userpolicy:chatty",
+                 "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["policy"] == "userpolicy:chatty" and "hello from the policy" in err

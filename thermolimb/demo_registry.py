@@ -23,7 +23,7 @@ from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Callable, Mapping
 
-from .util.atomic import check_output_dir, made_folder, write_text
+from .util.atomic import check_output_dir, made_folder, replaces, write_text
 from .util.errors import UsageError
 from .util.jsonutil import to_jsonable
 from .util.numbers import plus_minus
@@ -152,6 +152,7 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
         raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: "
                          f"pip install 'thermolimb[{demos[name].extra}]'")
     folder = check_output_dir(Path(out) / name, "demo output folder")
+    replaces(folder / "summary.json", _demo_wrote, "--out")  # a summary the demo did not write is not replaced
     with made_folder(folder):
         summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
         details = summary.pop("details", None)
@@ -159,6 +160,15 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
             if record is not None:
                 write_text(folder / filename, json.dumps(record, indent=2))
     return summary
+
+
+def _demo_wrote(summary: Path) -> bool:
+    """Whether a ``summary.json`` is a demo's: a JSON object beside a figure the suite drew (its inventory)."""
+    from .plotting.inventory import read_inventory
+
+    if not isinstance(json.loads(summary.read_text(encoding="utf-8", errors="replace")), dict):
+        return False
+    return any(read_inventory(png) is not None for png in summary.parent.glob("*.png"))
 
 
 def timed_demo(name: str, out: Path, quick: bool, quiet: bool) -> tuple[dict, float]:

@@ -137,18 +137,29 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
                           tuple(t for t in model.terms if t not in kept), tuple(notes), current=unit in CURRENT_UNITS)
 
 
+EXPORT_MARK = "thermolimb export"  # what the snippet's first comment says: a file export may replace
+
+
+def commented(text: str) -> str:
+    """Text made safe inside an XML comment, which may hold neither ``--`` nor end in ``-``."""
+    text = str(text)
+    while "--" in text:
+        text = text.replace("--", "- -")
+    return text + " " if text.endswith("-") else text
+
+
 def mjcf_snippet(exports: list[DcMotorThermal], joints: dict[str, str] | None = None) -> str:
     """An ``<actuator>`` block of MJCF with each actuator's dcmotor, what was dropped said in comments."""
-    lines = ["<!-- thermolimb export: Jorgensen et al.'s first-order model on MuJoCo's dcmotor thermal state",
+    lines = [f"<!-- {EXPORT_MARK}: Jorgensen et al.'s first-order model on MuJoCo's dcmotor thermal state",
              "     (thermal = resistance K/W, capacitance J/K (0: timeconst/resistance), timeconst s, tempcoef 1/K,",
              "      reftemp degC, ambient degC); the winding temperature is ambient + the actuator's activation -->",
              "<actuator>"]
     for e in exports:
         for term in e.dropped:
-            lines.append(f"  <!-- {e.actuator}: {term} dropped (MuJoCo's dcmotor has one thermal node, heated by "
-                         f"its current) -->")
+            lines.append(f"  <!-- {commented(e.actuator)}: {term} dropped (MuJoCo's dcmotor has one thermal node, "
+                         f"heated by its current) -->")
         for note in e.notes:
-            lines.append(f"  <!-- {e.actuator}: {note} -->")
+            lines.append(f"  <!-- {commented(e.actuator)}: {commented(note)} -->")
         lines.append("  " + e.element((joints or {}).get(e.actuator)))
     lines.append("</actuator>")
     return "\n".join(lines) + "\n"

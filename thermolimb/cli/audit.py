@@ -38,6 +38,10 @@ def add_parser(sub):
                       help="the suite's plant with this datasheet actuator at every joint (default x8-16)")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="with --models: the model file's actuator whose model serves every joint")
+    p.add_argument("--torque-constant", dest="torque_constant", type=number(0.0, 1e4, low_open=True, unit="N m/A"),
+                   default=None, metavar="NM_PER_A",
+                   help="for a model that heats from a current (A or mA): the motor's torque constant at the joint, "
+                        "N m per A, by which the environment's torques become currents")
     p.add_argument("--joints", default=None, metavar="A,B,...", help="the joints to heat (default every one)")
     p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
                    help="every joint's limit (default: the models' stored limits, or the plant's)")
@@ -59,6 +63,12 @@ def run(args) -> int:
     from .reading import load_terms
 
     load_terms(args)
+    replacing = False
+    if args.plot:
+        from ..plotting.inventory import read_inventory
+        from ..util.atomic import replaces
+
+        replacing = replaces(args.plot / "audit.png", lambda p: read_inventory(p) is not None, "--plot")
     heat = {}
     if args.actuator and not args.models:
         raise UsageError("--actuator names the model file's actuator: give --models MODEL.json")
@@ -67,6 +77,9 @@ def run(args) -> int:
         for note in models.notes:
             say(note)
         heat["models"] = models[args.actuator] if args.actuator else models
+        heat["torque_constant_Nm_per_A"] = args.torque_constant
+    elif args.torque_constant is not None:
+        raise UsageError("--torque-constant turns torques into the current a model heats from: give --models")
     else:
         from .. import plant
 
@@ -78,7 +91,7 @@ def run(args) -> int:
         from ..plotting.audit import plot_audit
 
         path = plot_audit(result, args.plot / "audit.png")
-        print(f"wrote {path}", file=sys.stderr)
+        print(f"{'replaced' if replacing else 'wrote'} {path}", file=sys.stderr)
     if args.json:
         print_json(result.to_json())
     else:

@@ -43,10 +43,21 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..mujoco_export import Motor, cost_of_dropping, mjcf_snippet, refitted, run_in_mujoco, to_dcmotor
+    from ..mujoco_export import (
+        EXPORT_MARK,
+        Motor,
+        cost_of_dropping,
+        mjcf_snippet,
+        refitted,
+        run_in_mujoco,
+        to_dcmotor,
+    )
 
     if args.refit and not args.logs:
         raise UsageError("--refit fits the exported model again on a log: give the model's calibration LOG too")
+    from ..util.atomic import holds, replaces
+
+    replacing = bool(args.out) and replaces(args.out, holds(EXPORT_MARK.encode()), "--out")
     models = load_model_file(args)
     names = [args.actuator] if args.actuator else list(models.actuators)
     motor = Motor(args.motor_const, args.resistance, args.gear)
@@ -86,7 +97,7 @@ def run(args) -> int:
 
         with atomic_path(args.out) as tmp:
             tmp.write_text(snippet)
-        print(f"wrote {args.out}", file=sys.stderr)
+        print(f"{'replaced' if replacing else 'wrote'} {args.out}", file=sys.stderr)
     if args.json:
         print_json(records if len(records) > 1 else records[0])
     elif not args.out:

@@ -67,12 +67,13 @@ def run(args) -> int:
                          f"{', '.join(models.actuators)}")
     follower = _follower(args)  # what cannot be followed is refused before any output is opened
     if args.layout:
-        from ..monitor.layout import layout_text
-        from ..util.atomic import atomic_path
+        from ..monitor.layout import MARK, layout_text
+        from ..util.atomic import atomic_path, holds, replaces
 
+        replacing = replaces(args.layout, holds(MARK.encode()), "--layout")
         with atomic_path(args.layout) as tmp:
             tmp.write_text(layout_text(names))
-        print(f"wrote {args.layout}", file=sys.stderr)
+        print(f"{'replaced' if replacing else 'wrote'} {args.layout}", file=sys.stderr)
     outputs = []
     try:
         if args.mcap:

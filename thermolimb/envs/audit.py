@@ -10,8 +10,10 @@ the run -- the first to reach its limit, else the one closest to it.
 
 from __future__ import annotations
 
+import contextlib
 import inspect
 import math
+import sys
 from dataclasses import dataclass, field
 from importlib import import_module
 from typing import Callable
@@ -132,13 +134,7 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
         from . import known_envs
 
         known_envs()  # the suite's robots register their environments
-        try:  # no episode time limit: the policy runs for the audit's duration, reset only when the episode ends
-            env = gym.make(env, max_episode_steps=2**31 - 1, **(env_kwargs or {}))
-        except gym.error.Error as exc:
-            raise UsageError(f"--env {env_id}: {exc}") from None
-        except TypeError as exc:  # an argument its constructor does not take
-            raise UsageError(f"--env {env_id} does not take the arguments given ({exc}); see help(env.unwrapped)") \
-                from None
+        env = _made(env, env_id, env_kwargs or {})
     wrapped = ThermalWrapper(env, observe=None, reset_heat=False, **wrapper)
     heat = "the models given" if wrapper.get("models") is not None else "the suite's plant with datasheet actuators"
     steps = int(math.ceil(duration_s / wrapped.dt_s))
@@ -147,14 +143,17 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
     try:
         observation, info = wrapped.reset(seed=seed)
         temperatures = [info["temperature_C"]]
-        below = np.flatnonzero(np.asarray(wrapped.limit_C) <= temperatures[0])
-        if below.size:
-            k = int(below[0])
-            raise UsageError(f"{len(below)} of {len(wrapped.joints)} joints start at or above their limit ("
-                             f"{wrapped.joints[k]}: limit {wrapped.limit_C[k]:g} degC, start {temperatures[0][k]:.1f} "
-                             f"degC); expected limits above where the joints start (--limit-C, --ambient-C)")
-        for _ in range(steps):
-            observation, _, terminated, truncated, info = wrapped.step(policy(wrapped, observation))
+        for step in range(steps):
+            action = _action(policy, name, wrapped, observation, step)
+            try:
+                observation, _, terminated, truncated, info = wrapped.step(action)
+            except UsageError:
+                raise
+            except Exception as exc:  # noqa: BLE001 -- the environment, made with the user's arguments
+                given = ", ".join(f"{k}={v!r}" for k, v in (env_kwargs or {}).items())
+                raise UsageError(f"--env {env_id} failed at step {step}: {type(exc).__name__}: "
+                                 f"{str(exc).splitlines()[0] if str(exc) else 'no message'}"
+                                 + (f" (made with {given}: check those values)" if given else "")) from None
             temperatures.append(info["temperature_C"])
             strongest = np.maximum(strongest, np.abs(info["torque_Nm"]))
             if terminated or truncated:
@@ -174,6 +173,53 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
                      f"most, {wrapped.joints[k]}: {strongest[k]:.3g} N m against {peak[k]:.3g} N m); the plant heats "
                      f"them at the peak, as a drive that holds it would")
     return AuditResult(env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes)
+
+
+def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
+    """``gym.make(env_id, **kwargs)`` with no episode time limit (the policy runs for the audit's duration, reset
+    only when an episode ends); whatever the environment's constructor refuses in the user's arguments is one
+    sentence.  No window is opened: the audit runs where no display may be."""
+    bad = [k for k, v in kwargs.items() if isinstance(v, float) and not math.isfinite(v)]
+    if bad:
+        raise UsageError(f"--env-arg {bad[0]}={kwargs[bad[0]]}: expected a finite number")
+    if kwargs.get("render_mode") not in (None, "rgb_array", "depth_array"):
+        raise UsageError(f"--env-arg render_mode={kwargs['render_mode']}: the audit draws no window (a display may "
+                         f"not be there); leave render_mode out, or give rgb_array")
+    try:
+        return gym.make(env_id, max_episode_steps=2**31 - 1, **kwargs)
+    except gym.error.Error as exc:
+        raise UsageError(f"--env {shown}: {exc}") from None
+    except TypeError as exc:  # an argument its constructor does not take
+        raise UsageError(f"--env {shown} does not take the arguments given ({exc}); see help(env.unwrapped)") \
+            from None
+    except Exception as exc:  # noqa: BLE001 -- the user's arguments reach the environment's own code
+        given = ", ".join(f"{k}={v!r}" for k, v in kwargs.items()) or "no arguments"
+        raise UsageError(f"--env {shown} could not be made with {given}: {type(exc).__name__}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else 'no message'}") from None
+
+
+def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -> np.ndarray:
+    """The policy's action at ``step``, checked: what it prints goes to standard error (standard output carries
+    the audit, and its JSON); an exception, None, the wrong shape or a value that is not finite is one sentence
+    naming the step and what was expected."""
+    space = env.action_space
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            action = policy(env, observation)
+    except Exception as exc:  # noqa: BLE001 -- the user's policy: any of its errors is said, not a traceback
+        raise UsageError(f"--policy {name} raised {type(exc).__name__} at step {step}: {exc}") from None
+    expected = f"expected an action of shape {space.shape} of finite numbers"
+    try:
+        values = np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        values = None
+    if action is None or values is None or values.shape != space.shape:
+        got = "None" if action is None else (f"shape {values.shape}" if values is not None else repr(action)[:60])
+        raise UsageError(f"--policy {name} returned {got} at step {step}; {expected}")
+    if not np.isfinite(values).all():
+        raise UsageError(f"--policy {name} returned {int((~np.isfinite(values)).sum())} value(s) that are not "
+                         f"finite (NaN or inf) at step {step}; {expected}")
+    return np.asarray(action, dtype=space.dtype) if getattr(space, "dtype", None) is not None else values
 
 
 def beyond_experience(joints, experience, strongest_Nm, peak_C) -> list[str]:

@@ -32,8 +32,10 @@ import numpy as np
 
 from ..model.experience import shifted
 from ..model.first_order import ModelArrays, in_family
+from ..model.parameter_units import NOT_GIVEN
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
+from ..plant.plant import TEMPERATURE_RANGE_C
 from ..plant.protection import ThermalProtection
 from ..util.errors import UsageError
 
@@ -63,38 +65,65 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     reset_heat
         Whether ``reset`` cools the joints to ``start_C`` (default); ``False`` carries the heat across episodes,
         as a robot set up again after a fall is still warm.
+    torque_constant_Nm_per_A
+        For models that heat from a current (their effort in A or mA): the motor's torque constant at the joint
+        (N m per A), by which the joints' torques become currents.  Without it such a model is refused: an
+        environment gives torques in N m.
+
+    Raises
+    ------
+    UsageError
+        A value out of its range (temperatures within -60 to 400 degC, a limit above the start, a penalty >= 0),
+        a model whose effort is not a torque in N m and cannot be made one, or ``step`` before ``reset``.
     """
 
     def __init__(self, env: gym.Env, models=None, plant=None, joints: Sequence[str] | None = None,
                  torque: Callable[[gym.Env], np.ndarray] | None = None, ambient_C: float = 25.0,
                  start_C: float | None = None, limit_C: float | None = None, warning_C: float | None = None,
                  observe: str | None = "append", penalty: float = 0.0, terminate: bool = False,
-                 protect: bool = False, reset_heat: bool = True):
+                 protect: bool = False, reset_heat: bool = True, torque_constant_Nm_per_A: float | None = None):
         gym.utils.RecordConstructorArgs.__init__(
             self, models=models, plant=plant, joints=joints, torque=torque, ambient_C=ambient_C, start_C=start_C,
             limit_C=limit_C, warning_C=warning_C, observe=observe, penalty=penalty, terminate=terminate,
-            protect=protect, reset_heat=reset_heat)
+            protect=protect, reset_heat=reset_heat, torque_constant_Nm_per_A=torque_constant_Nm_per_A)
         gym.Wrapper.__init__(self, env)
         if (models is None) == (plant is None):
             raise UsageError("ThermalWrapper needs models (a model file) or plant (datasheet actuators), one of them")
         if observe not in OBSERVE:
             raise UsageError(f"observe must be one of {OBSERVE}, got {observe!r}")
-        for name, value in (("ambient_C", ambient_C), ("penalty", penalty)):
-            if not np.isfinite(value):
-                raise UsageError(f"ThermalWrapper: {name} must be a finite number, got {value!r}")
+        low, high = TEMPERATURE_RANGE_C
+        ambient_C = _checked("ambient_C", ambient_C, low, high)
+        start_C = ambient_C if start_C is None else _checked("start_C", start_C, low, high)
+        penalty = _checked("penalty", penalty, 0.0, np.inf, "(a reward taken per K above warning_C)")
+        if joints is not None and (isinstance(joints, str) or not all(isinstance(j, str) for j in joints)
+                                   or len(set(joints)) != len(joints) or not joints):
+            raise UsageError(f"ThermalWrapper: joints must be a list of joint names, each once, got {joints!r}")
         self.reader = torque_reader(env, joints, torque)
         self.joints = self.reader.joints
-        self.ambient_C = float(ambient_C)
-        self.start_C = self.ambient_C if start_C is None else float(start_C)
-        self.observe, self.penalty, self.terminate, self.protect = observe, float(penalty), terminate, protect
+        self.ambient_C, self.start_C = ambient_C, start_C
+        self.observe, self.penalty, self.terminate, self.protect = observe, penalty, terminate, protect
         self.reset_heat = reset_heat
         self._started = False
-        self.heat = (PlantHeat(plant, self.joints, self.ambient_C) if plant is not None else
-                     ModelHeat(joint_models(models, self.joints), self.ambient_C))
-        limits = self.heat.limits_C if limit_C is None else np.full(len(self.joints), float(limit_C))
+        if plant is not None:
+            self.heat = PlantHeat(plant, self.joints, self.ambient_C)
+        else:
+            saved = joint_models(models, self.joints)
+            self.reader.per_effort = effort_scale(saved, torque_constant_Nm_per_A, type(env.unwrapped).__name__)
+            self.heat = ModelHeat(saved, self.ambient_C)
+        limits = self.heat.limits_C if limit_C is None else np.full(len(self.joints),
+                                                                   _checked("limit_C", limit_C, low, high))
         self.limit_C = np.where(np.isfinite(limits), limits, 90.0)
-        self.warning_C = self.limit_C - DEFAULT_MARGIN_K if warning_C is None else np.full(len(self.joints),
-                                                                                         float(warning_C))
+        below = np.flatnonzero(self.limit_C <= start_C)
+        if below.size:  # every episode would end at its first step
+            k = int(below[0])
+            raise UsageError(f"{below.size} of {len(self.joints)} joints start at or above their limit "
+                             f"({self.joints[k]}: limit {self.limit_C[k]:g} degC, start {start_C:.1f} degC); expected "
+                             f"limits above where the joints start (limit_C and start_C; --limit-C, --ambient-C)")
+        self.warning_C = self.limit_C - DEFAULT_MARGIN_K if warning_C is None else np.full(
+            len(self.joints), _checked("warning_C", warning_C, low, high))
+        if np.any(self.warning_C > self.limit_C):
+            raise UsageError(f"ThermalWrapper: warning_C ({np.max(self.warning_C):g} degC) must not lie above "
+                             f"limit_C ({np.min(self.limit_C):g} degC)")
         self.protection = ThermalProtection(margin_K=DEFAULT_MARGIN_K + 5.0)
         self.dt_s = step_seconds(env)
         self.temperature_C = np.full(len(self.joints), self.start_C)
@@ -122,11 +151,15 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         return self._observation(obs), self._info(info, zeros, np.full(len(self.joints), np.inf))
 
     def step(self, action):
+        if not self._started:  # as Gymnasium's OrderEnforcing refuses it: the temperatures are set by reset
+            raise gym.error.ResetNeeded("ThermalWrapper: call reset() before step(): the windings' temperatures "
+                                        "start at reset")
         if self.protect:
             action = self.reader.derated(self.env, action, self._derating())
         obs, reward, terminated, truncated, info = self.env.step(action)
         torque_Nm, velocity = self.reader.read(self.env)
-        self.temperature_C, reach_s = self.heat.step(torque_Nm, velocity, self.dt_s, self.limit_C)
+        effort = torque_Nm if self.reader.per_effort is None else torque_Nm * self.reader.per_effort
+        self.temperature_C, reach_s = self.heat.step(effort, velocity, self.dt_s, self.limit_C)
         over = np.maximum(self.temperature_C - self.warning_C, 0.0)
         if self.penalty:
             reward = float(reward) - self.penalty * float(over.sum())
@@ -169,14 +202,23 @@ def step_seconds(env: gym.Env) -> float:
 
 
 class TorqueReader:
-    """The joints' torques (and velocities, when known) after a step."""
+    """The joints' torques (and velocities, when known) after a step, from ``f(env) -> array`` (N m).
 
-    def __init__(self, joints: Sequence[str], read: Callable, derate: Callable | None = None):
+    ``per_effort``: the factor turning a torque into the effort a model heats from (a current: 1 / the torque
+    constant), or ``None`` for torque.  Subclasses read a MuJoCo model's actuators or the suite's robots; each is
+    a plain object, so that a wrapped environment pickles (a subprocess vector environment)."""
+
+    per_effort: float | None = None
+
+    def __init__(self, joints: Sequence[str], torque: Callable | None = None):
         self.joints = tuple(joints)
-        self._read, self._derate = read, derate
+        self.torque = torque
+
+    def raw(self, env) -> tuple[np.ndarray, np.ndarray | None]:
+        return self.torque(env), None
 
     def read(self, env) -> tuple[np.ndarray, np.ndarray | None]:
-        torque, velocity = self._read(env)
+        torque, velocity = self.raw(env)
         torque = np.asarray(torque, float)
         if torque.shape != (len(self.joints),) or not np.isfinite(torque).all():
             raise UsageError(f"the torque read for {len(self.joints)} joints is {torque!r}; expected that many finite "
@@ -184,10 +226,38 @@ class TorqueReader:
         return torque, velocity
 
     def derated(self, env, action, fraction: np.ndarray):
-        if self._derate is None:
-            raise UsageError("protect=True scales each actuator's command: this environment's actuators are not "
-                             "known to the wrapper (give a MuJoCo environment, or scale the action yourself)")
-        return self._derate(env, action, fraction)
+        raise UsageError("protect=True scales each actuator's command: this environment's actuators are not "
+                         "known to the wrapper (give a MuJoCo environment, or scale the action yourself)")
+
+
+class MujocoReader(TorqueReader):
+    """A MuJoCo environment's actuator forces times their gears, and its actuator velocities over them."""
+
+    def __init__(self, joints: Sequence[str], idx, gear: np.ndarray):
+        super().__init__(joints)
+        self.idx, self.gear = idx, gear
+
+    def raw(self, env):
+        data = env.unwrapped.data
+        return data.actuator_force[self.idx] * self.gear, data.actuator_velocity[self.idx] / self.gear
+
+    def derated(self, env, action, fraction):
+        scaled = np.array(action, dtype=float, copy=True)
+        scaled[self.idx] = scaled[self.idx] * fraction
+        return scaled.astype(np.asarray(action).dtype)
+
+
+class RigReader(TorqueReader):
+    """The suite's PyBullet robots: the rig's applied torques and joint velocities (the world is rebuilt at every
+    reset, so it is looked up each step)."""
+
+    def __init__(self, joints: Sequence[str], idx: np.ndarray):
+        super().__init__(joints)
+        self.idx = idx
+
+    def raw(self, env):
+        rig = env.unwrapped.sim
+        return rig.applied_Nm[self.idx], rig.joint_states()[1][self.idx]
 
 
 def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable | None) -> TorqueReader:
@@ -195,7 +265,7 @@ def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable |
     if torque is not None:
         if not joints:
             raise UsageError("torque=f(env) needs joints=[...]: the names of the torques it returns, in order")
-        return TorqueReader(joints, lambda e: (torque(e), None))
+        return TorqueReader(joints, torque)
     model = getattr(u, "model", None)
     if model is not None and hasattr(model, "actuator_gear") and hasattr(u, "data"):
         names = mujoco_actuator_names(model)
@@ -207,30 +277,14 @@ def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable |
         gear = model.actuator_gear[idx, 0].copy()
         if np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):  # in order: a view, not a gather
             idx = slice(int(idx[0]), int(idx[0]) + idx.size)
-
-        def read(e):
-            data = e.unwrapped.data
-            return data.actuator_force[idx] * gear, data.actuator_velocity[idx] / gear
-
-        def derate(e, action, fraction):
-            scaled = np.array(action, dtype=float, copy=True)
-            scaled[idx] = scaled[idx] * fraction
-            return scaled.astype(np.asarray(action).dtype)
-
-        return TorqueReader(chosen, read, derate)
+        return MujocoReader(chosen, idx, gear)
     if getattr(u, "JOINTS", ()) and hasattr(u, "sim"):  # this suite's robots (their world is built at reset)
         names = list(u.JOINTS)
         chosen = list(joints) if joints else names
         missing = [j for j in chosen if j not in names]
         if missing:
             raise UsageError(f"joints {missing} are not joints of this robot; it has {', '.join(names)}")
-        idx = np.array([names.index(j) for j in chosen])
-
-        def read_rig(e):
-            rig = e.unwrapped.sim  # rebuilt at every reset
-            return rig.applied_Nm[idx], rig.joint_states()[1][idx]
-
-        return TorqueReader(chosen, read_rig)
+        return RigReader(chosen, np.array([names.index(j) for j in chosen]))
     raise UsageError(f"{type(u).__name__}: the wrapper reads torques from MuJoCo environments and this suite's "
                      f"PyBullet robots; for another environment pass torque=f(env) and joints=[...]")
 
@@ -303,6 +357,48 @@ class ModelHeat:
         return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
 
 
+TORQUE_UNITS = {"N m": 1.0, "Nm": 1.0, "N·m": 1.0, "mN m": 1e3}  # a torque in N m, per N m
+CURRENT_UNITS = {"A": 1.0, "mA": 1e3}  # a current per A
+
+
+def effort_scale(saved: Sequence[SavedModel], torque_constant_Nm_per_A: float | None, env_name: str) -> float | None:
+    """The factor turning the environment's torques (N m) into the effort the models heat from: ``None`` for
+    models in N m, 1/k_t (times 1000 for mA) for models of a current given the torque constant; refused in one
+    sentence otherwise (a current without a torque constant, a unit the suite cannot turn a torque into).  A
+    model whose effort unit was never given is taken as N m (its log did not say; the file says so too)."""
+    units = {dict(s.channel_units).get("effort", NOT_GIVEN) for s in saved}
+    if len(units) > 1:
+        raise UsageError(f"ThermalWrapper: the models heat from efforts in different units ({', '.join(sorted(units))}); "
+                         f"expected one unit for every joint")
+    unit = units.pop()
+    if unit in TORQUE_UNITS or unit == NOT_GIVEN:
+        factor = TORQUE_UNITS.get(unit, 1.0)
+        return None if factor == 1.0 else factor
+    if unit in CURRENT_UNITS:
+        if torque_constant_Nm_per_A is None:
+            raise UsageError(f"the model heats from a current in {unit}; {env_name} gives torques in N m: pass "
+                             f"torque_constant_Nm_per_A (--torque-constant) or a model fitted on torque")
+        k = _checked("torque_constant_Nm_per_A", torque_constant_Nm_per_A, 0.0, np.inf)
+        if k == 0.0:
+            raise UsageError("ThermalWrapper: torque_constant_Nm_per_A must be above 0 N m/A")
+        return CURRENT_UNITS[unit] / k
+    raise UsageError(f"the model heats from an effort in {unit}; {env_name} gives torques in N m, which the suite "
+                     f"cannot turn into {unit}: use a model fitted on torque (N m) or on a current (A, mA)")
+
+
+def _checked(name: str, value, low: float, high: float, what: str = "") -> float:
+    """``value`` as a float within ``[low, high]``, or a UsageError naming it."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = np.nan
+    if not (np.isfinite(number) and low <= number <= high) or isinstance(value, bool):
+        bounds = f"between {low:g} and {high:g} degC" if np.isfinite(high) else f">= {low:g}"
+        raise UsageError(f"ThermalWrapper: {name} must be a finite number {bounds}{' ' + what if what else ''}, "
+                         f"got {value!r}")
+    return number
+
+
 def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
     """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
     out = np.where(T >= limit_C, 0.0, np.inf)
@@ -317,16 +413,20 @@ class PlantHeat:
     """This suite's plant with datasheet actuators."""
 
     def __init__(self, plant, joints: Sequence[str], ambient_C: float):
-        from ..plant import ActuatorSpec, PlantEffects, ThermalPlant  # noqa: F401 -- the spec type is checked
+        from ..plant import ActuatorSpec
 
         specs = [plant] * len(joints) if isinstance(plant, ActuatorSpec) else list(plant)
         if len(specs) != len(joints) or not all(isinstance(s, ActuatorSpec) for s in specs):
             raise UsageError(f"plant must be an ActuatorSpec or one per joint ({len(joints)}), got {plant!r}")
-        self.make = lambda start: ThermalPlant(list(joints), specs, PlantEffects(), ambient_C=ambient_C,
-                                               initial_C=start)
+        self.joints, self.specs, self.ambient_C = list(joints), specs, ambient_C
         self.limits_C = np.array([s.winding_limit_C for s in specs], float)
         self.peak_Nm = np.array([s.effort_limit for s in specs], float)  # the plant holds a torque at its peak
         self.plant = self.make(ambient_C)
+
+    def make(self, start_C: float):
+        from ..plant import PlantEffects, ThermalPlant
+
+        return ThermalPlant(self.joints, self.specs, PlantEffects(), ambient_C=self.ambient_C, initial_C=start_C)
 
     def reset(self, start_C: float) -> None:
         self.plant = self.make(start_C)

@@ -11,6 +11,9 @@ SHIPPED_ACTUATORS = ("knee", "hip", "ankle")
 COLOURS = ("#4e98e2", "#f5774d", "#61cbff", "#f7df71", "#d37ac6", "#9cdc6b")
 
 
+MARK = '"/thermolimb/'  # every layout this suite writes plots its topics: a file --layout may replace
+
+
 def layout(actuators) -> dict:
     plot_paths = []
     for i, a in enumerate(actuators):

@@ -182,3 +182,39 @@ def _check_folder(folder: Path, what: str, target: Path) -> None:
         tempfile.TemporaryFile(dir=existing).close()
     except OSError as exc:
         raise UsageError(f"{what} {target}: {existing} cannot be written ({exc.strerror or exc})") from None
+
+
+def replaces(path: str | Path, mine, flag: str) -> bool:
+    """Whether writing ``path`` replaces a file: ``False`` where none is there, ``True`` where the one there is the
+    suite's own (``mine(path)`` says so: a mark it writes), said "replaced" by the caller; a file the suite did
+    not write is refused in one sentence before anything is written.
+
+    Parameters
+    ----------
+    path
+        The output about to be written.
+    mine
+        ``mine(path) -> bool``: whether the file there carries what the suite writes in such a file.
+    flag
+        The option that named it, for the sentence.
+    """
+    path = Path(path)
+    if not path.exists():
+        return False
+    try:
+        ours = bool(mine(path))
+    except (OSError, ValueError):
+        ours = False
+    if not ours:
+        raise UsageError(f"{flag} {path} exists and was not written by thermolimb; the suite never replaces a file it "
+                         f"did not write: move it away or name another file (nothing was written)")
+    return True
+
+
+def holds(mark: bytes, within: int = 65536):
+    """``mine`` for :func:`replaces`: the file's first ``within`` bytes hold ``mark``."""
+    def mine(path: Path) -> bool:
+        with open(path, "rb") as f:
+            return mark in f.read(within)
+
+    return mine
