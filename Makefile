@@ -40,6 +40,7 @@ PYTEST := $(BIN)/python -m pytest -q -n auto --dist loadfile
 # the default run (well under ten minutes on two cores); the long runs marked slow are `make test-slow`, and CI runs
 # both (.ci/run)
 test: $(TEST_STAMP)
+	$(BIN)/ruff check --quiet .
 	$(PYTEST) -m "not slow"
 
 test-slow: $(TEST_STAMP)

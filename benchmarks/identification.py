@@ -22,7 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.identification import FreeRunLeastSquares, JorgensenGradientDescent, LeastSquares, build_regression
+from thermolimb.identification import (
+    FreeRunLeastSquares,
+    JorgensenGradientDescent,
+    LeastSquares,
+    build_regression,
+)
 from thermolimb.identification.jorgensen_gd import zscore_gradient_descent
 from thermolimb.identification.least_squares import solve_least_squares
 from thermolimb.logs import log_from_arrays

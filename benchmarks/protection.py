@@ -21,7 +21,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.plant import PLANT_EFFECTS, X8_9, X8_16, PlantEffects, ThermalPlant, ThermalProtection, run_profile
+from thermolimb.plant import (
+    PLANT_EFFECTS,
+    X8_9,
+    X8_16,
+    PlantEffects,
+    ThermalPlant,
+    ThermalProtection,
+    run_profile,
+)
 from thermolimb.plant.profiles import PROFILES
 
 SPECS = (X8_9, X8_16, X8_9)

@@ -9,7 +9,14 @@ The humanoid's :mod:`humanoid_pb.thermal` has the same shape: ``actuator_specs(p
 from __future__ import annotations
 
 from thermolimb.model import FirstOrderBank
-from thermolimb.plant import ActuatorSpec, PlantEffects, Quantisation, SensorNoise, ThermalProtection, WindingTempco
+from thermolimb.plant import (
+    ActuatorSpec,
+    PlantEffects,
+    Quantisation,
+    SensorNoise,
+    ThermalProtection,
+    WindingTempco,
+)
 
 from .params import DAISY, DaisyParams
 

@@ -21,7 +21,15 @@ from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
 from thermolimb.workbench.diagnosis.candidates import held_out_support
 from thermolimb.workbench.excitation import channel_excitation, excitation
-from thermolimb.workbench.validation import INTERLEAVED, RUNS, SPLIT, Scheme, Segment, held_blocks, validate_model
+from thermolimb.workbench.validation import (
+    INTERLEAVED,
+    RUNS,
+    SPLIT,
+    Scheme,
+    Segment,
+    held_blocks,
+    validate_model,
+)
 
 
 @pytest.fixture(scope="module")

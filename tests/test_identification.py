@@ -4,7 +4,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from thermolimb.identification import FreeRunLeastSquares, IdentifiabilityError, JorgensenGradientDescent, LeastSquares
+from thermolimb.identification import (
+    FreeRunLeastSquares,
+    IdentifiabilityError,
+    JorgensenGradientDescent,
+    LeastSquares,
+)
 from thermolimb.logs import from_frame
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, PlantEffects, run_profile
 from thermolimb.plant.profiles import random_holds

@@ -1,7 +1,14 @@
 import numpy as np
 import pytest
 
-from thermolimb.model import FirstOrderBank, ModelSpecError, Signals, ThermalModel, first_order_scan, parse_model
+from thermolimb.model import (
+    FirstOrderBank,
+    ModelSpecError,
+    Signals,
+    ThermalModel,
+    first_order_scan,
+    parse_model,
+)
 
 PARAMS = {"RC_s": 40.0, "betaR_K_per_effort2": 0.02, "beta_biasR_K_per_effort": 0.1, "T_offset_C": 26.0}
 

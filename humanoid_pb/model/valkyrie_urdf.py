@@ -13,7 +13,17 @@ from pathlib import Path
 from thermolimb.urdf_builder import Shape, UrdfBuilder, box, box_inertia, number, xyz
 from thermolimb.util.paths import urdf_dir, write_urdf
 
-from ..constants import ARM_JOINTS, LEG_JOINTS, PELVIS, SIDES, TORSO, arm_joint, foot_link, leg_joint, sole_frame
+from ..constants import (
+    ARM_JOINTS,
+    LEG_JOINTS,
+    PELVIS,
+    SIDES,
+    TORSO,
+    arm_joint,
+    foot_link,
+    leg_joint,
+    sole_frame,
+)
 from ..params import VALKYRIE, ValkyrieParams
 
 URDF_NAME = "valkyrie_like.urdf"

@@ -30,7 +30,13 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
     ``--datasheet``, already checked)."""
     from ..plotting.drift import plot_drift
     from ..workbench.drift import drift, format_drift
-    from ..workbench.fleet import UNREADABLE, expand_paths, fit_fleet_files, format_rows, rows_table
+    from ..workbench.fleet import (
+        UNREADABLE,
+        expand_paths,
+        fit_fleet_files,
+        format_rows,
+        rows_table,
+    )
 
     table_kind = Path(args.table).suffix.lower() if args.table else None
     if args.table and is_stream(args.table) and table_kind != ".json":

@@ -18,11 +18,22 @@ for _module in MODULES:
     import_module(f"{__name__}.{_module}")
 
 from .ambient_variation import AmbientVariation  # noqa: E402
-from .base import (EFFECTS, HOT_AND_COOL, ONSETS, PHASES, PLANT_EFFECTS, SLOW_DRIFT, Effect, Hidden,  # noqa: E402
-                   PlantEffect, PlantEffects, Schedule)
-from .logged_channels import DecoyChannels, DriverConduction, FanCooling, HoldingBrake  # noqa: E402
+from .base import (  # noqa: E402
+    EFFECTS,
+    HOT_AND_COOL,
+    ONSETS,
+    PHASES,
+    PLANT_EFFECTS,
+    SLOW_DRIFT,
+    Effect,
+    Hidden,
+    PlantEffect,
+    PlantEffects,
+    Schedule,
+)
 from .current_heating import FieldWeakening  # noqa: E402
 from .effort_bias import EffortBias  # noqa: E402
+from .logged_channels import DecoyChannels, DriverConduction, FanCooling, HoldingBrake  # noqa: E402
 from .motion_cooling import MotionCooling  # noqa: E402
 from .neighbor_coupling import NeighborCoupling  # noqa: E402
 from .readings import Quantisation, SensorNoise  # noqa: E402

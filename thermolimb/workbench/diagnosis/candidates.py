@@ -14,11 +14,8 @@ candidate has explained its share.  When nothing is left (``S_c_perp ~ 0``)
 the effect is *confounded* on this log with what the model already has (speed
 losses at constant speed look like an offset) and is named so, not refitted.
 
-Time scales.  An effect's time constants (parameters in seconds: a second mass, a sensor lag) are scanned over the
-time scales the log can show, from a few samples to half its length; the score keeps the best, and the refit starts
-from the best few of them.
-
-Refit.  Each candidate worth it is then fitted for real (output error) and validated on held-out data like the base
+Time scales.  An effect's time constants (a second mass, a sensor lag) are scanned over the time scales the log
+can show, a few samples to half its length; the score keeps the best, the refit starts from the best few.  Refit.  Each candidate worth it is then fitted for real (output error) and validated on held-out data like the base
 model: validation RMSE, improvement, ``delta_bic`` on the training residual, fitted values with uncertainty,
 plausibility, identifiability and, when the refit fails, why.
 """
@@ -30,7 +27,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...effects.effort_bias import carries_the_heat
-from ...identification.metrics import ar1_variance_factor, chi2_isf, chi2_sf, information_criteria, scaled_inverse
+from ...identification.metrics import (
+    ar1_variance_factor,
+    chi2_isf,
+    chi2_sf,
+    information_criteria,
+    scaled_inverse,
+)
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance

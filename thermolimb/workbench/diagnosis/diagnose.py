@@ -38,14 +38,21 @@ from ...util.frozen import FrozenMapping
 from ...util.parallel import with_one_blas_thread
 from ..excitation import channel_excitation
 from ..floor import SensorFloor, sensor_floor
-from ..submodel import from_effort_alone, identifiable_submodel, within_levels
+from ..submodel import from_effort_alone, within_levels
 from ..validation import FitReport, Scheme
+from .base_fit import heat_source_contest, identifiable_base
 from .bringing import brought_start, not_brought
-from .candidates import COLLINEAR, SCORE_P_VALUE, Candidate, bic, candidate_models, held_out_support, score_candidate
+from .candidates import (
+    SCORE_P_VALUE,
+    Candidate,
+    bic,
+    candidate_models,
+    score_candidate,
+)
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
-from .refit import evaluate, guarded, refit_all, refit_candidate
+from .refit import guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
 from .split_or_blocks import judging_scheme
 from .stability import Stability, in_some_order, selection_frequencies, steadier
@@ -168,9 +175,9 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     heat_source = None
     if base is None:
         # a replicate's model is the whole log's, its effort levels counted there once (submodel.within_levels)
-        base = _identifiable_base(series, model, scheme, step.initial, search.datasheet, step.contenders is None)
+        base = identifiable_base(series, model, scheme, step.initial, search.datasheet, step.contenders is None)
         if step.contenders is None and not step.visited:
-            base, heat_source = _heat_source(base, series, scheme, search.datasheet)
+            base, heat_source = heat_source_contest(base, series, scheme, search.datasheet)
         model = base.model.terms
     train = list(base.train_series)
     base_bic = bic(base.train_residual_K, len(base.model.params))
@@ -266,8 +273,13 @@ def _check_stability(d: Diagnosis, series, search: Search, order: bool = True) -
     d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
                    "varied": varied, "frequencies": frequencies}
     best, short = d.recommended, d.recommended.selection_frequency < stability.min_frequency
-    ordered = order and short and in_some_order(d.candidates, best, stability)  # not for a pair (.together)
-    said = (lambda s: f" {s[0].upper()}{s[1:]}." if s else "")  # a check again (a pair: .together) replaces it
+    # said whether the share is short or not, so that a share rounding moves across the threshold changes a number
+    # in the sentence, not the sentence (the walk takes the whole log's best either way); not for a pair (.together)
+    ordered = order and in_some_order(d.candidates, best, stability)
+
+    def said(s):  # a check again (a pair: .together) replaces it
+        return f" {s[0].upper()}{s[1:]}." if s else ""
+
     for c in d.candidates:
         if c.selection_frequency is None:
             continue
@@ -379,48 +391,6 @@ def _moves_heat(c: Candidate) -> bool:
 
 def _place(c: Candidate) -> tuple:  # a channel form's channel, and the slow mass it acts on (None: the winding)
     return c.channel, TERMS[c.effect].airflow_on
-
-
-def _heat_source(base: FitReport, series, scheme, datasheet) -> tuple[FitReport, dict | None]:
-    """Where a log carries both a torque (effort) and a motor current, heat from effort squared and heat from
-    current squared compete on equal footing as the start model's heat source: each fitted and judged on the same
-    held-out data (a joint-torque sensor reads gravity load the motor's current may not carry in the same
-    proportion).  The better one starts the search; the choice is said with its numbers."""
-    model = base.model.terms
-    sources = [t for t in model if TERMS[t].is_heat_source]
-    if sources != ["joule"] or not all(s.signals.has("current") for s in series):
-        return base, None
-    effort = np.concatenate([s.signals.effort for s in series]) ** 2
-    current = np.concatenate([s.signals.current_A for s in series]) ** 2
-    if np.ptp(current) == 0 or abs(np.corrcoef(effort, current)[0, 1]) >= COLLINEAR:
-        return base, None  # the same heat, or a current that does not move: nothing to choose
-    other = tuple("current_heating" if t == "joule" else t for t in model if "effort" not in TERMS[t].columns
-                  or t == "joule")
-    try:
-        rival = _identifiable_base(series, other, scheme, None, datasheet)
-    except ThermolimbError:
-        return base, None
-    e, c = base.validation["rmse_K"], rival.validation["rmse_K"]
-    units, _, _ = held_out_support(base.validation_segments, rival.validation_segments)
-    current_wins = c < e and 2 * units[0] > units[1]
-    (won, won_K, won_word), (lost, lost_K, lost_word) = sorted(
-        [(rival, c, "current"), (base, e, "effort")], key=lambda x: x[2] != ("current" if current_wins else "effort"))
-    lower = units[0] if current_wins else units[1] - units[0]
-    sentence = (f"heat source: Joule heating from {won_word} squared ({','.join(won.model.terms)}), held-out RMSE "
-                f"{won_K:.3f} K, against {lost_K:.3f} K from {lost_word} squared ({','.join(lost.model.terms)}); "
-                f"lower on {lower} of {units[1]} held-out {base.units}")
-    # what the effort's model set aside is said even where the current's wins: the walk starts without it
-    sentence += "".join(f"; from effort squared, {a['term']} set aside: {a['reason']}" for a in base.set_aside
-                        if "term" in a)
-    return won, {"chosen": won_word, "effort_rmse_K": e, "current_rmse_K": c, "effort_model": list(base.model.terms),
-                 "current_model": list(rival.model.terms), "sentence": sentence,
-                 "effort_fit_percent": base.validation["fit_percent"], "effort_flags": list(base.flags)}
-
-
-def _identifiable_base(series, model, scheme, initial, datasheet=None, levels=True) -> FitReport:
-    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see submodel.py)."""
-    return identifiable_submodel(lambda terms, held: evaluate(series, terms, scheme, initial, held),
-                                 model, series, datasheet=datasheet, levels=levels)
 
 
 def _rank(c: Candidate):

@@ -212,7 +212,9 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
 def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray, residual: np.ndarray,
             name_prefix: str = "discovered", stride: int = 1) -> Proposal | None:
     """The few library features that explain the residual significantly, as a generated term, or ``None``."""
-    from sklearn.linear_model import orthogonal_mp  # scikit-learn takes ~0.1 s to import: only when discovering
+    from sklearn.linear_model import (
+        orthogonal_mp,  # scikit-learn takes ~0.1 s to import: only when discovering
+    )
 
     features = [lf for lf in library(base.terms, train)
                 if np.ptp(np.concatenate([feature_values(lf.feature, s, 0.0)[0] for s in train])) > 0]
