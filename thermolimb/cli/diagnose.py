@@ -15,6 +15,7 @@ from ..workbench.diagnosis.stability import MIN_FREQUENCY, REPLICATES, Stability
 from .output import format_params
 from .template import LogCommand, Run
 from .types import SEED, integer, number, output_file
+from .verdict import verdict_text
 
 
 class Diagnose(LogCommand):
@@ -59,6 +60,10 @@ class Diagnose(LogCommand):
                             f"{MIN_FREQUENCY})")
         g.add_argument("--stability-seed", type=SEED, default=0, metavar="N",
                        help="seed of the replicates' perturbations (the same seed gives the same frequencies)")
+        p.add_argument("--explain", action="store_true",
+                       help="print every change's evidence, the start model's flags and what would tell confounded "
+                            "changes apart (the default text leads with the answer: what is missing, the error "
+                            "before and after, how sure, what next)")
         p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
                        help="with --discover: write the generated terms of the recommended (with --auto: the final) "
                             "model as a Python file of Term classes, to read, rename, keep and load with --terms")
@@ -94,7 +99,7 @@ class Diagnose(LogCommand):
             from ..plotting.interactive import add_diagnosis
 
             add_diagnosis(run.page, d, steps)
-        return d.to_json(), describe_diagnosis(d)
+        return d.to_json(), (describe_diagnosis(d) if args.explain else verdict_text(d, steps, args.discover))
 
     def finish(self, run: Run):
         if run.args.propose:
