@@ -59,6 +59,9 @@ def param(name, **fields):
     (lambda e, _: e.update(generated_terms={"joule": {}}), "a generated term needs name"),
     (lambda e, _: e["provenance"]["ranges"].update(offset_air_C=[30, "x"]), '"offset_air_C" must be [low, high]'),
     (lambda e, _: e["provenance"]["ranges"].update(ambient_C=[40.0, 20.0]), '"ambient_C" must be [low, high]'),
+    (lambda e, _: e.update(limit_C=1e9), '"limit_C" must be a number of degC between -60 and 400'),
+    (param("betaR_K_per_effort2", value=1e308), "is no actuator's (more than 1e+09 times its typical size"),
+    (lambda e, _: e["validation"].update(rmse_K=-1.0), '"validation" rmse_K is -1.0; an error in K is zero or more'),
 ])
 def test_a_hand_edited_model_file_is_refused_in_one_sentence(fitted, tmp_path, capsys, edit, message):
     bad = edited(fitted[1], tmp_path, edit)
@@ -184,3 +187,21 @@ def test_standard_errors_do_not_depend_on_the_unit_the_effort_is_logged_in(fitte
         assert stderr["RC_s"] == pytest.approx(base["RC_s"], rel=1e-3)
         assert stderr["T_offset_C"] == pytest.approx(base["T_offset_C"], rel=1e-3)
         assert stderr["betaR_K_per_effort2"] * factor**2 == pytest.approx(base["betaR_K_per_effort2"], rel=1e-3)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[" * 100_000 + "]" * 100_000, "nested deeper than Python reads"),
+    ('{"format": ' + "9" * 5001 + "}", "holds a number too long to read"),
+])
+def test_a_model_file_too_deep_or_with_too_long_a_number_is_one_sentence(tmp_path, text, message, capsys):
+    path = tmp_path / "odd.json"
+    path.write_text(text)
+    with pytest.raises(ModelFileError, match=message):
+        ModelFile.load(path)
+    assert main(["predict", str(path), "--hold", "10", "--duration", "60", "--start-C", "30"]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_model_file_without_the_ranges_of_its_log_says_its_extrapolation_cannot_be_checked(fitted, tmp_path):
+    bad = edited(fitted[1], tmp_path, lambda e, _: e.update(provenance={}))
+    assert any("holds no ranges of the log it was fitted on" in n for n in ModelFile.load(bad).notes)

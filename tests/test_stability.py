@@ -167,6 +167,10 @@ def test_the_floor_is_said_when_the_model_is_already_good(tmp_path, capsys):
     assert "nothing more can be told apart here" in floor["sentence"]
     assert f"{record['base']['rmse_K']:.3f} K" in floor["sentence"] and f"{floor['floor_K']:.3f} K" in floor["sentence"]
     assert main(["diagnose", str(path), "--actuator", "knee", "--quiet"]) == 0
+    text = capsys.readouterr().out  # the answer first, with the JSON's numbers
+    assert text.startswith("knee: nothing to add to joule,effort_bias")
+    assert f"next: none: {record['base']['rmse_K']:.3f} K is at the sensor's floor, a {floor['floor_K']:.3f} K" in text
+    assert main(["diagnose", str(path), "--actuator", "knee", "--quiet", "--explain"]) == 0
     text = capsys.readouterr().out
     assert floor["sentence"] in text and "recommended: none (the model is already at the sensor's floor)" in text
 

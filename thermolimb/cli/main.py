@@ -18,8 +18,8 @@ from ..util.interrupts import Terminated, ignore_further, install, restore
 
 # the commands, each a module of this package, in the order --help lists them; a command line imports only the one
 # it runs (the others' imports, the plant's and the audit's among them, cost a diagnosis a third of a second)
-COMMANDS = ("inspect", "simulate", "fit", "compare", "diagnose", "predict", "monitor", "export", "audit",
-            "strategies", "demo")
+COMMANDS = ("inspect", "simulate", "fit", "compare", "diagnose", "plan", "predict", "monitor", "export",
+            "audit", "strategies", "demo")
 MODULE_OF = {"compare-strategies": "strategies", "report": "demo"}  # the commands named otherwise than their module
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.

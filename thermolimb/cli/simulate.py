@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -35,9 +36,11 @@ def add_parser(sub):
         description="Drive the thermal plant with a built-in effort/velocity profile and write a canonical "
         "log (time s, actuator, effort N m, temperature degC measured, velocity rad/s, current A, ambient degC).",
     )
-    p.add_argument("--profile", default="squat", choices=sorted(PROFILES),
+    p.add_argument("--profile", default="squat", type=profile_name, metavar="NAME|PLAN.csv",
                    help="squat: Jorgensen et al.'s Fig. 5 squat every 4.5 min; single_leg: balancing on one leg; "
-                        "walking: walking bouts and rests; random: random holds and motions (default squat)")
+                        "walking: walking bouts and rests; random: random holds and motions (default squat); "
+                        "or a plan's file (thermolimb plan --out), its set-points held from one to the next "
+                        "for as long as it lasts (--duration is then the plan's)")
     p.add_argument("--duration", type=number(0.0, 1e8, low_open=True, unit="s"), default=3600.0,
                    help="simulated time in s (default 3600)")
     p.add_argument("--dt", type=number(0.0, 3600.0, low_open=True, unit="s"), default=0.1,
@@ -63,6 +66,18 @@ def add_parser(sub):
     p.set_defaults(func=run)
 
 
+def profile_name(text: str) -> str:
+    """A built-in profile's name, or an existing plan file."""
+    if text in PROFILES:
+        return text
+    if text.lower().endswith((".csv", ".parquet")):
+        if not Path(text).is_file():
+            raise argparse.ArgumentTypeError(f"no plan file {text!r}")
+        return text
+    raise argparse.ArgumentTypeError(f"expected one of {', '.join(sorted(PROFILES))}, or a plan's .csv, got "
+                                     f"{text!r}")
+
+
 def parse_actuators(text: str):
     names, specs = [], []
     for item in text.split(","):
@@ -78,6 +93,10 @@ def parse_actuators(text: str):
 
 def run(args) -> int:
     names, specs = parse_actuators(args.actuators)
+    if args.profile not in PROFILES:  # a plan lasts as long as it does
+        from ..plant.profiles import from_table
+
+        args.duration = float(from_table(args.profile, args.dt, names, specs).time_s[-1])
     samples = args.duration / args.dt
     if samples * len(names) > MAX_ROWS:
         raise UsageError(f"--duration {args.duration:g} s at --dt {args.dt:g} s is {samples:.3g} samples of "

@@ -1,6 +1,6 @@
-"""``diagnose``'s answer, read in ten seconds: what is missing, the error before and after, how sure, what to do
-next, the walk's steps and the model it ends with, then one compact table of the changes tried.  Every fact is
-said once; each change's evidence, the start model's flags and the confounded pairs' explanations are
+"""``diagnose``'s answer, read in ten seconds: what is missing, the error before and after, how sure, what to
+do next, the walk's steps and the model it ends with, then one compact table of the changes tried.  Every fact
+is said once; each change's evidence, the start model's flags and the confounded pairs' explanations are
 ``--explain``'s (and always in ``--json`` and ``--plot``)."""
 
 from __future__ import annotations
@@ -12,20 +12,29 @@ WIDEST = 28  # a change's label column, at most (longer labels are cut with an e
 
 
 def verdict_text(d, steps, discover: bool = False) -> str:
-    """The default text of one actuator's diagnosis ``d`` (with ``--auto``, ``steps`` are the walk's diagnoses,
-    the first being ``d``; without, ``[d]``)."""
+    """The default text of one actuator's diagnosis ``d`` (with ``--auto``, ``steps`` are the walk's
+    diagnoses, the first being ``d``; without, ``[d]``)."""
     last = steps[-1]
     lines = [_answer(d, last)]
     lines.append(f"  how sure: {'; '.join(_sureness(d, last))}")
     lines.append(f"  next: {_next(d, last, discover)}")
+    unsized = _unsized(last.base)
+    if unsized:
+        lines.append(
+            f"  to size {', '.join(unsized)}, which this log leaves uncertain: save the model (--save "
+            f"MODEL.json) and design the test that sizes it: thermolimb plan MODEL.json --identify "
+            f"{','.join(unsized)} --max-effort E --duration S --out plan.csv"
+        )
     if d.auto and len(d.auto) > 1:
         lines.append("  steps:")
         for step in d.auto:
             taken = step.get("selection_frequency")
             k = (d.stability or {}).get("replicates")
             share = f"  taken {round(taken * k)}/{k}" if taken is not None and k else ""
-            lines.append(f"    {_cut(step.get('change', 'start')):{WIDEST}s} {step['rmse_K']:8.3f} K  "
-                         f"{','.join(step['model'])}{share}")
+            lines.append(
+                f"    {_cut(step.get('change', 'start')):{WIDEST}s} {step['rmse_K']:8.3f} K  "
+                f"{','.join(step['model'])}{share}"
+            )
     lines.append(f"  model {','.join(last.model)}:")
     lines += format_params(last.base, indent="    ", evidence=False)
     lines += _table(d)
@@ -37,19 +46,26 @@ def _answer(d, last) -> str:
     before = d.base.validation["rmse_K"]
     taken = [s["change"] for s in (d.auto or [])[1:]]
     if taken:
-        return (f"{d.actuator}: missing {', '.join(taken)}: validation RMSE {before:.3f} K -> "
-                f"{last.base.validation['rmse_K']:.3f} K")
+        return (
+            f"{d.actuator}: missing {', '.join(taken)}: validation RMSE {before:.3f} K -> "
+            f"{last.base.validation['rmse_K']:.3f} K"
+        )
     r = d.recommended
     if r is not None and not d.auto:
-        return (f"{d.actuator}: missing {r.label}: validation RMSE {before:.3f} K -> {r.rmse_K:.3f} K "
-                f"(recommended; --auto takes it)")
+        return (
+            f"{d.actuator}: missing {r.label}: validation RMSE {before:.3f} K -> {r.rmse_K:.3f} K "
+            f"(recommended; --auto takes it)"
+        )
     return f"{d.actuator}: nothing to add to {','.join(d.model)}: validation RMSE {before:.3f} K"
 
 
 def _sureness(d, last) -> list[str]:
     k = (d.stability or {}).get("replicates")
-    shares = [f"{s['change']} taken in {round(s['selection_frequency'] * k)} of {k} perturbed replicates"
-              for s in (d.auto or [])[1:] if s.get("selection_frequency") is not None and k]
+    shares = [
+        f"{s['change']} taken in {round(s['selection_frequency'] * k)} of {k} perturbed replicates"
+        for s in (d.auto or [])[1:]
+        if s.get("selection_frequency") is not None and k
+    ]
     return shares + [last.base.evidence.sentence().removeprefix("evidence: ")]
 
 
@@ -59,30 +75,60 @@ def _next(d, last, discover: bool) -> str:
         floor = last.floor.sentence(rmse).partition(" against ")[2].partition(": nothing more")[0]
         return f"none: {rmse:.3f} K is at the sensor's floor, {floor}: nothing more can be told apart"
     if not last.base.evidence.rankable:
-        return "the evidence is too thin to rank changes: a longer log, with more heating and cooling, would tell"
+        return ("the evidence is too thin to rank changes: a longer log, with more heating and cooling, "
+                "would tell")
     if last.unstable is not None and last.recommended is None:
         u = last.unstable
         return f"{u.label} helps ({u.rmse_K:.3f} K) but is {u.unstable_because}; the walk stops before it"
     if last.recommended is not None and not d.auto:
         return "take it with --auto (or --model " + ",".join(last.recommended.model) + ")"
-    floor = f", {rmse / last.floor.floor_K:.0f} times the sensor's floor" if last.floor and last.floor.floor_K else ""
+    floor = (
+        f", {rmse / last.floor.floor_K:.0f} times the sensor's floor"
+        if last.floor and last.floor.floor_K
+        else ""
+    )
     more = "" if discover else "; --discover tries the log's other channels and proposes a form"
-    return (f"no change helps by {100 * MIN_IMPROVEMENT:.0f} % on held-out data; {rmse:.3f} K remains{floor}"
-            f"{more}")
+    return (
+        f"no change helps by {100 * MIN_IMPROVEMENT:.0f} % on held-out data; {rmse:.3f} K remains{floor}"
+        f"{more}"
+    )
+
+
+UNSIZED = 0.25  # a time constant or coefficient whose standard error is this share of it, or more, is unsized
+
+
+def _unsized(report) -> list[str]:
+    """The model's parameters of its added terms (not the base's RC, heat gain and offset) whose standard
+    error is at least :data:`UNSIZED` of their value: what a designed test (``thermolimb plan``) can size."""
+    base = {"RC_s", "T_offset_C", "betaR_K_per_effort2", "beta_biasR_K_per_effort"}
+    out = []
+    for p in report.model.parameters:
+        value, stderr = report.model.params[p.name], report.stderr.get(p.name)
+        if p.name in base or stderr is None or not value:
+            continue
+        if stderr >= UNSIZED * abs(value):
+            out.append(p.name)
+    return out
 
 
 def _table(d) -> list[str]:
-    """The changes tried at the start: a row for each refitted one, then one line per reason the others were not
-    (not refitted, confounded, ...: named, their explanations --explain's)."""
+    """The changes tried at the start: a row for each refitted one, then one line per reason the others were
+    not (not refitted, confounded, ...: named, their explanations --explain's)."""
     k = d.stability["replicates"] if d.stability else None
-    rows = [f"  changes tried on {','.join(d.model)}:",
-            f"  {'change':{WIDEST + 2}s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status"]
+    rows = [
+        f"  changes tried on {','.join(d.model)}:",
+        f"  {'change':{WIDEST + 2}s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status",
+    ]
     others: dict[str, list[str]] = {}
     for c in d.candidates:
         if c.refitted:
-            taken = f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None and k else ""
-            rows.append(f"  {_cut(c.label):{WIDEST + 2}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} "
-                        f"{c.delta_bic:9.1f} {taken:>6s}  {c.status}")
+            taken = (
+                f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None and k else ""
+            )
+            rows.append(
+                f"  {_cut(c.label):{WIDEST + 2}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} "
+                f"{c.delta_bic:9.1f} {taken:>6s}  {c.status}"
+            )
         else:
             others.setdefault(c.status, []).append(c.label)
     rows += [f"  {status}: {', '.join(labels)}" for status, labels in others.items()]
@@ -90,4 +136,4 @@ def _table(d) -> list[str]:
 
 
 def _cut(label: str) -> str:
-    return label if len(label) <= WIDEST else label[:WIDEST - 1] + "…"
+    return label if len(label) <= WIDEST else label[: WIDEST - 1] + "…"

@@ -35,6 +35,8 @@ from .terms import TERMS
 FORMAT = "thermolimb-model"
 VERSION = 2  # 2: generated terms as data (never source), the calibration's ranges; version 1 files read alike
 READS = (1, 2)
+LIMIT_RANGE_C = (-60.0, 400.0)  # a winding limit, as --limit-C takes it
+LARGEST = 1e9  # a parameter more than this many times its typical size is no fit's
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}  # a time constant saved in another unit is converted
 PLAUSIBLE_TIME_S = (1e-2, 1e7)  # no actuator's thermal time constant lies outside (10 ms to 116 days)
 RESIDUAL_QUANTILES = (0.5, 0.8, 0.9, 0.95, 0.99)
@@ -188,6 +190,12 @@ class ModelFile:
         except json.JSONDecodeError as exc:
             raise ModelFileError(f"{path}: not a JSON model file (line {exc.lineno}: {exc.msg}); expected a file "
                                  f"written by `thermolimb fit … --save`") from None
+        except RecursionError:
+            raise ModelFileError(f"{path}: its JSON is nested deeper than Python reads; a model file is a "
+                                 f"few levels deep (as `thermolimb fit … --save` writes it)") from None
+        except ValueError as exc:  # an integer of more digits than Python converts
+            raise ModelFileError(f"{path}: it holds a number too long to read ({str(exc).split(';')[0]}); "
+                                 f"expected the numbers `thermolimb fit … --save` writes") from None
         return from_json(document, str(path))
 
 
@@ -265,9 +273,14 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
     if not isinstance(channel_units, dict) or not all(isinstance(u, str) for u in channel_units.values()):
         raise ModelFileError(f"{where}: \"channel_units\" must map each channel to its unit's name, got "
                              f"{channel_units!r}")
-    if not isinstance(validation, dict) or not all(_number(v) for v in validation.values()):
+    if not isinstance(validation, dict) or not all(_number(v) and np.isfinite(v)
+                                                   for v in validation.values()):
         raise ModelFileError(f"{where}: \"validation\" must map each held-out error's name to a number, got "
                              f"{validation!r}")
+    negative = [k for k, v in validation.items() if k.endswith("_K") and v < 0]
+    if negative:
+        raise ModelFileError(f"{where}: \"validation\" {negative[0]} is {validation[negative[0]]!r}; an "
+                             f"error in K is zero or more")
     values, stderr, scale = {}, {}, np.ones(len(names))
     for k, p in enumerate(parameters):
         values[p.name], stderr[p.name], scale[k] = _parameter(p, params[p.name], channel_units, where, notes)
@@ -280,10 +293,15 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
     jackknife = None if jack is None else _covariance(jack, names, where, "jackknife") * np.outer(scale, scale)
     stats = _residual(entry["residual"], where)
     limit = entry["limit_C"]
-    if limit is not None and (not _number(limit) or not np.isfinite(limit)):
-        raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC or null, got {limit!r}")
+    if limit is not None and (not _number(limit) or not LIMIT_RANGE_C[0] <= limit <= LIMIT_RANGE_C[1]):
+        low, high = LIMIT_RANGE_C
+        raise ModelFileError(f"{where}: \"limit_C\" must be a number of degC between {low:g} and {high:g} "
+                             f"(as --limit-C takes it) or null, got {limit!r}")
     provenance = entry["provenance"] if isinstance(entry["provenance"], dict) else {}
     _check_ranges(provenance.get("ranges"), where)
+    if not provenance.get("ranges"):
+        notes.append(f"{where}: its provenance holds no ranges of the log it was fitted on: whether a "
+                     f"forecast or an audit leaves what the model was identified on cannot be said")
     hottest = provenance.get("hottest_reading_C")
     seen = (provenance.get("ranges") or {}).get("temperature_C") if isinstance(provenance.get("ranges"), dict) else None
     coolest = seen[0] if isinstance(seen, list) and seen and isinstance(seen[0], (int, float)) else None
@@ -330,6 +348,10 @@ def _parameter(p, record, channel_units, where: str, notes: list) -> tuple[float
     if p.unit == "s" and value > 0 and not PLAUSIBLE_TIME_S[0] <= value <= PLAUSIBLE_TIME_S[1]:
         raise ModelFileError(f"{where}: {p.name} = {value:g} s is no actuator's time constant (expected "
                              f"{PLAUSIBLE_TIME_S[0]:g} to {PLAUSIBLE_TIME_S[1]:g} s)")
+    if abs(value) > LARGEST * max(abs(p.typical), 1.0):
+        raise ModelFileError(f"{where}: {p.name} = {value:g} {expected} is no actuator's (more than "
+                             f"{LARGEST:g} times its typical size, {p.typical:g}); expected a value a fit "
+                             f"can give")
     return value, stderr, factor
 
 

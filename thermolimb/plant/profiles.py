@@ -150,3 +150,41 @@ PROFILES: dict[str, Callable[..., Profile]] = {
     "stairs": stairs,
     "pulses": pulses,
 }
+
+
+def from_table(path, dt_s: float, names, specs) -> Profile:
+    """A profile from a file of set-points (``thermolimb plan --out``: ``time, actuator, effort[,
+    velocity]``, in the actuators' units), sampled every ``dt_s`` from its first time to its last, each
+    set-point held until the next; an actuator the file does not name rests.  The efforts are given as shares
+    of each actuator's continuous effort, as a built-in profile's are."""
+    from ..util.lazy import pandas as pd
+
+    try:
+        table = pd.read_csv(path) if str(path).lower().endswith(".csv") else pd.read_parquet(path)
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"--profile {path}: cannot be read as a plan ({exc}); expected a CSV of time, "
+                         f"actuator, effort and velocity, as thermolimb plan writes") from None
+    missing = [c for c in ("time", "actuator", "effort") if c not in table.columns]
+    if missing:
+        raise UsageError(f"--profile {path}: no column {missing[0]!r}; expected time, actuator, effort (and "
+                         f"velocity), as thermolimb plan writes")
+    unknown = sorted(set(table["actuator"].astype(str)) - set(names))
+    if unknown:
+        raise UsageError(f"--profile {path}: it sets actuator {unknown[0]!r}, which --actuators does not "
+                         f"name ({', '.join(names)}); expected --actuators {unknown[0]}:MODEL")
+    values = table[["time", "effort"] + (["velocity"] if "velocity" in table else [])].to_numpy(float)
+    if not np.isfinite(values).all() or not np.all(np.diff(table["time"].to_numpy(float)) >= 0):
+        raise UsageError(f"--profile {path}: its times must increase and every set-point be a finite number")
+    start, end = float(table["time"].min()), float(table["time"].max())
+    t = _grid(end - start, dt_s)
+    load, velocity = np.zeros((t.size, len(names))), np.zeros((t.size, len(names)))
+    for k, (name, spec) in enumerate(zip(names, specs)):
+        rows = table[table["actuator"].astype(str) == name]
+        if rows.empty:
+            continue
+        at = np.searchsorted(rows["time"].to_numpy(float) - start, t, side="right") - 1
+        at = np.clip(at, 0, len(rows) - 1)
+        load[:, k] = rows["effort"].to_numpy(float)[at] / spec.continuous_effort
+        if "velocity" in rows:
+            velocity[:, k] = rows["velocity"].to_numpy(float)[at]
+    return Profile(t, load, velocity)

@@ -14,7 +14,7 @@ from ..util.progress import progress
 from .blocks import free_block
 from .network import ActuatorSpec, ThermalNetwork
 from .plant import ThermalPlant
-from .profiles import PROFILES, Profile
+from .profiles import PROFILES, Profile, from_table
 
 BLOCK_STEPS = 512  # intervals a plant advances at once while protection leaves them alone (see free_block)
 MIN_BLOCK_STEPS = 16
@@ -200,11 +200,14 @@ def simulate_profile_in_pieces(profile: str, duration_s: float, dt_s: float, nam
 def _plant_and_profile(profile, duration_s, dt_s, names, specs, effects, seed, ambient_C, network, load_scale):
     if not load_scale > 0:
         raise UsageError(f"load_scale must be positive, got {load_scale}")
-    if profile not in PROFILES:
-        raise UsageError(f"unknown profile {profile!r}; built-in profiles: {', '.join(PROFILES)}")
+    planned = profile not in PROFILES and str(profile).lower().endswith((".csv", ".parquet"))
+    if profile not in PROFILES and not planned:
+        raise UsageError(f"unknown profile {profile!r}; built-in profiles: {', '.join(PROFILES)}, or a plan "
+                         f"(.csv)")
     rng = np.random.default_rng(seed)
     if network is not None:
         specs = [replace(s, network=network) for s in specs]
-    prof = PROFILES[profile](duration_s, dt_s, len(names), rng)
+    prof = (from_table(profile, dt_s, names, specs) if planned else
+            PROFILES[profile](duration_s, dt_s, len(names), rng))
     prof = replace(prof, load=prof.load * load_scale)
     return ThermalPlant(names, specs, effects=effects, ambient_C=ambient_C, rng=rng), prof
