@@ -142,6 +142,7 @@ class Plan:
             "hottest_C": self.hottest_C,
             "noise_K": self.noise_K,
             "lag1": self.lag1,
+            "effort_unit": self.effort_unit,
             "values": self.values,
             "units": self.units,
             "stderr_now": self.stderr_now,

@@ -14,9 +14,7 @@ def plot_plan(plan, folder: Path) -> Path:
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True, height_ratios=(1, 2))
     minutes = plan.time_s / 60.0
     top.step(minutes, plan.effort, where="post", color="tab:blue", label="effort set-point")
-    top.set_ylabel(
-        f"effort ({plan.units.get('effort', 'model unit')})" if "effort" in plan.units else "effort"
-    )
+    top.set_ylabel(f"effort ({plan.effort_unit or 'unit not given'})")
     if plan.velocity is not None:
         twin = top.twinx()
         twin.step(minutes, plan.velocity, where="post", color="tab:green", lw=0.9, label="velocity set-point")
