@@ -14,120 +14,51 @@ from .types import SEED, names_list, number, output_dir, output_file
 
 def add_parser(sub):
     p = sub.add_parser(
-        "plan",
-        help="design the test that sizes a parameter a log could not, within the actuator's limits",
+        "plan", help="design the test that sizes a parameter a log could not, within the actuator's limits",
         description="From a model file and the parameters a log left unsized (--identify), write a test of "
-        "piecewise-constant holds (--out plan.csv: time, actuator, effort[, velocity]) that maximises "
-        "what its fit will tell about them (the Fisher information of the free run) while the winding "
-        "stays --margin-K under --limit-C at the upper end of the model's 90 %% forecast interval, "
-        "within --max-effort and --duration; say the standard errors it promises. Run it on the plant "
-        "with thermolimb simulate --profile plan.csv, or on the robot with its own controller and "
-        "protection (docs/workbench.md). Times in s, temperatures in degC, effort in the model's unit.",
-    )
-    p.add_argument(
-        "model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save"
-    )
+                    "piecewise-constant holds (--out plan.csv: time, actuator, effort[, velocity]) that "
+                    "maximises what its fit will tell about them (the Fisher information of the free run) "
+                    "while the winding stays --margin-K under --limit-C at the upper end of the model's 90 % "
+                    "forecast interval, within --max-effort and --duration; say the standard errors it "
+                    "promises. Run it on the plant with thermolimb simulate --profile plan.csv, or on the "
+                    "robot with its own controller and protection (docs/workbench.md). Times in s, "
+                    "temperatures in degC, effort in the model's unit.")
+    p.add_argument("model_file", metavar="MODEL.json",
+                   help="a model file written by fit or diagnose with --save")
     add_terms(p)
-    p.add_argument(
-        "--identify",
-        type=names_list,
-        required=True,
-        metavar="PARAM,...",
-        help="the model's parameters to size (e.g. frame_tau_s, alpha_per_K, sensor_tau_s)",
-    )
-    p.add_argument(
-        "--actuator", default=None, metavar="NAME", help="the model file's actuator (default: its one)"
-    )
-    p.add_argument(
-        "--limit-C",
-        dest="limit_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="the winding's limit (default: the model file's)",
-    )
-    p.add_argument(
-        "--margin-K",
-        dest="margin_K",
-        type=number(0.0, 200.0, unit="K"),
-        default=5.0,
-        metavar="K",
-        help="kept between the forecast band's upper end and the limit (default 5 K)",
-    )
-    p.add_argument(
-        "--max-effort",
-        dest="max_effort",
-        type=number(0.0, 1e9, low_open=True),
-        required=True,
-        metavar="E",
-        help="the largest effort the test may hold, in the model's effort unit",
-    )
-    p.add_argument(
-        "--max-velocity",
-        dest="max_velocity",
-        type=number(0.0, 1e4),
-        default=0.0,
-        metavar="RAD_S",
-        help="the largest velocity (rad/s), for a model that reads it (default 0: no motion)",
-    )
-    p.add_argument(
-        "--duration",
-        type=number(0.0, 1e7, low_open=True, unit="s"),
-        required=True,
-        metavar="S",
-        help="the test's length (s)",
-    )
-    p.add_argument(
-        "--dt",
-        type=number(0.0, 3600.0, low_open=True, unit="s"),
-        default=1.0,
-        metavar="S",
-        help="the sample period of the plan and of the readings its fit will compare (default 1 s)",
-    )
-    p.add_argument(
-        "--min-hold",
-        dest="min_hold",
-        type=number(0.0, 1e7, low_open=True, unit="s"),
-        default=None,
-        metavar="S",
-        help="the shortest hold (default ten samples)",
-    )
-    p.add_argument(
-        "--start-C",
-        dest="start_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="where the winding starts (default --ambient-C)",
-    )
-    p.add_argument(
-        "--ambient-C",
-        dest="ambient_C",
-        type=number(-60.0, 150.0, unit="degC"),
-        default=25.0,
-        metavar="C",
-        help="the air the test runs in (default 25)",
-    )
-    p.add_argument(
-        "--noise-K",
-        dest="noise_K",
-        type=number(0.0, 100.0, low_open=True, unit="K"),
-        default=None,
-        metavar="K",
-        help="the readings' noise (default: the model's held-out RMSE; the sensor's floor "
-        "diagnose reports is the better value)",
-    )
+    p.add_argument("--identify", type=names_list, required=True, metavar="PARAM,...",
+                   help="the model's parameters to size (e.g. frame_tau_s, alpha_per_K, sensor_tau_s)")
+    p.add_argument("--actuator", default=None, metavar="NAME",
+                   help="the model file's actuator (default: its one)")
+    temperature = number(-60.0, 400.0, unit="degC")
+    p.add_argument("--limit-C", dest="limit_C", type=temperature, default=None, metavar="C",
+                   help="the winding's limit (default: the model file's)")
+    p.add_argument("--margin-K", dest="margin_K", type=number(0.0, 200.0, unit="K"), default=5.0, metavar="K",
+                   help="kept between the forecast band's upper end and the limit (default 5 K)")
+    p.add_argument("--max-effort", dest="max_effort", type=number(0.0, 1e9, low_open=True), required=True,
+                   metavar="E", help="the largest effort the test may hold, in the model's effort unit")
+    p.add_argument("--max-velocity", dest="max_velocity", type=number(0.0, 1e4), default=0.0, metavar="RAD_S",
+                   help="the largest velocity (rad/s), for a model that reads it (default 0: no motion)")
+    seconds = number(0.0, 1e7, low_open=True, unit="s")
+    p.add_argument("--duration", type=seconds, required=True, metavar="S", help="the test's length (s)")
+    p.add_argument("--dt", type=number(0.0, 3600.0, low_open=True, unit="s"), default=1.0, metavar="S",
+                   help="the sample period of the plan and of the readings its fit compares (default 1 s)")
+    p.add_argument("--min-hold", dest="min_hold", type=seconds, default=None, metavar="S",
+                   help="the shortest hold (default ten samples)")
+    p.add_argument("--start-C", dest="start_C", type=temperature, default=None, metavar="C",
+                   help="where the winding starts (default --ambient-C)")
+    p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=25.0,
+                   metavar="C", help="the air the test runs in (default 25)")
+    p.add_argument("--noise-K", dest="noise_K", type=number(0.0, 100.0, low_open=True, unit="K"),
+                   default=None,
+                   metavar="K", help="the readings' noise (default: the model's held-out RMSE; the sensor's "
+                                     "floor diagnose reports is the better value)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the search's starts")
-    p.add_argument(
-        "--out", type=output_file, required=True, metavar="PLAN.csv", help="the plan, as set-points"
-    )
-    p.add_argument(
-        "--plot",
-        type=output_dir,
-        default=None,
-        metavar="DIR",
-        help="write plan_<actuator>.png (the profile, the predicted winding, its band and the limit)",
-    )
+    p.add_argument("--out", type=output_file, required=True, metavar="PLAN.csv",
+                   help="the plan, as set-points")
+    p.add_argument("--plot", type=output_dir, default=None, metavar="DIR",
+                   help="write plan_<actuator>.png (the profile, the predicted winding, its band and the "
+                        "limit)")
     p.add_argument("--json", action="store_true", help="print the plan's promise as JSON")
     add_quiet(p)
     p.set_defaults(func=run, discovers=False)
@@ -150,17 +81,9 @@ def run(args) -> int:
     if limit is None:
         raise UsageError(f"the model of {name} stores no limit; give --limit-C C")
     start = args.ambient_C if args.start_C is None else args.start_C
-    limits = Limits(
-        limit_C=limit,
-        max_effort=args.max_effort,
-        duration_s=args.duration,
-        start_C=start,
-        dt_s=args.dt,
-        margin_K=args.margin_K,
-        max_velocity=args.max_velocity,
-        min_hold_s=args.min_hold,
-        ambient_C=args.ambient_C,
-    )
+    limits = Limits(limit_C=limit, max_effort=args.max_effort, duration_s=args.duration, start_C=start,
+                    dt_s=args.dt, margin_K=args.margin_K, max_velocity=args.max_velocity,
+                    min_hold_s=args.min_hold, ambient_C=args.ambient_C)
     plan = design(saved, args.identify, limits, noise_K=args.noise_K, seed=args.seed)
     with atomic_path(args.out) as tmp:
         plan.table().to_csv(tmp, index=False)
@@ -172,9 +95,7 @@ def run(args) -> int:
         print_json(plan.to_json())
     else:
         print("\n".join(plan.lines()))
-        print(
-            f"  run it on the plant: thermolimb simulate --profile {args.out} --actuators {name}:MODEL --dt "
-            f"{args.dt:g} --out test.csv"
-        )
+        print(f"  run it on the plant: thermolimb simulate --profile {args.out} --actuators {name}:MODEL "
+              f"--dt {args.dt:g} --out test.csv")
     print(f"wrote {args.out}", file=sys.stderr)
     return 0

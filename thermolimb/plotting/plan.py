@@ -43,6 +43,7 @@ def plot_plan(plan, folder: Path) -> Path:
     bottom.set_ylabel("winding temperature (degC)")
     bottom.legend(loc="lower right", fontsize=7, frameon=False)
     bottom.grid(alpha=0.3)
-    promised = "; ".join(f"{n} ± {plan.stderr_after[n]:.3g} expected" for n in plan.identify)
+    promised = "; ".join(f"{n} ± {plan.stderr_after[n]:.3g} {plan.units.get(n, '')}".rstrip() + " expected"
+                         for n in plan.identify)
     fig.suptitle(f"{plan.actuator}: a test to size {', '.join(plan.identify)} ({promised})", fontsize=10)
     return save(fig, Path(folder) / f"plan_{file_stem(plan.actuator)}.png")
