@@ -7,7 +7,7 @@ import sys
 from ..util.errors import ThermolimbError, UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import print_json, say
-from .reading import load_model_file, read_logs, runs_of
+from .reading import in_model_units, load_model_file, read_logs, runs_of
 from .types import number, output_file
 
 
@@ -65,7 +65,8 @@ def run(args) -> int:
     logs = read_logs(args.logs, args) if args.logs else []
     records = []
     for k, export in enumerate(exports):
-        saved, series = models[export.actuator], runs_of(logs, export.actuator) if logs else []
+        saved = models[export.actuator]
+        series = [in_model_units(saved, s, args.model_file) for s in runs_of(logs, export.actuator)]
         refit, refit_error = None, None
         if series and export.dropped:
             try:

@@ -8,7 +8,7 @@ from ..util.atomic import file_stem
 from ..util.errors import UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import files_in, print_json, say, say_written
-from .reading import load_model_file, read_logs, runs_of, say_notes
+from .reading import in_model_units, load_model_file, read_logs, runs_of, say_notes
 from .types import SEED, integer, number, output_dir
 
 
@@ -76,7 +76,7 @@ def run(args) -> int:
         for name in names:
             saved = _model_for(models, name, logs, args)
             for series in runs_of(logs, name):
-                _same_units(saved, series, args.model_file)
+                series = in_model_units(saved, series, args.model_file)
                 start = series.temperature_C[0] if args.start_C is None else args.start_C
                 rate = series.rate_K_per_s() if args.start_C is None else 0.0
                 results.append(forecast(saved, series.signals, start, _threshold(args, saved),
@@ -138,16 +138,3 @@ def _model_for(models, name: str, logs, args):
         return models[only]
     raise UsageError(f"{args.model_file} has no model of actuator {name!r} (it has "
                      f"{', '.join(models.actuators)}); choose one with --actuator")
-
-
-def _same_units(saved, series, source) -> None:
-    """The log's effort (and other channel) units must be those the model was fitted in."""
-    for channel, unit in saved.channel_units.items():
-        given = series.units.get(channel)
-        if channel in ("effort", "velocity") and given and unit and given != unit:
-            raise UsageError(f"the model in {source} was fitted on {channel} in {unit}; this log gives {channel} in "
-                             f"{given}; convert it (--{channel}-unit) or refit")
-    missing = [c for c in saved.model.columns if not series.signals.has(c)]
-    if missing:
-        raise UsageError(f"the model of {saved.actuator} reads the log column {missing[0]!r}, which this log "
-                         f"does not have")

@@ -114,3 +114,27 @@ def say_notes(logs: list[ThermalLog], names) -> None:
                 gap = log.describe_gaps(name)
                 if gap:
                     say(gap)
+
+
+def in_model_units(saved, series, source):
+    """The run with its effort in the unit the model was fitted on (converted where both are units of one
+    kind, mA and A, and said; refused otherwise), its velocity in the model's."""
+    from dataclasses import replace
+
+    from ..model.saved import effort_factor
+
+    unit, given = saved.channel_units.get("effort", ""), series.units.get("effort", "")
+    factor = effort_factor(unit, given, f"the model in {source}")
+    if factor != 1.0:
+        say(f"{series.run or series.actuator}: the log's effort in {given} read in {unit}, the model's unit")
+        series = replace(series, signals=replace(series.signals, effort=series.signals.effort * factor))
+    for channel in ("velocity",):
+        model_unit, log_unit = saved.channel_units.get(channel), series.units.get(channel)
+        if log_unit and model_unit and log_unit != model_unit:
+            raise UsageError(f"the model in {source} was fitted on {channel} in {model_unit}; this log gives "
+                             f"{channel} in {log_unit}; convert it (--{channel}-unit) or refit")
+    missing = [c for c in saved.model.columns if not series.signals.has(c)]
+    if missing:
+        raise UsageError(f"the model of {saved.actuator} reads the log column {missing[0]!r}, which this log "
+                         f"does not have")
+    return series

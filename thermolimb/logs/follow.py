@@ -75,6 +75,7 @@ class CsvFollower:
         self.mapping = mapping or None
         self.read = dict(read or {})
         self.notes: list[str] = []
+        self.units: dict[str, str] = {}  # the channels' units, once the first rows are read
         self.last: dict[str, _Last] = {}
         self.rows = 0  # rows read
         self.skipped = 0  # lines said and skipped
@@ -159,6 +160,7 @@ class CsvFollower:
         frame.columns = [str(c).strip() for c in frame.columns]
         frame.attrs["duplicate_columns"] = dialect.duplicates
         log = self._validate(frame)
+        self.units = dict(log.units)
         self._say(log.notes)
         self.rows += len(frame)
         out = self._take({name: log.arrays(name) for name in log.actuators})
@@ -265,6 +267,7 @@ class CsvFollower:
             raise LogError(f"{self.path}: {exc}") from None
         frame.columns = [str(c).strip() for c in frame.columns]
         log = self._validate(frame)
+        self.units = dict(log.units)
         out = {name: log.arrays(name) for name in log.actuators}
         for name, arrays in out.items():
             last = self.last.get(name)

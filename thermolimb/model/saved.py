@@ -26,10 +26,11 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..util.errors import ModelFileError, ModelSpecError
+from ..util.errors import ModelFileError, ModelSpecError, UsageError
 from .experience import ambient_shift_K, offset_air
 from .generated import specs_of
 from .model import ThermalModel, model_parameters
+from .parameter_units import NOT_GIVEN
 from .terms import TERMS
 
 FORMAT = "thermolimb-model"
@@ -95,6 +96,25 @@ class ResidualStats:
             out.update(leads_s=list(self.leads_s), lead_quantiles_K={k: list(v) for k, v in
                                                                       self.lead_quantiles_K.items()})
         return out
+
+
+# an effort's units by kind, each in its kind's first unit: a log in one is read in another of its kind
+EFFORT_SCALES = ({"N m": 1.0, "Nm": 1.0, "N·m": 1.0, "mN m": 1e-3}, {"A": 1.0, "mA": 1e-3},
+                 {"W": 1.0, "mW": 1e-3, "kW": 1e3}, {"N": 1.0, "kN": 1e3})
+
+
+def effort_factor(model_unit: str, log_unit: str, what: str) -> float:
+    """The factor that turns a log's effort in ``log_unit`` into the ``model_unit`` a model heats from: 1
+    where they agree or either is not given, the ratio where both are units of one kind (mA and A), and a refusal in
+    one sentence where they are not (a current and a torque).  ``what`` names the model for the sentence."""
+    if model_unit == log_unit or NOT_GIVEN in (model_unit, log_unit) or not model_unit or not log_unit:
+        return 1.0
+    for kind in EFFORT_SCALES:
+        if model_unit in kind and log_unit in kind:
+            return kind[log_unit] / kind[model_unit]
+    raise UsageError(f"{what} heats from an effort in {model_unit}; the log gives its effort in {log_unit}, "
+                     f"which is no {model_unit} (a torque is no current): refit on this log's effort, or log "
+                     f"the one the model was fitted on")
 
 
 @dataclass(frozen=True)

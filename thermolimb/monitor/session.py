@@ -31,17 +31,19 @@ class Session:
     carry: dict[str, dict] = field(default_factory=dict)
     published_at: float = -np.inf
     ignored: set = field(default_factory=set)  # the log's actuators the model file does not hold
+    converted: set = field(default_factory=set)  # the actuators whose effort is converted (said once)
     only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
     together: bool = True  # actuators of model/first_order.py's families with one new sample step as arrays
 
-    def feed(self, runs: dict) -> list[Estimate]:
+    def feed(self, runs: dict, units: dict | None = None) -> list[Estimate]:
         """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
         new run, after a pause, starts the actuator's filter again), publishing once per ``publish_every_s`` of
         log time (a piece that spans several such periods, as a log already written when the monitor starts, is
         taken period by period, so that what is published does not depend on how often the file was polled).
-        The estimates."""
+        ``units``: the log's channel units, by which an effort in another unit of the model's kind is
+        converted (mA for A) and one of another kind refused (a torque for a current).  The estimates."""
         windows: dict[float, dict[str, dict]] = {}
         for name, pieces in runs.items():
             if self.only is not None and name != self.only:
@@ -54,8 +56,11 @@ class Session:
                           f"it is not watched (a file of one actuator is named after the file unless --actuator "
                           f"NAME names it)", file=sys.stderr)
                 continue
+            factor = self._effort_factor(name, units or {})
             for piece in pieces:
                 arrays = piece.arrays
+                if factor != 1.0:
+                    arrays = {**arrays, "effort": arrays["effort"] * factor}
                 if piece.new_run:
                     self.carry.pop(name, None)
                 before = self.carry.get(name)
@@ -92,6 +97,19 @@ class Session:
             if max(e.time_s for e in last) - self.published_at >= self.publish_every_s:
                 self.publish(last)
         return estimates
+
+    def _effort_factor(self, name: str, units: dict) -> float:
+        """The factor from the log's effort unit to the model's
+        (:func:`~thermolimb.model.saved.effort_factor`), said once when it is not one."""
+        from ..model.saved import effort_factor
+
+        model_unit = dict(self.models[name].channel_units).get("effort", "")
+        factor = effort_factor(model_unit, units.get("effort", ""), f"the model of {name}")
+        if factor != 1.0 and name not in self.converted:
+            self.converted.add(name)
+            print(f"note: {name}: the followed log's effort in {units['effort']} is read in {model_unit}, "
+                  f"the model's unit", file=sys.stderr)
+        return factor
 
     def _update(self, name: str, arrays: dict) -> Estimate:
         monitor = self.monitors.get(name) or self._monitor(name)
@@ -167,10 +185,10 @@ def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float 
             runs = follower.poll()
             _say(follower)
             if runs:
-                session.feed(runs)
+                session.feed(runs, getattr(follower, "units", None))
                 grew = clock()
             elif idle_exit_s is not None and clock() - grew >= idle_exit_s:
-                session.feed(follower.poll(final=True))
+                session.feed(follower.poll(final=True), getattr(follower, "units", None))
                 _say(follower)
                 break
             else:
