@@ -58,3 +58,18 @@ def test_the_monitor_reads_an_effort_of_the_same_kind_in_the_model_s_unit(logs, 
     out, err = capsys.readouterr()
     assert "effort in mN m is read in N m" in err
     assert json.loads(out.strip().splitlines()[-1])["actuators"] == json.loads(plain)["actuators"]
+
+
+def test_export_checks_the_model_in_mujoco_against_a_log_in_another_unit_of_its_kind(logs, capsys):
+    pytest.importorskip("mujoco")
+    folder, model, log, milli, amps = logs
+    argv = ["export", str(model), "--actuator", "knee", "--mujoco", "--motor-const", "0.1", "--resistance", "1",
+            "--json"]
+    assert main([*argv[:2], str(log), *argv[2:]]) == 0
+    same = json.loads(capsys.readouterr().out)["check"]
+    assert main([*argv[:2], str(milli), *argv[2:]]) == 0
+    converted = json.loads(capsys.readouterr().out)["check"]
+    assert converted["max_difference_K"] == pytest.approx(same["max_difference_K"], rel=1e-6, abs=1e-9)
+    assert converted["rise_K"] == pytest.approx(same["rise_K"], rel=1e-9)
+    assert main([*argv[:2], str(amps), *argv[2:]]) == 2
+    assert "the log gives its effort in A" in capsys.readouterr().err
