@@ -205,3 +205,16 @@ def test_a_model_file_too_deep_or_with_too_long_a_number_is_one_sentence(tmp_pat
 def test_a_model_file_without_the_ranges_of_its_log_says_its_extrapolation_cannot_be_checked(fitted, tmp_path):
     bad = edited(fitted[1], tmp_path, lambda e, _: e.update(provenance={}))
     assert any("holds no ranges of the log it was fitted on" in n for n in ModelFile.load(bad).notes)
+
+
+def test_a_model_without_standard_errors_says_its_interval_is_the_model_error_alone(fitted, tmp_path, capsys):
+    def no_errors(entry, _):
+        for record in entry["params"].values():
+            record["stderr"] = 0.0
+        size = len(entry["covariance"]["matrix"])
+        entry["covariance"]["matrix"] = [[0.0] * size for _ in range(size)]
+        entry["jackknife"] = None
+
+    bad = edited(fitted[1], tmp_path, no_errors)
+    assert main(["predict", str(bad), "--hold", "20", "--duration", "600", "--start-C", "30"]) == 0
+    assert "holds no standard errors: the interval is the model's held-out error alone" in capsys.readouterr().out
