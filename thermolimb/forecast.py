@@ -173,14 +173,14 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
                           shift)
     hotter, widen_hot = hotter_than_seen(ranges, predicted)
     notes, widen = notes + hotter, np.maximum(widen, widen_hot)
-    if not np.any(saved.covariance) and draws > 0:  # a model saved without standard errors: said, not hidden
-        notes.append("the model file holds no standard errors: the interval is the model's held-out error "
-                     "alone" if saved.residual is not None else "the model file holds neither standard errors "
-                     "nor a held-out residual: the interval is the prediction alone, no interval at all")
     half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, shift)) ** 2)
     if notes:  # an extrapolation is never answered with a zero-width band: at least a tenth of the rise
         half = np.maximum(half, 0.1 * np.abs(predicted - start_C))
     low, high = predicted - half, predicted + half
+    if not np.any(saved.covariance) and draws > 0:  # saved without standard errors: said, not hidden
+        alone = ("the model's held-out error alone" if saved.residual is not None
+                 else "the prediction alone (nor does it hold a held-out residual)")
+        notes = notes + [f"the model file holds no standard errors: the interval is {alone}"]
     measured_cross = None if measured_C is None else crossing_s(t, np.asarray(measured_C, float), threshold_C)
     return Forecast(saved.actuator, t, predicted, low, high, float(threshold_C), float(level), float(start_C),
                     crossing_s(t, predicted, threshold_C), (crossing_s(t, high, threshold_C),
