@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.experiment import Limits, _Problem, design
+from thermolimb.experiment import DesignProblem, Limits, design
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.saving import saved_from_report
@@ -149,7 +149,7 @@ def guessed(saved, model: str):
     )
 
 
-def alternative(kind: str, problem: _Problem, rng: np.random.Generator) -> np.ndarray:
+def alternative(kind: str, problem: DesignProblem, rng: np.random.Generator) -> np.ndarray:
     """A PRBS or random-hold vector of hold levels, in the plan's own parametrisation."""
     holds = problem.holds
     if kind == "prbs":
@@ -185,7 +185,7 @@ def run_case(case: Case, folder: Path, seed: int = 0) -> dict:
     planning_s = time.perf_counter() - started
     t = plan.time_s
     holds = int(round(case.test_s / plan.hold_s))  # the alternatives switch on the plan's own grid of holds
-    problem = _Problem(
+    problem = DesignProblem(
         saved,
         t,
         np.minimum((np.arange(t.size) * holds) // t.size, holds - 1),

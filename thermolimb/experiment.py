@@ -205,7 +205,7 @@ def design(saved: SavedModel, identify, limits: Limits, noise_K: float | None = 
     edges = np.minimum((np.arange(t.size) * holds) // t.size, holds - 1)
     signed = "effort_bias" in model.terms
     moves = "velocity" in model.columns and limits.max_velocity > 0
-    problem = _Problem(saved, t, edges, holds, limits, noise_K, identify, signed, moves)
+    problem = DesignProblem(saved, t, edges, holds, limits, noise_K, identify, signed, moves)
     best = problem.coarse().search(np.random.default_rng(seed))
     x, band = problem.checked(best)
     effort, velocity = problem.inputs(x)
@@ -261,7 +261,7 @@ def _check(limits: Limits) -> None:
         )
 
 
-class _Problem:
+class DesignProblem:
     """The search's state: the grid, the holds, and the cost of a vector of hold levels."""
 
     def __init__(self, saved, t, edges, holds, limits, noise_K, identify, signed, moves, weight=1.0):
@@ -273,14 +273,14 @@ class _Problem:
         self.ceiling = limits.limit_C - limits.margin_K
         self.weight = weight  # samples of the test each sample here stands for (the search's coarser grid)
 
-    def coarse(self, per_hold: int = COARSE_PER_HOLD) -> "_Problem":
+    def coarse(self, per_hold: int = COARSE_PER_HOLD) -> "DesignProblem":
         """The same problem on a grid of ``per_hold`` samples a hold (the holds' edges among them): a free run
         under held inputs is exact at any instants, and the information scales with the samples it sums."""
         if self.t.size <= per_hold * self.holds:
             return self
         t = np.linspace(0.0, self.t[-1], per_hold * self.holds + 1)
         edges = np.minimum((t / self.t[-1] * self.holds).astype(int), self.holds - 1)
-        return _Problem(
+        return DesignProblem(
             self.saved,
             t,
             edges,
