@@ -15,8 +15,8 @@ from thermolimb.plant import NETWORKS, PlantEffects, SpeedLosses, simulate_profi
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench import flags
 from thermolimb.workbench.diagnosis import Search, diagnose
-from thermolimb.workbench.diagnosis.diagnose import replicate
 from thermolimb.workbench.diagnosis.refit import ordered_starts, refit
+from thermolimb.workbench.diagnosis.replicate import replicate
 from thermolimb.workbench.diagnosis.stability import Stability, perturbations, selection_frequencies
 from thermolimb.workbench.floor import quantisation_step, sensor_floor
 from thermolimb.workbench.validation import Scheme, validate_model
@@ -92,8 +92,10 @@ def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backen
     assert all(abs(p.phase) <= 0.5 for p in blocks) and min(p.phase for p in blocks) < -0.3 < 0.3 < max(
         p.phase for p in blocks)  # the held-out blocks moved by up to half a block
     d = diagnose(runs)
-    serial, n = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
-    pooled = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=2)), replicate)
+    serial, n = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+                                       Search(stability=Stability(replicates=4, workers=1)))
+    pooled = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+                                   Search(stability=Stability(replicates=4, workers=2)))
     assert (serial, n) == pooled and serial["+ speed_losses"] == 1.0 and n == 4  # unanimous: no second batch
     far = next(c for c in d.candidates if c.label == "- effort_bias")
     assert far.eligible and far.rmse_K > 2.0 * d.recommended.rmse_K  # eligible, and far behind the best: it could
@@ -329,10 +331,12 @@ def test_a_replicate_s_fits_compare_fewer_samples_and_validate_at_the_full_rate(
     assert abs(thin.validation["rmse_K"] - full.validation["rmse_K"]) < 0.001  # 0.05925 and 0.05924 K
     monkeypatch.setattr(stability, "REPLICATE_SAMPLES", 1000)
     d = diagnose(runs)
-    frequencies, _ = selection_frequencies(d, runs, Search(stability=Stability(replicates=4, workers=1)), replicate)
+    frequencies, _ = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+                                       Search(stability=Stability(replicates=4, workers=1)))
     assert frequencies["+ speed_losses"] == 1.0
 
 
+@pytest.mark.slow  # half a minute or more on two cores (the default run stays under ten minutes)
 def test_replicates_that_agree_on_adding_but_not_on_the_order_let_the_walk_go_on():
     """benchmarks/forecast.py's seed-1 calibration log (a winding on a heavier housing, speed losses, copper's
     coefficient and a lagging thermistor hidden): most replicates take speed losses first, the others the second

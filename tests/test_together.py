@@ -86,6 +86,7 @@ def test_a_pair_is_kept_only_if_it_beats_its_better_member_by_the_gate(calibrati
     assert 0.2 < kept[0.1][0].rmse_K / _by_label(d)["+ speed_losses"].rmse_K < 0.25
 
 
+@pytest.mark.slow  # half a minute or more on two cores (the default run stays under ten minutes)
 def test_a_pair_is_taken_only_where_every_replicate_takes_it(monkeypatch):
     """Both runs of the UR3's J0 (real), cut as benchmarks/stability.py's first copy cuts them: + speed_losses with
     neighbor_coupling (0.880 -> 0.161 K held out on the whole log) is taken in 9 of 10 replicates. A pair is taken
@@ -131,7 +132,7 @@ def test_a_pair_is_judged_only_where_each_member_s_channel_moves(holds_log):
     a step test), + speed_losses alone is not judged for its velocity, and neither is + speed_losses with
     second_node (before, only the second member's channel was looked at, and the second mass rides none)."""
     from thermolimb.workbench.diagnosis.candidates import Candidate
-    from thermolimb.workbench.diagnosis.diagnose import _unexcited
+    from thermolimb.workbench.diagnosis.screen import unexcited
 
     s = holds_log.series("knee")
     velocity = s.signals.velocity.copy()
@@ -139,6 +140,6 @@ def test_a_pair_is_judged_only_where_each_member_s_channel_moves(holds_log):
     d = diagnose([replace(s, signals=replace(s.signals, velocity=velocity))])
     alone = _by_label(d)["+ speed_losses"]
     pair = Candidate("second_node", d.model + ("speed_losses", "second_node"), brings=("speed_losses",))
-    _unexcited(pair, d.base)
+    unexcited(pair, d.base)
     assert pair.label == "+ speed_losses with second_node" and "velocity is away from rest in 2 of" in alone.unexcited
     assert pair.unexcited == alone.unexcited and pair.evidence == f"not judged: {alone.unexcited}."

@@ -25,37 +25,25 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Mapping, Sequence
 
-import numpy as np
-
-from ...effects import EFFECTS
-from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.parameter_units import NOT_GIVEN
 from ...model.signals import EXTRA
 from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
-from ...util.errors import ThermolimbError
 from ...util.frozen import FrozenMapping
-from ...util.parallel import with_one_blas_thread
-from ..excitation import channel_excitation
+from ...util.parallel import one_blas_thread
 from ..floor import SensorFloor, sensor_floor
-from ..submodel import from_effort_alone, within_levels
 from ..validation import FitReport, Scheme
 from .base_fit import heat_source_contest, identifiable_base
 from .bringing import brought_start, not_brought
-from .candidates import (
-    SCORE_P_VALUE,
-    Candidate,
-    bic,
-    candidate_models,
-    score_candidate,
-)
+from .candidates import SCORE_P_VALUE, Candidate, candidate_models, score_candidate
 from .channels import channel_terms, unused_channels
 from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
 from .refit import guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
+from .screen import Base, best_eligible, rank, screened
 from .split_or_blocks import judging_scheme
-from .stability import Stability, in_some_order, selection_frequencies, steadier
+from .stability import Stability, check
 from .together import take_together
 
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
@@ -91,29 +79,25 @@ class Search:
 
 @dataclass(frozen=True)
 class Step:
-    """Where one step of a search starts: the model already fitted (``base``, a refitted candidate's report),
-    values to start the base fit from, changes confounded before (``skip``), models already visited, and for a
-    stability replicate the only changes to try (``contenders``) with their starts (``starts`` by label)."""
+    """Where one step of a walk starts: the model already fitted (``base``, a refitted change's report;
+    ``None``: fitted here), changes confounded before (``skip``) and models already visited."""
 
     base: FitReport | None = None
-    initial: Mapping[str, float] | None = None
     skip: frozenset = frozenset()
     visited: frozenset = frozenset()
-    contenders: tuple | None = None
-    starts: Mapping[str, dict] | None = None
 
 
 def _search(search: Search | None, options: dict) -> Search:
     return replace(search or Search(), **options) if options else (search or Search())
 
 
-@dataclass
+@dataclass(frozen=True)
 class Diagnosis:
     actuator: str
     model: tuple[str, ...]
     base: FitReport
     base_bic: float
-    residuals: ResidualAnalysis | None  # None in a stability replicate, which words no evidence
+    residuals: ResidualAnalysis
     candidates: list[Candidate]
     recommended: Candidate | None
     auto: list[dict] | None = field(default=None)
@@ -165,136 +149,94 @@ def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Sear
     ``search``: how (:class:`Search`); keyword ``options`` replace its fields (``diagnose(runs, refit="all")``).
     A model already within the sensor's floor (:mod:`.floor`) is recommended no change.
     """
-    return with_one_blas_thread(_diagnose, list(series), parse_model(model), _search(search, options), Step())
+    with one_blas_thread():
+        return _diagnose(list(series), parse_model(model), _search(search, options), Step())
 
 
 def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Search, step: Step) -> Diagnosis:
+    """The pipeline: base fit, screen, refits, judgement, stability, verdict (:mod:`.screen`)."""
     search = replace(search, scheme=judging_scheme(search.scheme, series, search.discover))
-    scheme = search.scheme
-    base = step.base
     heat_source = None
-    if base is None:
-        # a replicate's model is the whole log's, its effort levels counted there once (submodel.within_levels)
-        base = identifiable_base(series, model, scheme, step.initial, search.datasheet, step.contenders is None)
-        if step.contenders is None and not step.visited:
-            base, heat_source = heat_source_contest(base, series, scheme, search.datasheet)
-        model = base.model.terms
-    train = list(base.train_series)
-    base_bic = bic(base.train_residual_K, len(base.model.params))
-    stride = base.estimator.stride_
-    residual, jacobian = thinned(base.train_residual_K, train, stride), base.estimator.jacobian_
-    # the base's free run, which an added effect at its null repeats (with hidden states placed per run, the score
-    # test's signatures are taken from free runs that start where the first readings put them, alike)
-    base_run = (thinned(np.concatenate([s.simulated_C for s in base.train_segments]), train, stride)
-                if not base.model.hidden_states else None)
-    replicating = step.contenders is not None
-    # the residual of the first run fitted on, whole (its blocks held out too: a continuous free run to correlate);
-    # it words the evidence, which a replicate does not say (a third of a replicate's time on a 2 M-row run)
-    run0 = replace(train[0], fit_mask=None)
-    offsets = getattr(base.estimator, "offsets_", None)
-    analysis = (None if replicating else
-                analyse_residuals(run0, base.model.free_run(run0, offsets=offsets[0] if offsets else None)))
-
-    if not replicating:
-        candidates = candidate_models(model, series[0])
-        if search.discover:
-            candidates += _channel_candidates(model, train, series + list(scheme.held_out))
-        candidates = [c for c in candidates if c.label not in step.skip and frozenset(c.model) not in step.visited]
-    else:  # a contender built on a term this replicate's base set aside is not the same change here: none takes it
-        candidates = [c for c in step.contenders if set(c.model) <= {*model, c.effect, *c.brings}]
+    if step.base is None:
+        report = identifiable_base(series, model, search.scheme, None, search.datasheet)
+        if not step.visited:
+            report, heat_source = heat_source_contest(report, series, search.scheme, search.datasheet)
+        model = report.model.terms
+    base = Base.of(step.base or report)
+    analysis = analyse_residuals(*base.first_run())
+    floor = sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.report.train_segments])
+    at_floor = floor.reached(base.rmse_K)
+    candidates = screened(_changes(model, base, series, search, step), base)
+    _refit(candidates, base, series, search, floor if at_floor else None)
     for cand in candidates:
-        guarded(cand, score_candidate, cand, base.model, train, jacobian, residual, stride, base_run)
-        _unexcited(cand, base)
-    warm = step.starts or {}
-    # the floor is the whole log's, decided once: a replicate is above it by construction
-    floor = (sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.train_segments])
-             if not replicating else None)
-    # a replicate refits every contender that is not confounded on it: each was refitted on the whole log
-    worth = (_worth_refitting([c for c in candidates if c.broken is None], search.refit) if not replicating
-             else [c for c in candidates if c.confounded is None and c.broken is None and c.unexcited is None])
-    if _at_floor(floor, base):  # nothing can be told apart: nothing is refitted
+        if not cand.evidence:
+            cand.evidence = describe(cand, analysis, base.rmse_K)
+    candidates.sort(key=rank)
+    proposal = None
+    if search.discover and best_eligible(candidates) is None and analysis.structured and not at_floor:
+        proposal, candidates = _proposed(candidates, model, base, series, search, step)
+    rankable = base.report.evidence.rankable  # a handful of held-out readings recommends nothing
+    recommended = best_eligible(candidates) if rankable and not at_floor else None
+    checked = None
+    if recommended is not None and search.stability is not None:
+        checked = check(candidates, recommended, model, base.report, series, search)
+    if (recommended if checked is None else checked.recommended) is None and not at_floor and rankable:
+        candidates, together = take_together(candidates, model, base, series, search, step.visited,
+                                             None if checked is None else checked.record)
+        checked = together or checked
+    if checked is not None:
+        recommended = checked.recommended
+    return Diagnosis(series[0].actuator, model, base.report, base.bic, analysis, candidates, recommended,
+                     proposal=proposal, floor=floor, heat_source=heat_source,
+                     stability=None if checked is None else checked.record,
+                     unstable=None if checked is None else checked.unstable)
+
+
+def _changes(model, base: Base, series, search: Search, step: Step) -> list[Candidate]:
+    """The changes worth trying: the catalog's additions, drops and swaps, with ``discover`` the log's extra
+    channels' forms; none confounded at an earlier step, none leading to a model already visited."""
+    candidates = candidate_models(model, series[0])
+    if search.discover:
+        candidates += _channel_candidates(model, list(base.train), series + list(search.scheme.held_out))
+    return [c for c in candidates if c.label not in step.skip and frozenset(c.model) not in step.visited]
+
+
+def _refit(candidates: list[Candidate], base: Base, series, search: Search,
+          floor: SensorFloor | None) -> None:
+    """The refits: the screened changes worth one (:func:`_worth_refitting`), then a change that brings terms
+    with it where a simpler one calls for it (:mod:`.bringing`); none where the model is at the sensor's
+    ``floor``."""
+    worth = _worth_refitting([c for c in candidates if c.broken is None], search.refit)
+    if floor is not None:  # nothing can be told apart: nothing is refitted
         for cand in worth:
-            cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.validation['rmse_K'])})"
-        worth = []
-    # a change that brings terms with it (more parameters at once) is tried only where a simpler one calls for it
-    bringing, worth = [c for c in worth if c.brings and not replicating], [c for c in worth if not c.brings or replicating]
-    # a replicate is a worker's job already: its refits run in it
-    refit_all(worth, [warm.get(c.label) for c in worth], series, scheme, base, base_bic,
-              1 if replicating else (search.stability or Stability()).workers, search.quiet)
+            cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.rmse_K)})"
+        return
+    bringing, worth = [c for c in worth if c.brings], [c for c in worth if not c.brings]
+    refit_all(worth, [None] * len(worth), series, search.scheme, base.report, base.bic,
+              (search.stability or Stability()).workers, search.quiet)
     for cand in bringing:
         cand.skipped = not_brought(cand, worth)
         if cand.skipped is None:
-            guarded(cand, refit_candidate, cand, series, scheme, base, base_bic, brought_start(cand, worth))
-    for cand in candidates:
-        if not cand.evidence and not replicating:
-            cand.evidence = describe(cand, analysis, base.validation["rmse_K"])
-    candidates.sort(key=_rank)
-    proposal = None
-    if (not replicating and search.discover and not (candidates and candidates[0].eligible) and analysis.structured
-            and not _at_floor(floor, base)):
-        proposal = propose(base.model, train, jacobian, residual, stride=stride)
-        if proposal is not None and frozenset(model + (proposal.term,)) not in step.visited:
-            cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
-                             source=proposal.source)
-            score_candidate(cand, base.model, train, jacobian, residual, stride, base_run)
-            params = [p.name for p in TERMS[proposal.term].parameters]
-            cand.starts.insert(0, {**dict(base.model.params), **dict(zip(params, proposal.coefficients))})
-            if cand.confounded is None:
-                refit_candidate(cand, series, scheme, base, base_bic)
-            cand.evidence = describe_discovered(cand, proposal, base.validation["rmse_K"])
-            candidates = sorted(candidates + [cand], key=_rank)
-    best = candidates[0] if candidates and candidates[0].eligible else None
-    recommended = best if base.evidence.rankable else None  # a handful of held-out readings recommends nothing
-    d = Diagnosis(series[0].actuator, model, base, base_bic, analysis, candidates, recommended, proposal=proposal,
-                  floor=floor, heat_source=heat_source)
-    if d.at_floor:
-        d.recommended = None
-    elif recommended is not None and search.stability is not None:
-        _check_stability(d, series, search)
-    if not replicating and d.recommended is None and not d.at_floor and base.evidence.rankable:
-        take_together(d, series, search, base_bic, step.visited, _rank,
-                      lambda d, stability: _check_stability(d, series, replace(search, stability=stability), False))
-    return d
+            guarded(cand, refit_candidate, cand, series, search.scheme, base.report, base.bic,
+                    brought_start(cand, worth))
 
 
-def _at_floor(floor, base) -> bool:
-    return floor is not None and floor.reached(base.validation["rmse_K"])
-
-
-def _check_stability(d: Diagnosis, series, search: Search, order: bool = True) -> None:
-    """The replicates' verdicts (:mod:`.stability`): the best change stays recommended only if taken often enough;
-    each contender's evidence says how often it was taken and what varied."""
-    stability = search.stability
-    frequencies, k = selection_frequencies(d, series, search, replicate)
-    varied = stability.varied(search.scheme)
-    if k > stability.replicates:
-        first = stability.replicates
-        varied += f"; {k - first} more, as the first {first} left the best change within one replicate of its share"
-    d.stability = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
-                   "varied": varied, "frequencies": frequencies}
-    best, short = d.recommended, d.recommended.selection_frequency < stability.min_frequency
-    # said whether the share is short or not, so that a share rounding moves across the threshold changes a number
-    # in the sentence, not the sentence (the walk takes the whole log's best either way); not for a pair (.together)
-    ordered = order and in_some_order(d.candidates, best, stability)
-
-    def said(s):  # a check again (a pair: .together) replaces it
-        return f" {s[0].upper()}{s[1:]}." if s else ""
-
-    for c in d.candidates:
-        if c.selection_frequency is None:
-            continue
-        taken = round(c.selection_frequency * k)
-        verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
-        verdict = ordered if ordered and c is best else verdict
-        split = ""
-        if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
-            split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
-        evidence = c.evidence.removesuffix(said(c.stability_sentence))
-        c.stability_sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
-        c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()
-    if short and not ordered:
-        best.unstable_because = best.stability_sentence
-        d.unstable, d.recommended = best, steadier(d.candidates, best, stability)
+def _proposed(candidates, model, base: Base, series, search: Search, step: Step):
+    """Where no change helps and the residual has structure, a form the catalog lacks (:mod:`.discovery`),
+    scored, refitted and ranked among the ``candidates``; ``(proposal or None, candidates)``."""
+    proposal = propose(base.report.model, list(base.train), base.jacobian, base.residual, stride=base.stride)
+    if proposal is None or frozenset(model + (proposal.term,)) in step.visited:
+        return proposal, candidates
+    cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
+                     source=proposal.source)
+    score_candidate(cand, base.report.model, list(base.train), base.jacobian, base.residual, base.stride,
+                    base.free_run)
+    params = [p.name for p in TERMS[proposal.term].parameters]
+    cand.starts.insert(0, {**dict(base.report.model.params), **dict(zip(params, proposal.coefficients))})
+    if cand.confounded is None:
+        refit_candidate(cand, series, search.scheme, base.report, base.bic)
+    cand.evidence = describe_discovered(cand, proposal, base.rmse_K)
+    return proposal, sorted(candidates + [cand], key=rank)
 
 
 def _channel_candidates(model, train, every) -> list[Candidate]:
@@ -323,36 +265,6 @@ def _channel_candidates(model, train, every) -> list[Candidate]:
                 out.append(Candidate(name, tuple(name if t == taken else t for t in model), kind="swap",
                                      replaces=taken, channel=channel, source=TERMS[name].source))
     return out
-
-
-def _unexcited(cand: Candidate, base: FitReport) -> None:
-    """A change that brings in an effect riding on a channel (velocity, current, a neighbour's temperature, a
-    logged extra) is judged only where that channel moves, in the data it is fitted on and in the data it is
-    judged on (:func:`~thermolimb.workbench.excitation.channel_excitation`); otherwise it is not judged, and says
-    why with the counts.  Nor is one bringing back heat from the effort alone that the log's effort cannot pin
-    beside the model's (:func:`~thermolimb.workbench.submodel.within_levels`: the bias on a step test)."""
-    if cand.kind == "drop" or cand.confounded is not None:
-        return
-    aside: list = []  # a term of heat from the effort alone this log's effort cannot tell from the model's
-    if from_effort_alone(cand.effect) and cand.effect not in within_levels(cand.model, base.train_series, aside):
-        cand.unexcited = next(a["reason"] for a in aside if a["term"] == cand.effect)
-        cand.evidence = f"not judged: {cand.unexcited}."
-        return
-    for channel in filter(None, map(rides, (*cand.brings, cand.effect))):  # a pair's members: each its own channel
-        counts = channel_excitation(channel, base.train_series,
-                                    [(seg.signals, seg.measured_C) for seg in base.validation_segments])
-        if not counts.excited:
-            cand.unexcited = counts.sentence()
-            cand.evidence = f"not judged: {cand.unexcited}."
-            return
-
-
-def rides(effect: str) -> str | None:
-    """The channel an effect rides on: its :class:`~thermolimb.effects.Effect`'s, or for a term of the log's
-    channels (a generated one, a user's) the first column it reads beyond the effort."""
-    if effect in EFFECTS:
-        return EFFECTS[effect].rides
-    return next((c for c in TERMS[effect].columns if c != "effort"), None)
 
 
 def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
@@ -393,13 +305,6 @@ def _place(c: Candidate) -> tuple:  # a channel form's channel, and the slow mas
     return c.channel, TERMS[c.effect].airflow_on
 
 
-def _rank(c: Candidate):
-    """Eligible changes by held-out gain, then the other refitted ones by gain, confounded, then the rest by score."""
-    if c.refitted:
-        return (0 if c.eligible else 1, -c.improvement, 0.0)
-    return (2 if c.confounded is None else 3, 0.0, -c.score)
-
-
 def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,
                   **options) -> tuple[Diagnosis, list[Diagnosis]]:
     """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every
@@ -409,7 +314,12 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
     validation error, and the change that led to it with the reason.
     """
     series, search = list(series), _search(search, options)
-    steps = [with_one_blas_thread(_diagnose, series, parse_model(model), search, Step())]
+    with one_blas_thread():
+        return _walk(series, parse_model(model), search)
+
+
+def _walk(series, model, search):
+    steps = [_diagnose(series, model, search, Step())]
     visited = {frozenset(steps[0].model)}
     confounded: set[str] = set()
     moves: list[Candidate] = []
@@ -421,8 +331,8 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
             break
         visited.add(frozenset(move.model))
         moves.append(move)
-        steps.append(with_one_blas_thread(_diagnose, series, move.model, search, Step(
-            base=move.report, skip=frozenset(confounded), visited=frozenset(visited))))
+        steps.append(_diagnose(series, move.model, search, Step(base=move.report, skip=frozenset(confounded),
+                                                                visited=frozenset(visited))))
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first, h = steps[0], steps[0].heat_source
@@ -433,21 +343,8 @@ def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search:
                                 f"({-100 * gain:+.1f} %); {h['sentence']}")
         waterfall.insert(0, {"model": h["effort_model"], "rmse_K": h["effort_rmse_K"],
                              "fit_percent": h["effort_fit_percent"], "flags": h["effort_flags"], "floor_K": None})
-    first.auto = waterfall
-    return first, steps
-
-
-def replicate(runs, model, search: Search, initial, specs, starts) -> str | None:
-    """One stability replicate's search (:mod:`.stability`): on the perturbed ``runs`` and ``search`` (its scheme
-    perturbed), the contenders rebuilt from ``specs``, each refitted from ``starts``; the label it takes, or
-    ``None``."""
-    candidates = tuple(Candidate.from_spec(spec) for spec in specs)
-    try:
-        d = _diagnose(list(runs), tuple(model), search, Step(initial=initial, contenders=candidates,
-                                                             starts=dict(zip([c.label for c in candidates], starts))))
-    except ThermolimbError:  # a replicate the log is too short to split, or that identifies nothing: it takes none
-        return None
-    return None if d.recommended is None else d.recommended.label
+    steps[0] = replace(first, auto=waterfall)
+    return steps[0], steps
 
 
 def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:

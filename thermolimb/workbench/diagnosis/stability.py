@@ -76,11 +76,12 @@ import numpy as np
 from ...identification.thinning import longest_block
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
-from ...util.parallel import run_jobs, shared, with_one_blas_thread
+from ...util.parallel import one_blas_thread, run_jobs, shared
 from ..flags import unread
-from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT
+from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT, FitReport
 from .candidates import MIN_IMPROVEMENT, Candidate
 from .refit import compared_on
+from .replicate import replicate
 
 REPLICATES = 10
 MIN_FREQUENCY = 0.8
@@ -193,11 +194,12 @@ def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Cand
             or effect_key(c, model) == effect_key(best, model)]
 
 
-def selection_frequencies(diagnosis, series, search, replicate) -> tuple[dict[str, float], int]:
-    """``({label: share of replicates taking it}, replicates run)`` over the contenders, and ``"none"`` for
-    replicates taking nothing; fills each contender's ``selection_frequency``.  ``replicate(runs, model, search,
-    initial, specs, starts)`` is the search one replicate runs (the diagnosis's own, passed in: this module does not
-    import it).
+def selection_frequencies(candidates: list[Candidate], best: Candidate | None, model: tuple[str, ...],
+                          base: FitReport, series, search) -> tuple[dict[str, float], int]:
+    """``({label: share of replicates taking it}, replicates run)`` over the contenders among ``candidates``
+    (the whole log's, ``best`` its recommended change, on the base model ``model`` fitted as ``base``), and
+    ``"none"`` for replicates taking nothing; fills each contender's ``selection_frequency``.  Each replicate
+    runs :func:`.replicate.replicate`.
 
     Where the first :attr:`Stability.replicates` leave the recommended change's effect within one replicate of the
     share it needs (7 or 8 of 10 at 0.8: :func:`undecided`), as many again are run, drawn afresh, and the share is
@@ -205,26 +207,24 @@ def selection_frequencies(diagnosis, series, search, replicate) -> tuple[dict[st
     log should not end on the other side of it by that throw alone (UR3 J2: ``+ sensor_lag`` taken in 5 of 10 on the
     whole log and in 8 of 10 on a copy cut by a few rows, which then walked on to another model)."""
     stability = search.stability
-    chosen = contenders(diagnosis.candidates, diagnosis.model)
+    chosen = contenders(candidates, model)
     if not chosen:
         return {"none": 1.0}, stability.replicates
     specs = [c.spec() for c in chosen]
-    initial = dict(diagnosis.base.model.params)
+    initial = dict(base.model.params)
     plain = replace(search, stability=None, quiet=True)
-    keys = {c.label: effect_key(c, diagnosis.model) for c in chosen}
-
-    samples = replicate_samples(diagnosis.base.model, series)
+    keys = {c.label: effect_key(c, model) for c in chosen}
+    samples = replicate_samples(base.model, series)
 
     def batch(b: int) -> list:
         drawn = perturbations(stability, list(series), search.scheme, b)
-        jobs = [(perturbed, replicate, p, diagnosis.model, plain, initial, specs,
-                 p.jitter([s["fitted"] for s in specs]), samples) for p in drawn]
+        jobs = [(p, model, plain, initial, specs, p.jitter([s["fitted"] for s in specs]), samples)
+                for p in drawn]
         # the log goes to each worker once, not in every replicate (the 6 M-row Parquet's knee: 112 MB a replicate)
-        return run_jobs(with_one_blas_thread, jobs, backend="process" if stability.workers > 1 else "serial",
+        return run_jobs(perturbed, jobs, backend="process" if stability.workers > 1 else "serial",
                         workers=stability.workers, shared=list(series))
 
     taken = batch(0)
-    best = diagnosis.recommended
     if best is not None and best.label in keys:
         if undecided(sum(keys.get(label) == keys[best.label] for label in taken), stability):
             taken += batch(1)
@@ -239,6 +239,59 @@ def selection_frequencies(diagnosis, series, search, replicate) -> tuple[dict[st
         c.selection_frequency = sum(alike.values()) / len(taken)
         c.selected_as = {label: n for label, n in alike.items() if n}
     return frequencies, len(taken)
+
+
+@dataclass(frozen=True)
+class Checked:
+    """The stability stage's record: the replicates' verdicts (``record``: replicates run, the share needed,
+    the seed, what varied, every contender's share), the change that stays recommended, and the best change
+    where the replicates did not take it often enough (``unstable``)."""
+
+    record: dict
+    recommended: Candidate | None
+    unstable: Candidate | None
+
+
+def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], base: FitReport, series,
+          search, order: bool = True) -> Checked:
+    """The stability check of ``best``, the whole log's recommended change among ``candidates`` (ranked): it
+    stays recommended only if the replicates take it often enough (:attr:`Stability.min_frequency`), else the
+    :func:`steadier` change is; each contender's evidence says how often it was taken and what varied.
+    ``order``: whether the :func:`in_some_order` rule may keep ``best`` (not for a pair: :mod:`.together`)."""
+    stability = search.stability
+    frequencies, k = selection_frequencies(candidates, best, model, base, series, search)
+    varied = stability.varied(search.scheme)
+    if k > stability.replicates:
+        first = stability.replicates
+        varied += (f"; {k - first} more, as the first {first} left the best change within one replicate of "
+                   "its share")
+    record = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
+              "varied": varied, "frequencies": frequencies}
+    short = best.selection_frequency < stability.min_frequency
+    # said whether the share is short or not, so that a share rounding moves across the threshold changes a
+    # number in the sentence, not the sentence (the walk takes the whole log's best either way)
+    ordered = order and in_some_order(candidates, best, stability)
+
+    def said(s):  # a check again (a pair: .together) replaces it
+        return f" {s[0].upper()}{s[1:]}." if s else ""
+
+    for c in candidates:
+        if c.selection_frequency is None:
+            continue
+        taken = round(c.selection_frequency * k)
+        verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
+        verdict = ordered if ordered and c is best else verdict
+        split = ""
+        if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
+            split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
+        evidence = c.evidence.removesuffix(said(c.stability_sentence))
+        sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}"
+        c.stability_sentence = sentence.replace("( ", "(")
+        c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()
+    if short and not ordered:
+        best.unstable_because = best.stability_sentence
+        return Checked(record, steadier(candidates, best, stability), best)
+    return Checked(record, best, None)
 
 
 def steadier(candidates: list[Candidate], best: Candidate, stability: Stability) -> Candidate | None:
@@ -289,11 +342,13 @@ def replicate_samples(model, series) -> int:
     return max(REPLICATE_SAMPLES, -(-sum(s.n for s in series) // longest_block(model, series)))
 
 
-def perturbed(replicate, p: Perturbation, model, search, initial, specs, starts, samples: int):
-    """``replicate`` on the runs the runner shares (:func:`~thermolimb.util.parallel.shared`), perturbed by ``p``,
-    its fits comparing at most ``samples`` samples."""
+def perturbed(p: Perturbation, model, search, initial, specs, starts, samples: int) -> str | None:
+    """One replicate (:func:`.replicate.replicate`) on the runs the runner shares
+    (:func:`~thermolimb.util.parallel.shared`), perturbed by ``p``, its fits comparing at most ``samples``
+    samples, with one BLAS thread wherever it runs."""
     runs, scheme = p.applied(shared(), search.scheme)
-    with unread(), compared_on(samples):  # a replicate says nothing: its flags' causes are not worked out
+    # a replicate says nothing: its flags' causes are not worked out
+    with one_blas_thread(), unread(), compared_on(samples):
         return replicate(runs, model, replace(search, scheme=scheme), initial, specs, starts)
 
 

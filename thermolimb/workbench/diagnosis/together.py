@@ -31,6 +31,8 @@ from itertools import combinations
 from ...model.terms import TERMS
 from .candidates import MIN_IMPROVEMENT, Candidate
 from .refit import guarded, refit_candidate
+from .screen import Base, rank
+from .stability import Checked, check
 
 MEMBERS = 3  # the strongest additions by BIC paired: at most three refits where a step would stop
 PAIR_FREQUENCY = 1.0  # a pair is taken only where every replicate takes it (module docstring)
@@ -66,26 +68,30 @@ def _share() -> str:  # what the check asks of a pair, in words
     return "every replicate" if PAIR_FREQUENCY >= 1.0 else f"{PAIR_FREQUENCY:.0%} of the replicates"
 
 
-def take_together(d, series, search, base_bic: float, visited: frozenset, rank, check) -> None:
-    """Where diagnosis ``d`` recommends nothing, its pairs (:func:`pairs`) join its candidates (sorted by ``rank``),
-    and the best eligible one is recommended, checked by ``check(d, stability)`` when the search checks, at
-    :data:`PAIR_FREQUENCY`."""
-    found = pairs(d.candidates, d.model, series, search.scheme, d.base, base_bic, visited, search.stability is not None)
+def take_together(candidates: list[Candidate], model: tuple[str, ...], base: Base, series, search,
+                  visited: frozenset, alone: dict | None) -> tuple[list[Candidate], Checked | None]:
+    """Where a diagnosis recommends nothing: its ``candidates`` (ranked) with the pairs (:func:`pairs`) among
+    them, and the verdict where one is eligible (else ``None``: the verdict stands), checked by the stability
+    check when the search checks, at :data:`PAIR_FREQUENCY`; ``alone`` is the check's record of the changes
+    alone, kept in the new record as ``"alone"``."""
+    found = pairs(candidates, model, series, search.scheme, base.report, base.bic, visited,
+                  search.stability is not None)
     if not found:
-        return
-    d.candidates = sorted(d.candidates + found, key=rank)
+        return candidates, None
+    candidates = sorted(candidates + found, key=rank)
     best = next((c for c in sorted(found, key=rank) if c.eligible), None)
     if best is None:
-        return
-    d.recommended, d.unstable = best, None
-    if search.stability is not None:
-        first = {id(c): c.selection_frequency for c in d.candidates}
-        for c in d.candidates:  # the check decides again with the pairs among the contenders; what the first said
-            c.selection_frequency = None  # of a change it does not re-judge stays in that change's words
-        alone = d.stability
-        check(d, replace(search.stability, min_frequency=PAIR_FREQUENCY))
-        if alone is not None:
-            d.stability["alone"] = alone
-            for c in d.candidates:  # and its share, where both checks ran as many replicates
-                if c.selection_frequency is None and alone["replicates"] == d.stability["replicates"]:
-                    c.selection_frequency = first.get(id(c))
+        return candidates, None
+    if search.stability is None:
+        return candidates, Checked(alone, best, None)
+    first = {id(c): c.selection_frequency for c in candidates}
+    for c in candidates:  # the check decides again with the pairs among the contenders; what the first said
+        c.selection_frequency = None  # of a change it does not re-judge stays in that change's words
+    checked = check(candidates, best, model, base.report, series,
+                    replace(search, stability=replace(search.stability, min_frequency=PAIR_FREQUENCY)), False)
+    if alone is not None:
+        checked.record["alone"] = alone
+        for c in candidates:  # and its share, where both checks ran as many replicates
+            if c.selection_frequency is None and alone["replicates"] == checked.record["replicates"]:
+                c.selection_frequency = first.get(id(c))
+    return candidates, checked
