@@ -151,6 +151,20 @@ def test_predict_over_a_log_with_a_plot(saved_auto, richer_log, tmp_path, capsys
     assert f"against its readings: RMSE {rmse:.3g} K" in capsys.readouterr().out
 
 
+def test_a_log_of_several_actuators_is_predicted_where_the_file_has_models(saved_auto, tmp_path, capsys):
+    """A model file of the knee over the robot's log of three actuators (docs/model-file.md's
+    ``predict knee.json run.csv``): the knee is predicted, the others are said and left; before, the read was
+    refused at the hip."""
+    log = tmp_path / "robot.csv"
+    assert main(["simulate", "--profile", "random", "--duration", "600", "--dt", "1", "--out", str(log),
+                 "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["predict", str(saved_auto[1]), str(log), "--threshold", "80", "--json"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["actuator"] == "knee"
+    assert "the log's hip, ankle not predicted: " in out.err and "has no model of them" in out.err
+
+
 def test_a_plan_beyond_the_model_s_log_is_said_and_its_band_widened(saved_auto, capsys):
     """Ten times the largest effort of the calibration log: said, and the interval is not a point."""
     saved, path = saved_auto

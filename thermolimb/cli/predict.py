@@ -71,7 +71,7 @@ def run(args) -> int:
                                     args.draws, args.seed))
     else:
         logs = read_logs(args.logs, args)
-        names = [args.actuator] if args.actuator else list(logs[0].actuators)
+        names = [args.actuator] if args.actuator else _modelled(models, list(logs[0].actuators), args)
         say_notes(logs, names)
         for name in names:
             saved = _model_for(models, name, logs, args)
@@ -127,6 +127,17 @@ def _threshold(args, saved) -> float:
     if saved.limit_C is None:
         raise UsageError(f"the model of {saved.actuator} stores no limit; give --threshold C")
     return saved.limit_C
+
+
+def _modelled(models, names: list[str], args) -> list[str]:
+    """The log's actuators the model file has a model of (each other one said), or all of them where it has
+    none (the file's only model then answers for the log's only actuator, or the read is refused by name)."""
+    shared = [n for n in names if n in models.actuators]
+    if shared and len(shared) < len(names):
+        left = ", ".join(n for n in names if n not in shared)
+        them = "them" if "," in left else "it"
+        say(f"the log's {left} not predicted: {args.model_file} has no model of {them}")
+    return shared or names
 
 
 def _model_for(models, name: str, logs, args):
