@@ -211,6 +211,7 @@ def test_a_run_cut_mid_transient_is_fitted_as_the_whole_run(step_test):
     assert cut.validation["rmse_K"] < 2.0 * whole.validation["rmse_K"]
 
 
+@pytest.mark.slow  # half a minute or more on two cores (the default run stays under ten minutes)
 def test_held_out_blocks_hold_a_step_test_s_release_and_the_walk_finds_the_housing_that_carries_over():
     """A step test has one step of its input after its first block, its release; blocks 2, 5, 8 of 10 held it
     20 s before a held block's end, so whether the housing's heat was judged hung on the replicates' moving the
@@ -298,6 +299,7 @@ def test_effort_that_varies_only_as_its_square_sets_the_bias_aside_and_the_model
         assert not any(a.get("term") for a in reduced.set_aside)
 
 
+@pytest.mark.slow  # half a minute or more on two cores (the default run stays under ten minutes)
 def test_a_bias_that_carries_the_effort_s_heat_on_efforts_of_one_sign_is_implausible():
     """The plant's walking duty read in whole degrees (a thermistor like a servo's): a third mass beside the second
     helps on held-out data, but its fit hands all of the effort's heat to the bias (Joule heating all but vanishes).

@@ -72,6 +72,7 @@ def test_vector_environments_step_as_the_single_ones(vector):
         assert rewards[k] == single_rewards[0]
 
 
+@pytest.mark.slow  # half a minute or more on two cores (the default run stays under ten minutes)
 def test_every_strategy_is_a_policy():
     for env_id in (HEXAPOD_ID, HUMANOID_ID):
         with closing(gym.make(env_id, max_time_s=3.0)) as env:

@@ -152,7 +152,8 @@ def test_driver_boards_are_logged_as_their_own_channels():
     assert driver.temperature_C.max() > 25.0 + 0.5  # and heats with the current
 
 
-@pytest.mark.parametrize("estimator", ["observer", "measured"])
+# the observer's run: 41 s on two cores, slow (the default run stays under ten minutes)
+@pytest.mark.parametrize("estimator", [pytest.param("observer", marks=pytest.mark.slow), "measured"])
 def test_a_run_in_blocks_is_the_run_stepped_one_interval_at_a_time(estimator):
     """Blocks between protection's decisions change nothing but the speed: the same efforts, temperatures,
     readings (the same noise draws) and estimates as stepping every interval, here with protection acting on a
