@@ -19,7 +19,7 @@ from thermolimb.model.model import model_parameters
 from thermolimb.plant import NETWORKS, PlantEffects, duties, simulate_profile
 from thermolimb.plant.cases import CASE_NAMES, CASE_SPECS
 from thermolimb.workbench.diagnosis import diagnose
-from thermolimb.workbench.diagnosis.candidates import held_out_support
+from thermolimb.workbench.diagnosis.judgement import held_out_support
 from thermolimb.workbench.excitation import channel_excitation, excitation
 from thermolimb.workbench.validation import (
     INTERLEAVED,

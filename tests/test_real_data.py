@@ -45,7 +45,43 @@ def test_dynamixel_at_whole_degrees_leaves_nothing_to_add(real):
     assert not set(steps[-1].model) - {"joule", "effort_bias"}
 
 
-def test_short_bench_runs_say_the_offset_does_the_heating(real):
-    """Two-minute heating runs, far shorter than the motor's time constant: the fit is flagged, not trusted."""
-    first, _ = auto_diagnose(runs(real["bldc"], "bldc"))
-    assert any("T_offset_C" in f and "from the coolest reading" in f for f in first.auto[-1]["flags"])
+def test_short_bench_runs_hold_the_offset_where_the_winding_started(real):
+    """Two-minute heating runs, far shorter than the motor's time constant, and no cooling: the offset is held at
+    the coolest run's first reading, and said, where the fit ran it to its 400 degC bound (issue 81, item 5)."""
+    series = runs(real["bldc"], "bldc")
+    first, steps = auto_diagnose(series)
+    held = [a for a in steps[-1].base.set_aside if a.get("parameter") == "T_offset_C"]
+    coolest = min(s.temperature_C[0] for s in series)
+    assert held and held[0]["held_at"] == coolest and steps[-1].base.model.params["T_offset_C"] == coolest
+    assert "this log only heats" in held[0]["reason"] and "cannot fix the temperature the winding cools to" in held[
+        0]["reason"]
+    assert not any(f.startswith("T_offset_C") for f in steps[-1].base.flags)
+
+
+def test_a_heating_only_log_with_an_ambient_holds_the_offset_at_it(real):
+    """The same bench runs with an ambient column (as a thrust stand logs one): the offset is held at the logged
+    ambient's mean, not at the first reading."""
+    from dataclasses import replace
+
+    from thermolimb.workbench.validation import Scheme, validate_model
+
+    series = [replace(s, signals=replace(s.signals, ambient_C=np.full(s.n, 19.5))) for s in runs(real["bldc"], "bldc")]
+    report = validate_model(series, ("joule",), Scheme(), reduce=True)
+    held = [a for a in report.set_aside if a.get("parameter") == "T_offset_C"]
+    assert held and held[0]["held_at"] == 19.5 and "held at the logged ambient's mean, 19.50 degC" in held[0]["reason"]
+
+
+def test_a_change_that_moves_the_offset_where_its_flags_say_it_cannot_be_is_implausible(real):
+    """A change is implausible where its refit puts the offset at a bound or far from the readings and its base's
+    fit did not (issue 81, item 6): on the bench's two heating runs the offset left free runs to 180 degC, 159 K
+    from the coolest reading; held at the first reading it is not flagged."""
+    from thermolimb.workbench.diagnosis.judgement import displaced_offset
+    from thermolimb.workbench.diagnosis.refit import evaluate
+    from thermolimb.workbench.validation import Scheme
+
+    series = runs(real["bldc"], "bldc")
+    held = evaluate(series, ("joule",), Scheme(), fixed={"T_offset_C": min(s.temperature_C[0] for s in series)})
+    free = evaluate(series, ("joule",), Scheme())
+    said = displaced_offset(free, held)
+    assert said.startswith("it moves the offset where it cannot be (T_offset_C = ") and "K from the coolest" in said
+    assert displaced_offset(held, held) is None and displaced_offset(free, free) is None  # the base's own: no change

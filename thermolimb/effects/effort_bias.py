@@ -40,7 +40,8 @@ def carries_the_heat(p, series, units) -> str | None:
     log's efforts hold one sign (1st to 99th percentile) and that lies beyond the largest of them, the bias is no
     offset of the torque-current map but carries the heat itself, and would cool the joint wherever another duty
     pushes the other way, which the log cannot show (``benchmarks/transfer.py --step-K 1``, fitted on the walking
-    duty); a change is judged so only where its base's bias did not carry the heat already (``candidates.judge``).
+    duty); a change is judged so only where its base's bias did not carry the heat already
+    (``judgement.judge``).
     A log with efforts of both signs (each side reaching ``BOTH_SIGNS`` of the largest, so that the noise of an effort
     at rest does not count) shows what the bias does at each, and is left to its held-out error (UR3 J5's wrist,
     whose bias rightly exceeds its ±0.3 N m)."""

@@ -12,6 +12,7 @@ from ..identification import IdentifiabilityError
 from ..logs import ActuatorSeries, LogError
 from ..model.model import model_parameters
 from ..model.terms import TERMS
+from .carry import only_heats
 from .excitation import effort_levels, own_shares
 
 # A coefficient of heat from the effort alone whose input varies apart from the constant's and the others' by less than
@@ -79,10 +80,45 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
             continue
         loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
                  for flag in report.flags if flag.startswith(f"{name} = ")]  # uncertain, or a time constant unseen
+        rest = resting_offset(series, report) if hold and "T_offset_C" not in held else None
+        if rest is not None and not loose:
+            hold_value("T_offset_C", *rest)
+            continue
         if not loose:
             return replace(report, set_aside=tuple(aside))
         for name, flag in loose:
             hold_value(name, datasheet[name], f"its datasheet value, since the log leaves it loose: {flag}")
+
+
+def resting_offset(series: Sequence[ActuatorSeries], report) -> tuple[float, str] | None:
+    """Where every run of ``series`` only heats and ``report``'s fit put the offset where its flags call it
+    implausible (at a bound, or far from the readings), the value to hold the offset at and why: the logged
+    ambient's mean, or else the coolest run's first reading (the winding taken to start at the ambient).
+
+    A log that never cools cannot fix the temperature the winding cools to: the offset trades with the time
+    constant along the rise (on the BLDC bench's full-throttle ramp, T_offset_C 400 degC at its bound and RC_s
+    342 +- 1500 s, correlation +0.99).  A run only heats where no reading falls below the run's highest so far
+    by more than a twentieth of its rise (:func:`.carry.only_heats`; measured: 0.1 % and 0.7 % on the bench's
+    two runs).
+    """
+    placed = any(f.startswith("T_offset_C = ") for f in report.flags)
+    if "T_offset_C" not in report.model.params or not placed:
+        return None
+    if not all(map(only_heats, series)):
+        return None
+    falls = [(float(np.max(np.maximum.accumulate(t) - t)), float(t.max() - t[0]))
+             for t in (s.temperature_C for s in series)]
+    fall, rise = max(falls, key=lambda x: x[0] / x[1])
+    why = (f"this log only heats (no run falls by more than {fall:.2g} K below its highest reading, of a "
+           f"{rise:.0f} K rise), so it cannot fix the temperature the winding cools to, and the fit put it "
+           f"where its flags say it cannot be")
+    ambient = [s.signals.ambient_C for s in series if s.signals.ambient_C is not None]
+    if ambient:
+        value = float(np.mean(np.concatenate(ambient)))
+        return value, f"held at the logged ambient's mean, {value:.2f} degC: {why}"
+    value = float(min(s.temperature_C[0] for s in series))
+    start = f"held at the coolest run's first reading, {value:.2f} degC, the winding taken to start at the"
+    return value, f"{start} ambient: {why}"
 
 
 def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], aside: list) -> tuple[str, ...]:

@@ -30,6 +30,7 @@ from ..model.experience import air_words, ambient_shift_K, ambient_span, common_
 from ..model.model import ThermalModel
 from ..model.signals import Signals
 from ..model.terms import parse_model
+from .carry import carry_flags
 from .evidence import Evidence
 from .flags import parameter_flags
 from .submodel import identifiable_submodel
@@ -405,13 +406,16 @@ def validate_model(
                                                                               offsets=_offsets(final, k), runs=runs))
     held = list(getattr(final, "fixed", None) or [])
     train_metrics = _metrics(train)
+    carry = []
+    if scheme.kind == HELD_OUT:  # a run it was not fitted on: does the model carry to it, and if not, why
+        carry = carry_flags(valid, train_series, scheme.held_out, train_metrics["rmse_K"])
     return FitReport(
         actuator=series[0].actuator, method=final.method, model=final.model_, stderr=final.stderr_,
         train=train_metrics, validation=_metrics(valid), train_segments=train, validation_segments=valid,
         estimator=final, train_series=tuple(train_series),
         flags=tuple(parameter_flags(final.model_, final.stderr_, series, held=held,
                                     train_rmse_K=train_metrics["rmse_K"],
-                                    covariance=getattr(final, "covariance_", None))),
+                                    covariance=getattr(final, "covariance_", None))) + tuple(carry),
         scheme=scheme.describe() + air_words(series, air_C) + moved_words(moved),
         units="runs" if scheme.kind in (RUNS, HELD_OUT) else "parts" if scheme.kind == PARTS else "blocks")
 

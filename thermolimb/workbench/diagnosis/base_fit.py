@@ -9,7 +9,8 @@ from ...model.terms import TERMS
 from ...util.errors import ThermolimbError
 from ..submodel import identifiable_submodel
 from ..validation import FitReport
-from .candidates import COLLINEAR, held_out_support
+from .candidates import COLLINEAR
+from .judgement import held_out_support
 from .refit import evaluate
 
 

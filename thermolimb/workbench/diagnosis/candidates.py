@@ -26,20 +26,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...effects.effort_bias import carries_the_heat
 from ...identification.metrics import (
     ar1_variance_factor,
-    chi2_isf,
     chi2_sf,
     information_criteria,
-    scaled_inverse,
 )
 from ...identification.thinning import fit_rows
 from ...logs import ActuatorSeries
 from ...model.guard import instance
 from ...model.model import ThermalModel, model_parameters
-from ...model.terms import TERMS, implausibility
-from ..flags import uncertainty_cause
+from ...model.terms import TERMS
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
@@ -52,11 +48,6 @@ TIME_SCALES = 5  # time scales a log can show, where non-nuisance times (a senso
 SCAN_POINTS = 7  # values of a nuisance parameter the score scans (and the refit's profile holds)
 SCAN_SPAN = 2.0  # the longest time scanned, in log lengths: a mass slower than the log still bends its curve
 REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time scales
-WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this level
-INFLUENTIAL_SHARE = 0.01  # a gain must survive leaving out this share of the held-out samples (the most in its favour)
-MIN_INFLUENTIAL = 3  # ... and at least this many of them
-KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 % without them)
-STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
 
 
 @dataclass
@@ -394,105 +385,3 @@ def bic(residual: np.ndarray, n_params: int) -> float:
     """BIC on the training residual; it overstates evidence for correlated residuals, which is why a
     recommendation also needs a held-out improvement."""
     return information_criteria(residual, n_params)["bic"]
-
-
-def judge(cand: Candidate, report, base, base_bic: float) -> None:
-    """Fill the refit results of a candidate from its :class:`~thermolimb.workbench.validation.FitReport`, judged
-    against the base model's ``base`` on the same held-out samples."""
-    base_rmse = base.validation["rmse_K"]
-    cand.report = report
-    cand.rmse_K = report.validation["rmse_K"]
-    cand.fit_percent = report.validation["fit_percent"]
-    cand.improvement = 1.0 - cand.rmse_K / base_rmse if base_rmse > 0 else 0.0
-    if cand.kind != "drop":
-        cand.units, cand.robust_improvement, cand.fragile = held_out_support(base.validation_segments,
-                                                                             report.validation_segments)
-        cand.unit_word = report.units
-    cand.delta_bic = bic(report.train_residual_K, len(report.model.params)) - base_bic
-    cand.flags = list(report.flags)
-    if cand.kind == "drop":
-        cand.identifiable = cand.plausible = True
-        return
-    terms, params, units = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params, report.channel_units
-    handed = (carries_the_heat(params, report.train_series, units)  # this change, not its base, gives the bias the heat
-              if not carries_the_heat(base.model.params, base.train_series, units) else None)
-    cand.implausible_because = next(filter(None, [*(implausibility(t(), params, units) for t in terms), handed]), None)
-    cand.params.update({p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
-                        for term in terms for p in term.parameters})
-    cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
-    cand.plausible = cand.implausible_because is None
-    cand.failure = next(filter(None, (refit_failure(t, params) for t in terms)), None)
-
-
-def term_identified(term, report) -> bool:
-    """Whether the log determines the term: its size parameters are jointly non-zero (a Wald test on their
-    covariance, so that two parameters that trade off against each other still count as one effect) and
-    none of them sits on a bound."""
-    names = [p.name for p in report.model.parameters]
-    primary = [p for p in term.parameters if not p.nuisance]
-    if not primary:
-        return True
-    idx = [names.index(p.name) for p in primary]
-    theta = np.array([report.model.params[p.name] - p.null for p in primary])
-    cov = np.asarray(report.estimator.covariance_)[np.ix_(idx, idx)]
-    if not np.all(np.isfinite(cov)):
-        return False
-    for p in primary:
-        span = p.upper - p.lower if np.isfinite(p.upper - p.lower) else max(abs(report.model.params[p.name]), 1.0)
-        value = report.model.params[p.name]
-        if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
-            return False
-    wald = float(theta @ scaled_inverse(cov) @ theta)
-    if wald > chi2_isf(WALD_LEVEL, len(primary)):
-        return True
-    # a model that still fits far worse than the sensor's floor has standard errors inflated by what it misses,
-    # not by a lack of excitation: then they say nothing of whether the log determines the term
-    misfit, _ = uncertainty_cause(list(report.train_series), report.train["rmse_K"])
-    return misfit is not None
-
-
-def refit_failure(term, params) -> str | None:
-    """Why a refit did not find the effect: its size collapsed to the null, or a time constant ran to a bound."""
-    primary = [p for p in term.parameters if not p.nuisance]
-    if primary and all(abs(params[p.name] - p.null) <= 1e-6 * max(abs(p.typical), 1e-12) for p in primary):
-        names = ", ".join(f"{p.name} = {p.null:g}" for p in primary)
-        return f"collapsed to {names}: the refit found no such effect"
-    for p in term.parameters:
-        if p.unit == "s":
-            for bound in (p.lower, p.upper):
-                if np.isfinite(bound) and abs(params[p.name] - bound) <= 1e-3 * max(abs(bound), 1.0):
-                    return f"{p.name} ran to its bound {bound:g} s: the log does not show this time scale"
-    return None
-
-
-def held_out_support(base_segments, segments) -> tuple[tuple[int, int, int], float, str | None]:
-    """Where a change's held-out gain comes from: on how many held-out units (runs, blocks) it lowers the error,
-    of how many that hold dynamics to judge it on, and how many do not (readings spanning under
-    :data:`STILL_SPAN` of the widest unit's: a run held near its steady state cannot tell a time constant or a
-    neighbour's heat from an offset); the gain left without the few held-out samples most in its favour (the
-    :data:`INFLUENTIAL_SHARE` whose squared error it cut most); and, when that falls short of half the gate,
-    why it is not evidence."""
-    units: dict[str, list] = {}
-    spans: dict[str, list] = {}
-    for b, c in zip(base_segments, segments):
-        pair = units.setdefault(b.unit, [0.0, 0.0])
-        pair[0] += float(np.sum((b.measured_C - b.simulated_C) ** 2))
-        pair[1] += float(np.sum((c.measured_C - c.simulated_C) ** 2))
-        span = spans.setdefault(b.unit, [np.inf, -np.inf])
-        span[:] = [min(span[0], float(np.min(b.measured_C))), max(span[1], float(np.max(b.measured_C)))]
-    width = {u: hi - lo for u, (lo, hi) in spans.items()}
-    widest = max(width.values())
-    moving = {u for u in units if width[u] >= STILL_SPAN * widest} or set(units)
-    lower = sum(units[u][1] < units[u][0] for u in moving)
-    eb = np.concatenate([b.measured_C - b.simulated_C for b in base_segments])
-    ec = np.concatenate([c.measured_C - c.simulated_C for c in segments])
-    k = max(MIN_INFLUENTIAL, int(np.ceil(INFLUENTIAL_SHARE * eb.size)))
-    gain = eb**2 - ec**2
-    kept = max(eb.size - k, 1)  # the samples left: those of least gain, picked without sorting them all
-    rest = np.argpartition(gain, kept - 1)[:kept] if kept < eb.size else np.arange(eb.size)
-    robust = 1.0 - float(np.sqrt(np.sum(ec[rest] ** 2) / max(np.sum(eb[rest] ** 2), 1e-300)))
-    fragile = None
-    if robust < KEPT_GAIN * MIN_IMPROVEMENT:
-        fragile = (f"the held-out gain rests on its {k} most influential samples (of {eb.size}): without them the "
-                   f"error falls by {100 * robust:.1f} %, short of {100 * KEPT_GAIN * MIN_IMPROVEMENT:.0f} %")
-    return (lower, len(moving), len(units) - len(moving)), robust, fragile

@@ -124,5 +124,5 @@ def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:
 
 
 def _still(c) -> int:
-    """The held-out units set aside for holding no dynamics (:func:`~.candidates.held_out_support`)."""
+    """The held-out units set aside for holding no dynamics (:func:`~.judgement.held_out_support`)."""
     return c.units[2] if len(c.units) > 2 else 0

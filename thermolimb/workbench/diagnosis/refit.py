@@ -48,7 +48,8 @@ from ...util.errors import TermError
 from ...util.parallel import Runner, one_blas_thread, shared
 from ...util.progress import progress
 from ..validation import FitReport, validate_model
-from .candidates import SCAN_POINTS, Candidate, judge, refit_failure, scan_values
+from .candidates import SCAN_POINTS, Candidate, scan_values
+from .judgement import judge, refit_failure
 
 PROFILE_POINTS = SCAN_POINTS  # values of the profiled parameter, log-spaced
 PROFILE_EVALUATIONS = 4  # trust-region iterations of each profile point's short fit
