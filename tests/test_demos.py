@@ -197,3 +197,12 @@ def test_forecast_demo_saves_forecasts_and_monitors(quick_runs):
 def test_the_forecast_demo_s_monitor_band_holds_the_true_winding(quick_runs):
     m = quick(quick_runs, "forecast")["monitor"]
     assert m["rmse_K"] < m["thermistor_rmse_K"] and m["true_within_2sd"] > 0.8
+
+
+def test_next_experiment_demo_sizes_what_the_short_log_could_not(quick_runs):
+    """The planned test sizes the housing's time constant the 10-minute log left at ± hundreds of seconds, within
+    1.5 times the standard error the plan promised, and the plant's true winding stays under the 90 degC limit."""
+    summary = quick(quick_runs, "next-experiment")
+    assert summary["before"]["relative"] > 0.2 and summary["after"]["relative"] < 0.01
+    assert 1 / 1.5 <= summary["obtained_over_promised"] <= 1.5
+    assert summary["hottest_true_C"] < 90.0 and summary["peak_effort_Nm"] <= 20.0
