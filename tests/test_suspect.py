@@ -154,3 +154,27 @@ def test_a_joint_nobody_asked_about_never_sinks_the_one_asked_about(frame, tmp_p
     # asked for by name, the wrist is refused with the reason it was set aside
     assert main(["fit", str(tmp_path / "other.csv"), "--actuator", "wrist", "--quiet"]) == 2
     assert "temperature of actuator 'wrist' jumps by +273.0 K" in capsys.readouterr().err
+
+
+def test_fahrenheit_in_a_log_that_starts_under_load_is_flagged_from_its_first_reading(tmp_path):
+    """A winding logged in degF beside a 25 degC ambient, the log starting under load (issue 82, item 6): no
+    readings at rest, so the first reading (77 degF, where the air is) says it; the same log in degC, starting at
+    the air's 25 degC, is left alone; a motor that starts hot in degC (77 degC, 52 K above the air) cannot be told
+    from it by its first reading, and the note says that it may be."""
+    t = np.arange(0.0, 1200.0)
+    winding_C = 25.0 + 40.0 * (1.0 - np.exp(-t / 300.0))
+    frame = pd.DataFrame({"time": t, "actuator": "knee", "effort": 10.0 + np.sin(t / 50.0), "ambient": 25.0})
+    for temperature, said in ((winding_C * 1.8 + 32.0, True), (winding_C, False), (winding_C + 52.0, True)):
+        path = tmp_path / "under_load.csv"
+        frame.assign(temperature=temperature).to_csv(path, index=False)
+        notes = [n for n in read_log(path).notes if "looks like degF" in n]
+        assert bool(notes) is said, notes
+    said = " ".join(read_log_notes(frame.assign(temperature=winding_C * 1.8 + 32.0), tmp_path))
+    assert "reads 77.0 at its first reading where the ambient reads 25.0 degC" in said
+    assert "unless the winding started 52 K above the air" in said
+
+
+def read_log_notes(frame, folder):
+    path = folder / "again.csv"
+    frame.to_csv(path, index=False)
+    return read_log(path).notes

@@ -219,15 +219,22 @@ def leave_out(group, name: str, source: str, notes: list[str], min_samples: int)
 def fahrenheit_note(temperature_C: np.ndarray, effort: np.ndarray, ambient_C: np.ndarray | None, source: str,
                     name: str) -> str | None:
     """A note when the readings at rest sit near 59-86 (15-30 degC in degF) while a logged ambient in degC
-    reads 15-30: the temperature column is likely in degF."""
+    reads 15-30: the temperature column is likely in degF.  A log that starts under load, with too few
+    readings at rest, is judged by its first reading: a winding that starts where the air is in degF, and 30 K
+    or more above it in degC (a start from rest, unless the motor was already hot: the note says so)."""
     if ambient_C is None:
         return None
     rest = np.abs(effort) <= 0.05 * (float(np.max(np.abs(effort))) or 1.0)
-    if rest.sum() < 10:
-        return None
-    at_rest, air = float(np.median(temperature_C[rest])), float(np.median(ambient_C))
-    if 59.0 <= at_rest <= 86.0 and 15.0 <= air <= 30.0 and abs((at_rest - 32.0) / 1.8 - air) < 4.0:
-        return (f"{source}: actuator {name!r}: the temperature reads {at_rest:.1f} at rest where the ambient reads "
-                f"{air:.1f} degC: it looks like degF ({at_rest:.1f} degF = {(at_rest - 32) / 1.8:.1f} degC); "
-                f"convert it, degC = (degF - 32) / 1.8, or state its unit")
+    air = float(np.median(ambient_C))
+    if rest.sum() >= 10:
+        at_rest, where, close = float(np.median(temperature_C[rest])), "at rest", 4.0
+    else:
+        at_rest, where, close = float(temperature_C[0]), "at its first reading", 2.0
+    if (59.0 <= at_rest <= 86.0 and 15.0 <= air <= 30.0 and abs((at_rest - 32.0) / 1.8 - air) < close
+            and (where == "at rest" or at_rest - air >= 30.0)):
+        hot = at_rest - air
+        unless = f", unless the winding started {hot:.0f} K above the air" if where != "at rest" else ""
+        return (f"{source}: actuator {name!r}: the temperature reads {at_rest:.1f} {where} where the ambient "
+                f"reads {air:.1f} degC: it looks like degF ({at_rest:.1f} degF = {(at_rest - 32) / 1.8:.1f} "
+                f"degC){unless}; convert it, degC = (degF - 32) / 1.8, or state its unit")
     return None
