@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import json
 import os
 
 import numpy as np
@@ -287,3 +288,30 @@ def test_after_a_pause_the_estimate_starts_again_from_the_reading(tmp_path, writ
     estimates = session.feed(CsvFollower(path).poll(final=True))
     last = estimates[-1]
     assert last.time_s > 36000.0 and abs(last.winding_C - last.measured_C) < 1.0
+
+
+def test_a_log_written_again_from_its_start_is_published_from_its_first_sample(tmp_path, written, model_file):
+    """Cut short and written again with time from 0 (issue 82, item 5): the new run is published from its first
+    sample; before, nothing of it was until its clock passed the old run's last time (on a robot that ran for
+    hours, hours of a dark dashboard)."""
+    import io
+
+    from thermolimb.model.saved import ModelFile
+    from thermolimb.monitor import Session
+    from thermolimb.monitor.outputs import JsonLinesOutput
+
+    header, rows = written
+    path = tmp_path / "again.csv"
+    path.write_text("\n".join([header] + rows[: 4 * PROBE_ROWS]) + "\n")
+    stream = io.StringIO()
+    session = Session(ModelFile.load(model_file), {}, [JsonLinesOutput(stream)], publish_every_s=10.0)
+    follower = CsvFollower(path)
+    session.feed(follower.poll())
+    old_last = json.loads(stream.getvalue().splitlines()[-1])["time_s"]
+    with open(path, "w") as f:  # truncated, the same file, written again from t = 0
+        f.write("\n".join([header] + rows[: 2 * PROBE_ROWS]) + "\n")
+    before = session.publications
+    session.feed(follower.poll())
+    published = [json.loads(line)["time_s"] for line in stream.getvalue().splitlines()[before:]]
+    assert published and published[0] < 10.0 + 1e-9 < old_last  # the new run's first period, at once
+    assert published == sorted(published) and published[-1] < old_last
