@@ -82,8 +82,9 @@ class Session:
                 for arrays, restart in parts:
                     if restart:
                         self.monitors.pop(name, None)
-                        if arrays["time"][0] <= self.published_at:  # a log written again from an earlier time:
-                            self.published_at = -np.inf  # its first sample is published, not the old run's last
+                        # a log written again from an earlier time: its first sample is published at once
+                        if arrays["time"][0] <= self.published_at:
+                            self.published_at = -np.inf
                     monitor = self.monitors.get(name)
                     if (self.together and len(parts) == 1 and monitor is not None and monitor.together
                             and monitor.state is not None and arrays["time"].size == 2
