@@ -79,3 +79,75 @@ def test_a_question_the_model_cannot_pose_is_refused(short, tmp_path, capsys):
     assert main(["plan", str(model), "--identify", "neighbor_ratio", "--max-effort", "20", "--duration", "1800",
                  "--out", str(tmp_path / "p.csv")]) == 2
     assert "reads the log column 'neighbors'" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def cool(tmp_path_factory):
+    """Ten minutes of squats on a winding whose copper's resistance grows with heat: the log stays cool, and
+    diagnose finds nothing to add to Joule heating (at the sensor's floor)."""
+    folder = tmp_path_factory.mktemp("separate")
+    log, model = folder / "cool.csv", folder / "cool.json"
+    assert main(["simulate", "--profile", "squat", "--duration", "600", "--dt", "1", "--network", "first_order",
+                 "--effects", "sensor_noise,quantisation,winding_tempco", "--actuators", "knee:X8-9", "--seed", "3",
+                 "--out", str(log), "--quiet"]) == 0
+    assert main(["fit", str(log), "--actuator", "knee", "--model", "joule", "--save", str(model), "--limit-C", "90",
+                 "--quiet"]) == 0
+    return folder, log, model
+
+
+def test_a_test_planned_to_separate_two_effects_lets_the_walk_tell_them_apart(cool, capsys):
+    """``--separate joule,winding_tempco`` (issue 83): the short log cannot tell copper's tempco from Joule heating
+    alone; the planned test, run on the plant, can: the walk on it takes + winding_tempco, taken in every
+    replicate, where on the first log it takes nothing; the plan promised a separation many times the noise."""
+    folder, log, model = cool
+    capsys.readouterr()
+    assert main(["diagnose", str(log), "--actuator", "knee", "--model", "joule", "--auto", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["recommended"] is None
+    plan = folder / "separate.csv"
+    assert main(["plan", str(model), "--separate", "joule,winding_tempco", "--max-effort", "25", "--duration",
+                 "1800", "--noise-K", "0.06", "--out", str(plan), "--json"]) == 0
+    promise = json.loads(capsys.readouterr().out)
+    assert promise["separate"] == ["joule", "winding_tempco"] and promise["separation_sigma"] > 10
+    assert promise["hottest_C"] <= 85.0 and np.max(np.abs(pd.read_csv(plan)["effort"])) <= 25.0
+    test = folder / "separate_test.csv"
+    assert main(["simulate", "--profile", str(plan), "--actuators", "knee:X8-9", "--network", "first_order",
+                 "--effects", "sensor_noise,quantisation,winding_tempco", "--dt", "1", "--seed", "7",
+                 "--out", str(test), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["max_true_winding_C"]["knee"] < 90.0
+    assert main(["diagnose", str(test), "--actuator", "knee", "--model", "joule", "--auto", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["recommended"] == "winding_tempco"
+
+
+@pytest.mark.parametrize("pair, said", [
+    ("joule,speed_losses,motion_cooling", "--separate takes two effects"),
+    ("speed_losses,motion_cooling", "expected one term the model (joule) has and one it lacks"),
+    ("joule,warp_drive", "no term warp_drive"),
+    ("joule,current_heating", "a question a plan cannot pose"),
+])
+def test_a_question_a_plan_cannot_pose_is_one_sentence(cool, pair, said, capsys):
+    folder, _, model = cool
+    assert main(["plan", str(model), "--separate", pair, "--max-effort", "25", "--duration", "1800",
+                 "--out", str(folder / "bad.csv")]) == 2
+    err = capsys.readouterr().err
+    assert said in err and len(err.strip().splitlines()) == 1 and not (folder / "bad.csv").exists()
+
+
+def test_a_confounded_effect_is_answered_with_the_command_that_separates_it(cool):
+    """Where the last step of a diagnosis found an added effect confounded with a term of its model ("changes the
+    simulation only as betaR_K_per_effort2 already does"), its text prints the plan --separate command; a
+    question a plan cannot pose (a current) is not offered."""
+    from dataclasses import replace
+
+    from thermolimb.cli.verdict import verdict_text
+    from thermolimb.logs import read_log
+    from thermolimb.workbench.diagnosis import Candidate, diagnose
+
+    d = diagnose([read_log(cool[1]).series("knee")], "joule", stability=None)
+    said = ("on this log {} changes the simulation only as betaR_K_per_effort2 already does (0.01 % of its "
+            "signature is its own): a log with hot and cool phases would tell them apart")
+    tempco = Candidate("winding_tempco", ("joule", "winding_tempco"), confounded=said.format("winding_tempco"))
+    text = verdict_text(replace(d, candidates=[tempco], floor=None), [replace(d, candidates=[tempco], floor=None)])
+    assert "thermolimb plan MODEL.json --separate joule,winding_tempco --max-effort E" in text
+    current = Candidate("current_heating", ("joule", "current_heating"), confounded=said.format("current_heating"))
+    text = verdict_text(replace(d, candidates=[current], floor=None), [replace(d, candidates=[current], floor=None)])
+    assert "--separate" not in text

@@ -87,6 +87,9 @@ class Plan:
     units: dict[str, str]
     effort_unit: str = ""  # the model's effort unit (its log's)
     notes: tuple[str, ...] = field(default=())
+    separate: tuple[str, str] | None = None  # the question of --separate: the term held and its rival
+    separation_K: float | None = None  # rms of the rival's difference the model's parameters cannot absorb
+    separation_sigma: float | None = None  # ... its norm over the fitted samples against the readings' noise
 
     @property
     def hottest_C(self) -> float:
@@ -117,6 +120,11 @@ class Plan:
             out.append(
                 f"  {name} = {self.values[name]:.4g}{unit}: expected ± {after:.3g}{unit} after the test{was}"
             )
+        if self.separate is not None:
+            held, other = self.separate
+            out.append(f"  {held} against {other}: the readings differ by {self.separation_K:.3g} K rms "
+                       f"beyond what the model's parameters absorb, {self.separation_sigma:.3g} times the "
+                       f"readings' noise over the fitted samples ({other} at its typical size: a guess)")
         out.append(
             f"  hottest winding: {self.hottest_C:.1f} degC at the upper end of the model's 90 % interval, "
             f"kept {lim.margin_K:g} K under the {lim.limit_C:g} degC limit"
@@ -148,6 +156,9 @@ class Plan:
             "stderr_now": self.stderr_now,
             "stderr_after": self.stderr_after,
             "notes": list(self.notes),
+            "separate": None if self.separate is None else list(self.separate),
+            "separation_K": self.separation_K,
+            "separation_sigma": self.separation_sigma,
         }
 
 
@@ -173,15 +184,24 @@ def design(saved: SavedModel, identify, limits: Limits, noise_K: float | None = 
     Plan
         The profile, its predicted and upper-band temperatures, and the standard errors it promises.
     """
-    model, names = saved.model, [p.name for p in saved.model.parameters]
+    names = [p.name for p in saved.model.parameters]
     identify = tuple(identify)
     missing = [n for n in identify if n not in names]
     if not identify or missing:
         raise ThermolimbError(
-            f"the model ({','.join(model.terms)}) has no parameter {missing[0] if missing else ''!r}"
+            f"the model ({','.join(saved.model.terms)}) has no parameter {missing[0] if missing else ''!r}"
             f"; its parameters are {', '.join(names)} (add the term that has it: --model, or a "
             f"model file diagnose --save wrote)"
         )
+    problem, notes = posed(saved, identify, limits, noise_K)
+    return planned(problem, problem.coarse().search(np.random.default_rng(seed)), notes)
+
+
+def posed(saved: SavedModel, identify: tuple[str, ...], limits: Limits,
+          noise_K: float | None) -> tuple["DesignProblem", list[str]]:
+    """The design problem on the test's grid of holds, and the notes on what it assumes: the limits checked,
+    the readings' noise (inflated by the serial correlation the model's held-out residual shows)."""
+    model = saved.model
     unread = [c for c in model.columns if c not in SUPPORTED]
     if unread:
         raise ThermolimbError(
@@ -205,8 +225,15 @@ def design(saved: SavedModel, identify, limits: Limits, noise_K: float | None = 
     edges = np.minimum((np.arange(t.size) * holds) // t.size, holds - 1)
     signed = "effort_bias" in model.terms
     moves = "velocity" in model.columns and limits.max_velocity > 0
-    problem = DesignProblem(saved, t, edges, holds, limits, noise_K, identify, signed, moves)
-    best = problem.coarse().search(np.random.default_rng(seed))
+    return DesignProblem(saved, t, edges, holds, limits, noise_K, identify, signed, moves, lag1=lag1), notes
+
+
+def planned(problem: "DesignProblem", best: np.ndarray, notes: list[str], **promise) -> Plan:
+    """The plan of the search's ``best`` hold levels, scaled down until the forecast band keeps under the
+    limit less its margin, with the standard errors its fit will report (``promise``: a question's own
+    fields)."""
+    saved, limits, identify = problem.saved, problem.limits, problem.identify
+    names = [p.name for p in saved.model.parameters]
     x, band = problem.checked(best)
     effort, velocity = problem.inputs(x)
     cov = problem.covariance(x)
@@ -215,21 +242,22 @@ def design(saved: SavedModel, identify, limits: Limits, noise_K: float | None = 
     return Plan(
         saved.actuator,
         identify,
-        t,
+        problem.t,
         effort,
-        velocity if moves else None,
-        float(limits.duration_s / holds),
+        velocity if problem.moves else None,
+        float(limits.duration_s / problem.holds),
         band.predicted_C,
         band.high_C,
         limits,
-        float(noise_K),
-        lag1,
+        float(problem.noise),
+        problem.lag1,
         {n: float(stderr.get(n, np.nan)) for n in identify},
         after,
-        {n: float(model.params[n]) for n in identify},
+        {n: float(saved.model.params[n]) for n in identify},
         {n: saved.units.get(n, "") for n in identify},
         dict(saved.channel_units).get("effort", ""),
         tuple(notes),
+        **promise,
     )
 
 
@@ -264,9 +292,10 @@ def _check(limits: Limits) -> None:
 class DesignProblem:
     """The search's state: the grid, the holds, and the cost of a vector of hold levels."""
 
-    def __init__(self, saved, t, edges, holds, limits, noise_K, identify, signed, moves, weight=1.0):
+    def __init__(self, saved, t, edges, holds, limits, noise_K, identify, signed, moves, weight=1.0,
+                 lag1=0.0):
         self.saved, self.t, self.edges, self.holds, self.limits = saved, t, edges, holds, limits
-        self.noise, self.identify, self.signed, self.moves = noise_K, identify, signed, moves
+        self.noise, self.identify, self.signed, self.moves, self.lag1 = noise_K, identify, signed, moves, lag1
         self.names = [p.name for p in saved.model.parameters]
         self.fit = t <= t[-1] * SPLIT
         self.margin = model_error_K(saved, LEVEL)
@@ -291,6 +320,7 @@ class DesignProblem:
             self.signed,
             self.moves,
             weight=self.t.size / t.size,
+            lag1=self.lag1,
         )
 
     def inputs(self, x):

@@ -26,8 +26,12 @@ def add_parser(sub):
     p.add_argument("model_file", metavar="MODEL.json",
                    help="a model file written by fit or diagnose with --save")
     add_terms(p)
-    p.add_argument("--identify", type=names_list, required=True, metavar="PARAM,...",
-                   help="the model's parameters to size (e.g. frame_tau_s, alpha_per_K, sensor_tau_s)")
+    question = p.add_mutually_exclusive_group(required=True)
+    question.add_argument("--identify", type=names_list, metavar="PARAM,...",
+                          help="the model's parameters to size (e.g. frame_tau_s, alpha_per_K, sensor_tau_s)")
+    question.add_argument("--separate", type=names_list, metavar="A,B",
+                          help="two effects the log could not tell apart, one in the model and one not (e.g. "
+                               "joule,winding_tempco): the test that tells the model from its rival")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="the model file's actuator (default: its one)")
     temperature = number(-60.0, 400.0, unit="degC")
@@ -84,7 +88,14 @@ def run(args) -> int:
     limits = Limits(limit_C=limit, max_effort=args.max_effort, duration_s=args.duration, start_C=start,
                     dt_s=args.dt, margin_K=args.margin_K, max_velocity=args.max_velocity,
                     min_hold_s=args.min_hold, ambient_C=args.ambient_C)
-    plan = design(saved, args.identify, limits, noise_K=args.noise_K, seed=args.seed)
+    if args.separate is not None:
+        from ..separation import separate
+
+        if len(args.separate) != 2:
+            raise UsageError(f"--separate takes two effects, A,B; got {len(args.separate)}")
+        plan = separate(saved, args.separate, limits, noise_K=args.noise_K, seed=args.seed)
+    else:
+        plan = design(saved, args.identify, limits, noise_K=args.noise_K, seed=args.seed)
     with atomic_path(args.out) as tmp:
         plan.table().to_csv(tmp, index=False)
     if args.plot:

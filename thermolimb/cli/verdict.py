@@ -25,6 +25,13 @@ def verdict_text(d, steps, discover: bool = False) -> str:
             f"MODEL.json) and design the test that sizes it: thermolimb plan MODEL.json --identify "
             f"{','.join(unsized)} --max-effort E --duration S --out plan.csv"
         )
+    pair = _confounded_pair(last)
+    if pair:
+        lines.append(
+            f"  to tell {pair[1]} from {pair[0]}, which this log cannot: save the model (--save MODEL.json) "
+            f"and design the test that can: thermolimb plan MODEL.json --separate {','.join(pair)} "
+            f"--max-effort E --duration S --out plan.csv"
+        )
     if d.auto and len(d.auto) > 1:
         lines.append("  steps:")
         for step in d.auto:
@@ -109,6 +116,26 @@ def _unsized(report) -> list[str]:
         if stderr >= UNSIZED * abs(value):
             out.append(p.name)
     return out
+
+
+def _confounded_pair(last) -> tuple[str, str] | None:
+    """The first added effect the last step found confounded with a term of its model, as ``(term, effect)``,
+    where a planned test can pose the question (the effect reads what a plan sets)."""
+    from ..experiment import SUPPORTED
+    from ..model.terms import TERMS
+
+    if last.at_floor:
+        return None
+    for c in last.candidates:
+        if c.kind != "add" or c.brings or not c.confounded or c.effect not in TERMS:
+            continue
+        if any(col not in SUPPORTED for col in TERMS[c.effect].columns):
+            continue
+        said = f" {c.confounded} "
+        term = next((t for t in last.model if any(f" {p.name} " in said for p in TERMS[t].parameters)), None)
+        if term is not None:
+            return term, c.effect
+    return None
 
 
 def _table(d) -> list[str]:
