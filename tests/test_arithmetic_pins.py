@@ -93,3 +93,13 @@ def test_a_scan_of_several_chunks_equals_the_plain_loop(low, high):
         expected[k + 1] = a[k] * expected[k] + b[k]
     np.testing.assert_allclose(first_order_scan(a, b, 2.0), expected, rtol=1e-10, atol=1e-9)
     np.testing.assert_allclose(recursion.run(b, 2.0), expected, rtol=1e-10, atol=1e-9)
+
+
+@pytest.mark.parametrize("count, k, low, high", [(8, 10, 0.4902, 0.9433), (10, 10, 0.7225, 1.0), (0, 10, 0.0, 0.2775),
+                                                 (14, 20, 0.4810, 0.8545)])
+def test_a_share_of_replicates_is_said_with_its_wilson_interval(count, k, low, high):
+    """How far a share of replicates is from certain (issue 81, item 7): the 95 % Wilson score interval, as
+    published tables give it (8 of 10: 0.490 to 0.943)."""
+    from thermolimb.workbench.diagnosis.stability import share_interval
+
+    assert share_interval(count, k) == pytest.approx([low, high], abs=5e-5)

@@ -67,12 +67,17 @@ def _answer(d, last) -> str:
 
 
 def _sureness(d, last) -> list[str]:
+    from ..workbench.diagnosis.stability import share_interval
+
     k = (d.stability or {}).get("replicates")
-    shares = [
-        f"{s['change']} taken in {round(s['selection_frequency'] * k)} of {k} perturbed replicates"
-        for s in (d.auto or [])[1:]
-        if s.get("selection_frequency") is not None and k
-    ]
+    shares = []
+    for s in (d.auto or [])[1:]:
+        if s.get("selection_frequency") is None or not k:
+            continue
+        n = round(s["selection_frequency"] * k)
+        lo, hi = share_interval(n, k)
+        shares.append(f"{s['change']} taken in {n} of {k} perturbed replicates (95 % interval "
+                      f"{100 * lo:.0f}-{100 * hi:.0f} %)")
     return shares + [last.base.evidence.sentence().removeprefix("evidence: ")]
 
 

@@ -267,7 +267,8 @@ def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], 
         varied += (f"; {k - first} more, as the first {first} left the best change within one replicate of "
                    "its share")
     record = {"replicates": k, "min_frequency": stability.min_frequency, "seed": stability.seed,
-              "varied": varied, "frequencies": frequencies}
+              "varied": varied, "frequencies": frequencies,
+              "intervals": {label: share_interval(round(f * k), k) for label, f in frequencies.items()}}
     short = best.selection_frequency < stability.min_frequency
     # said whether the share is short or not, so that a share rounding moves across the threshold changes a
     # number in the sentence, not the sentence (the walk takes the whole log's best either way)
@@ -321,6 +322,16 @@ def agreed(candidates: list[Candidate], frequencies: dict, k: int,
     some = round((1.0 - none) * k)
     return chosen, (f"; {some} of {k} replicates take a change that cuts the held-out error at least "
                     f"{MANY_FOLD:g}-fold, this one the most ({others} the others): the walk takes it")
+
+
+def share_interval(count: int, k: int, z: float = 1.959964) -> list[float]:
+    """The 95 % Wilson score interval of a share of ``count`` in ``k`` replicates: how far the share itself is
+    from certain (8 of 10: 0.49 to 0.94), which is why a count one replicate from the threshold is decided
+    by a second batch (:func:`undecided`) and not by where its share rounds."""
+    p, n = count / k, float(k)
+    centre, half = (p + z * z / (2 * n)) / (1 + z * z / n), z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    half /= 1 + z * z / n
+    return [float(max(centre - half, 0.0)), float(min(centre + half, 1.0))]
 
 
 def steadier(candidates: list[Candidate], best: Candidate, stability: Stability) -> Candidate | None:
