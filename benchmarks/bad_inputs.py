@@ -2,7 +2,7 @@
 
     python benchmarks/bad_inputs.py            # every input's outcome, then the counts by class
     python benchmarks/bad_inputs.py --json     # one record per input, and the counts by class
-    python benchmarks/bad_inputs.py --round 4  # only the classes of one round (1 to 5)
+    python benchmarks/bad_inputs.py --round 4  # only the classes of one round (1 to 6)
     python benchmarks/bad_inputs.py --class "model file"   # only the classes whose name holds this
     python benchmarks/bad_inputs.py --round 4 --code ../base   # the same inputs against an earlier checkout
 
@@ -153,6 +153,7 @@ def write_fixtures(d: Path) -> None:
     write_round_three(d, good)
     write_round_four(d, good)
     write_round_five(d, good)
+    write_round_six(d, good)
 
 
 BROKEN_TERMS = textwrap.dedent('''
@@ -460,6 +461,7 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     round_three_cases(section, refuse, word, partial)
     round_four_cases(section, refuse, word)
     round_five_cases(section, refuse, word)
+    round_six_cases(section, refuse, word)
     return cases
 
 
@@ -597,6 +599,58 @@ def round_five_cases(section, refuse, word) -> None:
            "1", "--policy", "json:loads", reason="cannot be called as")
     refuse("audit limits below where the joints start", "audit", "--env", "Ant-v5", "--duration", "1",
            "--limit-C", "20", reason="start at or above their limit")
+
+
+def write_round_six(d: Path, good: pd.DataFrame) -> None:
+    """The sixth round's inputs: lab files as their labs write them, model files at their edges and in another
+    unit, a user's own files where a command writes, plans that cannot be run."""
+    model = json.loads((d / "model.json").read_text())
+    for name, change in (("m_milliamps.json", {"channel_units": {"effort": "mA"}}),
+                         ("m_limit_huge.json", {"limit_C": 1e9}),
+                         ("m_rmse_negative.json", {"validation": {"rmse_K": -1.0}})):
+        document = json.loads(json.dumps(model))
+        document["actuators"][0].update(change)
+        (d / name).write_text(json.dumps(document))
+    (d / "m_deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    lines = good.to_csv(index=False).splitlines()
+    (d / "headerless.csv").write_text("\n".join(lines[1:]) + "\n")
+    junk = good.astype({"temperature": object})
+    junk.loc[35, "temperature"] = "abc"
+    junk.to_csv(d / "junk_cell.csv", index=False)
+    blank = good.astype({"actuator": object})
+    blank.loc[40, "actuator"] = ""
+    blank.to_csv(d / "blank_actuator.csv", index=False)
+    (d / "user.xml").write_text("<mujoco model='mine'><worldbody/></mujoco>\n")
+
+
+def round_six_cases(section, refuse, word) -> None:
+    """The sixth round's classes (issues 81 to 83), each fixed in the commit docs/reliability.md names."""
+    section(6, "lab files as written")
+    refuse("a CSV without a header row", "fit", "headerless.csv", reason="--columns")
+    refuse("a cell of junk in a temperature column", "fit", "junk_cell.csv", reason="--drop-incomplete")
+    word("a cell of junk dropped and counted", r"abc", "fit", "junk_cell.csv", "--drop-incomplete", "--actuator",
+         "knee")
+    refuse("a blank actuator name", "fit", "blank_actuator.csv", reason="--drop-incomplete")
+    section(6, "units across the model file's edge")
+    refuse("a model in mA over a log in N m", "predict", "m_milliamps.json", "good.csv", "--actuator", "knee",
+           "--threshold", "90", reason="effort")
+    section(6, "model-file edges")
+    refuse("a limit of 1e9 degC", "predict", "m_limit_huge.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", reason="limit")
+    refuse("a negative validation RMSE", "predict", "m_rmse_negative.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", "--threshold", "90", reason="rmse_K")
+    refuse("JSON nested 100,000 deep", "predict", "m_deep.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", "--threshold", "90", reason="nested")
+    section(6, "a user's own files where a command writes")
+    refuse("export over a user's MJCF", "export", "model.json", "--mujoco", "--motor-const", "0.1",
+           "--resistance", "1", "--out", "user.xml", reason="did not write")
+    section(6, "plans that cannot be run")
+    refuse("plan from a start above the limit", "plan", "model.json", "--actuator", "knee", "--identify", "RC_s", "--max-effort", "5",
+           "--duration", "600", "--start-C", "95", "--limit-C", "90", "--out", "p.csv", reason="no test can keep")
+    refuse("plan for a parameter the model lacks", "plan", "model.json", "--actuator", "knee", "--identify", "frame_tau_s",
+           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="no parameter")
+    refuse("plan a question it cannot pose", "plan", "model.json", "--actuator", "knee", "--separate", "joule,current_heating",
+           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="cannot pose")
 
 
 def round_three_cases(section, refuse, word, partial) -> None:
@@ -1316,7 +1370,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--json", action="store_true", help="print one record per input, and the counts by class")
     parser.add_argument("--only", default="", help="run only inputs whose name contains this")
-    parser.add_argument("--round", type=int, choices=(1, 2, 3, 4, 5), help="run only that round's classes")
+    parser.add_argument("--round", type=int, choices=(1, 2, 3, 4, 5, 6), help="run only that round's classes")
     parser.add_argument("--class", dest="cls", default="", help="run only classes whose name contains this")
     parser.add_argument("--code", metavar="DIR", help="run the inputs against the thermolimb checkout in DIR (an "
                         "earlier commit's worktree: the 'before' of a round), not the installed one")

@@ -206,3 +206,22 @@ def test_a_model_that_does_not_carry_to_another_run_says_so_and_what_differs(tmp
         log.write(runs[-1])
     assert main(["fit", str(runs[0]), "--validate-on", str(runs[1]), "--actuator", "knee", "--json"]) == 0
     assert not any("does not carry" in f for f in json.loads(capsys.readouterr().out)["flags"])
+
+
+def test_a_long_format_log_without_its_header_row_is_detected_beside_its_actuator_names(tmp_path, capsys):
+    """A canonical long log written without its header (its first line ``0.0,knee,…``: numbers beside a name) is
+    detected as header-less, as a line of numbers alone was, and the refusal names --columns; before, its first
+    sample was taken for the header (issue 81, item 2; benchmarks/bad_inputs.py --round 6)."""
+    log = simulate_profile("random", 300.0, 1.0, ["knee"], [X8_9], PlantEffects.from_names(("sensor_noise",)),
+                           seed=1).log
+    whole = tmp_path / "whole.csv"
+    log.write(whole)
+    lines = whole.read_text().splitlines()
+    bare = tmp_path / "bare.csv"
+    bare.write_text("\n".join(lines[1:]) + "\n")
+    assert main(["fit", str(bare)]) == 2
+    assert "the file has no header row: name its columns in order with --columns" in capsys.readouterr().err
+    assert main(["fit", str(bare), "--columns", lines[0], "--json"]) == 0
+    named = json.loads(capsys.readouterr().out)
+    assert main(["fit", str(whole), "--json"]) == 0
+    assert named["params"] == json.loads(capsys.readouterr().out)["params"]  # every sample read, the first too

@@ -90,7 +90,9 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     header = next(csv.reader([header_line], delimiter=sep), [])
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
                    skip_blank_lines=True)
-    if _holds_data(header):  # no header row: the first line is a sample (an Arduino's or a controller's log)
+    after = next((line for i, line in content if i > header_at), None)
+    following = None if after is None else next(csv.reader([after], delimiter=sep), [])
+    if _holds_data(header, following):  # no header row: the first line is a sample (a logger's, a drive's)
         names = [f"column{k + 1}" for k in range(_split(header_line, sep))]
         options.update(header=None, names=names, index_col=False)
         return Dialect(options, {}, header_line, headerless=True)
@@ -118,12 +120,18 @@ _NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")
 _MISSING = {"", "nan", "na", "n/a", "null", "none", "-", "inf", "-inf"}
 
 
-def _holds_data(fields: list[str]) -> bool:
+def _holds_data(fields: list[str], following: list[str] | None = None) -> bool:
     """Whether a would-be header line is a sample: every field a number or a missing value, and two numbers or
-    more (a header names its columns; a line of numbers is data)."""
+    more (a header names its columns; a line of numbers is data); or, beside text fields (an actuator's name),
+    numbers in at least half of them, exactly where the ``following`` line has its numbers (a header of names
+    has none where the data has them)."""
     fields = [f.strip().strip('"') for f in fields]
-    numbers = sum(bool(_NUMBER.match(f)) for f in fields)
-    return numbers >= 2 and all(_NUMBER.match(f) or f.lower() in _MISSING for f in fields)
+    numeric = [bool(_NUMBER.match(f)) for f in fields]
+    if sum(numeric) >= 2 and all(n or f.lower() in _MISSING for n, f in zip(numeric, fields)):
+        return True
+    if following is None or len(following) != len(fields) or 2 * sum(numeric) < len(fields):
+        return False
+    return numeric == [bool(_NUMBER.match(f.strip().strip('"'))) for f in following]
 
 
 def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,

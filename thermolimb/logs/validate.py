@@ -111,6 +111,8 @@ def from_frame(
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
         hint = "" if mapping else "; name them with --map canonical=column"
+        if not mapping and all(str(c).startswith("column") for c in frame.columns):  # no header row
+            hint = "; the file has no header row: name its columns in order with --columns time,actuator,..."
         raise LogError(
             f"{source}: missing column(s) {', '.join(missing)} (expected {', '.join(REQUIRED)}); "
             f"the file has {shown_names(frame.columns)}{hint}"
