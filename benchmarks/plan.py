@@ -16,7 +16,11 @@ limit less its margin.  The table: the parameter's standard error after each tes
 question is answered (relative standard error at most 10 %), the hottest true winding on the plant, and the
 promised standard error against the obtained one.
 
-    python benchmarks/plan.py [--json] [--cases slow_mass,sensor_lag,tempco,motion_cooling]
+    python benchmarks/plan.py [--json] [--cases slow_mass,sensor_lag,tempco,motion_cooling,separate_tempco]
+
+``separate_tempco`` asks ``plan --separate joule,winding_tempco`` instead of a standard error: the question is
+answered where ``diagnose --auto`` on the test, from Joule heating alone, takes the tempco (its promised column is
+the separation against the noise, ``separation_sigma``).
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from thermolimb.experiment import DesignProblem, Limits, design
+from thermolimb.experiment import DesignProblem, Limits, design, posed
 from thermolimb.plant import NETWORKS, X8_9, PlantEffects, simulate_profile
 from thermolimb.util.errors import ThermolimbError
 from thermolimb.workbench.saving import saved_from_report
@@ -251,16 +255,69 @@ def run_case(case: Case, folder: Path, seed: int = 0) -> dict:
     return out
 
 
+SEPARATE = Case("separate_tempco", "copper's tempco told from Joule heating on a cool log (--separate)",
+                "first_order", ("winding_tempco",), "joule", "alpha_per_K", 600.0, 1.0, "squat", 1800.0, 25.0)
+PAIR = ("joule", "winding_tempco")
+
+
+def run_separation(case: Case, folder: Path, seed: int = 0) -> dict:
+    """``plan --separate joule,winding_tempco`` against a PRBS and random holds scaled to the same limits: each
+    run on the plant (copper's tempco on) and walked from Joule heating alone by ``diagnose --auto``; answered
+    where the walk takes the tempco.  Promised: the separation against the noise (``separation_sigma``)."""
+    import pandas as pd
+
+    from thermolimb.separation import SeparationProblem, rival, separate
+    from thermolimb.workbench.diagnosis import auto_diagnose
+
+    first = plant_run(case, case.first_profile, case.first_s, case.first_dt_s, seed).log
+    saved = replace(saved_from_report(fitted(first, case.model), []), limit_C=90.0)
+    _, steps = auto_diagnose(first.runs("knee"), case.model, quiet=True)
+    limits = Limits(limit_C=90.0, max_effort=case.max_effort, duration_s=case.test_s, start_C=25.0)
+    started = time.perf_counter()
+    plan = separate(saved, PAIR, limits, noise_K=0.06, seed=seed)
+    planning_s = time.perf_counter() - started
+    base, _ = posed(saved, (), limits, 0.06)
+    problem = SeparationProblem(base, rival(saved, PAIR)[0].model)
+    rng = np.random.default_rng(seed + 100)
+    out = {"case": case.name, "question": case.question, "parameter": case.identify,
+           "first_relative_stderr": float("inf") if case.identify not in steps[-1].model else 0.0,
+           "first_takes": [s.get("change", "start") for s in steps[0].auto], "plan_s": planning_s, "tests": {}}
+    for kind in ("designed", "prbs", "random"):
+        if kind == "designed":
+            effort, promised = plan.effort, plan.separation_sigma
+        else:
+            x, _ = problem.checked(alternative(kind, problem, rng))
+            effort = problem.inputs(x)[0]
+            promised = float(np.sqrt(np.sum(problem.part(x)[0] ** 2)) / problem.noise)
+        path = folder / f"{case.name}_{kind}.csv"
+        pd.DataFrame({"time": plan.time_s, "actuator": "knee", "effort": effort}).to_csv(path, index=False)
+        run = plant_run(case, path, case.test_s, 1.0, seed + 7)
+        _, walk = auto_diagnose(run.log.runs("knee"), case.model, quiet=True)
+        final = walk[-1].base
+        taken = case.identify in final.model.params
+        value = float(final.model.params[case.identify]) if taken else None
+        stderr = float(final.stderr[case.identify]) if taken else None
+        out["tests"][kind] = {
+            "value": value, "stderr": stderr,
+            "relative_stderr": stderr / abs(value) if taken else float("inf"),
+            "answered": taken, "promised": promised, "obtained_over_promised": None,
+            "hottest_true_winding_C": float(np.max(run.true_winding_C)),
+            "peak_effort": float(np.max(np.abs(effort))), "walk": [s.get("change", "start") for s in walk[0].auto],
+        }
+    return out
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--json", action="store_true")
-    parser.add_argument("--cases", default=",".join(CASES))
+    parser.add_argument("--cases", default=",".join([*CASES, SEPARATE.name]))
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args(argv)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.cases.split(","):
-            rows.append(run_case(CASES[name], Path(tmp), args.seed))
+            run = run_separation if name == SEPARATE.name else run_case
+            rows.append(run(CASES.get(name, SEPARATE), Path(tmp), args.seed))
     if args.json:
         json.dump(rows, sys.stdout, indent=2)
         print()
