@@ -50,7 +50,7 @@ def _figure(summary: dict, out: Path) -> Path:
                     capsize=4, label=None)
     ax.set_yticks(range(len(rows)), [label for label, _ in rows])
     ax.invert_yaxis()
-    ax.set_xlabel("housing time constant frame_tau_s (s), ± one standard error")
+    ax.set_xlabel("the housing's time constant (s), ± one standard error")
     ax.grid(alpha=0.3, axis="x")
     ax.set_title("what the next experiment tells")
     return save(fig, out / "sized.png")
