@@ -315,3 +315,21 @@ def test_a_log_written_again_from_its_start_is_published_from_its_first_sample(t
     published = [json.loads(line)["time_s"] for line in stream.getvalue().splitlines()[before:]]
     assert published and published[0] < 10.0 + 1e-9 < old_last  # the new run's first period, at once
     assert published == sorted(published) and published[-1] < old_last
+
+
+def test_a_column_inserted_for_good_is_said_once_not_on_every_line(tmp_path, written):
+    """From some line on the writer adds a column without a new header (issue 82, item 5): the first lines of the
+    new shape are said, then the change once for the run, not a note on each of the hundreds of lines after it;
+    when rows of the header's shape come back, that is said with the count skipped, and they are read."""
+    header, rows = written
+    body = rows[: 2 * PROBE_ROWS]
+    odd = [row + ",7" for row in rows[2 * PROBE_ROWS: 2 * PROBE_ROWS + 300]]
+    back = rows[2 * PROBE_ROWS + 300: 2 * PROBE_ROWS + 330]
+    path = _write(tmp_path / "inserted.csv", [header, *body, *odd, *back])
+    follower = CsvFollower(path)
+    runs = follower.poll(final=True)
+    shape = [n for n in follower.notes if "fields" in n]
+    assert len(shape) == 4, shape  # two lines said, the change once, the return once
+    assert "the row's shape changed without a new header" in shape[2]
+    assert "rows of 7 fields again, after 300 lines of 8 fields" in shape[3]
+    assert follower.skipped == 300 and runs

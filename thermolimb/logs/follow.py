@@ -39,6 +39,7 @@ from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES
 from .table import kind_of
 from .validate import Reading, from_frame
 
+ODD_LINES = 3  # lines of one other shape in a row, from which the shape is said once for the run
 PROBE_ROWS = 4 * MIN_SAMPLES  # rows the dialect, header and units are decided on (fewer when the writer pauses)
 
 
@@ -79,6 +80,7 @@ class CsvFollower:
         self.last: dict[str, _Last] = {}
         self.rows = 0  # rows read
         self.skipped = 0  # lines said and skipped
+        self._odd: dict | None = None  # consecutive lines of one other number of fields: where, how many
         self._inode: int | None = None
         self._restart()
 
@@ -225,13 +227,38 @@ class CsvFollower:
                 self.dialect, self.reading, self.pending = None, Reading(), numbered[k:]
                 return good
             if len(fields) != len(header):
-                guess = " (a column inserted without a new header?)" if len(fields) > len(header) else ""
-                self.notes.append(f"{self.path}: line {number} has {len(fields)} fields where the header names "
-                                  f"{len(header)}{guess}: {text[:60]!r}; skipped")
-                self.skipped += 1
+                self._odd_line(number, text, len(fields), len(header))
                 continue
+            if self._odd is not None and self._odd["count"] >= ODD_LINES:
+                odd = self._odd
+                self.notes.append(f"{self.path}: line {number}: rows of {len(header)} fields again, after "
+                                  f"{odd['count']} lines of {odd['fields']} fields from line {odd['first']}, "
+                                  f"skipped")
+            self._odd = None
             good.append((number, text))
         return good
+
+    def _odd_line(self, number: int, text: str, fields: int, named: int) -> None:
+        """A line of another number of fields than the header names: said and skipped; from the
+        :data:`ODD_LINES`-th of a run of such lines of one shape, said once for the run (a column inserted for
+        good, written without a new header: the rest of the log would say it on every line), and again when
+        rows of the header's shape come back."""
+        self.skipped += 1
+        odd = self._odd
+        if odd is not None and odd["fields"] == fields:
+            odd["count"] += 1
+        else:
+            odd = self._odd = {"fields": fields, "first": number, "count": 1}
+        if odd["count"] < ODD_LINES:
+            guess = " (a column inserted without a new header?)" if fields > named else ""
+            self.notes.append(f"{self.path}: line {number} has {fields} fields where the header names {named}"
+                              f"{guess}: {text[:60]!r}; skipped")
+        elif odd["count"] == ODD_LINES:
+            said = (f"from line {odd['first']} the rows have {fields} fields where the header names "
+                    f"{named}: the row's shape changed without a new header, so the log cannot be read by "
+                    f"it; such lines are skipped without a word each until rows of {named} fields or a new "
+                    f"header line come (write one to read them)")
+            self.notes.append(f"{self.path}: {said}")
 
     def _batch(self, good: list[tuple[int, str]]) -> dict[str, list[Run]]:
         """Lines validated together; a batch that does not validate is halved until each bad line is found, said

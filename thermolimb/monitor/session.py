@@ -81,9 +81,10 @@ class Session:
             for name, parts in windows[key].items():
                 for arrays, restart in parts:
                     if restart:
-                        self.monitors.pop(name, None)
-                        # a log written again from an earlier time: its first sample is published at once
-                        if arrays["time"][0] <= self.published_at:
+                        # an actuator already followed, its log written again from an earlier time (beyond a
+                        # period): its first sample is published at once (not a first piece that comes late)
+                        again = self.monitors.pop(name, None) is not None
+                        if again and arrays["time"][0] < self.published_at - self.publish_every_s:
                             self.published_at = -np.inf
                     monitor = self.monitors.get(name)
                     if (self.together and len(parts) == 1 and monitor is not None and monitor.together
