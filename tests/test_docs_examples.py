@@ -27,21 +27,18 @@ PAGES = ["README.md", *sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").
 FENCE = re.compile(r"^```(\w*)\n(.*?)^```", re.S | re.M)
 
 # (page, what the command line starts with): why it is not run here
+DEMOS_RUN = "tests/test_demos.py runs each demo in quick mode"
+BENCHMARK = "a benchmark: minutes, run by hand (its page names it)"
+STRATEGIES = "tests/test_envs.py compares the strategies"
 NOT_RUN = {
     ("README.md", "make "): "the README's own setup; CI runs `make test` and the demo tests run `make demo`'s demos",
     ("README.md", "source "): "a shell's own setting",
-    ("README.md", "thermolimb demo "): "tests/test_demos.py runs each demo in quick mode",
-    ("docs/environments.md", "thermolimb demo "): "tests/test_demos.py runs each demo in quick mode",
-    ("docs/hexapod.md", "thermolimb demo "): "tests/test_demos.py runs each demo in quick mode (these: hours)",
-    ("docs/humanoid.md", "thermolimb demo "): "tests/test_demos.py runs each demo in quick mode",
-    ("docs/workbench.md", "thermolimb demo"): "tests/test_demos.py runs each demo in quick mode",
+    **{(page, "thermolimb demo"): DEMOS_RUN for page in ("README.md", "docs/environments.md", "docs/hexapod.md",
+                                                          "docs/humanoid.md", "docs/workbench.md")},
     ("docs/workbench.md", "thermolimb report "): "tests/test_demos.py builds the report from the demos' runs",
-    ("README.md", "thermolimb compare-strategies "): "tests/test_envs.py compares the strategies",
-    ("docs/environments.md", "thermolimb compare-strategies "): "tests/test_envs.py compares the strategies "
-                                                              "(the Ray backend: tests/test_envs.py too)",
-    ("docs/environments.md", "python benchmarks/"): "a benchmark: minutes, run by hand (its page names it)",
-    ("docs/hexapod.md", "python benchmarks/"): "a benchmark: minutes, run by hand (its page names it)",
-    ("docs/humanoid.md", "python benchmarks/"): "a benchmark: minutes, run by hand (its page names it)",
+    **{(page, "thermolimb compare-strategies "): STRATEGIES for page in ("README.md", "docs/environments.md")},
+    **{(page, "python benchmarks/"): BENCHMARK for page in ("docs/environments.md", "docs/hexapod.md",
+                                                             "docs/humanoid.md")},
     ("docs/logs.md", "thermolimb fit --fleet logs/"): "a user's folder of logs (tests/test_fleet.py runs --fleet)",
     ("docs/logs.md", "thermolimb diagnose --fleet"): "a user's folder of runs (tests/test_fleet.py runs --fleet)",
     ("docs/model-file.md", "thermolimb monitor "): "follows a live file until stopped (tests/test_monitor.py)",

@@ -22,7 +22,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .experiment import SUPPORTED, DesignProblem, Limits, Plan, planned, posed
+from .experiment import COARSE_PER_HOLD, SUPPORTED, DesignProblem, Limits, Plan, planned, posed
 from .forecast import forecast
 from .model.model import ThermalModel, model_parameters
 from .model.saved import SavedModel
@@ -64,7 +64,7 @@ class SeparationProblem(DesignProblem):
                          base.moves, base.weight, base.lag1)
         self.rival = rival_model
 
-    def coarse(self, per_hold: int = 12) -> "SeparationProblem":
+    def coarse(self, per_hold: int = COARSE_PER_HOLD) -> "SeparationProblem":
         return SeparationProblem(super().coarse(per_hold), self.rival)
 
     def part(self, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
