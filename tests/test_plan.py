@@ -50,6 +50,47 @@ def test_a_planned_test_sizes_the_slow_mass_as_promised_within_the_limits(short,
     assert obtained < before / 20  # the test sizes what the log could not (about 400 s before, 2 s after)
 
 
+def test_the_question_a_diagnosis_leaves_open_is_planned_from_its_record(short, capsys):
+    """``plan --questions DIAGNOSIS.json``: the diagnosis's record names what its log left unsized (here the housing's
+    time constant, about 400 s of error on a 600 s log) and the sensor's floor it measured; the plan sizes the
+    first with the second as the readings' noise."""
+    folder, _ = short
+    saved, record = folder / "diagnosed.json", folder / "diagnosis.json"
+    assert main(["diagnose", str(folder / "short.csv"), "--actuator", "knee", "--model", "joule,second_node",
+                 "--stability", "0", "--save", str(saved), "--limit-C", "90", "--json", "--quiet"]) == 0
+    record.write_text(capsys.readouterr().out)
+    asked = json.loads(record.read_text())
+    assert asked["open_questions"] == {"actuator": "knee", "model": ["joule", "second_node"],
+                                       "identify": ["frame_tau_s"], "separate": None}
+    assert main(["plan", str(saved), "--questions", str(record), "--max-effort", "20", "--duration", "1800",
+                 "--out", str(folder / "asked.csv"), "--json"]) == 0
+    promise = json.loads(capsys.readouterr().out)
+    assert promise["identify"] == ["frame_tau_s"] and promise["questions_from"] == str(record)
+    assert promise["stderr_after"]["frame_tau_s"] < promise["stderr_now"]["frame_tau_s"] / 20
+    assert promise["noise_K"] >= asked["floor"]["floor_K"]  # the floor, inflated for the readings' correlation
+    assert main(["plan", str(saved), "--questions", str(record), "--max-effort", "20", "--duration", "1800",
+                 "--out", str(folder / "asked.csv")]) == 0
+    assert f"answers: --identify frame_tau_s, the question {record} leaves open" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("questions, said", [
+    ("not json", "not a diagnosis's JSON record"),
+    ({"actuator": "hip"}, "no open questions of actuator knee"),
+    ({"actuator": "knee", "open_questions": {"actuator": "knee", "model": ["joule"], "identify": ["RC_s"]}},
+     "the diagnosis's model is joule, the model file's joule,second_node"),
+    ({"actuator": "knee", "open_questions": {"actuator": "knee", "model": ["joule", "second_node"]}},
+     "leaves no question a test can answer"),
+])
+def test_questions_that_cannot_be_planned_are_one_sentence(short, tmp_path, questions, said, capsys):
+    folder, model = short
+    record = tmp_path / "diagnosis.json"
+    record.write_text(questions if isinstance(questions, str) else json.dumps(questions))
+    assert main(["plan", str(model), "--questions", str(record), "--max-effort", "20", "--duration", "1800",
+                 "--out", str(tmp_path / "plan.csv")]) == 2
+    err = capsys.readouterr().err
+    assert said in err and len(err.strip().splitlines()) == 1 and not (tmp_path / "plan.csv").exists()
+
+
 @pytest.mark.parametrize("argv, said", [
     (["--identify", "frame_tau_s", "--max-effort", "20", "--duration", "1800", "--start-C", "88"],
      "the winding starts at 88 degC, at or above the limit less its margin"),
@@ -141,13 +182,17 @@ def test_a_confounded_effect_is_answered_with_the_command_that_separates_it(cool
     from thermolimb.cli.verdict import verdict_text
     from thermolimb.logs import read_log
     from thermolimb.workbench.diagnosis import Candidate, diagnose
+    from thermolimb.workbench.diagnosis.questions import open_questions
+
+    def text_of(d):
+        return verdict_text(d, [d], open_questions(d.base, d))
 
     d = diagnose([read_log(cool[1]).series("knee")], "joule", stability=None)
     said = ("on this log {} changes the simulation only as betaR_K_per_effort2 already does (0.01 % of its "
             "signature is its own): a log with hot and cool phases would tell them apart")
     tempco = Candidate("winding_tempco", ("joule", "winding_tempco"), confounded=said.format("winding_tempco"))
-    text = verdict_text(replace(d, candidates=[tempco], floor=None), [replace(d, candidates=[tempco], floor=None)])
+    text = text_of(replace(d, candidates=[tempco], floor=None))
     assert "thermolimb plan MODEL.json --separate joule,winding_tempco --max-effort E" in text
     current = Candidate("current_heating", ("joule", "current_heating"), confounded=said.format("current_heating"))
-    text = verdict_text(replace(d, candidates=[current], floor=None), [replace(d, candidates=[current], floor=None)])
+    text = text_of(replace(d, candidates=[current], floor=None))
     assert "--separate" not in text

@@ -11,6 +11,7 @@ from ..util.errors import UsageError
 from ..util.numbers import plus_minus
 from ..workbench.diagnosis import Search, auto_diagnose, diagnose
 from ..workbench.diagnosis.proposal import write_proposal
+from ..workbench.diagnosis.questions import open_questions
 from ..workbench.diagnosis.stability import MIN_FREQUENCY, REPLICATES, Stability
 from .output import format_params
 from .template import LogCommand, Run
@@ -99,7 +100,10 @@ class Diagnose(LogCommand):
             from ..plotting.interactive import add_diagnosis
 
             add_diagnosis(run.page, d, steps)
-        return d.to_json(), (describe_diagnosis(d) if args.explain else verdict_text(d, steps, args.discover))
+        questions = open_questions(final, steps[-1])
+        record = {**d.to_json(), "open_questions": questions.to_json()}
+        text = describe_diagnosis(d) if args.explain else verdict_text(d, steps, questions, args.discover)
+        return record, text
 
     def finish(self, run: Run):
         if run.args.propose:
@@ -137,7 +141,7 @@ def describe_diagnosis(d) -> str:
     elif d.at_floor:
         lines.append("  recommended: none (the model is already at the sensor's floor)")
     elif d.unstable is not None and d.recommended is None:
-        lines.append(f"  recommended: none ({d.unstable.label} helps but is {d.unstable.unstable_because})")
+        lines.append(f"  recommended: none ({d.unstable.label} helps but is {d.unstable.held_back_because})")
     else:
         warn = f" (on {evidence.verdict} evidence: a hint)" if d.recommended and evidence.thin else ""
         if d.unstable is not None:

@@ -32,6 +32,10 @@ def add_parser(sub):
     question.add_argument("--separate", type=names_list, metavar="A,B",
                           help="two effects the log could not tell apart, one in the model and one not (e.g. "
                                "joule,winding_tempco): the test that tells the model from its rival")
+    question.add_argument("--questions", type=Path, metavar="DIAGNOSIS.json",
+                          help="the open questions of a diagnosis (diagnose --save MODEL.json --json > "
+                               "DIAGNOSIS.json): its confounded pair if it has one, else its unsized "
+                               "parameters")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="the model file's actuator (default: its one)")
     temperature = number(-60.0, 400.0, unit="degC")
@@ -81,6 +85,14 @@ def run(args) -> int:
     if name not in models.actuators:
         raise UsageError(f"--actuator {name}: the model file has no such actuator; it has {', '.join(names)}")
     saved = models[name]
+    asked_from = None
+    if args.questions is not None:
+        args.separate, args.identify, floor_K = _asked(args.questions, name, saved)
+        if args.noise_K is None and floor_K:
+            args.noise_K = floor_K  # the sensor's floor the diagnosis measured on the log
+        question = (f"--separate {','.join(args.separate)}" if args.separate
+                    else f"--identify {','.join(args.identify)}")
+        asked_from = f"  answers: {question}, the question {args.questions} leaves open"
     limit = args.limit_C if args.limit_C is not None else saved.limit_C
     if limit is None:
         raise UsageError(f"the model of {name} stores no limit; give --limit-C C")
@@ -103,10 +115,46 @@ def run(args) -> int:
 
         print(f"wrote {plot_plan(plan, Path(args.plot))}", file=sys.stderr)
     if args.json:
-        print_json(plan.to_json())
+        print_json({**plan.to_json(), **({"questions_from": str(args.questions)} if asked_from else {})})
     else:
-        print("\n".join(plan.lines()))
+        print("\n".join(plan.lines() + ([asked_from] if asked_from else [])))
         print(f"  run it on the plant: thermolimb simulate --profile {args.out} --actuators {name}:MODEL "
               f"--dt {args.dt:g} --out test.csv")
     print(f"wrote {args.out}", file=sys.stderr)
     return 0
+
+
+def _asked(path: Path, name: str, saved) -> tuple[list[str] | None, list[str] | None, float | None]:
+    """``(separate, identify, floor_K)`` from a diagnosis's JSON record (one actuator's, or a list of
+    them): the question it leaves open for actuator ``name``, whose model must be the model file's, and the
+    sensor's floor it measured (``None``: not measured)."""
+    import json
+
+    from ..workbench.diagnosis.questions import Questions
+
+    try:
+        record = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise UsageError(f"--questions {path}: not a diagnosis's JSON record ({exc}); expected the output of "
+                         f"thermolimb diagnose ... --json") from None
+    records = record if isinstance(record, list) else [record]
+    found = [r for r in records if isinstance(r, dict) and r.get("actuator") == name]
+    if not found or not isinstance(found[0].get("open_questions"), dict):
+        raise UsageError(f"--questions {path}: no open questions of actuator {name}; expected the output of "
+                         f"thermolimb diagnose ... --actuator {name} --json")
+    try:
+        asked = Questions.from_json(found[0]["open_questions"])
+    except (KeyError, TypeError, IndexError) as exc:
+        raise UsageError(f"--questions {path}: its open questions are not readable ({exc!r})") from None
+    if set(asked.model) != set(saved.model.terms):
+        raise UsageError(f"--questions {path}: the diagnosis's model is {','.join(asked.model)}, the model "
+                         f"file's {','.join(saved.model.terms)}; save the model the diagnosis ends with "
+                         f"(--save)")
+    floor = found[0].get("floor") or {}
+    floor_K = floor.get("floor_K") if isinstance(floor.get("floor_K"), (int, float)) else None
+    if asked.separate is not None:
+        return list(asked.separate), None, floor_K
+    if asked.identify:
+        return None, list(asked.identify), floor_K
+    raise UsageError(f"--questions {path}: the diagnosis of {name} leaves no question a test can answer (no "
+                     f"parameter unsized, no effect confounded with one of the model's)")

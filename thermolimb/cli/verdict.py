@@ -11,21 +11,21 @@ from .output import format_params
 WIDEST = 28  # a change's label column, at most (longer labels are cut with an ellipsis)
 
 
-def verdict_text(d, steps, discover: bool = False) -> str:
+def verdict_text(d, steps, questions, discover: bool = False) -> str:
     """The default text of one actuator's diagnosis ``d`` (with ``--auto``, ``steps`` are the walk's
-    diagnoses, the first being ``d``; without, ``[d]``)."""
+    diagnoses, the first being ``d``; without, ``[d]``), with the ``questions`` it leaves open
+    (:func:`~thermolimb.workbench.diagnosis.questions.open_questions`)."""
     last = steps[-1]
     lines = [_answer(d, last)]
     lines.append(f"  how sure: {'; '.join(_sureness(d, last))}")
     lines.append(f"  next: {_next(d, last, discover)}")
-    unsized = _unsized(last.base)
+    unsized, pair = questions.identify, questions.separate
     if unsized:
         lines.append(
             f"  to size {', '.join(unsized)}, which this log leaves uncertain: save the model (--save "
             f"MODEL.json) and design the test that sizes it: thermolimb plan MODEL.json --identify "
             f"{','.join(unsized)} --max-effort E --duration S --out plan.csv"
         )
-    pair = _confounded_pair(last)
     if pair:
         lines.append(
             f"  to tell {pair[1]} from {pair[0]}, which this log cannot: save the model (--save MODEL.json) "
@@ -50,7 +50,8 @@ def verdict_text(d, steps, discover: bool = False) -> str:
 
 
 def _answer(d, last) -> str:
-    before = d.base.validation["rmse_K"]
+    # the walk's start: the effort model where the first step is the heat source's swap to current
+    before = d.auto[0]["rmse_K"] if d.auto else d.base.validation["rmse_K"]
     taken = [s["change"] for s in (d.auto or [])[1:]]
     if taken:
         return (
@@ -91,7 +92,7 @@ def _next(d, last, discover: bool) -> str:
                 "would tell")
     if last.unstable is not None and last.recommended is None:
         u = last.unstable
-        return f"{u.label} helps ({u.rmse_K:.3f} K) but is {u.unstable_because}; the walk stops before it"
+        return f"{u.label} helps ({u.rmse_K:.3f} K) but is {u.held_back_because}; the walk stops before it"
     if last.recommended is not None and not d.auto:
         return "take it with --auto (or --model " + ",".join(last.recommended.model) + ")"
     floor = (
@@ -104,43 +105,6 @@ def _next(d, last, discover: bool) -> str:
         f"no change helps by {100 * MIN_IMPROVEMENT:.0f} % on held-out data; {rmse:.3f} K remains{floor}"
         f"{more}"
     )
-
-
-UNSIZED = 0.25  # a time constant or coefficient whose standard error is this share of it, or more, is unsized
-
-
-def _unsized(report) -> list[str]:
-    """The model's parameters of its added terms (not the base's RC, heat gain and offset) whose standard
-    error is at least :data:`UNSIZED` of their value: what a designed test (``thermolimb plan``) can size."""
-    base = {"RC_s", "T_offset_C", "betaR_K_per_effort2", "beta_biasR_K_per_effort"}
-    out = []
-    for p in report.model.parameters:
-        value, stderr = report.model.params[p.name], report.stderr.get(p.name)
-        if p.name in base or stderr is None or not value:
-            continue
-        if stderr >= UNSIZED * abs(value):
-            out.append(p.name)
-    return out
-
-
-def _confounded_pair(last) -> tuple[str, str] | None:
-    """The first added effect the last step found confounded with a term of its model, as ``(term, effect)``,
-    where a planned test can pose the question (the effect reads what a plan sets)."""
-    from ..experiment import SUPPORTED
-    from ..model.terms import TERMS
-
-    if last.at_floor:
-        return None
-    for c in last.candidates:
-        if c.kind != "add" or c.brings or not c.confounded or c.effect not in TERMS:
-            continue
-        if any(col not in SUPPORTED for col in TERMS[c.effect].columns):
-            continue
-        said = f" {c.confounded} "
-        term = next((t for t in last.model if any(f" {p.name} " in said for p in TERMS[t].parameters)), None)
-        if term is not None:
-            return term, c.effect
-    return None
 
 
 def _table(d) -> list[str]:

@@ -98,7 +98,8 @@ def candidates_figure(d: Diagnosis):
 
 def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]]:
     """The waterfall's bars: each step taken (with how often its replicates took it), then, where the walk
-    stopped at a change that helps but is unstable, that change (``kind`` "unstable")."""
+    stopped at a change that helps but is held back (unstable, or refuted by the run's other part), that
+    change (``kind`` "unstable")."""
     def taken(s):
         f = s.get("selection_frequency")
         return "" if f is None else f" (taken {round(100 * f)} %)"
@@ -108,9 +109,12 @@ def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]
     rmse = [s["rmse_K"] for s in steps]
     kinds = ["flagged" if s["flags"] else "taken" for s in steps]
     tail = steps[-1].get("unstable")
-    if tail:
+    if tail and tail.get("status") == "refuted":
+        labels.append(f"{readable(tail['change'])} (refuted by the run's other part: not taken)")
+    elif tail:
         labels.append(f"{readable(tail['change'])} (taken {round(tail['selection_frequency'] * tail['replicates'])} of "
                       f"{tail['replicates']}: not taken)")
+    if tail:
         rmse.append(tail["rmse_K"])
         kinds.append("unstable")
     return labels, rmse, kinds
@@ -133,8 +137,8 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
         ax.legend(fontsize=7, loc="upper right")
     ax.set_xticks(np.arange(len(rmse)), labels, rotation=0, fontsize=7)
     ax.set_ylabel("validation RMSE (K)")
-    notes = ["red: fitted values flagged"] + (["orange outline: helps, but unstable over the replicates, not taken"]
-                                               if "unstable" in kinds else [])
+    held = "orange outline: helps, but held back (unstable or refuted), not taken"
+    notes = ["red: fitted values flagged"] + ([held] if "unstable" in kinds else [])
     ax.set_title(f"{actuator}: validation error at each step of the search\n({'; '.join(notes)})", fontsize=9)
     return save(fig, path)
 

@@ -92,6 +92,7 @@ class Candidate:
     settled_plausible: bool | None = None  # a replicate's: whether the whole log's refit of this change was plausible
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
+    refuted_because: str | None = None  # it helps, but the run's part it was not judged on refutes it
     unexcited: str | None = None  # why not judged: the channel it rides on barely moves, or the effort cannot pin it
     units: tuple[int, int] | None = None  # held-out units (runs, blocks) it lowers the error on, of how many
     unit_word: str = "parts"
@@ -124,6 +125,12 @@ class Candidate:
         """Why a candidate has no refit: confounded, failed, outdone by a stronger form, or its score test."""
         return (self.broken or self.unexcited or self.confounded or self.failure or self.skipped
                 or f"score test p = {self.p_value:.2g}")
+
+    @property
+    def held_back_because(self) -> str | None:
+        """Why a change that helps is not taken: refuted by the run's other part, or unstable over
+        replicates."""
+        return self.refuted_because or self.unstable_because
 
     @property
     def refitted(self) -> bool:
@@ -166,6 +173,8 @@ class Candidate:
             return "implausible"
         if self.identifiable is False:
             return "unidentifiable"
+        if self.refuted_because:
+            return "refuted"
         if self.unstable_because:
             return "unstable"
         return "helps" if self.helps else "does not help"
@@ -202,6 +211,8 @@ class Candidate:
             out["skipped"] = self.skipped
         if self.broken:
             out["set_aside"] = self.broken
+        if self.refuted_because:
+            out["refuted"] = self.refuted_because
         if self.replaces:
             out["replaces"] = self.replaces
             out["also_drops"] = list(self.also_drops)

@@ -41,6 +41,7 @@ from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
 from .refit import guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
+from .reversed_split import refuted
 from .screen import Base, best_eligible, rank, screened
 from .split_or_blocks import judging_scheme
 from .stability import Stability, check
@@ -104,7 +105,9 @@ class Diagnosis:
     proposal: Proposal | None = None  # the discovered form tried, if discovery ran and proposed one
     floor: SensorFloor | None = None  # what the readings can resolve
     stability: dict | None = None  # the replicates' verdicts, when the best change was checked for stability
-    unstable: Candidate | None = None  # the best change, helping but not taken often enough (stability.steadier)
+    # the best change, helping but held back: not taken often enough (stability.steadier), or refuted by the
+    # run's part it was not judged on (.reversed_split)
+    unstable: Candidate | None = None
     heat_source: dict | None = None  # where a log has both: heat from effort or from current, chosen on held-out data
 
     @property
@@ -184,12 +187,16 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         candidates, together = take_together(candidates, model, base, series, search, step.visited,
                                              None if checked is None else checked.record)
         checked = together or checked
+    held_back = None if checked is None else checked.unstable
     if checked is not None:
         recommended = checked.recommended
+    if recommended is not None:  # a single run's head may refute what its tail was judged to support
+        recommended.refuted_because = refuted(recommended, base.report, series, search.scheme, floor)
+        if recommended.refuted_because is not None:
+            held_back, recommended = recommended, None
     return Diagnosis(series[0].actuator, model, base.report, base.bic, analysis, candidates, recommended,
                      proposal=proposal, floor=floor, heat_source=heat_source,
-                     stability=None if checked is None else checked.record,
-                     unstable=None if checked is None else checked.unstable)
+                     stability=None if checked is None else checked.record, unstable=held_back)
 
 
 def _changes(model, base: Base, series, search: Search, step: Step) -> list[Candidate]:
@@ -357,10 +364,11 @@ def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dic
                    selection_frequency=move.selection_frequency)
         out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
                       f"BIC {move.delta_bic:+.1f}" + (f", {move.stability_sentence}" if move.stability_sentence else ""))
-    if d.unstable is not None and d.recommended is None:  # where the walk stopped: it helps, not taken often enough
+    if d.unstable is not None and d.recommended is None:  # where the walk stopped: it helps, held back
         c = d.unstable
         out["unstable"] = {"change": c.label, "rmse_K": c.rmse_K, "selection_frequency": c.selection_frequency,
-                           "replicates": d.stability["replicates"], "why": c.unstable_because}
+                           "replicates": (d.stability or {}).get("replicates"), "why": c.held_back_because,
+                           "status": c.status}
     if d.at_floor:
         out["at_floor"] = d.floor.sentence(d.base.validation["rmse_K"])
     return out
