@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from thermolimb.identification.calibration import Calibration, identify_bank, measured_ambient_C
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from .constants import JOINTS
 from .control import cpg
@@ -39,7 +37,7 @@ def calibrate(duration_s: float, seed: int = 0, *, payload_kg: float = 20.0) -> 
     return Calibration(bank, log, measured_ambient_C(log))
 
 
-def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:
+def at_ambient(bank: ModelArrays, ambient_C: float) -> ModelArrays:
     """The identified bank planning hours ahead at ``ambient_C``: every offset is the ambient the robot measures cold.
 
     Fitted on minutes of log, Eq. 5's offset holds whatever the first-order
@@ -48,4 +46,4 @@ def at_ambient(bank: FirstOrderBank, ambient_C: float) -> FirstOrderBank:
     temperatures would shift load onto the joints the offsets call cool.
     Hours ahead the offset is the ambient.
     """
-    return replace(bank, T_offset_C=np.full(bank.n, float(ambient_C)))
+    return bank.replace(T_offset_C=np.full(bank.n, float(ambient_C)))

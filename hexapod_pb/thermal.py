@@ -8,7 +8,7 @@ The humanoid's :mod:`humanoid_pb.thermal` has the same shape: ``actuator_specs(p
 
 from __future__ import annotations
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.plant import (
     ActuatorSpec,
     PlantEffects,
@@ -33,6 +33,6 @@ def actuator_specs(params: DaisyParams = DAISY) -> list[ActuatorSpec]:
     return list(params.joint_actuators)
 
 
-def datasheet_bank(params: DaisyParams = DAISY, ambient_C: float = 25.0) -> FirstOrderBank:
+def datasheet_bank(params: DaisyParams = DAISY, ambient_C: float = 25.0) -> ModelArrays:
     """Eq. 5 parameters of every joint's actuator, winding and housing lumped (two nodes) on the slow body."""
-    return FirstOrderBank.from_specs(actuator_specs(params), ambient_C, lumped_nodes=2)
+    return ModelArrays.from_specs(actuator_specs(params), ambient_C, lumped_nodes=2)

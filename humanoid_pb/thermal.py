@@ -33,7 +33,7 @@ is sized by the same rule as the rest (tests check the derivation).
 
 from __future__ import annotations
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.plant import ActuatorSpec, ThermalNetwork
 
 from .constants import ACTUATORS
@@ -61,10 +61,10 @@ def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario =
 
 
 def datasheet_bank(params: ValkyrieParams = VALKYRIE, ambient_C: float = 25.0,
-                   scenario: str | Scenario = DEFAULT) -> FirstOrderBank:
+                   scenario: str | Scenario = DEFAULT) -> ModelArrays:
     """Eq. 5 of every actuator from its data, without identification: the winding node on a housing at ambient.
 
     RC = C_w R_w (40 s) and betaR = R_e R_w / k^2: what a controller can plan
     with before it has a log of its own.
     """
-    return FirstOrderBank.from_specs(actuator_specs(params, scenario), ambient_C, lumped_nodes=1)
+    return ModelArrays.from_specs(actuator_specs(params, scenario), ambient_C, lumped_nodes=1)

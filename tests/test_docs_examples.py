@@ -90,6 +90,8 @@ def documented_commands() -> list[tuple[str, int, list[str]]]:
                 for name, value in variables.items():
                     command = command.replace(f"${name}", value)
                 words = shlex.split(command, comments=True)
+                if ">" in words:  # the shell's redirection of its output, not an argument
+                    words = words[:words.index(">")]
                 if words and words[0] == "thermolimb":
                     out.append((page, line, words[1:]))
     return out

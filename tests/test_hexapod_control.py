@@ -74,10 +74,8 @@ def test_thermal_minimax_lowers_the_hottest_prediction():
     problem = StanceProblem.from_configuration(DAISY, q, TRIPOD, payload_kg=2.0)
     full = datasheet_bank()
     joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in TRIPOD])
-    from thermolimb.model import FirstOrderBank
 
-    bank = FirstOrderBank(full.RC_s[joints], full.betaR_K_per_effort2[joints], full.beta_biasR_K_per_effort[joints],
-                          full.T_offset_C[joints])
+    bank = full.subset(joints)
     temperature = np.full(9, 40.0)
     temperature[1] = 90.0  # one shoulder already hot
     hot = thermal_minimax(problem, bank, temperature, 20.0)

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from thermolimb.model import (
-    FirstOrderBank,
+    ModelArrays,
     ModelSpecError,
     Signals,
     ThermalModel,
@@ -60,7 +60,7 @@ def test_constant_effort_follows_closed_form_eq6():
 
 def test_bank_ahead_matches_model_and_gradient():
     models = [ThermalModel(("joule", "effort_bias"), dict(PARAMS, RC_s=rc)) for rc in (10.0, 40.0, 90.0)]
-    bank = FirstOrderBank.from_models(models)
+    bank = ModelArrays.from_models(models)
     T0 = np.array([30.0, 70.0, 50.0])
     F = np.array([5.0, -12.0, 20.0])
     ahead = bank.ahead(T0, F, 20.0)
@@ -72,8 +72,8 @@ def test_bank_ahead_matches_model_and_gradient():
     np.testing.assert_allclose(bank.ahead_gradient(F, 20.0), numeric, rtol=1e-6)
     batch = bank.ahead(T0, np.stack([F, 2 * F]), 20.0)  # leading batch dimension
     assert batch.shape == (2, 3)
-    euler = bank.step(T0, F, 0.01, method="euler")
-    np.testing.assert_allclose(euler, bank.step(T0, F, 0.01), atol=1e-4)
+    a, b, c = bank.ahead_coefficients(T0, 20.0)  # Eq. 25 as a quadratic in effort, from each term's own rise
+    np.testing.assert_allclose(a + b * F + c * F**2, ahead, rtol=1e-12)
 
 
 def test_model_spec_errors():

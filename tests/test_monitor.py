@@ -56,7 +56,8 @@ def test_a_run_in_pieces_carries_on_exactly():
 CASCADES = (("joule", "effort_bias"), ("joule", "effort_bias", "winding_tempco"),  # Jorgensen et al.'s, copper
             ("joule", "effort_bias", "speed_losses", "second_node", "sensor_lag"),  # what the walk often ends with
             ("joule", "speed_losses", "second_node", "housing_friction", "third_node"),  # friction on the housing
-            ("joule", "second_node", "third_node"), ("joule", "effort_bias", "sensor_lag"))
+            ("joule", "second_node", "third_node"), ("joule", "effort_bias", "sensor_lag"),
+            ("joule", "effort_bias", "speed_losses", "winding_tempco"))  # copper's gain beside speed losses
 
 
 @pytest.mark.parametrize("families", [CASCADES[:2], CASCADES])

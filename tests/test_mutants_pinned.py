@@ -6,7 +6,7 @@ import pytest
 
 from thermolimb.identification import IdentifiabilityError
 from thermolimb.identification.calibration import identify_bank
-from thermolimb.model import FirstOrderBank, ThermalModel
+from thermolimb.model import ModelArrays, ThermalModel
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, X8_16, PlantEffects, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
 from thermolimb.workbench.diagnosis.residuals import analyse_residuals
@@ -27,7 +27,7 @@ def test_identify_bank_finds_each_actuator_and_gives_idle_ones_the_prior():
     log, specs = _plant_log()
     limits = np.array([s.effort_limit for s in specs])
     bank = identify_bank(log, ["knee", "hip", "wrist"], limits, model="joule", min_rise_K=0.5)
-    truth = FirstOrderBank.from_specs(specs).betaR_K_per_effort2
+    truth = ModelArrays.from_specs(specs).betaR_K_per_effort2
     rc = specs[0].first_order()[0]
     np.testing.assert_allclose(bank.betaR_K_per_effort2[:2], truth[:2], rtol=0.05)
     np.testing.assert_allclose(bank.RC_s[:2], rc, rtol=0.05)
@@ -57,7 +57,7 @@ def test_bank_refuses_models_beyond_eq5_naming_the_terms():
     model = ThermalModel(("joule", "winding_tempco"), {"RC_s": 50.0, "betaR_K_per_effort2": 0.1, "alpha_per_K": 0.004,
                                                "T_offset_C": 25.0})
     with pytest.raises(ValueError, match=r"holds Eq. 5 only; model has extra terms \['winding_tempco'\]"):
-        FirstOrderBank.from_models([model])
+        ModelArrays.from_models([model])
 
 
 def test_realistic_sensor_is_noise_and_steps():

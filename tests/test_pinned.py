@@ -14,7 +14,7 @@ import pytest
 from thermolimb.identification import FreeRunLeastSquares, LeastSquares
 from thermolimb.identification.regression import lowpass, lowpass_derivative
 from thermolimb.logs import from_frame
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.plant import FIRST_ORDER_NETWORK, X8_9, PlantEffects, ThermalPlant, run_profile
 from thermolimb.plant.profiles import random_holds
 from thermolimb.workbench.diagnosis.candidates import Candidate
@@ -116,7 +116,8 @@ def test_velocity_units_convert_to_radians_per_second(unit, factor):
 
 
 def test_prediction_discounts_by_the_horizon_over_the_time_constant():
-    bank = FirstOrderBank(np.array([40.0, 400.0]), np.array([0.02, 0.01]), np.array([0.1, 0.0]), np.array([25.0, 30.0]))
+    bank = ModelArrays.of(RC_s=np.array([40.0, 400.0]), betaR_K_per_effort2=np.array([0.02, 0.01]),
+                          beta_biasR_K_per_effort=np.array([0.1, 0.0]), T_offset_C=np.array([25.0, 30.0]))
     T0, effort, h = np.array([60.0, 50.0]), np.array([12.0, -7.0]), 20.0
     expected = bank.equilibrium_C(effort) + (T0 - bank.equilibrium_C(effort)) * np.exp(-h / bank.RC_s)
     np.testing.assert_allclose(bank.ahead(T0, effort, h), expected)

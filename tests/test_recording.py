@@ -100,7 +100,7 @@ def test_a_killed_monitor_leaves_a_readable_partial_that_the_next_one_completes(
                            "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     recovered = tmp_path / "out.recovered.mcap"
-    assert "left by a monitor that was killed" in done.stderr and str(recovered) in done.stderr
+    assert "left by a monitor that did not finish it" in done.stderr and str(recovered) in done.stderr
     kept = messages_in(recovered)
     assert kept > 0 and f"its {kept} messages" in done.stderr
     assert not partial.exists() and messages_in(out) > kept
@@ -189,3 +189,41 @@ def test_a_partial_appears_already_locked_and_one_made_meanwhile_by_another_moni
     finally:
         first.file.close()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.mcap.partial"]  # no temporary of its own left
+
+
+ROOM_BYTES = 16 << 10  # the schemas and channels fit (about 4 KB); the run's messages do not
+
+
+def _small_files():
+    """In the monitor's process: files may not grow past :data:`ROOM_BYTES` (a write past it fails as on a full
+    disk, with EFBIG, rather than killing the process)."""
+    import resource
+
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (ROOM_BYTES, ROOM_BYTES))
+
+
+@pytest.mark.parametrize("others", [["--json-lines"], []])
+def test_a_recording_without_room_is_said_once_kept_as_far_as_it_got_and_the_monitor_goes_on(model_and_log, tmp_path,
+                                                                                                others):
+    """A write that finds no room (here a file size limit, as a full disk or a quota would) ends the recording in
+    one sentence naming the file, what happened and what is kept; the monitor goes on with its other outputs, and
+    with none left ends with status 1.  The partial is kept, and the next monitor with room completes it."""
+    model, run = model_and_log
+    out, partial = tmp_path / "out.mcap", tmp_path / "out.mcap.partial"
+    done = subprocess.run([THERMOLIMB, "monitor", str(model), "--follow", str(run), "--mcap", str(out),
+                           "--idle-exit", "0.3", *others], capture_output=True, text=True, timeout=120,
+                          preexec_fn=_small_files)
+    said = [line for line in done.stderr.splitlines() if "stopped recording" in line]
+    assert len(said) == 1 and str(out) in said[0] and "the file is too large for the file system" in said[0], \
+        done.stderr
+    assert f"{partial} keeps those flushed before" in said[0] and "Traceback" not in done.stderr
+    if others:  # the JSON lines went on to the end of the log
+        assert done.returncode == 0 and len(done.stdout.splitlines()) > 100
+    else:  # the last output lost ends the monitor
+        assert done.returncode == 1 and f"could not write {out}" in done.stderr
+    assert not out.exists() and partial.exists()
+    again = subprocess.run([THERMOLIMB, "monitor", str(model), "--follow", str(run), "--mcap", str(out),
+                            "--idle-exit", "0.3"], capture_output=True, text=True, timeout=120)
+    assert again.returncode == 0 and "did not finish it" in again.stderr, again.stderr
+    assert messages_in(out) > 0 and not partial.exists()

@@ -1,4 +1,4 @@
-"""A change judged on one run's tail must survive the run's head (issue 81, item 6): the reversed split.
+"""The model a walk on one run ends with must survive the run's head (issue 81, item 6): the reversed split.
 
 The log: a first-order plant (random holds and motions, 0.05 K noise, 0.1 degC steps) whose housing carries a
 Peltier element, its drive (+1 heats, -1 cools) logged as ``peltier``, switched every 6 minutes all run long;
@@ -23,9 +23,8 @@ from conftest import first_order_log
 from scipy.signal import lfilter
 
 from thermolimb.logs import from_frame
-from thermolimb.workbench.diagnosis import diagnose
-from thermolimb.workbench.diagnosis.diagnose import Search
-from thermolimb.workbench.diagnosis.reversed_split import REFUTED_SHARE, refuted
+from thermolimb.workbench.diagnosis import auto_diagnose, diagnose
+from thermolimb.workbench.diagnosis.reversed_split import REFUTED_SHARE, walk_cut
 from thermolimb.workbench.validation import Scheme
 
 TERM = textwrap.dedent('''
@@ -69,24 +68,28 @@ def peltier_term():
     return namespace["PeltierHeat"]
 
 
-def test_a_change_the_tail_supports_and_the_head_refutes_is_not_recommended(peltier_term):
+def test_a_walk_the_tail_supports_and_the_head_refutes_steps_back(peltier_term):
     run = from_frame(peltier_log(wired=0.25)).series("knee")
-    d = diagnose([run], search=Search(stability=None))
-    change = d.unstable
-    assert d.recommended is None and change is not None and change.effect == "peltier_heat"
+    first, steps = auto_diagnose([run], stability=None)
+    last = steps[-1]
+    change = last.unstable
+    assert last.recommended is None and change is not None and change.effect == "peltier_heat"
     assert change.helps and change.status == "refuted"
+    assert "peltier_heat" not in last.model and [s.get("change") for s in first.auto][-1] != "+ peltier_heat"
     said = change.refuted_because
-    assert said.startswith("refuted by the run's first 30 %: fitted on its last 70 %")
+    assert said.startswith("refuted by the run's first 30 %: fitted on its last 70 %, the model with it (")
     after, before = (float(x) for x in re.findall(r"at ([0-9.]+) K", said))
-    assert after > (1.0 + REFUTED_SHARE) * before
-    assert refuted(change, d.base, [run], Scheme.at_split(0.7), d.floor) == said  # the stage alone says the same
+    assert after > (1.0 + REFUTED_SHARE) * before and after - before > first.floor.floor_K
+    # the stage alone, on the walk as it went before the step back, says the same
+    walked = steps + [diagnose([run], change.model, stability=None)]
+    assert walk_cut(walked, [run], Scheme.at_split(0.7), first.floor) == (len(steps) - 1, said)
 
 
 def test_a_change_that_holds_over_the_whole_run_is_not_refuted(peltier_term):
     run = from_frame(peltier_log(wired=0.0)).series("knee")
-    d = diagnose([run], search=Search(stability=None))
-    assert d.recommended is not None and d.recommended.effect == "peltier_heat"
-    assert d.recommended.refuted_because is None and d.recommended.status == "helps"
+    first, steps = auto_diagnose([run], stability=None)
+    assert "+ peltier_heat" in [s.get("change") for s in first.auto]
+    assert all(d.unstable is None or d.unstable.refuted_because is None for d in steps)
 
 
 def test_the_command_line_says_the_change_is_refuted_and_the_walk_stops(tmp_path):

@@ -406,3 +406,32 @@ def test_replicates_that_all_take_some_change_that_cuts_the_error_many_fold_let_
     assert agreed([drop, lag], {"none": 0.25}, 20, Stability()) is None  # a quarter take nothing: no agreement
     weak = change("sensor_lag", "add", 20.0, 0.3)  # cuts 33.3 K to 20 K: not many-fold
     assert agreed([drop, weak], {"none": 0.0}, 20, Stability()) is None
+
+
+@pytest.mark.slow  # two diagnoses with their stability checks, in two processes: about a minute each
+def test_a_split_verdict_is_the_same_under_two_blas_kernels_and_thread_counts(tmp_path):
+    """The seed-1 calibration log above, whose replicates split between two valleys next to the rule's line
+    (6, 9 or 14 of 10 or 20 with the kernel and the filters): ``diagnose --json`` under OpenBLAS's Haswell kernel
+    on one thread and an older generic one on two gives the same verdict, the same held-back change and the
+    same first line (issue 81, item 7).  The shares may differ; what is said of them may not."""
+    import os
+    import platform
+    import subprocess
+    import sys
+
+    from thermolimb.plant import X8_9
+
+    spec = replace(X8_9, network=NETWORKS["second_order"])
+    fx = PlantEffects.from_names(["sensor_noise", "quantisation", "speed_losses", "winding_tempco", "sensor_lag"])
+    simulate_profile("random", 7200.0, 1.0, ["knee"], [spec], fx, seed=1).log.write(tmp_path / "log.csv")
+    older = "Prescott" if platform.machine() in ("x86_64", "AMD64") else "ARMV8"
+    said = []
+    for kernel, threads in (("Haswell" if older == "Prescott" else "ARMV8", "1"), (older, "2")):
+        env = {**os.environ, "OPENBLAS_CORETYPE": kernel, "OPENBLAS_NUM_THREADS": threads,
+               "OMP_NUM_THREADS": threads}
+        argv = [sys.executable, "-m", "thermolimb", "diagnose", str(tmp_path / "log.csv"), "--actuator", "knee"]
+        record = json.loads(subprocess.run(argv + ["--json"], env=env, capture_output=True, text=True,
+                                           check=True).stdout)
+        text = subprocess.run(argv, env=env, capture_output=True, text=True, check=True).stdout
+        said.append((record["recommended_change"], record["unstable"], text.splitlines()[0]))
+    assert said[0] == said[1], said

@@ -35,6 +35,7 @@ from scipy.optimize import minimize
 from .forecast import LEVEL, forecast, model_error_K
 from .model.saved import SavedModel
 from .model.signals import Signals
+from .model.terms import TERMS
 from .util.errors import ThermolimbError
 
 SPLIT = 0.7  # the share of the test a fit compares (fit's and diagnose's default --split)
@@ -197,6 +198,18 @@ def design(saved: SavedModel, identify, limits: Limits, noise_K: float | None = 
     return planned(problem, problem.coarse().search(np.random.default_rng(seed)), notes)
 
 
+def _signed(model) -> bool:
+    """Whether the model's heat depends on the effort's sign (an effort bias): its terms' contributions at
+    efforts 1 and -1, at rest in still air, differ."""
+    s = Signals(np.array([0.0, 1.0]), np.array([1.0, -1.0]), np.zeros(2), ambient_C=np.full(2, 25.0))
+    for name in model.terms:
+        contribution = TERMS[name]().contribution(model.params, s)
+        rise, gain = (np.broadcast_to(np.asarray(x, float), (2,)) for x in contribution)
+        if rise[0] != rise[1] or gain[0] != gain[1]:
+            return True
+    return False
+
+
 def posed(saved: SavedModel, identify: tuple[str, ...], limits: Limits,
           noise_K: float | None) -> tuple["DesignProblem", list[str]]:
     """The design problem on the test's grid of holds, and the notes on what it assumes: the limits checked,
@@ -223,7 +236,7 @@ def posed(saved: SavedModel, identify: tuple[str, ...], limits: Limits,
     t = np.arange(0.0, limits.duration_s + 0.5 * limits.dt_s, limits.dt_s)
     holds = int(min(MAX_HOLDS, max(2, limits.duration_s // limits.shortest_hold_s)))
     edges = np.minimum((np.arange(t.size) * holds) // t.size, holds - 1)
-    signed = "effort_bias" in model.terms
+    signed = _signed(model)
     moves = "velocity" in model.columns and limits.max_velocity > 0
     return DesignProblem(saved, t, edges, holds, limits, noise_K, identify, signed, moves, lag1=lag1), notes
 

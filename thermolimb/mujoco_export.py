@@ -33,6 +33,7 @@ from .identification import FreeRunLeastSquares
 from .model.model import ThermalModel, model_parameters
 from .model.saved import SavedModel
 from .model.signals import Signals
+from .model.terms import TERMS
 from .util.errors import UsageError
 
 TORQUE_UNITS = ("N m", "Nm", "N·m", "N.m")
@@ -77,7 +78,8 @@ class DcMotorThermal:
         """What MuJoCo's actuator is commanded, from a log's channels: the joint torque over the gear, or the
         current times the motor constant."""
         if self.current:
-            current = signals.current_A if "current_heating" in self.exported.terms else signals.effort
+            source = next(TERMS[t] for t in self.exported.terms if TERMS[t].squared_channel)
+            current = signals.current_A if source.squared_channel == "current" else signals.effort
             return np.asarray(current, float) * self.motor.motor_const
         return np.asarray(signals.effort, float) / self.motor.gear
 
@@ -98,13 +100,15 @@ class DcMotorThermal:
 def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     """Map one saved model onto a dcmotor's thermal state (module docstring); what does not map is dropped, said."""
     model, p = saved.model, saved.model.params
-    if "joule" in model.terms:
-        source, name, unit = "joule", "betaR_K_per_effort2", saved.channel_units.get("effort", "N m")
-    elif "current_heating" in model.terms:
-        source, name, unit = "current_heating", "currentR_K_per_A2", "A"
-    else:
+    # the Joule heat (from the effort's square first, else the current's) is what a dcmotor's I^2 R can carry
+    joules = sorted((t for t in model.terms if TERMS[t].squared_channel),
+                    key=lambda t: TERMS[t].squared_channel != "effort")
+    if not joules:
         raise UsageError(f"{saved.actuator}: the model ({','.join(model.terms)}) has no Joule heating (from effort or "
                          f"current); MuJoCo's dcmotor heats only by its current")
+    source = joules[0]
+    name = TERMS[source].parameters[0].name
+    unit = "A" if TERMS[source].squared_channel == "current" else saved.channel_units.get("effort", "N m")
     gain = p[name]
     if unit in TORQUE_UNITS:
         r_th = gain * (motor.gear * motor.motor_const) ** 2 / motor.resistance_ohm
@@ -116,10 +120,12 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     if not r_th > 0:
         raise UsageError(f"{saved.actuator}: the model's Joule heating is zero; there is no heat for MuJoCo's thermal "
                          f"state to carry")
-    kept = (source,) + (("winding_tempco",) if "winding_tempco" in model.terms else ())
+    # copper's coefficient is the dcmotor's tempcoef; every other term has no place in its one node
+    copper = next((t for t in model.terms if TERMS[t].scales_resistance), None)
+    kept = (source,) + ((copper,) if copper else ())
     names = {q.name for q in model_parameters(kept)}
     exported = ThermalModel(kept, {k: v for k, v in p.items() if k in names})
-    tempcoef = p["alpha_per_K"] if "winding_tempco" in kept else 0.0
+    tempcoef = p[TERMS[copper].parameters[0].name] if copper else 0.0
     notes = []
     if tempcoef:
         notes.append("copper's coefficient is exported; MuJoCo's dcmotor is voltage-driven, so there a warmer winding "

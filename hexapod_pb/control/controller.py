@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from ..constants import LEGS
 from ..model.kinematics import inverse_kinematics, joint_axes, nominal_feet
@@ -60,7 +60,7 @@ class Gains:
 class ThermalContext:
     """What the thermal-aware distribution needs: identified models of all 18 joints and a horizon."""
 
-    bank: FirstOrderBank
+    bank: ModelArrays
     horizon_s: float = 20.0
 
 

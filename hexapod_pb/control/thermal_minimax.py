@@ -8,14 +8,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.optimization.programs import INFINITE, Program, solve
 
 from .minimax import lp_options, minimax
 from .stance import StanceProblem, StanceSolution
 
 
-def thermal_minimax(problem: StanceProblem, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float,
+def thermal_minimax(problem: StanceProblem, bank: ModelArrays, temperature_C: np.ndarray, horizon_s: float,
                     tol_K: float = 1e-3, max_cuts: int = 30, first: StanceSolution | None = None,
                     solver: str = "daqp", fallback: str | None = None) -> StanceSolution:
     """Minimise the peak *predicted* temperature of the stance legs' actuators ``horizon_s`` ahead.

@@ -9,7 +9,7 @@ from typing import Mapping
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from .minimax import closest_achievable, minimax, minimax_lex
 from .stance import StanceProblem, StanceSolution, vertical_only
@@ -19,8 +19,9 @@ STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")  # wha
 
 
 def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm: StanceSolution | None = None,
-               bank: FirstOrderBank | None = None, temperature_C: np.ndarray | None = None, horizon_s: float = 20.0,
-               smoothing_1_N2: float = 0.0, solver: str = "daqp", fallback: str | None = None) -> StanceSolution:
+               bank: ModelArrays | None = None, temperature_C: np.ndarray | None = None,
+               horizon_s: float = 20.0, smoothing_1_N2: float = 0.0, solver: str = "daqp",
+               fallback: str | None = None) -> StanceSolution:
     """Stance forces by ``strategy`` (one of :data:`STRATEGIES`, or ``{name: weight}`` to blend them: a convex
     combination of balanced distributions is balanced), for the nearest wrench the contacts can supply.
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from ..constants import CONTACT_MODES, SIDES
 from ..ik.fast_ik import FastThermalIK
@@ -46,7 +46,7 @@ class ContactModePlanner:
         self.ik = FastThermalIK(body, solver="daqp")
         self.limits = effort_limits(body.params)
 
-    def cost(self, bank: FirstOrderBank | None, temperature_C: np.ndarray):
+    def cost(self, bank: ModelArrays | None, temperature_C: np.ndarray):
         if self.objective == "thermal":
             return ThermalPotential.from_measurement(bank, temperature_C)
         return MinimumEffort(self.limits)
@@ -55,14 +55,14 @@ class ContactModePlanner:
         """Each mode's nominal configuration: the crouch, and the weight over either foot with the other lifted."""
         return {"double": q_nominal, **{s: support_pose(self.body, q_nominal, s) for s in SIDES}}
 
-    def plan(self, q_nominal: np.ndarray, bank: FirstOrderBank | None, temperature_C: np.ndarray) -> Plan:
+    def plan(self, q_nominal: np.ndarray, bank: ModelArrays | None, temperature_C: np.ndarray) -> Plan:
         """The mode whose optimised configuration scores lowest (for a robot that then holds that configuration)."""
         cost = self.cost(bank, temperature_C)
         starts = self.starts(q_nominal)
         results = {m: self.ik.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}
         return Plan(best_mode(results), results)
 
-    def plan_nominal(self, q_nominal: np.ndarray, bank: FirstOrderBank | None,
+    def plan_nominal(self, q_nominal: np.ndarray, bank: ModelArrays | None,
                      temperature_C: np.ndarray) -> str:
         """The mode whose nominal configuration, held with Eq. 23's torques, scores lowest: for a robot that
         switches modes but keeps their nominal postures (the environment's mode actions)."""

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.util.numbers import to_microsecond
 from thermolimb.util.progress import progress
 
@@ -60,7 +60,7 @@ class RecoveryRun:
                 "warning_at_s": self.warning_at_s, "modes_chosen": [m for _, m in self.decisions]}
 
 
-def run_recovery(strategy: str, bank: FirstOrderBank, seed: int = 0, heat_side: str = "right",
+def run_recovery(strategy: str, bank: ModelArrays, seed: int = 0, heat_side: str = "right",
                  max_heat_s: float = 240.0, max_recovery_s: float = 240.0, quiet: bool = True,
                  scenario: str | Scenario = DEFAULT) -> RecoveryRun:
     """Balance on ``heat_side`` until an actuator reaches 75 degC, then recover with ``strategy``:
@@ -128,7 +128,7 @@ def steady_needed_for_ratio(ratio: float, fastest_steady_C: float, start_C: floa
     return (start_C - end_C * x) / (1.0 - x)
 
 
-def cooling_bound(body, bank: FirstOrderBank, hot_actuator: str, configurations: dict) -> dict:
+def cooling_bound(body, bank: ModelArrays, hot_actuator: str, configurations: dict) -> dict:
     """Why one recovery can or cannot cool ``hot_actuator`` faster than another: for each held configuration
     (name -> (mode, q)), its efforts by Eq. 23, the hot actuator's steady temperature under ``bank`` and its
     first-order time from the warning (75 degC) to 70 degC.  Transitions come on top (the leg is loaded while

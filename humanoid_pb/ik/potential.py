@@ -18,7 +18,7 @@ from functools import cached_property
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from ..limits import LIMITS
 
@@ -27,13 +27,13 @@ HOT_WEIGHT = 100.0  # an actuator still to recover (above LIMITS.recovered_C) we
 
 @dataclass(frozen=True)
 class ThermalPotential:
-    bank: FirstOrderBank  # identified models, ACTUATORS order
+    bank: ModelArrays  # identified models, ACTUATORS order
     temperature_C: np.ndarray  # measured now
     horizon_s: float
     weights: np.ndarray  # the diagonal of Q
 
     @classmethod
-    def from_measurement(cls, bank: FirstOrderBank, temperature_C: np.ndarray, horizon_s: float | None = None,
+    def from_measurement(cls, bank: ModelArrays, temperature_C: np.ndarray, horizon_s: float | None = None,
                          hot_C: float = LIMITS.recovered_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
         """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over actuators)."""
         temperature_C = np.asarray(temperature_C, float)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import difflib
-import errno
 import importlib
 import os
 import signal
@@ -13,7 +12,7 @@ import sys
 import threading
 
 from .. import __version__
-from ..util.errors import ThermolimbError, bounded
+from ..util.errors import WRITE_FAULTS, ThermolimbError, bounded
 from ..util.interrupts import Terminated, ignore_further, install, restore
 
 # the commands, each a module of this package, in the order --help lists them; a command line imports only the one
@@ -50,9 +49,6 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 
 # what the machine, not the input, can refuse a write for: said in one sentence naming what was not written
-WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota is exceeded",
-                errno.EROFS: "the file system is read-only", errno.ENAMETOOLONG: "the file name is too long",
-                errno.EFBIG: "the file is too large for the file system"}
 
 
 def main(argv=None) -> int:

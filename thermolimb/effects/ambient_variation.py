@@ -26,6 +26,7 @@ class AmbientVariationTerm(LinearTerm):
     )
     columns = ("ambient",)
     boundary = True
+    redefines_offset = True
 
     def regressor(self, s):
         return s.channel("ambient") - AMBIENT_REFERENCE_C

@@ -28,6 +28,7 @@ class CurrentHeating(LinearTerm):
     )
     columns = ("current",)
     is_heat_source = True
+    squared_channel = "current"
 
     def regressor(self, s):
         return s.channel("current") ** 2

@@ -26,6 +26,7 @@ class HousingBoundary(LinearTerm):
                   "a housing temperature that moves during the log", plausible=(0.3, 1.2)),
     )
     columns = ("housing",)
+    redefines_offset = True
 
     def regressor(self, s):
         return s.channel("housing")

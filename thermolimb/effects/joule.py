@@ -25,6 +25,7 @@ class Joule(LinearTerm):
                   "effort held at three or more distinct levels"),
     )
     is_heat_source = True
+    squared_channel = "effort"
 
     def regressor(self, s):
         return s.effort**2

@@ -24,6 +24,9 @@ class SensorLagTerm(Term):
                   "fast temperature changes (short heating bursts)", plausible=(0.2, 120.0)),
     )
 
+    def output_lag_s(self, p):
+        return p["sensor_tau_s"]
+
     def initial_winding(self, p, measured_C, rate_K_per_s):
         return measured_C + p["sensor_tau_s"] * rate_K_per_s  # the lagged reading trails the winding
 

@@ -37,6 +37,9 @@ class SlowMass(Term):
     def winding_share(self, p):
         return 1.0 - p[self.fraction]
 
+    def stage(self, p):
+        return p[self.fraction], p[self.tau]
+
     def airflow(self, p, s) -> np.ndarray | float:
         """How many times its still-air conductance to ambient this mass has (1: no term of the model moves it)."""
         flow = 1.0

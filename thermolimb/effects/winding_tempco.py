@@ -16,6 +16,7 @@ class WindingTempcoTerm(Term):
 
     name = "winding_tempco"
     reads = ("betaR_K_per_effort2", "currentR_K_per_A2")  # the Joule heat it scales
+    scales_resistance = True
     label = "copper's temperature coefficient"
     description = "copper resistance rising with winding temperature"
     parameters = (

@@ -30,8 +30,8 @@ from typing import Callable, Mapping, Sequence
 import gymnasium as gym
 import numpy as np
 
+from ..model.arrays import ModelArrays, one_node
 from ..model.experience import shifted
-from ..model.first_order import ModelArrays, in_family
 from ..model.parameter_units import NOT_GIVEN
 from ..model.saved import ModelFile, SavedModel
 from ..model.signals import Signals
@@ -331,7 +331,7 @@ class ModelHeat:
         self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
         self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each was fitted on (audit)
         self.ambient_C = ambient_C
-        self.fast = all(in_family(m) for m in self.models)
+        self.fast = all(one_node(m) for m in self.models)
         self.arrays = ModelArrays(self.models) if self.fast else None
         self.states: list[dict] = [{} for _ in self.models]
         self.T = np.zeros(len(self.models))
@@ -342,7 +342,7 @@ class ModelHeat:
 
     def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.fast:  # one node: each actuator's exact step over dt at the torque held, all at once
-            steady, rate = self.arrays.forcing(torque)
+            steady, rate = self.arrays.forcing(torque, None if velocity is None else np.abs(velocity))
             self.T = steady + (self.T - steady) * np.exp(-rate * dt)
             return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
         steady, rate = np.empty_like(self.T), np.empty_like(self.T)

@@ -8,7 +8,7 @@ from typing import Sequence
 import numpy as np
 
 from ..logs import ThermalLog
-from ..model import FirstOrderBank, ThermalModel
+from ..model import ModelArrays, ThermalModel
 from ..model.terms import DEFAULT_MODEL
 from ..util.errors import IdentifiabilityError
 from .output_error import FreeRunLeastSquares
@@ -19,7 +19,7 @@ class Calibration:
     """What a robot's calibration run gives its planners: the models identified from its log, the log, and the
     ambient it measured cold (degC; its thermistors' mean first reading).  Every robot's ``calibrate`` returns one."""
 
-    bank: FirstOrderBank
+    bank: ModelArrays
     log: ThermalLog
     ambient_C: float
 
@@ -33,7 +33,7 @@ MIN_RC_S = 5.0  # default: a time constant below this is not physical for a huma
 
 
 def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray, min_rc_s: float = MIN_RC_S,
-                  model: str | tuple[str, ...] = DEFAULT_MODEL, min_rise_K: float = 0.0) -> FirstOrderBank:
+                  model: str | tuple[str, ...] = DEFAULT_MODEL, min_rise_K: float = 0.0) -> ModelArrays:
     """Fit Eq. 5 (output error, ``model``: ``joule`` with or without ``effort_bias``) to every named actuator of
     ``log``, in that order.
 
@@ -68,4 +68,4 @@ def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray,
             m = ThermalModel(DEFAULT_MODEL, {"RC_s": rc, "betaR_K_per_effort2": heat / limits[i] ** 2,
                              "beta_biasR_K_per_effort": 0.0, "T_offset_C": T})
         filled.append(m)
-    return FirstOrderBank.from_models(filled)
+    return ModelArrays.from_models(filled)

@@ -3,7 +3,7 @@
 The built-in terms are the physical effects of :mod:`thermolimb.effects`, registered when ``thermolimb`` is imported.
 """
 
-from .bank import FirstOrderBank
+from .arrays import ModelArrays
 from .model import BASE_PARAMETERS, ThermalModel, model_parameters
 from .saved import load_model, save_model
 from .scan import first_order_scan
@@ -21,7 +21,7 @@ from .terms import (
 )
 
 __all__ = [
-    "BASE_PARAMETERS", "DEFAULT_MODEL", "FirstOrderBank", "LinearTerm", "ModelSpecError", "Parameter", "Signals",
+    "BASE_PARAMETERS", "DEFAULT_MODEL", "ModelArrays", "LinearTerm", "ModelSpecError", "Parameter", "Signals",
     "TERMS", "Term", "ThermalModel", "first_order_scan", "load_model", "model_parameters", "parse_model", "register_term", "save_model",
     "unregister_term",
 ]

@@ -21,7 +21,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .model import OFFSET_REDEFINED_BY, ThermalModel
+from .model import ThermalModel
 from .signals import Signals
 from .terms import TERMS
 
@@ -146,7 +146,7 @@ def offset_is_ambient(terms) -> bool:
     for name in terms:
         term = TERMS[name]
         spec = getattr(term, "spec", None)
-        if (name in OFFSET_REDEFINED_BY or term.boundary or "ambient" in term.columns
+        if (term.redefines_offset or term.boundary or "ambient" in term.columns
                 or (spec is not None and any(f.form == "minus" for f in spec.features))):
             return False
     return True

@@ -138,9 +138,10 @@ class Spec:
                 raise ModelSpecError(f"{where}: generated term {spec.name!r}: feature {f.param!r} is not one this "
                                      f"suite writes (form {f.form!r}, inputs {inputs}); expected a form of "
                                      f"{', '.join(FORMS)} of a channel")
-        if spec.airflow_on is not None and spec.airflow_on not in SLOW_MASSES:
+        if spec.airflow_on is not None and spec.airflow_on not in slow_masses():
             raise ModelSpecError(f"{where}: generated term {spec.name!r} changes the conductance of "
-                                 f"{spec.airflow_on!r}; expected one of the slow masses {', '.join(SLOW_MASSES)}")
+                                 f"{spec.airflow_on!r}; expected one of the slow masses "
+                                 f"{', '.join(slow_masses())}")
         if not re.fullmatch(r"[a-z_][a-z0-9_]*", spec.name):
             raise ModelSpecError(f"{where}: generated term name {spec.name!r} is not an identifier")
         return spec
@@ -186,13 +187,18 @@ class GeneratedTerm(Term):
         return super().implausible(p, units)
 
 
-# the catalog's slow masses, whose conductance to ambient a generated term may change, in words
-SLOW_MASSES = {"second_node": "the second mass", "third_node": "the third mass"}
+
+
+def slow_masses() -> dict[str, str]:
+    """The catalog's slow masses (terms that are a cascade stage), whose conductance to ambient a generated
+    term may change, in words: ``{"second_node": "the second thermal mass", ...}``."""
+    return {name: "the " + (term.label or name).removeprefix("a ") for name, term in TERMS.items()
+            if term.stage is not Term.stage}
 
 
 def _of(spec: Spec) -> str:
     """Whose conductance a spec's conductance feature changes, in words."""
-    return "to ambient" if spec.airflow_on is None else f"of {SLOW_MASSES[spec.airflow_on]} to ambient"
+    return "to ambient" if spec.airflow_on is None else f"of {slow_masses()[spec.airflow_on]} to ambient"
 
 
 def define(spec: Spec) -> type[Term]:

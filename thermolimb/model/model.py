@@ -25,7 +25,11 @@ OFFSET = Parameter("T_offset_C", "degC", -100.0, 400.0, 25.0,
                    "temperature offset: ambient plus the constant bias heating, T_amb + P_bias*R",
                    "periods at low effort, so that heating can be told from the offset")
 BASE_PARAMETERS = (TIME_CONSTANT, OFFSET)
-OFFSET_REDEFINED_BY = ("housing_boundary", "ambient_variation")  # after these, T_offset is no ambient temperature
+
+
+def redefines_offset(terms) -> bool:
+    """Whether a model of ``terms`` has a term after which T_offset is no ambient temperature."""
+    return any(TERMS[t].redefines_offset for t in terms if t in TERMS)
 
 # A term may not cancel the restoring -T of the model; closer than this to
 # thermal runaway the gain is clipped (see ThermalModel.forcing).

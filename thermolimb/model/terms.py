@@ -64,6 +64,15 @@ class Term:
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     columns: ClassVar[tuple[str, ...]] = ("effort",)
     is_heat_source: ClassVar[bool] = False
+    # a heat source that is a resistance's Joule heat, I^2 R, from the square of this channel ("effort",
+    # "current"), its first parameter the gain: what a motor model that heats by its current (MuJoCo's
+    # dcmotor) can carry
+    squared_channel: ClassVar[str | None] = None
+    # copper's coefficient: the Joule heat times 1 + p (T - 25 degC), p its first parameter (1/K)
+    scales_resistance: ClassVar[bool] = False
+    # after this term the offset is no ambient temperature (it moves the boundary to a measured one, or with
+    # one)
+    redefines_offset: ClassVar[bool] = False
     # a boundary term moves the temperature heat finally flows to (the ambient): it reaches the winding
     # through every slow mass, where a heat term's rise builds up partly across each
     boundary: ClassVar[bool] = False
@@ -111,6 +120,16 @@ class Term:
         the temperature heat finally flows to (offset and boundary terms), per sample.
         """
         return equilibrium_C
+
+    def stage(self, p: Mapping[str, float]) -> tuple | None:
+        """For a slow mass (``carries_state``): its share of the rise and its time constant (s), a cascade
+        stage of the model (:mod:`.arrays` steps it for many actuators at once); default: none."""
+        return None
+
+    def output_lag_s(self, p: Mapping[str, float]) -> float | None:
+        """For a term that lags the output (``lags_output``): the reading's time constant (s); default:
+        none."""
+        return None
 
     def winding_share(self, p: Mapping[str, float]) -> float:
         """Share of a heat's rise that builds up across the winding itself (a slow mass takes the rest); default 1."""

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.arrays import ModelArrays, steps_together
 from ..model.experience import EQ5, shifted
-from ..model.first_order import STAGES, ModelArrays, in_cascade, in_family
 from ..model.reach import first_order_reach_s
 from ..model.saved import SavedModel
 from ..model.signals import Signals
@@ -102,7 +102,7 @@ class ActuatorMonitor:
         spread = saved.jackknife if saved.jackknife is not None else saved.covariance
         self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
                             if "sensor_tau_s" in names else 0.0)
-        self.together = in_family(self.model) or in_cascade(self.model)  # can step with others (update_together)
+        self.together = steps_together(self.model)  # can step with others (update_together)
         self.row = ModelArrays.row(self.model) if self.together else None
         self.columns = self.model.columns
         self.state: dict | None = None
@@ -153,11 +153,11 @@ def _correct(bias, P, a, q, r, innovation):
 
 
 def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list[Estimate]:
-    """One new sample for each of several actuators at once: each monitor ``together`` (a model of either family of
-    :mod:`~thermolimb.model.first_order`) with its filter already running, sharing one protection; each ``arrays``
-    the previous sample and the new one, with every column its model reads.  The same numbers as each monitor's
-    :meth:`~ActuatorMonitor.update` (what a live log polled after every row asks thirty times a millisecond), as
-    arrays."""
+    """One new sample for each of several actuators at once: each monitor ``together`` (a model that
+    :mod:`~thermolimb.model.arrays` steps) with its filter already running, sharing one protection; each
+    ``arrays`` the previous sample and the new one, with every column its model reads.  The same numbers as
+    each monitor's :meth:`~ActuatorMonitor.update` (what a live log polled after every row asks thirty times a
+    millisecond), as arrays."""
     first = monitors[0]
     models = ModelArrays(rows=np.array([m.row for m in monitors]))
     time_s = np.array([a["time"] for a in arrays])
@@ -166,7 +166,7 @@ def update_together(monitors: list[ActuatorMonitor], arrays: list[dict]) -> list
     measured = np.array([a["temperature"][1] for a in arrays])
     dt = time_s[:, 1] - time_s[:, 0]
     before = {k: np.array([m.state.get(k, np.nan) for m in monitors]) for k in ("winding", "output")}
-    for name in STAGES:
+    for name in models.stage_names:
         before[name] = np.array([m.state.get(name, o) for m, o in zip(monitors, models.offset)])
     after = models.step(before, dt, effort, speed)
     bias, P = _correct(np.array([m.bias for m in monitors]), np.array([m.P for m in monitors]),

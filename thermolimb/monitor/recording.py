@@ -18,9 +18,10 @@ import fcntl
 import os
 import sys
 import time
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
-from ..util.errors import UsageError
+from ..util.errors import WRITE_FAULTS, OutputLost, UsageError
 from ..util.interrupts import held
 from .estimator import Estimate
 from .outputs import diagnostic_values, stamp_ns, topic
@@ -77,8 +78,26 @@ class McapOutput:
         self.messages += 1
 
     def publish(self, estimates: list[Estimate], models: dict[str, str]) -> None:
-        with held():  # a signal in the middle of the writer's bookkeeping would leave its chunk index wrong
+        # a signal in the middle of the writer's bookkeeping would leave its chunk index wrong
+        with held(), self._room():
             self._publish(estimates, models)
+
+    @contextmanager
+    def _room(self):
+        """A write that finds no room (a full disk, a quota, a file size limit) ends the recording: its file
+        is closed as it stands, the partial kept (readable up to its last chunk, completed by the next monitor
+        given the same ``--mcap``), and :class:`~thermolimb.util.errors.OutputLost` says so."""
+        try:
+            yield
+        except OSError as exc:
+            if exc.errno not in WRITE_FAULTS:
+                raise
+            with suppress(OSError):
+                self.file.close()
+            raise OutputLost(exc.errno, self.path, (
+                f"stopped recording {self.path}: {WRITE_FAULTS[exc.errno]} after {self.messages} messages; "
+                f"{self.partial} keeps those flushed before, readable up to its last chunk (a monitor given "
+                f"--mcap {self.path} again completes it into {self.path.stem}.recovered.mcap)")) from None
 
     def _publish(self, estimates: list[Estimate], models: dict[str, str]) -> None:
         temperature = self.Temperature.__msgtype__
@@ -104,8 +123,8 @@ class McapOutput:
     def flush_if_due(self) -> None:
         """The chunk so far onto the disk when :data:`FLUSH_S` has passed since the last: a kill loses at most that
         (called after each publication, and by the follow loop while the log does not grow)."""
-        if self.clock() - self.flushed_at >= FLUSH_S:
-            with held():
+        if self.clock() - self.flushed_at >= FLUSH_S and not self.file.closed:
+            with held(), self._room():
                 self.writer.flush()
                 os.fsync(self.file.fileno())
             self.flushed_at = self.clock()
@@ -123,9 +142,10 @@ class McapOutput:
                     print(f"note: {self.path}: nothing was published; the earlier file there is left as it was",
                           file=sys.stderr)
                 return
-            self.writer.finish()
-            self.file.flush()
-            os.fsync(self.file.fileno())
+            with self._room():
+                self.writer.finish()
+                self.file.flush()
+                os.fsync(self.file.fileno())
             self.file.close()
             existed = self.path.exists()
             os.replace(self.partial, self.path)
@@ -179,11 +199,11 @@ def _take_over(partial: Path, target: Path) -> None:
         partial.unlink()
     if messages == 0:
         recovered.unlink()
-        print(f"note: {partial}, left by a monitor that was killed before its first chunk, held no message; removed",
-              file=sys.stderr)
+        print(f"note: {partial}, left by a monitor that did not finish it (killed, or out of room) before "
+              f"its first chunk, held no message; removed", file=sys.stderr)
     else:
-        print(f"note: {partial} was left by a monitor that was killed; its {messages} messages up to its last chunk "
-              f"are now in {recovered}", file=sys.stderr)
+        print(f"note: {partial} was left by a monitor that did not finish it (killed, or out of room); its "
+              f"{messages} messages up to its last chunk are now in {recovered}", file=sys.stderr)
 
 
 def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, int]:

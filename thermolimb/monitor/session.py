@@ -10,7 +10,7 @@ import numpy as np
 
 from ..model.saved import ModelFile
 from ..model.signals import Signals
-from ..util.errors import UsageError
+from ..util.errors import OutputLost, UsageError
 from ..util.interrupts import check, held
 from .estimator import ActuatorMonitor, Estimate, update_together
 
@@ -35,7 +35,7 @@ class Session:
     only: str | None = None  # watch this actuator alone (--actuator), whatever else the log holds
     samples: int = 0
     publications: int = 0
-    together: bool = True  # actuators of model/first_order.py's families with one new sample step as arrays
+    together: bool = True  # actuators of model/arrays.py's models with one new sample step as arrays
 
     def feed(self, runs: dict, units: dict | None = None) -> list[Estimate]:
         """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
@@ -130,8 +130,8 @@ class Session:
 
     def publish(self, estimates: list[Estimate]) -> None:
         names = {n: ",".join(m.model.terms) for n, m in self.monitors.items()}
-        for out in self.outputs:
-            out.publish(estimates, names)
+        for out in list(self.outputs):
+            self._each(out, out.publish, estimates, names)
         self.published_at = max(e.time_s for e in estimates)
         self.publications += 1
 
@@ -144,9 +144,9 @@ class Session:
 
     def idle(self) -> None:
         """The log did not grow: what the outputs hold goes to the disk when it is due."""
-        for out in self.outputs:
+        for out in list(self.outputs):
             if hasattr(out, "flush_if_due"):
-                out.flush_if_due()
+                self._each(out, out.flush_if_due)
 
     def close(self) -> None:
         """Publish what the last publication missed, then close every output (each complete)."""
@@ -155,8 +155,19 @@ class Session:
             if last and max(e.time_s for e in last) > self.published_at:
                 self.publish(last)
         finally:
-            for out in self.outputs:
-                out.close()
+            for out in list(self.outputs):
+                self._each(out, out.close)
+
+    def _each(self, out, call, *args) -> None:
+        """``call(*args)`` of one output; one that can no longer be written is said once and dropped, and the
+        monitor goes on with the others (the last one lost ends it, said by the command line)."""
+        try:
+            call(*args)
+        except OutputLost as lost:
+            self.outputs.remove(out)
+            print(f"note: {lost.words}", file=sys.stderr)
+            if not self.outputs:
+                raise
 
 
 def _periods(time_s: np.ndarray, period_s: float):

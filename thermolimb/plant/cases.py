@@ -14,7 +14,7 @@ from ..effects import EFFECTS, Hidden, PlantEffects
 from .network import NETWORKS, X8_9, X8_16
 from .run import simulate_profile
 
-SENSOR = ("sensor_noise", "quantisation")
+SENSOR = PlantEffects.realistic_sensor().names
 # the three actuators of every plant log the suite's demos, tests and benchmarks make (names, then datasheets)
 CASE_NAMES = ("knee", "hip", "ankle")
 CASE_SPECS = (X8_9, X8_16, X8_9)

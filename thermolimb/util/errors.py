@@ -1,13 +1,15 @@
-"""The suite's user errors, every one of them here: each says, in one sentence, what is wrong and what is expected.
+"""The suite's user errors, every one of them here: each says, in one sentence, what is wrong and what is
+expected.
 
-Each package re-exports its own (``thermolimb.logs.LogError``, ``thermolimb.model.saved.ModelFileError``, ...).
+Each package re-exports its own (``thermolimb.logs.LogError``,
+``thermolimb.model.saved.ModelFileError``, ...).
 
-The command line prints these without a traceback and exits with status 2;
-anything else is an internal error and keeps its traceback.  A message
-carries what the user gave (a column, an actuator, a file name) whatever its
-length, so :func:`bounded` cuts any over-long word of it before it is printed.
+The command line prints these without a traceback and exits with status 2; anything else is an internal error
+and keeps its traceback. A message carries what the user gave (a column, an actuator, a file name) whatever
+its length, so :func:`bounded` cuts any over-long word of it before it is printed.
 """
 
+import errno
 import re
 
 WORD_LIMIT = 200  # characters of one word (a name, a path) a message shows: its start and its end
@@ -18,6 +20,21 @@ def bounded(text: str, limit: int = WORD_LIMIT) -> str:
     half = limit // 2
     return re.sub(r"\S{%d,}" % (limit + 1),
                   lambda m: f"{m.group(0)[:half]}…{m.group(0)[-half:]} ({len(m.group(0))} characters)", text)
+
+
+# the errors of a write the user can act on (free space, a quota, a read-only disk), in words
+WRITE_FAULTS = {errno.ENOSPC: "the disk is full", errno.EDQUOT: "the disk quota is exceeded",
+                errno.EROFS: "the file system is read-only", errno.ENAMETOOLONG: "the file name is too long",
+                errno.EFBIG: "the file is too large for the file system"}
+
+
+class OutputLost(OSError):
+    """An output of a long run (the monitor's recording) that can no longer be written: said once in
+    ``words``, its file left as the sentence says; the run goes on with its other outputs."""
+
+    def __init__(self, errno_: int, path, words: str):
+        super().__init__(errno_, WRITE_FAULTS.get(errno_, "write failed"), str(path))
+        self.words = words
 
 
 class ThermolimbError(ValueError):
@@ -65,7 +82,8 @@ class IdentifiabilityError(ThermolimbError):
 
 
 def check_range(owner: str, name: str, value, low: float, high: float, unit: str = "") -> float:
-    """``value`` as a float within ``[low, high]``, or a ValueError naming ``owner.name``, the value and the range."""
+    """``value`` as a float within ``[low, high]``, or a ValueError naming ``owner.name``, the value and the
+    range."""
     import math
 
     try:

@@ -18,7 +18,7 @@ import numpy as np
 from ..effects.effort_bias import both_signs
 from ..identification.bounds import OFFSET_MARGIN_K
 from ..logs import ActuatorSeries
-from ..model.model import OFFSET_REDEFINED_BY, ThermalModel
+from ..model.model import ThermalModel, redefines_offset
 from ..model.parameter_units import spaced
 from ..model.terms import LONG_TIME_CONSTANT
 from ..util.numbers import plus_minus, significant
@@ -72,7 +72,7 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units, cause)
         if flag:
             flags.append(flag)
-    if not any(t in model.terms for t in OFFSET_REDEFINED_BY) and "T_offset_C" not in held:
+    if not redefines_offset(model.terms) and "T_offset_C" not in held:
         flag = _offset_flag(model.params["T_offset_C"], series)
         if flag:
             flags.append(flag)

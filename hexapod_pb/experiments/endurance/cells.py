@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 from thermolimb.util.numbers import to_microsecond
 
 from ...constants import JOINTS
@@ -61,7 +61,7 @@ def derating_threshold_C() -> np.ndarray:
 
 
 def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, horizon_s: float,
-              bank: FirstOrderBank | None = None, window_s: float = 1800.0, gait: Gait | None = None,
+              bank: ModelArrays | None = None, window_s: float = 1800.0, gait: Gait | None = None,
               seed: int = 0, choices: dict[str, tuple[float, ...]] = GAIT_CHOICES) -> CellResult:
     """Time until the first actuator derates (``None`` if not within ``horizon_s``), from cold at ``ambient_C``.
 

@@ -7,7 +7,7 @@ from itertools import product
 
 import numpy as np
 
-from thermolimb.model import FirstOrderBank
+from thermolimb.model import ModelArrays
 
 from ...control.controller import ThermalContext
 from .cycle import Cycle, _with_pause, measure_cycle
@@ -16,7 +16,8 @@ from .gait import GAIT_CHOICES, NOMINAL_GAIT, Gait
 MIN_SPEED_SHARE = 0.8  # a planned gait keeps at least this share of the nominal gait's measured speed
 
 
-def predicted_peak_C(bank: FirstOrderBank, cycle: Cycle, pause: Cycle | None = None, pause_share: float = 0.0) -> float:
+def predicted_peak_C(bank: ModelArrays, cycle: Cycle, pause: Cycle | None = None,
+                     pause_share: float = 0.0) -> float:
     """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with ``pause_share``
     of the time spent in the ``pause`` cycle."""
     mean_sq, mean = _with_pause(cycle, pause, pause_share)
@@ -33,7 +34,7 @@ class GaitPlan:
     candidates: int
 
 
-def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: FirstOrderBank, seed: int = 0,
+def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays, seed: int = 0,
               choices: dict[str, tuple[float, ...]] = GAIT_CHOICES) -> GaitPlan:
     """The gait whose measured torques the identified models say run coolest, at >= 80 % of the stock speed.
 

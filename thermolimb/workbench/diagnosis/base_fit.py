@@ -21,14 +21,16 @@ def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[Fit
     proportion).  The better one starts the search; the choice is said with its numbers."""
     model = base.model.terms
     sources = [t for t in model if TERMS[t].is_heat_source]
-    if sources != ["joule"] or not all(s.signals.has("current") for s in series):
+    squared = {t.squared_channel: name for name, t in TERMS.items() if t.squared_channel}
+    joule, by_current = squared.get("effort"), squared.get("current")
+    if sources != [joule] or by_current is None or not all(s.signals.has("current") for s in series):
         return base, None
     effort = np.concatenate([s.signals.effort for s in series]) ** 2
     current = np.concatenate([s.signals.current_A for s in series]) ** 2
     if np.ptp(current) == 0 or abs(np.corrcoef(effort, current)[0, 1]) >= COLLINEAR:
         return base, None  # the same heat, or a current that does not move: nothing to choose
-    other = tuple("current_heating" if t == "joule" else t for t in model if "effort" not in TERMS[t].columns
-                  or t == "joule")
+    other = tuple(by_current if t == joule else t for t in model
+                  if "effort" not in TERMS[t].columns or t == joule)
     try:
         rival = identifiable_base(series, other, scheme, None, datasheet)
     except ThermolimbError:

@@ -24,7 +24,7 @@ import numpy as np
 
 from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
-from ...model.generated import SLOW_MASSES, Feature, Spec, define, identifier
+from ...model.generated import Feature, Spec, define, identifier, slow_masses
 from ...model.parameter_units import NOT_GIVEN
 from ...model.terms import TERMS
 
@@ -97,7 +97,8 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
             param, f"1/({template})", column, "value", f"{channel} (T - T_offset)",
             f"{shown} times the rise above the offset", gain=True, sign=-1.0, lower=lower, upper=upper,
             typical=0.1 / scale)], (), (param, float(x.min()), float(x.max()))))
-        for mass, words in SLOW_MASSES.items():  # offered where the model has that mass (the term requires it)
+        # offered where the model has that mass (the term requires it)
+        for mass, words in slow_masses().items():
             param = f"{ident}_{mass}_conductance_per_unit"
             forms.append((f"{mass}_conductance", f"the conductance of {words} to ambient changes with {shown} (a fan "
                           f"on the housing)", [Feature(

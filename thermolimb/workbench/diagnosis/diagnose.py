@@ -41,7 +41,7 @@ from .discovery import Proposal, propose
 from .explain import describe, describe_discovered
 from .refit import guarded, refit_all, refit_candidate
 from .residuals import ResidualAnalysis, analyse_residuals
-from .reversed_split import refuted
+from .reversed_split import walk_cut
 from .screen import Base, best_eligible, rank, screened
 from .split_or_blocks import judging_scheme
 from .stability import Stability, check
@@ -187,16 +187,12 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
         candidates, together = take_together(candidates, model, base, series, search, step.visited,
                                              None if checked is None else checked.record)
         checked = together or checked
-    held_back = None if checked is None else checked.unstable
     if checked is not None:
         recommended = checked.recommended
-    if recommended is not None:  # a single run's head may refute what its tail was judged to support
-        recommended.refuted_because = refuted(recommended, base.report, series, search.scheme, floor)
-        if recommended.refuted_because is not None:
-            held_back, recommended = recommended, None
     return Diagnosis(series[0].actuator, model, base.report, base.bic, analysis, candidates, recommended,
                      proposal=proposal, floor=floor, heat_source=heat_source,
-                     stability=None if checked is None else checked.record, unstable=held_back)
+                     stability=None if checked is None else checked.record,
+                     unstable=None if checked is None else checked.unstable)
 
 
 def _changes(model, base: Base, series, search: Search, step: Step) -> list[Candidate]:
@@ -340,6 +336,13 @@ def _walk(series, model, search):
         moves.append(move)
         steps.append(_diagnose(series, move.model, search, Step(base=move.report, skip=frozenset(confounded),
                                                                 visited=frozenset(visited))))
+    cut = walk_cut(steps, series, judging_scheme(search.scheme, series, search.discover), steps[0].floor)
+    if cut is not None:  # the run's head refutes the end model: back to the last step it does not
+        j, why = cut
+        held = replace(moves[j], refuted_because=why)
+        table = [held if c is moves[j] else c for c in steps[j].candidates]
+        steps = steps[:j] + [replace(steps[j], recommended=None, unstable=held, candidates=table)]
+        moves = moves[:j]
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first, h = steps[0], steps[0].heat_source
