@@ -536,7 +536,7 @@ def round_four_cases(section, refuse, word) -> None:
     section(4, "the model carried into other simulators")
     for argv, reason in ((["--motor-const", "0"], "motor-const"), (["--motor-const", "nan"], "motor-const"),
                          (["--resistance", "-1"], "resistance"), (["--gear", "inf"], "gear")):
-        refuse("export " + " ".join(argv), "export", "model.json", "--mujoco", "--motor-const", "0.1",
+        refuse("export " + " ".join(argv), "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
                "--resistance", "1", *argv, reason=reason)
     for argv, reason in ((["--env", "NoSuch-v0"], "NoSuch"), (["--policy", "nowhere:x"], "nowhere"),
                          (["--env-arg", "bogus=1"], "does not take"), (["--duration", "0"], "duration"),
@@ -575,7 +575,7 @@ def round_five_cases(section, refuse, word) -> None:
         refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C", "30",
                "--threshold", "90", reason=reason)
     section(5, "outputs onto inputs")
-    refuse("export --out onto its own model file", "export", "m_export_onto.json", "--mujoco", "--motor-const",
+    refuse("export --out onto its own model file", "export", "m_export_onto.json", "--to", "mujoco", "--motor-const",
            "0.1", "--resistance", "1", "--out", "m_export_onto.json", reason="never replaces an input")
     section(5, "what is not a log")
     refuse("fit /dev/null", "fit", "/dev/null", reason="not a regular file")
@@ -642,7 +642,7 @@ def round_six_cases(section, refuse, word) -> None:
     refuse("JSON nested 100,000 deep", "predict", "m_deep.json", "--hold", "5,0", "--duration", "60",
            "--start-C", "30", "--threshold", "90", reason="nested")
     section(6, "a user's own files where a command writes")
-    refuse("export over a user's MJCF", "export", "model.json", "--mujoco", "--motor-const", "0.1",
+    refuse("export over a user's MJCF", "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
            "--resistance", "1", "--out", "user.xml", reason="did not write")
     section(6, "plans that cannot be run")
     refuse("plan from a start above the limit", "plan", "model.json", "--actuator", "knee", "--identify", "RC_s", "--max-effort", "5",

@@ -35,7 +35,7 @@ def folder(tmp_path_factory):
     ["monitor", "{f}/knee.json", "--follow", "{f}/run.csv", "--mcap", "{f}/hard.csv"],
     ["monitor", "{f}/knee.json", "--follow", "{f}/run.csv", "--layout", "{f}/knee.json"],
     ["fit", "{f}", "--fleet", "--table", "{f}/run.csv"],  # a folder of logs: each of its files is an input
-    ["export", "{f}/knee.json", "--mujoco", "--motor-const", "0.1", "--resistance", "1", "--out", "{f}/knee.json"],
+    ["export", "{f}/knee.json", "--to", "mujoco", "--motor-const", "0.1", "--resistance", "1", "--out", "{f}/knee.json"],
 ])
 def test_an_output_onto_an_input_is_refused_and_nothing_changes(folder, argv, capsys):
     before = {p.name: p.read_bytes() for p in folder.iterdir() if p.is_file()}
@@ -96,7 +96,7 @@ def test_a_map_mistake_is_named_for_what_it_is(tmp_path, mapping, message, capsy
 
 
 @pytest.mark.parametrize("argv, target", [
-    (["export", "{f}/knee.json", "--mujoco", "--motor-const", "0.1", "--resistance", "1", "--out", "{o}/robot.xml"],
+    (["export", "{f}/knee.json", "--to", "mujoco", "--motor-const", "0.1", "--resistance", "1", "--out", "{o}/robot.xml"],
      "robot.xml"),
     (["monitor", "{f}/knee.json", "--follow", "{f}/run.csv", "--json-lines", "--idle-exit", "0.2", "--limit-C", "90",
       "--layout", "{o}/layout.json"], "layout.json"),

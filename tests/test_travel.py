@@ -63,14 +63,18 @@ def test_the_snippet_is_mjcf_that_mujoco_reads_back(calibration):
 
 def test_export_says_what_it_drops_and_what_that_costs(calibration, capsys):
     log, model = calibration
-    assert main(["export", str(model), str(log), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8",
+    assert main(["export", str(model), str(log), "--to", "mujoco", "--motor-const", "0.12", "--resistance", "0.8",
                  "--gear", "12", "--actuator", "knee", "--json"]) == 0
     out = capsys.readouterr()
     record = json.loads(out.out)
     assert record["dropped"] == ["effort_bias"] and record["check"]["share_of_rise"] < 0.005
     assert record["cost"]["exported_rmse_K"] > 0 and "effort_bias dropped" in out.err
+    # the target is a format choice (the one so far, the default); the earlier spelling --mujoco still reads
+    assert main(["export", str(model), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--gear", "12",
+                 "--actuator", "knee", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["thermal"] == {k: v for k, v in record["thermal"].items()}
     with pytest.raises(SystemExit) as refused:
-        main(["export", str(model), "--mujoco", "--resistance", "0.8"])
+        main(["export", str(model), "--to", "mujoco", "--resistance", "0.8"])
     assert refused.value.code == 2 and "--motor-const" in capsys.readouterr().err
 
 
@@ -82,7 +86,7 @@ def test_export_says_once_what_dropping_several_terms_costs(calibration, tmp_pat
     assert main(["fit", str(log), "--actuator", "knee", "--model", "joule,effort_bias,speed_losses", "--save",
                  str(model), "--quiet"]) == 0
     capsys.readouterr()
-    assert main(["export", str(model), str(log), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8",
+    assert main(["export", str(model), str(log), "--to", "mujoco", "--motor-const", "0.12", "--resistance", "0.8",
                  "--gear", "12", "--actuator", "knee"]) == 0
     said = [line for line in capsys.readouterr().err.splitlines() if "dropped" in line]
     assert len(said) == 1 and "effort_bias and speed_losses dropped" in said[0] and "K RMSE" in said[0], said
@@ -285,7 +289,7 @@ def test_a_refit_on_the_log_carries_what_dropping_a_term_loses():
 
 def test_export_refit_needs_a_log_and_exports_the_refitted_node(calibration, capsys):
     log, model = calibration
-    argv = ["export", str(model), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--gear", "12",
+    argv = ["export", str(model), "--to", "mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--gear", "12",
             "--actuator", "knee", "--refit"]
     assert main(argv) == 2 and "give the model's calibration LOG" in capsys.readouterr().err
     assert main(argv[:2] + [str(log)] + argv[2:] + ["--json"]) == 0
@@ -318,7 +322,7 @@ def test_a_refit_the_log_cannot_make_is_said_beside_the_export(calibration, tmp_
     still = tmp_path / "still.csv"
     frame = pd.read_csv(log)
     frame.assign(effort=0.0).to_csv(still, index=False)
-    argv = ["export", str(model), str(still), "--mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--actuator",
+    argv = ["export", str(model), str(still), "--to", "mujoco", "--motor-const", "0.12", "--resistance", "0.8", "--actuator",
             "knee"]
     assert main(argv) == 0
     err = capsys.readouterr().err

@@ -63,7 +63,7 @@ def test_the_monitor_reads_an_effort_of_the_same_kind_in_the_model_s_unit(logs, 
 def test_export_checks_the_model_in_mujoco_against_a_log_in_another_unit_of_its_kind(logs, capsys):
     pytest.importorskip("mujoco")
     folder, model, log, milli, amps = logs
-    argv = ["export", str(model), "--actuator", "knee", "--mujoco", "--motor-const", "0.1", "--resistance", "1",
+    argv = ["export", str(model), "--actuator", "knee", "--to", "mujoco", "--motor-const", "0.1", "--resistance", "1",
             "--json"]
     assert main([*argv[:2], str(log), *argv[2:]]) == 0
     same = json.loads(capsys.readouterr().out)["check"]

@@ -34,7 +34,7 @@ from .model.model import ThermalModel, model_parameters
 from .model.saved import SavedModel
 from .model.signals import Signals
 from .model.terms import TERMS
-from .util.errors import UsageError
+from .util.errors import ThermolimbError, UsageError
 
 TORQUE_UNITS = ("N m", "Nm", "N·m", "N.m")
 CURRENT_UNITS = ("A",)
@@ -227,3 +227,54 @@ def run_in_mujoco(export: DcMotorThermal, signals: Signals, start_C: float,
             mujoco.mj_step(model, data)
         out[k + 1] = export.ambient_C + data.act[adr]
     return out
+
+
+THERMAL_FIELDS = ("resistance_K_per_W", "capacitance_J_per_K", "timeconst_s", "tempcoef_per_K", "reftemp_C",
+                  "ambient_C")
+
+
+def exported(saved: SavedModel, motor: Motor, series=(), refit: bool = False) -> tuple[DcMotorThermal, dict]:
+    """One actuator's export and its record (what ``thermolimb export --json`` prints): the dcmotor's
+    thermal attributes, what was dropped, the notes; with ``series`` (the actuator's runs of its calibration
+    log, in the model's units), what dropping costs on the log (:func:`cost_of_dropping`), the one node fitted
+    again there (:func:`refitted`; exported in place of the saved model without the dropped terms with
+    ``refit``), and MuJoCo's own integration of the export against the suite's free run (``check``; ``None``
+    without MuJoCo)."""
+    export = to_dcmotor(saved, motor)
+    again, failed = None, None
+    if series and export.dropped:
+        try:
+            again = refitted(saved, export, series)
+        except ThermolimbError as exc:  # said beside the export; with refit, the export's own error
+            if refit:
+                raise
+            failed = str(exc)
+    if again is not None and refit:
+        export = again
+    record = {"actuator": export.actuator,
+              "thermal": {f: getattr(export, f) for f in THERMAL_FIELDS},
+              "dropped": list(export.dropped), "notes": list(export.notes)}
+    if series:
+        record["cost"] = cost_of_dropping(saved, export, series)
+        if again is not None:
+            cost = record["cost"] if export is again else cost_of_dropping(saved, again, series)
+            record["refit"] = {"exported": export is again, "params": dict(again.exported.params),
+                               "rmse_K": cost["exported_rmse_K"]}
+        elif failed:
+            record["refit"] = {"exported": False, "error": failed}
+        record["check"] = mujoco_check(export, series[0])
+    return export, record
+
+
+def mujoco_check(export: DcMotorThermal, series) -> dict | None:
+    """MuJoCo's integration of the exported actuator against the suite's free run of the same model, on a run
+    (``None`` where MuJoCo is not installed)."""
+    try:
+        mujoco_C = run_in_mujoco(export, series.signals, float(series.temperature_C[0]))
+    except ImportError:
+        return None
+    ours = export.exported.simulate(series.signals, float(series.temperature_C[0]))
+    rise = float(ours.max() - ours.min())
+    worst = float(abs(mujoco_C - ours).max())
+    return {"max_difference_K": worst, "rise_K": rise, "share_of_rise": worst / rise if rise > 0 else None,
+            "samples": int(series.n)}

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 
-from ..util.errors import ThermolimbError, UsageError
+from ..util.errors import UsageError
 from .options import add_log_input, add_quiet, add_terms
 from .output import print_json, say
 from .reading import in_model_units, load_model_file, read_logs, runs_of
 from .types import number, output_file
+
+FORMATS = ("mujoco",)  # what --to carries a model into
 
 
 def add_parser(sub):
@@ -21,7 +24,10 @@ def add_parser(sub):
                     "and the exported actuator is run in MuJoCo itself against this suite's free run "
                     "(docs/travel.md).")
     p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
-    p.add_argument("--mujoco", action="store_true", required=True, help="export to MuJoCo's dcmotor (the only target)")
+    p.add_argument("--to", choices=FORMATS, default=FORMATS[0],
+                   help="the simulator to carry the model into (default mujoco: its <dcmotor>, the one so "
+                        "far)")
+    p.add_argument("--mujoco", dest="to", action="store_const", const="mujoco", help=argparse.SUPPRESS)
     p.add_argument("--motor-const", dest="motor_const", type=number(0.0, 1e3, low_open=True, unit="N m/A"),
                    required=True, metavar="KT", help="the motor's torque constant (N m/A)")
     p.add_argument("--resistance", type=number(0.0, 1e4, low_open=True, unit="ohm"), required=True, metavar="R",
@@ -43,54 +49,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..mujoco_export import (
-        EXPORT_MARK,
-        Motor,
-        cost_of_dropping,
-        mjcf_snippet,
-        refitted,
-        run_in_mujoco,
-        to_dcmotor,
-    )
+    from ..mujoco_export import EXPORT_MARK, Motor, exported, mjcf_snippet, to_dcmotor
+    from ..util.atomic import holds, replaces
 
     if args.refit and not args.logs:
         raise UsageError("--refit fits the exported model again on a log: give the model's calibration LOG too")
-    from ..util.atomic import holds, replaces
-
     replacing = bool(args.out) and replaces(args.out, holds(EXPORT_MARK.encode()), "--out")
     models = load_model_file(args)
     names = [args.actuator] if args.actuator else list(models.actuators)
     motor = Motor(args.motor_const, args.resistance, args.gear)
-    exports = [to_dcmotor(models[name], motor) for name in names]
+    for name in names:  # what cannot be exported is refused before any log is read
+        to_dcmotor(models[name], motor)
     logs = read_logs(args.logs, args) if args.logs else []
-    records = []
-    for k, export in enumerate(exports):
-        saved = models[export.actuator]
-        series = [in_model_units(saved, s, args.model_file) for s in runs_of(logs, export.actuator)]
-        refit, refit_error = None, None
-        if series and export.dropped:
-            try:
-                refit = refitted(saved, export, series)
-            except ThermolimbError as exc:  # said beside the export; with --refit, the export's own error
-                if args.refit:
-                    raise
-                refit_error = str(exc)
-        if refit is not None and args.refit:
-            export = exports[k] = refit
-        record = {"actuator": export.actuator, "thermal": dict(zip(
-            ("resistance_K_per_W", "capacitance_J_per_K", "timeconst_s", "tempcoef_per_K", "reftemp_C", "ambient_C"),
-            (export.resistance_K_per_W, export.capacitance_J_per_K, export.timeconst_s, export.tempcoef_per_K,
-             export.reftemp_C, export.ambient_C))), "dropped": list(export.dropped), "notes": list(export.notes)}
-        if series:
-            record["cost"] = cost_of_dropping(saved, export, series)
-            if refit is not None:
-                cost = record["cost"] if export is refit else cost_of_dropping(saved, refit, series)
-                record["refit"] = {"exported": export is refit, "params": dict(refit.exported.params),
-                                   "rmse_K": cost["exported_rmse_K"]}
-            elif refit_error:
-                record["refit"] = {"exported": False, "error": refit_error}
-            record["check"] = _check(run_in_mujoco, export, series[0])
-        _say(export, record, bool(logs))
+    exports, records = [], []
+    for name in names:
+        saved = models[name]
+        series = [in_model_units(saved, s, args.model_file) for s in runs_of(logs, name)]
+        export, record = exported(saved, motor, series, args.refit)
+        _say(export, record)
+        exports.append(export)
         records.append(record)
     snippet = mjcf_snippet(exports)
     if args.out:
@@ -106,20 +83,7 @@ def run(args) -> int:
     return 0
 
 
-def _check(run_in_mujoco, export, series) -> dict | None:
-    """MuJoCo's integration of the exported actuator against the suite's free run of the same model, on a run."""
-    try:
-        mujoco_C = run_in_mujoco(export, series.signals, float(series.temperature_C[0]))
-    except ImportError:
-        return None
-    ours = export.exported.simulate(series.signals, float(series.temperature_C[0]))
-    rise = float(ours.max() - ours.min())
-    worst = float(abs(mujoco_C - ours).max())
-    return {"max_difference_K": worst, "rise_K": rise, "share_of_rise": worst / rise if rise > 0 else None,
-            "samples": int(series.n)}
-
-
-def _say(export, record, have_log: bool) -> None:
+def _say(export, record) -> None:
     cost, refit = record.get("cost"), record.get("refit")
     if export.dropped:  # one sentence: the cost is of dropping them all
         dropped = (f"{export.actuator}: {' and '.join(export.dropped)} dropped (MuJoCo's dcmotor has one thermal "
@@ -144,6 +108,6 @@ def _say(export, record, have_log: bool) -> None:
         say(f"{export.actuator}: in MuJoCo, the exported actuator driven by the log's effort stays within "
             f"{check['max_difference_K']:.4f} K of this suite's free run of the same model"
             + (f" ({100 * share:.3f} % of its {check['rise_K']:.2f} K rise)" if share is not None else ""))
-    elif have_log and "check" in record:
+    elif "check" in record:
         say(f"{export.actuator}: not checked in MuJoCo: the mujoco package is not installed "
             f"(pip install 'thermolimb[mujoco]')")
