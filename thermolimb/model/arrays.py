@@ -34,14 +34,21 @@ class HeldInputs:
     current_A = None
     air_shift_K = 0.0
 
+    __slots__ = ("effort", "speed")
+
     def __init__(self, effort: np.ndarray, speed: np.ndarray | None):
-        self.effort = effort
-        self.velocity = np.zeros_like(effort) if speed is None else speed
+        self.effort, self.speed = effort, speed
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return np.zeros_like(self.effort) if self.speed is None else self.speed
 
     def channel(self, name: str) -> np.ndarray:
-        if name not in ARRAY_CHANNELS:
-            raise KeyError(f"a step of many actuators is given effort and velocity, not {name}")
-        return getattr(self, name)
+        if name == "effort":
+            return self.effort
+        if name == "velocity":
+            return self.velocity
+        raise KeyError(f"a step of many actuators is given effort and velocity, not {name}")
 
     def has(self, name: str) -> bool:
         return name in ARRAY_CHANNELS
@@ -231,7 +238,7 @@ class ModelArrays:
         for term in self.heats:
             r, g = term.combine(self.p, term.forms(inputs))
             rise, gain = rise + r, gain + g
-        if not np.any(gain):
+        if not (gain.any() if isinstance(gain, np.ndarray) else gain):
             return self.offset + rise, 1.0 / self.rc
         restoring = np.maximum(1.0 - gain, 1e-6)
         return (self.offset + rise) / restoring, restoring / self.rc
