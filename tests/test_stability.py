@@ -194,6 +194,11 @@ def test_large_standard_errors_name_the_missing_effect_not_the_excitation(tmp_pa
     loose = [f for f in flags if "standard error is" in f]
     assert loose and all("the model misses something, not for lack of excitation" in f and "run diagnose" in f
                          for f in loose)
+    # the text says the shared reason once, the parameters it holds for named in one line
+    assert main(["fit", str(path), "--actuator", "knee", "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert text.count("the model misses something") == 1
+    assert all(f.split(" = ")[0] in text.split("the model misses something")[0].splitlines()[-1] for f in loose)
 
 
 def test_a_replicate_s_flags_start_as_said_and_leave_their_causes_unread(speed_log, monkeypatch):
