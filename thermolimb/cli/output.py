@@ -39,8 +39,8 @@ UNCERTAIN = re.compile(r"^(\S+) = [^:]*: its standard error is (\d+) % of it, (.
 
 
 def said_once(flags) -> list[str]:
-    """The flags as a reader takes them: parameters whose standard errors are large for the same reason said in
-    one line (``RC_s, betaR_K_per_effort2: standard errors 158 % and 107 % of their values, large because the
+    """The flags as a reader takes them: parameters whose standard errors are large for the same reason said
+    in one line (``RC_s, betaR_K_per_effort2: standard errors 158 and 107 % of their values, large because the
     model misses something ...``); the JSON keeps each flag whole."""
     groups: dict[str, list] = {}
     for flag in flags:
@@ -55,8 +55,8 @@ def said_once(flags) -> list[str]:
         elif m[3] not in done:
             done.add(m[3])
             names, shares = zip(*groups[m[3]])
-            out.append(f"{', '.join(names)}: standard errors {', '.join(shares[:-1])} and {shares[-1]} % of their "
-                       f"values, {m[3]}")
+            out.append(f"{', '.join(names)}: standard errors {', '.join(shares[:-1])} and {shares[-1]} % of "
+                       f"their values, {m[3]}")
     return out
 
 
