@@ -342,7 +342,8 @@ class ModelHeat:
 
     def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.fast:  # one node: each actuator's exact step over dt at the torque held, all at once
-            steady, rate = self.arrays.forcing(torque, None if velocity is None else np.abs(velocity))
+            speed = np.abs(velocity) if velocity is not None and self.arrays.reads_speed else None
+            steady, rate = self.arrays.forcing(torque, speed)
             self.T = steady + (self.T - steady) * np.exp(-rate * dt)
             return self.T.copy(), reach_s(self.T, steady, rate, limit_C)
         steady, rate = np.empty_like(self.T), np.empty_like(self.T)

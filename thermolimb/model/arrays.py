@@ -130,6 +130,7 @@ class ModelArrays:
         self.stages = [t for t in self.terms if t.carries_state]
         self.stage_names = [t.name for t in self.stages]  # the slow masses' nodes a state carries
         self.lags = [t for t in self.terms if t.lags_output]
+        self.reads_speed = any("velocity" in t.columns for t in self.heats)  # whether a step needs |velocity|
 
     def __getattr__(self, name: str) -> np.ndarray:  # a parameter's array by its name: arrays.RC_s
         p = self.__dict__.get("p")
