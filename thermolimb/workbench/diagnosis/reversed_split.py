@@ -11,14 +11,9 @@ model's error there is more than :data:`REFUTED_SHARE` above the start's, and ab
 sensor's floor, the walk steps back to the last model that is not; the first change it gives up is held back,
 ``refuted``, with both errors in its sentence.
 
-The walk's end, not each step: a step is judged while other physics is still missing, and a model that lacks
-it misses the two parts of a run by different amounts whatever the change. On an hour of a winding on a heavy
-housing with speed losses, copper's coefficient and a lagging sensor hidden (``tests/test_forecast.py``'s
-log), the first step's ``+ speed_losses`` (a true effect), refitted on the tail without the housing, misses
-the head by 9.39 K where the start model misses by 3.47 K; the walk's end model, the housing included, does
-not. Half again, not the 10 % a change must earn, for the same reason: a true ``+ speed_losses`` on a two-mass
-plant misses the head by 14 % more than the model without it (``tests/test_diagnosis.py``'s housing friction),
-a heat that only the tail holds 72-109 % more (``tests/test_reversed_split.py``).
+The walk's end, not each step, and half again, not the 10 % a change must earn: a step is judged while
+other physics is still missing, and a model that lacks it misses the two parts of a run by different amounts
+whatever the change (measured in docs/workbench.md, "The run's other part").
 """
 
 from __future__ import annotations
