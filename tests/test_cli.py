@@ -12,7 +12,7 @@ import pytest
 from thermolimb.cli.main import main
 
 FIT_KEYS = {"actuator", "model", "method", "channel_units", "params", "train", "validation", "flags",
-            "validation_scheme", "evidence", "set_aside"}
+            "flags_said", "validation_scheme", "evidence", "set_aside"}
 METRIC_KEYS = {"rmse_K", "max_abs_K", "fit_percent"}
 
 

@@ -4,13 +4,13 @@ interactive page, and the files a run wrote."""
 from __future__ import annotations
 
 import json
-import re
 import sys
 from pathlib import Path
 
 from ..model.parameter_units import spaced
 from ..util.errors import bounded
 from ..util.jsonutil import to_jsonable
+from ..workbench.flags import said_once
 
 
 def print_json(obj, file=None) -> None:
@@ -30,34 +30,11 @@ def format_params(report, indent: str = "  ", evidence: bool = True) -> list[str
     lines = [f"{indent}{report.evidence.sentence()}"] if evidence else []
     lines += [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g}{spaced(report.unit(p))}"
              for p in report.model.parameters]
-    lines += [f"{indent}! {flag}" for flag in said_once(report.flags)]
+    lines += [f"{indent}! {flag}" for flag in said_once(report.flags)]  # as the JSON's flags_said
     lines += [f"{indent}{set_aside_sentence(a)}" for a in report.set_aside]
     return lines
 
 
-UNCERTAIN = re.compile(r"^(\S+) = [^:]*: its standard error is (\d+) % of it, (.+)$")
-
-
-def said_once(flags) -> list[str]:
-    """The flags as a reader takes them: parameters whose standard errors are large for the same reason said
-    in one line (``RC_s, betaR_K_per_effort2: standard errors 158 and 107 % of their values, large because the
-    model misses something ...``); the JSON keeps each flag whole."""
-    groups: dict[str, list] = {}
-    for flag in flags:
-        m = UNCERTAIN.match(flag)
-        if m:
-            groups.setdefault(m[3], []).append((m[1], m[2]))
-    out, done = [], set()
-    for flag in flags:
-        m = UNCERTAIN.match(flag)
-        if not m or len(groups[m[3]]) == 1:
-            out.append(flag)
-        elif m[3] not in done:
-            done.add(m[3])
-            names, shares = zip(*groups[m[3]])
-            out.append(f"{', '.join(names)}: standard errors {', '.join(shares[:-1])} and {shares[-1]} % of "
-                       f"their values, {m[3]}")
-    return out
 
 
 def set_aside_sentence(entry) -> str:

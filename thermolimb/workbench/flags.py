@@ -10,6 +10,7 @@ JSON and on their plots.
 from __future__ import annotations
 
 import contextlib
+import re
 import weakref
 from typing import Mapping, Sequence
 
@@ -218,3 +219,28 @@ def _offset_flag(offset_C: float, series: Sequence[ActuatorSeries]) -> str | Non
         return (f"T_offset_C = {offset_C:.1f} degC is {abs(offset_C - reference):.0f} K from {what} "
                 f"({reference:.1f} degC): other terms stand in for the heat balance, or heat flows the model lacks")
     return None
+
+
+UNCERTAIN = re.compile(r"^(\S+) = [^:]*: its standard error is (\d+) % of it, (.+)$")
+
+
+def said_once(flags) -> list[str]:
+    """The flags as a reader takes them: parameters whose standard errors are large for the same reason said
+    in one line (``RC_s, betaR_K_per_effort2: standard errors 158 and 107 % of their values, large because the
+    model misses something ...``); the JSON keeps each flag whole."""
+    groups: dict[str, list] = {}
+    for flag in flags:
+        m = UNCERTAIN.match(flag)
+        if m:
+            groups.setdefault(m[3], []).append((m[1], m[2]))
+    out, done = [], set()
+    for flag in flags:
+        m = UNCERTAIN.match(flag)
+        if not m or len(groups[m[3]]) == 1:
+            out.append(flag)
+        elif m[3] not in done:
+            done.add(m[3])
+            names, shares = zip(*groups[m[3]])
+            out.append(f"{', '.join(names)}: standard errors {', '.join(shares[:-1])} and {shares[-1]} % of "
+                       f"their values, {m[3]}")
+    return out

@@ -32,7 +32,7 @@ from ..model.signals import Signals
 from ..model.terms import parse_model
 from .carry import carry_flags
 from .evidence import Evidence
-from .flags import parameter_flags
+from .flags import parameter_flags, said_once
 from .submodel import identifiable_submodel
 
 AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = ("auto", "interleaved", "split", "blocks", "runs", "parts",
@@ -220,6 +220,7 @@ class FitReport:
             "validation": self.validation,
             "evidence": self.evidence.to_json(),
             "flags": list(self.flags),
+            "flags_said": said_once(self.flags),  # as the text says them
             "set_aside": [dict(s) for s in self.set_aside],
             "validation_scheme": self.scheme,
         }

@@ -31,6 +31,7 @@ from ...model.signals import EXTRA
 from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
 from ...util.frozen import FrozenMapping
 from ...util.parallel import one_blas_thread
+from ..flags import said_once
 from ..floor import SensorFloor, sensor_floor
 from ..validation import FitReport, Scheme
 from .base_fit import heat_source_contest, identifiable_base
@@ -126,6 +127,7 @@ class Diagnosis:
             "evidence": self.base.evidence.to_json(),
             "set_aside": [dict(a) for a in self.base.set_aside],
             "flags": list(self.base.flags),
+            "flags_said": said_once(self.base.flags),  # as the text says them
             "candidates": [c.to_json() for c in self.candidates],
             "recommended": None if self.recommended is None else self.recommended.effect,
             "recommended_change": None if self.recommended is None else self.recommended.label,
@@ -360,6 +362,7 @@ def _walk(series, model, search):
 def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dict:
     out = {"model": list(d.model), "rmse_K": d.base.validation["rmse_K"],
            "fit_percent": d.base.validation["fit_percent"], "flags": list(d.base.flags),
+           "flags_said": said_once(d.base.flags),
            "floor_K": None if d.floor is None else d.floor.floor_K}
     if move is not None:
         b = before.base.validation["rmse_K"]
