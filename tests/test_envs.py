@@ -164,6 +164,7 @@ def test_a_ray_address_where_nothing_answers_is_refused_quickly():
     assert time.perf_counter() - start < 15.0
 
 
+@pytest.mark.slow  # 20 s on two cores
 def test_the_rig_log_of_a_long_episode_stays_bounded():
     with closing(gym.make(HEXAPOD_ID, max_time_s=1e6, decision_s=5.0).unwrapped) as env:
         env.reset(seed=0)

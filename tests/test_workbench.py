@@ -33,8 +33,9 @@ def plant_log(profile, duration_s, dt_s, network="x8", seed=0, effects=(), **kw)
 
 
 # ------------------------------------------------------------------ never fail on a readable log
-SHORT = [("stairs", 30, 1.0), ("pulses", 30, 100.0), ("stairs", 200, 100.0), ("pulses", 600, 1.0),
-         ("random", 60, 10.0)]
+# the two longest (20 s each on two cores) are slow, so that the default run stays well under ten minutes
+SHORT = [("stairs", 30, 1.0), ("pulses", 30, 100.0), pytest.param("stairs", 200, 100.0, marks=pytest.mark.slow),
+         pytest.param("pulses", 600, 1.0, marks=pytest.mark.slow), ("random", 60, 10.0)]
 COMMANDS = [["fit"], ["compare", "--model", "joule", "--model", "joule,second_node"], ["diagnose"],
             ["diagnose", "--auto"], ["diagnose", "--cv", "3"]]
 
