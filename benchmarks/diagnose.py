@@ -76,10 +76,9 @@ def main(argv=None) -> dict:
     train = list(base.train_series)
     candidates = [c for c in candidate_models(base.model.terms, series[0]) if c.kind == "add"]
     start = time.perf_counter()
-    for cand in candidates:
-        stride = base.estimator.stride_
-        score_candidate(cand, base.model, train, base.estimator.jacobian_,
-                        thinned(base.train_residual_K, train, stride), stride)
+    stride = base.estimator.stride_
+    candidates = [score_candidate(cand, base.model, train, base.estimator.jacobian_,
+                                  thinned(base.train_residual_K, train, stride), stride) for cand in candidates]
     t_scores = time.perf_counter() - start
     start = time.perf_counter()
     for cand in candidates:

@@ -54,9 +54,8 @@ def main(argv=None) -> dict:
                 start = {k: v * float(np.exp(rng.uniform(np.log(1 / 3), np.log(3)))) for k, v in fitted.items()}
                 again = Candidate(cand.effect, cand.model, kind=cand.kind, replaces=cand.replaces,
                                   also_drops=cand.also_drops, channel=cand.channel, channel_unit=cand.channel_unit,
-                                  formula=cand.formula)
-                again.starts = list(cand.starts)
-                refit_candidate(again, runs, Scheme(), d.base, d.base_bic, start)
+                                  formula=cand.formula, starts=cand.starts)
+                again = refit_candidate(again, runs, Scheme(), d.base, d.base_bic, start)
                 if again.rmse_K is not None:
                     ends.append(again.rmse_K)
             spread = (max(ends) - min(ends)) / min(ends)

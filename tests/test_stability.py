@@ -57,7 +57,7 @@ def test_a_refit_ends_where_it_ends_whatever_start_the_screen_ranks_first(step_t
         def evaluate(model, initial, fixed):
             return _evaluate(step_test, model, initial, fixed)
 
-        refit(trial, base, d.base_bic, evaluate)
+        trial = refit(trial, base, d.base_bic, evaluate)
         ends.append(trial.rmse_K)
     assert max(ends) <= 1.01 * min(ends), ends
 
@@ -92,12 +92,12 @@ def test_perturbations_and_frequencies_are_the_same_for_a_seed_and_on_any_backen
     assert all(abs(p.phase) <= 0.5 for p in blocks) and min(p.phase for p in blocks) < -0.3 < 0.3 < max(
         p.phase for p in blocks)  # the held-out blocks moved by up to half a block
     d = diagnose(runs)
-    serial, n = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
-                                       Search(stability=Stability(replicates=4, workers=1)))
-    pooled = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
-                                   Search(stability=Stability(replicates=4, workers=2)))
-    assert (serial, n) == pooled and serial["+ speed_losses"] == 1.0 and n == 4  # unanimous: no second batch
-    far = next(c for c in d.candidates if c.label == "- effort_bias")
+    serial, n, shared = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+                                              Search(stability=Stability(replicates=4, workers=1)))
+    pooled, m, _ = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+                                         Search(stability=Stability(replicates=4, workers=2)))
+    assert (serial, n) == (pooled, m) and serial["+ speed_losses"] == 1.0 and n == 4  # unanimous: no second batch
+    far = next(c for c in shared if c.label == "- effort_bias")
     assert far.eligible and far.rmse_K > 2.0 * d.recommended.rmse_K  # eligible, and far behind the best: it could
     assert "- effort_bias" not in serial and far.selection_frequency is None  # not outrank it (stability.BEHIND)
 
@@ -279,7 +279,8 @@ def test_a_replicate_s_warm_refit_moved_past_the_plausible_share_returns_where_t
     scheme = judging_scheme(Scheme(), [series])
     for settled in (False, True):
         trial = replace(cand, rmse_K=None, report=None, plausible=None, settled_plausible=settled)
-        refit(trial, d.base, d.base_bic, lambda m, i, f: evaluate_as_diagnose([series], m, scheme, i, f), warm)
+        trial = refit(trial, d.base, d.base_bic,
+                      lambda m, i, f: evaluate_as_diagnose([series], m, scheme, i, f), warm)
         assert trial.plausible and trial.rmse_K == pytest.approx(cand.rmse_K, rel=1e-3), settled
 
 
@@ -336,7 +337,7 @@ def test_a_replicate_s_fits_compare_fewer_samples_and_validate_at_the_full_rate(
     assert abs(thin.validation["rmse_K"] - full.validation["rmse_K"]) < 0.001  # 0.05925 and 0.05924 K
     monkeypatch.setattr(stability, "REPLICATE_SAMPLES", 1000)
     d = diagnose(runs)
-    frequencies, _ = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
+    frequencies, *_ = selection_frequencies(d.candidates, d.recommended, d.model, d.base, runs,
                                        Search(stability=Stability(replicates=4, workers=1)))
     assert frequencies["+ speed_losses"] == 1.0
 

@@ -78,7 +78,7 @@ def test_a_pair_is_kept_only_if_it_beats_its_better_member_by_the_gate(calibrati
         monkeypatch.setattr(together, "MIN_IMPROVEMENT", gate)
         refitted = []
         real = together.refit_candidate
-        monkeypatch.setattr(together, "refit_candidate", lambda cand, *a: (refitted.append(cand), real(cand, *a)))
+        monkeypatch.setattr(together, "refit_candidate", lambda cand, *a: refitted.append(real(cand, *a)) or refitted[-1])
         kept[gate] = together.pairs(d.candidates, d.model, [calibration], scheme, d.base, d.base_bic, frozenset())
         monkeypatch.setattr(together, "refit_candidate", real)
         assert [p.label for p in refitted] == ["+ speed_losses with second_node"] and refitted[0].eligible
@@ -140,6 +140,6 @@ def test_a_pair_is_judged_only_where_each_member_s_channel_moves(holds_log):
     d = diagnose([replace(s, signals=replace(s.signals, velocity=velocity))])
     alone = _by_label(d)["+ speed_losses"]
     pair = Candidate("second_node", d.model + ("speed_losses", "second_node"), brings=("speed_losses",))
-    unexcited(pair, d.base)
+    pair = unexcited(pair, d.base)
     assert pair.label == "+ speed_losses with second_node" and "velocity is away from rest in 2 of" in alone.unexcited
     assert pair.unexcited == alone.unexcited and pair.evidence == f"not judged: {alone.unexcited}."

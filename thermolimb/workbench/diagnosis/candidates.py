@@ -22,7 +22,8 @@ plausibility, identifiability and, when the refit fails, why.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Mapping
 
 import numpy as np
 
@@ -36,6 +37,7 @@ from ...logs import ActuatorSeries
 from ...model.guard import instance
 from ...model.model import ThermalModel, model_parameters
 from ...model.terms import TERMS
+from ...util.frozen import FrozenMapping
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
@@ -50,12 +52,18 @@ SCAN_SPAN = 2.0  # the longest time scanned, in log lengths: a mass slower than 
 REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time scales
 
 
-@dataclass
+@dataclass(frozen=True)
 class Candidate:
     """One change to the model tried on this log: ``kind`` ``"add"`` (the catalog's ``effect`` joins the model, with
     the terms it ``brings``), ``"channel"`` (a form of the extra channel ``channel``, with the masses it ``brings``),
     ``"discovered"`` (a form found by :mod:`.discovery`), ``"drop"`` (``effect`` leaves) or ``"swap"`` (``effect``
-    replaces ``replaces``)."""
+    replaces ``replaces``).
+
+    Immutable: each stage returns a new record with its findings filled in -- the screen
+    (:func:`score_candidate`: ``score``, ``p_value``, ``starts``, ``confounded``; :func:`.screen.unexcited`),
+    the refit and judgement (:func:`.judgement.judge`: ``report``, ``rmse_K``, ``improvement`` ...), the
+    stability check (:func:`.stability.check`: ``selection_frequency``, ``stability_sentence``,
+    ``unstable_because``) and the walk's end (:func:`.reversed_split.walk_cut`: ``refuted_because``)."""
 
     effect: str
     model: tuple[str, ...]
@@ -69,17 +77,17 @@ class Candidate:
     fit_percent: float | None = None
     improvement: float | None = None
     delta_bic: float | None = None
-    params: dict = field(default_factory=dict)
+    params: Mapping = field(default_factory=FrozenMapping)
     identifiable: bool | None = None
     plausible: bool | None = None
     implausible_because: str | None = None
     confounded: str | None = None
     failure: str | None = None
-    flags: list[str] = field(default_factory=list)
+    flags: tuple[str, ...] = ()
     evidence: str = ""
     report: object = field(default=None, repr=False)
-    starts: list[dict] = field(default_factory=list, repr=False)  # where refits start
-    scan: list[tuple[dict, dict]] = field(default_factory=list, repr=False)  # (nuisance values, start there)
+    starts: tuple[dict, ...] = field(default=(), repr=False)  # where refits start
+    scan: tuple[tuple[dict, dict], ...] = field(default=(), repr=False)  # (nuisance values, start there)
     channel: str | None = None  # the extra channel a "channel" candidate reads
     brings: tuple[str, ...] = ()  # terms it needs that the model lacks, added with it (a mass its channel acts on)
     channel_unit: str | None = None
@@ -88,7 +96,8 @@ class Candidate:
     skipped: str | None = None  # why a candidate worth a refit was not refitted
     broken: str | None = None  # a user's term that broke its contract while being tried: set aside, and why
     selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
-    selected_as: dict = field(default_factory=dict)  # how the replicates that took its effect took it, by label
+    # how the replicates that took its effect took it, by label
+    selected_as: Mapping = field(default_factory=FrozenMapping)
     settled_plausible: bool | None = None  # a replicate's: whether the whole log's refit of this change was plausible
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
@@ -197,9 +206,10 @@ class Candidate:
         out = {
             "effect": self.effect, "kind": self.kind, "label": self.label, "rmse_K": self.rmse_K,
             "fit_percent": self.fit_percent, "improvement": self.improvement, "delta_bic": self.delta_bic,
-            "params": self.params, "identifiable": self.identifiable, "plausible": self.plausible,
+            "params": dict(self.params), "identifiable": self.identifiable, "plausible": self.plausible,
             "implausible_because": self.implausible_because, "confounded": self.confounded,
-            "failure": self.failure, "flags": self.flags, "status": self.status, "eligible": self.eligible,
+            "failure": self.failure, "flags": list(self.flags), "status": self.status,
+            "eligible": self.eligible,
             "evidence": self.evidence, "score": self.score, "p_value": self.p_value,
             "selection_frequency": self.selection_frequency,
             "not_judged": self.unexcited, "helps_on_units": None if self.units is None else list(self.units),
@@ -306,8 +316,9 @@ def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None
 
 
 def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarray,
-                    residual: np.ndarray, stride: int = 1, base_run: np.ndarray | None = None) -> None:
-    """Fill ``score``, ``p_value``, ``partial_r2``, ``starts`` and ``confounded`` of an added effect.
+                    residual: np.ndarray, stride: int = 1, base_run: np.ndarray | None = None) -> Candidate:
+    """The screen's record of a change: ``cand`` with its ``score``, ``p_value``, ``partial_r2``, ``starts``,
+    ``scan`` and ``confounded`` filled in.
 
     Parameters that only mean something once the effect is present
     (``nuisance``, e.g. a second mass's time constant) are scanned and the
@@ -321,11 +332,9 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     if cand.kind in ("drop", "swap"):
         # from what the base fit left, and afresh (the base may sit where the old terms did the work)
         keep = {p.name for p in model_parameters(cand.model)}
-        cand.starts = [{k: v for k, v in base.params.items() if k in keep}, {}]
-        cand.p_value = 0.0
-        if cand.kind == "swap":
-            cand.confounded = confounded_swap(cand, train)
-        return
+        starts = ({k: v for k, v in base.params.items() if k in keep}, {})
+        confounded = confounded_swap(cand, train) if cand.kind == "swap" else cand.confounded
+        return replace(cand, starts=starts, p_value=0.0, confounded=confounded)
     term = cand.searched
     scored = []
     own_share = float("nan")
@@ -336,24 +345,27 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
         own_share = np.fmax(own_share, share)
         scored.append((score, p_value, r2, {**dict(base.params), **step, **fixed}, partner))
     nuisance = [p.name for p in term.parameters if p.nuisance]
-    cand.scan = [({n: start[n] for n in nuisance}, start) for *_, start, _ in scored]
+    scan = [({n: start[n] for n in nuisance}, start) for *_, start, _ in scored]
     scored.sort(key=lambda x: (x[4] is None, -x[0]))
-    cand.score, cand.p_value, cand.partial_r2 = scored[0][0], scored[0][1], scored[0][2]
-    cand.starts = [s[3] for s in scored[:REFIT_STARTS]]
-    cand.starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
+    starts = [s[3] for s in scored[:REFIT_STARTS]]
+    starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
     own = {p.name: p.typical for p in TERMS[cand.effect].parameters} if cand.brings else {}  # at its null: no effect
-    cand.starts, cand.scan = [{**s, **own} for s in cand.starts], [(f, {**s, **own}) for f, s in cand.scan]
+    starts, scan = [{**s, **own} for s in starts], [(f, {**s, **own}) for f, s in scan]
     # times that are not nuisance (a sensor lag) start from the log's time scales too
     times = [p for p in term.parameters if p.unit == "s" and not p.nuisance]
     for scale in time_scales_s(train)[1:4:2] if times else ():
-        cand.starts.append({**dict(base.params), **{p.name: float(np.clip(scale, p.lower, p.upper)) for p in times}})
+        starts.append({**dict(base.params),
+                       **{p.name: float(np.clip(scale, p.lower, p.upper)) for p in times}})
+    confounded = cand.confounded
     if not np.isfinite(own_share) or scored[0][4] is None:
-        cand.confounded = (f"{cand.effect} makes no difference on this log: it needs "
-                           f"{term.parameters[0].excitation}")
+        confounded = (f"{cand.effect} makes no difference on this log: it needs "
+                      f"{term.parameters[0].excitation}")
     elif own_share < CONFOUNDED_FRACTION:
-        cand.confounded = (f"on this log {cand.effect} changes the simulation only as {scored[0][4]} already does "
-                           f"({100 * own_share:.2g} % of its signature is its own): a log with "
-                           f"{term.parameters[0].excitation} would tell them apart")
+        confounded = (f"on this log {cand.effect} changes the simulation only as {scored[0][4]} already does "
+                      f"({100 * own_share:.2g} % of its signature is its own): a log with "
+                      f"{term.parameters[0].excitation} would tell them apart")
+    return replace(cand, score=scored[0][0], p_value=scored[0][1], partial_r2=scored[0][2],
+                   starts=tuple(starts), scan=tuple(scan), confounded=confounded)
 
 
 def _score_at(cand, term, base, train, jacobian, residual, fixed, stride, at_null):

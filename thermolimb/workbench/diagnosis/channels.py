@@ -26,7 +26,9 @@ from ...logs import ActuatorSeries
 from ...logs.units import CELSIUS
 from ...model.generated import Feature, Spec, define, identifier, slow_masses
 from ...model.parameter_units import NOT_GIVEN
+from ...model.signals import EXTRA
 from ...model.terms import TERMS
+from .candidates import Candidate
 
 TEMPERATURE_UNITS = CELSIUS + ("K",)
 TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")
@@ -111,3 +113,35 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
         define(Spec(name, description, needs + (column,), tuple(features), conductance, *mass))
         names.append(name)
     return names
+
+
+def channel_candidates(model: tuple[str, ...], train: list[ActuatorSeries],
+                       every: list[ActuatorSeries]) -> list[Candidate]:
+    """The changes a log's extra channels offer ``model``: the forms of every extra channel it does not read
+    (present on ``every`` run, varying on the ``train`` ones), and for each form the model has taken, the same
+    channel's other forms in its place (the score test that chose it among them is local: on the held-out data
+    another may carry over better)."""
+    out = []
+    for channel in unused_channels(model, train):
+        if not all(channel in s.signals.extra for s in every):
+            continue
+        unit = train[0].units.get(f"extra.{channel}") or NOT_GIVEN
+        for name in channel_terms(channel, train):
+            # a slow mass's conductance without the mass: the mass comes with it, when all it needs is in the
+            # model
+            brings = tuple(r for r in TERMS[name].requires if r not in model)
+            if not all(q in model for b in brings for q in TERMS[b].requires):
+                continue
+            out.append(Candidate(name, model + brings + (name,), kind="channel", channel=channel,
+                                 channel_unit=unit, source=TERMS[name].source, brings=brings))
+    for taken in model:
+        channel = next((c.removeprefix(EXTRA) for c in TERMS[taken].columns if c.startswith(EXTRA)), None)
+        if (not TERMS[taken].generated or channel is None
+                or not all(channel in s.signals.extra for s in every)):
+            continue
+        forms = channel_terms(channel, train)
+        for name in forms if taken in forms else ():  # a channel's form, not a discovered form that reads it
+            if name not in model and all(r in model for r in TERMS[name].requires):
+                out.append(Candidate(name, tuple(name if t == taken else t for t in model), kind="swap",
+                                     replaces=taken, channel=channel, source=TERMS[name].source))
+    return out

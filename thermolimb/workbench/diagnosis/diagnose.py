@@ -26,29 +26,23 @@ from dataclasses import dataclass, field, replace
 from typing import Mapping, Sequence
 
 from ...logs import ActuatorSeries
-from ...model.parameter_units import NOT_GIVEN
-from ...model.signals import EXTRA
-from ...model.terms import DEFAULT_MODEL, TERMS, parse_model
+from ...model.terms import DEFAULT_MODEL, parse_model
 from ...util.frozen import FrozenMapping
 from ...util.parallel import one_blas_thread
 from ..flags import said_once
 from ..floor import SensorFloor, sensor_floor
 from ..validation import FitReport, Scheme
 from .base_fit import heat_source_contest, identifiable_base
-from .bringing import brought_start, not_brought
-from .candidates import SCORE_P_VALUE, Candidate, candidate_models, score_candidate
-from .channels import channel_terms, unused_channels
-from .discovery import Proposal, propose
-from .explain import describe, describe_discovered
-from .refit import guarded, refit_all, refit_candidate
+from .candidates import Candidate
+from .discovery import Proposal, proposed
+from .explain import describe
+from .refit import refits
 from .residuals import ResidualAnalysis, analyse_residuals
 from .reversed_split import walk_cut
-from .screen import Base, best_eligible, rank, screened
+from .screen import Base, best_eligible, changes, rank, screened
 from .split_or_blocks import judging_scheme
 from .stability import Stability, check
 from .together import take_together
-
-ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 
 
 @dataclass(frozen=True)
@@ -171,20 +165,22 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
     analysis = analyse_residuals(*base.first_run())
     floor = sensor_floor(series, [seg.measured_C - seg.simulated_C for seg in base.report.train_segments])
     at_floor = floor.reached(base.rmse_K)
-    candidates = screened(_changes(model, base, series, search, step), base)
-    _refit(candidates, base, series, search, floor if at_floor else None)
-    for cand in candidates:
-        if not cand.evidence:
-            cand.evidence = describe(cand, analysis, base.rmse_K)
-    candidates.sort(key=rank)
+    candidates = screened(changes(model, base, series, search.discover, search.scheme.held_out, step.skip,
+                                  step.visited), base)
+    workers = (search.stability or Stability()).workers
+    candidates = refits(candidates, base, series, search.scheme, search.refit, workers, search.quiet,
+                        floor if at_floor else None)
+    candidates = sorted((c if c.evidence else replace(c, evidence=describe(c, analysis, base.rmse_K))
+                         for c in candidates), key=rank)
     proposal = None
     if search.discover and best_eligible(candidates) is None and analysis.structured and not at_floor:
-        proposal, candidates = _proposed(candidates, model, base, series, search, step)
+        proposal, candidates = proposed(candidates, model, base, series, search.scheme, step.visited)
     rankable = base.report.evidence.rankable  # a handful of held-out readings recommends nothing
     recommended = best_eligible(candidates) if rankable and not at_floor else None
     checked = None
     if recommended is not None and search.stability is not None:
         checked = check(candidates, recommended, model, base.report, series, search)
+        candidates = list(checked.candidates)
     if (recommended if checked is None else checked.recommended) is None and not at_floor and rankable:
         candidates, together = take_together(candidates, model, base, series, search, step.visited,
                                              None if checked is None else checked.record)
@@ -195,119 +191,6 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
                      proposal=proposal, floor=floor, heat_source=heat_source,
                      stability=None if checked is None else checked.record,
                      unstable=None if checked is None else checked.unstable)
-
-
-def _changes(model, base: Base, series, search: Search, step: Step) -> list[Candidate]:
-    """The changes worth trying: the catalog's additions, drops and swaps, with ``discover`` the log's extra
-    channels' forms; none confounded at an earlier step, none leading to a model already visited."""
-    candidates = candidate_models(model, series[0])
-    if search.discover:
-        candidates += _channel_candidates(model, list(base.train), series + list(search.scheme.held_out))
-    return [c for c in candidates if c.label not in step.skip and frozenset(c.model) not in step.visited]
-
-
-def _refit(candidates: list[Candidate], base: Base, series, search: Search,
-          floor: SensorFloor | None) -> None:
-    """The refits: the screened changes worth one (:func:`_worth_refitting`), then a change that brings terms
-    with it where a simpler one calls for it (:mod:`.bringing`); none where the model is at the sensor's
-    ``floor``."""
-    worth = _worth_refitting([c for c in candidates if c.broken is None], search.refit)
-    if floor is not None:  # nothing can be told apart: nothing is refitted
-        for cand in worth:
-            cand.skipped = f"the model is already at the sensor's floor ({floor.sentence(base.rmse_K)})"
-        return
-    bringing, worth = [c for c in worth if c.brings], [c for c in worth if not c.brings]
-    refit_all(worth, [None] * len(worth), series, search.scheme, base.report, base.bic,
-              (search.stability or Stability()).workers, search.quiet)
-    for cand in bringing:
-        cand.skipped = not_brought(cand, worth)
-        if cand.skipped is None:
-            guarded(cand, refit_candidate, cand, series, search.scheme, base.report, base.bic,
-                    brought_start(cand, worth))
-
-
-def _proposed(candidates, model, base: Base, series, search: Search, step: Step):
-    """Where no change helps and the residual has structure, a form the catalog lacks (:mod:`.discovery`),
-    scored, refitted and ranked among the ``candidates``; ``(proposal or None, candidates)``."""
-    proposal = propose(base.report.model, list(base.train), base.jacobian, base.residual, stride=base.stride)
-    if proposal is None or frozenset(model + (proposal.term,)) in step.visited:
-        return proposal, candidates
-    cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
-                     source=proposal.source)
-    score_candidate(cand, base.report.model, list(base.train), base.jacobian, base.residual, base.stride,
-                    base.free_run)
-    params = [p.name for p in TERMS[proposal.term].parameters]
-    cand.starts.insert(0, {**dict(base.report.model.params), **dict(zip(params, proposal.coefficients))})
-    if cand.confounded is None:
-        refit_candidate(cand, series, search.scheme, base.report, base.bic)
-    cand.evidence = describe_discovered(cand, proposal, base.rmse_K)
-    return proposal, sorted(candidates + [cand], key=rank)
-
-
-def _channel_candidates(model, train, every) -> list[Candidate]:
-    """The forms of every extra channel the model does not read (present on every run, varying on the training ones),
-    and for each form the model has taken, the same channel's other forms in its place (the score test that chose
-    it among them is local: on the held-out data another may carry over better)."""
-    out = []
-    for channel in unused_channels(model, train):
-        if not all(channel in s.signals.extra for s in every):
-            continue
-        unit = train[0].units.get(f"extra.{channel}") or NOT_GIVEN
-        for name in channel_terms(channel, train):
-            # a slow mass's conductance without the mass: the mass comes with it, when all it needs is in the model
-            brings = tuple(r for r in TERMS[name].requires if r not in model)
-            if not all(q in model for b in brings for q in TERMS[b].requires):
-                continue
-            out.append(Candidate(name, model + brings + (name,), kind="channel", channel=channel, channel_unit=unit,
-                                 source=TERMS[name].source, brings=brings))
-    for taken in model:
-        channel = next((c.removeprefix(EXTRA) for c in TERMS[taken].columns if c.startswith(EXTRA)), None)
-        if not TERMS[taken].generated or channel is None or not all(channel in s.signals.extra for s in every):
-            continue
-        forms = channel_terms(channel, train)
-        for name in forms if taken in forms else ():  # a channel's form, not a discovered form that reads it
-            if name not in model and all(r in model for r in TERMS[name].requires):
-                out.append(Candidate(name, tuple(name if t == taken else t for t in model), kind="swap",
-                                     replaces=taken, channel=channel, source=TERMS[name].source))
-    return out
-
-
-def _worth_refitting(candidates: list[Candidate], refit: str) -> list[Candidate]:
-    """Every drop and swap; additions whose score test is significant and the few that explain most of the
-    residual (catalog effects and channels counted apart); of a channel's forms, only the strongest on each place it
-    can act (the winding, each slow mass: the score test is local, and ranked a fan's form on a fast mass above the
-    slow mass's that is the physics; docs/workbench.md); the others say so."""
-    adds = [c for c in candidates if c.adds and c.confounded is None and c.unexcited is None]
-    strongest: dict[tuple, Candidate] = {}
-    for c in adds:
-        key = _place(c)
-        if c.kind == "channel" and (key not in strongest or c.score > strongest[key].score):
-            strongest[key] = c
-    top = {id(c) for group in ([c for c in adds if c.kind == "add" and not c.brings], list(strongest.values()))
-           for c in sorted(group, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
-    chosen = []
-    for c in candidates:
-        if c.confounded is not None or c.unexcited is not None:
-            continue
-        if refit == "all" or not c.adds:
-            chosen.append(c)
-        elif c.kind == "channel" and c is not strongest[_place(c)]:
-            c.skipped = f"{strongest[_place(c)].effect} explains more of the residual with the same channel {c.channel}"
-            c.evidence = f"score test p = {c.p_value:.2g}; not refitted: {c.skipped}."
-        elif c.p_value < SCORE_P_VALUE or id(c) in top or (c.kind == "add" and (c.brings or _moves_heat(c))):
-            chosen.append(c)  # two masses at once: bringing.py
-    return chosen
-
-
-def _moves_heat(c: Candidate) -> bool:
-    """An addition that moves a heat the model has on the winding into a slow mass (friction in the housing): refitted
-    whatever its local score, which the winding's own term for that heat nearly spans (p = 0.55 where the refit cut
-    the held-out error from 0.931 to 0.335 K on the forecast benchmark's calibration log: docs/workbench.md)."""
-    return TERMS[c.effect].heats_slow_mass
-
-
-def _place(c: Candidate) -> tuple:  # a channel form's channel, and the slow mass it acts on (None: the winding)
-    return c.channel, TERMS[c.effect].airflow_on
 
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,

@@ -40,7 +40,11 @@ from ...logs import ActuatorSeries
 from ...model.generated import Feature, Spec, define, identifier
 from ...model.model import ThermalModel
 from ...model.terms import TERMS, Parameter, Term, register_term, unregister_term
+from .candidates import Candidate, score_candidate
 from .channels import in_temperature_range, is_temperature, unused_channels
+from .explain import describe_discovered
+from .refit import refit_candidate
+from .screen import rank
 
 MAX_FEATURES = 2
 SPEED_POWERS = (1.5, 2.5, 3.0, 4.0)  # |v| and v^2 are the catalog's speed losses
@@ -260,3 +264,29 @@ def _proposal(picked: list[LibraryFeature], beta: list[float], r2: float, size: 
     words = "; ".join(f.words for f in features)
     define(Spec(name, f"discovered form: {words}", tuple(columns), tuple(features)))
     return Proposal(name, formula, words, beta, r2, size, TERMS[name].source)
+
+
+def proposed(candidates: list, model: tuple[str, ...], base, series, scheme,
+             visited: frozenset = frozenset()) -> tuple[Proposal | None, list]:
+    """The discovery stage, where no change helps and the residual has structure: a form the catalog lacks
+    (:func:`propose`) for ``model`` fitted as ``base`` (:class:`.screen.Base`), scored, refitted on ``series``
+    by ``scheme`` and ranked among the ``candidates``, unless it leads to a model in ``visited``.
+
+    Returns
+    -------
+    ``(proposal or None, candidates)``, the candidates ranked (:func:`.screen.rank`).
+    """
+    proposal = propose(base.report.model, list(base.train), base.jacobian, base.residual, stride=base.stride)
+    if proposal is None or frozenset(model + (proposal.term,)) in visited:
+        return proposal, candidates
+    cand = Candidate(proposal.term, model + (proposal.term,), kind="discovered", formula=proposal.formula,
+                     source=proposal.source)
+    cand = score_candidate(cand, base.report.model, list(base.train), base.jacobian, base.residual,
+                           base.stride, base.free_run)
+    params = [p.name for p in TERMS[proposal.term].parameters]
+    found = {**dict(base.report.model.params), **dict(zip(params, proposal.coefficients))}
+    cand = replace(cand, starts=(found, *cand.starts))
+    if cand.confounded is None:
+        cand = refit_candidate(cand, series, scheme, base.report, base.bic)
+    cand = replace(cand, evidence=describe_discovered(cand, proposal, base.rmse_K))
+    return proposal, sorted(candidates + [cand], key=rank)

@@ -4,12 +4,15 @@ refit failed."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ...effects.effort_bias import carries_the_heat
 from ...identification.metrics import chi2_isf, scaled_inverse
 from ...model.signals import CHANNELS, EXTRA
 from ...model.terms import TERMS, implausibility
+from ...util.frozen import FrozenMapping
 from ..flags import uncertainty_cause
 from .candidates import MIN_IMPROVEMENT, Candidate, bic
 
@@ -20,36 +23,37 @@ KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 %
 STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
 
 
-def judge(cand: Candidate, report, base, base_bic: float) -> None:
-    """Fill the refit results of a candidate from its :class:`~thermolimb.workbench.validation.FitReport`, judged
-    against the base model's ``base`` on the same held-out samples."""
+def judge(cand: Candidate, report, base, base_bic: float) -> Candidate:
+    """The judgement's record of a refitted change: ``cand`` with the results of its refit
+    (:class:`~thermolimb.workbench.validation.FitReport` ``report``), judged against the base model's ``base``
+    on the same held-out samples."""
     base_rmse = base.validation["rmse_K"]
-    cand.report = report
-    cand.rmse_K = report.validation["rmse_K"]
-    cand.fit_percent = report.validation["fit_percent"]
-    cand.improvement = 1.0 - cand.rmse_K / base_rmse if base_rmse > 0 else 0.0
-    if cand.kind != "drop":
-        cand.units, cand.robust_improvement, cand.fragile = held_out_support(base.validation_segments,
-                                                                             report.validation_segments)
-        cand.unit_word = report.units
-    cand.delta_bic = bic(report.train_residual_K, len(report.model.params)) - base_bic
-    cand.flags = list(report.flags)
+    rmse = report.validation["rmse_K"]
+    found = dict(report=report, rmse_K=rmse, fit_percent=report.validation["fit_percent"],
+                 improvement=1.0 - rmse / base_rmse if base_rmse > 0 else 0.0,
+                 delta_bic=bic(report.train_residual_K, len(report.model.params)) - base_bic,
+                 flags=tuple(report.flags))
     if cand.kind == "drop":
-        cand.identifiable = cand.plausible = True
-        return
-    terms, params, units = [TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params, report.channel_units
-    handed = (carries_the_heat(params, report.train_series, units)  # this change, not its base, gives the bias the heat
-              if not carries_the_heat(base.model.params, base.train_series, units) else None)
+        return replace(cand, **found, identifiable=True, plausible=True)
+    units, robust, fragile = held_out_support(base.validation_segments, report.validation_segments)
+    terms, params, channel_units = ([TERMS[t] for t in (*cand.brings, cand.effect)], report.model.params,
+                                    report.channel_units)
+    handed = (carries_the_heat(params, report.train_series, channel_units)  # this change, not its base, heats
+              if not carries_the_heat(base.model.params, base.train_series, channel_units) else None)
     # a change that reads another temperature (a neighbour's, the housing's, the air's) moves what the offset
     # means
     displaced = None if any(map(reads_temperature, terms)) else displaced_offset(report, base)
-    reasons = [*(implausibility(t(), params, units) for t in terms), handed, displaced]
-    cand.implausible_because = next(filter(None, reasons), None)
-    cand.params.update({p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]), "unit": report.unit(p)}
-                        for term in terms for p in term.parameters})
-    cand.identifiable = all(bool(term_identified(t, report)) for t in terms)  # NumPy bools are not ``False``
-    cand.plausible = cand.implausible_because is None
-    cand.failure = next(filter(None, (refit_failure(t, params) for t in terms)), None)
+    reasons = [*(implausibility(t(), params, channel_units) for t in terms), handed, displaced]
+    implausible = next(filter(None, reasons), None)
+    fitted = {p.name: {"value": params[p.name], "stderr": float(report.stderr[p.name]),
+                       "unit": report.unit(p)} for term in terms for p in term.parameters}
+    return replace(cand, **found, units=units, robust_improvement=robust, fragile=fragile,
+                   unit_word=report.units, implausible_because=implausible,
+                   params=FrozenMapping({**cand.params, **fitted}),
+                   # NumPy bools are not ``False``
+                   identifiable=all(bool(term_identified(t, report)) for t in terms),
+                   plausible=implausible is None,
+                   failure=next(filter(None, (refit_failure(t, params) for t in terms)), None))
 
 
 def displaced_offset(report, base) -> str | None:

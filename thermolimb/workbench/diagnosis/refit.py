@@ -47,10 +47,13 @@ from ...model.terms import TERMS, Parameter
 from ...util.errors import TermError
 from ...util.parallel import Runner, one_blas_thread, shared
 from ...util.progress import progress
+from ..floor import SensorFloor
 from ..validation import FitReport, validate_model
-from .candidates import SCAN_POINTS, Candidate, scan_values
+from .bringing import brought_start, not_brought
+from .candidates import SCAN_POINTS, SCORE_P_VALUE, Candidate, scan_values
 from .judgement import judge, refit_failure
 
+ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 PROFILE_POINTS = SCAN_POINTS  # values of the profiled parameter, log-spaced
 PROFILE_EVALUATIONS = 4  # trust-region iterations of each profile point's short fit
 COMPETING = 1.25  # a second profile point is refined too when its short fit's error is within this of the best's
@@ -153,8 +156,8 @@ def _null(term, name: str) -> float:
     return next(p.null for p in term.parameters if p.name == name)
 
 
-def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = None) -> None:
-    """Refit ``cand`` (profile, refine, fall back; module docstring) and judge it on held-out data.
+def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = None) -> Candidate:
+    """``cand`` refitted (profile, refine, fall back; module docstring) and judged on held-out data.
 
     ``evaluate(model, initial, fixed)`` fits and validates a model the way the diagnosis does.  ``warm``: where
     the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`); refined
@@ -190,15 +193,14 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     # replicate afresh cost two thirds of the stability check on the UR3's J5 and took the same changes)
     if warm is not None and attempt(warm, searched=False):
         if not (cand.settled_plausible and term is not None and term().implausible(found[0].model.params)):
-            judge(cand, found[0], base, base_bic)
-            return
+            return judge(cand, found[0], base, base_bic)
         # the whole log's refit was plausible and this one is not: a jittered start rolled along a valley into
         # another basin (a slow mass's share and time constant trade on a log that shows only the start of its
         # rise), which the search below looks past, as it did for the whole log
         found.clear()
     if cand.kind == "add" and cand.brings:  # two masses at once, a pair: one refit from where one ended
-        cand.failure = f"refitted from where {cand.brings[0]} alone ended, no {cand.effect} was found with it"
-        return
+        return replace(cand, failure=f"refitted from where {cand.brings[0]} alone ended, no {cand.effect} "
+                                     "was found with it")
     starts = ordered_starts(cand, base, list(base.train_series), param)
     profiled = 0
     for cost, start in starts[:MAX_REFINES]:
@@ -210,13 +212,87 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
         # masses' roles swapped: another basin, not another effect)
         best = min(found, key=lambda r: (term is not None and term().implausible(r.model.params) is not None,
                                          float(r.train_residual_K @ r.train_residual_K)))
-        judge(cand, best, base, base_bic)
-        return
+        return judge(cand, best, base, base_bic)
     if collapsed is not None:
-        judge(cand, collapsed, base, base_bic)
-        return
-    cand.identifiable = False
-    cand.failure = f"not identifiable from this log: {errors[0]}"
+        return judge(cand, collapsed, base, base_bic)
+    return replace(cand, identifiable=False, failure=f"not identifiable from this log: {errors[0]}")
+
+
+def refits(candidates: list[Candidate], base, series, scheme, refit: str = "strong", workers: int = 1,
+           quiet: bool = True, floor: SensorFloor | None = None) -> list[Candidate]:
+    """The refit stage: the screened ``candidates`` with the refits' records, in the same order.
+
+    Parameters
+    ----------
+    candidates, base
+        The screen's records (:func:`.screen.screened`) and the base stage's (:class:`.screen.Base`).
+    series, scheme
+        The log and how held-out error is measured (:class:`~thermolimb.workbench.validation.Scheme`).
+    refit
+        ``"strong"``: the changes worth a refit (:func:`worth_refitting`), then a change that brings terms
+        with it where a simpler one calls for it (:mod:`.bringing`); ``"all"``: every judgeable change.
+    workers, quiet
+        Local processes for the refits (:func:`refit_all`); no progress bar when quiet.
+    floor
+        The sensor's floor where the base model has reached it: then nothing is refitted, and the changes
+        worth a refit say why.
+    """
+    worth, passed = worth_refitting([c for c in candidates if c.broken is None], refit)
+    done = dict(passed)
+    if floor is not None:  # nothing can be told apart: nothing is refitted
+        why = f"the model is already at the sensor's floor ({floor.sentence(base.rmse_K)})"
+        done.update((c.label, replace(c, skipped=why)) for c in worth)
+        return [done.get(c.label, c) for c in candidates]
+    bringing, worth = [c for c in worth if c.brings], [c for c in worth if not c.brings]
+    worth = refit_all(worth, [None] * len(worth), series, scheme, base.report, base.bic, workers, quiet)
+    done.update((c.label, c) for c in worth)
+    for cand in bringing:
+        skipped = not_brought(cand, worth)
+        done[cand.label] = replace(cand, skipped=skipped) if skipped is not None else refit_candidate(
+            cand, series, scheme, base.report, base.bic, brought_start(cand, worth))
+    return [done.get(c.label, c) for c in candidates]
+
+
+def worth_refitting(candidates: list[Candidate], refit: str) -> tuple[list[Candidate], dict[str, Candidate]]:
+    """Every drop and swap; additions whose score test is significant and the few that explain most of the
+    residual (catalog effects and channels counted apart); of a channel's forms, only the strongest on each
+    place it can act (the winding, each slow mass: the score test is local, and ranked a fan's form on a fast
+    mass above the slow mass's that is the physics; docs/workbench.md); the others say so.  ``(the changes
+    worth a refit, {label: record} of the forms passed over, each saying why})``."""
+    adds = [c for c in candidates if c.adds and c.confounded is None and c.unexcited is None]
+    strongest: dict[tuple, Candidate] = {}
+    for c in adds:
+        key = _place(c)
+        if c.kind == "channel" and (key not in strongest or c.score > strongest[key].score):
+            strongest[key] = c
+    groups = ([c for c in adds if c.kind == "add" and not c.brings], list(strongest.values()))
+    top = {id(c) for group in groups for c in sorted(group, key=lambda c: -c.partial_r2)[:ALWAYS_REFIT]}
+    chosen, passed = [], {}
+    for c in candidates:
+        if c.confounded is not None or c.unexcited is not None:
+            continue
+        if refit == "all" or not c.adds:
+            chosen.append(c)
+        elif c.kind == "channel" and c is not strongest[_place(c)]:
+            why = (f"{strongest[_place(c)].effect} explains more of the residual with the same channel "
+                   f"{c.channel}")
+            passed[c.label] = replace(c, skipped=why,
+                                      evidence=f"score test p = {c.p_value:.2g}; not refitted: {why}.")
+        elif c.p_value < SCORE_P_VALUE or id(c) in top or (c.kind == "add" and (c.brings or _moves_heat(c))):
+            chosen.append(c)  # two masses at once: bringing.py
+    return chosen, passed
+
+
+def _moves_heat(c: Candidate) -> bool:
+    """An addition that moves a heat the model has on the winding into a slow mass (friction in the housing):
+    refitted whatever its local score, which the winding's own term for that heat nearly spans (p = 0.55 where
+    the refit cut the held-out error from 0.931 to 0.335 K on the forecast benchmark's calibration log:
+    docs/workbench.md)."""
+    return TERMS[c.effect].heats_slow_mass
+
+
+def _place(c: Candidate) -> tuple:  # a channel form's channel, the slow mass it acts on (None: the winding)
+    return c.channel, TERMS[c.effect].airflow_on
 
 
 _COMPARED = ContextVar("compared", default=None)  # samples a fit compares at most (None: thinning's own)
@@ -243,42 +319,47 @@ def evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
     return validate_model(series, model, scheme, make=make)
 
 
-def guarded(cand: Candidate, step, *args) -> None:
-    """``step(*args)`` for a candidate; a user's term that breaks its contract in it sets the candidate aside
-    with the reason (:class:`~thermolimb.model.guard.TermError`), and the diagnosis goes on."""
+def set_aside(cand: Candidate, exc: TermError) -> Candidate:
+    """``cand`` set aside: a user's term broke its contract while it was tried
+    (:class:`~thermolimb.model.guard.TermError`); the record says why, and the diagnosis goes on."""
+    return replace(cand, broken=str(exc), rmse_K=None, evidence=f"set aside: {exc}")
+
+
+def refit_candidate(cand: Candidate, series, scheme, base: FitReport, base_bic: float,
+                    warm: dict | None = None) -> Candidate:
+    """``cand`` refitted by :func:`refit` (a deterministic profile over its nonlinear parameter, then the next
+    start while a refit fails; from ``warm`` first, if given) and judged on held-out data; set aside
+    (:func:`set_aside`) where a user's term breaks its contract in the refit."""
+    def fitted(model, initial, fixed):
+        return evaluate(series, model, scheme, initial, fixed)
+
     try:
-        step(*args)
+        return refit(cand, base, base_bic, fitted, warm)
     except TermError as exc:
-        cand.broken = str(exc)
-        cand.rmse_K = None
-        cand.evidence = f"set aside: {exc}"
-
-
-def refit_candidate(cand: Candidate, series, scheme, base: FitReport, base_bic: float, warm: dict | None = None):
-    """Refit a candidate by :func:`refit` (a deterministic profile over its nonlinear parameter, then the next start
-    while a refit fails; from ``warm`` first, if given) and judge it on held-out data."""
-    refit(cand, base, base_bic, lambda model, initial, fixed: evaluate(series, model, scheme, initial, fixed), warm)
+        return set_aside(cand, exc)
 
 
 def refit_all(cands: list[Candidate], warm: list, series, scheme, base: FitReport, base_bic: float, workers: int,
-              quiet: bool = True) -> None:
-    """Refit every candidate in ``cands`` (``warm``: each one's start, or ``None``), guarded, on ``workers`` local
-    processes when more than one, one places a hidden state and the log is short (:data:`POOLED_SAMPLES`), else
-    here.  Each refit is independent of the others and runs with one BLAS thread wherever it runs, so the
-    candidates end the same, bit for bit, either way; pooled, the longest-looking (most parameters) go first."""
+              quiet: bool = True) -> list[Candidate]:
+    """Every candidate in ``cands`` refitted (``warm``: each one's start, or ``None``), guarded, in the same
+    order, on ``workers`` local processes when more than one, one places a hidden state and the log is short
+    (:data:`POOLED_SAMPLES`), else here.  Each refit is independent of the others and runs with one BLAS
+    thread wherever it runs, so the candidates end the same, bit for bit, either way; pooled, the
+    longest-looking (most parameters) go first."""
     pooled = (workers > 1 and len(cands) > 1 and any(hidden_states(c.model) for c in cands)
               and sum(s.n for s in series) <= POOLED_SAMPLES)
     bar = progress(total=len(cands), desc="refits", disable=quiet)
     order = sorted(range(len(cands)), key=lambda i: -len(model_parameters(cands[i].model)))
+    out = list(cands)
     with Runner("process" if pooled else "serial", workers, shared=(series, scheme, base, base_bic)) as runner:
         for i, done in runner.as_completed(_refit_job, [(cands[i], warm[i]) for i in order]):
-            cands[order[i]].__dict__.update(done.__dict__)  # a worker's copy, back into the diagnosis's candidate
+            out[order[i]] = done
             bar.update()
     bar.close()
+    return out
 
 
 def _refit_job(cand: Candidate, warm: dict | None) -> Candidate:
     """One candidate's refit, on the log the runner shares."""
     with one_blas_thread():
-        guarded(cand, refit_candidate, cand, *shared(), warm)
-    return cand
+        return refit_candidate(cand, *shared(), warm)

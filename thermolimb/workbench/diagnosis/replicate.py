@@ -48,9 +48,11 @@ def replicate(runs: Sequence[ActuatorSeries], model: tuple[str, ...], search, in
         base = Base.of(identifiable_base(runs, tuple(model), scheme, initial, search.datasheet, False))
         # a contender built on a term this replicate's base set aside is not the same change here
         candidates = [c for c in candidates if set(c.model) <= {*base.model, c.effect, *c.brings}]
-        worth = judgeable(screened(candidates, base))  # each was refitted on the whole log
-        refit_all(worth, [warm.get(c.label) for c in worth], runs, scheme, base.report, base.bic, 1)
+        candidates = screened(candidates, base)
+        worth = judgeable(candidates)  # each was refitted on the whole log
+        done = refit_all(worth, [warm.get(c.label) for c in worth], runs, scheme, base.report, base.bic, 1)
     except ThermolimbError:  # a copy too short to split, or that identifies nothing: it takes none
         return None
-    best = best_eligible(sorted(candidates, key=rank))
+    refitted = {c.label: c for c in done}
+    best = best_eligible(sorted((refitted.get(c.label, c) for c in candidates), key=rank))
     return best.label if best is not None and base.report.evidence.rankable else None

@@ -17,11 +17,13 @@ from ...effects import EFFECTS
 from ...identification.thinning import thinned
 from ...logs import ActuatorSeries
 from ...model.terms import TERMS
+from ...util.errors import TermError
 from ..excitation import channel_excitation
 from ..submodel import from_effort_alone, within_levels
 from ..validation import FitReport
-from .candidates import Candidate, bic, score_candidate
-from .refit import guarded
+from .candidates import Candidate, bic, candidate_models, score_candidate
+from .channels import channel_candidates
+from .refit import set_aside
 
 
 @dataclass(frozen=True)
@@ -71,40 +73,53 @@ class Base:
         return run0, self.report.model.free_run(run0, offsets=offsets[0] if offsets else None)
 
 
+def changes(model: tuple[str, ...], base: Base, series: list[ActuatorSeries], discover: bool,
+            held_out: tuple = (), skip: frozenset = frozenset(),
+            visited: frozenset = frozenset()) -> list[Candidate]:
+    """The changes worth trying on ``model`` fitted as ``base``: the catalog's additions, drops and swaps
+    (:func:`~.candidates.candidate_models`), with ``discover`` the log's extra channels' forms
+    (:func:`~.channels.channel_candidates`, on ``series`` and the ``held_out`` runs); none labelled in
+    ``skip`` (confounded at an earlier step), none leading to a model in ``visited``."""
+    candidates = candidate_models(model, series[0])
+    if discover:
+        candidates += channel_candidates(model, list(base.train), series + list(held_out))
+    return [c for c in candidates if c.label not in skip and frozenset(c.model) not in visited]
+
+
 def screened(candidates: list[Candidate], base: Base) -> list[Candidate]:
     """The screen: each change's score test against ``base`` (its signature, confounding), and whether the
-    data
-    excite the channel it rides on (:func:`unexcited`); the same candidates, their findings filled in."""
-    for cand in candidates:
-        guarded(cand, score_candidate, cand, base.report.model, list(base.train), base.jacobian,
-                base.residual, base.stride, base.free_run)
-        unexcited(cand, base.report)
-    return candidates
+    data excite the channel it rides on (:func:`unexcited`); new records, in the same order."""
+    return [unexcited(_scored(cand, base), base.report) for cand in candidates]
 
 
-def unexcited(cand: Candidate, base: FitReport) -> None:
-    """A change that brings in an effect riding on a channel (velocity, current, a neighbour's temperature, a
-    logged extra) is judged only where that channel moves, in the data it is fitted on and in the data it is
-    judged on (:func:`~thermolimb.workbench.excitation.channel_excitation`); otherwise it is not judged, and
-    says why with the counts.  Nor is one bringing back heat from the effort alone that the log's effort
-    cannot pin
-    beside the model's (:func:`~thermolimb.workbench.submodel.within_levels`: the bias on a step test)."""
+def _scored(cand: Candidate, base: Base) -> Candidate:
+    try:
+        return score_candidate(cand, base.report.model, list(base.train), base.jacobian, base.residual,
+                               base.stride, base.free_run)
+    except TermError as exc:
+        return set_aside(cand, exc)
+
+
+def unexcited(cand: Candidate, base: FitReport) -> Candidate:
+    """``cand``, not judged where it brings in an effect riding on a channel (velocity, current, a neighbour's
+    temperature, a logged extra) that does not move in the data it is fitted on and in the data it is judged
+    on (:func:`~thermolimb.workbench.excitation.channel_excitation`), saying why with the counts.  Nor is one
+    bringing back heat from the effort alone that the log's effort cannot pin beside the model's
+    (:func:`~thermolimb.workbench.submodel.within_levels`: the bias on a step test)."""
     if cand.kind == "drop" or cand.confounded is not None:
-        return
+        return cand
     aside: list = []  # a term of heat from the effort alone this log's effort cannot tell from the model's
     effect = cand.effect
     if from_effort_alone(effect) and effect not in within_levels(cand.model, base.train_series, aside):
-        cand.unexcited = next(a["reason"] for a in aside if a["term"] == cand.effect)
-        cand.evidence = f"not judged: {cand.unexcited}."
-        return
+        why = next(a["reason"] for a in aside if a["term"] == cand.effect)
+        return replace(cand, unexcited=why, evidence=f"not judged: {why}.")
     # a pair's members: each its own channel
     for channel in filter(None, map(rides, (*cand.brings, cand.effect))):
         counts = channel_excitation(channel, base.train_series,
                                     [(seg.signals, seg.measured_C) for seg in base.validation_segments])
         if not counts.excited:
-            cand.unexcited = counts.sentence()
-            cand.evidence = f"not judged: {cand.unexcited}."
-            return
+            return replace(cand, unexcited=counts.sentence(), evidence=f"not judged: {counts.sentence()}.")
+    return cand
 
 
 def rides(effect: str) -> str | None:

@@ -76,6 +76,7 @@ import numpy as np
 from ...identification.thinning import longest_block
 from ...logs import ActuatorSeries
 from ...logs.series import MIN_SAMPLES
+from ...util.frozen import FrozenMapping
 from ...util.parallel import one_blas_thread, run_jobs, shared
 from ..flags import unread
 from ..validation import INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT, FitReport
@@ -196,11 +197,12 @@ def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Cand
 
 
 def selection_frequencies(candidates: list[Candidate], best: Candidate | None, model: tuple[str, ...],
-                          base: FitReport, series, search) -> tuple[dict[str, float], int]:
-    """``({label: share of replicates taking it}, replicates run)`` over the contenders among ``candidates``
-    (the whole log's, ``best`` its recommended change, on the base model ``model`` fitted as ``base``), and
-    ``"none"`` for replicates taking nothing; fills each contender's ``selection_frequency``.  Each replicate
-    runs :func:`.replicate.replicate`.
+                          base: FitReport, series, search) -> tuple[dict[str, float], int, list[Candidate]]:
+    """``({label: share of replicates taking it}, replicates run, candidates)`` over the contenders among
+    ``candidates`` (the whole log's, ``best`` its recommended change, on the base model ``model`` fitted as
+    ``base``), and ``"none"`` for replicates taking nothing; the candidates returned are ``candidates`` with
+    each contender's ``selection_frequency`` and ``selected_as`` filled in.  Each replicate runs
+    :func:`.replicate.replicate`.
 
     Where the first :attr:`Stability.replicates` leave the recommended change's effect within one replicate of the
     share it needs (7 or 8 of 10 at 0.8: :func:`undecided`), as many again are run, drawn afresh, and the share is
@@ -210,7 +212,7 @@ def selection_frequencies(candidates: list[Candidate], best: Candidate | None, m
     stability = search.stability
     chosen = contenders(candidates, model)
     if not chosen:
-        return {"none": 1.0}, stability.replicates
+        return {"none": 1.0}, stability.replicates, candidates
     specs = [c.spec() for c in chosen]
     initial = dict(base.model.params)
     plain = replace(search, stability=None, quiet=True)
@@ -235,22 +237,25 @@ def selection_frequencies(candidates: list[Candidate], best: Candidate | None, m
     frequencies = {label: counts.get(label, 0) / len(taken) for label in [c.label for c in chosen] + ["none"]}
     # an effect is what is selected, as in stability selection: near-equivalent changes that bring in the same
     # terms (adding current_heating, or swapping joule for it) count together
+    shares = {}
     for c in chosen:
         alike = {label: counts.get(label, 0) for label, key in keys.items() if key == keys[c.label]}
-        c.selection_frequency = sum(alike.values()) / len(taken)
-        c.selected_as = {label: n for label, n in alike.items() if n}
-    return frequencies, len(taken)
+        shares[c.label] = replace(c, selection_frequency=sum(alike.values()) / len(taken),
+                                  selected_as=FrozenMapping({label: n for label, n in alike.items() if n}))
+    return frequencies, len(taken), [shares.get(c.label, c) for c in candidates]
 
 
 @dataclass(frozen=True)
 class Checked:
     """The stability stage's record: the replicates' verdicts (``record``: replicates run, the share needed,
-    the seed, what varied, every contender's share), the change that stays recommended, and the best change
-    where the replicates did not take it often enough (``unstable``)."""
+    the seed, what varied, every contender's share), the change that stays recommended, the best change
+    where the replicates did not take it often enough (``unstable``), and the candidates as the check leaves
+    them (each contender's share and sentence filled in)."""
 
     record: dict
     recommended: Candidate | None
     unstable: Candidate | None
+    candidates: tuple[Candidate, ...] = ()
 
 
 def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], base: FitReport, series,
@@ -260,7 +265,8 @@ def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], 
     :func:`steadier` change is; each contender's evidence says how often it was taken and what varied.
     ``order``: whether the :func:`in_some_order` rule may keep ``best`` (not for a pair: :mod:`.together`)."""
     stability = search.stability
-    frequencies, k = selection_frequencies(candidates, best, model, base, series, search)
+    frequencies, k, candidates = selection_frequencies(candidates, best, model, base, series, search)
+    best = next(c for c in candidates if c.label == best.label)
     varied = stability.varied(search.scheme)
     if k > stability.replicates:
         first = stability.replicates
@@ -279,9 +285,9 @@ def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], 
     def said(s):  # a check again (a pair: .together) replaces it
         return f" {s[0].upper()}{s[1:]}." if s else ""
 
-    for c in candidates:
+    def worded(c: Candidate) -> Candidate:  # its share and what varied, in its evidence
         if c.selection_frequency is None:
-            continue
+            return c
         taken = round(c.selection_frequency * k)
         verdict = "" if c.selection_frequency >= stability.min_frequency else ": not recommended"
         verdict = ordered if ordered and c is best else verdict
@@ -290,15 +296,19 @@ def check(candidates: list[Candidate], best: Candidate, model: tuple[str, ...], 
         if len(c.selected_as) > 1 or (c.selected_as and c.label not in c.selected_as):
             split = " as " + ", ".join(f"{label} in {n}" for label, n in c.selected_as.items()) + ";"
         evidence = c.evidence.removesuffix(said(c.stability_sentence))
-        sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}"
-        c.stability_sentence = sentence.replace("( ", "(")
-        c.evidence = f"{evidence}{said(c.stability_sentence)}".strip()
+        sentence = f"taken in {taken} of {k} replicates ({split} {varied}){verdict}".replace("( ", "(")
+        held = sentence if c is best and short and not ordered and chosen is not best else c.unstable_because
+        return replace(c, stability_sentence=sentence, evidence=f"{evidence}{said(sentence)}".strip(),
+                       unstable_because=held)
+
+    candidates = [worded(c) for c in candidates]
+    labelled = {c.label: c for c in candidates}
+    best, chosen = labelled[best.label], None if chosen is None else labelled[chosen.label]
     if chosen is best:
-        return Checked(record, best, None)
+        return Checked(record, best, None, tuple(candidates))
     if short and not ordered:
-        best.unstable_because = best.stability_sentence
-        return Checked(record, chosen or steadier(candidates, best, stability), best)
-    return Checked(record, best, None)
+        return Checked(record, chosen or steadier(candidates, best, stability), best, tuple(candidates))
+    return Checked(record, best, None, tuple(candidates))
 
 
 def agreed(candidates: list[Candidate], frequencies: dict, k: int,

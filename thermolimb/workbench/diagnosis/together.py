@@ -30,7 +30,7 @@ from itertools import combinations
 
 from ...model.terms import TERMS
 from .candidates import MIN_IMPROVEMENT, Candidate
-from .refit import guarded, refit_candidate
+from .refit import refit_candidate
 from .screen import Base, rank
 from .stability import Checked, check
 
@@ -55,12 +55,12 @@ def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, b
         pair = Candidate(b.effect, both, brings=(a.effect,))
         own = {p.name for p in TERMS[b.effect].parameters}
         start = {**a.report.model.params, **{k: v for k, v in b.report.model.params.items() if k in own}}
-        guarded(pair, refit_candidate, pair, series, scheme, base, base_bic, start)
+        pair = refit_candidate(pair, series, scheme, base, base_bic, start)
         if pair.refitted and pair.rmse_K <= (1.0 - MIN_IMPROVEMENT) * a.rmse_K:
-            pair.evidence = (f"together: {a.label} alone {a.rmse_K:.3f} K, {b.label} alone {b.rmse_K:.3f} K held out; "
-                             f"validation RMSE goes from {base.validation['rmse_K']:.3f} K to {pair.rmse_K:.3f} K"
-                             + (f"; a pair is taken only where {_share()} takes it." if checked else "."))
-            kept.append(pair)
+            kept.append(replace(pair, evidence=(
+                f"together: {a.label} alone {a.rmse_K:.3f} K, {b.label} alone {b.rmse_K:.3f} K held out; "
+                f"validation RMSE goes from {base.validation['rmse_K']:.3f} K to {pair.rmse_K:.3f} K"
+                + (f"; a pair is taken only where {_share()} takes it." if checked else "."))))
     return kept
 
 
@@ -83,15 +83,17 @@ def take_together(candidates: list[Candidate], model: tuple[str, ...], base: Bas
     if best is None:
         return candidates, None
     if search.stability is None:
-        return candidates, Checked(alone, best, None)
-    first = {id(c): c.selection_frequency for c in candidates}
-    for c in candidates:  # the check decides again with the pairs among the contenders; what the first said
-        c.selection_frequency = None  # of a change it does not re-judge stays in that change's words
-    checked = check(candidates, best, model, base.report, series,
-                    replace(search, stability=replace(search.stability, min_frequency=PAIR_FREQUENCY)), False)
+        return candidates, Checked(alone, best, None, tuple(candidates))
+    first = {c.label: c.selection_frequency for c in candidates}
+    # the check decides again with the pairs among the contenders; what the first said of a change it does not
+    # re-judge stays in that change's words
+    again = replace(search, stability=replace(search.stability, min_frequency=PAIR_FREQUENCY))
+    cleared = [replace(c, selection_frequency=None) for c in candidates]
+    checked = check(cleared, best, model, base.report, series, again, False)
+    candidates = list(checked.candidates)
     if alone is not None:
-        checked.record["alone"] = alone
-        for c in candidates:  # and its share, where both checks ran as many replicates
-            if c.selection_frequency is None and alone["replicates"] == checked.record["replicates"]:
-                c.selection_frequency = first.get(id(c))
+        same = alone["replicates"] == checked.record["replicates"]  # and its share, where both ran as many
+        candidates = [replace(c, selection_frequency=first.get(c.label))
+                      if c.selection_frequency is None and same else c for c in candidates]
+        checked = replace(checked, record={**checked.record, "alone": alone}, candidates=tuple(candidates))
     return candidates, checked
