@@ -7,7 +7,13 @@
     python benchmarks/bad_inputs.py --round 4 --code ../base   # the same inputs against an earlier checkout
 
 Every input belongs to a class (what kind of mistake or fault it is: "model file", "raw lab logs",
-"interrupts"...) and to the round that added the class; the table counts each class's outcomes.
+"interrupts"...) and to the round that added the class; the table counts each class's outcomes.  The command
+line's cases are laid out by the kind of input they give, one function each: :func:`log_cases` (logs as users
+bring them, as other tools and labs write them, misread, cut off, not logs at all), :func:`option_cases`,
+:func:`model_file_cases`, :func:`output_cases` (onto inputs, over a user's files), :func:`user_code_cases`
+(broken terms, a policy) and :func:`whole_cases` (one bad part of a fleet, a followed log that never appears,
+export's, audit's and plan's limits); then the environments (:func:`env_cases`), the machine's and the shell's
+faults (:func:`fault_cases`), special files, interrupts, the monitor's recording and the Python API.
 
 Every input runs in its own process (so that a hang is a timeout, not a stuck
 benchmark) in a scratch folder holding a small valid log and its broken
@@ -149,11 +155,11 @@ def write_fixtures(d: Path) -> None:
     (d / "corrupt").mkdir()
     (d / "corrupt" / "diagnose").mkdir()
     (d / "corrupt" / "diagnose" / "summary.json").write_text("{not json")
-    write_round_two(d, good)
-    write_round_three(d, good)
-    write_round_four(d, good)
-    write_round_five(d, good)
-    write_round_six(d, good)
+    write_misreadings(d, good)
+    write_victims_and_terms(d, good)
+    write_hand_edits_and_lab_logs(d, good)
+    write_other_tools_files(d, good)
+    write_lab_files_and_edges(d, good)
 
 
 BROKEN_TERMS = textwrap.dedent('''
@@ -178,7 +184,7 @@ BROKEN_TERMS = textwrap.dedent('''
 ''')
 
 
-def write_round_three(d: Path, good: pd.DataFrame) -> None:
+def write_victims_and_terms(d: Path, good: pd.DataFrame) -> None:
     """The third round's inputs: recordings an output could land on, users' broken terms, term-file mix-ups."""
     for name in ("victim_html.csv", "victim_save.csv", "victim_table.csv", "victim_link_target.csv",
                  "victim_follow.csv", "victim_hard.csv"):
@@ -309,7 +315,7 @@ def _cut_ros1(path: Path) -> None:
     whole.unlink()
 
 
-def write_round_two(d: Path, good: pd.DataFrame) -> None:
+def write_misreadings(d: Path, good: pd.DataFrame) -> None:
     """The second round's inputs: unit mistakes, repeated columns, names too long, bags with NaN, special files."""
     good.assign(time=1.7e12 + 1e3 * good["time"]).to_csv(d / "epoch_ms.csv", index=False)
     good.assign(time=1.75e15 + 1e6 * good["time"]).to_csv(d / "epoch_us.csv", index=False)
@@ -397,6 +403,13 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     def partial(name, pattern, *argv):
         add(name, argv, PARTIAL, pattern)
 
+    for cases_of_a_class in (log_cases, option_cases, model_file_cases, output_cases, user_code_cases, whole_cases):
+        cases_of_a_class(section, refuse, word, partial)
+    return cases
+
+
+def log_cases(section, refuse, word, partial) -> None:
+    """Logs: as users bring them, as other tools and labs write them, misread, cut off, not logs at all."""
     section(1, "logs as users bring them")
     for log in ("no_temperature.csv", "misnamed.csv", "nan_effort.csv", "nan_time.csv", "time_backwards.csv",
                 "text_time.csv", "text_effort.csv", "blank_actuator.csv", "constant_effort.csv",
@@ -413,6 +426,95 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
     word("fit ISO timestamps (csv)", r"time stamps turned into seconds", "fit", "iso_time.csv", "--quiet", "--json")
     word("fit --drop-incomplete with NaN", r"left out|dropped|missing", "fit", "nan_effort.csv", "--drop-incomplete",
          "--quiet")
+    section(2, "units the numbers give away")
+    for log, unit in (("epoch_ms.csv", "milliseconds"), ("epoch_us.csv", "microseconds"),
+                      ("epoch_ns.csv", "nanoseconds")):
+        word(f"fit time in epoch {unit}", f"counted in {unit} since 1970: converted to s", "fit", log, "--quiet")
+    word("fit time steps too long for seconds", r"if the time column counts milliseconds", "fit", "relative_ms.csv",
+         "--quiet")
+    word("fit temperatures in kelvin", r"taken as kelvin and converted", "fit", "kelvin.csv", "--quiet")
+    word("fit temperatures and ambient in kelvin", r"ambient reads .* taken as kelvin", "fit", "kelvin_ambient.csv",
+         "--quiet")
+    word("fit kelvin under a degC header: taken as stated", r"T_offset_C", "fit", "stated_degC.csv", "--quiet")
+    word("fit a bag in kelvin", r"taken as kelvin and converted", "fit", "kelvin_temperature.mcap", "--quiet",
+         "--actuator", "knee")
+    section(2, "columns named twice, NaN in bags")
+    for log in ("jump_up.csv", "jump_down.csv", "two_temperatures.csv", "two_efforts.csv", "nan_temperature.mcap",
+                "all_nan_temperature.mcap"):
+        refuse(f"fit {log}", "fit", log, "--quiet")
+    word("fit a bag with NaN readings, --drop-incomplete", r"left out \(--drop-incomplete\)", "fit",
+         "nan_temperature.mcap", "--quiet", "--drop-incomplete", "--actuator", "knee")
+    word("fit a repeated column the log does not use", r"names column 'note' 2 times", "fit", "two_notes.csv",
+         "--quiet")
+    section(2, "names of any length")
+    word("fit --plot, an actuator name of 300 characters", r"wrote .*fit_k+-[0-9a-f]{10}\.png", "fit",
+         "long_name.csv", "--quiet", "--plot", "plots")
+    word("diagnose --plot, an actuator name of 50,000 characters", r"wrote .*residuals_k+-[0-9a-f]{10}\.png",
+         "diagnose", "huge_name.csv", "--quiet", "--plot", "plots")
+    refuse("fit --actuator nope on a name of 50,000 characters", "fit", "huge_name.csv", "--quiet", "--actuator",
+           "nope")
+    refuse("simulate --actuators knee:X8-9,knee:X8-16", "simulate", "--duration", "60", "--quiet", "--out", "sim.csv",
+           "--actuators", "knee:X8-9,knee:X8-16")
+    section(3, "logs cut off, misformatted or misread")
+    word("a ROS 1 bag cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
+         "fit", "crash.bag", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
+    refuse("numbers with thousands separators (1.000,0)", "fit", "thousands.csv", "--quiet",
+           reason="thousands separators")
+    refuse("time stamps that change format halfway", "fit", "mixed_dates.csv", "--quiet",
+           reason="changes format at row 150")
+    word("an MCAP cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
+         "fit", "crash.mcap", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
+    word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",
+         "pinned.csv", "--quiet")
+    word("a sensor that drops out for a sample or two: said, left out", r"dropout", "fit", "dropouts.csv", "--quiet")
+    word("a sensor stuck at one value: said with its span, left out", r"stuck at .* left out", "fit", "stuck.csv",
+         "--quiet")
+    word("a temperature column in degF beside an ambient in degC", r"looks like degF", "fit", "fahrenheit.csv",
+         "--quiet")
+    for file, first, second in (("names_na.csv", "NA", "None"), ("names_1_01.csv", "1", "01"),
+                                ("names_nan.csv", "nan", "null")):
+        word(f"fit actuators named {first} and {second}: two actuators, by their names",
+             rf"(?m)^{first}: model.*\n(.*\n)*{second}: model", "fit", file, "--quiet")
+    refuse("--map with a unit it does not know (effort:furlong)", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
+           "--map", "time=time,effort=effort:furlong,temperature=temperature", reason="not a unit")
+    refuse("--map one column as both effort and temperature", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
+           "--map", "time=time,effort=effort,temperature=effort", reason="to both")
+    refuse("--map a pattern with {j} twice", "fit", "good.csv", "--quiet", "--map", "effort=e{j}{j},temperature=temperature", reason="uses \\{j\\} 2 times")
+    section(4, "raw lab logs")
+    for file, header in (("ordinal_F.csv", "ºF (an ordinal sign)"), ("degree_F.csv", "°F"), ("deg_F.csv", "(degF)"),
+                         ("bracket_F.csv", "[F]")):
+        word(f"a header in {header}", r"Fahrenheit", "fit", file, "--actuator", "knee")
+    word("a slow joint read in whole degrees at 2 Hz: fitted, nothing cut as stuck", r"^(?![\s\S]*left out)[\s\S]*RC_s",
+         "fit", "slow_whole_degrees.csv")
+    word("--validate-on a log where a joint nobody asked about reads garbage", r"validation", "fit", "good.csv",
+         "--actuator", "knee", "--validate-on", "garbage_neighbour.csv")
+    section(5, "what is not a log")
+    refuse("fit /dev/null", "fit", "/dev/null", reason="not a regular file")
+    refuse("fit a folder that is not a bag", "fit", "empty_folder", reason="not a ROS 2 bag")
+    refuse("fit a header-only log for one actuator", "fit", "header_only.csv", "--actuator", "knee",
+           reason="no rows with measurements")
+    refuse("report a summary that is a list", "report", "list_summary", reason="not a demo's summary")
+    section(5, "joint patterns")
+    refuse("a joint pattern with a shared column written with *", "fit", "wide_joints.csv", "--map",
+           "time=t,effort=cur{j},temperature=temp*", reason=r"temp\*.*needs \{j\}")
+    refuse("a joint pattern with a time column the file lacks", "fit", "wide_joints.csv", "--map",
+           "time=stamp,effort=cur{j},temperature=temp{j}", reason="names column 'stamp'")
+    section(5, "logs as other tools write them")
+    word("a row of units under the header", r"(?=[\s\S]*Fahrenheit)[\s\S]*K/mA\^2", "fit", "units_row.csv",
+         "--actuator", "knee")
+    word("data lines that end with a separator the header lacks", r"knee: model", "fit", "trailing_sep.csv")
+    word("seconds written as text: read as given, not called time stamps", r"^(?![\s\S]*time stamps)[\s\S]*RC_s",
+         "fit", "text_seconds.parquet", "--actuator", "knee")
+    section(6, "lab files as written")
+    refuse("a CSV without a header row", "fit", "headerless.csv", reason="--columns")
+    refuse("a cell of junk in a temperature column", "fit", "junk_cell.csv", reason="--drop-incomplete")
+    word("a cell of junk dropped and counted", r"abc", "fit", "junk_cell.csv", "--drop-incomplete", "--actuator",
+         "knee")
+    refuse("a blank actuator name", "fit", "blank_actuator.csv", reason="--drop-incomplete")
+
+
+def option_cases(section, refuse, word, partial) -> None:
+    """Options: values out of range, flags that would do nothing, files reached twice, workers beyond the machine."""
     section(1, "options of the log commands")
     for argv in (["--map", "effort=effort,effort=temperature"], ["--map", "effort"], ["--map", "torque=effort"],
                  ["--map", "effort=nope"], ["--cv", "0"], ["--cv", "-2"], ["--cv", "abc"], ["--cv", "1000000"],
@@ -451,21 +553,142 @@ def cli_cases() -> list[tuple[str, list[str], str, str | None]]:
         base = ["compare-strategies", "--env", HEX, "--episodes", "1", "--strategies", "vertical_only", "--quiet",
                 "--plot", "strategies"]
         refuse("compare-strategies " + " ".join(argv), *base, *argv)
+    section(2, "files reached twice, workers beyond the machine")
+    word("fit --fleet the same file twice", r"each log read once", "fit", "good.csv", "good.csv", "--fleet",
+         "--quiet")
+    word("fit --fleet through a link to the file", r"each log read once", "fit", "good.csv", "link_to_good.csv",
+         "--fleet", "--quiet")
+    word("fit --fleet over a glob through a link loop", r"each log read once", "fit", "looped/**/*.csv", "--fleet",
+         "--quiet")
+    word("fit --fleet over a folder holding its own earlier --table", r"a fleet table .* skipped", "fit", "tabled",
+         "--fleet", "--quiet")
+    for workers in ("64", "1024"):
+        word(f"fit --fleet --workers {workers}", r"--workers \d+ lowered to", "fit", "good.csv", "--fleet", "--quiet",
+             "--workers", workers)
+    section(3, "flags that would do nothing")
+    refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv", reason="works with --fleet")
+    refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
+    refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
+    refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
+
+
+def model_file_cases(section, refuse, word, partial) -> None:
+    """Model files: edited by hand, at their edges, in another unit, asked outside their experience."""
+    section(4, "model file")
+    for name, reason in (("m_tiny_rc.json", "RC_s"), ("m_minutes.json", "fortnights"),
+                         ("m_negative_gain.json", "betaR"), ("m_negative_variance.json", "covariance"),
+                         ("m_extra_param.json", "warp_K"), ("m_source.json", "term_sources|code|source"),
+                         ("m_twice.json", "twice|more than once|duplicate"), ("m_low_limit.json", "limit")):
+        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C",
+               "30", "--threshold", "90", reason=reason)
+    section(5, "model file fields of the wrong kind")
+    for name, reason in (("m_validation_null.json", '"validation" must map'),
+                         ("m_units_list.json", '"channel_units" must map')):
+        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C", "30",
+               "--threshold", "90", reason=reason)
+    section(6, "model-file edges")
+    refuse("a limit of 1e9 degC", "predict", "m_limit_huge.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", reason="limit")
+    refuse("a negative validation RMSE", "predict", "m_rmse_negative.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", "--threshold", "90", reason="rmse_K")
+    refuse("JSON nested 100,000 deep", "predict", "m_deep.json", "--hold", "5,0", "--duration", "60",
+           "--start-C", "30", "--threshold", "90", reason="nested")
+    section(6, "units across the model file's edge")
+    refuse("a model in mA over a log in N m", "predict", "m_milliamps.json", "good.csv", "--actuator", "knee",
+           "--threshold", "90", reason="effort")
+    section(4, "outside the model's experience")
+    word("predict a hold ten times the log's effort", r"extrapolated", "predict", "model.json",
+         "--hold", "100,0", "--duration", "600", "--start-C", "30", "--threshold", "90")
+    word("--ambient-C for a model without ambient", r"does not read the ambient", "predict",
+         "model.json", "--hold", "5,0", "--duration", "600", "--start-C", "30", "--ambient-C", "40", "--threshold",
+         "90")
+    for level in ("1", "0", "nan"):
+        refuse(f"predict --level {level}", "predict", "model.json", "--hold", "5,0",
+               "--duration", "60", "--start-C", "30", "--threshold", "90", "--level", level, reason="--level")
+
+
+def output_cases(section, refuse, word, partial) -> None:
+    """Outputs: onto the command's own inputs, over a user's files, into folders that cannot hold them."""
     section(1, "demos and reports")
     for argv in (["nope"], ["diagnose", "--out", "afile"], ["diagnose", "--out", READ_ONLY]):
         refuse("demo " + " ".join(argv), "demo", *argv, "--quick", "--quiet")
     for target in ("afile", "missing_folder", "empty_folder", "corrupt", "index_dir", READ_ONLY):
         refuse(f"report {target}", "report", target)
     refuse("unknown command", "frobnicate")
-    round_two_cases(section, refuse, word)
-    round_three_cases(section, refuse, word, partial)
-    round_four_cases(section, refuse, word)
-    round_five_cases(section, refuse, word)
-    round_six_cases(section, refuse, word)
-    return cases
+    section(3, "outputs onto inputs")
+    refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv",
+           reason="never replaces an input")
+    refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv",
+           reason="never replaces an input")
+    refuse("fit --fleet --table onto a log it reads", "fit", "victim_table.csv", "--fleet", "--quiet", "--table",
+           "victim_table.csv", reason="never replaces an input")
+    refuse("fit --html onto a symbolic link to the log", "fit", "victim_link_target.csv", "--quiet", "--html",
+           "victim_link.csv", reason="never replaces an input")
+    refuse("fit --html onto a hard link to the log", "fit", "victim_hard.csv", "--quiet", "--html",
+           "victim_hard_link.csv", reason="never replaces an input")
+    refuse("diagnose --propose onto its --terms file", "diagnose", "good.csv", "--quiet", "--discover", "--terms",
+           "victim_terms.py", "--propose", "victim_terms.py", reason="never replaces an input")
+    refuse("monitor --mcap onto the followed log", "monitor", "model.json", "--follow", "victim_follow.csv", "--mcap",
+           "victim_follow.csv", "--idle-exit", "0.5", reason="never replaces an input")
+    section(5, "outputs onto inputs")
+    refuse("export --out onto its own model file", "export", "m_export_onto.json", "--to", "mujoco", "--motor-const",
+           "0.1", "--resistance", "1", "--out", "m_export_onto.json", reason="never replaces an input")
+    section(6, "a user's own files where a command writes")
+    refuse("export over a user's MJCF", "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
+           "--resistance", "1", "--out", "user.xml", reason="did not write")
 
 
-def write_round_four(d: Path, good: pd.DataFrame) -> None:
+def user_code_cases(section, refuse, word, partial) -> None:
+    """A user's code: broken terms, a policy that cannot be called, limits a robot starts above."""
+    section(3, "users' broken terms")
+    for term in ("b_raises", "b_nan", "b_inf", "b_shape", "b_none", "b_missing", "b_nan_gain", "b_exits"):
+        refuse(f"fit a broken term ({term})", "fit", "good.csv", "--quiet", "--actuator", "knee", "--terms",
+               "broken_terms.py", "--model", f"joule,{term}", reason=f"term '{term}'")
+    word("diagnose sets broken terms aside and goes on", r"set aside", "diagnose", "good.csv", "--quiet",
+         "--actuator", "knee", "--terms", "broken_terms.py", "--stability", "0")
+    word("fit --json with a term that prints: the JSON stays JSON", r'^\[?\s*\{', "fit", "good.csv", "--quiet",
+         "--json", "--actuator", "knee", "--terms", "broken_terms.py", "--model", "joule,b_prints")
+    refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py", reason="built-in")
+    refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py", reason="lower < upper")
+    refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv", reason="not a Python file")
+    section(5, "audit's policy and limits")
+    refuse("audit a policy that cannot be called as (env, observation)", "audit", "--env", "Ant-v5", "--duration",
+           "1", "--policy", "json:loads", reason="cannot be called as")
+    refuse("audit limits below where the joints start", "audit", "--env", "Ant-v5", "--duration", "1",
+           "--limit-C", "20", reason="start at or above their limit")
+
+
+def whole_cases(section, refuse, word, partial) -> None:
+    """Whole jobs: one bad part of a fleet, a followed log that never appears, export's, audit's and plan's limits."""
+    section(3, "one bad part of a whole")
+    partial("a fleet over a folder with an unreadable file and one whose time goes back",
+            r"2 of 4 files could not be read", "fit", "fleet_with_bad", "--fleet", "--quiet")
+    partial("fit every actuator of the bag: one not identifiable, the others fitted", r"could not be analysed", "fit",
+            str(BAG), "--quiet")
+    section(4, "following what does not exist")
+    for target in ("never_there.csv", "/dev/null", "empty_folder"):
+        refuse(f"monitor --follow {target}", "monitor", "model.json", "--follow", target, "--idle-exit",
+               "1", "--mcap", "out4.mcap")
+    section(4, "the model carried into other simulators")
+    for argv, reason in ((["--motor-const", "0"], "motor-const"), (["--motor-const", "nan"], "motor-const"),
+                         (["--resistance", "-1"], "resistance"), (["--gear", "inf"], "gear")):
+        refuse("export " + " ".join(argv), "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
+               "--resistance", "1", *argv, reason=reason)
+    for argv, reason in ((["--env", "NoSuch-v0"], "NoSuch"), (["--policy", "nowhere:x"], "nowhere"),
+                         (["--env-arg", "bogus=1"], "does not take"), (["--duration", "0"], "duration"),
+                         (["--models", "m_twice.json"], "twice|more than once|duplicate")):
+        refuse("audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
+               reason=reason)
+    section(6, "plans that cannot be run")
+    refuse("plan from a start above the limit", "plan", "model.json", "--actuator", "knee", "--identify", "RC_s", "--max-effort", "5",
+           "--duration", "600", "--start-C", "95", "--limit-C", "90", "--out", "p.csv", reason="no test can keep")
+    refuse("plan for a parameter the model lacks", "plan", "model.json", "--actuator", "knee", "--identify", "frame_tau_s",
+           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="no parameter")
+    refuse("plan a question it cannot pose", "plan", "model.json", "--actuator", "knee", "--separate", "joule,current_heating",
+           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="cannot pose")
+
+
+def write_hand_edits_and_lab_logs(d: Path, good: pd.DataFrame) -> None:
     """The fourth round's inputs: model files edited by hand, raw lab logs (degF headers, a slow joint in whole
     degrees), a log for the monitor that never appears."""
     model = json.loads((d / "model.json").read_text())
@@ -502,50 +725,7 @@ def write_round_four(d: Path, good: pd.DataFrame) -> None:
         d / "garbage_neighbour.csv", index=False)
 
 
-def round_four_cases(section, refuse, word) -> None:
-    """Model files trusted blindly, predict where it knows nothing, raw lab logs, following what does not exist,
-    the model carried into other simulators (the monitor's recording under signals: :func:`recording_cases`)."""
-    section(4, "model file")
-    for name, reason in (("m_tiny_rc.json", "RC_s"), ("m_minutes.json", "fortnights"),
-                         ("m_negative_gain.json", "betaR"), ("m_negative_variance.json", "covariance"),
-                         ("m_extra_param.json", "warp_K"), ("m_source.json", "term_sources|code|source"),
-                         ("m_twice.json", "twice|more than once|duplicate"), ("m_low_limit.json", "limit")):
-        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C",
-               "30", "--threshold", "90", reason=reason)
-    section(4, "outside the model's experience")
-    word("predict a hold ten times the log's effort", r"extrapolated", "predict", "model.json",
-         "--hold", "100,0", "--duration", "600", "--start-C", "30", "--threshold", "90")
-    word("--ambient-C for a model without ambient", r"does not read the ambient", "predict",
-         "model.json", "--hold", "5,0", "--duration", "600", "--start-C", "30", "--ambient-C", "40", "--threshold",
-         "90")
-    for level in ("1", "0", "nan"):
-        refuse(f"predict --level {level}", "predict", "model.json", "--hold", "5,0",
-               "--duration", "60", "--start-C", "30", "--threshold", "90", "--level", level, reason="--level")
-    section(4, "raw lab logs")
-    for file, header in (("ordinal_F.csv", "ºF (an ordinal sign)"), ("degree_F.csv", "°F"), ("deg_F.csv", "(degF)"),
-                         ("bracket_F.csv", "[F]")):
-        word(f"a header in {header}", r"Fahrenheit", "fit", file, "--actuator", "knee")
-    word("a slow joint read in whole degrees at 2 Hz: fitted, nothing cut as stuck", r"^(?![\s\S]*left out)[\s\S]*RC_s",
-         "fit", "slow_whole_degrees.csv")
-    word("--validate-on a log where a joint nobody asked about reads garbage", r"validation", "fit", "good.csv",
-         "--actuator", "knee", "--validate-on", "garbage_neighbour.csv")
-    section(4, "following what does not exist")
-    for target in ("never_there.csv", "/dev/null", "empty_folder"):
-        refuse(f"monitor --follow {target}", "monitor", "model.json", "--follow", target, "--idle-exit",
-               "1", "--mcap", "out4.mcap")
-    section(4, "the model carried into other simulators")
-    for argv, reason in ((["--motor-const", "0"], "motor-const"), (["--motor-const", "nan"], "motor-const"),
-                         (["--resistance", "-1"], "resistance"), (["--gear", "inf"], "gear")):
-        refuse("export " + " ".join(argv), "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
-               "--resistance", "1", *argv, reason=reason)
-    for argv, reason in ((["--env", "NoSuch-v0"], "NoSuch"), (["--policy", "nowhere:x"], "nowhere"),
-                         (["--env-arg", "bogus=1"], "does not take"), (["--duration", "0"], "duration"),
-                         (["--models", "m_twice.json"], "twice|more than once|duplicate")):
-        refuse("audit " + " ".join(argv), "audit", "--env", "Ant-v5", "--duration", "1", *argv,
-               reason=reason)
-
-
-def write_round_five(d: Path, good: pd.DataFrame) -> None:
+def write_other_tools_files(d: Path, good: pd.DataFrame) -> None:
     """The fifth round's inputs (a sweep of the commands a walk through the README does not reach): model files
     whose records are of the wrong kind, a wide file with joint patterns, a row of units, a report's summary that
     is a list, a model file to export onto itself."""
@@ -567,41 +747,7 @@ def write_round_five(d: Path, good: pd.DataFrame) -> None:
     (d / "list_summary" / "fit" / "summary.json").write_text("[1, 2]")
 
 
-def round_five_cases(section, refuse, word) -> None:
-    """The fifth round's sweep: what it found, each fixed in the commit it names in docs/reliability.md."""
-    section(5, "model file fields of the wrong kind")
-    for name, reason in (("m_validation_null.json", '"validation" must map'),
-                         ("m_units_list.json", '"channel_units" must map')):
-        refuse(f"predict {name}", "predict", name, "--hold", "5,0", "--duration", "60", "--start-C", "30",
-               "--threshold", "90", reason=reason)
-    section(5, "outputs onto inputs")
-    refuse("export --out onto its own model file", "export", "m_export_onto.json", "--to", "mujoco", "--motor-const",
-           "0.1", "--resistance", "1", "--out", "m_export_onto.json", reason="never replaces an input")
-    section(5, "what is not a log")
-    refuse("fit /dev/null", "fit", "/dev/null", reason="not a regular file")
-    refuse("fit a folder that is not a bag", "fit", "empty_folder", reason="not a ROS 2 bag")
-    refuse("fit a header-only log for one actuator", "fit", "header_only.csv", "--actuator", "knee",
-           reason="no rows with measurements")
-    refuse("report a summary that is a list", "report", "list_summary", reason="not a demo's summary")
-    section(5, "joint patterns")
-    refuse("a joint pattern with a shared column written with *", "fit", "wide_joints.csv", "--map",
-           "time=t,effort=cur{j},temperature=temp*", reason=r"temp\*.*needs \{j\}")
-    refuse("a joint pattern with a time column the file lacks", "fit", "wide_joints.csv", "--map",
-           "time=stamp,effort=cur{j},temperature=temp{j}", reason="names column 'stamp'")
-    section(5, "logs as other tools write them")
-    word("a row of units under the header", r"(?=[\s\S]*Fahrenheit)[\s\S]*K/mA\^2", "fit", "units_row.csv",
-         "--actuator", "knee")
-    word("data lines that end with a separator the header lacks", r"knee: model", "fit", "trailing_sep.csv")
-    word("seconds written as text: read as given, not called time stamps", r"^(?![\s\S]*time stamps)[\s\S]*RC_s",
-         "fit", "text_seconds.parquet", "--actuator", "knee")
-    section(5, "audit's policy and limits")
-    refuse("audit a policy that cannot be called as (env, observation)", "audit", "--env", "Ant-v5", "--duration",
-           "1", "--policy", "json:loads", reason="cannot be called as")
-    refuse("audit limits below where the joints start", "audit", "--env", "Ant-v5", "--duration", "1",
-           "--limit-C", "20", reason="start at or above their limit")
-
-
-def write_round_six(d: Path, good: pd.DataFrame) -> None:
+def write_lab_files_and_edges(d: Path, good: pd.DataFrame) -> None:
     """The sixth round's inputs: lab files as their labs write them, model files at their edges and in another
     unit, a user's own files where a command writes, plans that cannot be run."""
     model = json.loads((d / "model.json").read_text())
@@ -621,146 +767,6 @@ def write_round_six(d: Path, good: pd.DataFrame) -> None:
     blank.loc[40, "actuator"] = ""
     blank.to_csv(d / "blank_actuator.csv", index=False)
     (d / "user.xml").write_text("<mujoco model='mine'><worldbody/></mujoco>\n")
-
-
-def round_six_cases(section, refuse, word) -> None:
-    """The sixth round's classes (issues 81 to 83), each fixed in the commit docs/reliability.md names."""
-    section(6, "lab files as written")
-    refuse("a CSV without a header row", "fit", "headerless.csv", reason="--columns")
-    refuse("a cell of junk in a temperature column", "fit", "junk_cell.csv", reason="--drop-incomplete")
-    word("a cell of junk dropped and counted", r"abc", "fit", "junk_cell.csv", "--drop-incomplete", "--actuator",
-         "knee")
-    refuse("a blank actuator name", "fit", "blank_actuator.csv", reason="--drop-incomplete")
-    section(6, "units across the model file's edge")
-    refuse("a model in mA over a log in N m", "predict", "m_milliamps.json", "good.csv", "--actuator", "knee",
-           "--threshold", "90", reason="effort")
-    section(6, "model-file edges")
-    refuse("a limit of 1e9 degC", "predict", "m_limit_huge.json", "--hold", "5,0", "--duration", "60",
-           "--start-C", "30", reason="limit")
-    refuse("a negative validation RMSE", "predict", "m_rmse_negative.json", "--hold", "5,0", "--duration", "60",
-           "--start-C", "30", "--threshold", "90", reason="rmse_K")
-    refuse("JSON nested 100,000 deep", "predict", "m_deep.json", "--hold", "5,0", "--duration", "60",
-           "--start-C", "30", "--threshold", "90", reason="nested")
-    section(6, "a user's own files where a command writes")
-    refuse("export over a user's MJCF", "export", "model.json", "--to", "mujoco", "--motor-const", "0.1",
-           "--resistance", "1", "--out", "user.xml", reason="did not write")
-    section(6, "plans that cannot be run")
-    refuse("plan from a start above the limit", "plan", "model.json", "--actuator", "knee", "--identify", "RC_s", "--max-effort", "5",
-           "--duration", "600", "--start-C", "95", "--limit-C", "90", "--out", "p.csv", reason="no test can keep")
-    refuse("plan for a parameter the model lacks", "plan", "model.json", "--actuator", "knee", "--identify", "frame_tau_s",
-           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="no parameter")
-    refuse("plan a question it cannot pose", "plan", "model.json", "--actuator", "knee", "--separate", "joule,current_heating",
-           "--max-effort", "5", "--duration", "600", "--limit-C", "90", "--out", "p.csv", reason="cannot pose")
-
-
-def round_three_cases(section, refuse, word, partial) -> None:
-    """Outputs onto inputs, users' broken terms, flags that would do nothing, one bad part of a whole."""
-    section(3, "outputs onto inputs")
-    refuse("fit --html onto the log it reads", "fit", "victim_html.csv", "--quiet", "--html", "victim_html.csv",
-           reason="never replaces an input")
-    refuse("fit --save onto the log it reads", "fit", "victim_save.csv", "--quiet", "--save", "victim_save.csv",
-           reason="never replaces an input")
-    refuse("fit --fleet --table onto a log it reads", "fit", "victim_table.csv", "--fleet", "--quiet", "--table",
-           "victim_table.csv", reason="never replaces an input")
-    refuse("fit --html onto a symbolic link to the log", "fit", "victim_link_target.csv", "--quiet", "--html",
-           "victim_link.csv", reason="never replaces an input")
-    refuse("fit --html onto a hard link to the log", "fit", "victim_hard.csv", "--quiet", "--html",
-           "victim_hard_link.csv", reason="never replaces an input")
-    refuse("diagnose --propose onto its --terms file", "diagnose", "good.csv", "--quiet", "--discover", "--terms",
-           "victim_terms.py", "--propose", "victim_terms.py", reason="never replaces an input")
-    refuse("monitor --mcap onto the followed log", "monitor", "model.json", "--follow", "victim_follow.csv", "--mcap",
-           "victim_follow.csv", "--idle-exit", "0.5", reason="never replaces an input")
-    section(3, "users' broken terms")
-    for term in ("b_raises", "b_nan", "b_inf", "b_shape", "b_none", "b_missing", "b_nan_gain", "b_exits"):
-        refuse(f"fit a broken term ({term})", "fit", "good.csv", "--quiet", "--actuator", "knee", "--terms",
-               "broken_terms.py", "--model", f"joule,{term}", reason=f"term '{term}'")
-    word("diagnose sets broken terms aside and goes on", r"set aside", "diagnose", "good.csv", "--quiet",
-         "--actuator", "knee", "--terms", "broken_terms.py", "--stability", "0")
-    word("fit --json with a term that prints: the JSON stays JSON", r'^\[?\s*\{', "fit", "good.csv", "--quiet",
-         "--json", "--actuator", "knee", "--terms", "broken_terms.py", "--model", "joule,b_prints")
-    refuse("a term registered under a built-in's name", "fit", "good.csv", "--quiet", "--terms", "clash_terms.py", reason="built-in")
-    refuse("a term with bounds low > high", "fit", "good.csv", "--quiet", "--terms", "bounds_terms.py", reason="lower < upper")
-    refuse("--terms given a CSV", "fit", "good.csv", "--quiet", "--terms", "good.csv", reason="not a Python file")
-    section(3, "flags that would do nothing")
-    refuse("--table without --fleet", "fit", "good.csv", "--quiet", "--table", "rows.csv", reason="works with --fleet")
-    refuse("--workers without --fleet", "fit", "good.csv", "--quiet", "--workers", "2", reason="works with --fleet")
-    refuse("--cv with --split", "fit", "good.csv", "--quiet", "--cv", "3", "--split", "0.6", reason="--split and --cv")
-    refuse("--actuator given twice", "fit", "good.csv", "--quiet", "--actuator", "knee", "--actuator", "hip", reason="given twice")
-    section(3, "logs cut off, misformatted or misread")
-    word("a ROS 1 bag cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
-         "fit", "crash.bag", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
-    refuse("numbers with thousands separators (1.000,0)", "fit", "thousands.csv", "--quiet",
-           reason="thousands separators")
-    refuse("time stamps that change format halfway", "fit", "mixed_dates.csv", "--quiet",
-           reason="changes format at row 150")
-    word("an MCAP cut off by a crash: read to its last complete chunk, said", r"read up to its last complete chunk",
-         "fit", "crash.mcap", "--quiet", "--map", "effort=/joint_states.effort,temperature=/{j}/temperature.temperature")
-    word("a thermistor pinned at its ceiling: said with its span, left out", r"pinned at its highest reading", "fit",
-         "pinned.csv", "--quiet")
-    word("a sensor that drops out for a sample or two: said, left out", r"dropout", "fit", "dropouts.csv", "--quiet")
-    word("a sensor stuck at one value: said with its span, left out", r"stuck at .* left out", "fit", "stuck.csv",
-         "--quiet")
-    word("a temperature column in degF beside an ambient in degC", r"looks like degF", "fit", "fahrenheit.csv",
-         "--quiet")
-    for file, first, second in (("names_na.csv", "NA", "None"), ("names_1_01.csv", "1", "01"),
-                                ("names_nan.csv", "nan", "null")):
-        word(f"fit actuators named {first} and {second}: two actuators, by their names",
-             rf"(?m)^{first}: model.*\n(.*\n)*{second}: model", "fit", file, "--quiet")
-    refuse("--map with a unit it does not know (effort:furlong)", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
-           "--map", "time=time,effort=effort:furlong,temperature=temperature", reason="not a unit")
-    refuse("--map one column as both effort and temperature", "fit", "one_joint.csv", "--quiet", "--actuator", "a",
-           "--map", "time=time,effort=effort,temperature=effort", reason="to both")
-    refuse("--map a pattern with {j} twice", "fit", "good.csv", "--quiet", "--map", "effort=e{j}{j},temperature=temperature", reason="uses \\{j\\} 2 times")
-    section(3, "one bad part of a whole")
-    partial("a fleet over a folder with an unreadable file and one whose time goes back",
-            r"2 of 4 files could not be read", "fit", "fleet_with_bad", "--fleet", "--quiet")
-    partial("fit every actuator of the bag: one not identifiable, the others fitted", r"could not be analysed", "fit",
-            str(BAG), "--quiet")
-
-
-def round_two_cases(section, refuse, word) -> None:
-    """Silent misreadings, repeated columns and files, names of any length, workers beyond the machine."""
-    section(2, "units the numbers give away")
-    for log, unit in (("epoch_ms.csv", "milliseconds"), ("epoch_us.csv", "microseconds"),
-                      ("epoch_ns.csv", "nanoseconds")):
-        word(f"fit time in epoch {unit}", f"counted in {unit} since 1970: converted to s", "fit", log, "--quiet")
-    word("fit time steps too long for seconds", r"if the time column counts milliseconds", "fit", "relative_ms.csv",
-         "--quiet")
-    word("fit temperatures in kelvin", r"taken as kelvin and converted", "fit", "kelvin.csv", "--quiet")
-    word("fit temperatures and ambient in kelvin", r"ambient reads .* taken as kelvin", "fit", "kelvin_ambient.csv",
-         "--quiet")
-    word("fit kelvin under a degC header: taken as stated", r"T_offset_C", "fit", "stated_degC.csv", "--quiet")
-    word("fit a bag in kelvin", r"taken as kelvin and converted", "fit", "kelvin_temperature.mcap", "--quiet",
-         "--actuator", "knee")
-    section(2, "columns named twice, NaN in bags")
-    for log in ("jump_up.csv", "jump_down.csv", "two_temperatures.csv", "two_efforts.csv", "nan_temperature.mcap",
-                "all_nan_temperature.mcap"):
-        refuse(f"fit {log}", "fit", log, "--quiet")
-    word("fit a bag with NaN readings, --drop-incomplete", r"left out \(--drop-incomplete\)", "fit",
-         "nan_temperature.mcap", "--quiet", "--drop-incomplete", "--actuator", "knee")
-    word("fit a repeated column the log does not use", r"names column 'note' 2 times", "fit", "two_notes.csv",
-         "--quiet")
-    section(2, "names of any length")
-    word("fit --plot, an actuator name of 300 characters", r"wrote .*fit_k+-[0-9a-f]{10}\.png", "fit",
-         "long_name.csv", "--quiet", "--plot", "plots")
-    word("diagnose --plot, an actuator name of 50,000 characters", r"wrote .*residuals_k+-[0-9a-f]{10}\.png",
-         "diagnose", "huge_name.csv", "--quiet", "--plot", "plots")
-    refuse("fit --actuator nope on a name of 50,000 characters", "fit", "huge_name.csv", "--quiet", "--actuator",
-           "nope")
-    refuse("simulate --actuators knee:X8-9,knee:X8-16", "simulate", "--duration", "60", "--quiet", "--out", "sim.csv",
-           "--actuators", "knee:X8-9,knee:X8-16")
-    section(2, "files reached twice, workers beyond the machine")
-    word("fit --fleet the same file twice", r"each log read once", "fit", "good.csv", "good.csv", "--fleet",
-         "--quiet")
-    word("fit --fleet through a link to the file", r"each log read once", "fit", "good.csv", "link_to_good.csv",
-         "--fleet", "--quiet")
-    word("fit --fleet over a glob through a link loop", r"each log read once", "fit", "looped/**/*.csv", "--fleet",
-         "--quiet")
-    word("fit --fleet over a folder holding its own earlier --table", r"a fleet table .* skipped", "fit", "tabled",
-         "--fleet", "--quiet")
-    for workers in ("64", "1024"):
-        word(f"fit --fleet --workers {workers}", r"--workers \d+ lowered to", "fit", "good.csv", "--fleet", "--quiet",
-             "--workers", workers)
 
 
 ENV_SNIPPET = textwrap.dedent("""
@@ -1005,7 +1011,7 @@ def run_env(name: str, args: list[str]) -> dict:
     return {"input": name, "outcome": outcome, "message": result["raised"]}
 
 
-# ------------------------------------------------------------------ round two: special files, interrupts, the API
+# ------------------------------------------------------------------ special files, interrupts, the Python API
 def special_cases() -> list[tuple[str, list[str], str]]:
     """(name, argv, target kind): outputs onto a device node, a FIFO, /dev/stdout and a link to a file."""
     return _kind_all(2, "special files", [
@@ -1128,7 +1134,7 @@ def run_interrupt(d: Path, name: str, argv: list[str], how: str, repetitions: in
     return {"input": name, "repetitions": repetitions, "outcome": worst, "message": ", ".join(outcomes)}
 
 
-# ------------------------------------------------------------------ round four: the monitor's recording
+# ------------------------------------------------------------------ the monitor's recording under signals
 LIVE_WRITER = textwrap.dedent("""
     import sys, time
     lines = open(sys.argv[1]).read().splitlines(True)
