@@ -177,3 +177,24 @@ def test_reader_fuzz_reads_or_refuses_with_one_sentence(tmp_path, text):
         assert "\n" not in str(exc).strip()
         return
     assert np.all(np.diff(log.frame["time"].to_numpy()) > 0) or len(log.actuators) > 1
+
+
+def test_one_place_decides_a_paths_format_for_reading_writing_following_and_finding(tmp_path):
+    from thermolimb.logs.formats import asked_for, followed_as, is_log, log_format, written_as
+
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    assert [log_format(p) for p in ("a.csv", "a.TSV", "a.pq", "a.bag", "a.mcap", "a.db3", bag)] == \
+        ["csv", "csv", "parquet", "bag", "bag", "bag", "bag"]
+    assert [written_as(p) for p in ("a.csv", "a.parquet", "a.mcap")] == ["csv", "parquet", "mcap"]
+    assert [followed_as(p) for p in ("a.txt", "a.mcap", bag)] == ["csv", "mcap", "mcap"]
+    assert is_log(tmp_path / "a.csv") and is_log(bag) and not is_log(tmp_path / "a.xlsx")
+    for refused in ("a.xlsx", "a.bag"):  # no writer for a spreadsheet or a ROS 1 bag: one sentence
+        with pytest.raises(LogError, match="unknown log format"):
+            written_as(refused)
+    # one actuator asked for: a bag's joint, a wide table's name, a long table's rows
+    assert asked_for("a.mcap", "knee", None) == {"actuator_name": "knee", "actuators": None}
+    assert asked_for("a.csv", "knee", {"temperature": "T"}) == {"actuator_name": "knee", "actuators": None}
+    assert asked_for("a.csv", "knee", {"actuator": "joint"}) == {"actuator_name": None, "actuators": None}
+    assert asked_for("a.csv", "knee", None) == {"actuator_name": None, "actuators": ["knee"]}

@@ -146,7 +146,7 @@ def test_timestamps_in_different_offsets_are_one_clock():
 
 
 def test_a_folder_is_a_bag_only_with_its_metadata(tmp_path):
-    from thermolimb.logs.bags import is_bag
+    from thermolimb.logs.formats import is_bag
 
     (tmp_path / "run.csv").write_text("time,temperature\n")
     assert not is_bag(tmp_path) and not is_bag(tmp_path / "run.csv")

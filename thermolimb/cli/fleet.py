@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..logs.bags import is_bag
+from ..logs.formats import is_bag
 from ..util.atomic import is_stream, write_text
 from ..util.errors import UsageError
 from ..util.jsonutil import to_jsonable

@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from ..logs import read_log
-from ..logs.bags import inspect_bag, is_bag, suggest_mapping
+from ..logs.bags import inspect_bag, suggest_mapping
+from ..logs.formats import is_bag
 from ..logs.mapping import (
     REQUIRED,
     TIME_OF,

@@ -102,8 +102,9 @@ def _follower(args):
     followed at all is one sentence."""
     from pathlib import Path
 
-    from ..logs.follow import CsvFollower, follows
+    from ..logs.follow import CsvFollower
     from ..logs.follow_mcap import McapFollower
+    from ..logs.formats import followed_as
     from .reading import read_options
 
     path = Path(args.follow)
@@ -113,7 +114,7 @@ def _follower(args):
     if path.exists() and not path.is_file() and not path.is_dir():
         raise UsageError(f"--follow {path}: not a regular file (a device or a pipe); expected a log file another "
                          f"program writes")
-    kind = follows(path)
+    kind = followed_as(path)
     if kind == "mcap":
         return McapFollower(path, args.map)
     if kind != "csv":

@@ -9,7 +9,7 @@ import hashlib
 import numpy as np
 
 from ..logs import ActuatorSeries, ThermalLog, parse_mapping, read_log
-from ..logs.bags import is_bag
+from ..logs.formats import asked_for
 from ..util.errors import LogError, UsageError
 from .options import SEPARATORS
 from .output import say
@@ -36,14 +36,11 @@ def load_model_file(args):
 def read_options(args, path) -> dict:
     """The keyword arguments of :func:`read_log` that the command line's options give for ``path``."""
     mapping = parse_mapping(args.map)
-    name = args.actuator if mapping and "actuator" not in mapping else None
     return {"mapping": mapping, "velocity_unit": args.velocity_unit, "effort_unit": args.effort_unit,
-            "actuator_name": args.actuator if is_bag(path) else name,
             "sep": SEPARATORS[args.sep] if args.sep else None, "decimal": args.decimal,
             "drop_incomplete": args.drop_incomplete, "columns": getattr(args, "columns", None),
-            # one actuator of a canonical table: only its rows are read (and its neighbours' temperatures)
-            "actuators": [args.actuator] if args.actuator and not mapping and not is_bag(path) else None,
-            "neighbours": reads_neighbours(args)}
+            # one actuator: a bag's joint, a wide table's name, or a long table's rows (and its neighbours')
+            **asked_for(path, args.actuator, mapping), "neighbours": reads_neighbours(args)}
 
 
 def reads_neighbours(args) -> bool:

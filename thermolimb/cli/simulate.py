@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..logs import write_pieces
-from ..logs.table import kind_of
+from ..logs.formats import written_as
 from ..plant import (
     ACTUATOR_SPECS,
     NETWORKS,
@@ -102,14 +102,13 @@ def run(args) -> int:
         raise UsageError(f"--duration {args.duration:g} s at --dt {args.dt:g} s is {samples:.3g} samples of "
                          f"{len(names)} actuators; at most {MAX_ROWS:,} rows are written (a longer --dt or a "
                          "shorter --duration)")
-    if Path(args.out).suffix.lower() != ".mcap":
-        kind_of(args.out)
+    written = written_as(args.out)  # an unknown format is one sentence, before the plant runs
     effects = PlantEffects.from_names(args.effects)
     options = dict(seed=args.seed, ambient_C=args.ambient, network=NETWORKS[args.network],
                    include_drivers=args.drivers, housing_sensor=args.housing_sensor, quiet=args.quiet,
                    load_scale=args.load_scale)
     seen = _Seen()
-    if Path(args.out).suffix.lower() == ".mcap":  # a bag's messages interleave every channel: written whole
+    if written == "mcap":  # a bag's messages interleave every channel: written whole
         run = next(seen.each([simulate_profile(args.profile, args.duration, args.dt, names, specs, effects,
                                                **options)]))
         path = run.log.write(args.out)

@@ -49,13 +49,6 @@ from .messages import (
     numeric_fields,
 )
 
-BAG_SUFFIXES = (".bag", ".mcap", ".db3")
-
-
-def is_bag(path: str | Path) -> bool:
-    path = Path(path)
-    return path.suffix.lower() in BAG_SUFFIXES or (path.is_dir() and (path / "metadata.yaml").exists())
-
 
 @dataclass(frozen=True)
 class TopicInfo:

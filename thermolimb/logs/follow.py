@@ -36,7 +36,6 @@ from .dialect import Dialect, csv_dialect
 from .mapping import OPTIONAL, REQUIRED
 from .plausible import KELVIN_JUMP
 from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES
-from .table import kind_of
 from .validate import Reading, from_frame
 
 ODD_LINES = 3  # lines of one other shape in a row, from which the shape is said once for the run
@@ -364,11 +363,3 @@ def _is_header(fields: list[str]) -> bool:
 def _reason(exc: LogError, path: Path) -> str:
     """A validation's sentence without the file's name (the note names it) and the row within a batch."""
     return re.sub(r" at row \d+", "", str(exc).removeprefix(f"{path}: "))
-
-
-def follows(path: Path) -> str:
-    """What kind of log a path is followed as: ``mcap`` (a file, or a ROS 2 bag folder), else its table kind
-    (``csv``, ``parquet``; an unknown suffix is one sentence)."""
-    if path.suffix.lower() == ".mcap" or path.is_dir():
-        return "mcap"
-    return kind_of(path)

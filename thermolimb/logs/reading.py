@@ -15,10 +15,11 @@ from ..util.errors import LogError
 from ..util.frozen import FrozenMapping
 from ..util.lazy import pandas as pd
 from ..util.memory import release_freed
-from .bags import is_bag, read_bag
+from .bags import read_bag
+from .formats import log_format
 from .mapping import EXTRA, parse_mapping
 from .series import ThermalLog
-from .table import column_names, key_values, kind_of, read_table, rows_where
+from .table import column_names, key_values, read_table, rows_where
 from .units import SCALED, base_name, channel_units
 from .validate import from_frame
 from .wide import split_units
@@ -107,11 +108,6 @@ class _Request:
         """The keyword arguments of :func:`~.validate.from_frame` every table reader passes."""
         return dict(source=str(path), velocity_unit=self.velocity_unit, drop_incomplete=self.drop_incomplete,
                     units={"effort": self.effort_unit})
-
-
-def log_format(path: Path) -> str:
-    """``bag`` (ROS 1 ``.bag``, ROS 2 ``.mcap``, ``.db3`` or a bag folder), ``csv`` or ``parquet``."""
-    return "bag" if is_bag(path) else kind_of(path)
 
 
 def _read_bag(path: Path, request: _Request) -> ThermalLog:

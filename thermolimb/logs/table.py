@@ -17,28 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..util.atomic import is_stream
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
 from .dialect import check_names, file_dialect, separator_name
+from .formats import kind_of
 
 CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
-
-
-def kind_of(path: Path) -> str:
-    """``csv`` or ``parquet``, by the file's suffix; a device, a FIFO or standard output without one takes CSV."""
-    suffix = Path(path).suffix.lower()
-    if not suffix and is_stream(path):
-        return "csv"
-    if suffix in (".csv", ".txt", ".tsv"):
-        return "csv"
-    if suffix in (".parquet", ".pq"):
-        return "parquet"
-    if Path(path).is_dir():
-        raise LogError(f"{path}: a folder that is not a ROS 2 bag (it has no metadata.yaml); "
-                       f"expected a log file, or a ROS 2 bag's folder")
-    raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt or .parquet")
 
 
 def read_table(path: Path, sep: str | None = None, decimal: str | None = None, names=None) -> pd.DataFrame:

@@ -11,8 +11,8 @@ from typing import Iterable
 from ..util.atomic import atomic_path
 from ..util.lazy import pandas as pd
 from .bag_writer import write_mcap
+from .formats import kind_of, written_as
 from .mapping import EXTRA, OPTIONAL, REQUIRED
-from .table import kind_of
 from .units import NOT_GIVEN
 
 
@@ -20,7 +20,7 @@ def write_log(log, path: str | Path) -> Path:
     """Write a :class:`~.series.ThermalLog` as CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`),
     whole or not at all."""
     path = Path(path)
-    return WRITERS["mcap" if path.suffix.lower() == ".mcap" else kind_of(path)](log, path)
+    return WRITERS[written_as(path)](log, path)
 
 
 def file_frame(log) -> pd.DataFrame:

@@ -16,13 +16,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
-from ..logs.bags import BAG_SUFFIXES, is_bag
+from ..logs.formats import LOG_SUFFIXES, is_bag, is_log
 from ..util.errors import ThermolimbError, UsageError
 from ..util.parallel import Runner, one_blas_thread, run_jobs
 from .excitation import refuse_unfittable
 from .validation import RUNS, Scheme, validate_model
 
-LOG_SUFFIXES = (".csv", ".tsv", ".txt", ".parquet", ".pq") + BAG_SUFFIXES
 TABLE_COLUMNS = ("source", "actuator", "run", "samples", "duration_s")  # the first columns of a --table CSV
 
 
@@ -63,7 +62,7 @@ def _expand(items: Sequence[str | Path], notes: list[str]) -> list[Path]:
         text = str(item)
         if any(c in text for c in "*?["):
             found = [Path(p) for p in sorted(glob.glob(text, recursive=True))]
-            found = [p for p in found if p.suffix.lower() in LOG_SUFFIXES or is_bag(p)]
+            found = [p for p in found if is_log(p)]
             if not found:
                 raise UsageError(f"{text}: the pattern matches no log; expected files ending in "
                                  f"{', '.join(LOG_SUFFIXES)} or ROS 2 bag folders")
@@ -113,7 +112,7 @@ def _logs_in(folder: Path) -> list[Path]:
             dirs[:] = []
             continue
         dirs.sort()
-        found += [root_path / f for f in sorted(files) if Path(f).suffix.lower() in LOG_SUFFIXES]
+        found += [root_path / f for f in sorted(files) if is_log(root_path / f)]
     return found
 
 
