@@ -518,3 +518,20 @@ def test_the_walk_carries_over_at_a_sensor_it_was_not_tuned_on(tmp_path, monkeyp
     assert not np.allclose(written, winding)
     row = case(None, [runs[0]], [runs[1]], "pmsm")
     assert row["steps"][1:] and row["walk_K"] < 0.5 * row["default_K"], row
+
+
+def test_a_change_that_takes_the_place_of_the_heat_source_is_not_taken():
+    """The UR3's J4, its first part (heating only, one transient): ``+ speed_losses`` cuts the held-out error
+    from 0.884 to 0.278 K by driving Joule heating to its null (flagged "vanishes"), and its model misses the
+    joint's other part worse than the default model (``benchmarks/transfer.py``): implausible, not taken; the
+    verdict's next line names it and why."""
+    from thermolimb.data import REAL_LOGS
+    from thermolimb.workbench.diagnosis import diagnose
+
+    first = REAL_LOGS["ur3"].read()[0].runs("J4")[0]
+    d = diagnose([first])
+    speed = next(c for c in d.candidates if c.label == "+ speed_losses")
+    assert speed.helps and speed.status == "implausible" and d.recommended is None
+    assert speed.implausible_because.startswith("it takes the place of the model's heat source")
+    assert "betaR_K_per_effort2 vanishes" in speed.implausible_because
+    assert not any(f.startswith("betaR_K_per_effort2 vanishes") for f in d.base.flags)  # the base's does not

@@ -101,6 +101,11 @@ def _next(d, last, discover: bool) -> str:
         else ""
     )
     more = "" if discover else "; --discover tries the log's other channels and proposes a form"
+    barred = next((c for c in last.candidates if c.helps and not c.eligible), None)
+    if barred is not None:  # the best held-out gain, barred by a gate: said, with the gate
+        why = f": {barred.implausible_because}" if barred.status == "implausible" else ""
+        return (f"{barred.label} helps ({barred.rmse_K:.3f} K held out) but is {barred.status}{why}; "
+                f"no change is taken: {rmse:.3f} K remains{floor}{more}")
     return (
         f"no change helps by {100 * MIN_IMPROVEMENT:.0f} % on held-out data; {rmse:.3f} K remains{floor}"
         f"{more}"
