@@ -42,6 +42,7 @@ from thermolimb.workbench.saving import saved_from_report
 from thermolimb.workbench.validation import fit_and_validate
 
 ANSWERED = 0.10  # relative standard error at which a question counts as answered
+SHARES = (0.25, 0.5, 0.75)  # the designed test's first quarter, half and three quarters, fitted on their own
 SENSOR = ["sensor_noise", "quantisation"]
 
 
@@ -201,6 +202,7 @@ def run_case(case: Case, folder: Path, seed: int = 0) -> dict:
         plan.velocity is not None,
     )
     rng = np.random.default_rng(seed + 100)
+    runs = {}
     out = {
         "case": case.name,
         "question": case.question,
@@ -226,6 +228,7 @@ def run_case(case: Case, folder: Path, seed: int = 0) -> dict:
 
         pd.DataFrame(table).to_csv(path, index=False)
         run = plant_run(case, path, case.test_s, 1.0, seed + 7)
+        runs[kind] = run.log.runs("knee")[0]
         try:
             fit = fitted(run.log, case.model)
         except ThermolimbError as exc:  # the test's log cannot identify the model: the question stays open
@@ -252,7 +255,26 @@ def run_case(case: Case, folder: Path, seed: int = 0) -> dict:
             "hottest_true_winding_C": float(np.max(run.true_winding_C)),
             "peak_effort": float(np.max(np.abs(effort))),
         }
+    out["designed_time_to_best_alternative_s"] = time_to(runs["designed"], case, out["tests"])
     return out
+
+
+def time_to(designed, case: Case, tests: dict) -> float | None:
+    """How much of the designed test reaches the best alternative's relative standard error, each share of it
+    (:data:`SHARES`, then the whole) fitted on its own as a shorter test would be: the seconds, or ``None``
+    where even the whole does not.  A share of a test designed for the whole length is not the test a plan for
+    that length would design, so this is an upper bound on the time a design needs."""
+    target = min(tests[k]["relative_stderr"] for k in ("prbs", "random"))
+    for share in SHARES:
+        part = designed.slice(0, int(round(share * designed.n)))
+        try:
+            fit = fit_and_validate([part], case.model)
+        except ThermolimbError:
+            continue
+        value = abs(float(fit.model.params[case.identify]))
+        if float(fit.stderr[case.identify]) / max(value, 1e-300) <= target:
+            return float(part.time_s[-1] - part.time_s[0])
+    return case.test_s if tests["designed"]["relative_stderr"] <= target else None
 
 
 SEPARATE = Case("separate_tempco", "copper's tempco told from Joule heating on a cool log (--separate)",
@@ -334,7 +356,10 @@ def main(argv=None) -> int:
                 f"{100 * x['relative_stderr']:7.2f}% {str(x['answered']):>8s} {x['promised']:9.3g} "
                 f"{x['obtained_over_promised'] or float('nan'):8.2f} {x['hottest_true_winding_C']:8.1f}"
             )
-        print(f"{'':16s} plan took {r['plan_s']:.1f} s")
+        reach = r.get("designed_time_to_best_alternative_s", "n/a")
+        reach = "never" if reach is None else reach if isinstance(reach, str) else f"{reach:.0f} s"
+        print(f"{'':16s} plan took {r['plan_s']:.1f} s; the designed test reaches the best alternative's error "
+              f"in {reach}")
     designed = [r["tests"]["designed"] for r in rows]
     print(
         f"designed answers {sum(d['answered'] for d in designed)} of {len(rows)}; prbs "
