@@ -46,6 +46,7 @@ class HumanoidSim(BulletRig):
         self.body = body or WholeBody(params)
         self.rods = self.body.rods
         self._jacobians: tuple[bytes | None, dict] = (None, {})
+        self._fractions: tuple[bytes | None, np.ndarray] = (None, np.ones(0))
         angles = self.stance_angles if joint_angles is None else np.asarray(joint_angles, float)
         base = self.standing_base(angles)
         limits = np.array([params.effort_limit(j) for j in JOINTS])
@@ -76,7 +77,10 @@ class HumanoidSim(BulletRig):
         return actuation.velocities(self.rods, q, qd, self._rod_jacobians(q))
 
     def torques_at_fraction(self, torques_Nm, actuator_fraction):
-        return torques_Nm * actuation.joint_fractions(actuator_fraction)
+        key = np.asarray(actuator_fraction, float).tobytes()  # one share a period, asked at every physics step
+        if self._fractions[0] != key:
+            self._fractions = (key, actuation.joint_fractions(actuator_fraction))
+        return torques_Nm * self._fractions[1]
 
     # --------------------------------------------------------------- sensing
     def read(self) -> Reading:

@@ -169,19 +169,18 @@ class BulletRig:
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
         """Joint angles (rad) and rates (rad/s), read from PyBullet once per physics state: the period's end, the
         robot's reading and the next period's start share one read."""
+        q, qd = self._states()
+        return q.copy(), qd.copy()
+
+    def _states(self) -> tuple[np.ndarray, np.ndarray]:  # the read itself, not to be written to
         if self._joint_states is None:
             states = self.client.getJointStates(self.robot, self.joint_index)
             self._joint_states = np.array([s[0] for s in states]), np.array([s[1] for s in states])
-        q, qd = self._joint_states
-        return q.copy(), qd.copy()
+        return self._joint_states
 
     def set_joint_positions(self, q: np.ndarray) -> None:
         for j, angle in zip(self.joint_index, q):
             self.client.resetJointState(self.robot, j, float(angle), 0.0)
-        self._joint_states = None
-
-    def _physics_step(self) -> None:
-        self.client.stepSimulation()
         self._joint_states = None
 
     def base_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -240,11 +239,12 @@ class BulletRig:
         q, qd = self.joint_states()
         command = np.clip(np.asarray(torque_Nm, float), -self.effort_limit, self.effort_limit)
         self.applied_Nm = self.protected_torques(q, qd, command)
-        c = self.client
         forces = self.applied_Nm.tolist()
+        apply, step = self.client.setJointMotorControlArray, self.client.stepSimulation  # bound once
         for _ in range(self.config.substeps):
-            c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=forces)
-            self._physics_step()
+            apply(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=forces)
+            step()
+        self._joint_states = None
         self._after_control_period()
 
     def step_impedance(self, feedforward_Nm: np.ndarray, q_des: np.ndarray, kp_Nm_rad: np.ndarray,
@@ -262,12 +262,14 @@ class BulletRig:
 
         q, qd = self.joint_states()
         fraction = self._protection_fraction(q, qd, loop(q, qd))
-        c = self.client
+        # bound once: the loop runs at the physics rate, where each lookup through the client costs
+        apply, step = self.client.setJointMotorControlArray, self.client.stepSimulation
         total = np.zeros(len(self.joints))
         for _ in range(self.config.substeps):
-            tau = self.torques_at_fraction(loop(*self.joint_states()), fraction)
-            c.setJointMotorControlArray(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
-            self._physics_step()
+            tau = self.torques_at_fraction(loop(*self._states()), fraction)
+            apply(self.robot, self.joint_index, pybullet.TORQUE_CONTROL, forces=tau.tolist())
+            step()
+            self._joint_states = None
             total += tau
         self.applied_Nm = total / self.config.substeps
         self._after_control_period()
