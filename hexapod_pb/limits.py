@@ -11,7 +11,8 @@ from thermolimb.plant import ThermalLimits
 
 from .params import DAISY
 
-OVERHEAT_MARGIN_K = 35.0  # the warning (the reward's overheat term) starts this far below the lowest winding limit
+# the warning (the reward's overheat term) starts this far below the lowest winding limit
+OVERHEAT_MARGIN_K = 35.0
 
 _WINDING_C = tuple(spec.winding_limit_C for spec in DAISY.joint_actuators)
 LIMITS = ThermalLimits(_WINDING_C, warning_C=min(_WINDING_C) - OVERHEAT_MARGIN_K)

@@ -39,11 +39,13 @@ class DaisyParams:
     bracket_mass_kg: float = 0.20  # chosen: bracket between base and shoulder actuators
     upper_tube_mass_kg: float = 0.30  # chosen: link tube, shoulder to elbow
     lower_tube_mass_kg: float = 0.2736  # chosen so that one leg weighs 135 N / 6
-    # the actuator of each joint kind (JOINT_KINDS order: base, shoulder, elbow): HEBI's X8 datasheets, written once
-    # in thermolimb.plant; effort and velocity limits and continuous efforts (Nair et al.'s 8/16/8 N m) come from them
+    # the actuator of each joint kind (JOINT_KINDS order: base, shoulder, elbow): HEBI's X8 datasheets,
+    # written once in thermolimb.plant; effort and velocity limits and continuous efforts (Nair et al.'s
+    # 8/16/8 N m) come from them
     actuators: tuple[ActuatorSpec, ActuatorSpec, ActuatorSpec] = (X8_9, X8_16, X8_9)
     nominal_body_height_m: float = 0.16  # body centre above the ground when standing
-    nominal_foot_reach_m: float = 0.22  # horizontal distance shoulder axis -> foot (feet 0.46-0.51 m from the centre)
+    # horizontal distance shoulder axis -> foot (feet 0.46-0.51 m from the centre)
+    nominal_foot_reach_m: float = 0.22
 
     def __post_init__(self):
         if len(self.mount_yaw_deg) != len(LEGS) or len(self.mount_radius_m) != len(LEGS):

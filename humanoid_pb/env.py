@@ -28,7 +28,8 @@ from .sim import HumanoidSim
 
 ACTION_SCALE = np.array([0.15, 0.08, 0.15, 0.1])
 DECISION_S = 1.5
-# windings heated by a minute or two of balancing sit on housings that have barely warmed (2000 s time constant)
+# windings heated by a minute or two of balancing sit on housings that have barely warmed (2000 s time
+# constant)
 HOUSING_WARMING_K = 5.0
 
 

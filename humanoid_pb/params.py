@@ -22,7 +22,8 @@ class ValkyrieParams:
     pelvis_kg: float = 8.2
     torso_kg: float = 39.5  # chest, head and electronics
     waist_links_kg: tuple[float, float] = (0.5, 0.5)  # torso yaw and pitch links (chosen)
-    leg_links_kg: tuple[float, ...] = (2.4, 3.0, 9.5, 5.5, 0.9, 3.5)  # hip yaw, hip roll, thigh, shank, ankle, foot = 24.8
+    # hip yaw, hip roll, thigh, shank, ankle, foot = 24.8
+    leg_links_kg: tuple[float, ...] = (2.4, 3.0, 9.5, 5.5, 0.9, 3.5)
     arm_links_kg: tuple[float, ...] = (2.6, 2.9, 5.5, 4.0)  # shoulder pitch, roll, upper arm, forearm = 15.0
     hip_lateral_m: float = 0.1016
     hip_below_pelvis_m: float = 0.1853
@@ -44,19 +45,21 @@ class ValkyrieParams:
         "ankle_pitch": (-0.93, 0.65), "ankle_roll": (-0.4, 0.4), "torso_yaw": (-1.3, 1.3),
         "torso_pitch": (-0.13, 0.67), "torso_roll": (-0.23, 0.23), "shoulder_pitch": (-2.8, 2.0),
         "shoulder_roll": (-1.5, 1.5), "shoulder_yaw": (-3.0, 3.0), "elbow": (-2.2, 0.1)})
-    # push rods (facts.md): ankle rods 0.105 m, anchored +-0.04 m either side of the shin axis; at the zero pose
-    # the rod force -> (pitch, roll) torque map is [[-0.0367, -0.0367], [-0.0341, +0.0341]] m
+    # push rods (facts.md): ankle rods 0.105 m, anchored +-0.04 m either side of the shin axis; at the zero
+    # pose the rod force -> (pitch, roll) torque map is [[-0.0367, -0.0367], [-0.0341, +0.0341]] m
     ankle_rod_m: float = 0.105
     ankle_rod_anchor_m: float = 0.04
     ankle_rod_arm_m: tuple[float, float] = (0.0367, 0.0341)  # pitch, roll moment arms at the zero pose
     waist_rod_m: float = 0.131
     waist_rod_anchor_m: float = 0.07
     waist_rod_arm_m: tuple[float, float] = (0.06, 0.065)  # chosen: about the 0.07 m anchors
-    knee_min_rad: float = 0.3  # working range of the IK: balance controllers keep away from the straight-knee singularity
+    # working range of the IK: balance controllers keep away from the straight-knee singularity
+    knee_min_rad: float = 0.3
     rod_force_limit_N: float = 2800.0  # ~205 N m / 0.0367 m * 0.5 (derived in facts.md)
 
     def __post_init__(self):
-        for name in ("effort_limit_Nm", "joint_limits_rad"):  # read-only: a default must not change under anyone
+        # read-only: a default must not change under anyone
+        for name in ("effort_limit_Nm", "joint_limits_rad"):
             object.__setattr__(self, name, FrozenMapping(getattr(self, name)))
         masses = (self.pelvis_kg, self.torso_kg, *self.waist_links_kg, *self.leg_links_kg, *self.arm_links_kg)
         if any(not m > 0 for m in masses):

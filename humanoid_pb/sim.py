@@ -77,7 +77,8 @@ class HumanoidSim(BulletRig):
         return actuation.velocities(self.rods, q, qd, self._rod_jacobians(q))
 
     def torques_at_fraction(self, torques_Nm, actuator_fraction):
-        key = np.asarray(actuator_fraction, float).tobytes()  # one share a period, asked at every physics step
+        # one share a period, asked at every physics step
+        key = np.asarray(actuator_fraction, float).tobytes()
         if self._fractions[0] != key:
             self._fractions = (key, actuation.joint_fractions(actuator_fraction))
         return torques_Nm * self._fractions[1]
@@ -100,7 +101,8 @@ class HumanoidSim(BulletRig):
     def render(self, width: int = 480, height: int = 480, yaw_deg: float = 30.0) -> np.ndarray:
         """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software renderer."""
         pos, _, _, _ = self.base_state()
-        return super().render([pos[0], pos[1], 0.9], 4.0, yaw_deg, -10.0, width, height, fov_deg=40.0)  # head to feet
+        # head to feet
+        return super().render([pos[0], pos[1], 0.9], 4.0, yaw_deg, -10.0, width, height, fov_deg=40.0)
 
     def command(self, cmd) -> Reading:
         """One control step with an :class:`~humanoid_pb.control.balance.ImpedanceCommand`."""

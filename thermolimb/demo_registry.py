@@ -97,7 +97,8 @@ class Demo:
     requires: tuple[str, ...] = ()  # optional packages (an extra) the demo imports
     page: DemoPage | None = None
     extra: str = "rl"  # the extra that installs ``requires``
-    cost_s: float = 5.0  # about how long the quick run takes on one core: ``demo all`` starts the longest first
+    # about how long the quick run takes on one core: ``demo all`` starts the longest first
+    cost_s: float = 5.0
 
     @property
     def missing(self) -> tuple[str, ...]:
@@ -120,7 +121,8 @@ def register_demo(name: str, description: str, requires: tuple[str, ...] = (), p
 
 
 ENTRY_POINT_GROUP = "thermolimb.demos"
-# the order a newcomer reads the suite's demos in (the report and `thermolimb demo` list them so); others follow by name
+# the order a newcomer reads the suite's demos in (the report and `thermolimb demo` list them so); others
+# follow by name
 TOUR = ("thermal-fit", "diagnose", "custom-effect", "discovery", "real-logs", "pmsm-real-data", "fleet-drift", "forecast",
         "hexapod-walk",
         "strategies", "hexapod-endurance", "humanoid-recovery", "thermal-audit", "ppo-agent")
@@ -152,7 +154,8 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
         raise UsageError(f"demo {name!r} needs {', '.join(demos[name].missing)}: "
                          f"pip install 'thermolimb[{demos[name].extra}]'")
     folder = check_output_dir(Path(out) / name, "demo output folder")
-    replaces(folder / "summary.json", _demo_wrote, "--out")  # a summary the demo did not write is not replaced
+    # a summary the demo did not write is not replaced
+    replaces(folder / "summary.json", _demo_wrote, "--out")
     with made_folder(folder):
         summary = to_jsonable(demos[name].run(folder, quick=quick, quiet=quiet))
         details = summary.pop("details", None)

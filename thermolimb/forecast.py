@@ -60,7 +60,8 @@ class Forecast:
     model_error_K: float  # the band's model-error half-width once the start is forgotten (0: none known)
     measured_C: np.ndarray | None = None
     measured_crossing_s: float | None = None  # where the log's own readings first reach the threshold
-    notes: tuple[str, ...] = ()  # where the question leaves what the model was identified on (model.experience)
+    # where the question leaves what the model was identified on (model.experience)
+    notes: tuple[str, ...] = ()
 
     @property
     def horizon_s(self) -> float:

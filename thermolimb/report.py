@@ -66,7 +66,8 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     if not isinstance(summary, dict):
         raise UsageError(f"{folder / 'summary.json'} holds {type(summary).__name__}, not a demo's summary (a JSON "
                          f"object); run that demo again")
-    if (folder / "details.json").is_file():  # what the demo returned under "details", written apart by the registry
+    # what the demo returned under "details", written apart by the registry
+    if (folder / "details.json").is_file():
         summary = {**summary, "details": _load(folder / "details.json")}
     demo = demos.get(folder.name)
     parts = [f"<h2 id='{html.escape(folder.name)}'>{html.escape(folder.name)}</h2>"]

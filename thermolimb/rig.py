@@ -43,8 +43,8 @@ def silenced(fd: int = 1):
         os.dup2(devnull, fd)
         yield
     finally:
-        # C's own buffer too: where the standard output is a file or a pipe, what PyBullet printed ("argv[0]=")
-        # would otherwise be written later, on our stream
+        # C's own buffer too: where the standard output is a file or a pipe, what PyBullet printed
+        # ("argv[0]=") would otherwise be written later, on our stream
         _LIBC.fflush(None)
         os.dup2(saved, fd)
         os.close(devnull)
@@ -132,7 +132,8 @@ class BulletRig:
         self.control_steps = 0  # time_s is this many control periods (a product, not a sum that drifts)
         self._joint_states = None  # (q, qd) read since the last physics step: read once, whoever asks
         self.applied_Nm = np.zeros(len(self.joints))
-        self.last_efforts = np.zeros(len(self.actuators))  # the actuators' efforts over the last control period
+        # the actuators' efforts over the last control period
+        self.last_efforts = np.zeros(len(self.actuators))
         self._log = {key: deque(maxlen=config.log_capacity)
                      for key in ("time", "effort", "velocity", "temperature", "ambient", "fault")}
         from .monitor.live import from_environment

@@ -35,21 +35,24 @@ P_POINT_CONTACT = np.diag([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
 
 @dataclass(frozen=True)
 class Gains:
-    swing_kp_1_s2: float = 200.0  # joint-space PID of swing legs, as accelerations (scaled by the leg mass matrix)
+    # joint-space PID of swing legs, as accelerations (scaled by the leg mass matrix)
+    swing_kp_1_s2: float = 200.0
     swing_kd_1_s: float = 20.0
     swing_ki_1_s3: float = 0.0
-    # Nair et al.'s motion term on stance legs acts through the whole body; softer than the swing legs' (chosen:
-    # with the swing gains on stance legs a 10 s walk was as stable here, body yaw under 0.002 rad)
+    # Nair et al.'s motion term on stance legs acts through the whole body; softer than the swing legs'
+    # (chosen: with the swing gains on stance legs a 10 s walk was as stable here, body yaw under 0.002 rad)
     stance_kp_1_s2: float = 60.0
     stance_kd_1_s: float = 10.0
     height_kp_1_s2: float = 60.0  # body height, as an acceleration per metre of error
     height_kd_1_s: float = 12.0
     velocity_kv_1_s: float = 3.0  # horizontal velocity tracking
     attitude_kp_Nm_rad: float = 200.0
-    attitude_kd_Nm_s_rad: float = 5.0  # 50 makes the body's yaw run away at 50 Hz (tests/test_hexapod_control.py)
+    # 50 makes the body's yaw run away at 50 Hz (tests/test_hexapod_control.py)
+    attitude_kd_Nm_s_rad: float = 5.0
     stance_motion_scale: float = 1.0  # Nair et al.'s motion term on stance legs (Eq. 6); 0 turns it off
     smoothing_1_N2: float = 1e-3  # proximal weight of the control-rate minimax (see wrench.minimax)
-    friction: float = 0.6  # friction pyramid the distribution respects (None: Nair et al.'s unconstrained friction)
+    # friction pyramid the distribution respects (None: Nair et al.'s unconstrained friction)
+    friction: float = 0.6
     min_normal_N: float = 2.0  # keep every stance foot loaded
     # the stance programs' solver, named, and the one that takes over should it fail (said in each solution)
     solver: str = "daqp"

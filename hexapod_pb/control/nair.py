@@ -41,7 +41,8 @@ def nair_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
     hess = (lambda v: np.zeros((6, 6))) if zero_hessian else None
     kwargs = {"hess": hess} if hess else {}
     with warnings.catch_warnings():
-        # the quasi-Newton update warns that the cost is piecewise linear: that is why Nair et al. zeroed the Hessian
+        # the quasi-Newton update warns that the cost is piecewise linear: that is why Nair et al. zeroed the
+        # Hessian
         warnings.simplefilter("ignore", UserWarning)
         result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
                           constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0}, **kwargs)

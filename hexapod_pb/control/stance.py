@@ -58,7 +58,8 @@ class StanceProblem:
     gravity_Nm: np.ndarray  # (3n,) g
     torque_scale_Nm: np.ndarray  # (3n,) normaliser (continuous torque)
     wrench: np.ndarray  # (6,) required (F, M) from the ground, body frame
-    friction: float | None = None  # friction coefficient of the pyramid; None: no friction limit (Nair et al.)
+    # friction coefficient of the pyramid; None: no friction limit (Nair et al.)
+    friction: float | None = None
     min_normal_N: float | None = None  # unilateral contact; None: no bound (Nair et al.)
 
     @property

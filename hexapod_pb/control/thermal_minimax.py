@@ -38,8 +38,8 @@ def thermal_minimax(problem: StanceProblem, bank: ModelArrays, temperature_C: np
     sol = first or minimax(p, solver, fallback=fallback)  # a good first point: the torque minimax
     fell_back = {sol.fallback_from} - {None}
     cuts_A, cuts_b = [], []
-    # what every round shares: the wrench balance, the contact rows and the torques within 3x their scale (a trust
-    # region for the cuts)
+    # what every round shares: the wrench balance, the contact rows and the torques within 3x their scale (a
+    # trust region for the cuts)
     extra_A, extra_bu, extra_bl = p.contact_rows
     fixed_A = np.vstack([extra_A, np.hstack([p.torque_map, np.zeros((nf, 1))])])
     fixed_bu = np.concatenate([extra_bu, 3 * p.torque_scale_Nm - p.gravity_Nm])

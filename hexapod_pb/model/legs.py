@@ -41,8 +41,9 @@ def leg_statics(params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.n
         J = point_jacobian(params, leg, q, radial, upper, lower)
         M += mass * J.T @ J
         g += J.T @ (mass * up)
-    # rotational inertia about each segment's centre: a link's inertia is i across it and LINK_AXIAL along it, so
-    # about the vertical (yaw) axis a link pitched by a counts i cos^2 a + LINK_AXIAL sin^2 a; the foot is a sphere
+    # rotational inertia about each segment's centre: a link's inertia is i across it and LINK_AXIAL along it,
+    # so about the vertical (yaw) axis a link pitched by a counts i cos^2 a + LINK_AXIAL sin^2 a; the foot is
+    # a sphere
     (_, _, i0), (_, _, i1), (_, _, i2) = params.segments()
     foot, axial = params.foot_inertia_kg_m2, LINK_AXIAL_INERTIA_KG_M2
     upper, lower = q[1], q[1] + q[2]

@@ -12,7 +12,8 @@ from ..sim import HumanoidSim
 from .balance import Motion, balance_command
 
 SHIFT_S = 1.5  # foot placement, a shift back to the middle, a move inside double support, each
-ENTRY_S = 2.5  # weight shift onto one foot, and the lift, each: at 1.5 s a switch from one foot to the other fell
+# weight shift onto one foot, and the lift, each: at 1.5 s a switch from one foot to the other fell
+ENTRY_S = 2.5
 
 
 class Executor:
@@ -27,7 +28,8 @@ class Executor:
         self.target = self.nominal_angles.copy()
         self.queue: list[tuple[Motion, str]] = []
         self.settled_since = 0.0
-        self.hold_torques: np.ndarray | None = None  # the IK's balancing torques at the goal, fed forward there
+        # the IK's balancing torques at the goal, fed forward there
+        self.hold_torques: np.ndarray | None = None
 
     def support_angles(self, side: str, lift_m: float) -> np.ndarray:
         return self.body.joint_angles(support_pose(self.body, self.q_nominal, side, lift_m))

@@ -57,12 +57,15 @@ GROUPS = {
     "hip roll": tuple(a for a in ACTUATORS if a.endswith("_hip_roll")),
     "torso": TORSO_ACTUATORS,
 }
-DEPTHS_RAD = (0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45)  # straight (the IK's knee minimum) to the deepest one-leg stance
+# straight (the IK's knee minimum) to the deepest one-leg stance
+DEPTHS_RAD = (0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45)
 HEAT_SIDE = "right"
 AMBIENT_C = 25.0
-OTHERS_SHARE = 0.5  # the most loaded actuator outside the group dissipates this share of the group's warning heat
+# the most loaded actuator outside the group dissipates this share of the group's warning heat
+OTHERS_SHARE = 0.5
 STRATEGIES = ("thermal_aware", "minimum_effort")
-AGREEMENT = 0.10  # predictions fill unmeasured cells of a group only if they meet every measured cell within this
+# predictions fill unmeasured cells of a group only if they meet every measured cell within this
+AGREEMENT = 0.10
 
 
 def warning_loss_W(time_to_warning_s: float) -> float:
@@ -136,7 +139,8 @@ class Cell:
         ta, me = self.safe_s["thermal_aware"], self.safe_s["minimum_effort"]
         if any(self.fell.values()) or ta is None or ta <= 0.0:
             return None
-        if me is None:  # first order: minimum effort holds the hot set above 70 degC for ever; measured: not in time
+        # first order: minimum effort holds the hot set above 70 degC for ever; measured: not in time
+        if me is None:
             return float("inf") if self.source == "first order" else None
         return me / ta
 
@@ -204,7 +208,8 @@ def agreeing_groups(measured: list[Cell], predicted: dict) -> dict[str, bool]:
         ok = True
         for c in (c for c in measured if c.group == group):
             p = predicted[(group, c.depth_rad)].ratio
-            if c.ratio_at_least is not None:  # minimum effort not safe by the end: the prediction must say so too
+            # minimum effort not safe by the end: the prediction must say so too
+            if c.ratio_at_least is not None:
                 ok &= p is not None and p >= c.ratio_at_least
             else:
                 ok &= c.ratio is not None and p is not None and abs(p - c.ratio) <= AGREEMENT * c.ratio

@@ -79,9 +79,11 @@ class FastThermalIK:
         self.failures: list[str] = []  # the current solve's QP failures
         self.body = body
         p = body.params
-        self.robot_limits_q = np.array([body.params.limits(j) for j in JOINTS])  # the URDF's (like-for-like mode)
+        # the URDF's (like-for-like mode)
+        self.robot_limits_q = np.array([body.params.limits(j) for j in JOINTS])
         self.limits_q = self.robot_limits_q.copy()
-        for side in SIDES:  # the IK's working range: knees never straight (singular, and torque-free in a rigid model)
+        # the IK's working range: knees never straight (singular, and torque-free in a rigid model)
+        for side in SIDES:
             k = JOINTS.index(leg_joint(side, "knee"))
             self.limits_q[k, 0] = max(self.limits_q[k, 0], p.knee_min_rad)
         self.half_sole = np.array(p.sole_m) / 2.0 - COP_MARGIN_M
@@ -108,7 +110,8 @@ class FastThermalIK:
             [0, 0, 1, 0, 0, 0],  # fz >= f_min
             [1, 0, -MU, 0, 0, 0], [-1, 0, -MU, 0, 0, 0],  # |fx| <= mu fz
             [0, 1, -MU, 0, 0, 0], [0, -1, -MU, 0, 0, 0],  # |fy| <= mu fz
-            [0, 0, -ly, 1, 0, 0], [0, 0, -ly, -1, 0, 0],  # |mx| <= (w/2) fz: centre of pressure across the sole
+            # |mx| <= (w/2) fz: centre of pressure across the sole
+            [0, 0, -ly, 1, 0, 0], [0, 0, -ly, -1, 0, 0],
             [0, 0, -lx, 0, 1, 0], [0, 0, -lx, 0, -1, 0],  # |my| <= (l/2) fz: and along it
             [0, 0, -MU_YAW_M, 0, 0, 1], [0, 0, -MU_YAW_M, 0, 0, -1],
         ]
@@ -255,8 +258,8 @@ class FastThermalIK:
                                 time.perf_counter() - start, history, contact_drift(body, q0, q, mode), self.solver,
                                 tuple(self.failures))
         q = q0.copy()
-        # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which costs
-        # a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound
+        # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which
+        # costs a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound
         balance = np.linalg.lstsq(np.hstack([body.S_a.T, body.contact_jacobian(q, mode).T]), body.gravity(q),
                                   rcond=None)[0]
         na = len(JOINTS)
@@ -288,7 +291,8 @@ class FastThermalIK:
                 delta /= 2
                 if delta < 1e-4:
                     break
-        polished = self.optimum_at(q, mode, objective, Gamma, F)  # the exact optimum at the final configuration
+        # the exact optimum at the final configuration
+        polished = self.optimum_at(q, mode, objective, Gamma, F)
         if polished is not None and polished[0] < f:
             f, Gamma, F = polished
             history.append(f)

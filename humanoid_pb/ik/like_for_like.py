@@ -77,7 +77,8 @@ def torque_jacobian(body, q: np.ndarray, mode: str, F: np.ndarray, lam: np.ndarr
     for i, foot in enumerate(mode_feet(mode)):
         dv_dq, _ = pin.getFrameVelocityDerivatives(model, data, body.sole_frame[FOOT_SIDE[foot]], pin.LOCAL)
         R[na + 6 * i : na + 6 * i + 6] = dv_dq
-    R[na + nf :] = -pin.computeStaticTorqueDerivatives(model, data, q, sole_forces(body, mode, F))  # d(J_c'F - g)/dq
+    # d(J_c'F - g)/dq
+    R[na + nf :] = -pin.computeStaticTorqueDerivatives(model, data, q, sole_forces(body, mode, F))
     return -lu_solve(lu, R)[:na]
 
 

@@ -51,7 +51,8 @@ class WholeBody:
         self.S_a = np.zeros((len(JOINTS), self.nv))
         self.S_a[np.arange(len(JOINTS)), self.v_index] = 1.0
         self.rods = rod_pairs(params)
-        self.solved: dict = {}  # results of pure functions of this body, kept (see humanoid_pb.ik.poses.support_pose)
+        # results of pure functions of this body, kept (see humanoid_pb.ik.poses.support_pose)
+        self.solved: dict = {}
 
     # ------------------------------------------------------------ configuration
     def configuration(self, base_position_m, base_quaternion_xyzw, joint_angles_rad) -> np.ndarray:

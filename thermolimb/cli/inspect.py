@@ -105,7 +105,8 @@ def run(args) -> int:
                           "without --map")
     flags = []
     if mapping and rows <= READ_ROWS:
-        trial = {**mapping, "effort": left[0]} if left else mapping  # read as it would be with the words to add
+        # read as it would be with the words to add
+        trial = {**mapping, "effort": left[0]} if left else mapping
         flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
         if "time" in mapping and split_unit(mapping["time"])[1] is None and any(
                 "if the time column counts milliseconds" in note for note in read_notes):

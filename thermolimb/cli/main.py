@@ -15,11 +15,13 @@ from .. import __version__
 from ..util.errors import WRITE_FAULTS, ThermolimbError, bounded
 from ..util.interrupts import Terminated, ignore_further, install, restore
 
-# the commands, each a module of this package, in the order --help lists them; a command line imports only the one
-# it runs (the others' imports, the plant's and the audit's among them, cost a diagnosis a third of a second)
+# the commands, each a module of this package, in the order --help lists them; a command line imports only the
+# one it runs (the others' imports, the plant's and the audit's among them, cost a diagnosis a third of a
+# second)
 COMMANDS = ("inspect", "simulate", "fit", "compare", "diagnose", "plan", "predict", "monitor", "export",
             "audit", "strategies", "demo")
-MODULE_OF = {"compare-strategies": "strategies", "report": "demo"}  # the commands named otherwise than their module
+# the commands named otherwise than their module
+MODULE_OF = {"compare-strategies": "strategies", "report": "demo"}
 # Errors a user can act on: one sentence, no traceback, exit status 2.  Anything else is a bug in the
 # suite and keeps its traceback.
 USER_ERRORS = (ThermolimbError,)
@@ -98,7 +100,8 @@ def _run(args) -> int:
     except USER_ERRORS as exc:
         print(f"thermolimb {args.command}: error: {bounded(str(exc))}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as exc:  # files being written are removed by their writers; earlier outputs stay intact
+    # files being written are removed by their writers; earlier outputs stay intact
+    except KeyboardInterrupt as exc:
         ignore_further()
         signum = exc.signum if isinstance(exc, Terminated) else signal.SIGINT
         what = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}.get(signum, "hung up")

@@ -91,7 +91,8 @@ def run(args) -> int:
     session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz, only=args.actuator)
     try:
         follow(session, follower, args.poll_s, args.idle_exit)
-    except KeyboardInterrupt:  # the monitor's usual end: its outputs are complete (a second signal changes nothing)
+    # the monitor's usual end: its outputs are complete (a second signal changes nothing)
+    except KeyboardInterrupt:
         ignore_further()
         say(f"stopped after {session.samples} samples; every output closed")
     return 0

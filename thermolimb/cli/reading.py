@@ -81,7 +81,8 @@ def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> 
     """Actuator ``name``'s runs over ``logs`` and over ``held`` (``--validate-on``), as :func:`runs_of` gives them;
     a run given twice among them (one log named twice, or a copy under another name) is refused: held out beside
     itself it would be judged on the readings it was fitted on."""
-    seen: dict[bytes, str] = {}  # a run's readings (time, temperature, effort), digested: the log it came from
+    # a run's readings (time, temperature, effort), digested: the log it came from
+    seen: dict[bytes, str] = {}
     groups: tuple[list, list] = ([], [])
     for group, some in zip(groups, (logs, held)):
         for log in some:

@@ -58,7 +58,8 @@ class LogCommand:
     model_help = "model"
     many_models = False  # --model repeated (compare)
     fleet = False  # --fleet: every actuator and run of many logs on its own
-    discovers = False  # whether an analysis may add the neighbours' coupling (then their temperatures are read)
+    # whether an analysis may add the neighbours' coupling (then their temperatures are read)
+    discovers = False
     saves = False  # --save MODEL.json: the analysis's final model of each actuator (run.final)
     save_help = "write the fitted model of each actuator to a model file (JSON; docs/model-file.md)"
     json_help = "print one JSON object per actuator (a list when several actuators)"
@@ -136,7 +137,8 @@ class LogCommand:
             missing = [log for log in logs + held if name not in log.actuators]
             if missing:
                 named = [log for log in logs + held if log.actuators == (Path(log.source).stem,)]
-                if len(named) == len(logs + held) and not args.actuator:  # each file's one actuator named after it
+                # each file's one actuator named after it
+                if len(named) == len(logs + held) and not args.actuator:
                     raise UsageError(f"{missing[0].source}: its actuator is named {missing[0].actuators[0]!r} after "
                                      f"the file, as {logs[0].source}'s is {name!r} ("
                                      f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
@@ -147,7 +149,8 @@ class LogCommand:
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "
                                  f"{', '.join(missing[0].actuators)}")
             try:
-                # with --json, standard output carries the JSON alone: whatever a user's term prints goes to stderr
+                # with --json, standard output carries the JSON alone: whatever a user's term prints goes to
+                # stderr
                 with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
                     runs, held_runs = distinct_runs(logs, held, name)
                     refuse_unfittable(runs + held_runs, name)

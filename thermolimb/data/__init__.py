@@ -9,7 +9,8 @@ from pathlib import Path
 from ..util.errors import UsageError
 
 PMSM_MAP = "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
-# the columns' units as the dataset's README states them (its header has none); the velocity is converted to rad/s
+# the columns' units as the dataset's README states them (its header has none); the velocity is converted to
+# rad/s
 PMSM_UNITS = {"effort_unit": "N m", "velocity_unit": "rpm"}
 
 
@@ -59,9 +60,11 @@ REAL_LOGS = {log.name: log for log in (
             actuator="bldc", description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz"),
 )}
 
-# A hobby motor's thermocouple logs as the lab's Arduino wrote them (the first day's without a header row): ten
-# runs whose sensor reads low while the motor is driven, which fit and diagnose refuse, naming the intervals.
-GIMBALBOT_COLUMNS = ("timeSinceStart", "pwmOut", "tempCelsius", "tempRefCelsius")  # the first day's, unwritten
+# A hobby motor's thermocouple logs as the lab's Arduino wrote them (the first day's without a header row):
+# ten runs whose sensor reads low while the motor is driven, which fit and diagnose refuse, naming the
+# intervals.
+# the first day's, unwritten
+GIMBALBOT_COLUMNS = ("timeSinceStart", "pwmOut", "tempCelsius", "tempRefCelsius")
 GIMBALBOT = RealLog("gimbalbot", tuple(f"gimbalbot-esc-motor/test01262015-0{k}-{kind}.csv" for k, kind in (
     (1, "control"), (2, "control"), (3, "control"), (4, "justnozzles"), (5, "justnozzles"), (6, "justnozzles"),
     (7, "3x8venturi"))), "time=timeSinceStart:ms,effort=pwmOut,temperature=tempCelsius,ambient=tempRefCelsius",

@@ -121,17 +121,19 @@ class Effect:
     name: str
     term: type[Term] | None = None  # the model's term, registered in the catalog under ``name``
     plant: type[PlantEffect] | None = None  # the plant's realisation (its own ``name``: the plant's switch)
-    # the residual's correlation that speaks for it (a channel: "|velocity|"; "temperature of" for any neighbour's),
-    # or one of PHASES; None: the correlation with the term's first column
+    # the residual's correlation that speaks for it (a channel: "|velocity|"; "temperature of" for any
+    # neighbour's), or one of PHASES; None: the correlation with the term's first column
     residual: str | None = None
     hidden: Hidden | None = None
     # the log channel the effect rides on, which must move in the data it is fitted on and judged on
-    # (:func:`thermolimb.workbench.excitation.channel_excitation`); None: the effort and time, as the base model's
+    # (:func:`thermolimb.workbench.excitation.channel_excitation`); None: the effort and time, as the base
+    # model's
     rides: str | None = None
 
 
 EFFECTS: dict[str, Effect] = {}
-PLANT_EFFECTS: dict[str, type[PlantEffect]] = {}  # by the plant's switch name, in the order the plant applies them
+# by the plant's switch name, in the order the plant applies them
+PLANT_EFFECTS: dict[str, type[PlantEffect]] = {}
 
 
 def register(*effects: Effect) -> None:

@@ -30,7 +30,8 @@ class EffortBiasTerm(LinearTerm):
 
 
 MIN_RISE_K = 0.5  # a bias whose rise at the largest effort is smaller than this carries no heat worth judging
-BOTH_SIGNS = 0.05  # efforts hold both signs when the lesser side reaches this share of the largest (at rest an
+# efforts hold both signs when the lesser side reaches this share of the largest (at rest an
+BOTH_SIGNS = 0.05
 # effort reads noise about zero: the bundled step tests' 1st percentiles are -0.011 to +0.004 N m of 12-20)
 
 

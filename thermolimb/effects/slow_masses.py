@@ -26,7 +26,8 @@ class SlowMass(Term):
 
     fraction: str
     tau: str
-    carries_state = True  # its node's temperature carries over between pieces of a run (ThermalModel.simulate)
+    # its node's temperature carries over between pieces of a run (ThermalModel.simulate)
+    carries_state = True
 
     def implausible(self, p, units=None):
         if p[self.tau] <= p["RC_s"]:
@@ -45,8 +46,8 @@ class SlowMass(Term):
         flow = 1.0
         for term in airflow_terms(self.name, p):
             flow = flow + term.airflow_gain(p, s)
-        # a channel beyond the range it was fitted on (another run) may drive 1 + h x below zero: held just above
-        # it, as the winding's restoring gain is (the term's implausibility says so)
+        # a channel beyond the range it was fitted on (another run) may drive 1 + h x below zero: held just
+        # above it, as the winding's restoring gain is (the term's implausibility says so)
         return np.maximum(flow, MIN_FLOW) if np.ndim(flow) else max(flow, MIN_FLOW)
 
     def shape_equilibrium(self, p, s, equilibrium_C, initial_C, boundary_C, state=None, offset=0.0):
@@ -60,10 +61,10 @@ class SlowMass(Term):
         flow = self.airflow(p, s)
         target = boundary_C + phi * heat / flow
         recursion = s.recursion(flow / p[self.tau])
-        # the slow mass starts in proportion, as if the initial temperature were a steady state (less ``offset``,
-        # where the data place it otherwise), unless it carries on from where an earlier piece of the run left it;
-        # what the inputs put into the masses at the first sample (friction) is heat, which the proportion leaves out
-        # as it leaves out the effort's
+        # the slow mass starts in proportion, as if the initial temperature were a steady state (less
+        # ``offset``, where the data place it otherwise), unless it carries on from where an earlier piece of
+        # the run left it; what the inputs put into the masses at the first sample (friction) is heat, which
+        # the proportion leaves out as it leaves out the effort's
         rest = boundary_C[0] - heat_into_masses(p, s)
         start = rest + phi * (initial_C - rest) + offset if state is None else state
         frame = recursion.run((1.0 - recursion.a) * target[:-1], start)
@@ -81,8 +82,9 @@ def _slow_mass_parameters(fraction: str, tau: str, which: str) -> tuple[Paramete
         Parameter(fraction, "1", 0.0, 0.98, 0.5,
                   f"share of the steady-state rise that builds up across the {which} mass",
                   "long heating or cooling phases (several slow time constants)", plausible=(0.05, 0.95)),
-        # a mass slower than a few runs shows only the start of its rise, along which its share and time constant
-        # trade, and its start, placed per run, turns it into a free offset: a fit keeps it within the runs' reach
+        # a mass slower than a few runs shows only the start of its rise, along which its share and time
+        # constant trade, and its start, placed per run, turns it into a free offset: a fit keeps it within
+        # the runs' reach
         Parameter(tau, "s", 1.0, 1e6, 2000.0, f"time constant of the {which} mass",
                   "long heating or cooling phases (several slow time constants)", null=2000.0, nuisance=True,
                   within_runs=LONG_TIME_CONSTANT),

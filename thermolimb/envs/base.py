@@ -52,9 +52,11 @@ class RigEnv(gym.Env):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 1}
-    RESET_OPTIONS: tuple[str, ...] = ()  # the keys ``reset(options=...)`` accepts (documented by each environment)
+    # the keys ``reset(options=...)`` accepts (documented by each environment)
+    RESET_OPTIONS: tuple[str, ...] = ()
     JOINTS: tuple[str, ...] = ()  # the robot's joints, in the rig's order (known before the first reset)
-    LOG_CAPACITY = 3000  # control steps of rig log kept in memory: an episode's memory stays flat however long
+    # control steps of rig log kept in memory: an episode's memory stays flat however long
+    LOG_CAPACITY = 3000
 
     def __init__(self, max_time_s: float, decision_s: float, render_mode: str | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:

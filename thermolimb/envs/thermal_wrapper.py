@@ -325,11 +325,12 @@ class ModelHeat:
     """The joints' saved models, run exactly over each step."""
 
     def __init__(self, saved: Sequence[SavedModel], ambient_C: float):
-        # in an air beyond the one a model's offset stands for, the offset follows it (Jorgensen et al. Eq. 5), as
-        # predict and the monitor do
+        # in an air beyond the one a model's offset stands for, the offset follows it (Jorgensen et al. Eq.
+        # 5), as predict and the monitor do
         self.models = [shifted(s.model, s.offset_shift_K(np.array([ambient_C]))) for s in saved]
         self.limits_C = np.array([np.nan if s.limit_C is None else s.limit_C for s in saved])
-        self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]  # what each was fitted on (audit)
+        # what each was fitted on (audit)
+        self.experience = [dict(s.provenance).get("ranges") or {} for s in saved]
         self.ambient_C = ambient_C
         self.fast = all(one_node(m) for m in self.models)
         self.arrays = ModelArrays(self.models) if self.fast else None
@@ -421,7 +422,8 @@ class PlantHeat:
             raise UsageError(f"plant must be an ActuatorSpec or one per joint ({len(joints)}), got {plant!r}")
         self.joints, self.specs, self.ambient_C = list(joints), specs, ambient_C
         self.limits_C = np.array([s.winding_limit_C for s in specs], float)
-        self.peak_Nm = np.array([s.effort_limit for s in specs], float)  # the plant holds a torque at its peak
+        # the plant holds a torque at its peak
+        self.peak_Nm = np.array([s.effort_limit for s in specs], float)
         self.plant = self.make(ambient_C)
 
     def make(self, start_C: float):

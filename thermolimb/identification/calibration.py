@@ -29,7 +29,8 @@ def measured_ambient_C(log: ThermalLog) -> float:
     return float(np.mean([log.series(name).temperature_C[0] for name in log.actuators]))
 
 
-MIN_RC_S = 5.0  # default: a time constant below this is not physical for a humanoid's windings: not identified
+# default: a time constant below this is not physical for a humanoid's windings: not identified
+MIN_RC_S = 5.0
 
 
 def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray, min_rc_s: float = MIN_RC_S,

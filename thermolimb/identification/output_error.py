@@ -76,7 +76,8 @@ class FreeRunLeastSquares(ThermalEstimator):
         self.max_nfev = max_nfev
         self.fixed = fixed
         self.max_iterations = max_iterations
-        self.max_samples = max_samples  # compared per evaluation (None: thinning's); fewer for a fit ranking starts
+        # compared per evaluation (None: thinning's); fewer for a fit ranking starts
+        self.max_samples = max_samples
 
     def _start(self, series, terms, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         params = model_parameters(terms)
@@ -90,9 +91,10 @@ class FreeRunLeastSquares(ThermalEstimator):
                     start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
                 except IdentifiabilityError as exc:
                     if len(linear) == len(terms) and exc.parameter != "RC_s" and not self.fixed:
-                        raise  # a regressor the data cannot separate: the regression's message is the most specific
-                    # a non-positive RC from the filtered regression, or nonlinear terms that may make the model
-                    # identifiable: output error starts from typical values and judges for itself
+                        # a regressor the data cannot separate: the regression's message is the most specific
+                        raise
+                    # a non-positive RC from the filtered regression, or nonlinear terms that may make the
+                    # model identifiable: output error starts from typical values and judges for itself
         if "RC_s" not in given and start["RC_s"] == model_parameters(terms)[0].typical:
             start["RC_s"] = _time_constant_guess(series)
         start.update(given)
@@ -125,8 +127,9 @@ class FreeRunLeastSquares(ThermalEstimator):
 
             def residual(x):
                 model = model_at(x)
-                # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor) placed
-                # where the run's readings put them (variable projection: they are linear in the output)
+                # each run's free run, its hidden states (a slow mass, the winding behind a lagging sensor)
+                # placed where the run's readings put them (variable projection: they are linear in the
+                # output)
                 runs = [model.place_hidden(s, r, rate, memo=m)[0] if hidden else model.free_run(s, rate)
                         for s, rate, r, m in zip(shown, rates, shown_rows, memos)]
                 return np.concatenate([run[r] for run, r in zip(runs, shown_rows)]) - measured
@@ -137,9 +140,9 @@ class FreeRunLeastSquares(ThermalEstimator):
         x0 = x_all[free]
         scale = np.array([max(abs(v), abs(p.typical) * 1e-3, 1e-9) for v, p in zip(x0, params)])
         budget = self.max_iterations or self.max_nfev * len(params)
-        # a long log is simulated on blocks of k samples, and again at its full rate if the fit ends where its time
-        # constants are not long against them (thinning.BLOCK_TIME_CONSTANTS); a short fit, which only ranks
-        # starting points, keeps its blocks
+        # a long log is simulated on blocks of k samples, and again at its full rate if the fit ends where its
+        # time constants are not long against them (thinning.BLOCK_TIME_CONSTANTS); a short fit, which only
+        # ranks starting points, keeps its blocks
         blocks = k > 1
         shown, shown_rows = zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
         result = least_squares(residual_on(shown, shown_rows), x0, bounds=(lower[free], upper[free]), x_scale=scale,

@@ -112,7 +112,8 @@ def _section(b: tuple[float, float, float], a: tuple[float, float], u: np.ndarra
     rhs[0] -= (a[0] + a[1]) * rest
     rhs[1] -= a[1] * rest
     bands = np.empty((3, u.shape[0]))
-    bands[0], bands[1], bands[2] = 1.0, a[0], a[1]  # the unit diagonal and the two below it (LAPACK's band storage)
+    # the unit diagonal and the two below it (LAPACK's band storage)
+    bands[0], bands[1], bands[2] = 1.0, a[0], a[1]
     y, info = dtbtrs(bands, rhs, uplo="L", diag="U")
     if info != 0:
         raise ValueError(f"the low-pass filter's solve failed (LAPACK info {info})")
@@ -138,7 +139,8 @@ def term_features(terms: Sequence[str], s: Signals, temperature_C: np.ndarray) -
     return np.hstack(blocks) if blocks else np.zeros((s.n, 0))
 
 
-BLOCKS_PER_PERIOD = 20  # a long log is block-averaged before filtering: blocks of at most 1/20 of the cutoff's period
+# a long log is block-averaged before filtering: blocks of at most 1/20 of the cutoff's period
+BLOCKS_PER_PERIOD = 20
 
 
 def build_regression(

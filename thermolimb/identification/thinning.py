@@ -26,8 +26,8 @@ from ..model.terms import TERMS
 
 MAX_FIT_SAMPLES = 100_000  # rows compared per fit
 # a fit simulates a long log on blocks of its stride while each time constant spans at least this many blocks
-# (python benchmarks/block_means.py, blocks of 1.5 s: the free run misses the full rate's by 0.0007 K rms at 54 blocks,
-# 0.004 K at 20, 0.014 K at 10; that log's sensor floor is 0.06 K)
+# (python benchmarks/block_means.py, blocks of 1.5 s: the free run misses the full rate's by 0.0007 K rms at
+# 54 blocks, 0.004 K at 20, 0.014 K at 10; that log's sensor floor is 0.06 K)
 BLOCK_TIME_CONSTANTS = 40.0
 
 

@@ -157,12 +157,14 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
     scalars = [(i, "temperature") for i in infos if i.msgtype.endswith("/Temperature")] + \
         [(i, "data") for i in infos if "temp" in i.topic.lower() and i.msgtype.startswith("std_msgs/")
          and i.numeric_fields == ("data",)]  # a std_msgs/Float64 per joint, named for its temperature
-    if not temps and len(states) == 1:  # an array named for temperature, no joint names: read in the joints' order
+    # an array named for temperature, no joint names: read in the joints' order
+    if not temps and len(states) == 1:
         temps = [(i, "data") for i in infos if "temp" in i.topic.lower() and not _is_air(i.topic)
                  and not i.joint_names and i.msgtype.endswith("MultiArray") and "data" in i.numeric_fields]
     if not temps:
         temps = [(i, f) for i, f in scalars if not _is_air(i.topic)]
-    if len(states) == 1 and len(temps) > 1:  # one Temperature topic per joint, named after it (/knee/temperature)
+    # one Temperature topic per joint, named after it (/knee/temperature)
+    if len(states) == 1 and len(temps) > 1:
         pattern = _joint_topic_pattern([i.topic for i, _ in temps], states[0].joint_names)
         if pattern is not None:
             temps = [(TopicInfo(pattern, temps[0][0].msgtype, 0, 0.0, (), ()), temps[0][1])]
@@ -258,7 +260,8 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, dro
     if joint is None:
         raise LogError(f"{path}: {topic} holds an array per message; name the joint with --actuator")
     out = np.full(len(values), np.nan)
-    carried = np.zeros(len(values), dtype=bool)  # a message that does not carry the joint holds no sample of it
+    # a message that does not carry the joint holds no sample of it
+    carried = np.zeros(len(values), dtype=bool)
     for i, (v, n) in enumerate(zip(values, names)):
         if joint in n:
             j = n.index(joint)
@@ -431,7 +434,8 @@ def _named_within(wanted, data, path: Path, notes: list[str]) -> None:
 
 
 def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
-    mapped = [key for key in wanted if not key.startswith(EXTRA)]  # extra channels follow the joints, not choose them
+    # extra channels follow the joints, not choose them
+    mapped = [key for key in wanted if not key.startswith(EXTRA)]
     arrays = {key: data[key][2][0] for key in mapped if np.ndim(data[key][1][0]) > 0}
     if actuator is not None:
         return [actuator]

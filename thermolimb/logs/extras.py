@@ -153,7 +153,8 @@ def _numeric(column: pd.Series) -> np.ndarray | None:
     return converted.to_numpy(float)
 
 
-COUNTER_RISES = 0.95  # a counter's changes are rises, but for the odd reset (the UR3's cycle count drops once)
+# a counter's changes are rises, but for the odd reset (the UR3's cycle count drops once)
+COUNTER_RISES = 0.95
 
 
 def _monotonic(x: np.ndarray, groups: list[np.ndarray] | None) -> bool:

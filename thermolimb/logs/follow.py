@@ -39,7 +39,8 @@ from .series import GAP_FACTOR, GAP_MIN_S, MIN_SAMPLES
 from .validate import Reading, from_frame
 
 ODD_LINES = 3  # lines of one other shape in a row, from which the shape is said once for the run
-PROBE_ROWS = 4 * MIN_SAMPLES  # rows the dialect, header and units are decided on (fewer when the writer pauses)
+# rows the dialect, header and units are decided on (fewer when the writer pauses)
+PROBE_ROWS = 4 * MIN_SAMPLES
 
 
 @dataclass
@@ -152,7 +153,8 @@ class CsvFollower:
         text = "\n".join(t for _, t in first) + "\n"
         names = [h.strip() for h in dialect.header]
         if self.mapping is None and "actuator" not in names and {"time", "effort", "temperature"} <= set(names):
-            # a canonical log of one actuator: its columns by name, the actuator named by --actuator (or the file)
+            # a canonical log of one actuator: its columns by name, the actuator named by --actuator (or the
+            # file)
             self.mapping = {c: c for c in REQUIRED + OPTIONAL if c in names}
         try:
             frame = pd.read_csv(io.StringIO(text), **dialect.options)

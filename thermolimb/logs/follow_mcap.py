@@ -95,7 +95,8 @@ class McapFollower:
         msg = flat_message(self.stream.deserialize(data, msgtype))
         for key, target in wanted:
             values = target.values(msg, topic, self.source)
-            if not values:  # an array naming no joints: in the order the efforts name them, else numbered from 0
+            # an array naming no joints: in the order the efforts name them, else numbered from 0
+            if not values:
                 order = list(self.latest["effort"]) if key not in self.latest else []
                 values = target.in_order(msg, topic, self.source, order, self.notes)
             elif key not in self.latest and self.latest["effort"] and not values.keys() & self.latest["effort"].keys():
@@ -142,7 +143,8 @@ class _Target:
         """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many, said
         once, or without ``names`` numbered from 0, as the recorded bag's reader does."""
         value = np.atleast_1d(field_value(msg, self.field, topic, source))
-        if value.size == 0 or joint_names(msg, self.field):  # an empty array (a gripper's publisher): no sample
+        # an empty array (a gripper's publisher): no sample
+        if value.size == 0 or joint_names(msg, self.field):
             return {}
         if not names:
             return {str(k): float(v) for k, v in enumerate(value)}

@@ -41,7 +41,8 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
     if t.size < 2 * MIN_ROWS:
         return None
     changed = np.flatnonzero(np.diff(values) != 0) + 1
-    if changed.size < MIN_CHANGES or changed.size > 2 * t.size / MIN_ROWS:  # more changes than a held column has
+    # more changes than a held column has
+    if changed.size < MIN_CHANGES or changed.size > 2 * t.size / MIN_ROWS:
         return None
     changed = t[changed]
     row = float(np.median(np.diff(t)))
@@ -53,8 +54,9 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
         return None
     for _ in range(3):  # refined over the whole log: its span over the periods its changes are apart
         period = float((changed[-1] - changed[0]) / np.maximum(np.round(spacing / period), 1.0).sum())
-    # at least MIN_ROWS rows an update, counted on the log's mean interval where it is the shorter: the median of
-    # jittered intervals sits above their mean by chance (4 rows an update at 0.28 of a row's jitter: 1 % above)
+    # at least MIN_ROWS rows an update, counted on the log's mean interval where it is the shorter: the median
+    # of jittered intervals sits above their mean by chance (4 rows an update at 0.28 of a row's jitter: 1 %
+    # above)
     if period < 0.99 * MIN_ROWS * min(row, (t[-1] - t[0]) / (t.size - 1)):
         return None
     tolerance = 1.01 * row + 0.01 * period

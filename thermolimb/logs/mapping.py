@@ -35,7 +35,8 @@ EXTRA = "extra."  # a channel the model does not read, kept for the diagnosis to
 TIME_OF = "@"  # column@time_column: a channel sampled on a time base of its own
 DEFAULT_JOINT_NAME = "J{j}"
 STATE_WORDS = ("state", "feedback", "measured")  # a topic of measurements, not of commands
-ACTUATOR_WORDS = ("actuator", "joint", "motor", "axis", "servo", "drive")  # a column naming each row's actuator
+# a column naming each row's actuator
+ACTUATOR_WORDS = ("actuator", "joint", "motor", "axis", "servo", "drive")
 SUMMARY_VALUES = 20  # a column with fewer values than this, beside one with ten times as many, is no channel
 
 
@@ -60,8 +61,8 @@ def parse_mapping(text: str | None) -> dict[str, str]:
         if value.count(JOINT) > 1:
             raise LogError(f"--map {key}={value} uses {JOINT} {value.count(JOINT)} times; a pattern names the joint "
                            f"number once (e.g. {key}=Current_J{JOINT})")
-        # an input may be read twice (a power logged as effort is also the power), but the measured temperature
-        # and the time are columns of their own
+        # an input may be read twice (a power logged as effort is also the power), but the measured
+        # temperature and the time are columns of their own
         twice = [k for k, v in mapping.items() if v == value and k != "actuator"]
         if twice and key != "actuator" and {"temperature", "time"} & {key, twice[0]}:
             raise LogError(f"--map maps column {value!r} to both {twice[0]} and {key}; the measured temperature and "
@@ -82,7 +83,8 @@ def is_pattern(mapping: Mapping[str, str]) -> bool:
     return any(JOINT in v for k, v in mapping.items() if k != "actuator")
 
 
-NUMBER, NAME = r"\d+", r"[^/]+"  # what {j} stands for in a column: a joint's number, or its name (one path segment)
+# what {j} stands for in a column: a joint's number, or its name (one path segment)
+NUMBER, NAME = r"\d+", r"[^/]+"
 
 
 def pattern_regex(template: str, joint: str = NUMBER) -> re.Pattern:
@@ -103,11 +105,13 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
     def finds(template, joint):
         return any(pattern_regex(template, joint).match(c) for c in columns)
 
-    for key, template in templates.items():  # a pattern that finds no column by a joint's name finds none by number
+    # a pattern that finds no column by a joint's name finds none by number
+    for key, template in templates.items():
         if not finds(template, NAME):
             raise LogError(f"{source}: --map {key}={template} matches no column; the file's columns are "
                            f"{shown_names(columns)}")
-    named = not all(finds(t, NUMBER) for t in templates.values())  # {j} stands for a name where a number finds none
+    # {j} stands for a name where a number finds none
+    named = not all(finds(t, NUMBER) for t in templates.values())
     per_key: dict[str, dict[int | str, str]] = {}
     for key, template in templates.items():
         regex = pattern_regex(template, NAME if named else NUMBER)
@@ -154,13 +158,15 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
 
 
 # words in a column's name that say which channel it is, most specific first (a column is matched once); then
-# short names that say it only as a whole word of the name ("joint_vel_rad_s", "tau_Nm"; "level" is no velocity)
+# short names that say it only as a whole word of the name ("joint_vel_rad_s", "tau_Nm"; "level" is no
+# velocity)
 CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
                  ("temperature", ("winding temp", "stator_winding", "temperature", "temp"), ()),
                  ("effort", ("torque", "effort"), ("tau", "nm", "load")), ("current", ("current",), ("amps", "iq")),
                  ("power", ("power",), ()), ("velocity", ("velocity", "speed"), ("vel", "omega", "qd", "dq", "rpm")),
                  ("ambient", ("ambient",), ()))
-# a unit a column's name ends in (``tau_Nm``, ``speed_rpm``, ``current_A``), by channel: the suggestion states it
+# a unit a column's name ends in (``tau_Nm``, ``speed_rpm``, ``current_A``), by channel: the suggestion states
+# it
 NAMED_UNITS = {"effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"}, "current": {"a": "A", "ma": "mA", "amps": "A"},
                "velocity": {"rpm": "rpm", "rad_s": "rad/s", "rads": "rad/s", "deg_s": "deg/s", "dps": "deg/s",
                             "rev_s": "rev/s", "rps": "rev/s", "turns_s": "turn/s", "m_s": "m/s"},
@@ -174,9 +180,11 @@ _JOINT_COLUMN = re.compile(r"^(?P<stem>.*?)(?P<j>\d+)$")
 _JOINT_INSIDE = re.compile(r"^(?P<stem>\D+)(?P<j>\d+)(?P<rest>\D+)$")  # one number, inside the name
 
 
-# a channel a column that never varies (all zeros, or one value throughout) is not suggested for while another can
+# a channel a column that never varies (all zeros, or one value throughout) is not suggested for while another
+# can
 VARYING_CHANNELS = ("temperature", "effort", "current", "power", "velocity")
-# words that make a temperature column the air's or a reference junction's (a thermocouple chip's own), not the motor's
+# words that make a temperature column the air's or a reference junction's (a thermocouple chip's own), not
+# the motor's
 AMBIENT_WORDS = ("ambient", "ref", "reference", "room", "air", "coldjunction", "cj")
 
 
@@ -209,7 +217,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
             joint_groups.setdefault(f"{inside.group('stem')}{JOINT}{inside.group('rest')}", []).append(
                 (name, int(inside.group("j"))))
     mapping, reasons, used, several = {}, [], set(), {}
-    grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}  # one numbered column is no pattern
+    # one numbered column is no pattern
+    grouped = {n for g in joint_groups.values() if len(g) > 1 for n, _ in g}
     def varies(group):
         return not all(n in flat for n, _ in group)
 
@@ -217,7 +226,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
         for word, says in [(w, _says_within) for w in words] + [(w, says_whole) for w in whole]:
             groups = {key: g for key, g in joint_groups.items() if says(word, key) and len(g) > 1}
             if channel in VARYING_CHANNELS and groups:
-                # groups that never vary are no sensor while a column (grouped or single) saying the word varies
+                # groups that never vary are no sensor while a column (grouped or single) saying the word
+                # varies
                 alive = {key: g for key, g in groups.items() if varies(g)}
                 if alive or any(says(word, n) and n not in flat and n not in grouped for n in names):
                     groups = alive
@@ -255,7 +265,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
                 several[channel] = single
                 break
     label = next((g for key, g in joint_groups.items() if says_whole("name", key) and len(g) > 1), None)
-    if label is not None and is_pattern(mapping):  # field.name0 .. field.name3: each joint's name (rostopic echo -p)
+    # field.name0 .. field.name3: each joint's name (rostopic echo -p)
+    if label is not None and is_pattern(mapping):
         mapping["actuator"] = _pattern([n for n, _ in label])
         reasons.append(f"{mapping['actuator']} names each joint: its value names the joint's actuator")
     named = _named_joints(several) if not is_pattern(mapping) else None
@@ -361,7 +372,8 @@ def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:
     return None
 
 
-def _says(words, name: str) -> bool:  # a joint's number joined to the word counts (motor1_temp beside fet1_temp)
+# a joint's number joined to the word counts (motor1_temp beside fet1_temp)
+def _says(words, name: str) -> bool:
     return bool(set(words) & set(re.findall(r"[a-z]+", name.lower())))
 
 

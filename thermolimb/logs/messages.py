@@ -157,7 +157,8 @@ def field_value(msg, field: str, topic: str, path: Path):
     refusal naming the message's numeric fields."""
     value, parts = msg, field.split(".")
     for k, part in enumerate(parts):
-        if _message_array(value) and part in _fields(value[0]):  # one number per element: the rest of the path
+        # one number per element: the rest of the path
+        if _message_array(value) and part in _fields(value[0]):
             each = [field_value(v, ".".join(parts[k:]), topic, path) for v in value]
             if any(np.ndim(v) for v in each):
                 raise LogError(f"{path}: field {topic}.{field} holds several numbers in each element of "

@@ -70,7 +70,8 @@ def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, 
     return frame
 
 
-# a temperature column's name that may say degrees Fahrenheit without a header unit: "temp_F", "Motor Temp degF"
+# a temperature column's name that may say degrees Fahrenheit without a header unit: "temp_F", "Motor Temp
+# degF"
 _FAHRENHEIT_NAME = re.compile(r"(?:^|[_\s.-])(?:f|degf|deg_f|fahrenheit)$|[°º]f$", re.IGNORECASE)
 
 

@@ -137,7 +137,8 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
     sep, decimal, options = request.sep, request.decimal, request.options(path)
     columns = column_names(path, sep, decimal, request.columns)
     key = next((c for c in columns if base_name(c) == "actuator"), None)
-    if key is None:  # a file of one actuator: read whole, named by the one actuator asked for (as a wide file is)
+    # a file of one actuator: read whole, named by the one actuator asked for (as a wide file is)
+    if key is None:
         return from_frame(read_table(path, sep=sep, decimal=decimal, names=request.columns),
                           actuator_name=names[0] if len(names) == 1 else path.stem, **options)
     order, blank = key_values(path, key, sep, decimal)

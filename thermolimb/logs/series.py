@@ -37,7 +37,8 @@ class ActuatorSeries:
     signals: Signals
     temperature_C: np.ndarray
     run: str = ""
-    units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power (see thermolimb.logs.units)
+    # of effort, velocity, current, power (see thermolimb.logs.units)
+    units: Mapping[str, str] = CANONICAL_UNITS
     # the samples a fit compares (a validation scheme that holds blocks out of the run); None: all of them
     fit_mask: np.ndarray | None = field(default=None, repr=False)
 
@@ -117,7 +118,8 @@ class ThermalLog:
     frame: pd.DataFrame
     source: str = "<memory>"
     notes: tuple[str, ...] = field(default=())
-    units: Mapping[str, str] = CANONICAL_UNITS  # of effort, velocity, current, power, from the log (logs.units)
+    # of effort, velocity, current, power, from the log (logs.units)
+    units: Mapping[str, str] = CANONICAL_UNITS
     # read for some actuators only (read_log(actuators=...)): every actuator of the file in its order, and the
     # (time s, temperature degC) of those beside a kept one, which a kept actuator's neighbour coupling reads
     # (none when read with neighbours=False: its series then have no neighbour temperatures)
@@ -168,7 +170,8 @@ class ThermalLog:
 
         order = self.order or self.actuators
         i = order.index(actuator)
-        # a neighbour whose reading never changes (a joint set aside as "nothing to learn") brings no heat to read
+        # a neighbour whose reading never changes (a joint set aside as "nothing to learn") brings no heat to
+        # read
         others = [order[j] for j in (i - 1, i + 1)
                   if 0 <= j < len(order) and (order[j] in groups or order[j] in self.neighbours)
                   and np.ptp(self._temperature_of(order[j])[1]) > 0]

@@ -21,7 +21,8 @@ from ..util.errors import LogError
 STUCK_MIN_SAMPLES = 200  # a value repeated this many times in a row, at least...
 STUCK_MIN_SHARE = 0.25  # ...and over this share of the actuator's samples, while the effort moves
 EFFORT_MOVES = 0.5  # the effort in the span covers at least this share of the log's effort range
-ONE_STEP = 1.5  # ...and the reading leaves it by more than this many of the sensor's steps (or never leaves it)
+# ...and the reading leaves it by more than this many of the sensor's steps (or never leaves it)
+ONE_STEP = 1.5
 CEILING_MIN_SAMPLES = 30  # the maximum held this long, at least...
 CEILING_MIN_SHARE = 0.03  # ...and over this share of the samples, with more heat coming in than on average
 CEILING_STRETCH = 3  # then every stretch of this many samples at the ceiling is left out
@@ -50,8 +51,9 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     at_top = temperature_C[starts] == top
     # a ceiling, once one long plateau at the top shows it, holds every stretch the readings sit on it
     long_at_top = np.flatnonzero(at_top & (lengths >= max(CEILING_MIN_SAMPLES, CEILING_MIN_SHARE * n)))
-    # ... and longer than the sensor ever held a value below it: a coarse sensor on a slowly heating joint holds
-    # every reading as long as its last, highest one (a whole-degree step every ten minutes), a ceiling does not
+    # ... and longer than the sensor ever held a value below it: a coarse sensor on a slowly heating joint
+    # holds every reading as long as its last, highest one (a whole-degree step every ten minutes), a ceiling
+    # does not
     below = int(np.max(lengths[~at_top], initial=0))
     ceiling = any(float(np.mean(heat[starts[i]:stops[i]])) > float(np.mean(heat)) and lengths[i] > below
                   for i in long_at_top)
@@ -64,7 +66,8 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
         elif b < n and abs(temperature_C[b] - temperature_C[a]) <= ONE_STEP * step:
             continue  # left by one step: a slow change the sensor resolves no finer, not a hung sensor
         elif a == 0 and b == n:
-            continue  # one reading throughout: a joint that did not warm (the fit says there is nothing to learn)
+            # one reading throughout: a joint that did not warm (the fit says there is nothing to learn)
+            continue
         elif float(np.ptp(effort[a:b])) >= EFFORT_MOVES * effort_range:
             spans.append((a, b, f"stuck at {temperature_C[a]:g} degC while the effort moved over "
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))

@@ -124,7 +124,8 @@ def from_frame(
     if empty.any():
         notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
         frame = frame.loc[~empty].reset_index(drop=True)
-    if not frame.empty and not later:  # a later piece of a followed log may be a row whose optional cell is blank
+    # a later piece of a followed log may be a row whose optional cell is blank
+    if not frame.empty and not later:
         refuse_empty_columns(frame, measured, mapping, source)
     apart = on_other_rows(frame, measured, mapping, from_map) if mapping and not later else None
     frame = _as_numbers(frame, measured, source, notes, drop_incomplete)

@@ -34,7 +34,8 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
         joints = expand_joints(frame.columns, plain, source, notes)
         per_joint, shared = extras.joint_extras(frame.columns, plain, [j for j, _, _ in joints])
         for j, name, cols in joints:
-            if "actuator" in mapping and name in frame.columns:  # actuator=field.name{j}: a column names the joint
+            # actuator=field.name{j}: a column names the joint
+            if "actuator" in mapping and name in frame.columns:
                 name = _joint_name(frame[name], name, source)
             if timed:  # each joint's channels on time bases of their own (topics merged on one time column)
                 part = _aligned(frame, {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
@@ -58,7 +59,8 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
     if absent:
         k, v = next(iter(absent.items()))
         column, sep, unit = str(v).rpartition(":")
-        if sep and column in frame.columns:  # a column of the file, and after its colon a unit this suite lacks
+        # a column of the file, and after its colon a unit this suite lacks
+        if sep and column in frame.columns:
             raise LogError(f"{source}: --map {k}={v}: {unit!r} is not a unit this suite knows; known units: "
                            f"{', '.join(KNOWN)}")
         raise LogError(

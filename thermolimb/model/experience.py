@@ -52,7 +52,8 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
     seen = ranges.get("ambient_C")
     if signals.ambient_C is not None:
         lo, hi = float(np.min(signals.ambient_C)), float(np.max(signals.ambient_C))
-        if seen and (lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K):  # a colder or hotter air, said either way
+        # a colder or hotter air, said either way
+        if seen and (lo < seen[0] - MARGIN_K or hi > seen[1] + MARGIN_K):
             factor = max(factor, 2.0)
             notes.append(f"extrapolated: the ambient ({lo:.1f} to {hi:.1f} degC) leaves the {seen[0]:.1f} to "
                          f"{seen[1]:.1f} degC the model was identified in")

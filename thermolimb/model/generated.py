@@ -103,10 +103,11 @@ class Spec:
     description: str
     columns: tuple[str, ...]
     features: tuple[Feature, ...]
-    # the conductance's multiplier 1 + c x must stay positive over the channel's logged range: (param, x min, x max)
+    # the conductance's multiplier 1 + c x must stay positive over the channel's logged range: (param, x min,
+    # x max)
     conductance: tuple[str, float, float] | None = None
-    # the slow mass (its term's name) whose conductance to ambient the features multiply by ``1 + sum c x``, in
-    # place of the winding's: a fan on the housing; such a term adds no heat of its own
+    # the slow mass (its term's name) whose conductance to ambient the features multiply by ``1 + sum c x``,
+    # in place of the winding's: a fan on the housing; such a term adds no heat of its own
     airflow_on: str | None = None
 
     def to_json(self) -> dict:
@@ -173,7 +174,8 @@ class GeneratedTerm(Term):
                 rise = rise + k
         return rise, gain
 
-    def airflow_gain(self, p, s):  # none at all, not an array of zeros: the mass's still-air recursion is kept
+    # none at all, not an array of zeros: the mass's still-air recursion is kept
+    def airflow_gain(self, p, s):
         moving = [f for f in self.spec.features if p[f.param]] if self.spec.airflow_on else []
         return sum(p[f.param] * f.values(s) for f in moving) if moving else 0.0
 

@@ -36,8 +36,9 @@ def redefines_offset(terms) -> bool:
 _MIN_RESTORING = 1e-6
 # fixed-point passes of a temperature-dependent heat through slow masses (see ThermalModel._coupled)
 COUPLING_PASSES = 2
-# ThermalModel.place_hidden's memo keeps the responses of this many parameter points, and at most this many bytes
-# (a finite-difference Jacobian perturbs one parameter at a time: the ones that move only the rise reuse its point's)
+# ThermalModel.place_hidden's memo keeps the responses of this many parameter points, and at most this many
+# bytes (a finite-difference Jacobian perturbs one parameter at a time: the ones that move only the rise reuse
+# its point's)
 MEMO_RESPONSES, MEMO_BYTES = 4, 32 << 20
 
 
@@ -289,7 +290,8 @@ class ThermalModel:
         its own share ``share`` of the gain implicit, so that strong
         couplings stay stable.
         """
-        heat_at_rest = u * (1.0 - gain) - boundary  # T_offset + rises - boundary: the heat's rise with no feedback
+        # T_offset + rises - boundary: the heat's rise with no feedback
+        heat_at_rest = u * (1.0 - gain) - boundary
         rc = self.params["RC_s"]
         for _ in range(COUPLING_PASSES):
             heat = heat_at_rest + gain * winding

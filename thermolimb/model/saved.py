@@ -38,7 +38,8 @@ VERSION = 2  # 2: generated terms as data (never source), the calibration's rang
 READS = (1, 2)
 LIMIT_RANGE_C = (-60.0, 400.0)  # a winding limit, as --limit-C takes it
 LARGEST = 1e9  # a parameter more than this many times its typical size is no fit's
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}  # a time constant saved in another unit is converted
+# a time constant saved in another unit is converted
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}
 PLAUSIBLE_TIME_S = (1e-2, 1e7)  # no actuator's thermal time constant lies outside (10 ms to 116 days)
 RESIDUAL_QUANTILES = (0.5, 0.8, 0.9, 0.95, 0.99)
 JACKKNIFE_BLOCKS = 5  # delete-one-block refits for the jackknife covariance (forecast intervals draw from it)
@@ -56,7 +57,8 @@ class ResidualStats:
     abs_quantiles_K: Mapping[str, float]  # "0.9": the 90 % quantile of |residual|
     lag1: float  # lag-1 autocorrelation of the residual
     rise_K: float  # the held-out free run's root-mean-square rise above the model's offset
-    # how far a forecast started from a reading is off after each lead (s): per level, a quantile of |error| (K)
+    # how far a forecast started from a reading is off after each lead (s): per level, a quantile of |error|
+    # (K)
     leads_s: tuple[float, ...] = ()
     lead_quantiles_K: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
 
@@ -134,7 +136,8 @@ class SavedModel:
     limit_C: float | None = None  # the winding limit, when known
     method: str = ""
     scheme: str = ""
-    generated: Mapping[str, dict] = field(default_factory=dict)  # the generated terms' specs (data, never code)
+    # the generated terms' specs (data, never code)
+    generated: Mapping[str, dict] = field(default_factory=dict)
 
     @property
     def offset_air_C(self) -> list[float] | None:
@@ -172,7 +175,8 @@ class ModelFile:
     """Every actuator's :class:`SavedModel`, by name."""
 
     actuators: Mapping[str, SavedModel]
-    notes: tuple[str, ...] = ()  # what loading it has to say (a limit below what its log read, a unit converted)
+    # what loading it has to say (a limit below what its log read, a unit converted)
+    notes: tuple[str, ...] = ()
 
     def __getitem__(self, actuator: str) -> SavedModel:
         if actuator not in self.actuators:
@@ -458,7 +462,8 @@ def provenance(paths: Sequence[str | Path], series) -> dict:
             if all(v is not None for v in values):
                 v = np.concatenate(values)
                 ranges[column] = [float(v.min()), float(v.max())]
-        if "ambient_C" in ranges and any(s.signals.air_shift_K for s in series):  # the offset's air, and as read
+        # the offset's air, and as read
+        if "ambient_C" in ranges and any(s.signals.air_shift_K for s in series):
             ranges["offset_air_C"] = ranges["ambient_C"]
             v = np.concatenate([s.signals.ambient_C + s.signals.air_shift_K for s in series])
             ranges["ambient_C"] = [float(v.min()), float(v.max())]

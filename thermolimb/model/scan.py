@@ -38,15 +38,18 @@ _MIN_A = float(np.exp(_MIN_LOG_A))
 # Factors that differ by less than this share of their distance from 1 are one constant: a time grid of
 # k * 0.1 s has steps that differ by rounding; taking their mean changes x by at most about 1e-9 of its size.
 CONSTANT_A = 1e-9
-# The associative scan costs about log2(n) passes over the n values; the chunked loop, one pass and about 15 us
-# of calls per chunk: it is the faster while its chunks number at most n log2(n) / ELEMENTS_PER_CHUNK (measured:
-# 2 M samples, 1333 chunks: 70 ms looped against 300 ms associative; 4400 samples, 49 chunks: 0.66 against 0.17 ms)
+# The associative scan costs about log2(n) passes over the n values; the chunked loop, one pass and about 15
+# us of calls per chunk: it is the faster while its chunks number at most n log2(n) / ELEMENTS_PER_CHUNK
+# (measured: 2 M samples, 1333 chunks: 70 ms looped against 300 ms associative; 4400 samples, 49 chunks: 0.66
+# against 0.17 ms)
 ELEMENTS_PER_CHUNK = 2000.0
-# one constant factor's chunks run in a loop when they are at least this long, else side by side (measured, 15 calls'
-# best: 2 M samples in 67 chunks 9.5 ms looped against 21 ms side by side; 200,000 in 68, 1.1 against 1.5 ms; 20,000
-# in 71, 0.34 against 0.17 ms; in 834, 3.0 against 0.19 ms; lfilter, for scale, 10, 1.0, 0.10 and 0.11 ms)
+# one constant factor's chunks run in a loop when they are at least this long, else side by side (measured, 15
+# calls' best: 2 M samples in 67 chunks 9.5 ms looped against 21 ms side by side; 200,000 in 68, 1.1 against
+# 1.5 ms; 20,000 in 71, 0.34 against 0.17 ms; in 834, 3.0 against 0.19 ms; lfilter, for scale, 10, 1.0, 0.10
+# and 0.11 ms)
 LOOPED_STEPS = 1000
-SHORT = 8  # a recursion this short runs as a plain loop (a monitor's piece of a sample or two): no call overhead
+# a recursion this short runs as a plain loop (a monitor's piece of a sample or two): no call overhead
+SHORT = 8
 
 
 def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float, log_a: np.ndarray | None = None) -> np.ndarray:
@@ -91,14 +94,16 @@ class Recursion:
             self.a = float(np.mean(a))
             return
         if log_a is None:
-            with np.errstate(divide="ignore"):  # a = 0 is a step that forgets: its log is clamped like any fast decay
+            # a = 0 is a step that forgets: its log is clamped like any fast decay
+            with np.errstate(divide="ignore"):
                 log_a = np.log(a)
         log_a = np.maximum(log_a, _MIN_LOG_A)
         L = np.cumsum(log_a)  # log of the product of a up to step k: decreasing, -decay
         if -L[-1] / MAX_DECAY_PER_CHUNK > n * np.log2(max(n, 2)) / ELEMENTS_PER_CHUNK:
             return  # the associative scan
         a = np.maximum(a, _MIN_A)  # as the logarithm is clamped
-        self.chunks, start, decays = [], 0, None  # decays: -L, for the chunks' ends, only when there is more than one
+        # decays: -L, for the chunks' ends, only when there is more than one
+        self.chunks, start, decays = [], 0, None
         while start < n:
             offset = L[start - 1] if start > 0 else 0.0
             if L[-1] >= offset - MAX_DECAY_PER_CHUNK:
@@ -107,8 +112,8 @@ class Recursion:
                 decays = -L if decays is None else decays
                 stop = int(np.searchsorted(decays, MAX_DECAY_PER_CHUNK - offset, side="right"))
             stop = max(stop, start + 1)
-            # decay[i] = prod_{j=start}^{start+i} a[j] = exp(L[start+i] - offset), in (exp(-30), 1]: a product is
-            # half the cost of the exponential and as accurate (one rounding a step: ~1e-12 over 1e4 steps)
+            # decay[i] = prod_{j=start}^{start+i} a[j] = exp(L[start+i] - offset), in (exp(-30), 1]: a product
+            # is half the cost of the exponential and as accurate (one rounding a step: ~1e-12 over 1e4 steps)
             self.chunks.append((start, stop, np.cumprod(a[start:stop])))
             start = stop
 

@@ -12,7 +12,8 @@ from .scan import CONSTANT_A, Recursion
 
 FEW_LEVELS = 8  # intervals of at most n / 8 distinct lengths are looked up, not exponentiated one by one
 LOOKUP_FROM = 256  # intervals: fewer are exponentiated one by one
-RECURSIONS, RECURSION_BYTES = 8, 64 << 20  # the constant rates' recursions kept per signals (Signals.recursion)
+# the constant rates' recursions kept per signals (Signals.recursion)
+RECURSIONS, RECURSION_BYTES = 8, 64 << 20
 EXTRA = "extra."  # a term needing an extra channel names it "extra.NAME" in its columns
 
 # log column -> Signals attribute (the optional input channels a term may need)
@@ -44,9 +45,11 @@ class Signals:
     neighbor_names: tuple[str, ...] = field(default=())
     housing_C: np.ndarray | None = None  # a second measured temperature: housing, case or driver board
     power_W: np.ndarray | None = None  # electrical input power
-    extra: Mapping[str, np.ndarray] = field(default_factory=dict)  # channels the log carries beyond these, by name
-    # K the run's temperatures (winding, ambient, housing, neighbours) were moved down to the air of the runs it is
-    # fitted with (:func:`~thermolimb.model.experience.common_air`): what reads an absolute temperature adds it back
+    # channels the log carries beyond these, by name
+    extra: Mapping[str, np.ndarray] = field(default_factory=dict)
+    # K the run's temperatures (winding, ambient, housing, neighbours) were moved down to the air of the runs
+    # it is fitted with (:func:`~thermolimb.model.experience.common_air`): what reads an absolute temperature
+    # adds it back
     air_shift_K: float = 0.0
 
     def __post_init__(self):

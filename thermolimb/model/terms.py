@@ -48,7 +48,8 @@ class Parameter:
     null: float = 0.0  # the value at which the effect is absent (for score tests)
     nuisance: bool = False  # only meaningful once the effect is present (e.g. a second mass's time constant)
     plausible: tuple[float, float] | None = None  # the physically expected range, for a plausibility check
-    within_runs: float | None = None  # a fit keeps it within this many times the longest run it sees (None: no limit)
+    # a fit keeps it within this many times the longest run it sees (None: no limit)
+    within_runs: float | None = None
 
     def unit_in(self, units: Mapping[str, str] | None) -> str:
         """The unit with the log's channel units put in (``unit`` may name channels: ``K/({effort})^2``)."""
@@ -60,7 +61,8 @@ class Term:
 
     name: ClassVar[str]
     description: ClassVar[str]
-    label: ClassVar[str] = ""  # a few words a reader knows ("speed losses"); the name with spaces if not given
+    # a few words a reader knows ("speed losses"); the name with spaces if not given
+    label: ClassVar[str] = ""
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     columns: ClassVar[tuple[str, ...]] = ("effort",)
     is_heat_source: ClassVar[bool] = False
@@ -76,24 +78,28 @@ class Term:
     # a boundary term moves the temperature heat finally flows to (the ambient): it reaches the winding
     # through every slow mass, where a heat term's rise builds up partly across each
     boundary: ClassVar[bool] = False
-    # a heat put into the slow mass (friction in the housing): its whole rise reaches the winding through the slow
-    # masses, as the boundary's does, while the offset stays the ambient (it needs a slow mass: ``requires``)
+    # a heat put into the slow mass (friction in the housing): its whole rise reaches the winding through the
+    # slow masses, as the boundary's does, while the offset stays the ambient (it needs a slow mass:
+    # ``requires``)
     heats_slow_mass: ClassVar[bool] = False
     requires: ClassVar[tuple[str, ...]] = ()  # terms this one builds on (a third mass needs a second)
-    generated: ClassVar[bool] = False  # written by a diagnosis (thermolimb.model.generated), not offered by the catalog
+    # written by a diagnosis (thermolimb.model.generated), not offered by the catalog
+    generated: ClassVar[bool] = False
     # a term with a thermal state of its own (a slow mass) takes ``state=`` in shape_equilibrium, the value an
     # earlier piece of the run ended with, and leaves its last value in ``self.state``
     carries_state: ClassVar[bool] = False
-    # a term whose output lags the winding (a thermistor's lag): the winding's start is then a hidden state too
+    # a term whose output lags the winding (a thermistor's lag): the winding's start is then a hidden state
+    # too
     lags_output: ClassVar[bool] = False
     # a term whose parameters move only the rise (its gain is 0 and it shapes no state and no output): the
     # model's response to a hidden state's start does not depend on them (ThermalModel.place_hidden reuses it)
     rise_only: ClassVar[bool] = False
-    # parameters of other terms its contribution reads (copper's coefficient scales the Joule heat): the model is
-    # then not affine in them, whatever their own term (ThermalModel.place_hidden may not reuse responses across them)
+    # parameters of other terms its contribution reads (copper's coefficient scales the Joule heat): the model
+    # is then not affine in them, whatever their own term (ThermalModel.place_hidden may not reuse responses
+    # across them)
     reads: ClassVar[tuple[str, ...]] = ()
-    # a term that changes a slow mass's conductance to ambient (airflow on the housing, a fan's duty) names that
-    # mass's term; :meth:`airflow_gain` is by how much, and the term adds no heat of its own
+    # a term that changes a slow mass's conductance to ambient (airflow on the housing, a fan's duty) names
+    # that mass's term; :meth:`airflow_gain` is by how much, and the term adds no heat of its own
     airflow_on: ClassVar[str | None] = None
 
     def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:

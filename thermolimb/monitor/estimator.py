@@ -96,8 +96,8 @@ class ActuatorMonitor:
         miss = saved.residual.rmse_K if saved.residual is not None else 0.5
         # the disturbance's stationary spread is the model's held-out error: q = miss^2 (1 - a^2) per step
         self.miss_K = max(miss, measurement_std_K)
-        # a lagging sensor's time constant is uncertain: the winding's distance ahead of the reading, tau dT/dt,
-        # is uncertain by sigma_tau |dT/dt| (the jackknife's spread when the file has it)
+        # a lagging sensor's time constant is uncertain: the winding's distance ahead of the reading, tau
+        # dT/dt, is uncertain by sigma_tau |dT/dt| (the jackknife's spread when the file has it)
         names = [p.name for p in saved.model.parameters]
         spread = saved.jackknife if saved.jackknife is not None else saved.covariance
         self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))

@@ -174,7 +174,8 @@ class WindingObserver:
             raise ValueError("WindingObserver.run needs copper_alpha_per_K = 0; step with update() otherwise")
         Phi, Gam, Qd = self._discrete(float(dt_s))
         Phis = self.speed_transitions(Phi, speed_rad_s)
-        heat = self.known_heat_W(current_A, COPPER_REFERENCE_C)  # the coefficient is 0: any winding temperature
+        # the coefficient is 0: any winding temperature
+        heat = self.known_heat_W(current_A, COPPER_REFERENCE_C)
         states, covariances = [self.x.copy()], [self.P.copy()]
         for k in range(len(heat)):
             self._predict(Phis[k], Gam, Qd, heat[k], float(ambient_C[k]))

@@ -68,7 +68,8 @@ class CycleMap:
                              f"{efforts.shape} and {velocities.shape}")
         if not (np.all(np.isfinite(efforts)) and np.all(np.isfinite(velocities))):
             raise ValueError("a cycle's efforts and velocities must be finite")
-        efforts = np.clip(efforts, -plant.peak_effort, plant.peak_effort)  # the drives hold an effort at the peak
+        # the drives hold an effort at the peak
+        efforts = np.clip(efforts, -plant.peak_effort, plant.peak_effort)
         if plant.effects.ambient_variation is not None:
             raise ValueError("the ambient drifts: the duty is not periodic, step the plant instead")
         self.dt_s = float(dt_s)

@@ -96,8 +96,10 @@ class ThermalPlant:
         self._x = np.full(self._n_states, start)
         self._discretised: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.current_A = np.zeros(self.n)
-        self.peak_effort = np.array([spec.effort_limit for spec in self.specs])  # N m or N: what a drive holds at most
-        self.faulted = np.zeros(self.n, bool)  # a non-finite command faulted the actuator (cleared by clear_faults)
+        # N m or N: what a drive holds at most
+        self.peak_effort = np.array([spec.effort_limit for spec in self.specs])
+        # a non-finite command faulted the actuator (cleared by clear_faults)
+        self.faulted = np.zeros(self.n, bool)
         self.saturations = np.zeros(self.n, int)  # steps whose effort was held at the actuator's peak
         self._measure()
         if protection.estimator == "observer":

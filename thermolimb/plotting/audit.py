@@ -17,7 +17,8 @@ def plot_audit(result, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 4.5))
     limiting = result.limiting_joint()
     minutes = result.time_s / 60.0
-    named = set(np.argsort(-result.temperature_C.max(axis=0))[:LABELLED])  # the hottest are named, the rest grey
+    # the hottest are named, the rest grey
+    named = set(np.argsort(-result.temperature_C.max(axis=0))[:LABELLED])
     for k, joint in enumerate(result.joints):
         bold = joint == limiting
         ax.plot(minutes, result.temperature_C[:, k], lw=2.2 if bold else 0.9, alpha=1.0 if bold else 0.7,

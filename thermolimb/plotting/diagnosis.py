@@ -64,7 +64,8 @@ def candidates_figure(d: Diagnosis):
     others = [c for c in d.candidates if not c.refitted]
     # each change in words with its identifier, wrapped so that the axes keep their width
     labels = [textwrap.fill(readable(c.label), 30) for c in refitted][::-1]
-    # a row as tall as the longest label's lines need (a channel's form runs to five), so that labels do not overlap
+    # a row as tall as the longest label's lines need (a channel's form runs to five), so that labels do not
+    # overlap
     row_in = max([0.45] + [0.17 * (label.count("\n") + 1) for label in labels])
     fig, ax = plt.subplots(figsize=(9, row_in * max(len(refitted), 1) + 1.6 + 0.18 * len(others)))
     gains = [100 * c.improvement for c in refitted][::-1]
@@ -123,7 +124,8 @@ def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]
 def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(8, 3.8))
     labels, rmse, kinds = waterfall_bars(steps)
-    # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not overlap
+    # long names (a discovered form's) wrapped at underscores and spaces, so that neighbouring labels do not
+    # overlap
     labels = [textwrap.fill(label.replace("_", "_ "), 20).replace("_ ", "_") for label in labels]
     colours = {"taken": "tab:blue", "flagged": "tab:red", "unstable": "white"}
     ax.bar(np.arange(len(rmse)), rmse, color=[colours[k] for k in kinds],

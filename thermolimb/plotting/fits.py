@@ -20,14 +20,16 @@ from .inventory import metadata  # noqa: E402
 
 LABEL_WORD_LIMIT = 100  # characters of one word a figure's text shows
 DPI = 110
-WIDEST_PX = 1280  # the report's column (1320 px less its padding): a wider figure is drawn at a lower resolution
+# the report's column (1320 px less its padding): a wider figure is drawn at a lower resolution
+WIDEST_PX = 1280
 
 
 def save(fig, path: Path) -> Path:
     """Write a figure whole (to a temporary name first) and close it; a PNG carries what it draws (inventory)."""
     path = Path(path)
     kind = path.suffix.lstrip(".").lower() or "png"
-    for text in fig.findobj(Text):  # a name of any length (an actuator's) keeps the figure drawable and readable
+    # a name of any length (an actuator's) keeps the figure drawable and readable
+    for text in fig.findobj(Text):
         if len(text.get_text()) > LABEL_WORD_LIMIT:
             text.set_text(bounded(text.get_text(), LABEL_WORD_LIMIT))
     wrap_to_figure(fig)
@@ -95,7 +97,8 @@ def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) ->
             if ax_effort is not None:
                 ax_effort.plot(t, seg.effort, color="0.4", lw=0.6)
     ax_temperature.set_ylabel("temperature (°C)")
-    ax_temperature.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8, frameon=False)  # off the data
+    # off the data
+    ax_temperature.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8, frameon=False)
     if ax_error is not None:
         ax_error.axhline(0, color="k", lw=0.5)
         ax_error.set_ylabel("measured − model (K)")
@@ -133,7 +136,8 @@ def plot_comparison(results, actuator: str, path: Path) -> Path:
     for seg in first.validation_segments:
         top.plot(seg.time_s, seg.measured_C, color="k", lw=1)
     for k, (report, _) in enumerate(results):
-        label, colour = readable(",".join(report.model.terms)), f"C{k % 10}"  # one colour per model, on every run
+        # one colour per model, on every run
+        label, colour = readable(",".join(report.model.terms)), f"C{k % 10}"
         for i, seg in enumerate(report.validation_segments):
             top.plot(seg.time_s, seg.simulated_C, lw=1, color=colour, label=label if i == 0 else None)
             bottom.plot(seg.time_s, seg.measured_C - seg.simulated_C, lw=0.8, color=colour)

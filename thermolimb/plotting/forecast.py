@@ -30,6 +30,7 @@ def plot_forecast(f, path: Path) -> Path:
     ax.set_title(f.sentence(), fontsize=9, wrap=True)
     top = max(float(np.max(f.high_C)), f.threshold_C)
     ax.set_ylim(top=top + 0.05 * (top - float(np.min(f.low_C)) + 1e-9))
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)  # beside the data, never on it
+    # beside the data, never on it
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     ax.grid(alpha=0.3)
     return save(fig, path)

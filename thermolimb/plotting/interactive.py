@@ -129,7 +129,8 @@ def candidates_figure(d):
     fig.add_vline(x=10.0, line_dash="dot", line_color="green", annotation_text="10 % needed")
     gains = [100 * c.improvement for c in refitted] or [0.0]
     low, high = min(min(gains), 0.0), max(max(gains), 10.0)
-    fig.update_xaxes(range=[low - 0.1 * (high - low) - 5.0, high + 0.45 * (high - low)])  # room for the labels
+    # room for the labels
+    fig.update_xaxes(range=[low - 0.1 * (high - low) - 5.0, high + 0.45 * (high - low)])
     fig.update_layout(height=160 + 40 * len(refitted), title=f"{d.actuator}: changes tried on held-out data",
                       xaxis_title=f"fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)",
                       yaxis={"autorange": "reversed"}, margin={"l": 260, "r": 40, "t": 60, "b": 50})
@@ -143,7 +144,8 @@ def waterfall_figure(steps: list[dict], actuator: str):
     from .diagnosis import waterfall_bars
 
     labels, rmse, kinds = waterfall_bars(steps)  # named as the PNG names them
-    colours = {"taken": "#1f77b4", "flagged": "#d62728", "unstable": "white"}  # matplotlib's tab:blue, tab:red
+    # matplotlib's tab:blue, tab:red
+    colours = {"taken": "#1f77b4", "flagged": "#d62728", "unstable": "white"}
     fig = go.Figure(go.Bar(x=labels, y=rmse, text=[f"{v:.3f} K" for v in rmse], textposition="outside",
                            marker={"color": [colours[k] for k in kinds],
                                    "line": {"color": ["#ff7f0e" if k == "unstable" else "rgba(0,0,0,0)"

@@ -40,10 +40,12 @@ def atomic_path(path: str | Path):
         try:
             yield tmp
             if tmp.is_file():
-                tmp.chmod(0o666 & ~_umask())  # mkstemp makes 0600; the result gets the mode any new file would
+                # mkstemp makes 0600; the result gets the mode any new file would
+                tmp.chmod(0o666 & ~_umask())
             os.replace(tmp, path)
         except OSError as exc:
-            if exc.filename is None or Path(exc.filename) == tmp:  # name the file asked for, not its temporary
+            # name the file asked for, not its temporary
+            if exc.filename is None or Path(exc.filename) == tmp:
                 raise OSError(exc.errno, exc.strerror, str(path)) from exc
             raise
         finally:

@@ -152,7 +152,8 @@ class Runner:
         """``[func(*job) for job in jobs]`` on this runner's backend."""
         if not jobs:
             return []
-        if self._pool is not None:  # waited for a second at a time, as as_completed does (a lost signal's raise)
+        # waited for a second at a time, as as_completed does (a lost signal's raise)
+        if self._pool is not None:
             out = [None] * len(jobs)
             for i, result in self.as_completed(func, jobs):
                 out[i] = result
@@ -174,7 +175,8 @@ class Runner:
             return
         pending = {self._pool.submit(func, *job): i for i, job in enumerate(jobs)}
         while pending:
-            check()  # a signal whose raise was lost inside a library ends the wait within a second (util/interrupts)
+            # a signal whose raise was lost inside a library ends the wait within a second (util/interrupts)
+            check()
             done, _ = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
             for future in sorted(done, key=pending.get):
                 yield pending.pop(future), future.result()
@@ -200,16 +202,17 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
                 process.kill()
                 process.join()
         # the pool's manager thread sees its workers gone and closes its wake-up pipe: waited for here, or the
-        # interpreter's exit hook can write to that pipe as it closes ("Exception ignored ... Bad file descriptor",
-        # a race in Python 3.11's pool between its wake-up's check and its write)
+        # interpreter's exit hook can write to that pipe as it closes ("Exception ignored ... Bad file
+        # descriptor", a race in Python 3.11's pool between its wake-up's check and its write)
         if manager is not None:
             manager.join(STOP_GRACE_S)
 
 
-# One BLAS thread per job where the parallelism is across jobs: two workers of two BLAS threads each oversubscribe
-# two cores, and OpenBLAS's waiting threads then spin (a 7200 x 12 SVD: 3 ms alone, 17-56 ms beside a busy core; the
-# UR3 J5 walk's stability replicates took 37.0 s against 28.1 s with one thread, medians of five alternated runs).
-# A fixed count also keeps every sum in the same order: a job gives the same bits on every backend.
+# One BLAS thread per job where the parallelism is across jobs: two workers of two BLAS threads each
+# oversubscribe two cores, and OpenBLAS's waiting threads then spin (a 7200 x 12 SVD: 3 ms alone, 17-56 ms
+# beside a busy core; the UR3 J5 walk's stability replicates took 37.0 s against 28.1 s with one thread,
+# medians of five alternated runs). A fixed count also keeps every sum in the same order: a job gives the same
+# bits on every backend.
 BLAS_THREADS = 1
 _CONTROLLER = None
 

@@ -108,12 +108,14 @@ def _transients(temperature_C: np.ndarray) -> tuple[int, int]:
     return rises + (trend == 1), falls + (trend == -1)
 
 
-# A channel an effect rides on is excited in a part of the data when it is away from rest in at least this many
-# samples (and this share of them) -- in two bouts at least, or a tenth of the part: one blip is not evidence.
+# A channel an effect rides on is excited in a part of the data when it is away from rest in at least this
+# many samples (and this share of them) -- in two bouts at least, or a tenth of the part: one blip is not
+# evidence.
 MIN_EXCITED = 30
 MIN_EXCITED_SHARE = 0.01
 AWAY = 0.05  # away from rest: beyond this share of the channel's 99th percentile of |value| (inputs) ...
-MOVED_K = 0.5  # ... or, for a temperature, this far from its median (the neighbours': from this actuator's own)
+# ... or, for a temperature, this far from its median (the neighbours': from this actuator's own)
+MOVED_K = 0.5
 CHANNEL_WORDS = {"velocity": "the velocity is away from rest", "current": "the current is away from zero",
                  "power": "the power is away from zero", "neighbors": "a neighbour's temperature differs by 0.5 K",
                  "ambient": "the ambient moves by 0.5 K", "housing": "the housing's temperature moves by 0.5 K"}
@@ -126,7 +128,8 @@ class ChannelExcitation:
     channel: str
     fitted: tuple[int, int, int]  # samples away from rest, samples, bouts
     judged: tuple[int, int, int]
-    level: float | None = None  # an input away from rest at one level only (|value|): no variation to learn from
+    # an input away from rest at one level only (|value|): no variation to learn from
+    level: float | None = None
 
     @staticmethod
     def enough(away: int, n: int, bouts: int) -> bool:
@@ -208,7 +211,8 @@ def _scale(channel: str, moved: list[np.ndarray]) -> float:
         return MOVED_K
     whole = np.concatenate(moved) if moved else np.zeros(1)
     top = float(np.percentile(whole, 99)) if whole.size else 0.0
-    top = top if top > 0 else float(np.max(whole, initial=0.0))  # a channel at rest nearly always: its largest
+    # a channel at rest nearly always: its largest
+    top = top if top > 0 else float(np.max(whole, initial=0.0))
     return AWAY * top if top > 0 else np.inf
 
 

@@ -26,7 +26,8 @@ import numpy as np
 
 from ..util.numbers import places3
 
-FLOOR_FACTOR = 1.25  # a validation error within this of the floor (an excess error below 0.75 floors) is at it
+# a validation error within this of the floor (an excess error below 0.75 floors) is at it
+FLOOR_FACTOR = 1.25
 GRID_SHARE = 0.95  # readings on the same grid for it to be a quantisation step
 MAD_TO_SIGMA = 1.4826  # a normal distribution's standard deviation over its median absolute deviation
 

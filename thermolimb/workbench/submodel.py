@@ -15,12 +15,13 @@ from ..model.terms import TERMS
 from .carry import only_heats
 from .excitation import effort_levels, own_shares
 
-# A coefficient of heat from the effort alone whose input varies apart from the constant's and the others' by less than
-# this share (excitation.own_shares) is set aside where the offset's is not (the log pins the offset: its effort rests
-# or runs low; where neither is pinned, the fit's identifiability decides, and an offset goes to the logged ambient).
-# On two levels the share is 0 but for the effort's noise (0.010-0.020 on the plant's step tests and PMSM profile 24),
-# and a hold derated in steps is alike (0.073); the real joints that vary their effort hold 0.165 (the BLDC bench)
-# and more (python benchmarks/transfer.py --sources ur3,wx200,bldc,pmsm,plant,step --shares)
+# A coefficient of heat from the effort alone whose input varies apart from the constant's and the others' by
+# less than this share (excitation.own_shares) is set aside where the offset's is not (the log pins the
+# offset: its effort rests or runs low; where neither is pinned, the fit's identifiability decides, and an
+# offset goes to the logged ambient). On two levels the share is 0 but for the effort's noise (0.010-0.020 on
+# the plant's step tests and PMSM profile 24), and a hold derated in steps is alike (0.073); the real joints
+# that vary their effort hold 0.165 (the BLDC bench) and more (python benchmarks/transfer.py --sources
+# ur3,wx200,bldc,pmsm,plant,step --shares)
 OWN_SHARE = 0.1
 
 
@@ -79,7 +80,8 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
             model = tuple(t for t in model if t != term)
             continue
         loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
-                 for flag in report.flags if flag.startswith(f"{name} = ")]  # uncertain, or a time constant unseen
+                 # uncertain, or a time constant unseen
+                 for flag in report.flags if flag.startswith(f"{name} = ")]
         rest = resting_offset(series, report) if hold and "T_offset_C" not in held else None
         if rest is not None and not loose:
             hold_value("T_offset_C", *rest)

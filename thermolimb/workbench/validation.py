@@ -38,12 +38,13 @@ from .submodel import identifiable_submodel
 AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = ("auto", "interleaved", "split", "blocks", "runs", "parts",
                                                            "held_out")
 KINDS = (AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT)
-PARTS_OF_A_RUN = 3  # leave one part out: one run's time span in this many parts, each predicted from the others
+# leave one part out: one run's time span in this many parts, each predicted from the others
+PARTS_OF_A_RUN = 3
 INTERLEAVED_BLOCKS = 10  # an interleaved scheme cuts each run's time span into this many blocks ...
 HELD_EVERY = 3  # ... and holds out every third of them, from the second: blocks 2, 5 and 8 of 10
 MIN_RUN_SAMPLES = 2 * MIN_SAMPLES  # a run shorter than this cannot carry a fold of its own
-# a held-out run's first tenth of its time span places its hidden states (a slow mass, the winding behind a lagging
-# sensor) and is not scored: every model is judged on the rest, from the same first sample
+# a held-out run's first tenth of its time span places its hidden states (a slow mass, the winding behind a
+# lagging sensor) and is not scored: every model is judged on the rest, from the same first sample
 BURN_IN_SHARE = 0.1
 
 
@@ -177,7 +178,8 @@ class FitReport:
     train_series: tuple[ActuatorSeries, ...] = field(repr=False, default=())
     flags: tuple[str, ...] = ()
     scheme: str = ""
-    set_aside: tuple[dict, ...] = ()  # terms of the requested model this log cannot identify: {"term", "reason"}
+    # terms of the requested model this log cannot identify: {"term", "reason"}
+    set_aside: tuple[dict, ...] = ()
     units: str = "parts"  # what the held-out units are: "runs", "blocks" or "parts" (a run's tail)
 
     @property
@@ -235,7 +237,8 @@ def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tupl
     the training part of a split run is the start of the whole run's (a 1.4 M-sample run not simulated twice)."""
     if pieces is None:
         pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
-    out, air = [], series.signals.air_shift_K  # a run moved to the air of those fitted with it, shown as it read
+    # a run moved to the air of those fitted with it, shown as it read
+    out, air = [], series.signals.air_shift_K
     if restart:
         for lo, hi in pieces:
             if lo > 0:
@@ -380,7 +383,8 @@ def validate_model(
     valid, moved, alive = [], [], []
     runs: dict = {}  # free runs from each run's start, by model, run and start (_segments)
     for est, (fit_on, scored) in zip(fitted, folds):
-        # another run may have run in another air; parts of one run share its air, whose swings are its own evidence
+        # another run may have run in another air; parts of one run share its air, whose swings are its own
+        # evidence
         span = ambient_span(fit_on) if scheme.kind in (RUNS, HELD_OUT) else None
         for k, (s, pieces) in enumerate(scored):
             judged = est.model_
@@ -393,7 +397,8 @@ def validate_model(
                     moved.append((label, shift))
                 offsets = judged.place_hidden(s, np.arange(burn))[1]
                 pieces = [(burn, s.n)]
-            else:  # the same run fitted on: its hidden states as the fit placed them (not for contiguous folds)
+            # the same run fitted on: its hidden states as the fit placed them (not for contiguous folds)
+            else:
                 offsets = _offsets(est, k) if scheme.kind in (SPLIT, INTERLEAVED) else None
                 label = ""
             valid += _segments(judged, s, pieces, restart, label, offsets, runs)

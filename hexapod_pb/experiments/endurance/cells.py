@@ -34,7 +34,8 @@ class CellResult:
     hottest: str  # the actuator that derates first, or the hottest at the horizon
     hottest_C: float  # its winding when derating starts, or at the horizon
     steady_hottest_C: float | None  # the hottest winding of the last measured cycle repeated forever
-    yaw_drift_deg_per_min: float  # the largest heading drift measured: above a few degrees the gait is not periodic
+    # the largest heading drift measured: above a few degrees the gait is not periodic
+    yaw_drift_deg_per_min: float
     windows: int
     gait: Gait
 

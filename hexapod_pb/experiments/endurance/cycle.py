@@ -19,7 +19,8 @@ from .gait import MODES, NOMINAL_GAIT, Gait
 
 WARMUP_STRIDES = 3
 CYCLE_STRIDES = 8
-MAX_YAW_DRIFT_DEG_PER_MIN = 5.0  # a gait turning faster than this by itself is not periodic (measured: <= 0.3 to 25 kg)
+# a gait turning faster than this by itself is not periodic (measured: <= 0.3 to 25 kg)
+MAX_YAW_DRIFT_DEG_PER_MIN = 5.0
 
 
 @dataclass(frozen=True)

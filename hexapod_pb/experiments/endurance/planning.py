@@ -45,7 +45,8 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
     thermal = ThermalContext(bank)
     nominal = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed)
     stock = measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed)
-    # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if faster
+    # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if
+    # faster
     reference = max(nominal.distance_per_s_m, stock.distance_per_s_m)
     walking = mode == "walk"
     duties = choices["duty_factor"] if walking else (NOMINAL_GAIT.duty_factor,)

@@ -41,7 +41,8 @@ from ...util.frozen import FrozenMapping
 
 SCORE_P_VALUE = 0.01  # candidates below this p-value are refitted
 MIN_IMPROVEMENT = 0.10  # an added effect must cut validation RMSE by at least 10 %
-# a term goes when held-out data rejects it by this much, whatever the training fit says (it extrapolates badly)
+# a term goes when held-out data rejects it by this much, whatever the training fit says (it extrapolates
+# badly)
 DROP_IMPROVEMENT = 0.05
 MAX_DELTA_BIC = -10.0  # ... and lower BIC by at least 10 ("very strong" evidence on the training part)
 CONFOUNDED_FRACTION = 1e-3  # a signature with less than this share of its own is confounded
@@ -89,7 +90,8 @@ class Candidate:
     starts: tuple[dict, ...] = field(default=(), repr=False)  # where refits start
     scan: tuple[tuple[dict, dict], ...] = field(default=(), repr=False)  # (nuisance values, start there)
     channel: str | None = None  # the extra channel a "channel" candidate reads
-    brings: tuple[str, ...] = ()  # terms it needs that the model lacks, added with it (a mass its channel acts on)
+    # terms it needs that the model lacks, added with it (a mass its channel acts on)
+    brings: tuple[str, ...] = ()
     channel_unit: str | None = None
     formula: str | None = None  # a generated term's heat in symbols
     source: str | None = field(default=None, repr=False)  # a generated term's Python source (--propose)
@@ -98,11 +100,13 @@ class Candidate:
     selection_frequency: float | None = None  # share of the stability replicates that take it (when checked)
     # how the replicates that took its effect took it, by label
     selected_as: Mapping = field(default_factory=FrozenMapping)
-    settled_plausible: bool | None = None  # a replicate's: whether the whole log's refit of this change was plausible
+    # a replicate's: whether the whole log's refit of this change was plausible
+    settled_plausible: bool | None = None
     stability_sentence: str | None = None  # how often it was taken, and what the replicates varied
     unstable_because: str | None = None  # it helps, but the replicates do not take it often enough
     refuted_because: str | None = None  # it helps, but the run's part it was not judged on refutes it
-    unexcited: str | None = None  # why not judged: the channel it rides on barely moves, or the effort cannot pin it
+    # why not judged: the channel it rides on barely moves, or the effort cannot pin it
+    unexcited: str | None = None
     units: tuple[int, int] | None = None  # held-out units (runs, blocks) it lowers the error on, of how many
     unit_word: str = "parts"
     robust_improvement: float | None = None  # the held-out gain without its most influential samples
@@ -112,13 +116,16 @@ class Candidate:
         return self.kind in ("add", "channel", "discovered")
 
     @property
-    def searched(self):  # the term its score test and profile search: a mass it brings (its channel's form has no
-        return TERMS[self.brings[0] if self.brings else self.effect]  # gradient at the mass's null), else its own
+    # the term its score test and profile search: a mass it brings (its channel's form has no
+    def searched(self):
+        # gradient at the mass's null), else its own
+        return TERMS[self.brings[0] if self.brings else self.effect]
 
     @property
     def label(self) -> str:
         if self.kind == "channel":
-            unit = "" if self.channel_unit in (None, "", "1") else f", in {self.channel_unit}"  # "1": a plain number
+            # "1": a plain number
+            unit = "" if self.channel_unit in (None, "", "1") else f", in {self.channel_unit}"
             brought = "".join(f"{b} with " for b in self.brings)
             return f"+ {brought}{self.effect} (from the channel {self.channel}{unit})"
         if self.kind == "discovered":
@@ -241,7 +248,8 @@ def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Can
     """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
     out = []
     for name, term in TERMS.items():
-        brings = tuple(r for r in term.requires if r not in model)  # a third mass brings the second: two at once
+        # a third mass brings the second: two at once
+        brings = tuple(r for r in term.requires if r not in model)
         if (name not in model and not term.generated and _has_columns(term, series) and (term.carries_state
                 or not brings) and all(q in model for b in brings for q in TERMS[b].requires)):
             out.append(Candidate(name, model + brings + (name,), brings=brings))
@@ -303,7 +311,8 @@ def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None
     """Why a swapped heat source cannot be told from the one it replaces on this log, or ``None``."""
     a, b = instance(cand.replaces), instance(cand.effect)
     fa, fb = ([t.features(s.signals, s.temperature_C) for s in series] for t in (a, b))
-    if any(f is None for f in fa + fb):  # a form not linear in its parameters (a conductance): the refits judge
+    # a form not linear in its parameters (a conductance): the refits judge
+    if any(f is None for f in fa + fb):
         return None
     xa, xb = np.concatenate([np.ravel(f) for f in fa]), np.concatenate([np.ravel(f) for f in fb])
     if np.ptp(xa) == 0 or np.ptp(xb) == 0:
@@ -349,7 +358,8 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     scored.sort(key=lambda x: (x[4] is None, -x[0]))
     starts = [s[3] for s in scored[:REFIT_STARTS]]
     starts += [{**dict(base.params), **{p.name: p.typical for p in term.parameters}}]
-    own = {p.name: p.typical for p in TERMS[cand.effect].parameters} if cand.brings else {}  # at its null: no effect
+    # at its null: no effect
+    own = {p.name: p.typical for p in TERMS[cand.effect].parameters} if cand.brings else {}
     starts, scan = [{**s, **own} for s in starts], [(f, {**s, **own}) for f, s in scan]
     # times that are not nuisance (a sensor lag) start from the log's time scales too
     times = [p for p in term.parameters if p.unit == "s" and not p.nuisance]

@@ -32,7 +32,8 @@ from .candidates import Candidate
 
 TEMPERATURE_UNITS = CELSIUS + ("K",)
 TEMPERATURE_WORDS = ("temp", "°c", "degc", "ambient", "coolant", "housing")
-TEMPERATURE_SPAN_K = 30.0  # a channel with no unit is temperature-like if it stays this close to the log's temperatures
+# a channel with no unit is temperature-like if it stays this close to the log's temperatures
+TEMPERATURE_SPAN_K = 30.0
 BOUNDARY_REFERENCE_C = 25.0  # a boundary's offset is the model's offset at this channel temperature
 CONDUCTANCE_MARGIN = 0.98  # the conductance's multiplier may fall to 2 % of its value, never below
 

@@ -103,7 +103,8 @@ class Diagnosis:
     # the best change, helping but held back: not taken often enough (stability.steadier), or refuted by the
     # run's part it was not judged on (.reversed_split)
     unstable: Candidate | None = None
-    heat_source: dict | None = None  # where a log has both: heat from effort or from current, chosen on held-out data
+    # where a log has both: heat from effort or from current, chosen on held-out data
+    heat_source: dict | None = None
 
     @property
     def at_floor(self) -> bool:
@@ -231,7 +232,8 @@ def _walk(series, model, search):
     waterfall = [_step(d, None if k == 0 else moves[k - 1], steps[k - 1] if k else None)
                  for k, d in enumerate(steps)]
     first, h = steps[0], steps[0].heat_source
-    if h is not None and h["chosen"] == "current":  # the walk starts from the effort model, its first step the swap
+    # the walk starts from the effort model, its first step the swap
+    if h is not None and h["chosen"] == "current":
         gain = 1.0 - h["current_rmse_K"] / h["effort_rmse_K"]
         waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"], improvement=gain,
                             why=f"validation RMSE {h['effort_rmse_K']:.3f} -> {h['current_rmse_K']:.3f} K "

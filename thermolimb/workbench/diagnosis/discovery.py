@@ -48,11 +48,13 @@ from .screen import rank
 
 MAX_FEATURES = 2
 SPEED_POWERS = (1.5, 2.5, 3.0, 4.0)  # |v| and v^2 are the catalog's speed losses
-SPEED_QUANTILES = (0.25, 0.5, 0.75)  # thresholds of heat above a speed, as quantiles of the speed while moving
+# thresholds of heat above a speed, as quantiles of the speed while moving
+SPEED_QUANTILES = (0.25, 0.5, 0.75)
 EFFORT_POWERS = (1.0, 3.0)  # |F|; F^2 is the Joule heat itself
-# a feature is kept while it explains at least this share of what is left of the residual.  No significance test
-# here: a thermal residual's serial correlation leaves a two-hour log a few dozen independent samples, and a test
-# on them would refuse forms that halve the held-out error.  The regression proposes; held-out data decide.
+# a feature is kept while it explains at least this share of what is left of the residual.  No significance
+# test here: a thermal residual's serial correlation leaves a two-hour log a few dozen independent samples,
+# and a test on them would refuse forms that halve the held-out error.  The regression proposes; held-out data
+# decide.
 MIN_SHARE = 0.01
 OWN_SHARE = 1e-3  # a feature whose signature is less than this share its own is confounded with the model
 PROBE = "_discovery_probe"

@@ -40,8 +40,8 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         return f"confounded: {c.confounded}."
     parts = []
     ph = analysis.phase_rmse_K
-    # effects whose signature is in time or temperature, not in an input channel (their terms scale the effort,
-    # so the effort's correlation would say nothing about them)
+    # effects whose signature is in time or temperature, not in an input channel (their terms scale the
+    # effort, so the effort's correlation would say nothing about them)
     sign = residual_sign(c.effect)
     channel = _channel(c.effect, analysis) if c.kind != "drop" and sign not in PHASES else None
     if channel:

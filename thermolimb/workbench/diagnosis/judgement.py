@@ -17,10 +17,12 @@ from ..flags import uncertainty_cause
 from .candidates import MIN_IMPROVEMENT, Candidate, bic
 
 WALD_LEVEL = 0.05  # an added effect's size must be jointly non-zero at this level
-INFLUENTIAL_SHARE = 0.01  # a gain must survive leaving out this share of the held-out samples (the most in its favour)
+# a gain must survive leaving out this share of the held-out samples (the most in its favour)
+INFLUENTIAL_SHARE = 0.01
 MIN_INFLUENTIAL = 3  # ... and at least this many of them
 KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 % without them)
-STILL_SPAN = 0.1  # a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
+# a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
+STILL_SPAN = 0.1
 
 
 def judge(cand: Candidate, report, base, base_bic: float) -> Candidate:
@@ -123,8 +125,8 @@ def term_identified(term, report) -> bool:
     wald = float(theta @ scaled_inverse(cov) @ theta)
     if wald > chi2_isf(WALD_LEVEL, len(primary)):
         return True
-    # a model that still fits far worse than the sensor's floor has standard errors inflated by what it misses,
-    # not by a lack of excitation: then they say nothing of whether the log determines the term
+    # a model that still fits far worse than the sensor's floor has standard errors inflated by what it
+    # misses, not by a lack of excitation: then they say nothing of whether the log determines the term
     misfit, _ = uncertainty_cause(list(report.train_series), report.train["rmse_K"])
     return misfit is not None
 

@@ -56,18 +56,21 @@ from .judgement import judge, refit_failure
 ALWAYS_REFIT = 3  # the best-scoring additions are refitted even when the score test is weak
 PROFILE_POINTS = SCAN_POINTS  # values of the profiled parameter, log-spaced
 PROFILE_EVALUATIONS = 4  # trust-region iterations of each profile point's short fit
-COMPETING = 1.25  # a second profile point is refined too when its short fit's error is within this of the best's
+# a second profile point is refined too when its short fit's error is within this of the best's
+COMPETING = 1.25
 MAX_REFINES = 2  # refits in full at most: a refit that fails or collapses passes to the next point
 SCREEN_EVALUATIONS = 2  # of each start's short fit, for a term with nothing to profile
 # the short fits rank starting points only: on a long log they compare at most this many samples (the 6 M-row
-# Parquet's knee: 20 times fewer blocks than a fit's 100,000, the same starts chosen; see docs/measurements.md)
+# Parquet's knee: 20 times fewer blocks than a fit's 100,000, the same starts chosen; see
+# docs/measurements.md)
 SCREEN_SAMPLES = 20_000
 GAIN_RANGE = (0.03, 30.0)  # a gain is profiled over these multiples of its typical size
 REFIT_EVALUATIONS = 12  # simulations per parameter for a refit; good fits need fewer than 10
-# a diagnosis's refits go to local workers when one of them places a hidden state (a slow mass, a lagging sensor:
-# one more free run per state and evaluation; UR3 J5's second mass 1-2 s, the others 0.1-0.3 s; without one the
-# README tour's refits take 0.02-0.08 s, less than the pool's start) and the log is at most this long (samples
-# over its runs): each refit comes back with its report, which on a long log costs more to send than it saves
+# a diagnosis's refits go to local workers when one of them places a hidden state (a slow mass, a lagging
+# sensor: one more free run per state and evaluation; UR3 J5's second mass 1-2 s, the others 0.1-0.3 s;
+# without one the README tour's refits take 0.02-0.08 s, less than the pool's start) and the log is at most
+# this long (samples over its runs): each refit comes back with its report, which on a long log costs more to
+# send than it saves
 POOLED_SAMPLES = 200_000
 
 
@@ -182,7 +185,8 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
             return False
         if term is not None and refit_failure(term, report.model.params) is not None:
             if searched:
-                collapsed = collapsed or report  # the first refit that found no such effect, if none does better
+                # the first refit that found no such effect, if none does better
+                collapsed = collapsed or report
             return False
         found.append(report)
         return True

@@ -25,11 +25,13 @@ from ...logs import LogError
 from ..excitation import ChannelExcitation, channel_excitation
 from ..validation import AUTO, INTERLEAVED, INTERLEAVED_BLOCKS, SPLIT, Scheme, held_blocks, scheme_folds
 
-STEP_SHARE = 0.5  # a step of the heat input: its mean effort squared changes by half its range (1st-99th percentile)
-STILL_SHARE = 0.1  # a split's tail holds the effort still where its square spans under this share of the run's
-# where the block grid may be moved to, in blocks: over one period of the held-out pattern (every third block), so
-# that any step after the first block can be held; never earlier than half a block (the first held-out block then
-# starts half a block into the run at least, as the replicates' moves allow)
+# a step of the heat input: its mean effort squared changes by half its range (1st-99th percentile)
+STEP_SHARE = 0.5
+# a split's tail holds the effort still where its square spans under this share of the run's
+STILL_SHARE = 0.1
+# where the block grid may be moved to, in blocks: over one period of the held-out pattern (every third
+# block), so that any step after the first block can be held; never earlier than half a block (the first
+# held-out block then starts half a block into the run at least, as the replicates' moves allow)
 PHASES = np.linspace(-0.5, 1.5, 41)
 
 

@@ -88,11 +88,14 @@ REPLICATES = 10
 MIN_FREQUENCY = 0.8
 TRIM_ROWS = 5  # at most, off each end of a run
 SPLIT_JITTER = 0.05  # a little: at 0.1 a tenth of a run changed sides between fit and validation, enough to
-# change a verdict honestly (the field-weakening plant case: its current^2 swap taken in 7 of 10 at 0.1, 10 of 10 here)
-REPLICATE_SAMPLES = 20_000  # a replicate's fits compare at most these (thinning.py); it validates at the full rate
+# change a verdict honestly (the field-weakening plant case: its current^2 swap taken in 7 of 10 at 0.1, 10 of
+# 10 here)
+# a replicate's fits compare at most these (thinning.py); it validates at the full rate
+REPLICATE_SAMPLES = 20_000
 START_JITTER = 0.2  # the standard deviation of the log of the factor each start's values are scaled by
 MANY_FOLD = 2.0  # replicates all taking changes that cut the error this many times agree something is missing
-BEHIND = 2.0  # a change of another effect this many times the best eligible one's held-out error does not contend
+# a change of another effect this many times the best eligible one's held-out error does not contend
+BEHIND = 2.0
 
 
 @dataclass(frozen=True)
@@ -223,7 +226,8 @@ def selection_frequencies(candidates: list[Candidate], best: Candidate | None, m
         drawn = perturbations(stability, list(series), search.scheme, b)
         jobs = [(p, model, plain, initial, specs, p.jitter([s["fitted"] for s in specs]), samples)
                 for p in drawn]
-        # the log goes to each worker once, not in every replicate (the 6 M-row Parquet's knee: 112 MB a replicate)
+        # the log goes to each worker once, not in every replicate (the 6 M-row Parquet's knee: 112 MB a
+        # replicate)
         return run_jobs(perturbed, jobs, backend="process" if stability.workers > 1 else "serial",
                         workers=stability.workers, shared=list(series))
 
@@ -367,7 +371,8 @@ def in_some_order(candidates: list[Candidate], best: Candidate, stability: Stabi
     of 10 (0.073 K held out; seed 2's replicates take the mass first, 10 of 10, and end there too)."""
     adds = [c for c in candidates if c.adds and c.eligible and (c.selection_frequency or 0.0) > 0.0]
     if (best not in adds or len(adds) < 2 or best.selection_frequency < 0.5
-            or any(c.selection_frequency > best.selection_frequency for c in adds)  # UR3 J0's part 2: 3 of 10 take it
+            # UR3 J0's part 2: 3 of 10 take it
+            or any(c.selection_frequency > best.selection_frequency for c in adds)
             or sum(c.selection_frequency for c in adds) < stability.min_frequency - 1e-9):
         return ""
     others = " or ".join(f"{c.label} ({c.selection_frequency:.0%})" for c in adds if c is not best)

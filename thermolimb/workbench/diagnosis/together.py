@@ -48,7 +48,8 @@ def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, b
                      key=lambda c: c.delta_bic)[:MEMBERS]
     kept = []
     for a, b in combinations(members, 2):
-        a, b = sorted((a, b), key=lambda c: c.rmse_K)  # the better alone first: the pair starts where it ended
+        # the better alone first: the pair starts where it ended
+        a, b = sorted((a, b), key=lambda c: c.rmse_K)
         both = model + (a.effect, b.effect)
         if frozenset(both) in visited:
             continue
