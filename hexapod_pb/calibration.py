@@ -1,4 +1,5 @@
-"""The hexapod's own calibration log and the first-order models identified from it (what its planners may know)."""
+"""The hexapod's own calibration log and the first-order models identified from it (what its planners may
+know)."""
 
 from __future__ import annotations
 
@@ -38,7 +39,8 @@ def calibrate(duration_s: float, seed: int = 0, *, payload_kg: float = 20.0) -> 
 
 
 def at_ambient(bank: ModelArrays, ambient_C: float) -> ModelArrays:
-    """The identified bank planning hours ahead at ``ambient_C``: every offset is the ambient the robot measures cold.
+    """The identified bank planning hours ahead at ``ambient_C``: every offset is the ambient the robot
+    measures cold.
 
     Fitted on minutes of log, Eq. 5's offset holds whatever the first-order
     model could not follow -- here the housing's and body's warming, more

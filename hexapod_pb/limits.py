@@ -1,8 +1,9 @@
-"""The hexapod's thermal limits, stated once and derived from its actuators' datasheets; everything else reads them.
+"""The hexapod's thermal limits, stated once and derived from its actuators' datasheets; everything else reads
+them.
 
-Each joint's winding limit is its actuator's (HEBI's X8 vendor model: 155 degC).  The plant's protection starts
-derating its margin below that; the environment's reward starts charging for heat further below (the warning),
-so that an agent feels the heat before the protection takes torque away.
+Each joint's winding limit is its actuator's (HEBI's X8 vendor model: 155 degC).  The plant's protection
+starts derating its margin below that; the environment's reward starts charging for heat further below (the
+warning), so that an agent feels the heat before the protection takes torque away.
 """
 
 from __future__ import annotations

@@ -100,7 +100,8 @@ class DaisyParams:
 
     @property
     def joint_actuators(self) -> tuple[ActuatorSpec, ...]:
-        """The actuator of every joint, in JOINTS order (18: base X8-9, shoulder X8-16, elbow X8-9 for every leg)."""
+        """The actuator of every joint, in JOINTS order (18: base X8-9, shoulder X8-16, elbow X8-9 for every
+        leg)."""
         return tuple(self.actuators) * len(LEGS)
 
     @property
@@ -110,7 +111,8 @@ class DaisyParams:
 
     @property
     def continuous_effort_Nm(self) -> np.ndarray:
-        """What each joint's actuator holds indefinitely, in JOINTS order (Nair et al.'s normalising torques)."""
+        """What each joint's actuator holds indefinitely, in JOINTS order (Nair et al.'s normalising
+        torques)."""
         return np.array([spec.continuous_effort for spec in self.joint_actuators])
 
 

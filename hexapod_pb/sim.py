@@ -1,4 +1,5 @@
-"""The hexapod on the shared PyBullet rig (:mod:`thermolimb.rig`): the hexapod's only module that talks to PyBullet.
+"""The hexapod on the shared PyBullet rig (:mod:`thermolimb.rig`): the hexapod's only module that talks to
+PyBullet.
 
 One ``BulletClient`` per world (DIRECT by default).  Joint and link names are
 mapped to indices once.  The default velocity motors are disabled and the
@@ -96,6 +97,7 @@ class HexapodSim(BulletRig):
         return super().render(pos, 1.5, 30.0, -25.0, width, height)
 
     def step(self, torque_Nm: np.ndarray) -> Reading:
-        """Hold ``torque_Nm`` (18,) for one control period, derated by thermal protection; return the next reading."""
+        """Hold ``torque_Nm`` (18,) for one control period, derated by thermal protection; return the next
+        reading."""
         self.step_torques(torque_Nm)
         return self.read()

@@ -1,5 +1,6 @@
 """humanoid_pb: a Valkyrie-like humanoid in PyBullet; contact-constrained thermal inverse kinematics and
-contact switching to recover hot actuators, against a minimum-effort strategy (Jorgensen et al., on Valkyrie)."""
+contact switching to recover hot actuators, against a minimum-effort strategy (Jorgensen et al., on
+Valkyrie)."""
 
 from thermolimb.envs import register_env
 

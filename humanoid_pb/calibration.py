@@ -19,9 +19,9 @@ def calibrate(duration_s: float, seed: int = 0, *, quiet: bool = True, specs: Se
               scenario: str | Scenario = DEFAULT) -> Calibration:
     """A calibration run (double support, then each foot, in turn) and the models identified from its log.
 
-    ``specs``: the robot's actuators if they are not the datasheet's (the
-    calibration runs on the robot; nothing reads the specs but its plant); ``scenario``: its stance and, without
-    ``specs``, its actuators (:mod:`humanoid_pb.scenarios`).
+    ``specs``: the robot's actuators if they are not the datasheet's (the calibration runs on the robot;
+    nothing reads the specs but its plant); ``scenario``: its stance and, without ``specs``, its actuators
+    (:mod:`humanoid_pb.scenarios`).
     """
     with HumanoidSim(seed=seed, specs=specs, scenario=scenario) as sim:
         ex = Executor(sim)

@@ -149,7 +149,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
 
     def calibration_run(self, duration_s: float, seed: int = 0):
         """Models identified from a calibration run of this robot (its own actuators, whatever its datasheet
-        says): what a thermal-aware policy plans with (a :class:`~thermolimb.identification.calibration.Calibration`)."""
+        says): what a thermal-aware policy plans with (a
+        :class:`~thermolimb.identification.calibration.Calibration`)."""
         return calibrate(duration_s, seed, specs=self.actuator_specs, scenario=self.scenario)
 
     # ------------------------------------------------------------------ gym API

@@ -90,7 +90,8 @@ class Scenario:
             raise ValueError(f"Scenario {self.name!r}: loss_at_continuous_W must be positive")
 
     def effort_per_amp(self, actuator: str, limit: float, resistance_ohm: float) -> float:
-        """The effort per amp that gives this sizing on a winding of ``resistance_ohm``: R (c limit / k)^2 = L."""
+        """The effort per amp that gives this sizing on a winding of ``resistance_ohm``: R (c limit / k)^2 =
+        L."""
         c = self.actuator_fraction.get(actuator) or self.continuous_fraction[actuator_type(actuator)]
         return c * limit * np.sqrt(resistance_ohm / self.loss_at_continuous_W)
 

@@ -1,4 +1,5 @@
-"""The humanoid on the shared PyBullet rig (:mod:`thermolimb.rig`): the humanoid's only module that talks to PyBullet.
+"""The humanoid on the shared PyBullet rig (:mod:`thermolimb.rig`): the humanoid's only module that talks to
+PyBullet.
 
 Floating base on the ground.  Joint torques become actuator efforts through
 the push rods at the ankles and waist (Eq. 24), so the thermal plant heats
@@ -63,8 +64,8 @@ class HumanoidSim(BulletRig):
 
     # ------------------------------------------------------------- rig hooks
     def _rod_jacobians(self, q: np.ndarray) -> dict[str, np.ndarray]:
-        """The rod pairs' Jacobians at ``q``, computed once per configuration (a period's end is the next one's
-        start: its efforts, speeds and protection share them)."""
+        """The rod pairs' Jacobians at ``q``, computed once per configuration (a period's end is the next
+        one's start: its efforts, speeds and protection share them)."""
         key = np.asarray(q, float).tobytes()
         if self._jacobians[0] != key:
             self._jacobians = (key, actuation.rod_jacobians(self.rods, q))
@@ -99,7 +100,8 @@ class HumanoidSim(BulletRig):
         return self.read()
 
     def render(self, width: int = 480, height: int = 480, yaw_deg: float = 30.0) -> np.ndarray:
-        """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software renderer."""
+        """An offscreen RGB image (height x width x 3, uint8) of the robot, with PyBullet's software
+        renderer."""
         pos, _, _, _ = self.base_state()
         # head to feet
         return super().render([pos[0], pos[1], 0.9], 4.0, yaw_deg, -10.0, width, height, fov_deg=40.0)

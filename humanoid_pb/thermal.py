@@ -49,7 +49,8 @@ TIME_TO_WARNING_S = 100.0  # single-leg balancing: 25 -> 75 degC at the hottest 
 
 def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario = DEFAULT) -> list[ActuatorSpec]:
     """One spec per actuator (ACTUATORS order): 0.5 ohm windings sized by the ``scenario``
-    (:mod:`humanoid_pb.scenarios`; the default is the rule above, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the limit)."""
+    (:mod:`humanoid_pb.scenarios`; the default is the rule above, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the
+    limit)."""
     sizing = get_scenario(scenario)
     specs = []
     for name in ACTUATORS:
@@ -62,7 +63,8 @@ def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario =
 
 def datasheet_bank(params: ValkyrieParams = VALKYRIE, ambient_C: float = 25.0,
                    scenario: str | Scenario = DEFAULT) -> ModelArrays:
-    """Eq. 5 of every actuator from its data, without identification: the winding node on a housing at ambient.
+    """Eq. 5 of every actuator from its data, without identification: the winding node on a housing at
+    ambient.
 
     RC = C_w R_w (40 s) and betaR = R_e R_w / k^2: what a controller can plan
     with before it has a log of its own.

@@ -110,8 +110,8 @@ DEMOS: dict[str, Demo] = {}
 
 def register_demo(name: str, description: str, requires: tuple[str, ...] = (), page: DemoPage | None = None,
                   extra: str = "rl", cost_s: float = 5.0):
-    """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``; ``cost_s``: about how long its
-    quick run takes on one core (``demo all`` starts the longest first)."""
+    """Decorator registering ``run(out, quick, quiet) -> summary`` under ``name``; ``cost_s``: about how long
+    its quick run takes on one core (``demo all`` starts the longest first)."""
 
     def wrap(func):
         DEMOS[name] = Demo(name, description, func, tuple(requires), page, extra, cost_s)
@@ -166,7 +166,8 @@ def run_demo(name: str, out: Path, quick: bool = False, quiet: bool = False) -> 
 
 
 def _demo_wrote(summary: Path) -> bool:
-    """Whether a ``summary.json`` is a demo's: a JSON object beside a figure the suite drew (its inventory)."""
+    """Whether a ``summary.json`` is a demo's: a JSON object beside a figure the suite drew (its
+    inventory)."""
     from .plotting.inventory import read_inventory
 
     if not isinstance(json.loads(summary.read_text(encoding="utf-8", errors="replace")), dict):

@@ -69,7 +69,8 @@ class Forecast:
 
     @property
     def covers_measured(self) -> bool | None:
-        """Whether the interval holds the measured crossing (``None`` when the log's readings never reach it)."""
+        """Whether the interval holds the measured crossing (``None`` when the log's readings never reach
+        it)."""
         if self.measured_crossing_s is None:
             return None
         low, high = self.interval_s
@@ -113,8 +114,8 @@ def seconds(value: float) -> str:
 
 
 def parameter_draws(saved: SavedModel, draws: int, seed: int, spread: str = "jackknife") -> list[ThermalModel]:
-    """``draws`` models with parameters from the blocked jackknife's covariance (``spread="fit"``: the fit's own),
-    seeded, each clipped into its bounds."""
+    """``draws`` models with parameters from the blocked jackknife's covariance (``spread="fit"``: the fit's
+    own), seeded, each clipped into its bounds."""
     model = saved.model
     cov = np.asarray(saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife, float)
     if draws <= 0 or not np.any(cov):

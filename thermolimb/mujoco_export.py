@@ -1,9 +1,10 @@
 """An identified model in MuJoCo: the thermal state of a ``<dcmotor>`` actuator (MuJoCo 3.7 and later).
 
-MuJoCo's ``thermal = "resistance capacitance timeconst tempcoef reftemp ambient"`` (K/W, J/K, s, 1/K, degC, degC)
-gives the winding one thermal mass heated by the motor current, ``tau dx/dt = R_th i^2 R_e (1 + a (T - T_ref)) - x``
-with ``x = T - ambient`` (the actuator's activation) and ``i`` the current its torque needs.  Jorgensen et al.'s
-first-order model reads ``RC dT/dt = T_offset + beta R F^2 - T`` on the effort ``F`` logged at the joint, so:
+MuJoCo's ``thermal = "resistance capacitance timeconst tempcoef reftemp ambient"`` (K/W, J/K, s, 1/K, degC,
+degC) gives the winding one thermal mass heated by the motor current, ``tau dx/dt = R_th i^2 R_e (1 + a (T -
+T_ref)) - x`` with ``x = T - ambient`` (the actuator's activation) and ``i`` the current its torque needs.
+Jorgensen et al.'s first-order model reads ``RC dT/dt = T_offset + beta R F^2 - T`` on the effort ``F`` logged
+at the joint, so:
 
 * ``timeconst`` is ``RC_s``; ``ambient`` is ``T_offset_C``;
 * the heat gain maps through the motor: a joint torque ``F = G K i`` (gear ``G``, motor constant ``K``), so
@@ -15,10 +16,10 @@ first-order model reads ``RC dT/dt = T_offset + beta R F^2 - T`` on the effort `
   more.
 
 What MuJoCo's one-node state cannot hold -- a second mass, an effort bias, a lagging sensor, speed losses,
-anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`); on that log
-the one node can be fitted again without them (:func:`refitted`, ``export --refit``).  The check
-(:func:`run_in_mujoco`): the exported actuator, driven in MuJoCo by a log's torque with its rotor held, against this
-suite's free run of the same (exported) model; ``benchmarks/travel.py`` prints the difference.
+anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`); on that
+log the one node can be fitted again without them (:func:`refitted`, ``export --refit``).  The check
+(:func:`run_in_mujoco`): the exported actuator, driven in MuJoCo by a log's torque with its rotor held,
+against this suite's free run of the same (exported) model; ``benchmarks/travel.py`` prints the difference.
 """
 
 from __future__ import annotations
@@ -85,11 +86,13 @@ class DcMotorThermal:
 
     @property
     def thermal(self) -> tuple[float, ...]:
-        """The six numbers of ``thermal=""`` (MuJoCo derives the capacitance from the other two: given as 0)."""
+        """The six numbers of ``thermal=""`` (MuJoCo derives the capacitance from the other two: given as
+        0)."""
         return (self.resistance_K_per_W, 0.0, self.timeconst_s, self.tempcoef_per_K, self.reftemp_C, self.ambient_C)
 
     def element(self, joint: str | None = None) -> str:
-        """The ``<dcmotor>`` element, torque-commanded (``input="ff"``: the torque is delivered as commanded)."""
+        """The ``<dcmotor>`` element, torque-commanded (``input="ff"``: the torque is delivered as
+        commanded)."""
         thermal = " ".join(f"{v:.9g}" for v in self.thermal)
         m = self.motor
         return (f'<dcmotor name={quoteattr(self.actuator)} joint={quoteattr(joint or self.actuator)} '
@@ -98,7 +101,8 @@ class DcMotorThermal:
 
 
 def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
-    """Map one saved model onto a dcmotor's thermal state (module docstring); what does not map is dropped, said."""
+    """Map one saved model onto a dcmotor's thermal state (module docstring); what does not map is dropped,
+    said."""
     model, p = saved.model, saved.model.params
     # the Joule heat (from the effort's square first, else the current's) is what a dcmotor's I^2 R can carry
     joules = sorted((t for t in model.terms if TERMS[t].squared_channel),
@@ -172,10 +176,11 @@ def mjcf_snippet(exports: list[DcMotorThermal], joints: dict[str, str] | None = 
 
 
 def refitted(saved: SavedModel, export: DcMotorThermal, series) -> DcMotorThermal:
-    """The one-node model MuJoCo holds (the exported terms: heat source, copper's coefficient where kept, ``RC_s``,
-    ``T_offset_C``) fitted again on a log (one actuator's runs), from the exported values, and exported: what
-    was dropped then no longer leaves the kept parameters where the whole model had put them (the UR3's J1, heat from
-    its current with a bias: 16.7 K RMSE on its log with the bias dropped, 0.041 K refitted; docs/travel.md)."""
+    """The one-node model MuJoCo holds (the exported terms: heat source, copper's coefficient where kept,
+    ``RC_s``, ``T_offset_C``) fitted again on a log (one actuator's runs), from the exported values, and
+    exported: what was dropped then no longer leaves the kept parameters where the whole model had put them
+    (the UR3's J1, heat from its current with a bias: 16.7 K RMSE on its log with the bias dropped, 0.041 K
+    refitted; docs/travel.md)."""
     fit = FreeRunLeastSquares(model=export.exported.terms, initial=dict(export.exported.params)).fit(series)
     again = to_dcmotor(replace(saved, model=fit.model_, stderr=fit.stderr_), export.motor)
     return replace(again, dropped=export.dropped,
@@ -201,9 +206,9 @@ def cost_of_dropping(saved: SavedModel, export: DcMotorThermal, series) -> dict:
 
 def run_in_mujoco(export: DcMotorThermal, signals: Signals, start_C: float,
                   substeps: int = CHECK_SUBSTEPS) -> np.ndarray:
-    """The winding temperature (degC) at each sample of ``signals``, integrated by MuJoCo itself: one hinge joint,
-    held still by an equality constraint, driven through the exported dcmotor by the log's effort (zero-order hold
-    over each interval, as the suite's exact simulation holds it)."""
+    """The winding temperature (degC) at each sample of ``signals``, integrated by MuJoCo itself: one hinge
+    joint, held still by an equality constraint, driven through the exported dcmotor by the log's effort
+    (zero-order hold over each interval, as the suite's exact simulation holds it)."""
     import mujoco  # the optional extra 'mujoco'
 
     dt = np.diff(signals.time_s)

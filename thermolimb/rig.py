@@ -32,9 +32,9 @@ _LIBC = ctypes.CDLL(None)  # the process's C library: its fflush empties what C 
 
 @contextlib.contextmanager
 def silenced(fd: int = 1):
-    """Keep what C code prints on file descriptor ``fd`` off ours: PyBullet prints its build time on the standard
-    error when imported (a second line under a one-line error) and more on the standard output when it connects
-    (``--json`` output)."""
+    """Keep what C code prints on file descriptor ``fd`` off ours: PyBullet prints its build time on the
+    standard error when imported (a second line under a one-line error) and more on the standard output when
+    it connects (``--json`` output)."""
     stream = sys.stdout if fd == 1 else sys.stderr
     stream.flush()
     saved = os.dup(fd)
@@ -149,7 +149,8 @@ class BulletRig:
         return qd
 
     def torques_at_fraction(self, torques_Nm: np.ndarray, actuator_fraction: np.ndarray) -> np.ndarray:
-        """Joint torques when each actuator may give ``actuator_fraction`` of its effort (one-to-one by default)."""
+        """Joint torques when each actuator may give ``actuator_fraction`` of its effort (one-to-one by
+        default)."""
         return self.plant.scale_efforts(torques_Nm, actuator_fraction)
 
     def protected_torques(self, q: np.ndarray, qd: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
@@ -168,8 +169,8 @@ class BulletRig:
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
-        """Joint angles (rad) and rates (rad/s), read from PyBullet once per physics state: the period's end, the
-        robot's reading and the next period's start share one read."""
+        """Joint angles (rad) and rates (rad/s), read from PyBullet once per physics state: the period's end,
+        the robot's reading and the next period's start share one read."""
         q, qd = self._states()
         return q.copy(), qd.copy()
 
@@ -294,14 +295,15 @@ class BulletRig:
 
     def plant_faults(self) -> dict:
         """The drives' faults and saturations so far, for an environment's ``info``: ``actuator_faults`` (the
-        actuators a non-finite command faulted) and ``saturated_steps`` (control periods each held at its peak)."""
+        actuators a non-finite command faulted) and ``saturated_steps`` (control periods each held at its
+        peak)."""
         plant = self.plant
         return {"actuator_faults": [n for n, f in zip(plant.names, plant.faulted) if f],
                 "saturated_steps": {n: int(c) for n, c in zip(plant.names, plant.saturations) if c}}
 
     def thermal_log(self) -> ThermalLog:
-        """What the robot logged so far (the latest ``log_capacity`` control steps, if bounded), in the canonical
-        format (one row per actuator and control step)."""
+        """What the robot logged so far (the latest ``log_capacity`` control steps, if bounded), in the
+        canonical format (one row per actuator and control step)."""
         if len(self._log["time"]) < 2:
             raise ValueError("the simulation has not run long enough to make a log")
         faults = np.array(self._log["fault"])

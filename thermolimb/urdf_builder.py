@@ -1,6 +1,6 @@
-"""One builder for the robots' generated URDFs: links of primitive shapes with their inertia, revolute and fixed
-joints, written deterministically (the same parameters give the same bytes, so a test can compare the committed
-file with its generator's output).
+"""One builder for the robots' generated URDFs: links of primitive shapes with their inertia, revolute and
+fixed joints, written deterministically (the same parameters give the same bytes, so a test can compare the
+committed file with its generator's output).
 
 Each robot's ``urdf_model`` module says what its links and joints are; this module says how URDF writes them.
 """
@@ -40,8 +40,8 @@ def box_inertia(mass: float, size: Sequence[float]) -> tuple[float, float, float
 
 @dataclass(frozen=True)
 class Shape:
-    """A visual or collision element: its geometry (:func:`box`, :func:`cylinder`, :func:`sphere`), where it sits
-    in the link (``origin``: xyz, m; ``rpy``: rad), and for a visual its material."""
+    """A visual or collision element: its geometry (:func:`box`, :func:`cylinder`, :func:`sphere`), where it
+    sits in the link (``origin``: xyz, m; ``rpy``: rad), and for a visual its material."""
 
     geometry: str
     origin: Sequence[float] | None = None

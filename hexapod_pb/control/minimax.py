@@ -18,7 +18,8 @@ DAQP_LP_OPTIONS = {"eps_prox": 1e-6}
 
 
 def lp_options(solver: str) -> dict:
-    """Options of ``solver`` for an LP (daqp: its proximal iterations, as an LP has no Hessian to regularise)."""
+    """Options of ``solver`` for an LP (daqp: its proximal iterations, as an LP has no Hessian to
+    regularise)."""
     return DAQP_LP_OPTIONS if solver == "daqp" else {}
 
 
@@ -53,8 +54,8 @@ def closest_achievable(problem: StanceProblem, solver: str = "daqp", fallback: s
 def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution | None = None,
             smoothing_1_N2: float = 0.0, previous_N: np.ndarray | None = None,
             fallback: str | None = None) -> StanceSolution:
-    """The exact minimax of the peak normalised torque (an LP), by ``solver`` (``daqp`` or ``highs``), should it
-    fail by ``fallback`` if one is named (said in the solution's ``solver``).
+    """The exact minimax of the peak normalised torque (an LP), by ``solver`` (``daqp`` or ``highs``), should
+    it fail by ``fallback`` if one is named (said in the solution's ``solver``).
 
     ``warm``: the previous control step's solution; its active set starts
     the dual active-set solver (same problem structure required).

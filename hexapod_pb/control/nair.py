@@ -1,6 +1,6 @@
-"""Nair et al.'s way of solving the stance minimax: normal forces from statics, then ``scipy``'s trust-constr over
-the friction components of a tripod, on the non-smooth peak of normalised torque (the baseline the exact LP of
-:mod:`.minimax` is measured against in ``benchmarks/wrench.py``)."""
+"""Nair et al.'s way of solving the stance minimax: normal forces from statics, then ``scipy``'s trust-constr
+over the friction components of a tripod, on the non-smooth peak of normalised torque (the baseline the exact
+LP of :mod:`.minimax` is measured against in ``benchmarks/wrench.py``)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from .stance import StanceProblem, StanceSolution, vertical_only
 
 def nair_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.ndarray | None = None,
                       maxiter: int = 500) -> StanceSolution:
-    """Nair et al.'s method: normal forces from statics, trust-constr over the friction components of a tripod.
+    """Nair et al.'s method: normal forces from statics, trust-constr over the friction components of a
+    tripod.
 
     The cost ``max_j |tau_j| / s_j`` is non-smooth, as in Nair et al.; with
     ``zero_hessian`` the Hessian is taken as zero (Nair et al.'s 45 ms variant).

@@ -80,8 +80,8 @@ class StanceProblem:
 
     @cached_property
     def contact_rows(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Friction-pyramid and unilateral rows ``(A, bu, bl)`` over ``x = (f, z)``: built once per problem and
-        shared by every solve and cutting-plane round on it."""
+        """Friction-pyramid and unilateral rows ``(A, bu, bl)`` over ``x = (f, z)``: built once per problem
+        and shared by every solve and cutting-plane round on it."""
         return _contact_rows(self)
 
     @cached_property
@@ -110,7 +110,8 @@ class StanceProblem:
                      wrench: np.ndarray | None = None, include_leg_gravity: bool = True,
                      friction: float | None = None, min_normal_N: float | None = None,
                      world_R_body: np.ndarray | None = None) -> "StanceProblem":
-        """The problem from each stance leg's :class:`~hexapod_pb.legs.LegStatics` (computed once per step)."""
+        """The problem from each stance leg's :class:`~hexapod_pb.legs.LegStatics` (computed once per
+        step)."""
         legs = tuple(statics)
         if len(legs) < 3:
             raise ValueError(f"a static stance needs at least 3 feet on the ground, got {len(legs)}")
@@ -154,7 +155,8 @@ class StanceSolution:
 
     @property
     def label(self) -> str:
-        """``"minimax by daqp"``, ``"minimax by highs (daqp stalled, exit flag -2)"``; a blend's parts, joined."""
+        """``"minimax by daqp"``, ``"minimax by highs (daqp stalled, exit flag -2)"``; a blend's parts,
+        joined."""
         if self.parts:
             return "; ".join(part.label for part in self.parts)
         fallback = f" ({self.fallback_from})" if self.fallback_from else ""

@@ -1,2 +1,2 @@
-"""Experiments on the hexapod: Nair et al.'s load-carrying scenarios, and the endurance envelope (how long it works
-before an actuator derates)."""
+"""Experiments on the hexapod: Nair et al.'s load-carrying scenarios, and the endurance envelope (how long it
+works before an actuator derates)."""

@@ -44,7 +44,8 @@ class ScenarioResult:
     solvers: dict[str, int] = field(default_factory=dict)  # control periods per stance solution's label
 
     def per_stride(self, which: str = "commanded") -> tuple[float, float]:
-        """Mean over strides of the stride's peak normalised torque, and the overall mean normalised torque."""
+        """Mean over strides of the stride's peak normalised torque, and the overall mean normalised
+        torque."""
         norm = self.norm_commanded if which == "commanded" else self.norm_sensed
         k = self.stride_steps
         peaks = [norm[i : i + k].max() for i in range(0, len(norm) - k + 1, k)] or [norm.max()]

@@ -1,4 +1,5 @@
-"""Leg statics: where each segment's mass sits, the leg's mass matrix, and the torques that hold its own weight.
+"""Leg statics: where each segment's mass sits, the leg's mass matrix, and the torques that hold its own
+weight.
 
 :func:`leg_statics` computes, once per leg and control step, everything the
 controller and the stance-force problem need: the foot's position and

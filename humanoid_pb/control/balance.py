@@ -2,11 +2,10 @@
 
     tau = Gamma(q, mode) + Kp (q_des - q) - Kd qd
 
-``Gamma`` is Jorgensen et al.'s Eq. 23 at the measured configuration in the current
-contact mode (the torques that hold the robot still there), sent at the
-control rate; the joint impedance towards the planned configuration runs in
-the actuators at the physics rate (:meth:`thermolimb.rig.BulletRig.step_impedance`).  Motions between configurations are
-smooth interpolations (:class:`Motion`), so that weight shifts and foot
+``Gamma`` is Jorgensen et al.'s Eq. 23 at the measured configuration in the current contact mode (the torques
+that hold the robot still there), sent at the control rate; the joint impedance towards the planned
+configuration runs in the actuators at the physics rate (:meth:`thermolimb.rig.BulletRig.step_impedance`).
+Motions between configurations are smooth interpolations (:class:`Motion`), so that weight shifts and foot
 lifts are slow compared with the robot's balance dynamics.
 """
 

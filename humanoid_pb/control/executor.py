@@ -1,5 +1,5 @@
-"""Drive the humanoid through contact modes and postures, every change through the nominal crouch (as Jorgensen et al.
-assumes): what the recovery experiment, the calibration run and the environment share."""
+"""Drive the humanoid through contact modes and postures, every change through the nominal crouch (as
+Jorgensen et al. assumes): what the recovery experiment, the calibration run and the environment share."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""The contact-mode planner of Jorgensen et al.'s Eq. 33, shared by the recovery experiment and the environment's policies.
+"""The contact-mode planner of Jorgensen et al.'s Eq. 33, shared by the recovery experiment and the
+environment's policies.
 
 For each contact mode (double support, left, right) the fast thermal IK
 finds the configuration that minimises the objective from that mode's
@@ -29,8 +30,9 @@ class Plan:
 
 
 def best_mode(results: dict) -> str:
-    """Jorgensen et al.'s Eq. 33: of each contact mode's best configuration (``{mode: result with .potential}``), the mode
-    whose result scores lowest.  The one place the choice is made, whatever found each mode's configuration."""
+    """Jorgensen et al.'s Eq. 33: of each contact mode's best configuration (``{mode: result with
+    .potential}``), the mode whose result scores lowest.  The one place the choice is made, whatever found
+    each mode's configuration."""
     return min(results, key=lambda m: results[m].potential)
 
 
@@ -52,11 +54,13 @@ class ContactModePlanner:
         return MinimumEffort(self.limits)
 
     def starts(self, q_nominal: np.ndarray) -> dict:
-        """Each mode's nominal configuration: the crouch, and the weight over either foot with the other lifted."""
+        """Each mode's nominal configuration: the crouch, and the weight over either foot with the other
+        lifted."""
         return {"double": q_nominal, **{s: support_pose(self.body, q_nominal, s) for s in SIDES}}
 
     def plan(self, q_nominal: np.ndarray, bank: ModelArrays | None, temperature_C: np.ndarray) -> Plan:
-        """The mode whose optimised configuration scores lowest (for a robot that then holds that configuration)."""
+        """The mode whose optimised configuration scores lowest (for a robot that then holds that
+        configuration)."""
         cost = self.cost(bank, temperature_C)
         starts = self.starts(q_nominal)
         results = {m: self.ik.solve(starts[m], m, cost, max_iter=self.max_iter) for m in CONTACT_MODES}

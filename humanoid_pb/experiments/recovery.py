@@ -1,4 +1,5 @@
-"""Jorgensen et al.'s experiment: heat the stance leg on one foot, then recover, thermal-aware against minimum effort.
+"""Jorgensen et al.'s experiment: heat the stance leg on one foot, then recover, thermal-aware against minimum
+effort.
 
 Everything the controller knows is what the rig gives it: encoders, torque
 sensing, measured temperatures.  The thermal model it plans with is
@@ -47,7 +48,8 @@ class RecoveryRun:
     configurations: dict = field(default_factory=dict)  # mode -> joint angles chosen
 
     def safe_after_warning(self, indices) -> float | None:
-        """Seconds from the warning until the actuators at ``indices`` are all below 70 degC (None: not reached)."""
+        """Seconds from the warning until the actuators at ``indices`` are all below 70 degC (None: not
+        reached)."""
         if self.warning_at_s is None:
             return None
         t = np.array(self.time_s)
@@ -113,7 +115,8 @@ def run_recovery(strategy: str, bank: ModelArrays, seed: int = 0, heat_side: str
 
 
 def first_order_cooling_s(start_C: float, end_C: float, steady_C: np.ndarray, rc_s: float) -> np.ndarray:
-    """Time (s) for a first-order winding to cool from ``start_C`` to ``end_C`` towards ``steady_C``; inf if it cannot."""
+    """Time (s) for a first-order winding to cool from ``start_C`` to ``end_C`` towards ``steady_C``; inf if
+    it cannot."""
     steady_C = np.asarray(steady_C, float)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = rc_s * np.log((start_C - steady_C) / (end_C - steady_C))
@@ -122,8 +125,9 @@ def first_order_cooling_s(start_C: float, end_C: float, steady_C: np.ndarray, rc
 
 def steady_needed_for_ratio(ratio: float, fastest_steady_C: float, start_C: float = LIMITS.warning_C,
                             end_C: float = LIMITS.recovered_C) -> float:
-    """The steady temperature (degC) a slower mode must hold for its cooling from ``start_C`` to ``end_C`` to take
-    ``ratio`` times as long as towards ``fastest_steady_C`` (same RC): solves ln(a'/b') = ratio ln(a/b)."""
+    """The steady temperature (degC) a slower mode must hold for its cooling from ``start_C`` to ``end_C`` to
+    take ``ratio`` times as long as towards ``fastest_steady_C`` (same RC): solves ln(a'/b') = ratio
+    ln(a/b)."""
     x = ((start_C - fastest_steady_C) / (end_C - fastest_steady_C)) ** ratio
     return (start_C - end_C * x) / (1.0 - x)
 

@@ -1,4 +1,5 @@
-"""When does contact switching pay?  The recovery experiment over the hottest actuator group and the stance height.
+"""When does contact switching pay?  The recovery experiment over the hottest actuator group and the stance
+height.
 
 A cell of the map is a robot whose actuator group ``group`` (ankle rods, knee,
 hip pitch, hip roll, torso) is the thermally weakest, balancing in a crouch of
@@ -182,7 +183,8 @@ def predict_cell(group: str, depth_rad: float, body: WholeBody | None = None,
 def measure_cell(group: str, depth_rad: float, seed: int = 0, time_to_warning_s: float = 100.0,
                  max_heat_s: float | None = None, max_recovery_s: float = 120.0, quiet: bool = True) -> Cell:
     """The cell in PyBullet: both strategies from the same warning state (the same seed and heating).  A run
-    lasts ``max_heat_s`` (default: 1.5 times the time to the warning, plus 30 s) and ``max_recovery_s`` in all."""
+    lasts ``max_heat_s`` (default: 1.5 times the time to the warning, plus 30 s) and ``max_recovery_s`` in
+    all."""
     max_heat_s = 1.5 * time_to_warning_s + 30.0 if max_heat_s is None else max_heat_s
     sc = map_scenario(group, depth_rad, time_to_warning_s=time_to_warning_s)
     bank = datasheet_bank(VALKYRIE, AMBIENT_C, scenario=sc)
@@ -200,9 +202,9 @@ def measure_cell(group: str, depth_rad: float, seed: int = 0, time_to_warning_s:
 
 
 def agreeing_groups(measured: list[Cell], predicted: dict) -> dict[str, bool]:
-    """Per group: whether every measured cell's ratio is within ``AGREEMENT`` of the prediction for that cell (a
-    cell where minimum effort was not safe by the end of its run agrees with a prediction at least as large as its
-    bound; a fall disagrees)."""
+    """Per group: whether every measured cell's ratio is within ``AGREEMENT`` of the prediction for that cell
+    (a cell where minimum effort was not safe by the end of its run agrees with a prediction at least as large
+    as its bound; a fall disagrees)."""
     out = {}
     for group in {c.group for c in measured}:
         ok = True

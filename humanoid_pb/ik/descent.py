@@ -1,4 +1,5 @@
-"""Finding a thermally minimising configuration for a contact mode: Jorgensen et al.'s descent, kept to compare.
+"""Finding a thermally minimising configuration for a contact mode: Jorgensen et al.'s descent, kept to
+compare.
 
 Jorgensen et al.'s naive method (Eqs. 29-32): on a basis ``V`` of the directions
 that keep the contacts still (the null space of ``J_c``), a finite-difference
@@ -23,7 +24,8 @@ from ..model.statics import WholeBody
 
 @dataclass(frozen=True)
 class DescentResult:
-    """Where Jorgensen et al.'s descent stopped: the configuration and its potential under Eq. 23's torques."""
+    """Where Jorgensen et al.'s descent stopped: the configuration and its potential under Eq. 23's
+    torques."""
 
     mode: str
     q: np.ndarray
@@ -78,7 +80,8 @@ def descent_step(body: WholeBody, q: np.ndarray, mode: str, potential, f: float 
 
 def naive_descent(body: WholeBody, q0: np.ndarray, mode: str, potential,
                   delta_max: float = 0.01, h: float = 1e-4, max_iter: int = 300) -> DescentResult:
-    """Jorgensen et al.'s contact-consistent finite-difference descent (Eqs. 29-32), iterated to its stopping rule."""
+    """Jorgensen et al.'s contact-consistent finite-difference descent (Eqs. 29-32), iterated to its stopping
+    rule."""
     start = time.perf_counter()
     q = q0.copy()
     f = potential_of(body, q, mode, potential)

@@ -47,8 +47,8 @@ MAX_STEP_RAD = 0.2  # trust region cap: at 0.3 a third of the steps on the bench
 
 @dataclass(frozen=True)
 class FastIKResult:
-    """What the fast thermal IK found: the configuration, the balancing torques and sole wrenches it chose with
-    it (its free choice, not Eq. 23's), the potential they give, and how it got there."""
+    """What the fast thermal IK found: the configuration, the balancing torques and sole wrenches it chose
+    with it (its free choice, not Eq. 23's), the potential they give, and how it got there."""
 
     mode: str
     q: np.ndarray
@@ -99,7 +99,8 @@ class FastThermalIK:
 
     # ----------------------------------------------------------- linear algebra
     def _wrench_rows(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Rows over ``k`` sole wrenches ``(fx, fy, fz, mx, my, mz)`` with bl <= R w <= bu (built once per k)."""
+        """Rows over ``k`` sole wrenches ``(fx, fy, fz, mx, my, mz)`` with bl <= R w <= bu (built once per
+        k)."""
         if k not in self._wrench_cache:
             self._wrench_cache[k] = self._build_wrench_rows(k)
         return self._wrench_cache[k]
@@ -140,14 +141,16 @@ class FastThermalIK:
     # -------------------------------------------------------------------- QPs
     @staticmethod
     def _objective_model(E, objective, Gamma):
-        """Newton model of the objective in ``Gamma`` (its Hessian in the efforts is diagonal and >= 0), scaled."""
+        """Newton model of the objective in ``Gamma`` (its Hessian in the efforts is diagonal and >= 0),
+        scaled."""
         value, gradient, hessian = objective.newton(E @ Gamma)
         scale = 1.0 / max(value, 1e-12)
         H_gamma = E.T @ ((scale * hessian)[:, None] * E)
         return H_gamma, E.T @ (scale * gradient) - H_gamma @ Gamma
 
     def _static_rows(self, E, k: int, n_before: int):
-        """Rows over ``(..., Gamma, F)`` (``n_before`` leading variables): sole wrench cones and effort limits."""
+        """Rows over ``(..., Gamma, F)`` (``n_before`` leading variables): sole wrench cones and effort
+        limits."""
         na, nf = len(JOINTS), 6 * k
         W, wbu, wbl = self._wrench_rows(k)
         lim = self.actuator_limits
@@ -156,8 +159,8 @@ class FastThermalIK:
         return A, np.concatenate([wbu, lim]), np.concatenate([wbl, -lim])
 
     def _solve_qp(self, H, f, blocks, bounds=None):
-        """daqp over ``blocks`` of ``(A, upper, lower, equality)`` and simple ``bounds`` ``(upper, lower)`` on the
-        leading variables; None if infeasible."""
+        """daqp over ``blocks`` of ``(A, upper, lower, equality)`` and simple ``bounds`` ``(upper, lower)`` on
+        the leading variables; None if infeasible."""
         blocks = sorted(blocks, key=lambda b: not b[3])  # equalities first
         n_eq = sum(len(b[1]) for b in blocks if b[3])
         program = Program(f, np.vstack([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks]),
@@ -170,7 +173,8 @@ class FastThermalIK:
             return None
 
     def _inner_qp(self, q, E, mode, objective, Gamma):
-        """The exact problem at fixed ``q``: best ``(Gamma, F)`` of the Newton model, balanced, in the cones."""
+        """The exact problem at fixed ``q``: best ``(Gamma, F)`` of the Newton model, balanced, in the
+        cones."""
         body = self.body
         na, k = len(JOINTS), len(mode_feet(mode))
         nf = 6 * k
@@ -242,9 +246,9 @@ class FastThermalIK:
               tol: float = 1e-4, like_for_like: bool = False) -> FastIKResult:
         """The configuration of least ``objective`` reachable from ``q0`` with the contacts of ``mode`` held.
 
-        ``like_for_like``: solve Jorgensen et al.'s descent's own problem instead -- Eq. 23's torques, only the
-        contacts and the joint limits held (:mod:`humanoid_pb.ik.like_for_like`); the result's torques, wrenches
-        and potential are then Eq. 23's."""
+        ``like_for_like``: solve Jorgensen et al.'s descent's own problem instead -- Eq. 23's torques, only
+        the contacts and the joint limits held (:mod:`humanoid_pb.ik.like_for_like`); the result's torques,
+        wrenches and potential are then Eq. 23's."""
         start = time.perf_counter()
         self.failures = []
         body = self.body

@@ -42,8 +42,8 @@ MAX_STEP_RAD = 0.4  # trust region cap; on 20 random profiles 0.1 took 2.19 ms m
 
 
 def min_norm_balance(body, q: np.ndarray, mode: str):
-    """``(Gamma, F, lam, lu)`` at ``q``: Eq. 23's torques (JOINTS order), the sole wrenches (flat, sole frames),
-    the multiplier and the factorised system (for :func:`torque_jacobian`)."""
+    """``(Gamma, F, lam, lu)`` at ``q``: Eq. 23's torques (JOINTS order), the sole wrenches (flat, sole
+    frames), the multiplier and the factorised system (for :func:`torque_jacobian`)."""
     na, nv = len(JOINTS), body.nv
     Jc = body.contact_jacobian(q, mode)
     nf = Jc.shape[0]
@@ -59,7 +59,8 @@ def min_norm_balance(body, q: np.ndarray, mode: str):
 
 
 def sole_forces(body, mode: str, F: np.ndarray) -> list:
-    """Pinocchio's external forces (one per joint, in its frame) of the sole wrenches ``F`` (flat, sole frames)."""
+    """Pinocchio's external forces (one per joint, in its frame) of the sole wrenches ``F`` (flat, sole
+    frames)."""
     model = body.model
     fext = [pin.Force.Zero() for _ in range(model.njoints)]
     for i, foot in enumerate(mode_feet(mode)):
@@ -99,9 +100,9 @@ def efforts_and_jacobian(body, q: np.ndarray, mode: str) -> tuple[np.ndarray, np
 
 def gauss_newton(solver, q: np.ndarray, mode: str, objective, targets: dict, max_iter: int = 15,
                  tol: float = 1e-3) -> tuple[np.ndarray, list[float], int]:
-    """Gauss-Newton on the descent's objective from ``q``: each step a QP over ``dq`` with the contacts held to
-    first order, a trust region and the robot's joint limits as simple bounds, kept if the exact objective at
-    the re-projected configuration is lower; stops when a kept step gains less than ``tol`` (relative).
+    """Gauss-Newton on the descent's objective from ``q``: each step a QP over ``dq`` with the contacts held
+    to first order, a trust region and the robot's joint limits as simple bounds, kept if the exact objective
+    at the re-projected configuration is lower; stops when a kept step gains less than ``tol`` (relative).
     Returns ``(q, the objective after each kept step, iterations)``."""
     body = solver.body
     nv = body.nv

@@ -35,8 +35,9 @@ def standing(body: WholeBody, angles: np.ndarray) -> np.ndarray:
 
 
 def support_pose(body: WholeBody, q_double: np.ndarray, stance: str, lift_m: float = LIFT_M) -> np.ndarray:
-    """:func:`single_support`, solved once per body, start, side and lift: the planner asks for both sides' poses
-    at every decision and the executor for the same ones again, and a pure function of these need not rerun."""
+    """:func:`single_support`, solved once per body, start, side and lift: the planner asks for both sides'
+    poses at every decision and the executor for the same ones again, and a pure function of these need not
+    rerun."""
     key = ("single_support", np.asarray(q_double, float).tobytes(), stance, float(lift_m))
     if key not in body.solved:
         body.solved[key] = single_support(body, q_double, stance, lift_m)
@@ -45,7 +46,8 @@ def support_pose(body: WholeBody, q_double: np.ndarray, stance: str, lift_m: flo
 
 def single_support(body: WholeBody, q_double: np.ndarray, stance: str, lift_m: float = LIFT_M,
                    iterations: int = 50, damping: float = 1e-3) -> np.ndarray:
-    """From a double-support ``q``: the CoM over the ``stance`` sole and the other sole lifted by ``lift_m``."""
+    """From a double-support ``q``: the CoM over the ``stance`` sole and the other sole lifted by
+    ``lift_m``."""
     model, data = body.model, body.data
     free = next(s for s in SIDES if s != stance)
     start = body.sole_poses(q_double)

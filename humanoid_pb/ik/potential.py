@@ -35,7 +35,8 @@ class ThermalPotential:
     @classmethod
     def from_measurement(cls, bank: ModelArrays, temperature_C: np.ndarray, horizon_s: float | None = None,
                          hot_C: float = LIMITS.recovered_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
-        """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over actuators)."""
+        """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over
+        actuators)."""
         temperature_C = np.asarray(temperature_C, float)
         horizon = float(np.median(bank.RC_s)) / 2.0 if horizon_s is None else float(horizon_s)
         weights = np.where(temperature_C > hot_C, hot_weight, 1.0)

@@ -1,5 +1,6 @@
 """How joint torques become actuator efforts: one motor per joint, or a push-rod pair driving an ankle's or
-the waist's pitch and roll together (Jorgensen et al.'s Eq. 24); actuator speeds and effort limits likewise."""
+the waist's pitch and roll together (Jorgensen et al.'s Eq. 24); actuator speeds and effort limits
+likewise."""
 
 from __future__ import annotations
 
@@ -35,8 +36,8 @@ def rod_jacobians(rods: dict[str, RodPair], angles: np.ndarray) -> dict[str, np.
 
 def efforts(rods: dict[str, RodPair], angles: np.ndarray, torques_Nm: np.ndarray,
             jacobians: dict[str, np.ndarray] | None = None) -> np.ndarray:
-    """Eq. 24: actuator efforts (ACTUATORS order; N m for motors, N for rods) from joint torques (JOINTS order);
-    ``jacobians``: :func:`rod_jacobians` at ``angles``, when already computed."""
+    """Eq. 24: actuator efforts (ACTUATORS order; N m for motors, N for rods) from joint torques (JOINTS
+    order); ``jacobians``: :func:`rod_jacobians` at ``angles``, when already computed."""
     jacobians = jacobians or rod_jacobians(rods, angles)
     out = np.empty(len(ACTUATORS))
     for a, j in _MOTORS:
@@ -60,7 +61,8 @@ def velocities(rods: dict[str, RodPair], angles: np.ndarray, qd: np.ndarray,
 
 
 def joint_fractions(actuator_fraction: np.ndarray) -> np.ndarray:
-    """Allowed torque fraction per joint from per-actuator derating: a rod-driven joint takes its weaker rod's."""
+    """Allowed torque fraction per joint from per-actuator derating: a rod-driven joint takes its weaker
+    rod's."""
     out = np.ones(len(JOINTS))
     for a, j in _MOTORS:
         out[j] = actuator_fraction[_A[a]]

@@ -86,18 +86,18 @@ class WholeBody:
 
     # ---------------------------------------------------------------- statics
     def contact_null_space(self, q: np.ndarray, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(A^-1, Jc_bar, Nc)`` at ``q`` for the contact Jacobian ``Jc``: the inverse mass matrix (CRBA), the
-        dynamically consistent inverse ``A^-1 Jc' (Jc A^-1 Jc')^+`` and the null space ``I - Jc_bar Jc`` (Eq. 21),
-        what the statics and Jorgensen et al.'s descent step (Eq. 32) both project through."""
+        """``(A^-1, Jc_bar, Nc)`` at ``q`` for the contact Jacobian ``Jc``: the inverse mass matrix (CRBA),
+        the dynamically consistent inverse ``A^-1 Jc' (Jc A^-1 Jc')^+`` and the null space ``I - Jc_bar Jc``
+        (Eq. 21), what the statics and Jorgensen et al.'s descent step (Eq. 32) both project through."""
         A = pin.crba(self.model, self.data, q)
         A_inv = np.linalg.inv(np.triu(A) + np.triu(A, 1).T)
         Jc_bar = A_inv @ Jc.T @ np.linalg.pinv(Jc @ A_inv @ Jc.T)
         return A_inv, Jc_bar, np.eye(self.nv) - Jc_bar @ Jc
 
     def balancing_torques(self, q: np.ndarray, mode: str) -> tuple[np.ndarray, np.ndarray]:
-        """Eqs. 21 and 23 at configuration ``q`` in contact ``mode``: the joint torques that hold the robot still
-        there and the sole wrenches (feet x 6) they leave, without the actuators' efforts (what the balance
-        controller needs every control period)."""
+        """Eqs. 21 and 23 at configuration ``q`` in contact ``mode``: the joint torques that hold the robot
+        still there and the sole wrenches (feet x 6) they leave, without the actuators' efforts (what the
+        balance controller needs every control period)."""
         g = self.gravity(q)
         A_inv, Jc_bar, Nc = self.contact_null_space(q, self.contact_jacobian(q, mode))
         X = self.S_a @ Nc

@@ -1,4 +1,5 @@
-"""``thermolimb audit``: will a policy overheat a joint, which one, and when -- in any Gymnasium environment."""
+"""``thermolimb audit``: will a policy overheat a joint, which one, and when -- in any Gymnasium
+environment."""
 
 from __future__ import annotations
 
@@ -100,7 +101,8 @@ def run(args) -> int:
 
 
 def env_kwargs(pairs: list[str]) -> dict:
-    """``KEY=VALUE`` pairs as keyword arguments: VALUE read as JSON (``false``, ``0.5``, ``[1, 2]``), else text."""
+    """``KEY=VALUE`` pairs as keyword arguments: VALUE read as JSON (``false``, ``0.5``, ``[1, 2]``), else
+    text."""
     out = {}
     for pair in pairs:
         key, eq, value = pair.partition("=")

@@ -1,10 +1,10 @@
 """No output lands on a file the same command reads: checked once, before any work, for every command.
 
 A recording is the one thing a user cannot make again.  Each output a command was given (``--html``,
-``--table``, ``--propose``, ``--save``, ``--mcap``, ``--layout``, ``simulate`` and ``export --out``; a ``--plot`` or
-``demo --out`` folder that is itself an input file) is compared with each input (the logs, ``--validate-on``,
-``--terms``, the model file, ``--follow``; every file of a folder given as a log) by device and inode when both
-exist -- a hard or symbolic link to a log is that log -- and by resolved path otherwise.
+``--table``, ``--propose``, ``--save``, ``--mcap``, ``--layout``, ``simulate`` and ``export --out``; a
+``--plot`` or ``demo --out`` folder that is itself an input file) is compared with each input (the logs,
+``--validate-on``, ``--terms``, the model file, ``--follow``; every file of a folder given as a log) by device
+and inode when both exist -- a hard or symbolic link to a log is that log -- and by resolved path otherwise.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""``thermolimb export``: a saved model carried into another simulator (MuJoCo's ``<dcmotor>`` thermal state)."""
+"""``thermolimb export``: a saved model carried into another simulator (MuJoCo's ``<dcmotor>`` thermal
+state)."""
 
 from __future__ import annotations
 

@@ -16,7 +16,8 @@ from .reading import read_options
 
 
 def local_workers(args) -> int | None:
-    """``--workers`` as this machine can run it (:func:`~thermolimb.util.parallel.worker_limit`), said when lowered."""
+    """``--workers`` as this machine can run it (:func:`~thermolimb.util.parallel.worker_limit`), said when
+    lowered."""
     if args.backend != "process" or args.workers is None:
         return args.workers
     count, why = worker_limit(args.workers)

@@ -135,8 +135,8 @@ def run(args) -> int:
 
 
 def _as_it_is(mapping: dict) -> bool:
-    """Whether the suggested map names each channel by its canonical column (bare, or with its unit in the header:
-    ``temperature [K]``), as a log is read without a map."""
+    """Whether the suggested map names each channel by its canonical column (bare, or with its unit in the
+    header: ``temperature [K]``), as a log is read without a map."""
     def canonical(name, value):
         column, unit = split_unit(value)
         return unit is None and (column == name or (header_unit(column) is not None and base_name(column) == name))
@@ -145,8 +145,9 @@ def _as_it_is(mapping: dict) -> bool:
 
 
 def _left_for(mapping: dict, columns: list[dict], flat: set) -> list[str]:
-    """Where no column was found for the effort: the numeric columns that vary and no channel takes (a command, a
-    duty or a current the suggestion could not tell by its name), whose first is the word to add."""
+    """Where no column was found for the effort: the numeric columns that vary and no channel takes (a
+    command, a duty or a current the suggestion could not tell by its name), whose first is the word to
+    add."""
     if "effort" in mapping or "temperature" not in mapping:
         return []
     taken = {split_unit(v)[0].partition(TIME_OF)[0] for v in mapping.values()}
@@ -156,9 +157,10 @@ def _left_for(mapping: dict, columns: list[dict], flat: set) -> list[str]:
 
 
 def _read_with(path: Path, mapping: dict, names=None, effort: str | None = None) -> tuple[list[str], list[str]]:
-    """The file read with the suggested map, as ``fit`` would read it: the flags it needs (``--drop-incomplete``
-    where a channel misses readings: read so once, it says what it left out) and what reading it says (a
-    temperature held between its updates, samples left out), or why it cannot be read so."""
+    """The file read with the suggested map, as ``fit`` would read it: the flags it needs
+    (``--drop-incomplete`` where a channel misses readings: read so once, it says what it left out) and what
+    reading it says (a temperature held between its updates, samples left out), or why it cannot be read
+    so."""
     with_names = f" and {effort} as the effort" if effort else ""
     try:
         log = read_log(path, mapping=mapping, drop_incomplete=True, columns=names)
@@ -202,9 +204,9 @@ def _listing(path: Path, names=None) -> tuple[int, list[dict], str | None]:
 
 
 def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int, names=None) -> tuple[str, int] | None:
-    """Where the suggested temperature and an input share the time column but fewer than half of the temperature's
-    rows hold the input (topics merged into one table), the first such input and how many rows hold both; else
-    ``None``.  Read again in pieces, only when a mapped column misses values."""
+    """Where the suggested temperature and an input share the time column but fewer than half of the
+    temperature's rows hold the input (topics merged into one table), the first such input and how many rows
+    hold both; else ``None``.  Read again in pieces, only when a mapped column misses values."""
     if (not mapping or "time" not in mapping or "temperature" not in mapping
             or any(TIME_OF in v for v in mapping.values())):
         return None
@@ -227,10 +229,10 @@ def _on_other_rows(path: Path, mapping: dict, values: dict, rows: int, names=Non
 
 
 def _times_agree(path: Path, mapping: dict, rows: int, names=None) -> tuple[str, float] | None:
-    """Where a suggestion reads each channel on a time column of its own and those columns hold a value on every
-    row and agree within a tenth of the median step (the WidowX-200's bearing runs: within 5.4 ms of steps of
-    90 ms), the temperature's time column, which then reads every row as one sample, and the largest disagreement
-    (s); else ``None``."""
+    """Where a suggestion reads each channel on a time column of its own and those columns hold a value on
+    every row and agree within a tenth of the median step (the WidowX-200's bearing runs: within 5.4 ms of
+    steps of 90 ms), the temperature's time column, which then reads every row as one sample, and the largest
+    disagreement (s); else ``None``."""
     if not mapping or "time" in mapping or is_pattern(mapping):
         return None
     timed = {k: split_unit(v)[0].partition(TIME_OF)[2] for k, v in mapping.items() if k != "actuator"}

@@ -76,8 +76,8 @@ def main(argv=None) -> int:
 
 
 def refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
-    """Arguments the command does not take, refused by the command's own parser, with the option meant where one is
-    close (``--models`` for ``--model``)."""
+    """Arguments the command does not take, refused by the command's own parser, with the option meant where
+    one is close (``--models`` for ``--model``)."""
     sub = parser.commands[command]
     options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
     meant = [f"{close[0]} (not {word})" for word in (u.split("=")[0] for u in unknown if u.startswith("--"))

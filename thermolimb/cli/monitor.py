@@ -99,8 +99,8 @@ def run(args) -> int:
 
 
 def _follower(args):
-    """The follower of ``--follow``: a CSV through the logs package's reading, or a recorded MCAP; what cannot be
-    followed at all is one sentence."""
+    """The follower of ``--follow``: a CSV through the logs package's reading, or a recorded MCAP; what cannot
+    be followed at all is one sentence."""
     from pathlib import Path
 
     from ..logs.follow import CsvFollower

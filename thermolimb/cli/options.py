@@ -43,7 +43,8 @@ def add_quiet(p):
 
 
 def add_log_input(p, required: bool = True, positional: bool = True):
-    """The logs (``positional``) and the options they are read with, alike for every command that reads logs."""
+    """The logs (``positional``) and the options they are read with, alike for every command that reads
+    logs."""
     if positional:
         p.add_argument("logs", nargs="+" if required else "*", metavar="LOG",
                        help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several "
@@ -83,7 +84,8 @@ def add_terms(p):
 
 
 def add_models(p, help: str, repeated: bool = False):
-    """``--model``: one model (default: the model fit and diagnose start from), or with ``repeated`` several."""
+    """``--model``: one model (default: the model fit and diagnose start from), or with ``repeated``
+    several."""
     if repeated:
         p.add_argument("--model", action="append", default=None, metavar="TERMS",
                        help=f"{help} (repeat the option; default {','.join(DEFAULT_MODEL)}, the model fit and "

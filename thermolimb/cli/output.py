@@ -20,7 +20,8 @@ def print_json(obj, file=None) -> None:
 
 
 def say(note: str) -> None:
-    """A note on standard error, its over-long words (a name, a path) cut (:func:`~thermolimb.util.errors.bounded`)."""
+    """A note on standard error, its over-long words (a name, a path) cut
+    (:func:`~thermolimb.util.errors.bounded`)."""
     print(f"note: {bounded(note)}", file=sys.stderr)
 
 
@@ -54,16 +55,16 @@ def html_page(args, title: str):
 
 
 def files_in(folder) -> dict:
-    """``{path: (size, mtime)}`` of the files in ``folder`` (nothing when ``None`` or absent): what a run wrote is
-    what changed."""
+    """``{path: (size, mtime)}`` of the files in ``folder`` (nothing when ``None`` or absent): what a run
+    wrote is what changed."""
     if folder is None or not Path(folder).is_dir():
         return {}
     return {p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()}
 
 
 def say_written(before: dict, folder, also=(), existed=()) -> None:
-    """``wrote PATH`` on standard error for each file of ``folder`` that changed since ``before``, and ``also``;
-    ``replaced PATH`` for one that was there before (in ``before``, or one of ``existed``)."""
+    """``wrote PATH`` on standard error for each file of ``folder`` that changed since ``before``, and
+    ``also``; ``replaced PATH`` for one that was there before (in ``before``, or one of ``existed``)."""
     after = files_in(folder)
     written = [p for p, stamp in after.items() if before.get(p) != stamp] + [Path(p) for p in also]
     earlier = set(before) | {Path(p) for p in existed}

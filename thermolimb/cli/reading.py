@@ -60,8 +60,8 @@ def read_logs(paths, args) -> list[ThermalLog]:
 
 
 def read_held(args) -> list[ThermalLog]:
-    """The ``--validate-on`` logs, read as the others but by ``--validate-map`` where given (what it refuses is
-    said of it)."""
+    """The ``--validate-on`` logs, read as the others but by ``--validate-map`` where given (what it refuses
+    is said of it)."""
     if not args.validate_on:
         return []
     if args.validate_map is None:
@@ -78,9 +78,9 @@ def runs_of(logs: list[ThermalLog], name: str) -> list[ActuatorSeries]:
 
 
 def distinct_runs(logs: list[ThermalLog], held: list[ThermalLog], name: str) -> tuple[list, list]:
-    """Actuator ``name``'s runs over ``logs`` and over ``held`` (``--validate-on``), as :func:`runs_of` gives them;
-    a run given twice among them (one log named twice, or a copy under another name) is refused: held out beside
-    itself it would be judged on the readings it was fitted on."""
+    """Actuator ``name``'s runs over ``logs`` and over ``held`` (``--validate-on``), as :func:`runs_of` gives
+    them; a run given twice among them (one log named twice, or a copy under another name) is refused: held
+    out beside itself it would be judged on the readings it was fitted on."""
     # a run's readings (time, temperature, effort), digested: the log it came from
     seen: dict[bytes, str] = {}
     groups: tuple[list, list] = ([], [])

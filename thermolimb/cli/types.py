@@ -15,7 +15,8 @@ from ..util.errors import UsageError
 
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False, unit: str = "",
            high_open: bool = False):
-    """A finite float in ``[low, high]`` (open at ``low`` with ``low_open``, at ``high`` with ``high_open``)."""
+    """A finite float in ``[low, high]`` (open at ``low`` with ``low_open``, at ``high`` with
+    ``high_open``)."""
     what = f"a number {'>' if low_open else '>='} {low:g}" if math.isfinite(low) else "a finite number"
     if math.isfinite(high):
         what += f" and {'<' if high_open else '<='} {high:g}"
@@ -74,7 +75,8 @@ def folds(text: str):
 
 
 def names(text: str) -> list[str]:
-    """A comma-separated list of one or more names, each once (a name repeated is the same thing asked twice)."""
+    """A comma-separated list of one or more names, each once (a name repeated is the same thing asked
+    twice)."""
     items = [item.strip() for item in text.split(",")]
     if not all(items):
         raise argparse.ArgumentTypeError(f"expected one or more names separated by commas, got {text!r}")

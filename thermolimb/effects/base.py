@@ -76,7 +76,8 @@ class PlantEffect:
         return 0.0
 
     def extra_current_A(self, speed: np.ndarray, share) -> np.ndarray | float:
-        """Current that makes no torque (A), at each speed; ``share``: protection's cap on the whole current."""
+        """Current that makes no torque (A), at each speed; ``share``: protection's cap on the whole
+        current."""
         return 0.0
 
     def place_joule(self, net, joule: np.ndarray, constant: np.ndarray, per_kelvin: np.ndarray) -> bool:
@@ -103,9 +104,9 @@ class PlantEffect:
 
 @dataclass(frozen=True)
 class Hidden:
-    """The plant log that hides an effect: the plant effect switched on (``effect``; ``None``: none, as the X8's
-    own slow masses need), the load scale that makes it show, the plant's options, and ``also``: terms that name
-    the same physics acting elsewhere in the model (airflow on the housing)."""
+    """The plant log that hides an effect: the plant effect switched on (``effect``; ``None``: none, as the
+    X8's own slow masses need), the load scale that makes it show, the plant's options, and ``also``: terms
+    that name the same physics acting elsewhere in the model (airflow on the housing)."""
 
     case: str  # the case's name in tables and benchmarks
     effect: str | None

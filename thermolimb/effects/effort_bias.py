@@ -36,16 +36,16 @@ BOTH_SIGNS = 0.05
 
 
 def carries_the_heat(p, series, units) -> str | None:
-    """Why a bias fitted beside Joule heating on ``series`` is implausible, or ``None``: the current makes ``effort -
-    bias`` (Jorgensen et al., Eq. 2), so the Joule heat is least at the effort ``beta_biasR / (2 betaR)``; where a
-    log's efforts hold one sign (1st to 99th percentile) and that lies beyond the largest of them, the bias is no
-    offset of the torque-current map but carries the heat itself, and would cool the joint wherever another duty
-    pushes the other way, which the log cannot show (``benchmarks/transfer.py --step-K 1``, fitted on the walking
-    duty); a change is judged so only where its base's bias did not carry the heat already
-    (``judgement.judge``).
-    A log with efforts of both signs (each side reaching ``BOTH_SIGNS`` of the largest, so that the noise of an effort
-    at rest does not count) shows what the bias does at each, and is left to its held-out error (UR3 J5's wrist,
-    whose bias rightly exceeds its ±0.3 N m)."""
+    """Why a bias fitted beside Joule heating on ``series`` is implausible, or ``None``: the current makes
+    ``effort - bias`` (Jorgensen et al., Eq. 2), so the Joule heat is least at the effort ``beta_biasR / (2
+    betaR)``; where a log's efforts hold one sign (1st to 99th percentile) and that lies beyond the largest of
+    them, the bias is no offset of the torque-current map but carries the heat itself, and would cool the
+    joint wherever another duty pushes the other way, which the log cannot show (``benchmarks/transfer.py
+    --step-K 1``, fitted on the walking duty); a change is judged so only where its base's bias did not carry
+    the heat already (``judgement.judge``). A log with efforts of both signs (each side reaching
+    ``BOTH_SIGNS`` of the largest, so that the noise of an effort at rest does not count) shows what the bias
+    does at each, and is left to its held-out error (UR3 J5's wrist, whose bias rightly exceeds its ±0.3 N
+    m)."""
     if "beta_biasR_K_per_effort" not in p or "betaR_K_per_effort2" not in p or not series:
         return None
     bias, joule = p["beta_biasR_K_per_effort"], p["betaR_K_per_effort2"]
@@ -67,8 +67,8 @@ def carries_the_heat(p, series, units) -> str | None:
 
 
 def both_signs(series) -> tuple[bool, float]:
-    """Whether the efforts of ``series`` hold both signs (1st and 99th percentiles each side of zero, the lesser
-    reaching ``BOTH_SIGNS`` of the larger), and the larger's magnitude."""
+    """Whether the efforts of ``series`` hold both signs (1st and 99th percentiles each side of zero, the
+    lesser reaching ``BOTH_SIGNS`` of the larger), and the larger's magnitude."""
     low, high = np.percentile(np.concatenate([s.signals.effort for s in series]), [1, 99])
     largest = max(abs(low), abs(high))
     return bool(min(-low, high) >= BOTH_SIGNS * largest), float(largest)

@@ -1,6 +1,6 @@
-"""Effects the catalog has no term for, each logging a channel of its own: a fan's duty, a holding brake's state, a
-driver board's temperature, and channels that vary and do nothing thermal.  The diagnosis finds the first three
-from the log's channels (``diagnose --discover``) and must leave the decoys alone."""
+"""Effects the catalog has no term for, each logging a channel of its own: a fan's duty, a holding brake's
+state, a driver board's temperature, and channels that vary and do nothing thermal.  The diagnosis finds the
+first three from the log's channels (``diagnose --discover``) and must leave the decoys alone."""
 
 from __future__ import annotations
 
@@ -92,8 +92,8 @@ class DriverConduction(PlantEffect):
 
 @dataclass(frozen=True)
 class DecoyChannels(PlantEffect):
-    """Channels that vary and do nothing thermal: a supply voltage (``supply [V]``) and an indicator (``led [1]``).
-    For checking that a diagnosis does not take a channel that only varies."""
+    """Channels that vary and do nothing thermal: a supply voltage (``supply [V]``) and an indicator (``led
+    [1]``). For checking that a diagnosis does not take a channel that only varies."""
 
     name = "decoy_channels"
     draws_random = True

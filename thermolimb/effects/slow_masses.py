@@ -42,7 +42,8 @@ class SlowMass(Term):
         return p[self.fraction], p[self.tau]
 
     def airflow(self, p, s) -> np.ndarray | float:
-        """How many times its still-air conductance to ambient this mass has (1: no term of the model moves it)."""
+        """How many times its still-air conductance to ambient this mass has (1: no term of the model moves
+        it)."""
         flow = 1.0
         for term in airflow_terms(self.name, p):
             flow = flow + term.airflow_gain(p, s)
@@ -73,7 +74,8 @@ class SlowMass(Term):
 
 
 def heat_into_masses(p, s) -> float:
-    """The rise the model's heats put into its slow masses (friction in the housing) give at the first sample."""
+    """The rise the model's heats put into its slow masses (friction in the housing) give at the first
+    sample."""
     return sum(float(np.ravel(s.contribution(cls(), p)[0])[0]) for cls in terms_in(p) if cls.heats_slow_mass)
 
 

@@ -39,7 +39,8 @@ class SpeedLossesTerm(Term):
 
 @dataclass(frozen=True)
 class SpeedLosses(PlantEffect):
-    """Losses growing with output speed: bearing/gear friction (into the housing) and iron losses (winding)."""
+    """Losses growing with output speed: bearing/gear friction (into the housing) and iron losses
+    (winding)."""
 
     name = "speed_losses"
     friction_W_per_rad_s: float = 1.5  # W per rad/s of |velocity|

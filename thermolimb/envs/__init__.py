@@ -1,15 +1,13 @@
 """What the suite's Gymnasium environments share, independent of any robot.
 
-Environments live with their robots and register when the robot package is
-imported, as Gymnasium's third-party environments do: after importing the
-``hexapod_pb`` package, ``gymnasium.make("thermolimb/HexapodLoadCarry-v0")``
-works (or ``gymnasium.make("hexapod_pb:thermolimb/HexapodLoadCarry-v0")``,
-which imports the package itself).  This package never imports a robot.  ``import thermolimb`` neither imports Gymnasium nor
-registers anything.  Here: the robot packages that provide environments
-(found through the ``thermolimb.envs`` entry-point group), registration with
-the policies each environment offers, the rig base environment
-(:mod:`.base`), policies by name (:mod:`.policies`) seeded episodes
-(:mod:`.episodes`) and their tables and plots (:mod:`.tables`).
+Environments live with their robots and register when the robot package is imported, as Gymnasium's
+third-party environments do: after importing the ``hexapod_pb`` package,
+``gymnasium.make("thermolimb/HexapodLoadCarry-v0")`` works (or
+``gymnasium.make("hexapod_pb:thermolimb/HexapodLoadCarry-v0")``, which imports the package itself).  This
+package never imports a robot.  ``import thermolimb`` neither imports Gymnasium nor registers anything.  Here:
+the robot packages that provide environments (found through the ``thermolimb.envs`` entry-point group),
+registration with the policies each environment offers, the rig base environment (:mod:`.base`), policies by
+name (:mod:`.policies`) seeded episodes (:mod:`.episodes`) and their tables and plots (:mod:`.tables`).
 """
 
 from __future__ import annotations
@@ -64,7 +62,8 @@ def env_class(env_id: str) -> type:
 
 
 def __getattr__(name: str):
-    """``thermolimb.envs.ThermalWrapper``, imported when first asked for (it imports Gymnasium and the model)."""
+    """``thermolimb.envs.ThermalWrapper``, imported when first asked for (it imports Gymnasium and the
+    model)."""
     if name == "ThermalWrapper":
         from .thermal_wrapper import ThermalWrapper
 

@@ -1,11 +1,11 @@
 """A thermal audit of a policy: will it overheat a joint, which one, and when?
 
 :func:`audit` runs a policy for a stretch of simulated time in an environment wrapped with
-:class:`~.thermal_wrapper.ThermalWrapper` and keeps every joint's temperature.  The heat is carried across episodes
-(a robot that falls and is set up again is still warm); each reset of the environment is counted, and an
-environment made from its id has no episode time limit (the policy runs for the audit's whole duration).  The report per
-joint: the peak temperature, the first time it reached its limit (or none within the run), and which joint limits
-the run -- the first to reach its limit, else the one closest to it.
+:class:`~.thermal_wrapper.ThermalWrapper` and keeps every joint's temperature.  The heat is carried across
+episodes (a robot that falls and is set up again is still warm); each reset of the environment is counted, and
+an environment made from its id has no episode time limit (the policy runs for the audit's whole duration).
+The report per joint: the peak temperature, the first time it reached its limit (or none within the run), and
+which joint limits the run -- the first to reach its limit, else the one closest to it.
 """
 
 from __future__ import annotations
@@ -176,9 +176,9 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
 
 
 def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
-    """``gym.make(env_id, **kwargs)`` with no episode time limit (the policy runs for the audit's duration, reset
-    only when an episode ends); whatever the environment's constructor refuses in the user's arguments is one
-    sentence.  No window is opened: the audit runs where no display may be."""
+    """``gym.make(env_id, **kwargs)`` with no episode time limit (the policy runs for the audit's duration,
+    reset only when an episode ends); whatever the environment's constructor refuses in the user's arguments
+    is one sentence.  No window is opened: the audit runs where no display may be."""
     bad = [k for k, v in kwargs.items() if isinstance(v, float) and not math.isfinite(v)]
     if bad:
         raise UsageError(f"--env-arg {bad[0]}={kwargs[bad[0]]}: expected a finite number")
@@ -199,9 +199,9 @@ def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
 
 
 def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -> np.ndarray:
-    """The policy's action at ``step``, checked: what it prints goes to standard error (standard output carries
-    the audit, and its JSON); an exception, None, the wrong shape or a value that is not finite is one sentence
-    naming the step and what was expected."""
+    """The policy's action at ``step``, checked: what it prints goes to standard error (standard output
+    carries the audit, and its JSON); an exception, None, the wrong shape or a value that is not finite is one
+    sentence naming the step and what was expected."""
     space = env.action_space
     try:
         with contextlib.redirect_stdout(sys.stderr):
@@ -223,8 +223,8 @@ def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -
 
 
 def beyond_experience(joints, experience, strongest_Nm, peak_C) -> list[str]:
-    """Where the run took a model beyond the log it was identified on (the torque's or the temperature's range in
-    the model file's provenance): its temperatures there are the model extrapolated, said once per kind."""
+    """Where the run took a model beyond the log it was identified on (the torque's or the temperature's range
+    in the model file's provenance): its temperatures there are the model extrapolated, said once per kind."""
     if experience is None:
         return []
     torque, hot = [], []

@@ -38,7 +38,8 @@ def checked_range(name: str, value, lowest: float, highest: float) -> tuple[floa
 
 
 class RigEnv(gym.Env):
-    """Base of the suite's environments: ``self.sim`` is the current world (a :class:`thermolimb.rig.BulletRig`).
+    """Base of the suite's environments: ``self.sim`` is the current world (a
+    :class:`thermolimb.rig.BulletRig`).
 
     Subclasses call :meth:`_begin_step` first in ``step`` (it checks the
     action and returns it as an array) and :meth:`_end_step` last (it

@@ -71,7 +71,8 @@ def run_episodes(env_id: str, episodes: int, seed: int, strategies=None, backend
 
 
 def check_scenario(env_id: str, scenario: str) -> None:
-    """One clear error when the environment takes no ``scenario`` or not this one (before any worker starts)."""
+    """One clear error when the environment takes no ``scenario`` or not this one (before any worker
+    starts)."""
     import inspect
 
     cls = env_class(env_id)

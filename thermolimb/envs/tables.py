@@ -1,4 +1,5 @@
-"""Tables and plots of strategy evaluations: mean and spread per strategy, for the command line and the demos."""
+"""Tables and plots of strategy evaluations: mean and spread per strategy, for the command line and the
+demos."""
 
 from __future__ import annotations
 

@@ -13,13 +13,14 @@ Each step the wrapper reads the torque each named joint was given and advances i
   ambient has its offset moved by how far ``ambient_C`` lies beyond the air it was identified in -- or this suite's
   plant with datasheet actuators (``plant=X8_9``: several masses, the lot).
 
-What the policy sees: ``observe="append"`` adds the joints' temperatures (degC, in ``joints`` order) at the end
-of a Box observation; ``"dict"`` makes the observation ``{"observation": ..., "temperature_C": ...}``; ``None``
-leaves it alone.  ``info`` gets ``temperature_C``, ``time_to_limit_s`` (``inf``: never at this step's torque) and
-``derating`` (the share of torque :class:`~thermolimb.plant.protection.ThermalProtection` would allow), arrays in
-``joints`` order, and ``thermal_joints``.  Optional: ``penalty`` (reward per K above ``warning_C``, summed over
-joints), ``terminate`` (the episode ends when a joint reaches its limit), ``protect`` (each actuator's command
-scaled by its derating, as a drive derates: for torque-commanded actuators).
+What the policy sees: ``observe="append"`` adds the joints' temperatures (degC, in ``joints`` order) at the
+end of a Box observation; ``"dict"`` makes the observation ``{"observation": ..., "temperature_C": ...}``;
+``None`` leaves it alone.  ``info`` gets ``temperature_C``, ``time_to_limit_s`` (``inf``: never at this step's
+torque) and ``derating`` (the share of torque :class:`~thermolimb.plant.protection.ThermalProtection` would
+allow), arrays in ``joints`` order, and ``thermal_joints``.  Optional: ``penalty`` (reward per K above
+``warning_C``, summed over joints), ``terminate`` (the episode ends when a joint reaches its limit),
+``protect`` (each actuator's command scaled by its derating, as a drive derates: for torque-commanded
+actuators).
 """
 
 from __future__ import annotations
@@ -171,7 +172,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         return self._observation(obs), reward, terminated, truncated, info
 
     def _derating(self) -> np.ndarray:
-        """ThermalProtection's linear derating over its margin below each limit (inline: it runs every step)."""
+        """ThermalProtection's linear derating over its margin below each limit (inline: it runs every
+        step)."""
         fraction = (self.limit_C - self.temperature_C) / self.protection.margin_K
         return np.minimum(np.maximum(fraction, self.protection.min_fraction), 1.0)
 
@@ -205,8 +207,8 @@ class TorqueReader:
     """The joints' torques (and velocities, when known) after a step, from ``f(env) -> array`` (N m).
 
     ``per_effort``: the factor turning a torque into the effort a model heats from (a current: 1 / the torque
-    constant), or ``None`` for torque.  Subclasses read a MuJoCo model's actuators or the suite's robots; each is
-    a plain object, so that a wrapped environment pickles (a subprocess vector environment)."""
+    constant), or ``None`` for torque.  Subclasses read a MuJoCo model's actuators or the suite's robots; each
+    is a plain object, so that a wrapped environment pickles (a subprocess vector environment)."""
 
     per_effort: float | None = None
 
@@ -248,8 +250,8 @@ class MujocoReader(TorqueReader):
 
 
 class RigReader(TorqueReader):
-    """The suite's PyBullet robots: the rig's applied torques and joint velocities (the world is rebuilt at every
-    reset, so it is looked up each step)."""
+    """The suite's PyBullet robots: the rig's applied torques and joint velocities (the world is rebuilt at
+    every reset, so it is looked up each step)."""
 
     def __init__(self, joints: Sequence[str], idx: np.ndarray):
         super().__init__(joints)
@@ -303,7 +305,8 @@ def mujoco_actuator_names(model) -> list[str]:
 
 
 def joint_models(models, joints: Sequence[str]) -> list[SavedModel]:
-    """Each joint's saved model: by name, or one model (a ``SavedModel``, a file of one actuator) for every joint."""
+    """Each joint's saved model: by name, or one model (a ``SavedModel``, a file of one actuator) for every
+    joint."""
     if isinstance(models, SavedModel):
         return [models] * len(joints)
     if isinstance(models, (str, Path)):
@@ -402,7 +405,8 @@ def _checked(name: str, value, low: float, high: float, what: str = "") -> float
 
 
 def reach_s(T: np.ndarray, steady: np.ndarray, rate, limit_C: np.ndarray) -> np.ndarray:
-    """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf never)."""
+    """When each first-order response reaches its limit at the current inputs (s; 0 at or past it, inf
+    never)."""
     out = np.where(T >= limit_C, 0.0, np.inf)
     rising = (steady > limit_C) & (T < limit_C)
     if rising.any():  # ln((T - u) / (L - u)) / rate, only where the steady state lies beyond the limit

@@ -11,8 +11,9 @@ over to the next run. Two such valleys are closed here:
   logged temperature as a boundary, a generated form of a channel minus a reference), it stays at most
   ``OFFSET_MARGIN_K`` (a sensor's calibration, not physics) below the coolest logged ambient.
 
-Measured on plant logs richer than the model (``python benchmarks/transfer.py --sources plant``: the X8's winding,
-housing and body, 1.4, 24.5 and 10,100 s, with speed losses and copper's coefficient), see docs/workbench.md.
+Measured on plant logs richer than the model (``python benchmarks/transfer.py --sources plant``: the X8's
+winding, housing and body, 1.4, 24.5 and 10,100 s, with speed losses and copper's coefficient), see
+docs/workbench.md.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Eq. 5 for every actuator of a robot, identified from the robot's own log (what its controllers plan with)."""
+"""Eq. 5 for every actuator of a robot, identified from the robot's own log (what its controllers plan
+with)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ from .output_error import FreeRunLeastSquares
 @dataclass(frozen=True)
 class Calibration:
     """What a robot's calibration run gives its planners: the models identified from its log, the log, and the
-    ambient it measured cold (degC; its thermistors' mean first reading).  Every robot's ``calibrate`` returns one."""
+    ambient it measured cold (degC; its thermistors' mean first reading).  Every robot's ``calibrate`` returns
+    one."""
 
     bank: ModelArrays
     log: ThermalLog
@@ -35,8 +37,8 @@ MIN_RC_S = 5.0
 
 def identify_bank(log: ThermalLog, actuators: Sequence[str], limits: np.ndarray, min_rc_s: float = MIN_RC_S,
                   model: str | tuple[str, ...] = DEFAULT_MODEL, min_rise_K: float = 0.0) -> ModelArrays:
-    """Fit Eq. 5 (output error, ``model``: ``joule`` with or without ``effort_bias``) to every named actuator of
-    ``log``, in that order.
+    """Fit Eq. 5 (output error, ``model``: ``joule`` with or without ``effort_bias``) to every named actuator
+    of ``log``, in that order.
 
     Actuators the log cannot identify (efforts that barely change, a fit
     with a time constant below ``min_rc_s``, implausible for the winding, or

@@ -34,7 +34,8 @@ def pieces_metrics(pieces) -> dict[str, float]:
 
 
 def ar1_variance_factor(residuals: np.ndarray) -> float:
-    """Variance inflation for serially correlated residuals, (1 + rho) / (1 - rho) with rho the lag-1 autocorrelation.
+    """Variance inflation for serially correlated residuals, (1 + rho) / (1 - rho) with rho the lag-1
+    autocorrelation.
 
     Least-squares standard errors assume independent residuals; thermal
     residuals are smooth, so their effective sample count is smaller.
@@ -48,7 +49,8 @@ def ar1_variance_factor(residuals: np.ndarray) -> float:
 
 
 def correlation_length(residuals: np.ndarray, threshold: float = 0.05) -> int:
-    """The first lag (samples) at which the residual's autocorrelation falls below ``threshold`` (FFT, O(n log n))."""
+    """The first lag (samples) at which the residual's autocorrelation falls below ``threshold`` (FFT, O(n log
+    n))."""
     from scipy import fft
 
     r = np.asarray(residuals, float) - np.mean(residuals)
@@ -65,7 +67,8 @@ def correlation_length(residuals: np.ndarray, threshold: float = 0.05) -> int:
 
 
 def hac_covariance(X: np.ndarray, residuals: np.ndarray) -> np.ndarray:
-    """Parameter covariance of a linear least-squares fit whose residuals are serially correlated (Newey-West).
+    """Parameter covariance of a linear least-squares fit whose residuals are serially correlated
+    (Newey-West).
 
     ``(X'X)^-1 S (X'X)^-1`` with ``S`` the Bartlett-weighted sum of the
     score's autocovariances up to ``L`` lags, ``L`` the larger of Newey and
@@ -102,8 +105,8 @@ def hac_covariance(X: np.ndarray, residuals: np.ndarray) -> np.ndarray:
 
 
 def chi2_sf(x: float, df: int) -> float:
-    """The chi-squared distribution's survival function at ``x`` on ``df`` degrees of freedom (``scipy.stats.chi2``'s
-    own special function: importing ``scipy.stats`` cost a command line 0.3 s)."""
+    """The chi-squared distribution's survival function at ``x`` on ``df`` degrees of freedom
+    (``scipy.stats.chi2``'s own special function: importing ``scipy.stats`` cost a command line 0.3 s)."""
     from scipy.special import chdtrc
 
     return float(chdtrc(df, x))
@@ -129,9 +132,10 @@ def information_criteria(residual: np.ndarray, n_params: int) -> dict[str, float
 
 
 def scaled_inverse(matrix: np.ndarray) -> np.ndarray:
-    """The pseudo-inverse of a symmetric positive semi-definite matrix taken on its unit-diagonal form: parameters
-    whose units differ by many decades (an effort logged in mA makes a heat gain 10^6 times smaller) keep their
-    covariance, where a plain ``pinv`` cuts the small directions and the standard errors collapse."""
+    """The pseudo-inverse of a symmetric positive semi-definite matrix taken on its unit-diagonal form:
+    parameters whose units differ by many decades (an effort logged in mA makes a heat gain 10^6 times
+    smaller) keep their covariance, where a plain ``pinv`` cuts the small directions and the standard errors
+    collapse."""
     diagonal = np.sqrt(np.clip(np.diag(matrix), 0.0, None))
     d = np.where(diagonal > 0, 1.0 / np.where(diagonal > 0, diagonal, 1.0), 0.0)
     return np.linalg.pinv(matrix * np.outer(d, d)) * np.outer(d, d)

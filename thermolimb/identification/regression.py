@@ -67,10 +67,11 @@ def _uniform(series: ActuatorSeries) -> ActuatorSeries:
 def lowpass(x: np.ndarray, cutoff_hz: float | None, dt_s: float, axis: int = 0) -> np.ndarray:
     """Zero-phase second-order Butterworth low-pass; no filtering when the cutoff is None or above Nyquist.
 
-    ``scipy.signal``'s ``sosfiltfilt`` of ``butter(2, cutoff_hz / nyquist, output="sos")``, to rounding: the same
-    odd extension of 9 samples at each end, the filter started at rest at the first value, run forward and then
-    backward.  Each pass is the one section's difference equation, solved as a banded unit-lower-triangular system
-    by LAPACK (``dtbtrs``); importing ``scipy.signal`` cost every command line half a second."""
+    ``scipy.signal``'s ``sosfiltfilt`` of ``butter(2, cutoff_hz / nyquist, output="sos")``, to rounding: the
+    same odd extension of 9 samples at each end, the filter started at rest at the first value, run forward
+    and then backward.  Each pass is the one section's difference equation, solved as a banded
+    unit-lower-triangular system by LAPACK (``dtbtrs``); importing ``scipy.signal`` cost every command line
+    half a second."""
     nyquist = 0.5 / dt_s
     x = np.asarray(x, dtype=float)
     if cutoff_hz is None or cutoff_hz >= nyquist:
@@ -91,8 +92,9 @@ PAD_SAMPLES = 9  # sosfiltfilt's odd extension for one second-order section: 3 *
 
 
 def butterworth2(wn: float) -> tuple[tuple[float, float, float], tuple[float, float]]:
-    """The second-order digital Butterworth low-pass at ``wn`` (the cutoff over Nyquist, in (0, 1)), by the bilinear
-    transform with the cutoff prewarped: numerator ``(b0, b1, b2)`` and denominator ``(a1, a2)`` (``a0 = 1``)."""
+    """The second-order digital Butterworth low-pass at ``wn`` (the cutoff over Nyquist, in (0, 1)), by the
+    bilinear transform with the cutoff prewarped: numerator ``(b0, b1, b2)`` and denominator ``(a1, a2)``
+    (``a0 = 1``)."""
     k = np.tan(0.5 * np.pi * wn)
     norm = 1.0 / (1.0 + np.sqrt(2.0) * k + k * k)
     b0 = k * k * norm
@@ -100,9 +102,9 @@ def butterworth2(wn: float) -> tuple[tuple[float, float, float], tuple[float, fl
 
 
 def _section(b: tuple[float, float, float], a: tuple[float, float], u: np.ndarray) -> np.ndarray:
-    """``y[n] + a1 y[n-1] + a2 y[n-2] = b0 u[n] + b1 u[n-1] + b2 u[n-2]`` down the columns of ``u``, from the state
-    the filter holds after the column's first value for ever (its input and output before it held at ``u[0]`` and
-    at ``u[0]`` times the gain at rest)."""
+    """``y[n] + a1 y[n-1] + a2 y[n-2] = b0 u[n] + b1 u[n-1] + b2 u[n-2]`` down the columns of ``u``, from the
+    state the filter holds after the column's first value for ever (its input and output before it held at
+    ``u[0]`` and at ``u[0]`` times the gain at rest)."""
     from scipy.linalg.lapack import dtbtrs
 
     u0 = u[0]
@@ -203,8 +205,8 @@ def build_regression(
 
 def block_samples(cutoff_hz: float | None, dt_s: float, stride: int) -> int:
     """Samples averaged into one before filtering a long log: at most the rows' stride, and a block at most
-    :data:`BLOCKS_PER_PERIOD` times shorter than the filter's period (a block mean passes what the filter keeps:
-    its gain at the cutoff is ``sinc(1/BLOCKS_PER_PERIOD)``, 0.996).  1: filter at the full rate."""
+    :data:`BLOCKS_PER_PERIOD` times shorter than the filter's period (a block mean passes what the filter
+    keeps: its gain at the cutoff is ``sinc(1/BLOCKS_PER_PERIOD)``, 0.996).  1: filter at the full rate."""
     if cutoff_hz is None or stride <= 1:
         return 1
     return int(max(1, min(stride, np.floor(1.0 / (BLOCKS_PER_PERIOD * cutoff_hz * dt_s)))))
@@ -264,7 +266,8 @@ def independent_fractions(X: np.ndarray) -> np.ndarray:
 
 
 def collinear_partners(X: np.ndarray, j: int) -> list[int]:
-    """Columns that carry most of column ``j``'s explained part (scaled regression weights > 0.2 of the largest)."""
+    """Columns that carry most of column ``j``'s explained part (scaled regression weights > 0.2 of the
+    largest)."""
     norms = np.linalg.norm(X, axis=0)
     safe = np.where(norms > 0, norms, 1.0)
     G = (X.T @ X) / np.outer(safe, safe)

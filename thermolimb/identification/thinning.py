@@ -32,14 +32,14 @@ BLOCK_TIME_CONSTANTS = 40.0
 
 
 def fit_stride(series, most: int | None = None) -> int:
-    """The stride at which a fit compares ``series`` (each with ``fit_samples``, the samples it is fitted on): the
-    smallest that leaves at most ``most`` of them (default :data:`MAX_FIT_SAMPLES`)."""
+    """The stride at which a fit compares ``series`` (each with ``fit_samples``, the samples it is fitted on):
+    the smallest that leaves at most ``most`` of them (default :data:`MAX_FIT_SAMPLES`)."""
     return max(1, -(-sum(s.fit_samples for s in series) // (most or MAX_FIT_SAMPLES)))
 
 
 def fit_rows(series, stride: int) -> np.ndarray:
-    """The samples of one series a fit compares: every ``stride``-th of those it is fitted on (its ``fit_mask``:
-    a scheme holding blocks of the run out; all of them without one)."""
+    """The samples of one series a fit compares: every ``stride``-th of those it is fitted on (its
+    ``fit_mask``: a scheme holding blocks of the run out; all of them without one)."""
     rows = np.arange(series.n) if series.fit_mask is None else np.flatnonzero(series.fit_mask)
     return rows[::stride]
 
@@ -54,9 +54,9 @@ def thinned(values: np.ndarray, series, stride: int) -> np.ndarray:
 
 
 def on_blocks(series, rows: np.ndarray, stride: int):
-    """``series`` averaged over blocks of ``stride`` samples (:mod:`~thermolimb.model.block_means`), the blocks'
-    starts including ``rows``; and the places of ``rows`` among them.  A fit simulates this, ``stride`` times
-    fewer steps, and compares it where the full rate would be compared."""
+    """``series`` averaged over blocks of ``stride`` samples (:mod:`~thermolimb.model.block_means`), the
+    blocks' starts including ``rows``; and the places of ``rows`` among them.  A fit simulates this,
+    ``stride`` times fewer steps, and compares it where the full rate would be compared."""
     grid = np.arange(0, series.n, stride)
     starts = grid if np.array_equal(grid, rows) else np.union1d(grid, rows)
     shown = replace(series, signals=blocked(series.signals, starts), temperature_C=series.temperature_C[starts],
@@ -65,8 +65,9 @@ def on_blocks(series, rows: np.ndarray, stride: int):
 
 
 def longest_block(model, series) -> int:
-    """The most samples of ``series`` one block may hold for ``model`` by :func:`blocks_allowed`'s rule (each time
-    constant at least :data:`BLOCK_TIME_CONSTANTS` blocks long): a stride beyond it is simulated at the full rate."""
+    """The most samples of ``series`` one block may hold for ``model`` by :func:`blocks_allowed`'s rule (each
+    time constant at least :data:`BLOCK_TIME_CONSTANTS` blocks long): a stride beyond it is simulated at the
+    full rate."""
     steps = [(_fastest_s(model, s), float(np.diff(s.time_s).max(initial=0.0))) for s in series]
     return max(1, min((int(fastest / (BLOCK_TIME_CONSTANTS * step)) for fastest, step in steps if step > 0),
                       default=1))
@@ -80,8 +81,8 @@ def blocks_allowed(model, shown) -> bool:
 
 
 def _fastest_s(model, series) -> float:
-    """``model``'s shortest time constant on ``series``: the winding's where it is fastest (a gain such as cooling
-    by motion shortens it), each slow mass's."""
+    """``model``'s shortest time constant on ``series``: the winding's where it is fastest (a gain such as
+    cooling by motion shortens it), each slow mass's."""
     slow = [model.params[p.name] for t in model.terms if TERMS[t].carries_state for p in TERMS[t].parameters
             if p.unit == "s"]
     return min([1.0 / float(np.max(model.forcing(series.signals)[1])), *slow])

@@ -37,8 +37,8 @@ ROOT_MEAN_SQUARE = ("effort", "current", "velocity")
 
 def interval_average(time_s: np.ndarray, sample_time_s: np.ndarray, values: np.ndarray,
                      root_mean_square: bool) -> np.ndarray:
-    """``values`` sampled at ``sample_time_s``, each held until the next sample (zero-order hold), averaged over
-    each ``[time_s[k], time_s[k+1])`` by the time each value holds within it.
+    """``values`` sampled at ``sample_time_s``, each held until the next sample (zero-order hold), averaged
+    over each ``[time_s[k], time_s[k+1])`` by the time each value holds within it.
 
     ``time_s`` must lie within ``[sample_time_s[0], sample_time_s[-1]]`` (the last sample holds beyond).
     Returns one value per ``time_s``; the last repeats the one before.  An interval one value holds throughout

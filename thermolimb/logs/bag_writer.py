@@ -9,11 +9,11 @@ Topics (receive time = the log's time stamps, from the Unix epoch 0 plus ``START
 
 With ``layout="per_joint"`` the temperatures go instead, as many robots publish them, to one
 ``sensor_msgs/msg/Temperature`` topic per joint, ``/<joint>/temperature`` (read back with
-``temperature=/{j}/temperature.temperature``, which ``inspect`` suggests), every ``temperature_every``-th sample.
-With ``layout="ros2_control"`` they go, as ros2_control's joint state broadcaster publishes a hardware's state
-interfaces, to ``/dynamic_joint_states`` (``control_msgs/msg/DynamicJointState``: per joint its interfaces'
-names and values, ``position``, ``velocity``, ``effort``, ``temperature`` and, when the log has it, ``current``),
-beside ``/joint_states``.
+``temperature=/{j}/temperature.temperature``, which ``inspect`` suggests), every ``temperature_every``-th
+sample. With ``layout="ros2_control"`` they go, as ros2_control's joint state broadcaster publishes a
+hardware's state interfaces, to ``/dynamic_joint_states`` (``control_msgs/msg/DynamicJointState``: per joint
+its interfaces' names and values, ``position``, ``velocity``, ``effort``, ``temperature`` and, when the log
+has it, ``current``), beside ``/joint_states``.
 
 Every actuator must share one time base (as the plant's logs do).
 """

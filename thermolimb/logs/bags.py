@@ -9,15 +9,14 @@ Mapping (``--map``): each canonical channel names ``/topic.field``, e.g.::
 
     effort=/wx200/joint_states.effort,temperature=/wx200/temperatures/joint_group.temps
 
-A field that is an array is indexed by joint name through the message's
-string array (``name``, ``names``, ``joint_names``): one actuator per joint
-found in every mapped array topic (``--actuator`` picks one).  A scalar
-field (``sensor_msgs/Temperature.temperature``) belongs to the actuator
-given by ``--actuator``, except the ambient, which every joint shares.  ros2_control's
-``control_msgs/DynamicJointState`` (a hardware's state interfaces per joint, ``/dynamic_joint_states``) reads as
-one array per interface (``temperature=/dynamic_joint_states.temperature``), an array of sub-messages across its
-elements (:mod:`.messages`).  Time is each message's receive time in the bag (one clock for every topic), in
-seconds from the bag's start.  Channels are put on the temperature's own samples by :mod:`thermolimb.logs.align`.
+A field that is an array is indexed by joint name through the message's string array (``name``, ``names``,
+``joint_names``): one actuator per joint found in every mapped array topic (``--actuator`` picks one).  A
+scalar field (``sensor_msgs/Temperature.temperature``) belongs to the actuator given by ``--actuator``, except
+the ambient, which every joint shares.  ros2_control's ``control_msgs/DynamicJointState`` (a hardware's state
+interfaces per joint, ``/dynamic_joint_states``) reads as one array per interface
+(``temperature=/dynamic_joint_states.temperature``), an array of sub-messages across its elements
+(:mod:`.messages`).  Time is each message's receive time in the bag (one clock for every topic), in seconds
+from the bag's start.  Channels are put on the temperature's own samples by :mod:`thermolimb.logs.align`.
 
 Without ``--map`` a mapping is suggested from the topics (see
 :func:`suggest_mapping`, ``thermolimb inspect``) and used when it is unique.
@@ -133,8 +132,8 @@ def _topic_infos(reader, path: Path) -> list[TopicInfo]:
 
 
 def _is_air(topic: str) -> bool:
-    """A topic named for the air: ``ambient`` anywhere in it, ``air`` or ``room`` as words (``/repair/temperature``
-    is a joint's)."""
+    """A topic named for the air: ``ambient`` anywhere in it, ``air`` or ``room`` as words
+    (``/repair/temperature`` is a joint's)."""
     return "ambient" in topic.lower() or any(says_whole(word, topic) for word in ("air", "room"))
 
 
@@ -143,10 +142,11 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
 
     Effort and velocity come from the one ``JointState`` topic (or, without one, the one ``DynamicJointState``
     with an effort interface).  The temperature is the one numeric field naming a temperature in a topic with
-    joint names (of several, the one naming the motor's where no other does, as in a table: ``motor_temperature``
-    beside ``fet_temperature``), or else the one ``Temperature`` topic (or ``std_msgs`` number named for a
-    temperature) not named for the air, one per joint making a ``{j}`` pattern; such a topic named ambient, air or
-    room is the ambient, and fields named ``current`` or ``housing`` beside the temperature are mapped too.
+    joint names (of several, the one naming the motor's where no other does, as in a table:
+    ``motor_temperature`` beside ``fet_temperature``), or else the one ``Temperature`` topic (or ``std_msgs``
+    number named for a temperature) not named for the air, one per joint making a ``{j}`` pattern; such a
+    topic named ambient, air or room is the ambient, and fields named ``current`` or ``housing`` beside the
+    temperature are mapped too.
     """
     reasons = []
     states = [i for i in infos if i.msgtype.endswith("/JointState")] or \
@@ -192,9 +192,9 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
 
 
 def _beside(info: TopicInfo, field: str) -> dict[str, str]:
-    """Effort and velocity among the fields beside the temperature's (in its sub-message, or its message), named as a
-    table's columns are read (``tau_est``, ``dq``): where no JointState gives them (a Unitree ``LowState``'s
-    ``motor_state``, a driver's own per-motor message)."""
+    """Effort and velocity among the fields beside the temperature's (in its sub-message, or its message),
+    named as a table's columns are read (``tau_est``, ``dq``): where no JointState gives them (a Unitree
+    ``LowState``'s ``motor_state``, a driver's own per-motor message)."""
     prefix = field.rpartition(".")[0]
     leaves = [f.rpartition(".")[2] for f in info.numeric_fields if f.rpartition(".")[0] == prefix and f != field]
     leaves = [f for f in leaves if not says_whole("raw", f)] or leaves  # dq beside its unfiltered dq_raw
@@ -204,9 +204,9 @@ def _beside(info: TopicInfo, field: str) -> dict[str, str]:
 
 
 def _joint_topic_pattern(topics: list[str], joints: tuple[str, ...]) -> str | None:
-    """``/robot/{j}/temperature`` (or ``/motors/{j}_motor/temperature``) when every topic is one pattern with a
-    joint's name in place of ``{j}``: the name as a word of the topic, bounded by anything but a letter or a digit,
-    the longest such name where several fit (``left_knee`` over ``knee``)."""
+    """``/robot/{j}/temperature`` (or ``/motors/{j}_motor/temperature``) when every topic is one pattern with
+    a joint's name in place of ``{j}``: the name as a word of the topic, bounded by anything but a letter or a
+    digit, the longest such name where several fit (``left_knee`` over ``knee``)."""
     patterns = set()
     for topic in topics:
         found = [(j, m) for j in joints if j
@@ -277,9 +277,10 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, dro
 def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:
     """Every numeric field of a topic the mapping reads that the mapping does not use, as an extra channel
     (``extra.position=/joint_states.position``; named ``TOPIC_FIELD`` where two topics share a field name).
-    Topics named with ``{j}`` are not searched; extras the user named stay as named; a field named for a channel
-    the mapping reads from another topic (the effort a ros2_control recording holds in /joint_states and again in
-    /dynamic_joint_states) is that channel again, no extra; a diagnostics topic's many keys are not searched."""
+    Topics named with ``{j}`` are not searched; extras the user named stay as named; a field named for a
+    channel the mapping reads from another topic (the effort a ros2_control recording holds in /joint_states
+    and again in /dynamic_joint_states) is that channel again, no extra; a diagnostics topic's many keys are
+    not searched."""
     used = set(mapping.values())
     topics = {v.partition(".")[0] for v in mapping.values() if JOINT not in v}
     fields = [(i.topic, f) for i in infos if i.topic in topics and not i.msgtype.endswith("/DiagnosticArray")
@@ -348,8 +349,9 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
 
 def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator: str | None, notes: list[str],
                        drop_incomplete: bool):
-    """A mapping with ``{j}`` in topic names (one topic per joint, ``/{j}/temperature.temperature``): ``{j}`` runs
-    over the joint names of the mapped array topics (or ``actuator``); joints without such a topic are left out."""
+    """A mapping with ``{j}`` in topic names (one topic per joint, ``/{j}/temperature.temperature``): ``{j}``
+    runs over the joint names of the mapped array topics (or ``actuator``); joints without such a topic are
+    left out."""
     patterned = {k: v for k, v in mapping.items() if JOINT in v}
     shared = {k: v for k, v in mapping.items() if JOINT not in v}
     topics = {c.topic for c in reader.connections}
@@ -384,7 +386,8 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
 
 
 def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[str], drop_incomplete: bool) -> dict:
-    """Each mapped channel's series for ``joint``; an extra channel that has none for it is left out (noted)."""
+    """Each mapped channel's series for ``joint``; an extra channel that has none for it is left out
+    (noted)."""
     series = {}
     for key in wanted:
         try:
@@ -398,8 +401,8 @@ def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[st
 
 def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
     """An array topic that names no joints read in the order of the mapped topic that names them, where every
-    message holds as many values (temperatures in a ``Float64MultiArray``, a Kinova's ``actuators``), said; where no
-    mapped topic names them, its elements numbered from 0 (a Unitree ``LowState``'s motor slots)."""
+    message holds as many values (temperatures in a ``Float64MultiArray``, a Kinova's ``actuators``), said;
+    where no mapped topic names them, its elements numbered from 0 (a Unitree ``LowState``'s motor slots)."""
     named = next(((k, data[k][2][0]) for k in wanted if np.ndim(data[k][1][0]) > 0 and data[k][2][0]), None)
     for key, (times, values, names) in data.items():
         if np.ndim(values[0]) == 0 or names[0]:
@@ -417,8 +420,9 @@ def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
 
 
 def _named_within(wanted, data, path: Path, notes: list[str]) -> None:
-    """A topic whose names share none with the effort's but hold them as words (a diagnostics status "Joint knee
-    motor" for the JointState's "knee"; of several joints a name holds, the longest) read as the joints'; said."""
+    """A topic whose names share none with the effort's but hold them as words (a diagnostics status "Joint
+    knee motor" for the JointState's "knee"; of several joints a name holds, the longest) read as the joints';
+    said."""
     arrays = [k for k in wanted if not k.startswith(EXTRA) and np.ndim(data[k][1][0]) > 0 and data[k][2][0]]
     reference = set(data["effort"][2][0]) if "effort" in arrays else set()
     for key in arrays:

@@ -46,8 +46,8 @@ class Dialect:
 
 
 def check_names(names, columns: list[str], header, path) -> None:
-    """``--columns`` checked: as many names as the file has columns, each once, and the header's own names where the
-    file has a header row (the option names the columns of a file written without one)."""
+    """``--columns`` checked: as many names as the file has columns, each once, and the header's own names
+    where the file has a header row (the option names the columns of a file written without one)."""
     if not names:
         return
     names = list(names)
@@ -69,7 +69,8 @@ def file_dialect(path: Path, sep: str | None, decimal: str | None) -> Dialect:
 
 
 def csv_dialect(text: str, source, sep: str | None = None, decimal: str | None = None) -> Dialect:
-    """The dialect of a CSV file's first lines (a file being written, read so far), as :func:`read_table` finds it."""
+    """The dialect of a CSV file's first lines (a file being written, read so far), as :func:`read_table`
+    finds it."""
     if "\x00" in text:
         raise LogError(f"{source}: not a text file (it holds NUL bytes); expected a CSV log")
     lines = [line.removeprefix("\ufeff") if i == 0 else line for i, line in enumerate(text.splitlines())]
@@ -154,7 +155,8 @@ def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,
 
 
 def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
-    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB is not a CSV log."""
+    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB is not a CSV
+    log."""
     with open(path, "rb") as f:
         head = f.read(sniff_bytes)
     control = sum(head.count(bytes([b])) for b in range(32) if b not in (9, 10, 12, 13))
@@ -201,8 +203,8 @@ def _header_line(content: list[tuple[int, str]], sep: str) -> int:
 
 
 def _split(line: str, sep: str) -> int:
-    """Number of fields, ignoring separators inside double quotes and one at the end of the line (a logger that
-    ends every line with a separator writes no field after it)."""
+    """Number of fields, ignoring separators inside double quotes and one at the end of the line (a logger
+    that ends every line with a separator writes no field after it)."""
     return len(re.sub(r'"[^"]*"', "", line.rstrip()).removesuffix(sep).split(sep))
 
 
@@ -211,6 +213,7 @@ def separator_name(sep: str) -> str:
 
 
 def shown_names(names, limit: int = 300) -> str:
-    """Column names for a one-line message: a name with unprintable characters quoted, the list cut at ``limit``."""
+    """Column names for a one-line message: a name with unprintable characters quoted, the list cut at
+    ``limit``."""
     text = ", ".join(str(n) if str(n).isprintable() else repr(str(n)) for n in names)
     return text if len(text) <= limit else text[:limit] + f"... ({len(names)} columns)"

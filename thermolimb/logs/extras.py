@@ -51,8 +51,8 @@ def unmapped(columns, mapping: Mapping[str, str]) -> list[str]:
 
 def joint_extras(columns, mapping: Mapping[str, str],
                  joints: list[int | str]) -> tuple[dict[int | str, dict[str, str]], list[str]]:
-    """Per-joint extra columns (``{joint: {stem: column}}``, only stems every joint has) and shared ones, for a
-    file mapped with joint patterns; columns the mapping uses are not extras.  Joints named in the columns
+    """Per-joint extra columns (``{joint: {stem: column}}``, only stems every joint has) and shared ones, for
+    a file mapped with joint patterns; columns the mapping uses are not extras.  Joints named in the columns
     (``/joint_states/FR_hip/position``) give stems without the name (``/joint_states/position``)."""
     named = any(isinstance(j, str) for j in joints)
     used = {str(c) for c in columns if any(_matches(c, t, named) for t in mapping.values())}
@@ -158,9 +158,9 @@ COUNTER_RISES = 0.95
 
 
 def _monotonic(x: np.ndarray, groups: list[np.ndarray] | None) -> bool:
-    """A count or a clock: strictly monotonic, or whole numbers that take several values and change almost only
-    upwards (a cycle counter, reset now and then), within each actuator's rows (a counter shared by every joint
-    repeats per joint)."""
+    """A count or a clock: strictly monotonic, or whole numbers that take several values and change almost
+    only upwards (a cycle counter, reset now and then), within each actuator's rows (a counter shared by every
+    joint repeats per joint)."""
     def one(v: np.ndarray) -> bool:
         d = np.diff(v)
         strict = bool(np.all(d > 0)) or bool(np.all(d < 0))

@@ -65,8 +65,9 @@ class CsvFollower:
     """The complete rows appended to ``path`` since the last :meth:`poll`, read as ``fit`` reads the file.
 
     ``mapping`` and ``read`` are :func:`~thermolimb.logs.read_log`'s (``--map``, and ``velocity_unit``,
-    ``effort_unit``, ``sep``, ``decimal``, ``drop_incomplete``); ``actuator``: the name of a file of one actuator.
-    :meth:`poll` returns each actuator's new :class:`Run` pieces and adds to :attr:`notes` what it has to say.
+    ``effort_unit``, ``sep``, ``decimal``, ``drop_incomplete``); ``actuator``: the name of a file of one
+    actuator. :meth:`poll` returns each actuator's new :class:`Run` pieces and adds to :attr:`notes` what it
+    has to say.
     """
 
     def __init__(self, path: str | Path, actuator: str | None = None, mapping: dict | None = None,
@@ -99,8 +100,8 @@ class CsvFollower:
         return self.dialect is not None
 
     def poll(self, final: bool = False) -> dict[str, list[Run]]:
-        """What complete rows the file gained since the last poll.  ``final``: the writer has stopped (the monitor
-        idles out), so a log shorter than :data:`PROBE_ROWS` is read as it is."""
+        """What complete rows the file gained since the last poll.  ``final``: the writer has stopped (the
+        monitor idles out), so a log shorter than :data:`PROBE_ROWS` is read as it is."""
         try:
             stat = os.stat(self.path)
         except FileNotFoundError:
@@ -139,8 +140,8 @@ class CsvFollower:
         return numbered
 
     def _start(self) -> dict[str, list[Run]]:
-        """The first rows read whole, as ``fit`` reads a file: the dialect, the header and the units decided; the
-        lines after them read as every later line is."""
+        """The first rows read whole, as ``fit`` reads a file: the dialect, the header and the units decided;
+        the lines after them read as every later line is."""
         probe = self._probe_rows()
         lines, self.pending = self.pending, []
         data = [k for k, (_, t) in enumerate(lines) if t.strip() and not t.lstrip().startswith("#")]
@@ -172,8 +173,8 @@ class CsvFollower:
         return out
 
     def _probe_rows(self) -> int:
-        """The rows the start reads whole: :data:`PROBE_ROWS` for each actuator the pending rows name (a log of
-        six joints is read as six logs of one would be), as far as its actuator column can be read yet."""
+        """The rows the start reads whole: :data:`PROBE_ROWS` for each actuator the pending rows name (a log
+        of six joints is read as six logs of one would be), as far as its actuator column can be read yet."""
         text = "\n".join(t for _, t in self.pending) + "\n"
         column = (self.mapping or {}).get("actuator", "actuator")
         try:
@@ -205,8 +206,8 @@ class CsvFollower:
         return self._batch(good)
 
     def _checked(self, numbered: list[tuple[int, str]]) -> list[tuple[int, str]]:
-        """The lines that can be read by the header: a repeated header, a line of another number of fields, said
-        and left out; at a new header, the lines from it wait to be read as a new log's first rows."""
+        """The lines that can be read by the header: a repeated header, a line of another number of fields,
+        said and left out; at a new header, the lines from it wait to be read as a new log's first rows."""
         sep, header = self.dialect.options["sep"], [h.strip() for h in self.dialect.header]
         good: list[tuple[int, str]] = []
         for k, (number, text) in enumerate(numbered):
@@ -262,8 +263,8 @@ class CsvFollower:
             self.notes.append(f"{self.path}: {said}")
 
     def _batch(self, good: list[tuple[int, str]]) -> dict[str, list[Run]]:
-        """Lines validated together; a batch that does not validate is halved until each bad line is found, said
-        and skipped (a bad line costs the logarithm of the batch's length in validations)."""
+        """Lines validated together; a batch that does not validate is halved until each bad line is found,
+        said and skipped (a bad line costs the logarithm of the batch's length in validations)."""
         out: dict[str, list[Run]] = {}
         queue = [good] if good else []
         while queue:
@@ -310,8 +311,8 @@ class CsvFollower:
         return out, list(log.notes)
 
     def _say(self, notes, lines: tuple[int, int] | None = None) -> None:
-        """Each of a piece's notes once: a later piece's that an earlier one said already (a unit converted, said
-        again for every line appended) is not said again; a new one names the lines it comes from."""
+        """Each of a piece's notes once: a later piece's that an earlier one said already (a unit converted,
+        said again for every line appended) is not said again; a new one names the lines it comes from."""
         prefix = f"{self.path}: "
         for note in notes:
             body = note.removeprefix(prefix)

@@ -1,17 +1,18 @@
 """Follow an MCAP (or a ROS 2 bag folder holding one) while it is being recorded.
 
-The records are read as far as they are written (:class:`~thermolimb.logs.mcap_stream.McapStream`): a chunk
-is seen when the recorder has written it whole (``ros2 bag record`` writes one every few hundred kilobytes), so
+The records are read as far as they are written (:class:`~thermolimb.logs.mcap_stream.McapStream`): a chunk is
+seen when the recorder has written it whole (``ros2 bag record`` writes one every few hundred kilobytes), so
 the monitor lags by a chunk.
 
 Which fields are efforts, velocities and temperatures is a mapping in the syntax of the bag readers
-(``effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature``; the
-default is the layout :mod:`thermolimb.logs.bag_writer` writes).  Messages are read as :mod:`thermolimb.logs.bags`
+(``effort=/joint_states.effort,velocity=/joint_states.velocity,temperature=/thermal.temperature``; the default
+is the layout :mod:`thermolimb.logs.bag_writer` writes).  Messages are read as :mod:`thermolimb.logs.bags`
 reads a recorded bag (:mod:`.messages`): a field is an array of one value per actuator, named by the message's
-name array (a ros2_control ``/dynamic_joint_states``: each state interface over the joints that have it; an array
-naming none, in the order the efforts name them); a topic with ``{j}`` (``temperature=/{j}/temperature.temperature``)
-is one actuator's, named by what ``{j}`` matched.  Each temperature message makes a sample of its actuators,
-with the latest effort and velocity held (zero-order hold).
+name array (a ros2_control ``/dynamic_joint_states``: each state interface over the joints that have it; an
+array naming none, in the order the efforts name them); a topic with ``{j}``
+(``temperature=/{j}/temperature.temperature``) is one actuator's, named by what ``{j}`` matched.  Each
+temperature message makes a sample of its actuators, with the latest effort and velocity held (zero-order
+hold).
 """
 
 from __future__ import annotations
@@ -140,8 +141,8 @@ class _Target:
         return {str(n): float(v) for n, v in zip(joint_names(msg, self.field), list(value))}
 
     def in_order(self, msg, topic: str, source, names: list[str], notes: list[str]) -> dict[str, float]:
-        """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many, said
-        once, or without ``names`` numbered from 0, as the recorded bag's reader does."""
+        """An array that names no joints, read in the order ``names`` (the efforts') where it holds as many,
+        said once, or without ``names`` numbered from 0, as the recorded bag's reader does."""
         value = np.atleast_1d(field_value(msg, self.field, topic, source))
         # an empty array (a gripper's publisher): no sample
         if value.size == 0 or joint_names(msg, self.field):

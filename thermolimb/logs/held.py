@@ -2,10 +2,10 @@
 
 A logger that merges a slow temperature topic (1 Hz) into the rows of a fast one (joint states at 20 Hz or
 more) and fills the blanks -- PlotJuggler's CSV export, a pandas ``ffill``, a driver that republishes its last
-reading at the control rate -- repeats each reading until the next.  Read row by row, the held value is half an
-update period old on average, and a model reads that delay as physics: the 1 Hz temperatures of a plant with no
-lagging sensor, filled onto 20 Hz rows and read row by row, walk to ``+ sensor_lag``; read on their updates, the
-walk takes no lag (and reads twenty times fewer samples).
+reading at the control rate -- repeats each reading until the next.  Read row by row, the held value is half
+an update period old on average, and a model reads that delay as physics: the 1 Hz temperatures of a plant
+with no lagging sensor, filled onto 20 Hz rows and read row by row, walk to ``+ sensor_lag``; read on their
+updates, the walk takes no lag (and reads twenty times fewer samples).
 
 **What counts as held.**  A column that changes only on a clock: at least :data:`MIN_CHANGES` changes, an
 update period at least :data:`MIN_ROWS` rows long, and at least :data:`SHARE` of its changes within a row
@@ -36,7 +36,8 @@ SHARE = 0.9
 
 
 def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, float] | None:
-    """``(period_s, phase_s)`` of the clock a held temperature changes on (module docstring), else ``None``."""
+    """``(period_s, phase_s)`` of the clock a held temperature changes on (module docstring), else
+    ``None``."""
     t, values = np.asarray(time_s, float), np.asarray(temperature_C, float)
     if t.size < 2 * MIN_ROWS:
         return None
@@ -70,9 +71,9 @@ def update_grid(time_s: np.ndarray, temperature_C: np.ndarray) -> tuple[float, f
 
 def on_updates(time_s: np.ndarray, columns: dict[str, np.ndarray], period_s: float, phase_s: float,
                row_s: float) -> dict[str, np.ndarray]:
-    """``columns`` (``temperature`` among them; each a value per row of ``time_s``) read on the grid's instants
-    within the log: the temperature as it reads just after each instant, the others averaged over each interval
-    (effort, current and velocity as signed root mean squares, :mod:`.align`)."""
+    """``columns`` (``temperature`` among them; each a value per row of ``time_s``) read on the grid's
+    instants within the log: the temperature as it reads just after each instant, the others averaged over
+    each interval (effort, current and velocity as signed root mean squares, :mod:`.align`)."""
     t = np.asarray(time_s, float)
     slack = 1e-6  # of a period: an instant on the log's first or last row is within it
     k = np.arange(np.ceil((t[0] - phase_s) / period_s - slack), np.floor((t[-1] - phase_s) / period_s + slack) + 1)
@@ -86,9 +87,9 @@ def on_updates(time_s: np.ndarray, columns: dict[str, np.ndarray], period_s: flo
 
 
 def read_on_updates(rows, name: str, source: str, notes: list[str]):
-    """One actuator's rows (a frame of :func:`~.validate.from_frame`'s columns) read on its temperature's updates
-    where the temperature is held (module docstring), each run between logging pauses on its own clock (a
-    recording resumed restarts it), said in ``notes``; else the rows as they are."""
+    """One actuator's rows (a frame of :func:`~.validate.from_frame`'s columns) read on its temperature's
+    updates where the temperature is held (module docstring), each run between logging pauses on its own clock
+    (a recording resumed restarts it), said in ``notes``; else the rows as they are."""
     t = rows["time"].to_numpy(float)
     cuts = [0, *gaps(t), t.size]
     pieces, found = [], []

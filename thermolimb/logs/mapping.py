@@ -72,8 +72,8 @@ def parse_mapping(text: str | None) -> dict[str, str]:
 
 
 def on_time(value: str, time: str | None) -> str:
-    """A mapped channel ``COLUMN[@TIME][:UNIT]`` read on ``time``'s samples (``COLUMN@TIME:UNIT``), or with ``None``
-    on the rows of the file (``COLUMN:UNIT``)."""
+    """A mapped channel ``COLUMN[@TIME][:UNIT]`` read on ``time``'s samples (``COLUMN@TIME:UNIT``), or with
+    ``None`` on the rows of the file (``COLUMN:UNIT``)."""
     column, unit = split_unit(value)
     column = column.partition(TIME_OF)[0]
     return (column if time is None else f"{column}{TIME_OF}{time}") + (f":{unit}" if unit else "")
@@ -88,7 +88,8 @@ NUMBER, NAME = r"\d+", r"[^/]+"
 
 
 def pattern_regex(template: str, joint: str = NUMBER) -> re.Pattern:
-    """A column pattern (``{j}`` for the joint, ``*`` for any text) as an anchored regex, the joint as group ``j``."""
+    """A column pattern (``{j}`` for the joint, ``*`` for any text) as an anchored regex, the joint as group
+    ``j``."""
     parts = re.split(r"(\{j\}|\*)", template)
     body = "".join(f"(?P<j>{joint})" if p == JOINT else ".*?" if p == "*" else re.escape(p) for p in parts)
     return re.compile(f"^{body}$")
@@ -96,10 +97,11 @@ def pattern_regex(template: str, joint: str = NUMBER) -> re.Pattern:
 
 def expand_joints(columns, mapping: Mapping[str, str], source: str,
                   notes: list[str] | None = None) -> list[tuple[int | str, str, dict[str, str]]]:
-    """``[(joint, actuator name, {canonical: column})]`` for every joint of a pattern mapping: joints numbered in the
-    columns in the order of their numbers, joints named there (where a number finds no column) in the file's order.  A numbered
-    joint with some of the patterns' columns and not others is refused; a named one is left out and said in
-    ``notes`` (topics exported together name different joints: a gripper in the JointState, no temperature)."""
+    """``[(joint, actuator name, {canonical: column})]`` for every joint of a pattern mapping: joints numbered
+    in the columns in the order of their numbers, joints named there (where a number finds no column) in the
+    file's order.  A numbered joint with some of the patterns' columns and not others is refused; a named one
+    is left out and said in ``notes`` (topics exported together name different joints: a gripper in the
+    JointState, no temperature)."""
     columns = [str(c) for c in columns]
     templates = {k: v for k, v in mapping.items() if k != "actuator" and JOINT in v}
     def finds(template, joint):
@@ -200,8 +202,9 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
     reasons).  Only a suggestion: the user checks it against the listing.
 
     ``flat`` names the columns whose values never vary (all zeros, one value throughout): never suggested as a
-    sensor or an input over columns that vary (a driver's three all-zero per-FET temperatures beside the motor's).
-    A temperature whose name says the air's or a reference junction's (``tempRefCelsius``) is the ambient.
+    sensor or an input over columns that vary (a driver's three all-zero per-FET temperatures beside the
+    motor's). A temperature whose name says the air's or a reference junction's (``tempRefCelsius``) is the
+    ambient.
     """
     most = max(values.values(), default=0)
     # a column of a few values beside ones of many is a summary (Max Temp [C]: 1 value), not a channel
@@ -311,11 +314,11 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
 
 
 def _own_time_columns(mapping: dict[str, str], times: list[str], values: Mapping[str, int]) -> dict | None:
-    """Where a file has several time columns (one per topic: ``Temperature Time [s]`` beside ``States Time [s]``),
-    each mapped channel's own: the one time column holding as many values as the channel, or of several such, the
-    one whose name shares a word with the channel's column (``Temp`` in ``Temperature``), else the one of measured
-    states (``States Time [s]``, a ROS joint_states topic, not ``Commands Time [s]``).  ``None`` unless the
-    temperature and the effort each have one."""
+    """Where a file has several time columns (one per topic: ``Temperature Time [s]`` beside ``States Time
+    [s]``), each mapped channel's own: the one time column holding as many values as the channel, or of
+    several such, the one whose name shares a word with the channel's column (``Temp`` in ``Temperature``),
+    else the one of measured states (``States Time [s]``, a ROS joint_states topic, not ``Commands Time
+    [s]``).  ``None`` unless the temperature and the effort each have one."""
     def words(name):
         return [w for w in re.split(r"[^a-z0-9]+", name.lower()) if len(w) >= 3 and w != "time"]
 
@@ -343,8 +346,8 @@ def named_unit(channel: str, column: str) -> str | None:
 
 def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str], list[str]] | None:
     """Where a channel's several columns differ only in a joint's name between separators
-    (``/joint_states/FR_hip/effort`` beside ``/joint_states/FR_calf/effort``), and the temperature's columns name
-    the same joints: each such channel's pattern with ``{j}`` for the name, the joints' names in the
+    (``/joint_states/FR_hip/effort`` beside ``/joint_states/FR_calf/effort``), and the temperature's columns
+    name the same joints: each such channel's pattern with ``{j}`` for the name, the joints' names in the
     temperature's order, and which of them lack an input's column; else ``None``."""
     joints = {channel: _name_pattern(cols) for channel, cols in several.items()}
     joints = {channel: found for channel, found in joints.items() if found is not None}
@@ -358,8 +361,8 @@ def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[s
 
 def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:
     """The pattern of columns that differ only in the text between a common head and tail, cut at separators
-    (``/`` and ``.`` first, then ``_``, ``-`` and spaces): ``("/joint_states/{j}/effort", ["FR_hip", "FR_calf"])``,
-    or ``None``."""
+    (``/`` and ``.`` first, then ``_``, ``-`` and spaces): ``("/joint_states/{j}/effort", ["FR_hip",
+    "FR_calf"])``, or ``None``."""
     if len(columns) < 2:
         return None
     for separators in ("/.", "/._- "):
@@ -424,14 +427,15 @@ def _says_ambient(name: str) -> bool:
 
 def _word(stem: str) -> str:
     """The name part that says what a per-joint column holds, without the joint's label (``Temperature_T`` ->
-    ``Temperature``, ``motor_temp_`` -> ``motor_temp``, ``/joint_states/effort.`` -> ``/joint_states/effort``)."""
+    ``Temperature``, ``motor_temp_`` -> ``motor_temp``, ``/joint_states/effort.`` ->
+    ``/joint_states/effort``)."""
     core = re.sub(r"[\s._\-\[(]+$", "", stem.strip())
     return re.sub(r"[\s._\-]+[A-Za-z]$", "", core) or stem
 
 
 def _pattern(names: list[str]) -> str:
-    """The joint pattern of per-joint column names: ``{j}`` for the number, ``*`` where they differ (a number inside
-    the names, ``joint1_effort``, stands where it stands: ``joint{j}_effort``)."""
+    """The joint pattern of per-joint column names: ``{j}`` for the number, ``*`` where they differ (a number
+    inside the names, ``joint1_effort``, stands where it stands: ``joint{j}_effort``)."""
     inside = _JOINT_INSIDE.match(names[0])
     if inside and not _JOINT_COLUMN.match(names[0]):
         return f"{inside.group('stem')}{JOINT}{inside.group('rest')}"

@@ -1,12 +1,12 @@
 """An MCAP read as far as it is written: a file still being recorded, or one a crash cut off.
 
 An MCAP is a sequence of records, each ``opcode (1 byte), length (8 bytes), content``; a recorder appends them
-as it goes (messages inside chunks, a chunk written when full) and writes the summary last.  :class:`McapStream`
-frames the records itself, keeps the offset of the last complete one, and decodes each new complete record with
-the ``mcap`` package's :class:`~mcap.stream_reader.StreamReader` (a chunk gives its messages); ROS 2 message
-definitions are read from the file's schemas and registered with ``rosbags``, which deserialises the CDR.
-``thermolimb monitor --follow`` reads a growing file with it; :class:`PartialMcap` reads a cut-off one through
-the same interface the bag readers use for a whole one.
+as it goes (messages inside chunks, a chunk written when full) and writes the summary last.
+:class:`McapStream` frames the records itself, keeps the offset of the last complete one, and decodes each new
+complete record with the ``mcap`` package's :class:`~mcap.stream_reader.StreamReader` (a chunk gives its
+messages); ROS 2 message definitions are read from the file's schemas and registered with ``rosbags``, which
+deserialises the CDR. ``thermolimb monitor --follow`` reads a growing file with it; :class:`PartialMcap` reads
+a cut-off one through the same interface the bag readers use for a whole one.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ def ends_early(path: Path) -> bool:
 
 def register_definition(store, msgtype: str, text: str, name=lambda n: n) -> None:
     """Register ``msgtype`` and the types its definition carries after it (``===`` then ``MSG: pkg/Type``
-    blocks, as recorders write them) with a ``rosbags`` type store; ``name`` turns a written type name into the
-    store's (a ROS 1 ``pkg/Type`` into ``pkg/msg/Type``)."""
+    blocks, as recorders write them) with a ``rosbags`` type store; ``name`` turns a written type name into
+    the store's (a ROS 1 ``pkg/Type`` into ``pkg/msg/Type``)."""
     from rosbags.typesys import get_types_from_msg
 
     if msgtype in store.types:
@@ -68,7 +68,8 @@ def _records(data: bytes):
 
 
 class McapStream:
-    """The messages an MCAP gained since the last :meth:`read`, as ``(topic, message type, time ns, raw CDR)``."""
+    """The messages an MCAP gained since the last :meth:`read`, as ``(topic, message type, time ns, raw
+    CDR)``."""
 
     def __init__(self, path: str | Path):
         from rosbags.typesys import Stores, get_typestore

@@ -1,8 +1,8 @@
-"""A bag message's fields as the readers take them: numbers, arrays of numbers per joint and the names that index
-them, fields inside sub-messages (``imu.temperature``) and across an array of sub-messages, one number per element
-(a Unitree ``LowState``'s ``motor_state.temperature``, its motors numbered from 0), and ros2_control's
-``DynamicJointState`` as one array per state interface.  Shared by the recorded bag's reader (:mod:`.bags`) and
-the followed recording's (:mod:`.follow_mcap`)."""
+"""A bag message's fields as the readers take them: numbers, arrays of numbers per joint and the names that
+index them, fields inside sub-messages (``imu.temperature``) and across an array of sub-messages, one number
+per element (a Unitree ``LowState``'s ``motor_state.temperature``, its motors numbered from 0), and
+ros2_control's ``DynamicJointState`` as one array per state interface.  Shared by the recorded bag's reader
+(:mod:`.bags`) and the followed recording's (:mod:`.follow_mcap`)."""
 
 from __future__ import annotations
 
@@ -23,10 +23,10 @@ NUMERIC_KINDS = "biuf"
 @dataclass(frozen=True)
 class Interfaces:
     """Per joint, named numbers, as one array per name over the joints that have it: a ros2_control
-    ``DynamicJointState`` (each joint's state interfaces), so that ``/dynamic_joint_states.temperature`` maps as a
-    JointState's ``effort`` does, or a ``diagnostic_msgs/DiagnosticArray`` (each status's key-value strings that
-    read as numbers: ``/diagnostics.Motor_temperature``).  A name's characters other than letters and digits read
-    as ``_`` (a field's path splits on dots)."""
+    ``DynamicJointState`` (each joint's state interfaces), so that ``/dynamic_joint_states.temperature`` maps
+    as a JointState's ``effort`` does, or a ``diagnostic_msgs/DiagnosticArray`` (each status's key-value
+    strings that read as numbers: ``/diagnostics.Motor_temperature``).  A name's characters other than letters
+    and digits read as ``_`` (a field's path splits on dots)."""
 
     msgtype: str
     joint_names: tuple[str, ...]
@@ -72,8 +72,8 @@ def flat_message(msg):
 
 
 def named_within(names, joints) -> dict[str, str]:
-    """``{name: joint}`` for each of ``names`` that holds one of ``joints`` as a word (bounded by anything but a
-    letter or a digit; of several, the longest), a joint that two names hold being neither's."""
+    """``{name: joint}`` for each of ``names`` that holds one of ``joints`` as a word (bounded by anything but
+    a letter or a digit; of several, the longest), a joint that two names hold being neither's."""
     rename = {}
     for name in names:
         found = [j for j in joints if re.search(rf"(?<![A-Za-z0-9]){re.escape(j)}(?![A-Za-z0-9])", name)]
@@ -104,8 +104,8 @@ def _message_array(value) -> bool:
 
 
 def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
-    """The fields holding numbers (``a.b`` inside a sub-message; inside an array of sub-messages, its elements'
-    numbers, one per element: ``motor_state.temperature``)."""
+    """The fields holding numbers (``a.b`` inside a sub-message; inside an array of sub-messages, its
+    elements' numbers, one per element: ``motor_state.temperature``)."""
     out = []
     for k, v in _fields(msg).items():
         if hasattr(v, "__dataclass_fields__"):
@@ -119,10 +119,10 @@ def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
 
 
 def joint_names(msg, field: str | None = None) -> tuple[str, ...]:
-    """The joints a message names (those of ``field``'s values, where they are its own: an interface's); without a
-    name array, those an array of sub-messages (on ``field``'s path, or the first) names in its elements' own
-    ``name`` (a servo driver's list of motor states); else none (the readers then take another topic's order, or
-    number them: :func:`numbered`)."""
+    """The joints a message names (those of ``field``'s values, where they are its own: an interface's);
+    without a name array, those an array of sub-messages (on ``field``'s path, or the first) names in its
+    elements' own ``name`` (a servo driver's list of motor states); else none (the readers then take another
+    topic's order, or number them: :func:`numbered`)."""
     if isinstance(msg, Interfaces):
         return msg.arrays[field][0] if field in msg.arrays else msg.joint_names
     for k in NAME_FIELDS:
@@ -153,8 +153,8 @@ def _array_on(msg, field: str | None):
 
 
 def field_value(msg, field: str, topic: str, path: Path):
-    """``msg``'s ``field`` (``a.b`` inside a sub-message): a number or an array of numbers, else a one-sentence
-    refusal naming the message's numeric fields."""
+    """``msg``'s ``field`` (``a.b`` inside a sub-message): a number or an array of numbers, else a
+    one-sentence refusal naming the message's numeric fields."""
     value, parts = msg, field.split(".")
     for k, part in enumerate(parts):
         # one number per element: the rest of the path

@@ -81,8 +81,9 @@ def fahrenheit_named(column: str) -> bool:
 
 
 def refuse_unstated_fahrenheit(mapping: Mapping[str, str], stated: Mapping[str, str], source: str) -> None:
-    """A mapped temperature column whose name ends as degrees Fahrenheit do (``temp_F``) and that states no unit is
-    refused: its readings (68-250 degF for 20-120 degC) would pass for degrees Celsius, and the log does not say."""
+    """A mapped temperature column whose name ends as degrees Fahrenheit do (``temp_F``) and that states no
+    unit is refused: its readings (68-250 degF for 20-120 degC) would pass for degrees Celsius, and the log
+    does not say."""
     for name, column in mapping.items():
         if UNITS.get(name) == "degC" and name not in stated and fahrenheit_named(column):
             bare = str(column).partition(TIME_OF)[0]
@@ -92,7 +93,8 @@ def refuse_unstated_fahrenheit(mapping: Mapping[str, str], stated: Mapping[str, 
 
 
 def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
-    """The time's and temperatures' units the mapped columns' headers give (``stamp [ms]``, ``T_winding [K]``)."""
+    """The time's and temperatures' units the mapped columns' headers give (``stamp [ms]``, ``T_winding
+    [K]``)."""
     out = {}
     for name, column in mapping.items():
         if name == "time" or UNITS.get(name) == "degC":
@@ -103,8 +105,8 @@ def mapped_stated(mapping: Mapping[str, str]) -> dict[str, str]:
 
 
 def slowest_rate(out: dict[str, np.ndarray]) -> tuple[float, float] | None:
-    """Of the actuators of a log, the smallest average rate of its temperature's span over its time span (K/s),
-    with that span (K); ``None`` when an actuator's time does not move."""
+    """Of the actuators of a log, the smallest average rate of its temperature's span over its time span
+    (K/s), with that span (K); ``None`` when an actuator's time does not move."""
     rates, names = [], np.asarray(out["actuator"], dtype=str)
     for name in np.unique(names):
         mine = names == name
@@ -164,8 +166,8 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
 
 
 def _distinct_steps(t: np.ndarray) -> np.ndarray:
-    """The steps between the distinct time stamps, ``np.diff(np.unique(t))``: without the sort where they are in
-    order already (a 2 M-sample run's sort, 0.14 s)."""
+    """The steps between the distinct time stamps, ``np.diff(np.unique(t))``: without the sort where they are
+    in order already (a 2 M-sample run's sort, 0.14 s)."""
     steps = np.diff(t)
     return steps[steps > 0] if np.all(steps >= 0) else np.diff(np.unique(t))
 

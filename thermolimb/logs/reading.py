@@ -133,7 +133,8 @@ READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table}
 
 
 def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLog:
-    """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its ``actuators``)."""
+    """:func:`read_log` of some actuators of a canonical long table, read in pieces (see its
+    ``actuators``)."""
     sep, decimal, options = request.sep, request.decimal, request.options(path)
     columns = column_names(path, sep, decimal, request.columns)
     key = next((c for c in columns if base_name(c) == "actuator"), None)

@@ -132,8 +132,8 @@ class ThermalLog:
 
     @cached_property
     def _groups(self) -> dict:
-        """Each actuator's rows, split once (a log's frame is not changed after reading); a log of one actuator
-        (read with ``actuators=``) is its own group, not a copy."""
+        """Each actuator's rows, split once (a log's frame is not changed after reading); a log of one
+        actuator (read with ``actuators=``) is its own group, not a copy."""
         if len(self.actuators) == 1:
             return {self.actuators[0]: self.frame}
         return {name: g for name, g in self.frame.groupby("actuator", sort=False)}
@@ -144,21 +144,22 @@ class ThermalLog:
 
     @cached_property
     def extras(self) -> tuple[str, ...]:
-        """Names of the channels the log carries beyond the canonical ones (:mod:`.extras`); their units are in
-        ``units`` as ``extra.NAME``."""
+        """Names of the channels the log carries beyond the canonical ones (:mod:`.extras`); their units are
+        in ``units`` as ``extra.NAME``."""
         return tuple(c[len(EXTRA):] for c in self.frame.columns if c.startswith(EXTRA))
 
     def arrays(self, actuator: str) -> dict[str, np.ndarray]:
         """One actuator's columns as float arrays, by their canonical names (``time``, ``effort``,
-        ``temperature``, each optional channel the log has, each extra as ``extra.NAME``): its rows as read, no
-        neighbour looked up (what a follower hands on, piece by piece)."""
+        ``temperature``, each optional channel the log has, each extra as ``extra.NAME``): its rows as read,
+        no neighbour looked up (what a follower hands on, piece by piece)."""
         if actuator not in self.actuators:
             raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
         g = self._groups[actuator]
         return {c: g[c].to_numpy(float) for c in g.columns if c != "actuator"}
 
     def series(self, actuator: str) -> ActuatorSeries:
-        """The channel of one actuator; its neighbours are the actuators before and after it in the log's order."""
+        """The channel of one actuator; its neighbours are the actuators before and after it in the log's
+        order."""
         if actuator not in self.actuators:
             raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
         groups = self._groups
@@ -193,7 +194,8 @@ class ThermalLog:
         return self.neighbours[name]
 
     def runs(self, actuator: str) -> list[ActuatorSeries]:
-        """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own reading."""
+        """The actuator's series cut at pauses in logging (see :func:`gaps`); each run starts from its own
+        reading."""
         whole = self.series(actuator)
         cuts = gaps(whole.time_s)
         stem = Path(self.source).stem if self.source != "<memory>" else "log"
@@ -224,7 +226,8 @@ class ThermalLog:
 
 
 def gaps(time_s: np.ndarray) -> list[int]:
-    """Indices where a run starts after a pause longer than ``GAP_FACTOR`` median intervals and ``GAP_MIN_S``."""
+    """Indices where a run starts after a pause longer than ``GAP_FACTOR`` median intervals and
+    ``GAP_MIN_S``."""
     if time_s.size < 3:
         return []
     dt = np.diff(time_s)

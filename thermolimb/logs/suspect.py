@@ -7,9 +7,9 @@ spans in one actuator's samples, says each with its span, and leaves its rows ou
 there, as at a pause), or refuses the actuator when too little is left.  The rules are conservative -- a
 reading repeated *exactly* over many samples while the effort moves over most of its range, and left by a jump
 of more than one of the sensor's steps (or never left) -- so that a coarse but honest sensor is not caught: at
-rest, or on a joint heating slowly (a whole-degree sensor holds one value for ten minutes and then moves by one
-degree: the heat that came in was less than a step).  :func:`fahrenheit_note` says when a
-temperature column reads like degF beside an ambient in degC.
+rest, or on a joint heating slowly (a whole-degree sensor holds one value for ten minutes and then moves by
+one degree: the heat that came in was less than a step).  :func:`fahrenheit_note` says when a temperature
+column reads like degF beside an ambient in degC.
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ DROPOUT_MAX_SAMPLES = 3  # ...lasting at most this many samples
 
 
 def _plateaus(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(starts, stops)`` of every run of exactly repeated values, as arrays (a noisy log of millions of samples
-    has about as many runs: no Python object per run)."""
+    """``(starts, stops)`` of every run of exactly repeated values, as arrays (a noisy log of millions of
+    samples has about as many runs: no Python object per run)."""
     change = np.flatnonzero(np.diff(values) != 0.0) + 1
     return np.concatenate([[0], change]), np.concatenate([change, [values.size]])
 
@@ -81,10 +81,10 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
 
 def held_away(values: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> list[tuple[int, int]]:
     """Plateaus longer than a dropout (more than :data:`DROPOUT_MAX_SAMPLES` readings of exactly one value),
-    however long, entered by a jump of more than :data:`DROPOUT_K` and left by one back: the value a sensor reads
-    when open, shorted or unconfigured (0, -40, 85, 127 degC...).  What marks one is the jump and the return to
-    within half the jump of the reading before it, not the value: a motor that warms to 85 degC and sits there
-    was not entered by a jump."""
+    however long, entered by a jump of more than :data:`DROPOUT_K` and left by one back: the value a sensor
+    reads when open, shorted or unconfigured (0, -40, 85, 127 degC...).  What marks one is the jump and the
+    return to within half the jump of the reading before it, not the value: a motor that warms to 85 degC and
+    sits there was not entered by a jump."""
     n = values.size
     pick = np.flatnonzero((stops - starts > DROPOUT_MAX_SAMPLES) & (starts > 0) & (stops < n))
     if pick.size == 0:
@@ -138,8 +138,8 @@ def _steady(values: np.ndarray) -> bool:
 
 def _heated(values: np.ndarray, heat: np.ndarray, a: int, b: int, before: float) -> bool:
     """The readings ``a:b`` rose while the heat coming in over the intervals leading to them (an input holds
-    from its sample to the next, so reading ``k`` follows ``heat[k - 1]``) was at least twice its median on both
-    sides of the stretch."""
+    from its sample to the next, so reading ``k`` follows ``heat[k - 1]``) was at least twice its median on
+    both sides of the stretch."""
     if not np.all(values[a:b] > before):
         return False
     w = DROPOUT_MAX_SAMPLES
@@ -155,12 +155,12 @@ def disturbed_spans(temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple
     """``(start, stop, fall_K, jump_K)`` of each span over which the effort is driven (its magnitude above the
     middle of its range) and the readings jump up as it stops.
 
-    A winding cannot heat by kelvins the moment its heat is taken away, nor faster than it heated while the heat
-    came in: readings that do read low while the actuator is driven (a thermocouple or thermistor disturbed by
-    the drive's electromagnetic noise), and often fall as it starts.  The jump is the rise of the readings'
-    3-sample median over :data:`DISTURBED_SAMPLES` samples after the span, at least :data:`DISTURBED_MIN_K` and
-    more than any such rise within the span; the fall, the reading before the span less the lowest of its first
-    quarter (reported, not required).
+    A winding cannot heat by kelvins the moment its heat is taken away, nor faster than it heated while the
+    heat came in: readings that do read low while the actuator is driven (a thermocouple or thermistor
+    disturbed by the drive's electromagnetic noise), and often fall as it starts.  The jump is the rise of the
+    readings' 3-sample median over :data:`DISTURBED_SAMPLES` samples after the span, at least
+    :data:`DISTURBED_MIN_K` and more than any such rise within the span; the fall, the reading before the span
+    less the lowest of its first quarter (reported, not required).
 
     Parameters
     ----------
@@ -195,7 +195,8 @@ def disturbed_spans(temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple
 
 
 def leave_out(group, name: str, source: str, notes: list[str], min_samples: int):
-    """``group`` (one actuator's rows) without its suspect spans, each said; refused when too little is left."""
+    """``group`` (one actuator's rows) without its suspect spans, each said; refused when too little is
+    left."""
     t = group["time"].to_numpy()
     spans = suspect_spans(t, group["temperature"].to_numpy(), group["effort"].to_numpy())
     if not spans:

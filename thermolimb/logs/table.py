@@ -289,8 +289,8 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
 
 
 def is_stamped(values: pd.Series) -> bool:
-    """Whether a time column holds time stamps (datetimes, ISO-8601 text), not numbers (as text too), durations or
-    elapsed times."""
+    """Whether a time column holds time stamps (datetimes, ISO-8601 text), not numbers (as text too),
+    durations or elapsed times."""
     if pd.api.types.is_datetime64_any_dtype(values):
         return True
     if pd.api.types.is_numeric_dtype(values) or pd.api.types.is_timedelta64_dtype(values):

@@ -37,7 +37,8 @@ SPELLINGS = {u.lower(): u for u in ("rpm", "rad/s", "deg/s", "rev/s", "turn/s", 
 
 
 def spelled(unit: str) -> str:
-    """A unit in the spelling the suite uses where its case says nothing (``RPM`` -> ``rpm``, ``DegC`` -> ``degC``)."""
+    """A unit in the spelling the suite uses where its case says nothing (``RPM`` -> ``rpm``, ``DegC`` ->
+    ``degC``)."""
     return SPELLINGS.get(unit.strip().lower(), unit)
 
 
@@ -49,7 +50,8 @@ def header_unit(column: str) -> str | None:
 
 
 def base_name(column) -> str:
-    """A column's name without the unit its header may carry, lower case (``Temperature [degC]`` -> ``temperature``)."""
+    """A column's name without the unit its header may carry, lower case (``Temperature [degC]`` ->
+    ``temperature``)."""
     return _HEADER.sub("", str(column)).strip().lower()
 
 
@@ -67,7 +69,8 @@ def canonical_headers(columns, names) -> tuple[dict[str, str], dict[str, str]]:
 
 
 def split_unit(value: str) -> tuple[str, str | None]:
-    """``COLUMN:UNIT`` -> ``(COLUMN, UNIT)`` when UNIT is a known unit; otherwise the whole value is the column."""
+    """``COLUMN:UNIT`` -> ``(COLUMN, UNIT)`` when UNIT is a known unit; otherwise the whole value is the
+    column."""
     column, sep, unit = str(value).rpartition(":")
     if sep and spelled(unit) in KNOWN and column:
         return column, spelled(unit)
@@ -75,8 +78,8 @@ def split_unit(value: str) -> tuple[str, str | None]:
 
 
 def channel_units(mapping: Mapping[str, str] | None, given: Mapping[str, str | None]) -> dict[str, str]:
-    """The unit of each scaled channel: ``given`` (a mapping's ``:UNIT`` or an option), else the mapped column's
-    header, else, for a canonical log (no mapping), the canonical unit; else :data:`NOT_GIVEN`."""
+    """The unit of each scaled channel: ``given`` (a mapping's ``:UNIT`` or an option), else the mapped
+    column's header, else, for a canonical log (no mapping), the canonical unit; else :data:`NOT_GIVEN`."""
     units = {}
     for channel in SCALED:
         if given.get(channel):

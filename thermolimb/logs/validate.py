@@ -40,9 +40,9 @@ VELOCITY_UNITS = {"rad/s": 1.0, "m/s": 1.0, "rpm": 2.0 * np.pi / 60.0, "deg/s": 
 
 @dataclass
 class Reading:
-    """How a log's first piece was read, so that every later piece of it (a log followed as it is written) is read
-    alike: the units of time and temperatures it stated or gave away, the time's scale and origin.  Filled by
-    :func:`from_frame` on the first piece, given back for the later ones."""
+    """How a log's first piece was read, so that every later piece of it (a log followed as it is written) is
+    read alike: the units of time and temperatures it stated or gave away, the time's scale and origin.
+    Filled by :func:`from_frame` on the first piece, given back for the later ones."""
 
     stated: dict = field(default_factory=dict)  # time and temperature units: stated, or found in the numbers
     time_scale: float = 1.0  # seconds per unit of a numeric time (an epoch counted in ms, us, ns)
@@ -70,9 +70,9 @@ def from_frame(
     caller hands over (a large log read once), not one it goes on changing.
 
     ``reading``: a log read piece by piece (:mod:`.follow`).  On the first piece (``reading.decided`` false)
-    it receives what the piece's headers and numbers decided; a later piece is read by those decisions, and the
-    rules that need a whole run (enough samples, a sensor stuck or at its ceiling, degF readings) are left to
-    the reader of the whole log.
+    it receives what the piece's headers and numbers decided; a later piece is read by those decisions, and
+    the rules that need a whole run (enough samples, a sensor stuck or at its ceiling, degF readings) are left
+    to the reader of the whole log.
     """
     mapping, from_map = split_units(mapping)
     if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
@@ -259,9 +259,10 @@ _UTF7_MINUS = "+AC0-"  # a minus sign written by an encoder in UTF-7 ('+AC0-2.5'
 def _as_numbers(frame: pd.DataFrame, measured: list[str], source: str, notes: list[str],
                 drop_incomplete: bool) -> pd.DataFrame:
     """The measured columns with minus signs an encoder wrote in UTF-7 read as minus signs, and, with
-    ``drop_incomplete``, cells that are not numbers made missing (so that their samples are left out), each said
-    once with its count, first row and value.  Without ``drop_incomplete`` such a cell is refused later, by the
-    column's check; numbers with thousands separators are left to it too (dropping them would drop the log)."""
+    ``drop_incomplete``, cells that are not numbers made missing (so that their samples are left out), each
+    said once with its count, first row and value.  Without ``drop_incomplete`` such a cell is refused later,
+    by the column's check; numbers with thousands separators are left to it too (dropping them would drop the
+    log)."""
     changed = {}
     for c in measured:
         column = frame[c]
@@ -315,7 +316,8 @@ def log_from_arrays(
     extra: Mapping[str, np.ndarray] | None = None,
 ) -> ThermalLog:
     """Build a canonical log from ``(n_samples, n_actuators)`` arrays (``ambient_C``: ``(n_samples,)``);
-    ``extra``: more channels by column header (unit in brackets, ``fan [%]``), each ``(n_samples, n_actuators)``."""
+    ``extra``: more channels by column header (unit in brackets, ``fan [%]``), each ``(n_samples,
+    n_actuators)``."""
     n, m = effort.shape
     data = {
         "time": np.tile(time_s, m),
@@ -354,8 +356,8 @@ def _blank(names: pd.Series) -> np.ndarray:
 
 
 def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] | None, source: str) -> None:
-    """A channel whose column holds no value at all is refused by name (leaving out incomplete rows would leave
-    none): the column is not logged, or another one was meant."""
+    """A channel whose column holds no value at all is refused by name (leaving out incomplete rows would
+    leave none): the column is not logged, or another one was meant."""
     for c in measured:
         if frame[c].isna().all():
             named = f" (the file's {mapping[c]!r})" if mapping and c in mapping else ""
@@ -365,21 +367,21 @@ def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] 
 
 
 def held_beside_temperature(frame, channels: list[str]) -> dict[str, int]:
-    """Of ``frame``'s rows that hold a temperature, how many hold each of ``channels`` too (the temperature itself:
-    how many hold one)."""
+    """Of ``frame``'s rows that hold a temperature, how many hold each of ``channels`` too (the temperature
+    itself: how many hold one)."""
     has_temperature = frame["temperature"].notna().to_numpy()
     return {c: int(frame.loc[has_temperature, c].notna().sum()) for c in channels}
 
 
 def apart(held: Mapping[str, int]) -> str | None:
-    """The first input that fewer than half of the temperature's rows hold (:func:`held_beside_temperature`): a
-    channel logged on rows of its own, as topics merged into one table are; else ``None``."""
+    """The first input that fewer than half of the temperature's rows hold (:func:`held_beside_temperature`):
+    a channel logged on rows of its own, as topics merged into one table are; else ``None``."""
     return next((c for c, n in held.items() if c != "temperature" and n < 0.5 * held["temperature"]), None)
 
 
 def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units: Mapping[str, str]) -> str | None:
-    """Where the temperature and an input share one time column but are logged on different rows (:func:`apart`),
-    how to read each on its own samples (:mod:`.align`); else ``None``."""
+    """Where the temperature and an input share one time column but are logged on different rows
+    (:func:`apart`), how to read each on its own samples (:mod:`.align`); else ``None``."""
     if "time" not in mapping or any(TIME_OF in str(v) for v in mapping.values()):
         return None
     held = held_beside_temperature(frame, measured)

@@ -16,7 +16,8 @@ from .units import KNOWN, split_unit
 
 
 def split_units(mapping: Mapping[str, str] | None) -> tuple[dict[str, str], dict[str, str]]:
-    """``{channel: "COLUMN:UNIT"}`` -> ``({channel: COLUMN}, {channel: UNIT})`` (see :func:`~.units.split_unit`)."""
+    """``{channel: "COLUMN:UNIT"}`` -> ``({channel: COLUMN}, {channel: UNIT})`` (see
+    :func:`~.units.split_unit`)."""
     columns, units = {}, {}
     for key, value in (mapping or {}).items():
         columns[key], unit = split_unit(value)
@@ -83,8 +84,8 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
 
 def _others_message(frame: pd.DataFrame, key: str, column: str, time_column: str, targets: dict,
                     mapping: Mapping[str, str]) -> pd.Series:
-    """Rows of a table of topics merged on one time column where ``column`` is blank and another channel on the
-    same time column holds a value: another topic's message, not a missing reading."""
+    """Rows of a table of topics merged on one time column where ``column`` is blank and another channel on
+    the same time column holds a value: another topic's message, not a missing reading."""
     mates = [c for k, (c, _, t) in targets.items() if k != key and (t or mapping.get("time")) == time_column
              and c in frame.columns and c != column]
     if not mates:

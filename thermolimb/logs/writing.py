@@ -1,4 +1,5 @@
-"""Writing a thermal log: CSV or Parquet (whole, or a piece at a time) and ROS 2 MCAP, each whole or not at all.
+"""Writing a thermal log: CSV or Parquet (whole, or a piece at a time) and ROS 2 MCAP, each whole or not at
+all.
 
 A format is added here, in :data:`WRITERS` (reading: :mod:`.reading`).
 """
@@ -17,8 +18,8 @@ from .units import NOT_GIVEN
 
 
 def write_log(log, path: str | Path) -> Path:
-    """Write a :class:`~.series.ThermalLog` as CSV, Parquet or a ROS 2 MCAP file (by suffix; see :mod:`.bag_writer`),
-    whole or not at all."""
+    """Write a :class:`~.series.ThermalLog` as CSV, Parquet or a ROS 2 MCAP file (by suffix; see
+    :mod:`.bag_writer`), whole or not at all."""
     path = Path(path)
     return WRITERS[written_as(path)](log, path)
 
@@ -30,9 +31,10 @@ def file_frame(log) -> pd.DataFrame:
 
 
 def write_pieces(pieces: Iterable, path: str | Path) -> Path:
-    """Write consecutive pieces of one log (:class:`~.series.ThermalLog`) (the same actuators and columns, later times in each) as one CSV or
-    Parquet file, each piece as it comes, the file whole or not at all.  It reads back as the whole log (a log's
-    rows are grouped by actuator on reading); only one piece is held at a time."""
+    """Write consecutive pieces of one log (:class:`~.series.ThermalLog`) (the same actuators and columns,
+    later times in each) as one CSV or Parquet file, each piece as it comes, the file whole or not at all.  It
+    reads back as the whole log (a log's rows are grouped by actuator on reading); only one piece is held at a
+    time."""
     path = Path(path)
     kind = kind_of(path)
     with atomic_path(path) as tmp:
@@ -56,9 +58,9 @@ def write_pieces(pieces: Iterable, path: str | Path) -> Path:
 
 
 def _header(name: str, unit: str | None) -> str:
-    """An extra channel's column header, with its unit when known (read back to the same name and unit); one named
-    as a canonical column (a bench's room ``ambient`` beside the coolant mapped as ambient) is written as
-    ``extra.NAME``, which reads back as the extra channel ``NAME``."""
+    """An extra channel's column header, with its unit when known (read back to the same name and unit); one
+    named as a canonical column (a bench's room ``ambient`` beside the coolant mapped as ambient) is written
+    as ``extra.NAME``, which reads back as the extra channel ``NAME``."""
     name = EXTRA + name if name in REQUIRED + OPTIONAL else name
     return name if not unit or unit == NOT_GIVEN else f"{name} [{unit}]"
 

@@ -1,6 +1,7 @@
 """The effort-based thermal model of Jorgensen et al. (Eqs. 5, 6, 17, 25), composable terms.
 
-The built-in terms are the physical effects of :mod:`thermolimb.effects`, registered when ``thermolimb`` is imported.
+The built-in terms are the physical effects of :mod:`thermolimb.effects`, registered when ``thermolimb`` is
+imported.
 """
 
 from .arrays import ModelArrays

@@ -31,8 +31,8 @@ from .signals import Signals
 
 @dataclass(frozen=True)
 class BlockSignals(Signals):
-    """Signals on a grid of block starts (``starts``, sample indices of ``full``), each term's contribution the
-    block's mean (module docstring).  Build with :func:`blocked`."""
+    """Signals on a grid of block starts (``starts``, sample indices of ``full``), each term's contribution
+    the block's mean (module docstring).  Build with :func:`blocked`."""
 
     full: Signals | None = field(default=None, repr=False)
     starts: np.ndarray | None = field(default=None, repr=False)
@@ -69,7 +69,8 @@ class BlockSignals(Signals):
 
     @cached_property
     def _grid(self) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
-        """The starts with an interval after them, the intervals (``None``: uniform, as counts), each block's span."""
+        """The starts with an interval after them, the intervals (``None``: uniform, as counts), each block's
+        span."""
         full = self.full
         inner = self.starts[self.starts < full.n - 1]
         if full.uniform_dt_s is not None:
@@ -78,7 +79,8 @@ class BlockSignals(Signals):
 
 
 def blocked(signals: Signals, starts: np.ndarray) -> BlockSignals:
-    """``signals`` averaged over the blocks that begin at ``starts`` (increasing sample indices, the first 0)."""
+    """``signals`` averaged over the blocks that begin at ``starts`` (increasing sample indices, the first
+    0)."""
     starts = np.asarray(starts, dtype=np.intp)
     if starts.size == 0 or starts[0] != 0 or np.any(np.diff(starts) <= 0) or starts[-1] >= signals.n:
         raise ValueError(f"block starts must increase from sample 0 within the {signals.n} samples")

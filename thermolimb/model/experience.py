@@ -1,17 +1,18 @@
 """What a model was identified on, and where a question goes beyond it.
 
 A model file keeps the ranges of its calibration log (``provenance["ranges"]``: the effort, velocity, ambient
-and temperature it read, and its median sample interval).  A forecast whose inputs leave them asks the model to
-extrapolate: :func:`beyond` says so, one sentence per input, and gives the factor the answer's model-error band is
-widened by -- the heat grows with the square of the effort, so an effort ``k`` times the largest seen widens it
-``k**2``; any other input outside its range (or a log sampled more coarsely than the calibration's) at least
-doubles it.  A forecast that climbs above the hottest reading the model was identified on is said to, and its
-band doubled from where it does (:func:`hotter_than_seen`).
+and temperature it read, and its median sample interval).  A forecast whose inputs leave them asks the model
+to extrapolate: :func:`beyond` says so, one sentence per input, and gives the factor the answer's model-error
+band is widened by -- the heat grows with the square of the effort, so an effort ``k`` times the largest seen
+widens it ``k**2``; any other input outside its range (or a log sampled more coarsely than the calibration's)
+at least doubles it.  A forecast that climbs above the hottest reading the model was identified on is said to,
+and its band doubled from where it does (:func:`hotter_than_seen`).
 
-Jorgensen et al.'s offset is the ambient plus the bias heat (Eq. 5: ``T_offset = T_amb + P_bias R``), so a model
-that does not read the ambient carries the air it was identified in inside its offset.  On a run whose logged
-ambient lies outside that air, the offset follows it (:func:`ambient_shift_K`): a motor on a bench whose coolant ran
-at 91 degC (PMSM profile 46) and then at 19 degC (profile 24) does not keep a 108 degC offset.
+Jorgensen et al.'s offset is the ambient plus the bias heat (Eq. 5: ``T_offset = T_amb + P_bias R``), so a
+model that does not read the ambient carries the air it was identified in inside its offset.  On a run whose
+logged ambient lies outside that air, the offset follows it (:func:`ambient_shift_K`): a motor on a bench
+whose coolant ran at 91 degC (PMSM profile 46) and then at 19 degC (profile 24) does not keep a 108 degC
+offset.
 """
 
 from __future__ import annotations
@@ -33,8 +34,8 @@ RATE_RATIO = 2.0  # a sample interval up to twice the calibration's
 
 def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambient: bool,
            effort_unit: str = "", shift_K: float = 0.0) -> tuple[list[str], float]:
-    """Notes on where ``signals`` from ``start_C`` leave the calibration's ``ranges``, and the band's widening;
-    ``shift_K``: how far the offset follows the ambient (:func:`ambient_shift_K`)."""
+    """Notes on where ``signals`` from ``start_C`` leave the calibration's ``ranges``, and the band's
+    widening; ``shift_K``: how far the offset follows the ambient (:func:`ambient_shift_K`)."""
     notes, factor = [], 1.0
     if not ranges:
         return notes, factor
@@ -79,11 +80,11 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
 
 
 def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> float:
-    """How far ``model``'s offset moves on a run whose logged ambient is ``ambient_C``, the calibration's ambient
-    having spanned ``seen`` (``[low, high]`` degC): the excursion of the run's mean ambient beyond that span, kelvin
-    for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps its model unchanged, and
-    the shift grows from 0 as a run leaves it).  0 too for a model that reads the ambient itself or whose offset
-    is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
+    """How far ``model``'s offset moves on a run whose logged ambient is ``ambient_C``, the calibration's
+    ambient having spanned ``seen`` (``[low, high]`` degC): the excursion of the run's mean ambient beyond
+    that span, kelvin for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps
+    its model unchanged, and the shift grows from 0 as a run leaves it).  0 too for a model that reads the
+    ambient itself or whose offset is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
     if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model.terms):
         return 0.0
     values = np.asarray(ambient_C, float)
@@ -96,12 +97,12 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
 
 
 def common_air(series: list) -> tuple[list, float | None]:
-    """Runs of one actuator logged in different air, each brought to their common air: where every run logs its
-    ambient and the runs' mean ambients lie more than ``MARGIN_K`` apart, each run's temperatures (the winding's,
-    the ambient, the housing's, the neighbours') moved by its mean ambient's excursion from the mean of the runs'
-    means, kelvin for kelvin (Eq. 5: a model whose offset does not read the ambient then has one offset per run,
-    following its air; one that reads the ambient sees the swings within each run).  ``(series, reference degC)``,
-    or the runs unchanged and ``None``."""
+    """Runs of one actuator logged in different air, each brought to their common air: where every run logs
+    its ambient and the runs' mean ambients lie more than ``MARGIN_K`` apart, each run's temperatures (the
+    winding's, the ambient, the housing's, the neighbours') moved by its mean ambient's excursion from the
+    mean of the runs' means, kelvin for kelvin (Eq. 5: a model whose offset does not read the ambient then has
+    one offset per run, following its air; one that reads the ambient sees the swings within each run).
+    ``(series, reference degC)``, or the runs unchanged and ``None``."""
     means = []
     for s in series:
         values = s.signals.ambient_C
@@ -134,16 +135,16 @@ def air_words(series: list, reference_C: float | None) -> str:
 
 
 def offset_air(ranges) -> list[float] | None:
-    """The ambient span a saved model's offset stands for: its runs' common air where they ran in different air
-    (``ranges["offset_air_C"]``), else the calibration's ambient span."""
+    """The ambient span a saved model's offset stands for: its runs' common air where they ran in different
+    air (``ranges["offset_air_C"]``), else the calibration's ambient span."""
     ranges = ranges or {}
     return ranges.get("offset_air_C") or ranges.get("ambient_C")
 
 
 def offset_is_ambient(terms) -> bool:
-    """Whether the offset of a model of ``terms`` is the ambient plus the bias heat: no term reads the ambient or
-    moves the temperature heat flows to (the housing, ambient variation, a logged temperature as a boundary: a
-    generated form of a channel minus a reference temperature)."""
+    """Whether the offset of a model of ``terms`` is the ambient plus the bias heat: no term reads the ambient
+    or moves the temperature heat flows to (the housing, ambient variation, a logged temperature as a
+    boundary: a generated form of a channel minus a reference temperature)."""
     for name in terms:
         term = TERMS[name]
         spec = getattr(term, "spec", None)
@@ -179,9 +180,9 @@ def moved_words(moved: list[tuple[str, float]]) -> str:
 
 
 def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[list[str], np.ndarray]:
-    """A note when ``predicted_C`` climbs more than ``MARGIN_K`` above the hottest reading of the calibration's
-    ``ranges``, and the band's widening per sample: 2 from where it does, 1 before (the model's error was
-    measured on temperatures it saw; a 60 s answer on the way to an unseen 90 degC is not one)."""
+    """A note when ``predicted_C`` climbs more than ``MARGIN_K`` above the hottest reading of the
+    calibration's ``ranges``, and the band's widening per sample: 2 from where it does, 1 before (the model's
+    error was measured on temperatures it saw; a 60 s answer on the way to an unseen 90 degC is not one)."""
     seen = (ranges or {}).get("temperature_C")
     hotter = np.asarray(predicted_C, float) > (seen[1] + MARGIN_K if seen else np.inf)
     if not hotter.any():

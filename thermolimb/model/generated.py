@@ -9,9 +9,9 @@ the same term as Python source -- ``thermolimb diagnose --propose FILE`` hands i
 and load knowingly with ``--terms FILE``.
 
 Each feature adds ``c * f`` to the heat balance (a rise in kelvin per unit of ``f``), or, as a *gain* feature,
-``c * f * (T - reference)``: heat that depends on the winding temperature itself (a conductance that changes with
-a fan's duty, a resistance rising with temperature), which enters the model as a gain on ``T`` so that it stays a
-first-order linear ODE at every instant.
+``c * f * (T - reference)``: heat that depends on the winding temperature itself (a conductance that changes
+with a fan's duty, a resistance rising with temperature), which enters the model as a gain on ``T`` so that it
+stays a first-order linear ODE at every instant.
 """
 
 from __future__ import annotations
@@ -46,10 +46,10 @@ FORMS = {
 class Feature:
     """One regressor of a generated term and its coefficient (a model parameter).
 
-    ``input`` is a canonical channel (:data:`CANONICAL_INPUTS`) or ``extra.NAME``; ``form`` one of :data:`FORMS`
-    (with its ``power`` or ``threshold``).  ``reference``, for a gain feature: ``T_offset_C`` (the model's
-    offset), a number of degC, or an input whose values are a temperature.  ``sign`` is -1 where the coefficient
-    counts cooling (a conductance's increase), so that the physical value is positive.
+    ``input`` is a canonical channel (:data:`CANONICAL_INPUTS`) or ``extra.NAME``; ``form`` one of
+    :data:`FORMS` (with its ``power`` or ``threshold``).  ``reference``, for a gain feature: ``T_offset_C``
+    (the model's offset), a number of degC, or an input whose values are a temperature.  ``sign`` is -1 where
+    the coefficient counts cooling (a conductance's increase), so that the physical value is positive.
     """
 
     param: str
@@ -204,8 +204,8 @@ def _of(spec: Spec) -> str:
 
 
 def define(spec: Spec) -> type[Term]:
-    """Register the term of ``spec`` (taking the place of an earlier generated term of its name; the catalog search
-    does not offer generated terms of its own accord, only the diagnosis that generated them does)."""
+    """Register the term of ``spec`` (taking the place of an earlier generated term of its name; the catalog
+    search does not offer generated terms of its own accord, only the diagnosis that generated them does)."""
     parameters = tuple(Parameter(f.param, f.unit, f.lower, f.upper, f.typical, f"coefficient of {f.words}",
                                  "the channels it reads, varying independently of the effort", plausible=f.plausible)
                        for f in spec.features)
@@ -248,7 +248,8 @@ def _variable(name: str) -> str:
 
 
 def term_source(spec: Spec) -> str:
-    """The Python source of the term of ``spec`` as a :class:`Term` class (for people; see :func:`module_source`)."""
+    """The Python source of the term of ``spec`` as a :class:`Term` class (for people; see
+    :func:`module_source`)."""
     params = ",\n".join(
         f"        Parameter({f.param!r}, {f.unit!r}, {_literal(f.lower)}, {_literal(f.upper)}, {f.typical!r},\n"
         f"                  {('coefficient of ' + f.words)!r},\n"
@@ -308,8 +309,9 @@ def _literal(value: float) -> str:
 
 
 def load_term_file(path) -> list[str]:
-    """Run a Python file of terms (``@register_term`` classes, e.g. one ``diagnose --propose`` wrote): a user's own
-    code, run because the user names it; the names it registered.  Any error is one sentence naming the file."""
+    """Run a Python file of terms (``@register_term`` classes, e.g. one ``diagnose --propose`` wrote): a
+    user's own code, run because the user names it; the names it registered.  Any error is one sentence naming
+    the file."""
     import runpy
     from pathlib import Path
 

@@ -104,9 +104,9 @@ class ThermalModel:
 
     @property
     def gap_fade_s(self) -> float:
-        """How fast a forecast's gap to the reading it starts from fades (s): the first slow mass's time constant,
-        else the winding's.  After a history the model has run over, what it misses of the last reading sits in
-        its slow state (the winding has long settled on it), and fades as that state does."""
+        """How fast a forecast's gap to the reading it starts from fades (s): the first slow mass's time
+        constant, else the winding's.  After a history the model has run over, what it misses of the last
+        reading sits in its slow state (the winding has long settled on it), and fades as that state does."""
         return self.params.get("frame_tau_s", self.params["RC_s"])
 
     def with_params(self, values) -> "ThermalModel":
@@ -178,8 +178,8 @@ class ThermalModel:
         whose first sample is this piece's last, the run carries on exactly as one simulation of the whole
         would (``initial_temperature_C`` and the rate are then unused).
 
-        ``offsets`` (K, by :func:`hidden_states`' names) move the hidden states' starts from where the first reading
-        puts them: where the data place them (a run that starts warm, or mid-transient).
+        ``offsets`` (K, by :func:`hidden_states`' names) move the hidden states' starts from where the first
+        reading puts them: where the data place them (a run that starts warm, or mid-transient).
         """
         if method not in ("exact", "euler"):
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
@@ -214,7 +214,8 @@ class ThermalModel:
 
     def free_run(self, series, initial_rate_K_per_s: float | None = None, method: str = "exact",
                  initial_temperature_C: float | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
-        """The free run of a measured run (an :class:`~thermolimb.logs.ActuatorSeries`) from its first reading.
+        """The free run of a measured run (an :class:`~thermolimb.logs.ActuatorSeries`) from its first
+        reading.
 
         The one way every fit, validation and diagnosis simulates a log: from
         the first measured temperature (unless ``initial_temperature_C``) and
@@ -235,9 +236,9 @@ class ThermalModel:
         """The free run of ``series`` with its hidden states' starts placed where the readings at ``rows`` put
         them, and those offsets: the model is affine in its states, so each offset's response is one more free
         run, and the offsets are the least-squares fit of the residual at ``rows`` by those responses.
-        ``run``: the free run without offsets, when the caller has it.  ``memo``, a dict the caller keeps for this
-        series, holds the last responses: they depend only on the parameters that move more than the rise (a fit's
-        finite differences in an effort coefficient or the offset reuse them)."""
+        ``run``: the free run without offsets, when the caller has it.  ``memo``, a dict the caller keeps for
+        this series, holds the last responses: they depend only on the parameters that move more than the rise
+        (a fit's finite differences in an effort coefficient or the offset reuse them)."""
         rate = series.rate_K_per_s() if rate is None else rate
         run = self.free_run(series, rate) if run is None else run
         names = self.hidden_states
@@ -256,10 +257,11 @@ class ThermalModel:
         return run + responses @ delta, dict(zip(names, map(float, delta)))
 
     def _response_key(self) -> tuple:
-        """The terms and the values a hidden state's response depends on: all but the offset and the parameters of
-        terms that move only the rise (``Term.rise_only``, the suite's own: the model is affine in them and in its
-        states; a user's term may subclass one and add a gain), unless another term reads them (``Term.reads``:
-        copper's coefficient makes the Joule heat's a gain on the winding's temperature)."""
+        """The terms and the values a hidden state's response depends on: all but the offset and the
+        parameters of terms that move only the rise (``Term.rise_only``, the suite's own: the model is affine
+        in them and in its states; a user's term may subclass one and add a gain), unless another term reads
+        them (``Term.reads``: copper's coefficient makes the Joule heat's a gain on the winding's
+        temperature)."""
         rise = {"T_offset_C"} | {p.name for t in map(TERMS.get, self.terms) if t.rise_only and is_built_in(t)
                                  for p in t.parameters} - {name for t in self.terms for name in TERMS[t].reads}
         return (self.terms, *(v for k, v in self.params.items() if k not in rise))

@@ -1,4 +1,5 @@
-"""Units of parameters that depend on the units of the channels they multiply (see :mod:`thermolimb.logs.units`).
+"""Units of parameters that depend on the units of the channels they multiply (see
+:mod:`thermolimb.logs.units`).
 
 A parameter's unit is a template naming its channels, ``K/({effort})^2``;
 :func:`render` puts in the units a log gives, or says a unit was not given.

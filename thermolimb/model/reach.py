@@ -11,7 +11,8 @@ import numpy as np
 
 
 def crossing_s(time_s: np.ndarray, curve_C: np.ndarray, threshold_C: float) -> float | None:
-    """The first time ``curve_C`` reaches ``threshold_C``, linearly interpolated between samples; ``None``: never."""
+    """The first time ``curve_C`` reaches ``threshold_C``, linearly interpolated between samples; ``None``:
+    never."""
     above = np.flatnonzero(np.asarray(curve_C) >= threshold_C)
     if above.size == 0:
         return None
@@ -23,8 +24,8 @@ def crossing_s(time_s: np.ndarray, curve_C: np.ndarray, threshold_C: float) -> f
 
 
 def first_order_reach_s(temperature_C: float, steady_C: float, rate_per_s: float, limit_C: float) -> float | None:
-    """Time for a first-order response from ``temperature_C`` heading for ``steady_C`` at ``rate_per_s`` (1/s) to
-    reach ``limit_C``: 0 when already there, ``None`` when it never does."""
+    """Time for a first-order response from ``temperature_C`` heading for ``steady_C`` at ``rate_per_s`` (1/s)
+    to reach ``limit_C``: 0 when already there, ``None`` when it never does."""
     if temperature_C >= limit_C:
         return 0.0
     if steady_C <= limit_C or rate_per_s <= 0:

@@ -70,10 +70,11 @@ def first_order_scan(a: np.ndarray, b: np.ndarray, x0: float, log_a: np.ndarray 
 
 
 class Recursion:
-    """The factors ``a`` of ``x[k+1] = a[k] x[k] + b[k]`` made ready once for any number of ``b``: the chunks and
-    their cumulative products (module docstring), the one constant factor, or (``chunks`` ``None``) the associative
-    scan's choice.  A simulation's passes and a fit's evaluations at the same rate share them
-    (:meth:`~thermolimb.model.signals.Signals.recursion`); :attr:`a` is the factors (a number when constant)."""
+    """The factors ``a`` of ``x[k+1] = a[k] x[k] + b[k]`` made ready once for any number of ``b``: the chunks
+    and their cumulative products (module docstring), the one constant factor, or (``chunks`` ``None``) the
+    associative scan's choice.  A simulation's passes and a fit's evaluations at the same rate share them
+    (:meth:`~thermolimb.model.signals.Signals.recursion`); :attr:`a` is the factors (a number when
+    constant)."""
 
     def __init__(self, a: np.ndarray | float, log_a: np.ndarray | None = None):
         a = np.asarray(a, dtype=float)
@@ -119,7 +120,8 @@ class Recursion:
 
     @property
     def nbytes(self) -> int:
-        """What it holds: its factors, and as many again in its chunks' products (a constant factor: its powers)."""
+        """What it holds: its factors, and as many again in its chunks' products (a constant factor: its
+        powers)."""
         if isinstance(self.a, float):
             return 8 + (0 if self._decay is None else self._decay.nbytes)
         return self.a.nbytes * (2 if self.chunks else 1)
@@ -155,11 +157,12 @@ def _loop(a: np.ndarray, b: np.ndarray, x0: float) -> np.ndarray:
 
 def _constant_factor(a: float, b: np.ndarray, x0: float, decay: np.ndarray | None = None
                      ) -> tuple[np.ndarray, np.ndarray | None]:
-    """The recursion with one factor ``a``: the chunked sums of the module docstring, every chunk ``m`` steps long
-    (``MAX_DECAY_PER_CHUNK`` e-folds) with the same decay ``a^1 .. a^m``.  Long chunks run one after the other;
-    shorter ones (``LOOPED_STEPS``) run side by side, as the columns of one array, and the states they hand on follow
-    the recursion of factor ``a^m`` from chunk to chunk (the associative scan, over as many values as chunks).
-    Returns the decay for the next call at the same factor (``decay``: one kept from an earlier call)."""
+    """The recursion with one factor ``a``: the chunked sums of the module docstring, every chunk ``m`` steps
+    long (``MAX_DECAY_PER_CHUNK`` e-folds) with the same decay ``a^1 .. a^m``.  Long chunks run one after the
+    other; shorter ones (``LOOPED_STEPS``) run side by side, as the columns of one array, and the states they
+    hand on follow the recursion of factor ``a^m`` from chunk to chunk (the associative scan, over as many
+    values as chunks). Returns the decay for the next call at the same factor (``decay``: one kept from an
+    earlier call)."""
     n = b.shape[0]
     log_a = max(float(np.log(a)), _MIN_LOG_A) if a > 0.0 else _MIN_LOG_A
     m = n if log_a == 0.0 else max(1, min(n, int(MAX_DECAY_PER_CHUNK / -log_a)))

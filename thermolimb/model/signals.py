@@ -76,19 +76,21 @@ class Signals:
 
     @cached_property
     def dt_s(self) -> np.ndarray:
-        """Interval lengths, ``n - 1`` of them (computed once: the arrays are not changed after construction)."""
+        """Interval lengths, ``n - 1`` of them (computed once: the arrays are not changed after
+        construction)."""
         return np.diff(self.time_s)
 
     @cached_property
     def median_dt_s(self) -> float:
-        """The median sampling interval (s), worked out once (a long log's replicates asked it 20 times: 0.2 s)."""
+        """The median sampling interval (s), worked out once (a long log's replicates asked it 20 times: 0.2
+        s)."""
         dt = self.__dict__.get("dt_s")
         return float(np.median(np.diff(self.time_s) if dt is None else dt))
 
     @cached_property
     def uniform_dt_s(self) -> float | None:
-        """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else ``None``.
-        The intervals are not kept for this: a uniform log needs only its one step."""
+        """The one sampling interval when every interval equals it to rounding (``CONSTANT_A``), else
+        ``None``. The intervals are not kept for this: a uniform log needs only its one step."""
         dt = self.__dict__.get("dt_s")
         dt = np.diff(self.time_s) if dt is None else dt
         if dt.size == 0:
@@ -98,8 +100,8 @@ class Signals:
 
     @cached_property
     def interval_levels(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """``(levels, index)``: the distinct intervals and each interval's among them, when they are few (a log
-        timed to the millisecond: the UR3's 7354 intervals take 228 lengths); else ``None``."""
+        """``(levels, index)``: the distinct intervals and each interval's among them, when they are few (a
+        log timed to the millisecond: the UR3's 7354 intervals take 228 lengths); else ``None``."""
         dt = self.dt_s
         if dt.size < LOOKUP_FROM:  # a monitor's piece of a sample or two: sorting costs more than it saves
             return None
@@ -108,10 +110,10 @@ class Signals:
 
     def recursion(self, rate_per_s: float | np.ndarray) -> Recursion:
         """The factors ``a = exp(-rate_per_s * dt)`` of each interval made ready for scans
-        (:class:`~thermolimb.model.scan.Recursion`).  A constant rate's are kept: a simulation's coupling passes
-        and a fit's evaluations ask for the same rates again (``RECURSIONS`` of them, ``RECURSION_BYTES`` at most).
-        At a constant rate, an exponential per distinct interval when they are few (it costs more than the scan it
-        feeds); a rate per sample holds over the interval it starts."""
+        (:class:`~thermolimb.model.scan.Recursion`).  A constant rate's are kept: a simulation's coupling
+        passes and a fit's evaluations ask for the same rates again (``RECURSIONS`` of them,
+        ``RECURSION_BYTES`` at most). At a constant rate, an exponential per distinct interval when they are
+        few (it costs more than the scan it feeds); a rate per sample holds over the interval it starts."""
         if np.ndim(rate_per_s):
             log_a = -rate_per_s[:-1] * self.dt_s
             return Recursion(np.exp(log_a), log_a)
@@ -149,14 +151,16 @@ class Signals:
         return getattr(self, CHANNELS[name]) is not None
 
     def channel(self, name: str) -> np.ndarray:
-        """A channel by its log column name (``extra.NAME`` for an extra one), with an error naming what is missing."""
+        """A channel by its log column name (``extra.NAME`` for an extra one), with an error naming what is
+        missing."""
         value = self.extra.get(name[len(EXTRA):]) if name.startswith(EXTRA) else getattr(self, CHANNELS[name])
         if value is None:
             raise KeyError(f"this model needs the '{name}' column, which the log does not have")
         return value
 
     def contribution(self, term, params) -> tuple[np.ndarray | float, np.ndarray | float]:
-        """``term``'s ``(rise, gain)`` on these signals (a block-averaged run, :mod:`.block_means`, averages them)."""
+        """``term``'s ``(rise, gain)`` on these signals (a block-averaged run, :mod:`.block_means`, averages
+        them)."""
         return term.contribution(params, self)
 
     def map_arrays(self, fn) -> "Signals":

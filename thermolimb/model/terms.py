@@ -138,7 +138,8 @@ class Term:
         return None
 
     def winding_share(self, p: Mapping[str, float]) -> float:
-        """Share of a heat's rise that builds up across the winding itself (a slow mass takes the rest); default 1."""
+        """Share of a heat's rise that builds up across the winding itself (a slow mass takes the rest);
+        default 1."""
         return 1.0
 
     def shape_output(self, p: Mapping[str, float], s: Signals, winding_C: np.ndarray,
@@ -151,8 +152,8 @@ class Term:
         return measured_C
 
     def airflow_gain(self, p: Mapping[str, float], s: Signals) -> np.ndarray | float:
-        """For a term with ``airflow_on``: the increase of that mass's conductance to ambient, as a multiple of its
-        still-air value, per sample (the conductance is ``1 + airflow_gain`` times it); default 0."""
+        """For a term with ``airflow_on``: the increase of that mass's conductance to ambient, as a multiple
+        of its still-air value, per sample (the conductance is ``1 + airflow_gain`` times it); default 0."""
         return 0.0
 
     def implausible(self, p: Mapping[str, float], units: Mapping[str, str] | None = None) -> str | None:
@@ -178,7 +179,8 @@ class Term:
 
 
 class LinearTerm(Term):
-    """A term whose rise is its one parameter times a regressor built from the log (linear in that parameter)."""
+    """A term whose rise is its one parameter times a regressor built from the log (linear in that
+    parameter)."""
 
     rise_only = True
 
@@ -204,8 +206,8 @@ def is_built_in(cls: type[Term]) -> bool:
 
 
 def implausibility(term: Term, p: Mapping[str, float], units: Mapping[str, str] | None) -> str | None:
-    """``term.implausible`` with the log's channel units, from a term written to take them (a user's term, or one
-    generated before terms took units, is asked with the values alone)."""
+    """``term.implausible`` with the log's channel units, from a term written to take them (a user's term, or
+    one generated before terms took units, is asked with the values alone)."""
     if "units" in inspect.signature(term.implausible).parameters:
         return term.implausible(p, units=units)
     return term.implausible(p)
@@ -274,8 +276,8 @@ def effect_label(name: str) -> str:
 
 
 def readable(text: str) -> str:
-    """Effect identifiers in ``text`` with the words a reader knows before them: ``+ speed_losses`` ->
-    ``+ speed losses (speed_losses)``; a comma-joined model, ``joule,effort_bias`` -> ``Joule heating from effort,
+    """Effect identifiers in ``text`` with the words a reader knows before them: ``+ speed_losses`` -> ``+
+    speed losses (speed_losses)``; a comma-joined model, ``joule,effort_bias`` -> ``Joule heating from effort,
     effort bias (joule,effort_bias)``."""
     known = sorted(TERMS, key=len, reverse=True)
     word = r"(?:discovered_\w+?|" + "|".join(map(re.escape, known)) + r")(?![\w])"

@@ -8,17 +8,17 @@ the winding that the winding forgets with its own time constant (``b' = a b + w`
 read through the sensor (``y = model output + b + v``).  This is the plant's winding observer
 (:class:`~thermolimb.plant.observer.WindingObserver`) on the identified model instead of the plant's network:
 the model supplies the physics, the readings hold it to the robot.  The process noise is set from the model
-file's held-out residual (its RMSE is the size of what the model misses), the measurement noise from the
-log's resolution.  The estimate's standard deviation adds to the filter's the uncertainty of a lagging sensor's
-time constant times the temperature's rate of change (how far ahead of the reading the winding runs).
+file's held-out residual (its RMSE is the size of what the model misses), the measurement noise from the log's
+resolution.  The estimate's standard deviation adds to the filter's the uncertainty of a lagging sensor's time
+constant times the temperature's rate of change (how far ahead of the reading the winding runs).
 
 The forecast holds the current inputs: the model's steady state under them (its forcing ``u``) and its rate
 ``lam`` give ``t = ln((T - u) / (L - u)) / lam`` from the estimate ``T`` to the limit ``L``; with slow masses,
 whose share of the rise builds up later, this is the soonest the winding can get there.  The derating is
 :class:`~thermolimb.plant.protection.ThermalProtection`'s on the estimate plus two standard deviations.
 
-A run whose first piece logs an ambient beyond the model file's calibration moves the model's offset with it, as
-``predict`` and held-out runs do (:func:`~thermolimb.model.experience.ambient_shift_K`); ``note`` says so.
+A run whose first piece logs an ambient beyond the model file's calibration moves the model's offset with it,
+as ``predict`` and held-out runs do (:func:`~thermolimb.model.experience.ambient_shift_K`); ``note`` says so.
 """
 
 from __future__ import annotations
@@ -112,7 +112,8 @@ class ActuatorMonitor:
         self.note = ""  # what the first piece said of the model (its offset following another air)
 
     def update(self, signals: Signals, measured_C: np.ndarray) -> Estimate:
-        """Advance over ``signals`` (its first sample is the previous piece's last, except on the first piece)."""
+        """Advance over ``signals`` (its first sample is the previous piece's last, except on the first
+        piece)."""
         keep: dict = {}
         first = self.state is None
         if first:
@@ -145,8 +146,9 @@ class ActuatorMonitor:
 
 
 def _correct(bias, P, a, q, r, innovation):
-    """The filter over one interval (scalars, or arrays of actuators): the disturbance ``bias`` decays with the
-    winding (``a``) as its variance ``P`` gains ``q (1 - a^2)``; then the reading's ``innovation`` corrects it."""
+    """The filter over one interval (scalars, or arrays of actuators): the disturbance ``bias`` decays with
+    the winding (``a``) as its variance ``P`` gains ``q (1 - a^2)``; then the reading's ``innovation``
+    corrects it."""
     P = a * a * P + q * (1.0 - a * a)
     gain = P / (P + r)
     return bias * a + gain * (innovation - bias * a), P * (1.0 - gain)

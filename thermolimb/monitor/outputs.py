@@ -1,4 +1,5 @@
-"""Where the monitor's estimates go: an MCAP of standard ROS 2 messages, Foxglove's live WebSocket, JSON lines.
+"""Where the monitor's estimates go: an MCAP of standard ROS 2 messages, Foxglove's live WebSocket, JSON
+lines.
 
 Every output gets, for each actuator at each publication, its :class:`~.estimator.Estimate`:
 
@@ -100,7 +101,8 @@ class FoxgloveOutput:
         self.diagnostics = foxglove.Channel("/diagnostics", schema=DIAGNOSTICS_SCHEMA)
 
     def _channels(self, actuator: str) -> None:
-        """The actuator's channels, made the first time it is seen (a simulation's actuators come with its world)."""
+        """The actuator's channels, made the first time it is seen (a simulation's actuators come with its
+        world)."""
         if actuator not in self.winding:
             import foxglove
 

@@ -1,5 +1,5 @@
-"""The monitor's MCAP, written so that nothing is lost: ROS 2 messages (CDR, ``ros2msg`` schemas from ``rosbags``'
-type store) through the ``mcap`` package's writer, into ``OUT.mcap.partial`` beside the target.
+"""The monitor's MCAP, written so that nothing is lost: ROS 2 messages (CDR, ``ros2msg`` schemas from
+``rosbags``' type store) through the ``mcap`` package's writer, into ``OUT.mcap.partial`` beside the target.
 
 * Chunks are flushed to the disk at least every :data:`FLUSH_S` seconds of wall time, so a monitor killed without
   a word (SIGKILL, a power cut) leaves a partial file that any stream reader reads up to its last chunk (Foxglove
@@ -121,8 +121,8 @@ class McapOutput:
         self.flush_if_due()
 
     def flush_if_due(self) -> None:
-        """The chunk so far onto the disk when :data:`FLUSH_S` has passed since the last: a kill loses at most that
-        (called after each publication, and by the follow loop while the log does not grow)."""
+        """The chunk so far onto the disk when :data:`FLUSH_S` has passed since the last: a kill loses at most
+        that (called after each publication, and by the follow loop while the log does not grow)."""
         if self.clock() - self.flushed_at >= FLUSH_S and not self.file.closed:
             with held(), self._room():
                 self.writer.flush()
@@ -130,8 +130,8 @@ class McapOutput:
             self.flushed_at = self.clock()
 
     def close(self) -> None:
-        """Finish the file and put it at the target -- or, when nothing was published, remove the partial and leave
-        the target as it was.  Says which, on standard error."""
+        """Finish the file and put it at the target -- or, when nothing was published, remove the partial and
+        leave the target as it was.  Says which, on standard error."""
         if self.file.closed:
             return
         try:
@@ -156,10 +156,10 @@ class McapOutput:
 
 
 def _created_locked(partial: Path, target: Path):
-    """``partial``, new, opened for writing and already locked when it appears: made and locked under a name of its
-    own, then linked to ``partial`` (which fails if another monitor made it meanwhile).  Created and then locked,
-    a second monitor starting at the same moment could find it unlocked, take it for a killed monitor's and remove
-    it.  Where the file system has no hard links, created and locked as two steps."""
+    """``partial``, new, opened for writing and already locked when it appears: made and locked under a name
+    of its own, then linked to ``partial`` (which fails if another monitor made it meanwhile).  Created and
+    then locked, a second monitor starting at the same moment could find it unlocked, take it for a killed
+    monitor's and remove it.  Where the file system has no hard links, created and locked as two steps."""
     own = partial.with_name(f".{partial.name}.{os.getpid()}")
     own.unlink(missing_ok=True)  # left by a killed process that had this one's number: no live one has it
     file = open(own, "xb")
@@ -207,9 +207,9 @@ def _take_over(partial: Path, target: Path) -> None:
 
 
 def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, int]:
-    """An MCAP cut off mid-write (no summary, a chunk half written), completed: every schema, channel and message of
-    its whole chunks, into ``out`` (default ``NAME.recovered.mcap`` beside it, never over a file).  Returns the
-    path and the number of messages kept."""
+    """An MCAP cut off mid-write (no summary, a chunk half written), completed: every schema, channel and
+    message of its whole chunks, into ``out`` (default ``NAME.recovered.mcap`` beside it, never over a file).
+    Returns the path and the number of messages kept."""
     from mcap.exceptions import McapError
     from mcap.records import Channel, Message, Schema
     from mcap.stream_reader import StreamReader

@@ -38,12 +38,13 @@ class Session:
     together: bool = True  # actuators of model/arrays.py's models with one new sample step as arrays
 
     def feed(self, runs: dict, units: dict | None = None) -> list[Estimate]:
-        """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that starts a
-        new run, after a pause, starts the actuator's filter again), publishing once per ``publish_every_s`` of
-        log time (a piece that spans several such periods, as a log already written when the monitor starts, is
-        taken period by period, so that what is published does not depend on how often the file was polled).
-        ``units``: the log's channel units, by which an effort in another unit of the model's kind is
-        converted (mA for A) and one of another kind refused (a torque for a current).  The estimates."""
+        """Update each actuator that has new rows (:class:`~thermolimb.logs.follow.Run` pieces; one that
+        starts a new run, after a pause, starts the actuator's filter again), publishing once per
+        ``publish_every_s`` of log time (a piece that spans several such periods, as a log already written
+        when the monitor starts, is taken period by period, so that what is published does not depend on how
+        often the file was polled). ``units``: the log's channel units, by which an effort in another unit of
+        the model's kind is converted (mA for A) and one of another kind refused (a torque for a current).
+        The estimates."""
         windows: dict[float, dict[str, dict]] = {}
         for name, pieces in runs.items():
             if self.only is not None and name != self.only:
@@ -188,10 +189,10 @@ def _periods(time_s: np.ndarray, period_s: float):
 
 def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float | None = None,
            clock=time.monotonic, sleep=time.sleep) -> None:
-    """Poll ``follower`` until interrupted (Ctrl-C, SIGTERM) or, with ``idle_exit_s``, until the log has not grown
-    for that long; what the follower says (a line skipped, a pause, a rotated file) is said as it comes; a log
-    that does not exist yet is waited for, and said.  The outputs are closed complete either way.  A log that
-    never gave a sample ends in a :class:`~thermolimb.util.errors.UsageError` saying so."""
+    """Poll ``follower`` until interrupted (Ctrl-C, SIGTERM) or, with ``idle_exit_s``, until the log has not
+    grown for that long; what the follower says (a line skipped, a pause, a rotated file) is said as it comes;
+    a log that does not exist yet is waited for, and said.  The outputs are closed complete either way.  A log
+    that never gave a sample ends in a :class:`~thermolimb.util.errors.UsageError` saying so."""
     grew = clock()
     waiting = False
     try:

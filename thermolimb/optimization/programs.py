@@ -1,4 +1,5 @@
-"""Linear and quadratic programs of the robots' controllers, solved by a named solver, with their certificates.
+"""Linear and quadratic programs of the robots' controllers, solved by a named solver, with their
+certificates.
 
 Both robots solve small dense programs every control step: the hexapod's
 stance-wrench LPs and QPs (``hexapod_pb.wrench``), the humanoid's thermal IK

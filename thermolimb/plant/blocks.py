@@ -33,10 +33,10 @@ def free_block(plant, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> 
     thermal protection would not act, and say how many intervals that was.
 
     The same intervals as :meth:`ThermalPlant.derate` then :meth:`ThermalPlant.step` each time: the network's
-    exact map, the sensors' noise (the same draws), the observer's update; protection is then checked at every interval's start as
-    :meth:`ThermalPlant.protection_fraction` would, and the block is cut before the first interval it would have
-    derated or capped (its state, the observer's and the unused noise put back).  What it saves is the
-    per-interval bookkeeping of a step: the network advances in one loop of matrix products.
+    exact map, the sensors' noise (the same draws), the observer's update; protection is then checked at every
+    interval's start as :meth:`ThermalPlant.protection_fraction` would, and the block is cut before the first
+    interval it would have derated or capped (its state, the observer's and the unused noise put back).  What
+    it saves is the per-interval bookkeeping of a step: the network advances in one loop of matrix products.
     """
     if not plant.steps_in_blocks:
         raise ValueError("free_block needs a plant whose heat does not depend on its state or a schedule")

@@ -22,7 +22,8 @@ CASE_SPECS = (X8_9, X8_16, X8_9)
 
 @dataclass(frozen=True)
 class HiddenCase:
-    """One hidden effect: the term that names it (and what else names the same physics), and how its log is made."""
+    """One hidden effect: the term that names it (and what else names the same physics), and how its log is
+    made."""
 
     term: str
     hidden: Hidden

@@ -1,9 +1,10 @@
 """A held duty on the plant: the truth a forecast is judged against (``benchmarks/forecast.py``, the forecast
-demo and its tests); and a bench step test, logged as a bench logs one (``benchmarks/transfer.py --sources step``).
+demo and its tests); and a bench step test, logged as a bench logs one (``benchmarks/transfer.py --sources
+step``).
 
 An actuator starts at rest (or warmed by a held effort first), then holds an effort and a speed; the plant
-records its noise-free thermistor reading and its winding every step.  The warm-up is returned as the history a
-monitor would have seen (its inputs and readings), so that a forecast can place the model's slow states.
+records its noise-free thermistor reading and its winding every step.  The warm-up is returned as the history
+a monitor would have seen (its inputs and readings), so that a forecast can place the model's slow states.
 """
 
 from __future__ import annotations
@@ -37,8 +38,8 @@ class HeldDuty:
 
 def held_duty(spec, effects: PlantEffects, effort: float, speed_rad_s: float, hold_s: float, dt_s: float = 1.0,
               warm_effort: float | None = None, warm_s: float = 0.0, name: str = "knee") -> HeldDuty:
-    """Hold ``effort`` at ``speed_rad_s`` for ``hold_s`` on a plant of one ``spec`` actuator, from rest or after
-    ``warm_s`` at ``warm_effort`` (no sensor noise: the truth)."""
+    """Hold ``effort`` at ``speed_rad_s`` for ``hold_s`` on a plant of one ``spec`` actuator, from rest or
+    after ``warm_s`` at ``warm_effort`` (no sensor noise: the truth)."""
     plant = ThermalPlant([name], [spec], effects)
     readings = [plant.measured_C[0]]
     for _ in range(int(round(warm_s / dt_s))):
@@ -61,10 +62,10 @@ def held_duty(spec, effects: PlantEffects, effort: float, speed_rad_s: float, ho
 
 def step_test(spec: ActuatorSpec, effects: PlantEffects, load: float, seed: int, warm_s: float = 0.0,
               hold_s: float = 1080.0, total_s: float = 2200.0, dt_s: float = 0.5, name: str = "knee") -> ThermalLog:
-    """``load`` times the continuous effort held for ``hold_s``, then released (to 2 % of it; the effort's noise 1 %
-    of it), ``total_s`` logged in all with the plant's sensor; ``warm_s`` at the continuous effort before it, not
-    logged: a run that starts warm.  At rest throughout: two effort levels, unless the plant's protection derates
-    the hold."""
+    """``load`` times the continuous effort held for ``hold_s``, then released (to 2 % of it; the effort's
+    noise 1 % of it), ``total_s`` logged in all with the plant's sensor; ``warm_s`` at the continuous effort
+    before it, not logged: a run that starts warm.  At rest throughout: two effort levels, unless the plant's
+    protection derates the hold."""
     rng = np.random.default_rng(seed)
     t = np.arange(int(round((warm_s + total_s) / dt_s)) + 1) * dt_s
     level = np.where(t < warm_s, 1.0, np.where(t < warm_s + hold_s, load, 0.02)) + rng.normal(0.0, 0.01, t.size)

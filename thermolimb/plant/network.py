@@ -80,8 +80,8 @@ NETWORKS = {"x8": X8_NETWORK, "x5": X5_NETWORK, "first_order": FIRST_ORDER_NETWO
 
 @dataclass
 class Layout:
-    """Where each actuator's nodes sit in the plant's state, and the network effects wire into (``A`` changes in
-    place while effects wire it): node indices per actuator (``driver`` is -1 without a board), the system
+    """Where each actuator's nodes sit in the plant's state, and the network effects wire into (``A`` changes
+    in place while effects wire it): node indices per actuator (``driver`` is -1 without a board), the system
     matrix, each node's inverse capacity (0 for a massless sensor node), the ambient's input and each outer
     node's conductance to ambient."""
 
@@ -101,8 +101,9 @@ class Layout:
 
     @classmethod
     def build(cls, specs, effects) -> "Layout":
-        """The network of ``specs`` side by side, each chain's winding first, then a node per lagging thermistor
-        (when an effect asks for one) and per driver board; then every effect that is on wires its part."""
+        """The network of ``specs`` side by side, each chain's winding first, then a node per lagging
+        thermistor (when an effect asks for one) and per driver board; then every effect that is on wires its
+        part."""
         idx = 0
         winding, housing, outer, sensor, driver = [], [], [], [], []
         blocks = []
@@ -183,7 +184,8 @@ class ActuatorSpec:
                              f"effort_limit = {self.effort_limit:g}; an actuator holds at most its peak")
 
     def first_order(self, lumped_nodes: int = 1) -> tuple[float, float]:
-        """Jorgensen et al.'s Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (their Eqs. 2-5).
+        """Jorgensen et al.'s Eq. 5 parameters ``(RC_s, betaR_K_per_effort2)`` from this datasheet (their Eqs.
+        2-5).
 
         The first ``lumped_nodes`` nodes of the network (from the winding
         out) are lumped into one mass and the rest taken as the slow

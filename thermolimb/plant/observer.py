@@ -120,8 +120,8 @@ class WindingObserver:
             1.0 + self.alpha * (winding - COPPER_REFERENCE_C))
 
     def speed_transitions(self, Phi: np.ndarray, speed_rad_s: np.ndarray) -> np.ndarray:
-        """The transition with each interval's speed losses: unit heat's response times each feature, for speeds
-        of shape ``(..., m)`` (one interval, or a block of them)."""
+        """The transition with each interval's speed losses: unit heat's response times each feature, for
+        speeds of shape ``(..., m)`` (one interval, or a block of them)."""
         v = np.abs(np.asarray(speed_rad_s, float))
         out = np.broadcast_to(Phi, v.shape[:-1] + Phi.shape).copy()
         g = Phi[:, : self.heat, self.heat]
@@ -159,8 +159,8 @@ class WindingObserver:
 
     def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
                speed_rad_s: np.ndarray | None = None) -> np.ndarray:
-        """Predict over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held, then correct with
-        the reading at its end."""
+        """Predict over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held, then correct
+        with the reading at its end."""
         self.predict(current_A, ambient_C, dt_s, speed_rad_s)
         self._correct(np.asarray(measured_C, float))
         return self.winding_C
@@ -169,7 +169,8 @@ class WindingObserver:
             speed_rad_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`update` over a block of intervals (rows of ``current_A``, ``measured_C``, ``ambient_C``,
         ``speed_rad_s``), with a copper coefficient of 0 (the heat does not depend on the estimate).  Returns
-        every state, covariance and transition, the first row the state before the block, the last after it."""
+        every state, covariance and transition, the first row the state before the block, the last after
+        it."""
         if self.alpha != 0.0:
             raise ValueError("WindingObserver.run needs copper_alpha_per_K = 0; step with update() otherwise")
         Phi, Gam, Qd = self._discrete(float(dt_s))
@@ -190,8 +191,8 @@ class WindingObserver:
 
     def fraction_cap(self, x: np.ndarray, Phi_v: np.ndarray, current_A: np.ndarray, limit_C, ambient_C,
                      dt_s: float) -> np.ndarray:
-        """:meth:`current_fraction_cap` from states ``x`` and speed transitions ``Phi_v`` of shape ``(..., m, n)``
-        and ``(..., m, n, n)`` (one interval, or a block of them)."""
+        """:meth:`current_fraction_cap` from states ``x`` and speed transitions ``Phi_v`` of shape ``(..., m,
+        n)`` and ``(..., m, n, n)`` (one interval, or a block of them)."""
         _, Gam, _ = self._discrete(float(dt_s))
         ambient = np.asarray(ambient_C, float)[..., None] if np.ndim(ambient_C) else float(ambient_C)
         free = (Phi_v[..., 0, :] * x).sum(axis=-1) + Gam[:, 0, 1] * ambient
@@ -204,8 +205,9 @@ class WindingObserver:
 
     def current_fraction_cap(self, current_A: np.ndarray, limit_C, ambient_C: float, dt_s: float,
                              speed_rad_s=None) -> np.ndarray:
-        """The largest share of ``current_A`` (0 to 1) that keeps the predicted winding at or below ``limit_C``
-        at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no current overshoots."""
+        """The largest share of ``current_A`` (0 to 1) that keeps the predicted winding at or below
+        ``limit_C`` at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no
+        current overshoots."""
         Phi, _, _ = self._discrete(float(dt_s))
         return self.fraction_cap(self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C, dt_s)
 
@@ -219,8 +221,8 @@ class WindingObserver:
 
     def time_to_limit_s(self, current_A: np.ndarray, limit_C, ambient_C: float, speed_rad_s=None,
                         horizon_s: float = 4 * 3600.0, step_s: float = 10.0) -> list[float | None]:
-        """Time until each estimated winding reaches ``limit_C`` if ``current_A``, the speed and the unknown heat
-        were held: the network simulated ahead every ``step_s`` and its first crossing
+        """Time until each estimated winding reaches ``limit_C`` if ``current_A``, the speed and the unknown
+        heat were held: the network simulated ahead every ``step_s`` and its first crossing
         (:func:`~thermolimb.model.reach.crossing_s`); ``None`` when not within ``horizon_s``."""
         limit = np.broadcast_to(np.asarray(limit_C, float), (self.m,))
         Phi, Gam, _ = self._discrete(float(step_s))

@@ -95,7 +95,8 @@ class CycleMap:
         self.M, self.c = P, d
 
     def followed_by(self, other: CycleMap) -> CycleMap:
-        """This cycle then ``other`` (same network, ambient and interval) as one cycle: walking, then a pause."""
+        """This cycle then ``other`` (same network, ambient and interval) as one cycle: walking, then a
+        pause."""
         if (other.dt_s != self.dt_s or other.M.shape != self.M.shape or other.ambient_C != self.ambient_C
                 or not np.array_equal(other.winding_index, self.winding_index)):
             raise ValueError("cycles join only on the same network, ambient and control interval")
@@ -113,7 +114,8 @@ class CycleMap:
         return self._within_P @ x0 + self._within_d
 
     def steady_state(self) -> np.ndarray:
-        """The state the cycle repeats once the transient has died out (every network here leaks to ambient)."""
+        """The state the cycle repeats once the transient has died out (every network here leaks to
+        ambient)."""
         return np.linalg.solve(np.eye(len(self.c)) - self.M, self.c)
 
     def steady_peak_C(self) -> np.ndarray:
@@ -122,8 +124,8 @@ class CycleMap:
         return self.within(self.steady_state()).max(axis=0)
 
     def propagate(self, x0: np.ndarray, duration_s: float, threshold_C: float | np.ndarray = np.inf) -> Propagation:
-        """Whole cycles from state ``x0`` for ``duration_s`` (rounded up to whole cycles), stopping at the end of the
-        cycle in which a winding first reaches ``threshold_C`` (per actuator or one for all)."""
+        """Whole cycles from state ``x0`` for ``duration_s`` (rounded up to whole cycles), stopping at the end
+        of the cycle in which a winding first reaches ``threshold_C`` (per actuator or one for all)."""
         if not (np.isfinite(duration_s) and duration_s > 0):
             raise ValueError(f"duration_s must be positive and finite, got {duration_s}")
         cycles = int(np.ceil(duration_s / self.period_s - 1e-9))

@@ -111,7 +111,8 @@ class ThermalPlant:
         return len(self.names)
 
     def _make_schedules(self) -> dict[str, ScheduledChannel]:
-        """The random schedules of the effects that log a channel, from one generator drawn off the plant's."""
+        """The random schedules of the effects that log a channel, from one generator drawn off the
+        plant's."""
         plans = [(key, schedule) for fx in self.effects.active for key, schedule in fx.schedules().items()]
         if not plans:
             return {}
@@ -123,7 +124,8 @@ class ThermalPlant:
         return self._schedules[key].at(self.time_s)
 
     def logged_channels(self) -> dict[str, np.ndarray]:
-        """The extra channels the switched-on effects log, by column name (unit in the name), per actuator, now."""
+        """The extra channels the switched-on effects log, by column name (unit in the name), per actuator,
+        now."""
         return {column: values for fx in self.effects.active for column, values in fx.logged(self).items()}
 
     def _discretisation(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
@@ -144,9 +146,9 @@ class ThermalPlant:
         return self.ambient0_C
 
     def _current_sq(self, effort: np.ndarray, speed: np.ndarray, field_share) -> np.ndarray:
-        """Squared motor current (A^2): torque current from the effort (less what the effects leave out of it, a
-        series-elastic bias) and current that makes no torque (field weakening above a base speed), the latter
-        scaled by ``field_share``."""
+        """Squared motor current (A^2): torque current from the effort (less what the effects leave out of it,
+        a series-elastic bias) and current that makes no torque (field weakening above a base speed), the
+        latter scaled by ``field_share``."""
         torque_effort, i_d = effort, 0.0
         for fx in self.effects.active:
             torque_effort = fx.torque_effort(torque_effort)
@@ -163,7 +165,8 @@ class ThermalPlant:
         return constant + per_kelvin * self._x
 
     def heat_affine(self, effort: np.ndarray, velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The heat into every state node as ``constant + per_kelvin * x`` (W and W/K, per node) for the state ``x``.
+        """The heat into every state node as ``constant + per_kelvin * x`` (W and W/K, per node) for the state
+        ``x``.
 
         Every effect whose heat depends on the state does so linearly and
         node by node (copper resistance on the winding, motion cooling on the
@@ -188,9 +191,9 @@ class ThermalPlant:
         return constant, per_kelvin
 
     def set_temperatures(self, temperature_C: np.ndarray, rest_C: np.ndarray | None = None) -> None:
-        """Put each actuator's winding and sensor at ``temperature_C`` (degC) and its other nodes (housing, body,
-        driver) at ``rest_C`` (default the same: an actuator soaked through).  A winding heated for a minute or
-        two sits on a housing that has barely warmed: give ``rest_C`` near ambient for that."""
+        """Put each actuator's winding and sensor at ``temperature_C`` (degC) and its other nodes (housing,
+        body, driver) at ``rest_C`` (default the same: an actuator soaked through).  A winding heated for a
+        minute or two sits on a housing that has barely warmed: give ``rest_C`` near ambient for that."""
         temperature_C = self._per_actuator("temperature_C", temperature_C)
         rest_C = temperature_C if rest_C is None else self._per_actuator("rest_C", rest_C)
         net = self.layout
@@ -206,8 +209,8 @@ class ThermalPlant:
             self.observer.reset(temperature_C)
 
     def _per_actuator(self, name: str, value) -> np.ndarray:
-        """One temperature for every actuator, or one per actuator -- not a list of another length -- each within
-        :data:`TEMPERATURE_RANGE_C`."""
+        """One temperature for every actuator, or one per actuator -- not a list of another length -- each
+        within :data:`TEMPERATURE_RANGE_C`."""
         arr = np.asarray(value, float)
         if arr.ndim > 1 or (arr.ndim == 1 and arr.shape[0] != self.n):
             raise ValueError(f"set_temperatures: {name} needs one temperature or {self.n} (one per actuator: "
@@ -221,11 +224,13 @@ class ThermalPlant:
 
     @property
     def state(self) -> np.ndarray:
-        """Every node's true temperature (degC): the state vector a :class:`~thermolimb.plant.periodic.CycleMap` maps."""
+        """Every node's true temperature (degC): the state vector a
+        :class:`~thermolimb.plant.periodic.CycleMap` maps."""
         return self._x.copy()
 
     def set_state(self, state: np.ndarray) -> None:
-        """Put the network in a state read from :attr:`state` (degC); sensors read it, the observer starts from it."""
+        """Put the network in a state read from :attr:`state` (degC); sensors read it, the observer starts
+        from it."""
         state = np.asarray(state, float)
         if state.shape != self._x.shape or not np.all(np.isfinite(state)):
             raise ValueError(f"a plant state needs {self._x.shape[0]} finite temperatures, got shape {state.shape}")
@@ -239,8 +244,8 @@ class ThermalPlant:
         """Advance by ``dt_s`` seconds with efforts (N m or N) and velocities held.
 
         As a drive does: an effort beyond an actuator's peak is held at the peak (and counted in
-        :attr:`saturations`); a command that is not a finite number faults that actuator -- no torque, a flag in
-        :attr:`faulted` until :meth:`clear_faults` -- instead of poisoning the state."""
+        :attr:`saturations`); a command that is not a finite number faults that actuator -- no torque, a flag
+        in :attr:`faulted` until :meth:`clear_faults` -- instead of poisoning the state."""
         if not (np.isfinite(dt_s) and dt_s > 0):
             raise ValueError(f"dt_s must be a positive, finite number of seconds, got {dt_s}")
         effort, velocity = self.commanded(effort, velocity)
@@ -254,8 +259,8 @@ class ThermalPlant:
             self.observer.update(self.current_A, self._measured_core, ambient, dt_s, velocity)
 
     def commanded(self, effort, velocity) -> tuple[np.ndarray, np.ndarray]:
-        """What the drives make of a command: non-finite values fault their actuator (zero effort and speed from
-        then on), efforts beyond the peak are saturated at it and counted."""
+        """What the drives make of a command: non-finite values fault their actuator (zero effort and speed
+        from then on), efforts beyond the peak are saturated at it and counted."""
         effort, velocity = self._each("effort", effort), np.zeros(self.n) if velocity is None else \
             self._each("velocity", velocity)
         self.faulted |= ~(np.isfinite(effort) & np.isfinite(velocity))
@@ -290,9 +295,9 @@ class ThermalPlant:
     # ---------------------------------------------------------------- blocks
     @property
     def steps_in_blocks(self) -> bool:
-        """Whether :func:`~thermolimb.plant.blocks.free_block` applies: no effect makes the heat depend on the state
-        or on a schedule (copper resistance, airflow, a fan, a brake, a board's load): held inputs give a fixed
-        linear map."""
+        """Whether :func:`~thermolimb.plant.blocks.free_block` applies: no effect makes the heat depend on the
+        state or on a schedule (copper resistance, airflow, a fan, a brake, a board's load): held inputs give
+        a fixed linear map."""
         return (not any(fx.state_dependent for fx in self.effects.active) and not self._schedules
                 and (self.observer is None or self.observer.alpha == 0.0))
 
@@ -333,7 +338,8 @@ class ThermalPlant:
 
     @property
     def protected_C(self) -> np.ndarray:
-        """The winding temperature thermal protection acts on (degC): estimated plus its margin, or measured."""
+        """The winding temperature thermal protection acts on (degC): estimated plus its margin, or
+        measured."""
         return self.protection.acted_on_C(self._measured_core, self.observer)
 
     def derating(self) -> np.ndarray:

@@ -45,8 +45,8 @@ class ThermalProtection:
             raise ValueError(f"ThermalProtection needs 0 <= min_fraction <= 1, got {self.min_fraction}")
 
     def fraction(self, temperature_C: np.ndarray, limit_C: np.ndarray) -> np.ndarray:
-        """Allowed fraction of the commanded effort, per actuator; a temperature that is not a number (a sensor
-        that failed) is taken as at the limit: the protection fails safe."""
+        """Allowed fraction of the commanded effort, per actuator; a temperature that is not a number (a
+        sensor that failed) is taken as at the limit: the protection fails safe."""
         frac = (np.asarray(limit_C) - np.asarray(temperature_C)) / self.margin_K
         return np.clip(np.where(np.isnan(frac), self.min_fraction, frac), self.min_fraction, 1.0)
 
@@ -59,9 +59,9 @@ class ThermalProtection:
 
     def share(self, protected_C: np.ndarray, limit_C: np.ndarray, std_K: np.ndarray | None = None,
               cap=None) -> np.ndarray:
-        """Protection's share from the temperature it acts on and, given ``cap`` (the observer's current cap as a
-        function of the temperature the winding must stay below), the limit less ``guard_K`` and ``sigmas``
-        standard deviations: for one interval, or every interval of a block."""
+        """Protection's share from the temperature it acts on and, given ``cap`` (the observer's current cap
+        as a function of the temperature the winding must stay below), the limit less ``guard_K`` and
+        ``sigmas`` standard deviations: for one interval, or every interval of a block."""
         fraction = self.fraction(protected_C, limit_C)
         if cap is None:
             return fraction

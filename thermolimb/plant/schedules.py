@@ -1,4 +1,5 @@
-"""Random piecewise-constant channels of the plant (a fan's duty, a brake, a board's load), drawn from a seed."""
+"""Random piecewise-constant channels of the plant (a fan's duty, a brake, a board's load), drawn from a
+seed."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from ..effects import Schedule
 
 
 class ScheduledChannel:
-    """One schedule per actuator: a level held for a random time, then another (see :class:`thermolimb.effects.Schedule`).
+    """One schedule per actuator: a level held for a random time, then another (see
+    :class:`thermolimb.effects.Schedule`).
 
     Levels are drawn as time passes, so a schedule needs no duration; plant
     time only moves forward, and the same generator gives the same schedules.

@@ -37,8 +37,8 @@ class Thermistors:
         return readings
 
     def standard_normal(self, count: int) -> np.ndarray:
-        """The generator's next ``count`` standard normals; those a block drew but did not use come first, so a
-        run reads the same noise whether it is stepped one interval at a time or in blocks."""
+        """The generator's next ``count`` standard normals; those a block drew but did not use come first, so
+        a run reads the same noise whether it is stepped one interval at a time or in blocks."""
         taken, self._unused = self._unused[:count], self._unused[count:]
         if taken.size == count:
             return taken
@@ -49,8 +49,8 @@ class Thermistors:
         self._unused = np.concatenate([np.ravel(noise), self._unused])
 
     def observer(self, specs: Sequence[ActuatorSpec], start_C: float) -> WindingObserver:
-        """A winding observer for these sensors: their lag, and their noise and quantisation as its measurement
-        noise."""
+        """A winding observer for these sensors: their lag, and their noise and quantisation as its
+        measurement noise."""
         fx = self.effects
         lag = fx.sensor_lag.time_constant_s if fx.sensor_lag is not None else None
         noise = fx.sensor_noise.std_K if fx.sensor_noise is not None else 0.0

@@ -1,5 +1,5 @@
-"""The thermal audit's figure: every joint's temperature over the run, the limits, the limiting joint bold, the six
-hottest named."""
+"""The thermal audit's figure: every joint's temperature over the run, the limits, the limiting joint bold,
+the six hottest named."""
 
 from __future__ import annotations
 

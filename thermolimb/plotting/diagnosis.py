@@ -17,7 +17,8 @@ STATUS_COLOURS = {"helps": "tab:green", "unstable": "tab:orange", "does not help
 
 
 def plot_residuals(d: Diagnosis, path: Path) -> Path:
-    """Measured against the model's free run, the residual beneath, then its autocorrelation, phases and correlations."""
+    """Measured against the model's free run, the residual beneath, then its autocorrelation, phases and
+    correlations."""
     a = d.residuals
     n_cross = len(a.cross)
     rows = 3 + (n_cross + 1) // 2
@@ -59,7 +60,8 @@ def plot_candidates(d: Diagnosis, path: Path) -> Path:
 
 
 def candidates_figure(d: Diagnosis):
-    """The figure :func:`plot_candidates` writes: a failed refit's bar carries its reason, as the table does."""
+    """The figure :func:`plot_candidates` writes: a failed refit's bar carries its reason, as the table
+    does."""
     refitted = [c for c in d.candidates if c.refitted]
     others = [c for c in d.candidates if not c.refitted]
     # each change in words with its identifier, wrapped so that the axes keep their width
@@ -147,7 +149,8 @@ def plot_waterfall(steps: list[dict], actuator: str, path: Path) -> Path:
 
 def plot_diagnosis(d: Diagnosis, folder: Path, stem: str, steps=()) -> list[Path]:
     """Every diagnosis plot of one actuator into ``folder``: residuals, candidates, and, after a search
-    (``steps``: its diagnoses), the waterfall and every step's model over the measurement with its residual."""
+    (``steps``: its diagnoses), the waterfall and every step's model over the measurement with its
+    residual."""
     folder = Path(folder)
     paths = [plot_residuals(d, folder / f"residuals_{stem}.png"), plot_candidates(d, folder / f"candidates_{stem}.png")]
     if d.auto:

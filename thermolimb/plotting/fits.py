@@ -25,7 +25,8 @@ WIDEST_PX = 1280
 
 
 def save(fig, path: Path) -> Path:
-    """Write a figure whole (to a temporary name first) and close it; a PNG carries what it draws (inventory)."""
+    """Write a figure whole (to a temporary name first) and close it; a PNG carries what it draws
+    (inventory)."""
     path = Path(path)
     kind = path.suffix.lstrip(".").lower() or "png"
     # a name of any length (an actuator's) keeps the figure drawable and readable
@@ -44,9 +45,9 @@ def save(fig, path: Path) -> Path:
 
 
 def wrap_to_figure(fig) -> None:
-    """Wrap every text that runs past the figure's right edge (a long note, a failed refit's reason) to the room
-    it has, so that a figure stays as wide as it was drawn and a page's column shows it legibly.  Texts that
-    start beyond the edge (a legend placed outside the axes) are left alone."""
+    """Wrap every text that runs past the figure's right edge (a long note, a failed refit's reason) to the
+    room it has, so that a figure stays as wide as it was drawn and a page's column shows it legibly.  Texts
+    that start beyond the edge (a legend placed outside the axes) are left alone."""
     renderer = fig.canvas.get_renderer()
     right = fig.bbox.x1
     for text in fig.findobj(Text):
@@ -77,7 +78,8 @@ def run_offsets(segments) -> dict[str, float]:
 
 
 def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) -> None:
-    """Measured temperature and the model's free run, validation shaded; the error and effort beneath if given."""
+    """Measured temperature and the model's free run, validation shaded; the error and effort beneath if
+    given."""
     segments = list(report.train_segments) + list(report.validation_segments)
     shift = run_offsets(sorted(segments, key=lambda s: (s.run, float(s.time_s[0]))))
     for part, color, segs in (("training", "tab:blue", report.train_segments),

@@ -10,7 +10,8 @@ from .fits import plt, save
 
 
 def plot_forecast(f, path: Path) -> Path:
-    """One panel: the band at the forecast's level, the prediction, the threshold and where each crosses it."""
+    """One panel: the band at the forecast's level, the prediction, the threshold and where each crosses
+    it."""
     fig, ax = plt.subplots(figsize=(8, 4.2))
     minutes = f.time_s / 60.0
     ax.fill_between(minutes, f.low_C, f.high_C, color="tab:blue", alpha=0.2,

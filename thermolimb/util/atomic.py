@@ -25,7 +25,8 @@ from .errors import UsageError
 
 @contextmanager
 def atomic_path(path: str | Path):
-    """Yield a temporary path beside ``path``; on success it replaces ``path``, on any exit by error it is removed."""
+    """Yield a temporary path beside ``path``; on success it replaces ``path``, on any exit by error it is
+    removed."""
     path = Path(path)
     if is_stream(path):
         with _through_stream(path) as tmp:
@@ -85,8 +86,8 @@ def file_stem(name: str) -> str:
 
 def is_stream(path: str | Path) -> bool:
     """Whether ``path`` (through any links) is something other than a regular file or a folder, or one of this
-    process's open files (``/dev/stdout``, ``/dev/fd/N``: replacing the file behind it would lose what else the
-    process writes there): written as a stream."""
+    process's open files (``/dev/stdout``, ``/dev/fd/N``: replacing the file behind it would lose what else
+    the process writes there): written as a stream."""
     if _open_file_of(path) is not None:
         return True
     try:
@@ -123,7 +124,8 @@ def _through_stream(path: Path):
 
 
 def _open_file_of(path: Path) -> int | None:
-    """The descriptor ``/dev/stdout``, ``/dev/stderr``, ``/dev/fd/N`` or ``/proc/self/fd/N`` names, else ``None``."""
+    """The descriptor ``/dev/stdout``, ``/dev/stderr``, ``/dev/fd/N`` or ``/proc/self/fd/N`` names, else
+    ``None``."""
     text = str(path)
     if text in ("/dev/stdout", "/dev/stderr"):
         return 1 if text.endswith("out") else 2
@@ -187,9 +189,9 @@ def _check_folder(folder: Path, what: str, target: Path) -> None:
 
 
 def replaces(path: str | Path, mine, flag: str) -> bool:
-    """Whether writing ``path`` replaces a file: ``False`` where none is there, ``True`` where the one there is the
-    suite's own (``mine(path)`` says so: a mark it writes), said "replaced" by the caller; a file the suite did
-    not write is refused in one sentence before anything is written.
+    """Whether writing ``path`` replaces a file: ``False`` where none is there, ``True`` where the one there
+    is the suite's own (``mine(path)`` says so: a mark it writes), said "replaced" by the caller; a file the
+    suite did not write is refused in one sentence before anything is written.
 
     Parameters
     ----------

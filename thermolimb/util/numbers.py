@@ -6,8 +6,8 @@ import math
 
 
 def places3(x: float) -> str:
-    """``x`` to three decimal places (a temperature error in K), or to two significant figures where three places
-    would show too little of it (a sensor floor of 0.00021 K, not 0.000 K)."""
+    """``x`` to three decimal places (a temperature error in K), or to two significant figures where three
+    places would show too little of it (a sensor floor of 0.00021 K, not 0.000 K)."""
     return f"{x:.3f}" if not 0.0 < abs(x) < 0.01 else significant(x, 2)
 
 

@@ -1,4 +1,5 @@
-"""Run independent jobs serially, over a local process pool, or as Ray tasks; the results come back in job order.
+"""Run independent jobs serially, over a local process pool, or as Ray tasks; the results come back in job
+order.
 
 Each job is a tuple of arguments to one module-level function, so that the
 same call runs in this process, in a worker process or on a Ray worker, and
@@ -75,8 +76,8 @@ _SHARED = None  # what a runner's ``shared`` gave this process: sent once to eac
 
 
 def shared():
-    """The ``shared`` value of the runner running this job (:class:`Runner`): data every job reads, such as the
-    log a stability check perturbs, sent to each local worker once instead of in every job."""
+    """The ``shared`` value of the runner running this job (:class:`Runner`): data every job reads, such as
+    the log a stability check perturbs, sent to each local worker once instead of in every job."""
     return _SHARED
 
 
@@ -93,7 +94,8 @@ def _worker_start(parent: int, value=None) -> None:
 
 
 def check_ray_address(address: str | None, timeout_s: float = RAY_CONNECT_TIMEOUT_S) -> None:
-    """Refuse, within ``timeout_s``, a Ray address ``[ray://]host:port`` where nothing answers (Ray would wait)."""
+    """Refuse, within ``timeout_s``, a Ray address ``[ray://]host:port`` where nothing answers (Ray would
+    wait)."""
     if address in (None, "auto", "local"):
         return
     host, sep, port = address.removeprefix("ray://").rpartition(":")
@@ -106,8 +108,8 @@ def check_ray_address(address: str | None, timeout_s: float = RAY_CONNECT_TIMEOU
 
 
 class Runner:
-    """A backend held open: ``with Runner("process", 2) as r: r.map(func, jobs)``.  ``shared``: a value every job
-    reads by :func:`shared` (local backends only), sent once to each worker."""
+    """A backend held open: ``with Runner("process", 2) as r: r.map(func, jobs)``.  ``shared``: a value every
+    job reads by :func:`shared` (local backends only), sent once to each worker."""
 
     def __init__(self, backend: str = "process", workers: int = 2, address: str | None = None, shared=None):
         if backend not in BACKENDS:
@@ -220,10 +222,10 @@ _CONTROLLER = None
 def one_blas_thread():
     """A context limiting BLAS to :data:`BLAS_THREADS` (the loaded libraries are scanned once per process).
 
-    SciPy's LAPACK is an OpenBLAS of its own, beside NumPy's, loaded with :mod:`scipy.linalg`: it is loaded here
-    before the scan, or a scan made before a command's first fit (the command line imports its modules lazily)
-    misses it, and its solvers keep two threads each.  Two workers' SVDs then took 30 ms where they take 0.4 ms
-    (UR3 J5's refits: 5.9 s pooled against 3.5 s here, before this import).
+    SciPy's LAPACK is an OpenBLAS of its own, beside NumPy's, loaded with :mod:`scipy.linalg`: it is loaded
+    here before the scan, or a scan made before a command's first fit (the command line imports its modules
+    lazily) misses it, and its solvers keep two threads each.  Two workers' SVDs then took 30 ms where they
+    take 0.4 ms (UR3 J5's refits: 5.9 s pooled against 3.5 s here, before this import).
     """
     global _CONTROLLER
     if _CONTROLLER is None:
@@ -235,14 +237,15 @@ def one_blas_thread():
 
 
 def with_one_blas_thread(func: Callable, *args):
-    """``func(*args)`` with one BLAS thread: as a job ``(func, *args)`` of :func:`run_jobs`, alike on any backend."""
+    """``func(*args)`` with one BLAS thread: as a job ``(func, *args)`` of :func:`run_jobs`, alike on any
+    backend."""
     with one_blas_thread():
         return func(*args)
 
 
 def run_jobs(func: Callable, jobs: Sequence[tuple], backend: str = "process", workers: int = 2,
              address: str | None = None, shared=None) -> list:
-    """``[func(*job) for job in jobs]`` on the chosen backend (``process``, ``ray`` or ``serial``); ``shared``: see
-    :class:`Runner`."""
+    """``[func(*job) for job in jobs]`` on the chosen backend (``process``, ``ray`` or ``serial``);
+    ``shared``: see :class:`Runner`."""
     with Runner(backend, workers, address, shared) as runner:
         return runner.map(func, jobs)

@@ -34,7 +34,8 @@ def urdf_dir() -> Path:
 
 
 def write_urdf(name: str, text: str) -> Path:
-    """Write a generated URDF into :func:`urdf_dir` (what each robot's ``python -m <robot>.urdf_model`` does)."""
+    """Write a generated URDF into :func:`urdf_dir` (what each robot's ``python -m <robot>.urdf_model``
+    does)."""
     path = write_text(urdf_dir() / name, text)
     print(f"wrote {path}", file=sys.stderr)
     return path

@@ -1,4 +1,5 @@
-"""Several models fitted and validated the same way on one log, side by side with their information criteria."""
+"""Several models fitted and validated the same way on one log, side by side with their information
+criteria."""
 
 from __future__ import annotations
 

@@ -62,8 +62,8 @@ class Evidence:
         return "too thin" if not self.rankable else "thin" if self.thin else "enough"
 
     def sentence(self) -> str:
-        """``evidence: 6 validation samples over 31 s (1.2 time constants of RC_s = 25.7 s), 3 distinct readings:
-        too thin to rank ...``"""
+        """``evidence: 6 validation samples over 31 s (1.2 time constants of RC_s = 25.7 s), 3 distinct
+        readings: too thin to rank ...``"""
         head = (f"evidence: {self.samples} validation samples over {significant(self.span_s, 3)} s "
                 f"({self.time_constants:.1f} time constants of RC_s = {significant(self.time_constant_s, 3)} s), "
                 f"{self.distinct_readings} distinct readings")

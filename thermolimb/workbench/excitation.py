@@ -1,7 +1,7 @@
 """What a log shows a thermal model, counted directly: the effort levels it holds, and its heating and cooling
 transients.  Large standard errors have two causes a user acts on differently -- a log that does not excite
-the model (hold more effort levels, let it heat and cool) and a model that misses something (run ``diagnose``);
-these counts, with the sensor's floor (:mod:`.floor`), tell them apart."""
+the model (hold more effort levels, let it heat and cool) and a model that misses something (run
+``diagnose``); these counts, with the sensor's floor (:mod:`.floor`), tell them apart."""
 
 from __future__ import annotations
 
@@ -34,7 +34,8 @@ class Excitation:
         return not self.lacking()
 
     def lacking(self) -> list[str]:
-        """What the log lacks of :attr:`ample`'s counts, in words (``two cooling transients (it holds 0)``)."""
+        """What the log lacks of :attr:`ample`'s counts, in words (``two cooling transients (it holds
+        0)``)."""
         wants = (("three effort levels", self.effort_levels, MIN_LEVELS),
                  ("two heating transients", self.heating, MIN_TRANSIENTS),
                  ("two cooling transients", self.cooling, MIN_TRANSIENTS))
@@ -56,8 +57,8 @@ def excitation(series) -> Excitation:
 
 
 def effort_levels(series) -> int:
-    """The effort's distinct levels over every run of ``series``: of :data:`LEVEL_BINS` bins over its 1-99 % range,
-    those holding :data:`LEVEL_SHARE` of the samples or more."""
+    """The effort's distinct levels over every run of ``series``: of :data:`LEVEL_BINS` bins over its 1-99 %
+    range, those holding :data:`LEVEL_SHARE` of the samples or more."""
     efforts = np.concatenate([s.signals.effort for s in series])
     lo, hi = np.percentile(efforts, [1, 99])
     if not hi > lo:
@@ -67,11 +68,11 @@ def effort_levels(series) -> int:
 
 
 def own_shares(series, terms: Sequence[str]) -> dict[str, float] | None:
-    """Of the offset's constant and of each of ``terms``' regressors over every run of ``series``, the share that
-    the others do not account for (:func:`~thermolimb.identification.regression.independent_fractions`; 1: its
-    own, 0: a combination of the others', as the effort on two levels makes the effort bias's of Joule heating's
-    and the constant): a fit tells a coefficient apart from the others' only by that share.  ``None`` when a term
-    has no regressor (a form not linear in its parameters)."""
+    """Of the offset's constant and of each of ``terms``' regressors over every run of ``series``, the share
+    that the others do not account for (:func:`~thermolimb.identification.regression.independent_fractions`;
+    1: its own, 0: a combination of the others', as the effort on two levels makes the effort bias's of Joule
+    heating's and the constant): a fit tells a coefficient apart from the others' only by that share.
+    ``None`` when a term has no regressor (a form not linear in its parameters)."""
     parts = [[instance(t).features(s.signals, s.temperature_C) for s in series] for t in terms]
     if any(f is None for part in parts for f in part):
         return None
@@ -140,8 +141,8 @@ class ChannelExcitation:
         return self.enough(*self.fitted) and self.enough(*self.judged) and self.level is None
 
     def sentence(self) -> str:
-        """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319 judged
-        on, in 0 bouts); ...``"""
+        """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319
+        judged on, in 0 bouts); ...``"""
         words = CHANNEL_WORDS.get(self.channel, f"the channel {self.channel.removeprefix('extra.')} is away from "
                                                 f"its usual level")
         (a1, n1, b1), (a2, n2, b2) = self.fitted, self.judged
@@ -155,9 +156,10 @@ class ChannelExcitation:
 
 
 def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
-    """How much ``channel`` (a log column: ``velocity``, ``current``, ``neighbors``, ``extra.NAME``, ...) moves in
-    the samples a change is fitted on (``fitted``: series, each fitted on its ``fit_mask``) and judged on
-    (``judged``: :class:`~thermolimb.model.Signals` of the held-out pieces, with their measured temperatures)."""
+    """How much ``channel`` (a log column: ``velocity``, ``current``, ``neighbors``, ``extra.NAME``, ...)
+    moves in the samples a change is fitted on (``fitted``: series, each fitted on its ``fit_mask``) and
+    judged on (``judged``: :class:`~thermolimb.model.Signals` of the held-out pieces, with their measured
+    temperatures)."""
     fit_parts = [(s.signals, s.temperature_C, s.fit_mask) for s in fitted]
     judged_parts = [(signals, temperature_C, None) for signals, temperature_C in judged]
     values = _moved(channel, [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts])
@@ -178,11 +180,11 @@ def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
 
 
 def _one_level(channel: str, moved: list[np.ndarray], scale: float) -> float | None:
-    """The level an input holds wherever it is away from rest, when its 5th to 95th percentiles there lie within the
-    rest threshold of each other (PMSM profile 24 spins at 576 rad/s throughout but its first five samples; cut by a
-    few rows at its start, motion cooling fitted there as a second conductance and was taken in 9 of 10
-    replicates, ``benchmarks/stability.py``); else ``None``.  Temperatures and extra channels are left to their
-    counts."""
+    """The level an input holds wherever it is away from rest, when its 5th to 95th percentiles there lie
+    within the rest threshold of each other (PMSM profile 24 spins at 576 rad/s throughout but its first five
+    samples; cut by a few rows at its start, motion cooling fitted there as a second conductance and was taken
+    in 9 of 10 replicates, ``benchmarks/stability.py``); else ``None``.  Temperatures and extra channels are
+    left to their counts."""
     if channel in ("neighbors", "ambient", "housing") or channel.startswith("extra.") or not np.isfinite(scale):
         return None
     on = np.concatenate([x[x > scale] for x in moved]) if moved else np.zeros(0)
@@ -218,8 +220,8 @@ def _scale(channel: str, moved: list[np.ndarray]) -> float:
 
 def refuse_flat(runs: list, name: str) -> None:
     """An actuator whose temperature reads one value on every sample is refused in one sentence (no model is
-    identified from it); at zero effort throughout, most likely a motor the robot's table lists but nothing drives
-    (a Unitree low-state table's unused slots read 0 degC and 0 N m)."""
+    identified from it); at zero effort throughout, most likely a motor the robot's table lists but nothing
+    drives (a Unitree low-state table's unused slots read 0 degC and 0 N m)."""
     values = np.concatenate([r.temperature_C for r in runs]) if runs else np.empty(0)
     if values.size == 0 or np.ptp(values) > 0:
         return
@@ -232,8 +234,8 @@ def refuse_flat(runs: list, name: str) -> None:
 
 def refuse_disturbed(runs: list, name: str) -> None:
     """An actuator whose readings fall as its effort steps up and jump as it steps down
-    (:func:`~thermolimb.logs.suspect.disturbed_spans`) is refused in one sentence naming the intervals: a model
-    fitted through them would take the heat going in for cooling (a time constant of days)."""
+    (:func:`~thermolimb.logs.suspect.disturbed_spans`) is refused in one sentence naming the intervals: a
+    model fitted through them would take the heat going in for cooling (a time constant of days)."""
     from ..logs.suspect import disturbed_spans
 
     found = [(run, a, b, fall, jump) for run in runs

@@ -38,8 +38,8 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
                     covariance: np.ndarray | None = None) -> list[str]:
     """One sentence per fitted value that looks like an artefact of the log rather than physics (values
     ``held``, not fitted, are the user's or the ambient's and are not judged).  A value the log does not pin
-    down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``; the parameter it trades
-    with, from the fit's ``covariance`` over ``model.parameters``)."""
+    down says why (:func:`uncertainty_cause`, from the training error ``train_rmse_K``; the parameter it
+    trades with, from the fit's ``covariance`` over ``model.parameters``)."""
     flags = []
     cause = _Cause(series, train_rmse_K, model, covariance)
     units = series[0].units if series else {}
@@ -85,11 +85,11 @@ _UNREAD = [False]  # inside :func:`unread`: no flag's cause is worked out
 
 @contextlib.contextmanager
 def unread():
-    """Flags that nobody reads (a stability replicate's fits: only their verdicts count), their causes not worked
-    out: a large standard error's flag then ends "(its cause not worked out)".  What a flag starts with -- the
-    value, and that it is flagged, all any judgement reads -- is unchanged.  On the 6 M-row Parquet's knee the
-    causes' readings (its excitation and its sensor's floor, on each replicate's trimmed runs) took 1.15 s of the
-    ten replicates' 8.1 s."""
+    """Flags that nobody reads (a stability replicate's fits: only their verdicts count), their causes not
+    worked out: a large standard error's flag then ends "(its cause not worked out)".  What a flag starts with
+    -- the value, and that it is flagged, all any judgement reads -- is unchanged.  On the 6 M-row Parquet's
+    knee the causes' readings (its excitation and its sensor's floor, on each replicate's trimmed runs) took
+    1.15 s of the ten replicates' 8.1 s."""
     before, _UNREAD[0] = _UNREAD[0], True
     try:
         yield
@@ -98,7 +98,8 @@ def unread():
 
 
 class _Cause:
-    """Why standard errors are large, worked out once per fit and only when one is (:func:`uncertainty_cause`)."""
+    """Why standard errors are large, worked out once per fit and only when one is
+    (:func:`uncertainty_cause`)."""
 
     def __init__(self, series, train_rmse_K, model=None, covariance=None):
         self.series, self.train_rmse_K, self._said = series, train_rmse_K, None
@@ -125,30 +126,30 @@ class _Cause:
         return f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
 
     def wanting(self, p) -> str:
-        """What identifying ``p`` needs, for a vanishing value's flag: for the first-order model's, what the log
-        lacks of it, or nothing where it holds it all (the BLDC bench's Joule coefficient on twelve effort levels was
-        told it needed three)."""
+        """What identifying ``p`` needs, for a vanishing value's flag: for the first-order model's, what the
+        log lacks of it, or nothing where it holds it all (the BLDC bench's Joule coefficient on twelve effort
+        levels was told it needed three)."""
         lacking = None if _UNREAD[0] else self._lacking(p)
         if lacking is None:
             return f" (identifying it needs {p.excitation})"
         return f"; it lacks {', '.join(lacking)}" if lacking else ", though it holds what identifying it needs"
 
     def _lacking(self, p) -> list[str] | None:
-        """What the log lacks of the counts the first-order model's values need (:data:`FIRST_ORDER`: the counts
-        measure their needs), or ``None`` for any other value."""
+        """What the log lacks of the counts the first-order model's values need (:data:`FIRST_ORDER`: the
+        counts measure their needs), or ``None`` for any other value."""
         return _readings(self.series)[0].lacking() if p.name in FIRST_ORDER else None
 
     def _small(self, p) -> bool:
-        """Whether a heat coefficient of the first-order model, on a log that holds what the counts say it needs
-        (for the bias, efforts of both signs too), is a small value: its large relative error is then not the log's
-        want (the README tour's bias after ``+ speed_losses``, 0.000477 +- 0.00035 K/(N m) on a log of 14 effort
-        levels, was once said to need three).  A time constant is never "small"."""
+        """Whether a heat coefficient of the first-order model, on a log that holds what the counts say it
+        needs (for the bias, efforts of both signs too), is a small value: its large relative error is then
+        not the log's want (the README tour's bias after ``+ speed_losses``, 0.000477 +- 0.00035 K/(N m) on a
+        log of 14 effort levels, was once said to need three).  A time constant is never "small"."""
         return p.unit != "s" and (p.name != "beta_biasR_K_per_effort" or both_signs(self.series)[0])
 
 
 def _partner(model: ThermalModel | None, covariance, name: str) -> tuple[str, float] | None:
-    """The fitted parameter whose estimate moves most with ``name``'s, and their correlation, where its magnitude is
-    at least :data:`TRADES`; else ``None`` (a held value has no variance, so no partner)."""
+    """The fitted parameter whose estimate moves most with ``name``'s, and their correlation, where its
+    magnitude is at least :data:`TRADES`; else ``None`` (a held value has no variance, so no partner)."""
     names = [p.name for p in model.parameters] if model is not None else []
     if covariance is None or np.shape(covariance) != (len(names), len(names)) or name not in names:
         return None
@@ -183,7 +184,8 @@ READINGS_KEPT = 4
 def _readings(series) -> tuple:
     """The excitation and the sensor floor of ``series``: a diagnosis flags every fit of one log (a stability
     replicate's dozen on the 6 M-row Parquet's knee took 0.25 s each), so the last :data:`READINGS_KEPT` logs'
-    are kept, each with weak references to its series: an identity whose series is gone may be another log's."""
+    are kept, each with weak references to its series: an identity whose series is gone may be another
+    log's."""
     series = tuple(series)
     key = tuple(map(id, series))
     kept = _READINGS.get(key)

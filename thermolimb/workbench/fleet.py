@@ -185,7 +185,8 @@ def _check(scheme: Scheme) -> None:
 def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output_error", diagnose: bool = False,
               backend: str = "process", workers: int | None = None, address: str | None = None,
               actuators: Sequence[str] | None = None, datasheet: dict | None = None) -> list[dict]:
-    """Rows for every actuator and run of logs in memory, computed on ``backend``; the same rows on every backend."""
+    """Rows for every actuator and run of logs in memory, computed on ``backend``; the same rows on every
+    backend."""
     _check(scheme)
     jobs = fleet_jobs(logs, actuators)
     if not jobs:
@@ -197,7 +198,8 @@ def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output
 
 def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str, scheme: Scheme, method: str,
                  diagnose: bool, datasheet: dict | None = None) -> tuple[list[dict], list[str]]:
-    """Read one log in the worker and analyse its actuators ``names`` (all when ``None``): ``(rows, notes)``."""
+    """Read one log in the worker and analyse its actuators ``names`` (all when ``None``): ``(rows,
+    notes)``."""
     from ..logs import read_log
 
     try:

@@ -50,7 +50,8 @@ class SensorFloor:
         return "quantisation" if self.quantisation_K >= self.noise_K else "noise"
 
     def reached(self, rmse_K: float) -> bool:
-        """Whether a validation error is within :data:`FLOOR_FACTOR` of the floor (a floor of 0 is never reached)."""
+        """Whether a validation error is within :data:`FLOOR_FACTOR` of the floor (a floor of 0 is never
+        reached)."""
         return self.floor_K > 0 and rmse_K <= FLOOR_FACTOR * self.floor_K
 
     def sentence(self, rmse_K: float) -> str:

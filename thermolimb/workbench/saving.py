@@ -1,6 +1,6 @@
 """A fitted model as a model file's entry: :func:`saved_from_report` turns a fit's
-:class:`~thermolimb.workbench.validation.FitReport` into a :class:`~thermolimb.model.saved.SavedModel`, with the
-held-out residual's statistics and the blocked jackknife's covariance a forecast's interval needs."""
+:class:`~thermolimb.workbench.validation.FitReport` into a :class:`~thermolimb.model.saved.SavedModel`, with
+the held-out residual's statistics and the blocked jackknife's covariance a forecast's interval needs."""
 
 from __future__ import annotations
 
@@ -48,12 +48,12 @@ LEAD_STARTS = 400  # start points per lead, spread over the runs
 
 
 def lead_profile(report) -> dict:
-    """How far a forecast started from a reading drifts from the readings after each lead: over every run the model
-    was fitted on, from start points spread over it, the error a forecast makes -- the free run's residual after
-    the lead, less the residual at the start faded as the forecast fades it (``gap_fade_s``), as
-    :func:`thermolimb.forecast.forecast` corrects a forecast to its start -- and its quantiles per lead.  The runs
-    include the data fitted on, so each quantile is scaled by the held-out error over the training error (never
-    below one).  Leads longer than half the longest run are not measured."""
+    """How far a forecast started from a reading drifts from the readings after each lead: over every run the
+    model was fitted on, from start points spread over it, the error a forecast makes -- the free run's
+    residual after the lead, less the residual at the start faded as the forecast fades it (``gap_fade_s``),
+    as :func:`thermolimb.forecast.forecast` corrects a forecast to its start -- and its quantiles per lead.
+    The runs include the data fitted on, so each quantile is scaled by the held-out error over the training
+    error (never below one).  Leads longer than half the longest run are not measured."""
     model, fade = report.model, report.model.gap_fade_s
     offsets = getattr(report.estimator, "offsets_", None) or [None] * len(report.train_series)
     runs = []

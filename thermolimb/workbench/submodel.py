@@ -1,5 +1,5 @@
-"""The largest part of a model a log identifies: a parameter the log cannot place is held at its datasheet value
-(or an offset at the logged ambient), else its term is set aside, and the report says which and why."""
+"""The largest part of a model a log identifies: a parameter the log cannot place is held at its datasheet
+value (or an offset at the logged ambient), else its term is set aside, and the report says which and why."""
 
 from __future__ import annotations
 
@@ -27,8 +27,8 @@ OWN_SHARE = 0.1
 
 def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequence[ActuatorSeries], hold: bool = True,
                           datasheet: Mapping[str, float] | None = None, levels: bool = True):
-    """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while the
-    log cannot identify a parameter; the report says how in ``set_aside``.
+    """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while
+    the log cannot identify a parameter; the report says how in ``set_aside``.
 
     * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the fit
       leaves uncertain (standard error over half of it, or a time constant over three log durations), is held
@@ -124,16 +124,17 @@ def resting_offset(series: Sequence[ActuatorSeries], report) -> tuple[float, str
 
 
 def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], aside: list) -> tuple[str, ...]:
-    """``model`` without the terms of heat from the effort alone (Joule heating, the effort bias) that the log's
-    effort levels cannot pin, each said in ``aside``.  Held at N distinct levels (:func:`.excitation.effort_levels`),
-    the effort gives N steady states, which pin the offset and N - 1 such coefficients at most: on a step test
-    (rest and one hold) Joule heating and the bias are one number between them, and a fit that returns both owes
-    its values to the noise in the effort (``benchmarks/transfer.py --sources step``, fitted on the hold at 2.0: the
-    bias at 40 +- 76 K/(N m), the other runs missed by 63.6 K with it and by 8.4 K without).  More levels pin no
-    more where the effort moves one term's input almost only as it moves the constant's and the others'
-    (:func:`.excitation.own_shares` under :data:`OWN_SHARE`) while the offset is pinned: a hold derated in steps,
-    all of one sign. The hold at 2.5 there, derated to five levels, keeps 7.3 % of the bias's input its own, and
-    misses the other runs by 21.3 K with the bias and 10.4 K without.  The first heat source stays."""
+    """``model`` without the terms of heat from the effort alone (Joule heating, the effort bias) that the
+    log's effort levels cannot pin, each said in ``aside``.  Held at N distinct levels
+    (:func:`.excitation.effort_levels`), the effort gives N steady states, which pin the offset and N - 1 such
+    coefficients at most: on a step test (rest and one hold) Joule heating and the bias are one number between
+    them, and a fit that returns both owes its values to the noise in the effort (``benchmarks/transfer.py
+    --sources step``, fitted on the hold at 2.0: the bias at 40 +- 76 K/(N m), the other runs missed by 63.6 K
+    with it and by 8.4 K without).  More levels pin no more where the effort moves one term's input almost
+    only as it moves the constant's and the others' (:func:`.excitation.own_shares` under :data:`OWN_SHARE`)
+    while the offset is pinned: a hold derated in steps, all of one sign. The hold at 2.5 there, derated to
+    five levels, keeps 7.3 % of the bias's input its own, and misses the other runs by 21.3 K with the bias
+    and 10.4 K without.  The first heat source stays."""
     alone = [t for t in model if from_effort_alone(t)]
     primary = next((t for t in model if TERMS[t].is_heat_source), None)
     if not series or len(alone) <= 1:

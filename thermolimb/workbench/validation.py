@@ -1,7 +1,8 @@
 """Fit on part of the data, validate by free-run simulation on the rest.
 
-Every command (``fit``, ``compare``, ``diagnose``) validates the same way, each run simulated from its own first
-reading, chosen by a :class:`Scheme`; the default is **leave one run out** with several runs, else the **split**:
+Every command (``fit``, ``compare``, ``diagnose``) validates the same way, each run simulated from its own
+first reading, chosen by a :class:`Scheme`; the default is **leave one run out** with several runs, else the
+**split**:
 
 * a **split**: fit on the first ``split`` (70 %) of each run; the free run starts at the run's beginning and runs
   through the training part into the held-out part, scored on the latter only, so hidden states (a slow mass, a
@@ -11,10 +12,11 @@ reading, chosen by a :class:`Scheme`; the default is **leave one run out** with 
 * **blocked cross-validation** over ``folds`` contiguous blocks; **leave one run out**: each run validated, whole,
   by a model fitted on the other runs; **held-out runs**: fit on the runs given, validate on others.
 
-Why the split on one run: ``python benchmarks/transfer.py --sources ur3,wx200,bldc,pmsm`` fits the walk's model on
-one run and scores it on the joint's other runs (18 real cases).  The split made the model better there in 5 cases
-and worse in 1 (6.7 s a walk); 30 interleaved blocks 1 and 2; leave one part out 3 and 2 at 40 s a walk.  A
-diagnosis takes interleaved blocks where the split's tail leaves a channel still (``diagnosis.split_or_blocks``)."""
+Why the split on one run: ``python benchmarks/transfer.py --sources ur3,wx200,bldc,pmsm`` fits the walk's
+model on one run and scores it on the joint's other runs (18 real cases).  The split made the model better
+there in 5 cases and worse in 1 (6.7 s a walk); 30 interleaved blocks 1 and 2; leave one part out 3 and 2 at
+40 s a walk.  A diagnosis takes interleaved blocks where the split's tail leaves a channel still
+(``diagnosis.split_or_blocks``)."""
 
 from __future__ import annotations
 
@@ -81,8 +83,9 @@ class Scheme:
         return cls(INTERLEAVED)
 
     def resolved(self, series) -> "Scheme":
-        """The scheme for these runs: ``auto`` is leave one run out when the actuator has several runs (each long
-        enough to be fitted on), interleaved blocks of its one run otherwise; any other kind is itself."""
+        """The scheme for these runs: ``auto`` is leave one run out when the actuator has several runs (each
+        long enough to be fitted on), interleaved blocks of its one run otherwise; any other kind is
+        itself."""
         if self.kind != AUTO:
             return self
         several = len(series) >= 2 and all(s.n >= MIN_RUN_SAMPLES for s in series)
@@ -199,11 +202,13 @@ class FitReport:
 
     @property
     def channel_units(self) -> Mapping[str, str]:
-        """The units of the log's effort, velocity, current and power channels (what parameter units are built on)."""
+        """The units of the log's effort, velocity, current and power channels (what parameter units are built
+        on)."""
         return self.train_series[0].units if self.train_series else {}
 
     def unit(self, parameter) -> str:
-        """A parameter's unit on this log (``K/(N m)^2``, ``K/mA^2``, or saying the channel's unit was not given)."""
+        """A parameter's unit on this log (``K/(N m)^2``, ``K/mA^2``, or saying the channel's unit was not
+        given)."""
         return parameter.unit_in(self.channel_units)
 
     def to_json(self) -> dict:
@@ -231,10 +236,11 @@ class FitReport:
 def _segments(model: ThermalModel, series: ActuatorSeries, pieces: Sequence[tuple[int, int]] | None = None,
               restart: bool = False, unit: str = "", offsets: Mapping[str, float] | None = None,
               runs: dict | None = None) -> list[Segment]:
-    """Samples ``[lo, hi)`` of ``series`` for each piece (default: the whole run, or with a fit mask the pieces it
-    is fitted on), all from one free run carried from the run's start (its hidden states started by ``offsets``),
-    or restarted at ``lo - 1``.  ``runs`` keeps the free runs carried from a run's start: a free run is causal, so
-    the training part of a split run is the start of the whole run's (a 1.4 M-sample run not simulated twice)."""
+    """Samples ``[lo, hi)`` of ``series`` for each piece (default: the whole run, or with a fit mask the
+    pieces it is fitted on), all from one free run carried from the run's start (its hidden states started by
+    ``offsets``), or restarted at ``lo - 1``.  ``runs`` keeps the free runs carried from a run's start: a free
+    run is causal, so the training part of a split run is the start of the whole run's (a 1.4 M-sample run not
+    simulated twice)."""
     if pieces is None:
         pieces = _runs_of(series.fit_mask) if series.fit_mask is not None else [(0, series.n)]
     # a run moved to the air of those fitted with it, shown as it read
@@ -434,6 +440,7 @@ def fit_and_validate(
     estimator: ThermalEstimator | None = None,
     restart_at_split: bool = False,
 ) -> FitReport:
-    """Fit jointly on the first ``split`` of every series (one actuator, one or several runs), validate on the rest."""
+    """Fit jointly on the first ``split`` of every series (one actuator, one or several runs), validate on the
+    rest."""
     make = (lambda: estimator) if estimator is not None else None
     return validate_model(series, model, Scheme.at_split(split, restart_at_split), make=make, method=method)

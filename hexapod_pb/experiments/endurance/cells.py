@@ -1,4 +1,5 @@
-"""A cell of the endurance envelope: how long the hexapod works at a payload, ambient and duty before it derates."""
+"""A cell of the endurance envelope: how long the hexapod works at a payload, ambient and duty before it
+derates."""
 
 from __future__ import annotations
 
@@ -64,7 +65,8 @@ def derating_threshold_C() -> np.ndarray:
 def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, horizon_s: float,
               bank: ModelArrays | None = None, window_s: float = 1800.0, gait: Gait | None = None,
               seed: int = 0, choices: dict[str, tuple[float, ...]] = GAIT_CHOICES) -> CellResult:
-    """Time until the first actuator derates (``None`` if not within ``horizon_s``), from cold at ``ambient_C``.
+    """Time until the first actuator derates (``None`` if not within ``horizon_s``), from cold at
+    ``ambient_C``.
 
     ``bank`` (identified, :func:`at_ambient` this ambient) is needed by the
     thermal-aware strategies; ``gait`` skips ``thermal_gait``'s planning

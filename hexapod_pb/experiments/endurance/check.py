@@ -19,9 +19,9 @@ from .gait import NOMINAL_GAIT
 
 @dataclass(frozen=True)
 class PeriodicCheck:
-    """The propagated cell against the whole run in PyBullet: the hottest actuator's true winding, averaged over
-    each cycle (a cycle's start falls at a slightly different phase of the stride as the run goes on, and the
-    winding swings by kelvins within a stride)."""
+    """The propagated cell against the whole run in PyBullet: the hottest actuator's true winding, averaged
+    over each cycle (a cycle's start falls at a slightly different phase of the stride as the run goes on, and
+    the winding swings by kelvins within a stride)."""
 
     duration_s: float
     cycle_start_s: np.ndarray
@@ -45,7 +45,8 @@ class PeriodicCheck:
 
 def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str, duration_s: float,
                    seed: int = 0) -> PeriodicCheck:
-    """Run a temperature-independent strategy in PyBullet for ``duration_s`` and propagate its first cycle as long.
+    """Run a temperature-independent strategy in PyBullet for ``duration_s`` and propagate its first cycle as
+    long.
 
     Both start from cold and settle and warm up alike; the full run keeps
     going with the thermal plant stepped every control period.

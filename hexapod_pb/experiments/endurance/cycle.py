@@ -1,5 +1,5 @@
-"""One periodic duty of the hexapod measured in PyBullet: a cycle of strides (or of standing) recorded once its gait
-is periodic, and the plant's exact affine map over it."""
+"""One periodic duty of the hexapod measured in PyBullet: a cycle of strides (or of standing) recorded once
+its gait is periodic, and the plant's exact affine map over it."""
 
 from __future__ import annotations
 
@@ -47,7 +47,8 @@ def pause_steps(gait: Gait, control_hz: float) -> int:
 
 def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: float, config: SimConfig, walking: bool,
               forces: str, thermal: ThermalContext | None, steps: int):
-    """Settle, warm up for a few strides, then run ``steps`` control steps; yield ``(k, reading)`` after each step.
+    """Settle, warm up for a few strides, then run ``steps`` control steps; yield ``(k, reading)`` after each
+    step.
 
     ``k`` counts from the end of the warm-up: -1 is the last warm-up step,
     0 the first recorded one.  A stance no solver can meet raises
@@ -62,7 +63,8 @@ def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: floa
 
 def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, gait: Gait = NOMINAL_GAIT,
                   state: np.ndarray | None = None, thermal: ThermalContext | None = None, seed: int = 0) -> Cycle:
-    """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at ambient).
+    """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at
+    ambient).
 
     Walking with a pause, the pause is measured standing from the state the
     strides leave, and joined to their cycle.

@@ -1,4 +1,5 @@
-"""What the gait planner may change (duty factor, foot reach, body height, pauses) and what it chooses from."""
+"""What the gait planner may change (duty factor, foot reach, body height, pauses) and what it chooses
+from."""
 
 from __future__ import annotations
 
@@ -12,8 +13,8 @@ MODES = ("walk", "stand")
 
 @dataclass(frozen=True)
 class Gait:
-    """What the planner may change: duty factor, foot reach from the shoulder (m), body height (m), and the share
-    of the time spent standing still (a pause after every eight strides)."""
+    """What the planner may change: duty factor, foot reach from the shoulder (m), body height (m), and the
+    share of the time spent standing still (a pause after every eight strides)."""
 
     duty_factor: float = cpg.CPGParams().duty_factor
     foot_reach_m: float = DAISY.nominal_foot_reach_m

@@ -1,4 +1,5 @@
-"""The gait whose measured torques the identified models say run coolest, at a kept share of the stock speed."""
+"""The gait whose measured torques the identified models say run coolest, at a kept share of the stock
+speed."""
 
 from __future__ import annotations
 
@@ -18,8 +19,8 @@ MIN_SPEED_SHARE = 0.8  # a planned gait keeps at least this share of the nominal
 
 def predicted_peak_C(bank: ModelArrays, cycle: Cycle, pause: Cycle | None = None,
                      pause_share: float = 0.0) -> float:
-    """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with ``pause_share``
-    of the time spent in the ``pause`` cycle."""
+    """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with
+    ``pause_share`` of the time spent in the ``pause`` cycle."""
     mean_sq, mean = _with_pause(cycle, pause, pause_share)
     return float(np.max(bank.betaR_K_per_effort2 * mean_sq - bank.beta_biasR_K_per_effort * mean + bank.T_offset_C))
 

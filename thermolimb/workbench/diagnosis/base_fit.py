@@ -1,5 +1,5 @@
-"""The diagnosis's base fit: the start model narrowed to what the log identifies, and, where a log carries both a
-torque and a motor current, the contest between heat from either (the better one starts the search)."""
+"""The diagnosis's base fit: the start model narrowed to what the log identifies, and, where a log carries
+both a torque and a motor current, the contest between heat from either (the better one starts the search)."""
 
 from __future__ import annotations
 
@@ -16,8 +16,8 @@ from .refit import evaluate
 
 def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[FitReport, dict | None]:
     """Where a log carries both a torque (effort) and a motor current, heat from effort squared and heat from
-    current squared compete on equal footing as the start model's heat source: each fitted and judged on the same
-    held-out data (a joint-torque sensor reads gravity load the motor's current may not carry in the same
+    current squared compete on equal footing as the start model's heat source: each fitted and judged on the
+    same held-out data (a joint-torque sensor reads gravity load the motor's current may not carry in the same
     proportion).  The better one starts the search; the choice is said with its numbers."""
     model = base.model.terms
     sources = [t for t in model if TERMS[t].is_heat_source]
@@ -53,6 +53,7 @@ def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[Fit
 
 
 def identifiable_base(series, model, scheme, initial, datasheet=None, levels=True) -> FitReport:
-    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see submodel.py)."""
+    """Fit ``model``, narrowed to what this log identifies (said in the report's ``set_aside``; see
+    submodel.py)."""
     return identifiable_submodel(lambda terms, held: evaluate(series, terms, scheme, initial, held),
                                  model, series, datasheet=datasheet, levels=levels)

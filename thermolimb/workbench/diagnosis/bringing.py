@@ -1,7 +1,8 @@
-"""A change that brings terms the model lacks with it: a channel's form with the slow mass it acts on, or a third
-mass with the second (two masses at once).
+"""A change that brings terms the model lacks with it: a channel's form with the slow mass it acts on, or a
+third mass with the second (two masses at once).
 
-Each costs more parameters at once, so each is refitted only where the simpler change it grows from tells it to:
+Each costs more parameters at once, so each is refitted only where the simpler change it grows from tells it
+to:
 
 * **a mass with a channel's form** only where no simpler change helps;
 * **two masses at once** only where the second mass alone helps but fits implausibly, its share of the rise past
@@ -23,8 +24,8 @@ from .candidates import Candidate
 
 
 def not_brought(cand: Candidate, worth: list[Candidate]) -> str | None:
-    """Why ``cand``, a change that brings terms with it, is not refitted (None: it is), ``worth`` being the simpler
-    changes refitted before it."""
+    """Why ``cand``, a change that brings terms with it, is not refitted (None: it is), ``worth`` being the
+    simpler changes refitted before it."""
     if cand.kind == "add":
         alone = _alone(cand, worth)
         if alone is None or alone.status != "implausible" or not alone.helps:

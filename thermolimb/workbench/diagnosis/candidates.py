@@ -14,10 +14,11 @@ candidate has explained its share.  When nothing is left (``S_c_perp ~ 0``)
 the effect is *confounded* on this log with what the model already has (speed
 losses at constant speed look like an offset) and is named so, not refitted.
 
-Time scales.  An effect's time constants (a second mass, a sensor lag) are scanned over the time scales the log
-can show, a few samples to half its length; the score keeps the best, the refit starts from the best few.  Refit.  Each candidate worth it is then fitted for real (output error) and validated on held-out data like the base
-model: validation RMSE, improvement, ``delta_bic`` on the training residual, fitted values with uncertainty,
-plausibility, identifiability and, when the refit fails, why.
+Time scales.  An effect's time constants (a second mass, a sensor lag) are scanned over the time scales the
+log can show, a few samples to half its length; the score keeps the best, the refit starts from the best few.
+Refit.  Each candidate worth it is then fitted for real (output error) and validated on held-out data like the
+base model: validation RMSE, improvement, ``delta_bic`` on the training residual, fitted values with
+uncertainty, plausibility, identifiability and, when the refit fails, why.
 """
 
 from __future__ import annotations
@@ -55,10 +56,10 @@ REFIT_STARTS = 2  # refits of a time-scale effect, from its best-scoring time sc
 
 @dataclass(frozen=True)
 class Candidate:
-    """One change to the model tried on this log: ``kind`` ``"add"`` (the catalog's ``effect`` joins the model, with
-    the terms it ``brings``), ``"channel"`` (a form of the extra channel ``channel``, with the masses it ``brings``),
-    ``"discovered"`` (a form found by :mod:`.discovery`), ``"drop"`` (``effect`` leaves) or ``"swap"`` (``effect``
-    replaces ``replaces``).
+    """One change to the model tried on this log: ``kind`` ``"add"`` (the catalog's ``effect`` joins the
+    model, with the terms it ``brings``), ``"channel"`` (a form of the extra channel ``channel``, with the
+    masses it ``brings``), ``"discovered"`` (a form found by :mod:`.discovery`), ``"drop"`` (``effect``
+    leaves) or ``"swap"`` (``effect`` replaces ``replaces``).
 
     Immutable: each stage returns a new record with its findings filled in -- the screen
     (:func:`score_candidate`: ``score``, ``p_value``, ``starts``, ``confounded``; :func:`.screen.unexcited`),
@@ -154,9 +155,9 @@ class Candidate:
 
     @property
     def helps(self) -> bool:
-        """Held-out error and the information criterion both favour the change (see :func:`judge`); a change that
-        brings physics in must also lower the error on most held-out runs (or blocks), and keep its gain without
-        the few held-out samples most in its favour."""
+        """Held-out error and the information criterion both favour the change (see :func:`judge`); a change
+        that brings physics in must also lower the error on most held-out runs (or blocks), and keep its gain
+        without the few held-out samples most in its favour."""
         if not self.refitted:
             return False
         if self.kind == "drop":
@@ -196,8 +197,8 @@ class Candidate:
         return "helps" if self.helps else "does not help"
 
     def spec(self) -> dict:
-        """What a stability replicate needs to rebuild this change (:meth:`from_spec`), its fitted values included
-        (the replicate's refits start from them)."""
+        """What a stability replicate needs to rebuild this change (:meth:`from_spec`), its fitted values
+        included (the replicate's refits start from them)."""
         fitted = dict(self.report.model.params) if self.report is not None else {}
         return {"effect": self.effect, "model": self.model, "kind": self.kind, "replaces": self.replaces,
                 "also_drops": self.also_drops, "channel": self.channel, "channel_unit": self.channel_unit,
@@ -245,7 +246,8 @@ def _has_columns(term, series: ActuatorSeries) -> bool:
 
 
 def candidate_models(model: tuple[str, ...], series: ActuatorSeries) -> list[Candidate]:
-    """Every registered effect not in ``model`` that the log can feed, every term that can go, every heat-source swap."""
+    """Every registered effect not in ``model`` that the log can feed, every term that can go, every
+    heat-source swap."""
     out = []
     for name, term in TERMS.items():
         # a third mass brings the second: two at once
@@ -329,14 +331,14 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     """The screen's record of a change: ``cand`` with its ``score``, ``p_value``, ``partial_r2``, ``starts``,
     ``scan`` and ``confounded`` filled in.
 
-    Parameters that only mean something once the effect is present
-    (``nuisance``, e.g. a second mass's time constant) are scanned and the
-    largest score is kept (a sup-score test); the best points start the refits.
-    Drops and swaps are not scored: they are always refitted (a swap unless confounded).
-    ``jacobian`` and ``residual`` hold every ``stride``-th sample of each series (the base fit's
-    :attr:`~thermolimb.identification.FreeRunLeastSquares.stride_`), and so does ``base_run``, the base model's free
-    run if the caller has it: at its null an added effect is absent, so the extended model runs as the base
-    (``tests/test_diagnosis.py::test_every_term_at_its_null_runs_as_the_base``) and is not simulated again.
+    Parameters that only mean something once the effect is present (``nuisance``, e.g. a second mass's time
+    constant) are scanned and the largest score is kept (a sup-score test); the best points start the refits.
+    Drops and swaps are not scored: they are always refitted (a swap unless confounded). ``jacobian`` and
+    ``residual`` hold every ``stride``-th sample of each series (the base fit's
+    :attr:`~thermolimb.identification.FreeRunLeastSquares.stride_`), and so does ``base_run``, the base
+    model's free run if the caller has it: at its null an added effect is absent, so the extended model runs
+    as the base (``tests/test_diagnosis.py::test_every_term_at_its_null_runs_as_the_base``) and is not
+    simulated again.
     """
     if cand.kind in ("drop", "swap"):
         # from what the base fit left, and afresh (the base may sit where the old terms did the work)

@@ -49,14 +49,15 @@ from .together import take_together
 class Search:
     """How a diagnosis looks for what the model misses (``thermolimb diagnose``'s options).
 
-    ``scheme``: how held-out error is measured (:class:`~thermolimb.workbench.validation.Scheme`, held-out runs
-    included).  ``refit``: ``"strong"`` refits additions whose score test has p < 0.01 and the three that
+    ``scheme``: how held-out error is measured (:class:`~thermolimb.workbench.validation.Scheme`, held-out
+    runs included).  ``refit``: ``"strong"`` refits additions whose score test has p < 0.01 and the three that
     explain most of the residual, and every drop and swap; ``"all"`` refits every candidate.  ``discover``:
     also the log's extra channels, and, when nothing helps and the residual has structure, a discovered form.
     ``datasheet``: values held where the log cannot identify them (``{"RC_s": 600.0}``; see
     :func:`~thermolimb.workbench.submodel.identifiable_submodel`).  ``stability``: before the best change is
     recommended, the search is repeated on perturbed replicates of the log and the change must be taken in
-    enough of them (:mod:`.stability`; ``None``: not checked).  ``max_steps``: the most changes ``--auto`` takes.
+    enough of them (:mod:`.stability`; ``None``: not checked).  ``max_steps``: the most changes ``--auto``
+    takes.
     """
 
     scheme: Scheme = Scheme()
@@ -146,8 +147,8 @@ def diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Sear
              **options) -> Diagnosis:
     """Fit ``model``, analyse its residual, rank the changes worth making (module docstring).
 
-    ``search``: how (:class:`Search`); keyword ``options`` replace its fields (``diagnose(runs, refit="all")``).
-    A model already within the sensor's floor (:mod:`.floor`) is recommended no change.
+    ``search``: how (:class:`Search`); keyword ``options`` replace its fields (``diagnose(runs,
+    refit="all")``). A model already within the sensor's floor (:mod:`.floor`) is recommended no change.
     """
     with one_blas_thread():
         return _diagnose(list(series), parse_model(model), _search(search, options), Step())
@@ -196,8 +197,8 @@ def _diagnose(series: list[ActuatorSeries], model: tuple[str, ...], search: Sear
 
 def auto_diagnose(series: Sequence[ActuatorSeries], model=DEFAULT_MODEL, search: Search | None = None,
                   **options) -> tuple[Diagnosis, list[Diagnosis]]:
-    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and every
-    step's.  ``search`` and ``options`` as :func:`diagnose`'s.
+    """Take the recommended change while one helps, never revisiting a model; returns the first diagnosis and
+    every step's.  ``search`` and ``options`` as :func:`diagnose`'s.
 
     The first diagnosis carries the walk in ``auto``: per step the model, its
     validation error, and the change that led to it with the reason.

@@ -189,8 +189,8 @@ class _Probe(Term):
 
 def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[LibraryFeature],
                stride: int = 1) -> np.ndarray:
-    """Each feature's signature in the free run per unit coefficient (columns), over every ``stride``-th sample
-    of the training series."""
+    """Each feature's signature in the free run per unit coefficient (columns), over every ``stride``-th
+    sample of the training series."""
     register_term(_Probe)
     try:
         model = ThermalModel(base.terms + (PROBE,), {**base.params, "_discovery_probe_coef": 0.0})

@@ -132,7 +132,8 @@ def term_identified(term, report) -> bool:
 
 
 def refit_failure(term, params) -> str | None:
-    """Why a refit did not find the effect: its size collapsed to the null, or a time constant ran to a bound."""
+    """Why a refit did not find the effect: its size collapsed to the null, or a time constant ran to a
+    bound."""
     primary = [p for p in term.parameters if not p.nuisance]
     if primary and all(abs(params[p.name] - p.null) <= 1e-6 * max(abs(p.typical), 1e-12) for p in primary):
         names = ", ".join(f"{p.name} = {p.null:g}" for p in primary)
@@ -146,8 +147,8 @@ def refit_failure(term, params) -> str | None:
 
 
 def held_out_support(base_segments, segments) -> tuple[tuple[int, int, int], float, str | None]:
-    """Where a change's held-out gain comes from: on how many held-out units (runs, blocks) it lowers the error,
-    of how many that hold dynamics to judge it on, and how many do not (readings spanning under
+    """Where a change's held-out gain comes from: on how many held-out units (runs, blocks) it lowers the
+    error, of how many that hold dynamics to judge it on, and how many do not (readings spanning under
     :data:`STILL_SPAN` of the widest unit's: a run held near its steady state cannot tell a time constant or a
     neighbour's heat from an offset); the gain left without the few held-out samples most in its favour (the
     :data:`INFLUENTIAL_SHARE` whose squared error it cut most); and, when that falls short of half the gate,

@@ -1,4 +1,5 @@
-"""``--propose``: the channel and discovered terms a diagnosis took, written as one Python file of Term classes."""
+"""``--propose``: the channel and discovered terms a diagnosis took, written as one Python file of Term
+classes."""
 
 from __future__ import annotations
 
@@ -11,8 +12,8 @@ from ..validation import FitReport
 
 
 def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> str:
-    """The generated terms of each actuator's final model, as one Python file with their fitted values; nothing
-    is written when there are none.  Returns the sentence saying which."""
+    """The generated terms of each actuator's final model, as one Python file with their fitted values;
+    nothing is written when there are none.  Returns the sentence saying which."""
     classes, fitted = {}, []
     for name, report in finals:
         for term in report.model.terms:

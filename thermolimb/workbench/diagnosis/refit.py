@@ -100,8 +100,8 @@ def profiled_parameter(term, params: dict, series) -> Parameter | None:
 
 def profile_grid(param: Parameter, train) -> np.ndarray:
     """The values a profile holds ``param`` at: the time scales the score scans for a time
-    (:func:`~.candidates.scan_values`), multiples of the typical size for a gain; within the parameter's bounds,
-    never at its null."""
+    (:func:`~.candidates.scan_values`), multiples of the typical size for a gain; within the parameter's
+    bounds, never at its null."""
     if param.unit == "s":
         values = scan_values(param, train)
     else:
@@ -162,9 +162,9 @@ def _null(term, name: str) -> float:
 def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = None) -> Candidate:
     """``cand`` refitted (profile, refine, fall back; module docstring) and judged on held-out data.
 
-    ``evaluate(model, initial, fixed)`` fits and validates a model the way the diagnosis does.  ``warm``: where
-    the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`); refined
-    from there, and searched as above only if that refit fails or finds no such effect, or (``cand``'s
+    ``evaluate(model, initial, fixed)`` fits and validates a model the way the diagnosis does.  ``warm``:
+    where the same change ended on the unperturbed log (a stability replicate's start, :mod:`.stability`);
+    refined from there, and searched as above only if that refit fails or finds no such effect, or (``cand``'s
     ``settled_plausible``) lands implausible where the whole log's refit was plausible.
     """
     term = TERMS[cand.effect] if cand.adds else None
@@ -304,8 +304,8 @@ _COMPARED = ContextVar("compared", default=None)  # samples a fit compares at mo
 
 @contextmanager
 def compared_on(samples: int):
-    """Fits made by :func:`evaluate` within compare at most ``samples`` samples of what they fit on (a stability
-    replicate's, :mod:`.stability`); validation stays at the full rate."""
+    """Fits made by :func:`evaluate` within compare at most ``samples`` samples of what they fit on (a
+    stability replicate's, :mod:`.stability`); validation stays at the full rate."""
     token = _COMPARED.set(samples)
     try:
         yield
@@ -314,8 +314,8 @@ def compared_on(samples: int):
 
 
 def evaluate(series, model, scheme, initial=None, fixed=None) -> FitReport:
-    """Fit and validate ``model`` on ``series`` by ``scheme`` the way the diagnosis does, from ``initial`` with the
-    parameters in ``fixed`` held."""
+    """Fit and validate ``model`` on ``series`` by ``scheme`` the way the diagnosis does, from ``initial``
+    with the parameters in ``fixed`` held."""
     def make():
         return FreeRunLeastSquares(model=model, initial=initial or None, max_nfev=REFIT_EVALUATIONS,
                                    fixed=fixed or None, max_samples=_COMPARED.get())

@@ -51,7 +51,8 @@ class ResidualAnalysis:
 
     @property
     def structured(self) -> bool:
-        """Whether the residual is not white: autocorrelation outside its band, or a significant cross-correlation."""
+        """Whether the residual is not white: autocorrelation outside its band, or a significant
+        cross-correlation."""
         return self.autocorrelation.significant or any(c.significant for c in self.cross.values())
 
     def to_json(self) -> dict:
@@ -90,8 +91,9 @@ def cross_correlation(x: np.ndarray, y: np.ndarray, max_lag: int,
     """``r_xy(k) = mean(x_t y_{t+k})`` of the standardised series for ``k`` in ``[-max_lag, max_lag]``.
 
     By FFT over ``n + max_lag`` points (enough that the lags asked for do not wrap around), not the full
-    correlation's ``2n``: half the memory and time on a long log.  ``spectra``: the two series' :func:`spectrum`,
-    where the caller has them (one FFT per series, not two per pair: the same numbers, bit for bit)."""
+    correlation's ``2n``: half the memory and time on a long log.  ``spectra``: the two series'
+    :func:`spectrum`, where the caller has them (one FFT per series, not two per pair: the same numbers, bit
+    for bit)."""
     from scipy import fft
 
     n = np.shape(x)[0]
@@ -109,8 +111,8 @@ def cross_correlation(x: np.ndarray, y: np.ndarray, max_lag: int,
 def bartlett_band(x: np.ndarray, e: np.ndarray, max_lag: int, ree: np.ndarray | None = None,
                   spectrum_x: np.ndarray | None = None) -> float:
     """95 % band of a cross-correlation between two coloured series (Bartlett's formula); ``ree``: ``e``'s own
-    correlation over the same lags, when the caller has it (one per residual, not one per input); ``spectrum_x``:
-    ``x``'s :func:`spectrum`, likewise."""
+    correlation over the same lags, when the caller has it (one per residual, not one per input);
+    ``spectrum_x``: ``x``'s :func:`spectrum`, likewise."""
     _, rxx = cross_correlation(x, x, max_lag, None if spectrum_x is None else (spectrum_x, spectrum_x))
     if ree is None:
         _, ree = cross_correlation(e, e, max_lag)

@@ -1,17 +1,19 @@
-"""The scheme a diagnosis judges one run by: the split, unless its held-out tail leaves a channel or the heat still.
+"""The scheme a diagnosis judges one run by: the split, unless its held-out tail leaves a channel or the heat
+still.
 
 On one run the default scheme is the split (fit on the first 70 %, judge on the rest; why, in
 :mod:`~thermolimb.workbench.validation`).  A change that rides on a channel (velocity, current, a neighbour's
-temperature, a logged extra) is judged only where that channel moves (:mod:`~thermolimb.workbench.excitation`),
-so a run whose channel moves early and rests in its last 30 % could never have the change judged: a coolant
-pump run in bouts during the first hour of two is "not judged" under the split, on every replicate.  Such a run
-is judged instead on interleaved blocks, whose held-out blocks span the run, when they hold the channel's
-movement; the scheme line says why.  Measured on ``benchmarks/stability.py``'s pump logs (a pump's duty scaling
-the conductance, 2 h at 1 Hz, ``--discover``): under the split, nothing taken (the pump "not judged": its duty is
-away from its usual level in 23 of the 2160 samples judged on, in one bout); on the blocks, ``+ pump_conductance``.
-A run whose tail holds the heat input still (a step test cooled to rest, PMSM profile 24's last stretch at one
-torque and one current) is judged on the blocks too (:func:`still_tail`), and the blocks are placed where a
-held-out one holds a step of the heat input (:func:`placed`).
+temperature, a logged extra) is judged only where that channel moves
+(:mod:`~thermolimb.workbench.excitation`), so a run whose channel moves early and rests in its last 30 % could
+never have the change judged: a coolant pump run in bouts during the first hour of two is "not judged" under
+the split, on every replicate.  Such a run is judged instead on interleaved blocks, whose held-out blocks span
+the run, when they hold the channel's movement; the scheme line says why.  Measured on
+``benchmarks/stability.py``'s pump logs (a pump's duty scaling the conductance, 2 h at 1 Hz, ``--discover``):
+under the split, nothing taken (the pump "not judged": its duty is away from its usual level in 23 of the 2160
+samples judged on, in one bout); on the blocks, ``+ pump_conductance``. A run whose tail holds the heat input
+still (a step test cooled to rest, PMSM profile 24's last stretch at one torque and one current) is judged on
+the blocks too (:func:`still_tail`), and the blocks are placed where a held-out one holds a step of the heat
+input (:func:`placed`).
 """
 
 from __future__ import annotations
@@ -36,10 +38,10 @@ PHASES = np.linspace(-0.5, 1.5, 41)
 
 
 def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
-    """``scheme`` resolved for ``series`` (:meth:`Scheme.resolved`), with interleaved blocks instead of the split
-    where the split's tail leaves still a channel that the rest of the run moves and the blocks' held-out part
-    moves (module docstring).  The channels: those the catalog's effects ride on, and with ``discover`` the
-    log's extra channels."""
+    """``scheme`` resolved for ``series`` (:meth:`Scheme.resolved`), with interleaved blocks instead of the
+    split where the split's tail leaves still a channel that the rest of the run moves and the blocks'
+    held-out part moves (module docstring).  The channels: those the catalog's effects ride on, and with
+    ``discover`` the log's extra channels."""
     resolved = scheme.resolved(series)
     if scheme.kind != AUTO or resolved.kind != SPLIT:
         return resolved
@@ -64,12 +66,12 @@ def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
 
 
 def still_tail(series, split: float) -> str | None:
-    """Why the split's tail of every run holds the heat input still while the rest of the run moves it, or ``None``:
-    the effort squared, and the current squared where the log has it, span under :data:`STILL_SHARE` of the run's
-    span there (1st to 99th percentile).  A tail at rest after a step test's release shows no dynamics for a change
-    to be judged on: a step test that logs no current (``benchmarks/transfer.py``'s hold at 1.5, its current column
-    left out) was judged on its last 30 %, six distinct readings of a joint cooled to rest, where two slow masses
-    "did not help" (0.940 against 0.418 K)."""
+    """Why the split's tail of every run holds the heat input still while the rest of the run moves it, or
+    ``None``: the effort squared, and the current squared where the log has it, span under :data:`STILL_SHARE`
+    of the run's span there (1st to 99th percentile).  A tail at rest after a step test's release shows no
+    dynamics for a change to be judged on: a step test that logs no current (``benchmarks/transfer.py``'s hold
+    at 1.5, its current column left out) was judged on its last 30 %, six distinct readings of a joint cooled
+    to rest, where two slow masses "did not help" (0.940 against 0.418 K)."""
     spans = {}
     for s in series:
         cut = int(np.searchsorted(s.time_s, s.time_s[0] + split * (s.time_s[-1] - s.time_s[0])))
@@ -88,12 +90,13 @@ def still_tail(series, split: float) -> str | None:
 
 def placed(scheme: Scheme, series) -> Scheme:
     """The interleaved ``scheme`` with its block grid moved so that a held-out block holds a step of the heat
-    input within its middle half, where at its place none does, and said in its line: a held-out block must hold
-    the dynamics a change claims to explain.  A step test (a load held, then released) has one such step after its
-    first block; blocks 2, 5, 8 of 10 held the release of the plant's 1.5 x step test 20 s before a held block's end
-    (``benchmarks/transfer.py --sources step``), so whether its housing's heat was judged at all hung on the
-    replicates' moving the grid (+ second mass taken in 5 of 10). Only the input's steps place it (no reading
-    does); a log whose held-out blocks already hold a step, as a duty of many moves does, keeps its grid."""
+    input within its middle half, where at its place none does, and said in its line: a held-out block must
+    hold the dynamics a change claims to explain.  A step test (a load held, then released) has one such step
+    after its first block; blocks 2, 5, 8 of 10 held the release of the plant's 1.5 x step test 20 s before a
+    held block's end (``benchmarks/transfer.py --sources step``), so whether its housing's heat was judged at
+    all hung on the replicates' moving the grid (+ second mass taken in 5 of 10). Only the input's steps place
+    it (no reading does); a log whose held-out blocks already hold a step, as a duty of many moves does, keeps
+    its grid."""
     steps = [(s.time_s[0], s.time_s[-1] - s.time_s[0], t) for s in series for t in input_steps(s)]
     if not steps:
         return scheme
@@ -120,8 +123,9 @@ def placed(scheme: Scheme, series) -> Scheme:
 
 
 def input_steps(s) -> list[float]:
-    """When the heat input steps after a run's first block: the mean effort squared over a fifth of a block after
-    an instant differs from that over a fifth before by :data:`STEP_SHARE` of its range; one time a step."""
+    """When the heat input steps after a run's first block: the mean effort squared over a fifth of a block
+    after an instant differs from that over a fifth before by :data:`STEP_SHARE` of its range; one time a
+    step."""
     x = np.asarray(s.signals.effort, dtype=float) ** 2
     t = s.time_s
     if x.size < 10:
@@ -141,7 +145,8 @@ def input_steps(s) -> list[float]:
 
 
 def _parts(series, scheme: Scheme):
-    """The one fold of ``scheme`` as :func:`channel_excitation` takes it: the series fitted on, the pieces judged."""
+    """The one fold of ``scheme`` as :func:`channel_excitation` takes it: the series fitted on, the pieces
+    judged."""
     [(fitted, scored)] = scheme_folds(series, scheme)
     return fitted, [(s.signals.slice(lo, hi), s.temperature_C[lo:hi]) for s, pieces in scored for lo, hi in pieces]
 

@@ -1,4 +1,5 @@
-"""How sure a verdict is: the share of perturbed replicates of the log in which the search takes the same change.
+"""How sure a verdict is: the share of perturbed replicates of the log in which the search takes the same
+change.
 
 A recommendation must be a property of the log's physics, not of its last
 rows or of a split's exact place.  So before a change is recommended, the
@@ -101,8 +102,8 @@ BEHIND = 2.0
 @dataclass(frozen=True)
 class Stability:
     """How many replicates, the share a change needs, their seed, and the local workers that run them and the
-    diagnosis's own refits where one places a hidden state (:func:`.refit.refit_all`; with the check off, as many
-    as by default)."""
+    diagnosis's own refits where one places a hidden state (:func:`.refit.refit_all`; with the check off, as
+    many as by default)."""
 
     replicates: int = REPLICATES
     min_frequency: float = MIN_FREQUENCY
@@ -128,8 +129,8 @@ class Stability:
 
 @dataclass(frozen=True)
 class Perturbation:
-    """One replicate: rows trimmed off each run (start, end), the split fraction, the starts' seed and the interleaved
-    blocks' phase."""
+    """One replicate: rows trimmed off each run (start, end), the split fraction, the starts' seed and the
+    interleaved blocks' phase."""
 
     trims: tuple[tuple[int, int], ...]
     held_trims: tuple[tuple[int, int], ...]
@@ -141,7 +142,8 @@ class Perturbation:
         return [s.slice(a, s.n - b) for s, (a, b) in zip(series, trims)]
 
     def applied(self, series, scheme):
-        """The replicate's runs and scheme: each run trimmed, held-out runs too, the split or the blocks moved."""
+        """The replicate's runs and scheme: each run trimmed, held-out runs too, the split or the blocks
+        moved."""
         held = self.trimmed(scheme.held_out, self.held_trims)
         return self.trimmed(series, self.trims), replace(scheme, split=self.split, phase=scheme.phase + self.phase,
                                                          held_out=tuple(held))
@@ -153,8 +155,8 @@ class Perturbation:
 
 
 def perturbations(stability: Stability, series, scheme, batch: int = 0) -> list[Perturbation]:
-    """The seeded replicates' perturbations (module docstring); ``batch`` 1 is the second batch's, drawn afresh
-    (:func:`selection_frequencies`)."""
+    """The seeded replicates' perturbations (module docstring); ``batch`` 1 is the second batch's, drawn
+    afresh (:func:`selection_frequencies`)."""
     rng = np.random.default_rng([stability.seed, 20260] + ([batch] if batch else []))
 
     def trims(runs):
@@ -181,17 +183,18 @@ def perturbations(stability: Stability, series, scheme, batch: int = 0) -> list[
 
 def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Candidate]:
     """The changes a replicate re-judges: refitted, not confounded, and eligible or within half of the
-    held-out gate (a change far from it cannot become the best eligible one by a few rows).  A change that brings
-    terms with it (two masses at once, :mod:`.bringing`) contends only where the whole log found it eligible: it
-    is the repair of a simpler change that fit implausibly, and a repair that fails on the whole log is no rival
-    (UR3 J5's two masses, implausible and taken by none of 10 replicates, took 3 s of its 12 s walk).  Nor does
-    a change of another effect than the best eligible change (``model``: the terms changed from,
-    :func:`effect_key`) whose held-out error is over :data:`BEHIND` times the best's, eligible or not: the verdict
-    rests on the best's share, the replicates that take its effect, and such a change moves it only by outranking
-    it, which a few rows cannot do; a replicate where the best fails its gates does not take the best's effect
-    whether or not the far one is there to take instead (UR3 J5's second mass, implausible, 1.155 K against the
-    neighbour's 0.341 K: 0.35 s of each replicate's 0.45 s; benchmarks/diagnose.py's log, ``- effort_bias``,
-    eligible at 4.77 K against speed losses' 0.058 K, taken by none of 10)."""
+    held-out gate (a change far from it cannot become the best eligible one by a few rows).  A change that
+    brings terms with it (two masses at once, :mod:`.bringing`) contends only where the whole log found it
+    eligible: it is the repair of a simpler change that fit implausibly, and a repair that fails on the whole
+    log is no rival (UR3 J5's two masses, implausible and taken by none of 10 replicates, took 3 s of its 12 s
+    walk).  Nor does a change of another effect than the best eligible change (``model``: the terms changed
+    from, :func:`effect_key`) whose held-out error is over :data:`BEHIND` times the best's, eligible or not:
+    the verdict rests on the best's share, the replicates that take its effect, and such a change moves it
+    only by outranking it, which a few rows cannot do; a replicate where the best fails its gates does not
+    take the best's effect whether or not the far one is there to take instead (UR3 J5's second mass,
+    implausible, 1.155 K against the neighbour's 0.341 K: 0.35 s of each replicate's 0.45 s;
+    benchmarks/diagnose.py's log, ``- effort_bias``, eligible at 4.77 K against speed losses' 0.058 K, taken
+    by none of 10)."""
     judged = [c for c in candidates if c.refitted and c.confounded is None and c.failure is None
               and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT) and (c.eligible or not c.brings)]
     best = min((c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None)
@@ -207,11 +210,12 @@ def selection_frequencies(candidates: list[Candidate], best: Candidate | None, m
     each contender's ``selection_frequency`` and ``selected_as`` filled in.  Each replicate runs
     :func:`.replicate.replicate`.
 
-    Where the first :attr:`Stability.replicates` leave the recommended change's effect within one replicate of the
-    share it needs (7 or 8 of 10 at 0.8: :func:`undecided`), as many again are run, drawn afresh, and the share is
-    over all of them: a count on the threshold is a coin's throw of the check itself, and one perturbed copy of a
-    log should not end on the other side of it by that throw alone (UR3 J2: ``+ sensor_lag`` taken in 5 of 10 on the
-    whole log and in 8 of 10 on a copy cut by a few rows, which then walked on to another model)."""
+    Where the first :attr:`Stability.replicates` leave the recommended change's effect within one replicate of
+    the share it needs (7 or 8 of 10 at 0.8: :func:`undecided`), as many again are run, drawn afresh, and the
+    share is over all of them: a count on the threshold is a coin's throw of the check itself, and one
+    perturbed copy of a log should not end on the other side of it by that throw alone (UR3 J2: ``+
+    sensor_lag`` taken in 5 of 10 on the whole log and in 8 of 10 on a copy cut by a few rows, which then
+    walked on to another model)."""
     stability = search.stability
     chosen = contenders(candidates, model)
     if not chosen:
@@ -349,26 +353,27 @@ def share_interval(count: int, k: int, z: float = 1.959964) -> list[float]:
 
 
 def steadier(candidates: list[Candidate], best: Candidate, stability: Stability) -> Candidate | None:
-    """Where the whole log's best change is not taken often enough, the eligible change the replicates take often
-    enough (the most often, then the lower held-out error), or ``None``: stability selection keeps what most
-    perturbed copies select, and a whole log's choice that its trimmed copies overturn is a hair's difference, not
-    its physics.  Measured on a plant's hip (docs/workbench.md, "When the copies overturn the log"):
-    ``- effort_bias`` 4.533 K held out against ``+ speed_losses`` 4.620 K, taken in 0 and 10 of 10 replicates;
-    recommending nothing left a model that missed the joint's next run by 5.206 K, the walk through speed losses
-    one that missed it by 0.225 K."""
+    """Where the whole log's best change is not taken often enough, the eligible change the replicates take
+    often enough (the most often, then the lower held-out error), or ``None``: stability selection keeps what
+    most perturbed copies select, and a whole log's choice that its trimmed copies overturn is a hair's
+    difference, not its physics.  Measured on a plant's hip (docs/workbench.md, "When the copies overturn the
+    log"): ``- effort_bias`` 4.533 K held out against ``+ speed_losses`` 4.620 K, taken in 0 and 10 of 10
+    replicates; recommending nothing left a model that missed the joint's next run by 5.206 K, the walk
+    through speed losses one that missed it by 0.225 K."""
     steady = [c for c in candidates if c is not best and c.eligible and c.rmse_K is not None
               and (c.selection_frequency or 0.0) >= stability.min_frequency]
     return max(steady, key=lambda c: (c.selection_frequency, -c.rmse_K), default=None)
 
 
 def in_some_order(candidates: list[Candidate], best: Candidate, stability: Stability) -> str:
-    """Where the replicates that do not take ``best``, an addition, take other additions that also help on the whole
-    log, so that together they take one often enough, the words that say so (else ``""``): they agree that the model
-    needs these, not on which comes first, and the walk takes the whole log's best, where at least half of the
-    replicates take it and none takes another change more often.  On ``benchmarks/forecast.py``'s seed-1 calibration
-    log the replicates took ``+ speed_losses`` in 6 of 10 and ``+ second_node`` in 4; the walk stopped at the start,
-    where taking speed losses leads to the second mass, the sensor's lag and the friction on the housing, each in 10
-    of 10 (0.073 K held out; seed 2's replicates take the mass first, 10 of 10, and end there too)."""
+    """Where the replicates that do not take ``best``, an addition, take other additions that also help on the
+    whole log, so that together they take one often enough, the words that say so (else ``""``): they agree
+    that the model needs these, not on which comes first, and the walk takes the whole log's best, where at
+    least half of the replicates take it and none takes another change more often.  On
+    ``benchmarks/forecast.py``'s seed-1 calibration log the replicates took ``+ speed_losses`` in 6 of 10 and
+    ``+ second_node`` in 4; the walk stopped at the start, where taking speed losses leads to the second mass,
+    the sensor's lag and the friction on the housing, each in 10 of 10 (0.073 K held out; seed 2's replicates
+    take the mass first, 10 of 10, and end there too)."""
     adds = [c for c in candidates if c.adds and c.eligible and (c.selection_frequency or 0.0) > 0.0]
     if (best not in adds or len(adds) < 2 or best.selection_frequency < 0.5
             # UR3 J0's part 2: 3 of 10 take it
@@ -380,9 +385,9 @@ def in_some_order(candidates: list[Candidate], best: Candidate, stability: Stabi
 
 
 def undecided(count: int, stability: Stability) -> bool:
-    """Whether ``count`` of the first replicates lies within one of the count the share needs (on either side) and a
-    second batch could still move the verdict: a unanimous count is decided, and so is one that all of the second
-    batch could not lift to the share (9 of 10 where every replicate is asked for)."""
+    """Whether ``count`` of the first replicates lies within one of the count the share needs (on either side)
+    and a second batch could still move the verdict: a unanimous count is decided, and so is one that all of
+    the second batch could not lift to the share (9 of 10 where every replicate is asked for)."""
     k = stability.replicates
     needed = int(np.ceil(stability.min_frequency * k - 1e-9))
     if count >= needed:
@@ -391,9 +396,10 @@ def undecided(count: int, stability: Stability) -> bool:
 
 
 def replicate_samples(model, series) -> int:
-    """The samples a replicate's fits compare at most: :data:`REPLICATE_SAMPLES`, or more where so few would need
-    blocks longer than ``model``'s time constants allow (:func:`~thermolimb.identification.thinning.longest_block`),
-    which a fit would simulate at the full rate: slower, not faster."""
+    """The samples a replicate's fits compare at most: :data:`REPLICATE_SAMPLES`, or more where so few would
+    need blocks longer than ``model``'s time constants allow
+    (:func:`~thermolimb.identification.thinning.longest_block`), which a fit would simulate at the full rate:
+    slower, not faster."""
     return max(REPLICATE_SAMPLES, -(-sum(s.n for s in series) // longest_block(model, series)))
 
 
@@ -408,6 +414,7 @@ def perturbed(p: Perturbation, model, search, initial, specs, starts, samples: i
 
 
 def effect_key(c: Candidate, base: tuple[str, ...]) -> tuple:
-    """What a change does to the physics: the terms it brings in, or, for a pure drop, the terms it removes."""
+    """What a change does to the physics: the terms it brings in, or, for a pure drop, the terms it
+    removes."""
     added = frozenset(c.model) - frozenset(base)
     return ("add", added) if added else ("drop", frozenset(base) - frozenset(c.model))

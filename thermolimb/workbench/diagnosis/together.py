@@ -1,26 +1,28 @@
-"""Two effects that help only together: where the walk would stop, pairs of the additions the training data want.
+"""Two effects that help only together: where the walk would stop, pairs of the additions the training data
+want.
 
-The walk takes one change at a time, each judged on held-out data.  Two effects can each fail that alone and help
-together: on the plant's two-mass X8 knee with speed losses, copper's coefficient and a lagging sensor hidden (the
-forecast benchmark's seed-0 calibration log, ``docs/model-file.md``'s ``cal.csv``), ``+ speed_losses`` alone lowers
-the held-out error by 15 % and is taken in 6 of 10 replicates, and ``+ second_node`` alone raises it by 32 %: the
-speed losses fitted without the housing misplace the heat, and the mass fitted without them has no heat to store.
-Together they take it from 5.169 to 0.931 K.  At the end of that walk ``+ sensor_lag`` and ``+ winding_tempco``
-each fail alone (-1.6 % and -48.5 %) where together they reach the sensor's floor.
+The walk takes one change at a time, each judged on held-out data.  Two effects can each fail that alone and
+help together: on the plant's two-mass X8 knee with speed losses, copper's coefficient and a lagging sensor
+hidden (the forecast benchmark's seed-0 calibration log, ``docs/model-file.md``'s ``cal.csv``), ``+
+speed_losses`` alone lowers the held-out error by 15 % and is taken in 6 of 10 replicates, and ``+
+second_node`` alone raises it by 32 %: the speed losses fitted without the housing misplace the heat, and the
+mass fitted without them has no heat to store. Together they take it from 5.169 to 0.931 K.  At the end of
+that walk ``+ sensor_lag`` and ``+ winding_tempco`` each fail alone (-1.6 % and -48.5 %) where together they
+reach the sensor's floor.
 
-So where a step recommends nothing (no eligible change, or the best one unstable), the additions the training data
-want (a catalog effect refitted alone, plausible, its BIC lower than the model's) are tried in pairs, the
+So where a step recommends nothing (no eligible change, or the best one unstable), the additions the training
+data want (a catalog effect refitted alone, plausible, its BIC lower than the model's) are tried in pairs, the
 :data:`MEMBERS` strongest by BIC, each pair refitted once from where its better member ended, with the other's
 values from its own refit.  A pair is kept only if it beats each member alone by the held-out gate
-(:data:`~.candidates.MIN_IMPROVEMENT`): both are needed.  It is then judged like any change (its label
-``+ A with B``) and checked on the same replicates, but taken only where every replicate takes it
+(:data:`~.candidates.MIN_IMPROVEMENT`): both are needed.  It is then judged like any change (its label ``+ A
+with B``) and checked on the same replicates, but taken only where every replicate takes it
 (:data:`PAIR_FREQUENCY`; the order rule, ``stability.in_some_order``, does not lower that, and the pair's line
-says so): it is the best of a search over combinations, each member of which failed alone, and stability selection
-asks a higher share where more is searched (Meinshausen and Buhlmann, 2010, bound the false selections by the
-number searched).  At the 0.8 a single change needs, both runs of the UR3's J0 took
-``+ speed_losses with neighbor_coupling`` (0.880 -> 0.161 K held out) in 15 of 20 replicates, and one of four
-copies of the log cut by a few rows took it (``benchmarks/stability.py --only "UR3 J0"``: 75 % the same verdict;
-100 % with every replicate asked, where 7 of 10 take it).
+says so): it is the best of a search over combinations, each member of which failed alone, and stability
+selection asks a higher share where more is searched (Meinshausen and Buhlmann, 2010, bound the false
+selections by the number searched).  At the 0.8 a single change needs, both runs of the UR3's J0 took ``+
+speed_losses with neighbor_coupling`` (0.880 -> 0.161 K held out) in 15 of 20 replicates, and one of four
+copies of the log cut by a few rows took it (``benchmarks/stability.py --only "UR3 J0"``: 75 % the same
+verdict; 100 % with every replicate asked, where 7 of 10 take it).
 """
 
 from __future__ import annotations
