@@ -59,7 +59,8 @@ class DaisyParams:
             raise ValueError(f"DaisyParams: {', '.join(bad)} must be positive")
         reach = np.hypot(self.nominal_foot_reach_m, self.nominal_body_height_m)
         if reach >= self.upper_link_m + self.lower_link_m:
-            raise ValueError(f"DaisyParams: the nominal stance needs a reach of {reach:.3f} m, more than the leg's "
+            raise ValueError("DaisyParams: the nominal stance needs a "
+                             f"reach of {reach:.3f} m, more than the leg's "
                              f"{self.upper_link_m + self.lower_link_m:.3f} m")
 
     @property

@@ -81,11 +81,13 @@ class Scenario:
     def __post_init__(self):
         missing = [t for t in TYPES if t not in self.continuous_fraction]
         if missing:
-            raise ValueError(f"Scenario {self.name!r}: no continuous fraction for actuator type(s) {', '.join(missing)}")
+            raise ValueError(f"Scenario {self.name!r}: no continuous fraction "
+                             f"for actuator type(s) {', '.join(missing)}")
         if any(not 0.0 < f <= 1.0 for f in (*self.continuous_fraction.values(), *self.actuator_fraction.values())):
             raise ValueError(f"Scenario {self.name!r}: continuous fractions must be in (0, 1]")
         if not 0.0 < self.crouch_depth_rad < 1.0:
-            raise ValueError(f"Scenario {self.name!r}: crouch depth {self.crouch_depth_rad} rad; expected 0..1 rad")
+            raise ValueError(f"Scenario {self.name!r}: crouch depth "
+                             f"{self.crouch_depth_rad} rad; expected 0..1 rad")
         if not self.loss_at_continuous_W > 0.0:
             raise ValueError(f"Scenario {self.name!r}: loss_at_continuous_W must be positive")
 
@@ -100,11 +102,13 @@ COPPER_LOSS_AT_30_PCT_W = 40.0  # the uniform rule, derived in humanoid_pb.therm
 UNIFORM = FrozenMapping(dict.fromkeys(TYPES, 0.3))
 SCENARIOS = {
     "ankle": Scenario("ankle", 0.3, COPPER_LOSS_AT_30_PCT_W, UNIFORM,
-                      "the crouch (0.3 rad), one sizing for every actuator: the stance ankle's rods run hottest"),
+                      "the crouch (0.3 rad), one sizing for every "
+                      "actuator: the stance ankle's rods run hottest"),
     # 27.25 W in the knee at 44.5 % of its limit on one leg: 27.25 * (0.30 / 0.445)^2 = 12.4 W at 30 %
     "walking": Scenario("walking", 0.45, 12.4,
                         FrozenMapping({"rotary_350": 0.30, "rotary_190": 0.30, "rotary_65": 0.30, "linear": 0.45}),
-                        "bent knees near walking height (0.45 rad), actuators sized by type: the stance knee runs "
+                        "bent knees near walking height (0.45 rad), "
+                        "actuators sized by type: the stance knee runs "
                         "hottest and stays loaded in double support"),
 }
 DEFAULT = "ankle"

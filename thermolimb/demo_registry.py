@@ -49,8 +49,10 @@ class DemoPage:
 
 # Captions of the figures a diagnosis writes (``plot_diagnosis``), by file-name prefix.
 DIAGNOSIS_CAPTIONS = {
-    "residuals_": "The residual of the starting model (measured − model) over time, its autocorrelation, and its "
-                  "cross-correlation with each input at ± lags; bars beyond the band (95 % for white noise) point at "
+    "residuals_": "The residual of the starting model (measured − "
+                  "model) over time, its autocorrelation, and its "
+                  "cross-correlation with each input at ± lags; bars "
+                  "beyond the band (95 % for white noise) point at "
                   "the missing physics.",
     "candidates_": "Every change the diagnosis tried, by how much it lowers the held-out error (an effect is "
                    "recommended at ≥ 10 % if plausible and identifiable), and those it set aside and why.",

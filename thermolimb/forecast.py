@@ -102,7 +102,8 @@ class Forecast:
         if self.time_to_threshold_s is None:
             head = (f"{self.actuator}: the prediction stays below {where} over {self.horizon_s:.0f} s "
                     f"(peak {np.max(self.predicted_C):.1f} degC)")
-            return head + ("" if low is None else f"; at {100 * self.level:.0f} % it may reach it from {low:.0f} s")
+            return head + ("" if low is None else f"; at {100 * self.level:.0f} % "
+                                                  f"it may reach it from {low:.0f} s")
         upper = "beyond the horizon" if high is None else f"{seconds(high)} s"
         return (f"{self.actuator}: reaches {where} in {seconds(self.time_to_threshold_s)} s "
                 f"({100 * self.level:.0f} % interval {seconds(low)} s to {upper})")
@@ -148,7 +149,8 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
         raise ThermolimbError(f"the start ({start_C}) and the threshold ({threshold_C}) must be finite degC")
     if threshold_C <= start_C:
         raise ThermolimbError(f"{saved.actuator}: the threshold {threshold_C:g} degC is not above the start "
-                              f"{start_C:.2f} degC; a time to reach it needs a threshold above where the joint starts")
+                              f"{start_C:.2f} degC; a time to reach it needs "
+                              "a threshold above where the joint starts")
     model = saved.model
     t = signals.time_s - signals.time_s[0]
     ranges = dict(saved.provenance).get("ranges") or {}
@@ -215,7 +217,8 @@ def join(before: Signals, after: Signals) -> Signals:
     missing = [c for c in ("velocity", "current_A", "ambient_C", "housing_C", "power_W")
                if (getattr(before, c) is None) != (getattr(after, c) is None)]
     if missing:
-        raise ThermolimbError(f"the history and the plan must carry the same channels; {missing[0]} is in one only")
+        raise ThermolimbError("the history and the plan must carry the "
+                              f"same channels; {missing[0]} is in one only")
     return Signals(time, both(before.effort, after.effort), both(before.velocity, after.velocity),
                    both(before.current_A, after.current_A), both(before.ambient_C, after.ambient_C),
                    both(before.neighbor_temperature_C, after.neighbor_temperature_C), before.neighbor_names,
@@ -246,7 +249,8 @@ def hold_signals(duration_s: float, effort: float, velocity: float | None = None
         raise ThermolimbError(f"--duration must be a positive number of seconds, got {duration_s}")
     missing = [c for c in columns if c not in ("effort", "velocity", "ambient")]
     if missing:
-        raise ThermolimbError(f"the model reads the log column {missing[0]!r}, which a held plan does not give "
+        raise ThermolimbError(f"the model reads the log column {missing[0]!r}, "
+                              "which a held plan does not give "
                               f"(it gives effort, velocity and ambient); predict over a log instead")
     if "velocity" in columns and velocity is None:
         raise ThermolimbError("the model reads the velocity; give it with the effort: --hold EFFORT,VELOCITY")

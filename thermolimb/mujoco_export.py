@@ -108,7 +108,8 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     joules = sorted((t for t in model.terms if TERMS[t].squared_channel),
                     key=lambda t: TERMS[t].squared_channel != "effort")
     if not joules:
-        raise UsageError(f"{saved.actuator}: the model ({','.join(model.terms)}) has no Joule heating (from effort or "
+        raise UsageError(f"{saved.actuator}: the model ({','.join(model.terms)}) "
+                         "has no Joule heating (from effort or "
                          f"current); MuJoCo's dcmotor heats only by its current")
     source = joules[0]
     name = TERMS[source].parameters[0].name
@@ -119,10 +120,12 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     elif unit in CURRENT_UNITS:
         r_th = gain / motor.resistance_ohm
     else:
-        raise UsageError(f"{saved.actuator}: the model's effort is in {unit!r}; export maps a joint torque (N m) or "
+        raise UsageError(f"{saved.actuator}: the model's effort is in "
+                         f"{unit!r}; export maps a joint torque (N m) or "
                          f"the motor current (A) onto MuJoCo's dcmotor")
     if not r_th > 0:
-        raise UsageError(f"{saved.actuator}: the model's Joule heating is zero; there is no heat for MuJoCo's thermal "
+        raise UsageError(f"{saved.actuator}: the model's Joule heating "
+                         "is zero; there is no heat for MuJoCo's thermal "
                          f"state to carry")
     # copper's coefficient is the dcmotor's tempcoef; every other term has no place in its one node
     copper = next((t for t in model.terms if TERMS[t].scales_resistance), None)
@@ -132,15 +135,20 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
     tempcoef = p[TERMS[copper].parameters[0].name] if copper else 0.0
     notes = []
     if tempcoef:
-        notes.append("copper's coefficient is exported; MuJoCo's dcmotor is voltage-driven, so there a warmer winding "
-                     "draws less current and gives less torque for the same command, where the identified model (a "
+        notes.append("copper's coefficient is exported; MuJoCo's dcmotor "
+                     "is voltage-driven, so there a warmer winding "
+                     "draws less current and gives less torque for "
+                     "the same command, where the identified model (a "
                      "current-controlled drive) keeps the torque and heats more")
     if unit in CURRENT_UNITS:
-        notes.append("the model's heat is from the motor current: in MuJoCo that is the torque over the motor constant")
+        notes.append("the model's heat is from the motor current: in "
+                     "MuJoCo that is the torque over the motor constant")
     se = float(saved.stderr.get(name, 0.0))
     if gain < NIL * se:  # the UR3's J5: its heat is its bias's, 1.3e-16 +- 6.1 K/A^2 from the current squared
-        notes.append(f"its heat gain is nil ({name} = {gain:.2g} ± {se:.2g} {saved.units.get(name, '')}, at its "
-                     f"bound): MuJoCo's node will not heat this joint; what warmed it on the log was another term "
+        notes.append(f"its heat gain is nil ({name} = {gain:.2g} ± "
+                     f"{se:.2g} {saved.units.get(name, '')}, at its "
+                     "bound): MuJoCo's node will not heat this joint; "
+                     "what warmed it on the log was another term "
                      f"or the log's drift")
     return DcMotorThermal(saved.actuator, motor, float(r_th), float(p["RC_s"] / r_th), float(p["RC_s"]),
                           float(tempcoef), COPPER_REFERENCE_C, float(p["T_offset_C"]), exported,
@@ -161,12 +169,15 @@ def commented(text: str) -> str:
 def mjcf_snippet(exports: list[DcMotorThermal], joints: dict[str, str] | None = None) -> str:
     """An ``<actuator>`` block of MJCF with each actuator's dcmotor, what was dropped said in comments."""
     lines = [f"<!-- {EXPORT_MARK}: Jorgensen et al.'s first-order model on MuJoCo's dcmotor thermal state",
-             "     (thermal = resistance K/W, capacitance J/K (0: timeconst/resistance), timeconst s, tempcoef 1/K,",
-             "      reftemp degC, ambient degC); the winding temperature is ambient + the actuator's activation -->",
+             "     (thermal = resistance K/W, capacitance J/K (0: "
+             "timeconst/resistance), timeconst s, tempcoef 1/K,",
+             "      reftemp degC, ambient degC); the winding "
+             "temperature is ambient + the actuator's activation -->",
              "<actuator>"]
     for e in exports:
         for term in e.dropped:
-            lines.append(f"  <!-- {commented(e.actuator)}: {term} dropped (MuJoCo's dcmotor has one thermal node, "
+            lines.append(f"  <!-- {commented(e.actuator)}: {term} dropped "
+                         "(MuJoCo's dcmotor has one thermal node, "
                          f"heated by its current) -->")
         for note in e.notes:
             lines.append(f"  <!-- {commented(e.actuator)}: {commented(note)} -->")

@@ -41,7 +41,8 @@ def _finding(demo, summary: dict) -> str:
     try:
         text = demo.page.finding(summary)
     except (KeyError, IndexError, TypeError, ValueError, ZeroDivisionError) as exc:
-        return (f"<p class='missing'>This run's summary.json does not have the shape this version of the demo writes "
+        return ("<p class='missing'>This run's summary.json does "
+                "not have the shape this version of the demo writes "
                 f"(missing {html.escape(str(exc))}); run the demo again.</p>")
     return f"<p class='finding'><strong>{html.escape(readable(text))}</strong></p>"
 
@@ -50,21 +51,25 @@ def _headline_table(demo, summary: dict, folder: Path) -> str:
     try:
         rows = demo.page.headline(summary)
     except (KeyError, IndexError, TypeError) as exc:
-        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} does not have the shape this version "
+        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} "
+                "does not have the shape this version "
                 f"of the demo writes (missing {html.escape(str(exc))}); run the demo again.</p>")
     if not rows:
-        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} holds none of the numbers this demo's "
+        return (f"<p class='missing'>{html.escape(str(folder / 'summary.json'))} "
+                "holds none of the numbers this demo's "
                 f"headline shows; run the demo again.</p>")
     body = "".join(f"<tr><td>{html.escape(readable(q))}</td><td class='value'>{html.escape(readable(v))}</td>"
                    f"<td>{html.escape(readable(c))}</td></tr>" for q, v, c in rows)
-    return ("<table class='headline'><thead><tr><th>quantity</th><th>value</th><th>compared with</th></tr></thead>"
+    return ("<table class='headline'><thead><tr><th>quantity</th><th>value</th><th>compared "
+            "with</th></tr></thead>"
             f"<tbody>{body}</tbody></table>")
 
 
 def _section(folder: Path, out: Path, demos: dict) -> list[str]:
     summary = _load(folder / "summary.json")
     if not isinstance(summary, dict):
-        raise UsageError(f"{folder / 'summary.json'} holds {type(summary).__name__}, not a demo's summary (a JSON "
+        raise UsageError(f"{folder / 'summary.json'} holds "
+                         f"{type(summary).__name__}, not a demo's summary (a JSON "
                          f"object); run that demo again")
     # what the demo returned under "details", written apart by the registry
     if (folder / "details.json").is_file():
@@ -86,7 +91,8 @@ def _section(folder: Path, out: Path, demos: dict) -> list[str]:
                      f"<figcaption>{html.escape(text or png.stem.replace('_', ' '))}</figcaption></figure>")
     for source in sorted(folder.glob("*.py")):  # a term file a diagnosis wrote (--propose), shown as it is
         parts.append(f"<figure><pre><code>{html.escape(source.read_text(encoding='utf-8'))}</code></pre>"
-                     f"<figcaption>{html.escape(source.name)}: the Python term file the demo wrote, with its fitted "
+                     f"<figcaption>{html.escape(source.name)}: the "
+                     "Python term file the demo wrote, with its fitted "
                      f"values; load it with --terms {html.escape(source.name)}</figcaption></figure>")
     links = [f"<a href='{html.escape(p.relative_to(out).as_posix())}'>{label}</a>"
              for p, label in ((folder / "summary.json", "summary.json (every number)"),
@@ -105,11 +111,13 @@ def build_report(out: Path) -> Path:
     by_name = {p.parent.name: p.parent for p in out.glob("*/summary.json")}
     folders = [by_name[name] for name in in_tour_order(by_name)]
     if not folders:
-        raise UsageError(f"{out}: no demo results (no */summary.json); run `thermolimb demo all --out {out}` first")
+        raise UsageError(f"{out}: no demo results (no */summary.json); "
+                         f"run `thermolimb demo all --out {out}` first")
     page = out / "index.html"
     head = page.read_text(encoding="utf-8", errors="replace")[:2000] if page.exists() else MARK
     if MARK not in head and "<title>thermolimb report</title>" not in head:  # (the earlier versions' pages)
-        raise UsageError(f"{page} exists and was not written by thermolimb report; move it away (the report never "
+        raise UsageError(f"{page} exists and was not written by thermolimb "
+                         "report; move it away (the report never "
                          f"replaces a page it did not write)")
     demos = load_demos()
     parts = [f"<!doctype html><html><head><meta charset='utf-8'>{MARK}<title>thermolimb report</title>"
@@ -118,7 +126,8 @@ def build_report(out: Path) -> Path:
              "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
              "Temperatures in °C, temperature errors in K, times in s. Every number is in the demo's "
              "summary.json, linked under its figures.</p>",
-             "<p>These are the demos' results as they were run into this folder: <code>make demo</code> runs every "
+             "<p>These are the demos' results as they were run "
+             "into this folder: <code>make demo</code> runs every "
              "demo in quick mode (shorter logs, fewer episodes and cells). A full run of one demo: "
              "<code>thermolimb demo NAME --out DIR</code>, then <code>thermolimb report DIR</code>.</p>",
              "<ul>" + "".join(f"<li><a href='#{html.escape(f.name)}'>{html.escape(f.name)}</a>"
@@ -129,9 +138,12 @@ def build_report(out: Path) -> Path:
     for name in in_tour_order(n for n in demos if n not in by_name and demos[n].missing):
         parts += [f"<h2 id='{html.escape(name)}'>{html.escape(name)}</h2>",
                   f"<p><em>{html.escape(demos[name].description)}</em></p>",
-                  f"<p class='missing'>Not run here: it needs {html.escape(', '.join(demos[name].missing))}, which "
-                  f"this environment lacks (<code>pip install 'thermolimb[{html.escape(demos[name].extra)}]'</code>, "
-                  f"then <code>thermolimb demo {html.escape(name)} --quick --out {html.escape(str(out))}</code> and "
+                  "<p class='missing'>Not run here: it needs "
+                  f"{html.escape(', '.join(demos[name].missing))}, which "
+                  "this environment lacks (<code>pip install "
+                  f"'thermolimb[{html.escape(demos[name].extra)}]'</code>, "
+                  f"then <code>thermolimb demo {html.escape(name)} "
+                  f"--quick --out {html.escape(str(out))}</code> and "
                   "the report again).</p>"]
     parts.append("</body></html>")
     return write_text(page, "\n".join(parts))

@@ -78,7 +78,8 @@ class RigConfig:
             raise ValueError(f"log_capacity must be None or at least 2 control steps, got {self.log_capacity}")
         ratio = self.physics_hz / self.control_hz
         if abs(ratio - round(ratio)) > 1e-9 or ratio < 1:
-            raise ValueError(f"physics_hz ({self.physics_hz}) must be a whole multiple of control_hz ({self.control_hz})")
+            raise ValueError(f"physics_hz ({self.physics_hz}) must be a whole "
+                             f"multiple of control_hz ({self.control_hz})")
 
     @property
     def substeps(self) -> int:

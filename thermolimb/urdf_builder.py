@@ -90,7 +90,8 @@ class UrdfBuilder:
             f'velocity="{number(velocity)}"/><dynamics damping="{number(damping)}" friction="0.0"/></joint>\n')
 
     def fixed(self, name: str, parent: str, child: str, origin: str) -> None:
-        self.parts.append(f'  <joint name="{name}" type="fixed"><parent link="{parent}"/><child link="{child}"/>'
+        self.parts.append(f'  <joint name="{name}" type="fixed"><parent '
+                          f'link="{parent}"/><child link="{child}"/>'
                           f'<origin xyz="{origin}"/></joint>\n')
 
     def text(self) -> str:

@@ -39,7 +39,8 @@ def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm
     if unknown or not weights:
         raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
     if "thermal_aware" in weights and (bank is None or temperature_C is None):
-        raise ValueError("the thermal_aware strategy needs identified models (bank) and the joints' temperatures")
+        raise ValueError("the thermal_aware strategy needs identified "
+                         "models (bank) and the joints' temperatures")
     achievable = problem if set(weights) == {"vertical_only"} else closest_achievable(problem, solver, fallback)
     plain: list[StanceSolution] = []  # the torque minimax of `achievable`, solved at most once
 

@@ -85,7 +85,8 @@ def _check(group: str, depth_rad: float) -> None:
     if group not in GROUPS:
         raise ValueError(f"no actuator group {group!r}; expected one of {', '.join(GROUPS)}")
     if not DEPTHS_RAD[0] <= depth_rad <= DEPTHS_RAD[-1]:
-        raise ValueError(f"stance depth {depth_rad} rad is outside {DEPTHS_RAD[0]}-{DEPTHS_RAD[-1]} rad (the IK's "
+        raise ValueError(f"stance depth {depth_rad} rad is outside "
+                         f"{DEPTHS_RAD[0]}-{DEPTHS_RAD[-1]} rad (the IK's "
                          f"straightest knee to the deepest stance the balance controller holds on one leg)")
 
 

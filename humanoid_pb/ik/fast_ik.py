@@ -269,7 +269,8 @@ class FastThermalIK:
         na = len(JOINTS)
         found = self.optimum_at(q, mode, objective, balance[:na], balance[na:], rounds=1)
         if found is None:
-            raise ValueError(f"no balanced torques within the contact constraints at the start in mode {mode!r} "
+            raise ValueError("no balanced torques within the contact "
+                             f"constraints at the start in mode {mode!r} "
                              f"({self.failures[-1]})")
         f, Gamma, F = found
         history = [f]

@@ -16,32 +16,42 @@ PLANTS = {"x8-9": "X8_9", "x8-16": "X8_16"}
 
 def add_parser(sub):
     p = sub.add_parser(
-        "audit", help="run a policy in an environment whose joints heat up: peak temperatures, time to the limit",
-        description="Run a policy for --duration seconds of simulated time in a Gymnasium environment (a MuJoCo "
+        "audit", help="run a policy in an environment whose joints "
+                      "heat up: peak temperatures, time to the limit",
+        description="Run a policy for --duration seconds of simulated "
+                    "time in a Gymnasium environment (a MuJoCo "
                     "one such as Ant-v5 or Humanoid-v5, or one of this suite's robots) wrapped with "
-                    "thermolimb.envs.ThermalWrapper: each joint heated from the torque it is given, by the models in "
-                    "--models or by the suite's plant with datasheet actuators (--plant). Reports per joint the peak "
-                    "temperature, when it reached its limit (or not within the run) and which joint limits the run; "
+                    "thermolimb.envs.ThermalWrapper: each joint heated "
+                    "from the torque it is given, by the models in "
+                    "--models or by the suite's plant with datasheet "
+                    "actuators (--plant). Reports per joint the peak "
+                    "temperature, when it reached its limit (or not "
+                    "within the run) and which joint limits the run; "
                     "the heat carries over episodes, each reset counted (docs/travel.md).")
-    p.add_argument("--env", required=True, metavar="ID", help="a Gymnasium environment id (Ant-v5, Humanoid-v5, "
+    p.add_argument("--env", required=True, metavar="ID", help="a Gymnasium environment "
+                                                              "id (Ant-v5, Humanoid-v5, "
                                                               "thermolimb/HexapodLoadCarry-v0, ...)")
     p.add_argument("--policy", default="zero", metavar="zero|random|MODULE:CALLABLE",
-                   help="zero actions, seeded random ones, or a function (env, observation) -> action (default zero)")
+                   help="zero actions, seeded random ones, or a function "
+                        "(env, observation) -> action (default zero)")
     p.add_argument("--duration", type=number(0.0, 1e6, low_open=True, unit="s"), required=True, metavar="S",
                    help="simulated seconds to run")
     p.add_argument("--env-arg", dest="env_args", action="append", default=[], metavar="KEY=VALUE",
-                   help="an argument of the environment's constructor (repeatable; VALUE read as JSON, else as text), "
+                   help="an argument of the environment's constructor "
+                        "(repeatable; VALUE read as JSON, else as text), "
                         "e.g. terminate_when_unhealthy=false")
     heat = p.add_mutually_exclusive_group()
     heat.add_argument("--models", default=None, metavar="MODEL.json",
-                      help="saved models (fit or diagnose --save): by joint name, or one actuator's for every joint")
+                      help="saved models (fit or diagnose --save): by "
+                           "joint name, or one actuator's for every joint")
     heat.add_argument("--plant", choices=sorted(PLANTS), default=None,
                       help="the suite's plant with this datasheet actuator at every joint (default x8-16)")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="with --models: the model file's actuator whose model serves every joint")
     p.add_argument("--torque-constant", dest="torque_constant", type=number(0.0, 1e4, low_open=True, unit="N m/A"),
                    default=None, metavar="NM_PER_A",
-                   help="for a model that heats from a current (A or mA): the motor's torque constant at the joint, "
+                   help="for a model that heats from a current (A or "
+                        "mA): the motor's torque constant at the joint, "
                         "N m per A, by which the environment's torques become currents")
     p.add_argument("--joints", default=None, metavar="A,B,...", help="the joints to heat (default every one)")
     p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",

@@ -56,5 +56,6 @@ def check_outputs(args) -> None:
         for source in inputs:
             if same_file(output, source):
                 what = "the model file" if source == Path(str(getattr(args, "model_file", "") or "")) else "the input"
-                raise UsageError(f"{flag} {output} is {what} {source} this command reads; an output never replaces "
+                raise UsageError(f"{flag} {output} is {what} {source} this "
+                                 "command reads; an output never replaces "
                                  f"an input: write it elsewhere (nothing was written)")

@@ -13,8 +13,10 @@ from .template import LogCommand, Run
 class Compare(LogCommand):
     name = "compare"
     help = "compare several models on one log: held-out error, AIC/BIC, parameters, overlay"
-    description = ("Fit each --model on the first --split of the log (or by --cv K folds) and validate by free "
-                   "run: validation RMSE (K), max error (K), fit %, AIC and BIC on the training residual, parameters.")
+    description = ("Fit each --model on the first --split of the "
+                   "log (or by --cv K folds) and validate by free "
+                   "run: validation RMSE (K), max error (K), fit %, "
+                   "AIC and BIC on the training residual, parameters.")
     model_help = "a model to compare"
     many_models = True
     json_help = "print the comparison as one JSON object"
@@ -28,13 +30,15 @@ class Compare(LogCommand):
 
             run.page.add(f"{name}: measured against each model",
                          temperature_figure([(",".join(r.model.terms), r) for r, _ in fitted], name),
-                         "Each model's free run, dotted where fitted and solid on held-out data (shaded); the panels "
+                         "Each model's free run, dotted where fitted and "
+                         "solid on held-out data (shaded); the panels "
                          "share the time axis." + thinning_note(fitted[0][0]))
         if run.args.plot:
             from ..plotting.fits import plot_comparison
 
             plot_comparison(fitted, name, Path(run.args.plot) / f"compare_{file_stem(name)}.png")
-        lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} {'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
+        lines = [f"{name}:", f"  {'model':40s} {'RMSE K':>8s} {'max K':>8s} "
+                             f"{'fit %':>7s} {'AIC':>11s} {'BIC':>11s}"]
         for r, ic in results:
             if r is None:
                 lines.append(f"  {','.join(ic['model']):40s} not identifiable: {ic['error']}")

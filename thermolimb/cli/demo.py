@@ -19,7 +19,8 @@ def add_parser(sub):
     p = sub.add_parser("demo", help="run a demo (or all) and write its plots and summary.json",
                        description="Run a registered demo into OUT/NAME/: PNG plots and summary.json.",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="demos (in the order to read them; 'thermolimb demo' with no name describes each):\n  "
+                       epilog="demos (in the order to read them; 'thermolimb "
+                              "demo' with no name describes each):\n  "
                               + "\n  ".join(demo_names()))
     p.add_argument("name", nargs="?", default=None, help="demo name, or 'all'; omit to list them")
     p.add_argument("--quick", action="store_true", help="short mode (what make demo and the tests run)")
@@ -29,7 +30,8 @@ def add_parser(sub):
     p.add_argument("--workers", type=integer(1, 256), default=None,
                    help="demos run side by side on this many processes (default: every core; 1 with --live)")
     p.add_argument("--live", type=integer(0, 65535), nargs="?", const=8765, default=None, metavar="PORT",
-                   help="stream the simulated robots live to Foxglove on the monitor's channels (default port 8765; "
+                   help="stream the simulated robots live to Foxglove "
+                        "on the monitor's channels (default port 8765; "
                         "extra 'live')")
     p.set_defaults(func=run)
 

@@ -24,11 +24,16 @@ class Diagnose(LogCommand):
     help = "find where the thermal model fails and which physical effect is missing"
     description = ("Fit the model (output error, on the first --split of each run), analyse its residual "
                    "(autocorrelation; cross-correlation with effort, effort^2, |velocity|, current^2, power, "
-                   "ambient, the housing and the neighbours' temperatures; RMSE by phase), try every change worth "
-                   "trying (add an effect, drop a term, swap the heat source), validate each on held-out data and "
-                   "recommend the one that helps most, if it is plausible and identifiable. --auto takes recommended"
-                   " changes while one helps. --discover also tries every extra channel the log carries (heat, "
-                   "conductance, boundary forms) and, when nothing helps and the residual has structure, a form "
+                   "ambient, the housing and the neighbours' "
+                   "temperatures; RMSE by phase), try every change worth "
+                   "trying (add an effect, drop a term, swap the "
+                   "heat source), validate each on held-out data and "
+                   "recommend the one that helps most, if it is "
+                   "plausible and identifiable. --auto takes recommended"
+                   " changes while one helps. --discover also tries "
+                   "every extra channel the log carries (heat, "
+                   "conductance, boundary forms) and, when nothing "
+                   "helps and the residual has structure, a form "
                    "found by sparse regression; --propose writes it as a Term. Errors in K.")
     model_help = "model to diagnose"
     fleet = True
@@ -36,38 +41,51 @@ class Diagnose(LogCommand):
     json_help = "print the diagnosis as one JSON object"
     plot_help = "write the diagnosis plots into DIR"
     saves = True
-    save_help = ("write each actuator's final model (with --auto: the walk's last; else the recommended change's, or "
+    save_help = ("write each actuator's final model (with --auto: "
+                 "the walk's last; else the recommended change's, or "
                  "the model as given) to a model file (JSON; docs/model-file.md)")
 
     def add_options(self, p):
         p.add_argument("--auto", action="store_true",
-                       help="take the recommended change (add, drop or swap) while one helps, never revisiting a "
+                       help="take the recommended change (add, drop or "
+                            "swap) while one helps, never revisiting a "
                             "model, and draw the waterfall")
         p.add_argument("--refit", choices=("strong", "all"), default="strong",
-                       help="refit only additions with a strong score test (default) or all of them; drops and swaps "
+                       help="refit only additions with a strong score test "
+                            "(default) or all of them; drops and swaps "
                             "are always refitted")
         p.add_argument("--discover", action="store_true",
-                       help="open the vocabulary: try the log's extra channels as heat, conductance or boundary, and "
-                            "propose a form the catalog lacks when nothing else helps (labelled 'discovered'); with "
+                       help="open the vocabulary: try the log's extra "
+                            "channels as heat, conductance or boundary, and "
+                            "propose a form the catalog lacks when nothing "
+                            "else helps (labelled 'discovered'); with "
                             "--auto, such changes are taken under the same gates as catalog effects")
         g = p.add_argument_group("stability of a verdict")
         g.add_argument("--stability", type=integer(0, 1000), default=REPLICATES, metavar="K",
-                       help=f"before recommending a change, repeat the search on K perturbed replicates of the log "
-                            f"(rows trimmed at either end, the split moved, other starts) and recommend it only if "
-                            f"enough of them take it, K more where the first K leave it within one replicate of that "
+                       help="before recommending a change, repeat the "
+                            "search on K perturbed replicates of the log "
+                            "(rows trimmed at either end, the split "
+                            "moved, other starts) and recommend it only if "
+                            "enough of them take it, K more where the "
+                            "first K leave it within one replicate of that "
                             f"share (default {REPLICATES}; 0 turns the check off)")
         g.add_argument("--min-frequency", type=number(0.0, 1.0, low_open=True), default=MIN_FREQUENCY, metavar="F",
-                       help=f"the share of replicates that must take a change for it to be recommended (default "
+                       help="the share of replicates that must take a "
+                            "change for it to be recommended (default "
                             f"{MIN_FREQUENCY})")
         g.add_argument("--stability-seed", type=SEED, default=0, metavar="N",
                        help="seed of the replicates' perturbations (the same seed gives the same frequencies)")
         p.add_argument("--explain", action="store_true",
-                       help="print every change's evidence, the start model's flags and what would tell confounded "
-                            "changes apart (the default text leads with the answer: what is missing, the error "
+                       help="print every change's evidence, the start "
+                            "model's flags and what would tell confounded "
+                            "changes apart (the default text leads with "
+                            "the answer: what is missing, the error "
                             "before and after, how sure, what next)")
         p.add_argument("--propose", type=output_file, default=None, metavar="FILE",
-                       help="with --discover: write the generated terms of the recommended (with --auto: the final) "
-                            "model as a Python file of Term classes, to read, rename, keep and load with --terms")
+                       help="with --discover: write the generated terms "
+                            "of the recommended (with --auto: the final) "
+                            "model as a Python file of Term classes, "
+                            "to read, rename, keep and load with --terms")
 
     def check(self, args):
         if args.propose and not args.discover:
@@ -75,7 +93,8 @@ class Diagnose(LogCommand):
         if args.stability == 1:
             raise UsageError("--stability needs at least 2 replicates (or 0 to turn the check off)")
         if args.fleet and args.discover:
-            raise UsageError("--discover works on the logs of one command, not with --fleet; diagnose a run of "
+            raise UsageError("--discover works on the logs of one "
+                             "command, not with --fleet; diagnose a run of "
                              "interest with --discover, then load what it proposes in the fleet with --terms")
 
     def analyse(self, run: Run, name, series, scheme):
@@ -127,10 +146,12 @@ def describe_diagnosis(d) -> str:
     lines.append(f"  {'change':{w}s} {'RMSE K':>8s} {'gain %':>7s} {'dBIC':>9s} {'taken':>6s}  status")
     for c in d.candidates:
         if not c.refitted:
-            lines.append(f"  {c.label:{w}s} {'':>8s} {'':>7s} {'':>9s} {'':>6s}  {c.status}: {c.not_refitted_because}")
+            lines.append(f"  {c.label:{w}s} {'':>8s} {'':>7s} {'':>9s} "
+                         f"{'':>6s}  {c.status}: {c.not_refitted_because}")
             continue
         taken = f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None else ""
-        lines.append(f"  {c.label:{w}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
+        lines.append(f"  {c.label:{w}s} {c.rmse_K:8.3f} "
+                     f"{100 * c.improvement:7.1f} {c.delta_bic:9.1f} {taken:>6s}  "
                      f"{c.status}")
         for pname, v in c.params.items():
             lines.append(f"      {pname} = {plus_minus(v['value'], v['stderr'], 4)}{spaced(v['unit'])}")
@@ -146,7 +167,8 @@ def describe_diagnosis(d) -> str:
         warn = f" (on {evidence.verdict} evidence: a hint)" if d.recommended and evidence.thin else ""
         if d.unstable is not None:
             u, r = d.unstable, d.recommended
-            warn += (f" ({r.label} taken in {round(r.selection_frequency * k)} of {k} replicates; {u.label} helps "
+            warn += (f" ({r.label} taken in {round(r.selection_frequency * k)} "
+                     f"of {k} replicates; {u.label} helps "
                      f"more on the whole log, {u.rmse_K:.3f} against {r.rmse_K:.3f} K, but is taken in "
                      f"{round(u.selection_frequency * k)} of {k})")
         lines.append(f"  recommended: {d.recommended.label if d.recommended else 'none'}{warn}")

@@ -18,13 +18,18 @@ FORMATS = ("mujoco",)  # what --to carries a model into
 def add_parser(sub):
     p = sub.add_parser(
         "export", help="write a saved model as MuJoCo's dcmotor thermal attributes (an MJCF snippet)",
-        description="Map each actuator's saved first-order model onto MuJoCo's <dcmotor> thermal state (MuJoCo 3.7 "
-                    "or later): the time constant is RC, the heat gain maps through the motor constant, resistance "
-                    "and gear, copper's coefficient where the model has it. What one thermal node cannot hold is "
-                    "dropped and said; with a LOG (the model's calibration log), what dropping it costs is measured "
+        description="Map each actuator's saved first-order model onto "
+                    "MuJoCo's <dcmotor> thermal state (MuJoCo 3.7 "
+                    "or later): the time constant is RC, the heat "
+                    "gain maps through the motor constant, resistance "
+                    "and gear, copper's coefficient where the model "
+                    "has it. What one thermal node cannot hold is "
+                    "dropped and said; with a LOG (the model's "
+                    "calibration log), what dropping it costs is measured "
                     "and the exported actuator is run in MuJoCo itself against this suite's free run "
                     "(docs/travel.md).")
-    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
+    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by "
+                                                            "fit or diagnose with --save")
     p.add_argument("--to", choices=FORMATS, default=FORMATS[0],
                    help="the simulator to carry the model into (default mujoco: its <dcmotor>, the one so "
                         "far)")
@@ -34,16 +39,19 @@ def add_parser(sub):
     p.add_argument("--resistance", type=number(0.0, 1e4, low_open=True, unit="ohm"), required=True, metavar="R",
                    help="the winding's terminal resistance (ohm)")
     p.add_argument("--gear", type=number(0.0, 1e5, low_open=True), default=1.0, metavar="G",
-                   help="the gear ratio from motor to joint (default 1): a joint torque is G times the motor's")
+                   help="the gear ratio from motor to joint (default "
+                        "1): a joint torque is G times the motor's")
     p.add_argument("--out", type=output_file, default=None, metavar="FILE.xml",
                    help="write the snippet to FILE.xml instead of standard output")
     add_log_input(p, required=False)
     p.add_argument("--refit", action="store_true",
-                   help="with a LOG, where terms are dropped: fit the one thermal node MuJoCo holds (heat gain, RC, "
+                   help="with a LOG, where terms are dropped: fit the "
+                        "one thermal node MuJoCo holds (heat gain, RC, "
                         "offset) again on the log and export that, not the saved model without them; without "
                         "--refit, what such a refit gives is said")
     add_terms(p)
-    p.add_argument("--json", action="store_true", help="the attributes, what was dropped and the check as JSON")
+    p.add_argument("--json", action="store_true", help="the attributes, what was "
+                                                       "dropped and the check as JSON")
     add_quiet(p)
     p.set_defaults(func=run, discovers=False)
     return p
@@ -54,7 +62,8 @@ def run(args) -> int:
     from ..util.atomic import holds, replaces
 
     if args.refit and not args.logs:
-        raise UsageError("--refit fits the exported model again on a log: give the model's calibration LOG too")
+        raise UsageError("--refit fits the exported model again on "
+                         "a log: give the model's calibration LOG too")
     replacing = bool(args.out) and replaces(args.out, holds(EXPORT_MARK.encode()), "--out")
     models = load_model_file(args)
     names = [args.actuator] if args.actuator else list(models.actuators)
@@ -87,15 +96,19 @@ def run(args) -> int:
 def _say(export, record) -> None:
     cost, refit = record.get("cost"), record.get("refit")
     if export.dropped:  # one sentence: the cost is of dropping them all
-        dropped = (f"{export.actuator}: {' and '.join(export.dropped)} dropped (MuJoCo's dcmotor has one thermal "
+        dropped = (f"{export.actuator}: {' and '.join(export.dropped)} "
+                   "dropped (MuJoCo's dcmotor has one thermal "
                    f"node, heated by its current)")
         exported = "the exported one's, refitted on the log without them," if refit and refit["exported"] else \
             "the exported one's"
         if cost:
-            say(f"{dropped}: on the log the saved model's free run is {cost['saved_rmse_K']:.3f} K RMSE from the "
-                f"readings, {exported} {cost['exported_rmse_K']:.3f} K ({cost['between_K']:.3f} K between the "
+            say(f"{dropped}: on the log the saved model's free run "
+                f"is {cost['saved_rmse_K']:.3f} K RMSE from the "
+                f"readings, {exported} {cost['exported_rmse_K']:.3f} "
+                f"K ({cost['between_K']:.3f} K between the "
                 f"two, {cost['samples']} samples)"
-                + (f"; refitted on the log without them, one node's would be {refit['rmse_K']:.3f} K (--refit "
+                + ("; refitted on the log without them, one node's "
+                   f"would be {refit['rmse_K']:.3f} K (--refit "
                    f"exports it)" if refit and "rmse_K" in refit and not refit["exported"] else "")
                 + (f"; one node could not be fitted again on the log: {refit['error']}" if refit and "error" in refit
                    else ""))

@@ -16,10 +16,13 @@ class Fit(LogCommand):
     help = "identify the thermal model from logs and validate it by free-run simulation"
     description = (
         "Fit the effort-based thermal model on the first --split of each run's time span, then "
-        "simulate each run from its first reading through to its end from the inputs alone, scoring the rest. Reports "
+        "simulate each run from its first reading through to its "
+        "end from the inputs alone, scoring the rest. Reports "
         "validation RMSE (K), max absolute error (K), fit % = 100(1 - |y - y_sim| / |y - mean y|) and the "
-        "parameters with standard errors in the log's units (RC in s, T_offset in degC, betaR in K/(N m)^2 for "
-        "efforts in N m or K/mA^2 for a current logged as effort in mA; a unit the log does not give is said so)."
+        "parameters with standard errors in the log's units "
+        "(RC in s, T_offset in degC, betaR in K/(N m)^2 for "
+        "efforts in N m or K/mA^2 for a current logged as "
+        "effort in mA; a unit the log does not give is said so)."
     )
     model_help = "comma-separated model terms"
     fleet = True
@@ -29,8 +32,10 @@ class Fit(LogCommand):
 
     def add_options(self, p):
         p.add_argument("--method", default="output_error", choices=list(ESTIMATORS),
-                       help="output_error (default): free-run error, started from least squares; least_squares: "
-                            "Jorgensen et al.'s regression solved directly; jorgensen_gd: Jorgensen et al.'s z-scored "
+                       help="output_error (default): free-run error, "
+                            "started from least squares; least_squares: "
+                            "Jorgensen et al.'s regression solved directly; "
+                            "jorgensen_gd: Jorgensen et al.'s z-scored "
                             "gradient descent")
 
     def analyse(self, run: Run, name, series, scheme):
@@ -55,9 +60,12 @@ add_parser = Fit().add_parser
 def _describe(report) -> str:
     v, t = report.validation, report.train
     lines = [f"{report.actuator}: model {','.join(report.model.terms)} by {report.method}",
-             f"  train       RMSE {t['rmse_K']:.3f} K  max {t['max_abs_K']:.3f} K  fit {t['fit_percent']:.1f} %",
-             f"  validation  RMSE {v['rmse_K']:.3f} K  max {v['max_abs_K']:.3f} K  fit {v['fit_percent']:.1f} %"
+             f"  train       RMSE {t['rmse_K']:.3f} K  max "
+             f"{t['max_abs_K']:.3f} K  fit {t['fit_percent']:.1f} %",
+             f"  validation  RMSE {v['rmse_K']:.3f} K  max "
+             f"{v['max_abs_K']:.3f} K  fit {v['fit_percent']:.1f} %"
              f"  ({report.scheme})",
-             "  (fit % = 100 (1 - ‖measured - model‖ / ‖measured - its mean‖), norms over the samples: 100 % exact, 0 % no better than the "
+             "  (fit % = 100 (1 - ‖measured - model‖ / ‖measured - its mean‖), "
+             "norms over the samples: 100 % exact, 0 % no better than the "
              "mean, below 0 worse)"]
     return "\n".join(lines + format_params(report))

@@ -49,7 +49,8 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
     for note in skipped:
         say(note)
     if len({is_bag(p) for p in paths}) > 1:
-        raise UsageError("--fleet reads bags and tables with the same --map; give bags and tables in separate runs")
+        raise UsageError("--fleet reads bags and tables with the same "
+                         "--map; give bags and tables in separate runs")
     rows, notes = fit_fleet_files(paths, read_options(args, paths[0]), args.model, scheme_of(args),
                                   method=getattr(args, "method", "output_error"), diagnose=diagnose,
                                   backend=args.backend, workers=local_workers(args), address=args.address,
@@ -59,7 +60,8 @@ def run_fleet(args, diagnose: bool, datasheet: dict[str, float]) -> int:
         say(note)
     failed = [r for r in rows if r["actuator"] == UNREADABLE]
     if failed:
-        say(f"{len(failed)} of {len(paths)} files could not be read (rows marked {UNREADABLE}); the others were "
+        say(f"{len(failed)} of {len(paths)} files could not be "
+            f"read (rows marked {UNREADABLE}); the others were "
             f"analysed")
     rows_ok = [r for r in rows if r["actuator"] != UNREADABLE]
     if not rows_ok:

@@ -34,11 +34,13 @@ READ_ROWS = 2_000_000  # a table of at most these rows is read with the map sugg
 def add_parser(sub):
     p = sub.add_parser(
         "inspect", help="list a log's topics (bags) or columns (CSV, Parquet) and suggest a --map",
-        description="For a ROS 1 or ROS 2 bag: every topic with its message type, message count, mean rate (Hz), "
+        description="For a ROS 1 or ROS 2 bag: every topic with its "
+                    "message type, message count, mean rate (Hz), "
         "numeric fields and joint names, then a suggested --map for fit, compare and diagnose. For a CSV or "
         "Parquet file: its columns, how many values each holds, and its first values.",
     )
-    p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a ROS 2 bag folder), CSV or Parquet")
+    p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a "
+                                              "ROS 2 bag folder), CSV or Parquet")
     p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
                    help="the column names of a CSV file written without a header row, in the file's order")
     p.add_argument("--json", action="store_true", help="print the listing as JSON")
@@ -66,31 +68,38 @@ def run(args) -> int:
             text = ",".join(f"{k}={v}" for k, v in mapping.items())
             print(f"suggested: --map {text}  (add --actuator NAME for one joint)")
         else:
-            print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with --map channel=/topic.field")
+            print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with "
+                                                                  "--map channel=/topic.field")
         return 0
     rows, columns, first_line = _listing(path, args.columns)
     flat = {c["column"] for c in columns if c.get("flat")}
     mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
                                              {c["column"]: c["values"] for c in columns}, flat)
     if first_line is not None and not args.columns:
-        reasons.insert(0, f"the file has no header row (its first line, {first_line.strip()[:60]!r}, holds numbers): "
-                          f"its columns are listed as column1 to column{len(columns)}; name them with --columns "
+        reasons.insert(0, "the file has no header row (its first line, "
+                          f"{first_line.strip()[:60]!r}, holds numbers): "
+                          "its columns are listed as column1 to "
+                          f"column{len(columns)}; name them with --columns "
                           f"NAME,NAME,... (in the file's order), here and in fit, diagnose and the others")
     left = _left_for(mapping, columns, flat)
     if left:
-        reasons.append(f"effort: no column's name says torque, effort, current or power; if {' or '.join(left[:3])} "
-                       f"drives the heat (a torque, a current, a command or duty), add effort={left[0]} to the map")
+        reasons.append("effort: no column's name says torque, effort, "
+                       f"current or power; if {' or '.join(left[:3])} "
+                       "drives the heat (a torque, a current, a command "
+                       f"or duty), add effort={left[0]} to the map")
     for name, column in list((mapping or {}).items()):
         if UNITS.get(name) == "degC" and fahrenheit_named(column) and header_unit(column) is None:
             mapping[name] = f"{column}:degF"
-            reasons.append(f"{name}={column}: its name says degrees Fahrenheit, so the suggestion reads it as such; "
+            reasons.append(f"{name}={column}: its name says degrees "
+                           "Fahrenheit, so the suggestion reads it as such; "
                            f"write {column}:degC if it is Celsius")
     apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows, args.columns)
     if apart:
         time = split_unit(mapping["time"])[0]
         mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
         reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
-                       f"temperature's rows hold the {apart[0]}): each channel is read on its own samples (@{time}), "
+                       f"temperature's rows hold the {apart[0]}): each "
+                       f"channel is read on its own samples (@{time}), "
                        f"the inputs averaged over each temperature sample's interval")
     together = _times_agree(path, mapping, rows, args.columns)
     if together is not None:
@@ -98,10 +107,12 @@ def run(args) -> int:
         mapping.update({k: on_time(v, None) for k, v in mapping.items() if k not in ("time", "actuator")})
         mapping["time"] = time
         reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
-        reasons.append(f"the channels' time columns agree on every row (to {1e3 * spread:.2g} ms, under a tenth "
+        reasons.append("the channels' time columns agree on every "
+                       f"row (to {1e3 * spread:.2g} ms, under a tenth "
                        f"of a step): the rows are samples of every channel, read on {time}")
     if mapping and _as_it_is(mapping):
-        reasons.insert(0, "the columns carry the canonical names: fit, compare and diagnose read the file as it is, "
+        reasons.insert(0, "the columns carry the canonical names: fit, "
+                          "compare and diagnose read the file as it is, "
                           "without --map")
     flags = []
     if mapping and rows <= READ_ROWS:
@@ -111,7 +122,8 @@ def run(args) -> int:
         if "time" in mapping and split_unit(mapping["time"])[1] is None and any(
                 "if the time column counts milliseconds" in note for note in read_notes):
             mapping["time"] = trial["time"] = f"{mapping['time']}:ms"  # steps of hundreds of s over days: ms
-            reasons.append(f"time={split_unit(mapping['time'])[0]}: read as seconds, its steps of hundreds span days; "
+            reasons.append(f"time={split_unit(mapping['time'])[0]}: read "
+                           "as seconds, its steps of hundreds span days; "
                            f"the suggestion reads it in ms (change it if the log did run for days)")
             flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
         reasons += read_notes
@@ -173,8 +185,10 @@ def _read_with(path: Path, mapping: dict, names=None, effort: str | None = None)
         spans = disturbed_spans(run.temperature_C, run.signals.effort)
         if spans:
             t = run.time_s
-            notes.append(f"{run.run or run.actuator}: the readings jump up by {spans[0][3]:.1f} K as the effort steps "
-                         f"down at {t[spans[0][1]]:g} s ({len(spans)} driven interval(s) so): a sensor that reads low "
+            notes.append(f"{run.run or run.actuator}: the readings jump "
+                         f"up by {spans[0][3]:.1f} K as the effort steps "
+                         f"down at {t[spans[0][1]]:g} s ({len(spans)} "
+                         "driven interval(s) so): a sensor that reads low "
                          f"while driven; fit and diagnose refuse such readings")
     flags = ["--drop-incomplete"] if any("(--drop-incomplete)" in note for note in notes) else []
     flags += [f"--columns {','.join(names)}"] if names else []

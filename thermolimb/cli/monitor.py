@@ -15,32 +15,45 @@ from .types import integer, number, output_file
 def add_parser(sub):
     p = sub.add_parser(
         "monitor", help="follow a log as it is written: winding estimates, time to the limit, derating, live",
-        description="Follow a log while another program writes it -- a CSV read as fit reads it (the canonical "
-                    "columns, or a wide file with --map) or an MCAP / ROS 2 bag being recorded (--map); a line that "
-                    "cannot be read is said and skipped, a pause starts a new run; for each actuator run the saved "
+        description="Follow a log while another program writes it "
+                    "-- a CSV read as fit reads it (the canonical "
+                    "columns, or a wide file with --map) or an MCAP "
+                    "/ ROS 2 bag being recorded (--map); a line that "
+                    "cannot be read is said and skipped, a pause "
+                    "starts a new run; for each actuator run the saved "
                     "model with a Kalman filter on "
-                    "its readings (the winding temperature and its uncertainty), the time to the limit at the "
-                    "current effort and the protection's derating; publish them as ROS 2 messages to an MCAP, live "
-                    "to Foxglove, or as JSON lines. Ends on Ctrl-C, SIGTERM or --idle-exit, every output complete. "
+                    "its readings (the winding temperature and its "
+                    "uncertainty), the time to the limit at the "
+                    "current effort and the protection's derating; "
+                    "publish them as ROS 2 messages to an MCAP, live "
+                    "to Foxglove, or as JSON lines. Ends on Ctrl-C, "
+                    "SIGTERM or --idle-exit, every output complete. "
                     "Topics and messages: docs/model-file.md.")
-    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
+    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by "
+                                                            "fit or diagnose with --save")
     p.add_argument("--follow", required=True, metavar="LOG",
-                   help="the log to follow: a CSV (waited for if it does not exist yet), or an MCAP (or a ROS 2 bag "
+                   help="the log to follow: a CSV (waited for if it "
+                        "does not exist yet), or an MCAP (or a ROS 2 bag "
                         "folder) being recorded")
     add_log_input(p, positional=False)
     add_terms(p)
     p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
                    help="the winding limit of every actuator (default: each model's stored limit)")
     p.add_argument("--measurement-std-K", dest="measurement_std_K", type=number(0.0, 10.0, low_open=True),
-                   default=0.1, metavar="K", help="the thermistor's noise, 1 sigma, quantisation included (default 0.1)")
+                   default=0.1, metavar="K", help="the thermistor's noise, 1 sigma, "
+                                                  "quantisation included (default 0.1)")
     p.add_argument("--mcap", type=output_file, default=None, metavar="OUT.mcap",
-                   help="write sensor_msgs/Temperature per actuator and diagnostic_msgs/DiagnosticArray to OUT.mcap")
+                   help="write sensor_msgs/Temperature per actuator "
+                        "and diagnostic_msgs/DiagnosticArray to OUT.mcap")
     p.add_argument("--foxglove", type=integer(0, 65535), nargs="?", const=8765, default=None, metavar="PORT",
-                   help="serve the same channels live on Foxglove's WebSocket protocol (default port 8765; extra "
+                   help="serve the same channels live on Foxglove's "
+                        "WebSocket protocol (default port 8765; extra "
                         "'live')")
     p.add_argument("--layout", type=output_file, default=None, metavar="FILE",
-                   help="also write a Foxglove layout for these actuators' channels to FILE (import it in Foxglove)")
-    p.add_argument("--json-lines", action="store_true", help="one JSON object per publication on standard output")
+                   help="also write a Foxglove layout for these actuators' "
+                        "channels to FILE (import it in Foxglove)")
+    p.add_argument("--json-lines", action="store_true", help="one JSON object per "
+                                                             "publication on standard output")
     p.add_argument("--publish-hz", type=number(0.0, 10000.0, low_open=True), default=20.0, metavar="HZ",
                    help="at most this many publications per second of log time (default 20)")
     p.add_argument("--poll-s", type=number(0.001, 60.0), default=0.05, metavar="S",
@@ -59,7 +72,8 @@ def run(args) -> int:
 
     models = load_model_file(args)
     if not (args.mcap or args.foxglove is not None or args.json_lines):
-        raise UsageError("monitor needs somewhere to publish: --mcap OUT.mcap, --foxglove [PORT] or --json-lines")
+        raise UsageError("monitor needs somewhere to publish: --mcap "
+                         "OUT.mcap, --foxglove [PORT] or --json-lines")
     names = list(models.actuators)
     limits = {n: args.limit_C for n in names} if args.limit_C is not None else {}
     if args.actuator is not None and args.actuator not in models.actuators:
@@ -110,16 +124,19 @@ def _follower(args):
 
     path = Path(args.follow)
     if path.is_dir() and not any(path.glob("*.mcap")) and not any(path.glob("metadata.yaml")):
-        raise UsageError(f"--follow {path}: a folder with no ROS 2 bag in it; expected a CSV log, an MCAP, or a bag "
+        raise UsageError(f"--follow {path}: a folder with no ROS 2 bag "
+                         "in it; expected a CSV log, an MCAP, or a bag "
                          f"folder being recorded")
     if path.exists() and not path.is_file() and not path.is_dir():
-        raise UsageError(f"--follow {path}: not a regular file (a device or a pipe); expected a log file another "
+        raise UsageError(f"--follow {path}: not a regular file (a device "
+                         "or a pipe); expected a log file another "
                          f"program writes")
     kind = followed_as(path)
     if kind == "mcap":
         return McapFollower(path, args.map)
     if kind != "csv":
-        raise UsageError(f"--follow {path}: a {kind} file is written whole, not row by row; monitor follows a CSV or "
+        raise UsageError(f"--follow {path}: a {kind} file is written "
+                         "whole, not row by row; monitor follows a CSV or "
                          f"an MCAP as it is written (predict reads a finished {kind} log)")
     options = read_options(args, path)
     return CsvFollower(path, args.actuator, options["mapping"] or None,

@@ -29,7 +29,8 @@ class Once(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None):
         if getattr(namespace, f"_given_{self.dest}", False):
-            parser.error(f"{option_string} given twice ({getattr(namespace, self.dest)!r} and {values!r}); give one "
+            parser.error(f"{option_string} given twice "
+                         f"({getattr(namespace, self.dest)!r} and {values!r}); give one "
                          f"(to fit several actuators, leave it out: every actuator is fitted)")
         setattr(namespace, f"_given_{self.dest}", True)
         setattr(namespace, self.dest, values)
@@ -47,16 +48,22 @@ def add_log_input(p, required: bool = True, positional: bool = True):
     logs."""
     if positional:
         p.add_argument("logs", nargs="+" if required else "*", metavar="LOG",
-                       help="log file(s): CSV, Parquet, ROS 1 bag or ROS 2 bag (.mcap, .db3 or its folder); several "
-                            "logs (runs) of the same actuators are fitted jointly, each run simulated from its own "
+                       help="log file(s): CSV, Parquet, ROS 1 bag or ROS "
+                            "2 bag (.mcap, .db3 or its folder); several "
+                            "logs (runs) of the same actuators are fitted "
+                            "jointly, each run simulated from its own "
                             "first reading")
     p.add_argument("--map", default=None, metavar="CANONICAL=COLUMN,...",
-                   help="read a wide file by naming its columns, e.g. effort=torque,temperature=stator_winding,"
-                        "housing=case_temp (a second sensor); for one column per joint use {j} for the joint number "
-                        "(or its name) and * for any text: effort=Current_J{j},temperature=Temperature_*{j}; a column "
+                   help="read a wide file by naming its columns, e.g. "
+                        "effort=torque,temperature=stator_winding,"
+                        "housing=case_temp (a second sensor); for one "
+                        "column per joint use {j} for the joint number "
+                        "(or its name) and * for any text: "
+                        "effort=Current_J{j},temperature=Temperature_*{j}; a column "
                         "on a time base "
                         "of its own as COLUMN@TIME_COLUMN; for a bag, /topic.field "
-                        "(effort=/joint_states.effort,temperature=/temperatures.temps; see thermolimb inspect)")
+                        "(effort=/joint_states.effort,temperature=/temperatures.temps; "
+                        "see thermolimb inspect)")
     p.add_argument("--velocity-unit", default=None, choices=sorted(VELOCITY_UNITS),
                    help="unit of the velocity column, converted to rad/s (default: the column header's, e.g. "
                         "'Speed [rpm]'; rad/s in the canonical format; else reported as not given)")
@@ -66,12 +73,15 @@ def add_log_input(p, required: bool = True, positional: bool = True):
     p.add_argument("--sep", default=None, choices=sorted(SEPARATORS),
                    help="CSV separator (default: found from the file)")
     p.add_argument("--decimal", default=None, choices=(".", ","),
-                   help="decimal mark in a CSV (default: found from the file; ',' in ';'-separated files that use it)")
+                   help="decimal mark in a CSV (default: found from the "
+                        "file; ',' in ';'-separated files that use it)")
     p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
-                   help="the column names of a CSV file written without a header row, in the file's order (read "
+                   help="the column names of a CSV file written without "
+                        "a header row, in the file's order (read "
                         "without them, its columns are column1, column2, ...)")
     p.add_argument("--drop-incomplete", action="store_true",
-                   help="leave out samples with a missing value (and say how many) instead of refusing the file")
+                   help="leave out samples with a missing value (and "
+                        "say how many) instead of refusing the file")
     p.add_argument("--actuator", default=None, metavar="NAME", action=Once,
                    help="actuator to use (default: every actuator in the log); names the actuator of a wide "
                         "single-actuator file, so that several such files fit jointly")
@@ -88,7 +98,8 @@ def add_models(p, help: str, repeated: bool = False):
     several."""
     if repeated:
         p.add_argument("--model", action="append", default=None, metavar="TERMS",
-                       help=f"{help} (repeat the option; default {','.join(DEFAULT_MODEL)}, the model fit and "
+                       help=f"{help} (repeat the option; default "
+                            f"{','.join(DEFAULT_MODEL)}, the model fit and "
                             f"diagnose start from); terms: {', '.join(TERMS)}")
     else:
         p.add_argument("--model", default=",".join(DEFAULT_MODEL), metavar="TERMS",
@@ -97,23 +108,30 @@ def add_models(p, help: str, repeated: bool = False):
 
 def add_validation(p):
     p.add_argument("--split", type=fraction, default=None,
-                   help=f"fit on this fraction of each run's time span and validate on the rest (e.g. {DEFAULT_SPLIT}; "
+                   help="fit on this fraction of each run's time span "
+                        f"and validate on the rest (e.g. {DEFAULT_SPLIT}; "
                         f"default: leave one run out with several runs, a {DEFAULT_SPLIT} split of one run)")
     p.add_argument("--cv", type=folds, default=None, metavar="K|runs|interleaved|parts",
-                   help="blocked cross-validation over K contiguous folds; 'runs': leave one run out; 'interleaved': "
-                        "blocks 2, 5 and 8 of 10 of each run held out; 'parts': each third of each run held out in turn")
+                   help="blocked cross-validation over K contiguous "
+                        "folds; 'runs': leave one run out; 'interleaved': "
+                        "blocks 2, 5 and 8 of 10 of each run held out; "
+                        "'parts': each third of each run held out in turn")
     p.add_argument("--validate-on", nargs="+", default=None, metavar="LOG",
                    help="fit on the LOGs given first and validate on these runs (read with the same options, "
                         "but --validate-map)")
     p.add_argument("--validate-map", default=None, metavar="MAP",
-                   help="the --map of the --validate-on logs where they are written otherwise (another export, a "
+                   help="the --map of the --validate-on logs where "
+                        "they are written otherwise (another export, a "
                         "bag beside a CSV: \"\" lets a bag suggest its own); default: --map")
     p.add_argument("--restart-at-split", action="store_true",
-                   help="restart the validation free run at the split from the measured temperature, hidden states "
+                   help="restart the validation free run at the split "
+                        "from the measured temperature, hidden states "
                         "at rest (default: carried from each run's start through the training part)")
     p.add_argument("--datasheet", type=assignments, default={}, metavar="NAME=VALUE,...",
-                   help="values from a datasheet (e.g. RC_s=600), held where the log cannot identify the parameter "
-                        "or leaves it loose (standard error over half of it); the output says when one is held")
+                   help="values from a datasheet (e.g. RC_s=600), held "
+                        "where the log cannot identify the parameter "
+                        "or leaves it loose (standard error over "
+                        "half of it); the output says when one is held")
 
 
 def scheme_of(args) -> Scheme:
@@ -141,21 +159,24 @@ def add_outputs(p, json_help: str, plot_help: str):
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR", help=plot_help)
     p.add_argument("--html", type=output_file, default=None, metavar="FILE",
-                   help="write an interactive page (zoomable, panels linked in time; self-contained, works offline)")
+                   help="write an interactive page (zoomable, panels "
+                        "linked in time; self-contained, works offline)")
 
 
 def add_save(p, help_text: str):
     """``--save MODEL.json`` and the limit it stores, ``--limit-C``."""
     p.add_argument("--save", type=output_file, default=None, metavar="MODEL.json", help=help_text)
     p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="with --save: the actuator's winding limit (degC), stored in the model file; predict and "
+                   help="with --save: the actuator's winding limit "
+                        "(degC), stored in the model file; predict and "
                         "monitor use it when no --threshold is given")
 
 
 def add_fleet(p):
     g = p.add_argument_group("a fleet at once")
     g.add_argument("--fleet", action="store_true",
-                   help="fit every actuator and run of the LOGs on its own (LOG may be a folder or a quoted glob): "
+                   help="fit every actuator and run of the LOGs on its "
+                        "own (LOG may be a folder or a quoted glob): "
                         "one row per actuator and run, then each actuator's parameter drift across its runs "
                         "(--plot DIR writes DIR/drift.png)")
     g.add_argument("--backend", choices=BACKENDS, default="process",

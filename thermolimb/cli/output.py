@@ -29,7 +29,8 @@ def format_params(report, indent: str = "  ", evidence: bool = True) -> list[str
     """What the validation rests on (unless ``evidence`` is false: said once elsewhere), the parameters with
     uncertainty and unit, one per line, then the report's flags and what was set aside."""
     lines = [f"{indent}{report.evidence.sentence()}"] if evidence else []
-    lines += [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} ± {report.stderr[p.name]:.2g}{spaced(report.unit(p))}"
+    lines += [f"{indent}{p.name:26s} {report.model.params[p.name]:12.5g} "
+              f"± {report.stderr[p.name]:.2g}{spaced(report.unit(p))}"
              for p in report.model.parameters]
     lines += [f"{indent}! {flag}" for flag in said_once(report.flags)]  # as the JSON's flags_said
     lines += [f"{indent}{set_aside_sentence(a)}" for a in report.set_aside]

@@ -14,13 +14,17 @@ from .types import SEED, integer, number, output_dir
 
 def add_parser(sub):
     p = sub.add_parser(
-        "predict", help="forecast when each actuator reaches a temperature, with an interval, from a model file",
-        description="Free-run the saved model from the LOG's first reading (or --start-C) under the LOG's inputs, "
-                    "or under a plan held for --duration (--hold, no LOG), and say when the predicted temperature "
+        "predict", help="forecast when each actuator reaches a "
+                        "temperature, with an interval, from a model file",
+        description="Free-run the saved model from the LOG's first "
+                    "reading (or --start-C) under the LOG's inputs, "
+                    "or under a plan held for --duration (--hold, "
+                    "no LOG), and say when the predicted temperature "
                     "first reaches --threshold, with an interval at --level that combines the parameters' "
                     "uncertainty and the model error seen on held-out data (docs/model-file.md). Times in s, "
                     "temperatures in degC.")
-    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by fit or diagnose with --save")
+    p.add_argument("model_file", metavar="MODEL.json", help="a model file written by "
+                                                            "fit or diagnose with --save")
     add_log_input(p, required=False)
     add_terms(p)
     p.add_argument("--threshold", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
@@ -28,18 +32,22 @@ def add_parser(sub):
     p.add_argument("--level", type=number(0.0, 1.0, low_open=True, high_open=True), default=0.9,
                    help="the interval's level (default 0.9)")
     p.add_argument("--start-C", dest="start_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="start from this temperature instead of the log's first reading (required with --hold)")
+                   help="start from this temperature instead of the "
+                        "log's first reading (required with --hold)")
     p.add_argument("--hold", default=None, metavar="EFFORT[,VELOCITY]",
-                   help="a plan instead of a log: the effort (in the model's unit) and velocity held for --duration")
+                   help="a plan instead of a log: the effort (in the "
+                        "model's unit) and velocity held for --duration")
     p.add_argument("--duration", type=number(0.0, 1e7, low_open=True, unit="s"), default=None, metavar="S",
                    help="with --hold: how long the plan is held (s)")
     p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=None,
-                   metavar="C", help="with --hold: the ambient temperature (a model that does not read it moves its "
+                   metavar="C", help="with --hold: the ambient temperature (a "
+                                     "model that does not read it moves its "
                                      "offset with it beyond the one it was identified in)")
     p.add_argument("--draws", type=integer(0, 10000), default=64,
                    help="parameter draws for the interval (default 64; 0: model error only)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the parameter draws")
-    p.add_argument("--json", action="store_true", help="print one JSON object per actuator (a list when several)")
+    p.add_argument("--json", action="store_true", help="print one JSON object per "
+                                                       "actuator (a list when several)")
     p.add_argument("--plot", type=output_dir, default=None, metavar="DIR",
                    help="write predict_<actuator>.png (the band, the threshold, the readings) into DIR")
     add_quiet(p)
@@ -99,7 +107,8 @@ def run(args) -> int:
                 print(f"  the log's readings reach it at {f.measured_crossing_s:.0f} s: "
                       f"{'inside' if f.covers_measured else 'outside'} the interval")
             if f.measured_error_K is not None:
-                print(f"  over the log, the forecast against its readings: RMSE {f.measured_error_K[0]:.3g} K, "
+                print("  over the log, the forecast against its "
+                      f"readings: RMSE {f.measured_error_K[0]:.3g} K, "
                       f"largest {f.measured_error_K[1]:.3g} K")
             if f.model_error_K == 0.0:
                 print("  the model file holds no held-out residual: the interval covers the parameters' "

@@ -34,10 +34,12 @@ def add_parser(sub):
     p = sub.add_parser(
         "simulate", help="write a log from the thermal plant driven by a built-in profile",
         description="Drive the thermal plant with a built-in effort/velocity profile and write a canonical "
-        "log (time s, actuator, effort N m, temperature degC measured, velocity rad/s, current A, ambient degC).",
+        "log (time s, actuator, effort N m, temperature degC "
+        "measured, velocity rad/s, current A, ambient degC).",
     )
     p.add_argument("--profile", default="squat", type=profile_name, metavar="NAME|PLAN.csv",
-                   help="squat: Jorgensen et al.'s Fig. 5 squat every 4.5 min; single_leg: balancing on one leg; "
+                   help="squat: Jorgensen et al.'s Fig. 5 squat every "
+                        "4.5 min; single_leg: balancing on one leg; "
                         "walking: walking bouts and rests; random: random holds and motions (default squat); "
                         "or a plan's file (thermolimb plan --out), its set-points held from one to the next "
                         "for as long as it lasts (--duration is then the plan's)")
@@ -46,7 +48,8 @@ def add_parser(sub):
     p.add_argument("--dt", type=number(0.0, 3600.0, low_open=True, unit="s"), default=0.1,
                    help="control and logging interval in s (default 0.1)")
     p.add_argument("--actuators", default=DEFAULT_ACTUATORS, metavar="NAME:MODEL,...",
-                   help=f"actuators and their models ({', '.join(ACTUATOR_SPECS)}); default {DEFAULT_ACTUATORS}")
+                   help="actuators and their models "
+                        f"({', '.join(ACTUATOR_SPECS)}); default {DEFAULT_ACTUATORS}")
     p.add_argument("--network", default="x8", choices=sorted(NETWORKS),
                    help="thermal network of every actuator (default x8: winding/housing/body, HEBI numbers)")
     p.add_argument("--effects", default="sensor_noise,quantisation", metavar="NAME,...",
@@ -60,7 +63,9 @@ def add_parser(sub):
     p.add_argument("--housing-sensor", action="store_true",
                    help="log a second thermistor on each actuator's housing (column 'housing', degC)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the profile and the sensor noise (default 0)")
-    p.add_argument("--out", type=output_file, required=True, help="log file to write: .csv, .parquet, or .mcap (a ROS 2 MCAP file that opens in Foxglove)")
+    p.add_argument("--out", type=output_file, required=True, help="log file to write: .csv, "
+                                                                  ".parquet, or .mcap (a ROS 2 MCAP "
+                                                                  "file that opens in Foxglove)")
     p.add_argument("--json", action="store_true", help="print a summary record")
     add_quiet(p)
     p.set_defaults(func=run)
@@ -83,7 +88,8 @@ def parse_actuators(text: str):
     for item in text.split(","):
         name, _, model = item.strip().partition(":")
         if not name or model not in ACTUATOR_SPECS:
-            raise UsageError(f"--actuators item {item!r} must be NAME:MODEL with MODEL one of {', '.join(ACTUATOR_SPECS)}")
+            raise UsageError(f"--actuators item {item!r} must be NAME:MODEL "
+                             f"with MODEL one of {', '.join(ACTUATOR_SPECS)}")
         if name in names:
             raise UsageError(f"--actuators names {name!r} twice; give each actuator its own name")
         names.append(name)

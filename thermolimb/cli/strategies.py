@@ -13,12 +13,14 @@ from .types import SEED, integer, names, number, output_dir
 def add_parser(sub):
     p = sub.add_parser(
         "compare-strategies", help="evaluate strategies of an environment over seeded episodes",
-        description="Run every strategy of the environment over --episodes seeds (the same seeds for each) and "
+        description="Run every strategy of the environment over "
+                    "--episodes seeds (the same seeds for each) and "
         "print mean +- std of the return, the recovery time (s, humanoid) or distance (m, hexapod), the time "
         "until an actuator reaches its limit (s) and the falls; write a plot.",
     )
     p.add_argument("--env", required=True, metavar="ID",
-                   help="environment id: thermolimb/HumanoidThermalRecovery-v0, thermolimb/HexapodLoadCarry-v0 or one "
+                   help="environment id: thermolimb/HumanoidThermalRecovery-v0, "
+                        "thermolimb/HexapodLoadCarry-v0 or one "
                    "of another installed robot package")
     p.add_argument("--episodes", type=integer(1, 10_000), default=4, help="episodes per strategy (default 4)")
     p.add_argument("--seed", type=SEED, default=0, help="first seed (default 0)")
@@ -33,7 +35,8 @@ def add_parser(sub):
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
     p.add_argument("--workers", type=integer(1, 1024), default=2, help="processes of the local pool (default 2)")
     p.add_argument("--plot", type=output_dir, default="strategies", metavar="DIR",
-                   help="folder for the plot (default strategies/ here: never the report's out/, which make demo writes)")
+                   help="folder for the plot (default strategies/ here: "
+                        "never the report's out/, which make demo writes)")
     p.add_argument("--json", action="store_true", help="print the table and every episode as JSON")
     add_quiet(p)
     p.set_defaults(func=run)

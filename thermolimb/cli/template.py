@@ -103,13 +103,15 @@ class LogCommand:
         datasheet = _checked_datasheet(args.datasheet, models)
         self.check(args)
         if getattr(args, "save", None) and getattr(args, "fleet", False):
-            raise UsageError("--save writes the model of one command's logs, not of a --fleet; fit a run with --save")
+            raise UsageError("--save writes the model of one command's "
+                             "logs, not of a --fleet; fit a run with --save")
         if self.fleet and not args.fleet:
             given = [flag for flag, value in (("--table", args.table), ("--workers", args.workers),
                                               ("--address", args.address)) if value is not None]
             given += ["--backend"] if args.backend != "process" else []
             if given:
-                raise UsageError(f"{given[0]} works with --fleet (many logs, each actuator and run on its own); add "
+                raise UsageError(f"{given[0]} works with --fleet (many logs, "
+                                 "each actuator and run on its own); add "
                                  f"--fleet or leave {given[0]} out")
         if getattr(args, "limit_C", None) is not None and not getattr(args, "save", None):
             raise UsageError("--limit-C is stored in the model file; add --save MODEL.json")
@@ -139,7 +141,8 @@ class LogCommand:
                 named = [log for log in logs + held if log.actuators == (Path(log.source).stem,)]
                 # each file's one actuator named after it
                 if len(named) == len(logs + held) and not args.actuator:
-                    raise UsageError(f"{missing[0].source}: its actuator is named {missing[0].actuators[0]!r} after "
+                    raise UsageError(f"{missing[0].source}: its actuator is "
+                                     f"named {missing[0].actuators[0]!r} after "
                                      f"the file, as {logs[0].source}'s is {name!r} ("
                                      f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
                                      f"); to read the files as runs of one actuator, name it: --actuator NAME")
@@ -168,7 +171,8 @@ class LogCommand:
         if len(failed) == len(names):
             raise ThermolimbError(records[0]["error"])
         if failed:
-            say(f"{len(failed)} of {len(names)} actuators could not be analysed ({', '.join(failed)}); the others "
+            say(f"{len(failed)} of {len(names)} actuators could "
+                f"not be analysed ({', '.join(failed)}); the others "
                 f"were")
         if args.json:
             print_json(records[0] if len(records) == 1 else records)

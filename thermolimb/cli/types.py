@@ -67,10 +67,12 @@ def folds(text: str):
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of folds (2 or more), 'runs', 'interleaved' or 'parts', "
+        raise argparse.ArgumentTypeError("expected a number of folds (2 or more), "
+                                         "'runs', 'interleaved' or 'parts', "
                                          f"got {text!r}") from None
     if value < 2:
-        raise argparse.ArgumentTypeError(f"expected 2 or more folds (or 'runs', 'interleaved', 'parts'), got {text!r}")
+        raise argparse.ArgumentTypeError("expected 2 or more folds (or 'runs', "
+                                         f"'interleaved', 'parts'), got {text!r}")
     return value
 
 
@@ -94,7 +96,8 @@ def assignments(text: str) -> dict[str, float]:
         except ValueError:
             number_ = math.nan
         if not (sep and name and math.isfinite(number_)):
-            raise argparse.ArgumentTypeError(f"expected NAME=VALUE,... with finite numbers (e.g. RC_s=600), got "
+            raise argparse.ArgumentTypeError("expected NAME=VALUE,... with "
+                                             "finite numbers (e.g. RC_s=600), got "
                                              f"{item.strip()!r}")
         if name in values:
             raise argparse.ArgumentTypeError(f"{name} is given twice")

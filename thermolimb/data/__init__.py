@@ -68,7 +68,8 @@ GIMBALBOT_COLUMNS = ("timeSinceStart", "pwmOut", "tempCelsius", "tempRefCelsius"
 GIMBALBOT = RealLog("gimbalbot", tuple(f"gimbalbot-esc-motor/test01262015-0{k}-{kind}.csv" for k, kind in (
     (1, "control"), (2, "control"), (3, "control"), (4, "justnozzles"), (5, "justnozzles"), (6, "justnozzles"),
     (7, "3x8venturi"))), "time=timeSinceStart:ms,effort=pwmOut,temperature=tempCelsius,ambient=tempRefCelsius",
-    actuator="motor", drop_incomplete=True, description="hobby BLDC on an ESC, thermocouple disturbed while driven")
+    actuator="motor", drop_incomplete=True, description="hobby BLDC on an ESC, "
+                                                        "thermocouple disturbed while driven")
 
 # The same 106 s WidowX-200 run twice: the ROS 1 bag as recorded, and the package's CSV export of it
 # (three time bases, each from zero at its own first sample).

@@ -158,7 +158,8 @@ class PlantEffects:
     def __init__(self, **on: PlantEffect | None):
         unknown = [n for n in on if n not in PLANT_EFFECTS]
         if unknown:
-            raise TypeError(f"PlantEffects got unknown effect(s) {unknown}; known effects: {', '.join(PLANT_EFFECTS)}")
+            raise TypeError(f"PlantEffects got unknown effect(s) {unknown}; "
+                            f"known effects: {', '.join(PLANT_EFFECTS)}")
         for name, value in on.items():
             if value is not None and not isinstance(value, PLANT_EFFECTS[name]):
                 raise TypeError(f"PlantEffects({name}=...) needs a {PLANT_EFFECTS[name].__name__}, got "
@@ -231,5 +232,6 @@ def speed(s) -> np.ndarray:
 
 def airflow_parameter(name: str, conductance: str, when: str) -> Parameter:
     """The gain of airflow on a conductance to ambient: it times ``1 + gain |v|``."""
-    return Parameter(name, "1/({velocity})", 0.0, 20.0, 0.3, f"relative increase of {conductance} per unit speed",
+    return Parameter(name, "1/({velocity})", 0.0, 20.0, 0.3, "relative increase of "
+                                                             f"{conductance} per unit speed",
                      f"motion at several speeds while {when}", plausible=(0.0, 5.0))

@@ -62,7 +62,8 @@ def carries_the_heat(p, series, units) -> str | None:
         where = f": Joule heating would be least at {least}, beyond the efforts the log holds, so"
     else:
         where = f", and Joule heating all but vanishes (betaR = {joule:.2g}):"
-    return (f"the effort bias carries the effort's heat ({abs(bias) * largest:.3g} K at {effort(largest)}, the log's "
+    return ("the effort bias carries the effort's heat "
+            f"({abs(bias) * largest:.3g} K at {effort(largest)}, the log's "
             f"largest effort){where} the model would cool the joint at efforts of the other sign")
 
 

@@ -22,7 +22,8 @@ class HousingBoundary(LinearTerm):
     description = "the winding's boundary is the measured housing temperature (a second sensor)"
     parameters = (
         Parameter("housing_gain", "1", 0.0, 1.5, 0.9,
-                  "kelvin of winding equilibrium per kelvin of housing (1: all heat leaves through the housing)",
+                  "kelvin of winding equilibrium per kelvin of "
+                  "housing (1: all heat leaves through the housing)",
                   "a housing temperature that moves during the log", plausible=(0.3, 1.2)),
     )
     columns = ("housing",)

@@ -70,7 +70,8 @@ class DriverConduction(PlantEffect):
 
     def check(self, specs):
         if any(spec.driver is None for spec in specs):
-            raise ValueError("driver_conduction needs every actuator to have a driver board (ActuatorSpec.driver)")
+            raise ValueError("driver_conduction needs every actuator to "
+                             "have a driver board (ActuatorSpec.driver)")
 
     def wire(self, net):
         g = self.conductance_W_per_K

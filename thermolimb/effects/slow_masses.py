@@ -132,7 +132,8 @@ class HousingFriction(Term):
     label = "friction heat in the housing"
     description = "friction heat put into the housing (the second mass), reaching the winding through it"
     parameters = (Parameter("housing_speed_K_per_rad_s", "K/({velocity})", 0.0, np.inf, 1.0,
-                            "steady rise per unit speed of heat put into the housing (bearing and gear friction)",
+                            "steady rise per unit speed of heat put "
+                            "into the housing (bearing and gear friction)",
                             "motion at several speeds, held for a slow time constant"),)
     columns = ("velocity",)
     requires = ("second_node",)

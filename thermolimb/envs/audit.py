@@ -98,7 +98,8 @@ def load_policy(text: str, seed: int) -> Callable:
         return RandomPolicy(seed)
     module, _, name = text.partition(":")
     if not module or not name:
-        raise UsageError(f"--policy {text}: expected zero, random or MODULE:CALLABLE (a function (env, observation) "
+        raise UsageError(f"--policy {text}: expected zero, random or "
+                         "MODULE:CALLABLE (a function (env, observation) "
                          f"-> action)")
     try:
         policy = getattr(import_module(module), name)
@@ -107,7 +108,8 @@ def load_policy(text: str, seed: int) -> Callable:
     except AttributeError:
         raise UsageError(f"--policy {text}: {module} has no {name}") from None
     if not callable(policy):
-        raise UsageError(f"--policy {text}: {name} is not callable; expected a function (env, observation) -> action")
+        raise UsageError(f"--policy {text}: {name} is not callable; "
+                         "expected a function (env, observation) -> action")
     try:
         signature = inspect.signature(policy)
     except ValueError:  # a compiled callable with no signature to read: its first call will tell
@@ -115,7 +117,8 @@ def load_policy(text: str, seed: int) -> Callable:
     try:
         signature.bind(None, None)
     except TypeError as exc:
-        raise UsageError(f"--policy {text}: {name} cannot be called as {name}(env, observation) ({exc}); expected a "
+        raise UsageError(f"--policy {text}: {name} cannot be called as "
+                         f"{name}(env, observation) ({exc}); expected a "
                          f"function (env, observation) -> action") from None
     return policy
 
@@ -169,8 +172,10 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
     if peak is not None and np.any(strongest > 1.001 * peak):
         over = strongest > 1.001 * peak
         k = int(np.argmax(np.where(over, strongest / peak, 0.0)))
-        notes.append(f"{int(over.sum())} of {len(over)} joints were given more torque than their actuator's peak (the "
-                     f"most, {wrapped.joints[k]}: {strongest[k]:.3g} N m against {peak[k]:.3g} N m); the plant heats "
+        notes.append(f"{int(over.sum())} of {len(over)} joints were "
+                     "given more torque than their actuator's peak (the "
+                     f"most, {wrapped.joints[k]}: {strongest[k]:.3g} "
+                     f"N m against {peak[k]:.3g} N m); the plant heats "
                      f"them at the peak, as a drive that holds it would")
     return AuditResult(env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes)
 
@@ -183,7 +188,8 @@ def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
     if bad:
         raise UsageError(f"--env-arg {bad[0]}={kwargs[bad[0]]}: expected a finite number")
     if kwargs.get("render_mode") not in (None, "rgb_array", "depth_array"):
-        raise UsageError(f"--env-arg render_mode={kwargs['render_mode']}: the audit draws no window (a display may "
+        raise UsageError(f"--env-arg render_mode={kwargs['render_mode']}: "
+                         "the audit draws no window (a display may "
                          f"not be there); leave render_mode out, or give rgb_array")
     try:
         return gym.make(env_id, max_episode_steps=2**31 - 1, **kwargs)
@@ -217,7 +223,8 @@ def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -
         got = "None" if action is None else (f"shape {values.shape}" if values is not None else repr(action)[:60])
         raise UsageError(f"--policy {name} returned {got} at step {step}; {expected}")
     if not np.isfinite(values).all():
-        raise UsageError(f"--policy {name} returned {int((~np.isfinite(values)).sum())} value(s) that are not "
+        raise UsageError(f"--policy {name} returned "
+                         f"{int((~np.isfinite(values)).sum())} value(s) that are not "
                          f"finite (NaN or inf) at step {step}; {expected}")
     return np.asarray(action, dtype=space.dtype) if getattr(space, "dtype", None) is not None else values
 
@@ -238,11 +245,15 @@ def beyond_experience(joints, experience, strongest_Nm, peak_C) -> list[str]:
     notes = []
     if torque:
         ratio, joint, tau, effort = max(torque)
-        notes.append(f"{len(torque)} of {len(joints)} joints were driven beyond the torques their model was identified "
-                     f"on (the most, {joint}: up to {tau:.3g} N m, {ratio:.2g} times the log's largest |effort| of "
-                     f"{max(abs(effort[0]), abs(effort[1])):.3g}): their temperatures are the model extrapolated")
+        notes.append(f"{len(torque)} of {len(joints)} joints were driven "
+                     "beyond the torques their model was identified "
+                     f"on (the most, {joint}: up to {tau:.3g} N m, "
+                     f"{ratio:.2g} times the log's largest |effort| of "
+                     f"{max(abs(effort[0]), abs(effort[1])):.3g}): "
+                     "their temperatures are the model extrapolated")
     if hot:
         joint, peak, seen = max(hot, key=lambda h: h[1] - h[2])
-        notes.append(f"{len(hot)} of {len(joints)} joints ran hotter than any reading their model was identified on "
+        notes.append(f"{len(hot)} of {len(joints)} joints ran hotter "
+                     "than any reading their model was identified on "
                      f"(the most, {joint}: {peak:.1f} degC against {seen:.1f} degC)")
     return notes

@@ -33,7 +33,8 @@ def checked_range(name: str, value, lowest: float, highest: float) -> tuple[floa
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a pair (low, high) of numbers, got {value!r}") from None
     if not (math.isfinite(low) and math.isfinite(high) and lowest <= low <= high <= highest):
-        raise ValueError(f"{name} must satisfy {lowest:g} <= low <= high <= {highest:g}, got ({low:g}, {high:g})")
+        raise ValueError(f"{name} must satisfy {lowest:g} <= low <= "
+                         f"high <= {highest:g}, got ({low:g}, {high:g})")
     return low, high
 
 
@@ -81,7 +82,8 @@ class RigEnv(gym.Env):
             unknown = sorted(str(k) for k in options if k not in self.RESET_OPTIONS)
             if unknown:
                 accepted = ", ".join(self.RESET_OPTIONS) or "none"
-                raise ValueError(f"{type(self).__name__}.reset does not take the option(s) {', '.join(unknown)}; "
+                raise ValueError(f"{type(self).__name__}.reset does not "
+                                 f"take the option(s) {', '.join(unknown)}; "
                                  f"it takes: {accepted}")
         super().reset(seed=seed)
         self.close()
@@ -92,8 +94,10 @@ class RigEnv(gym.Env):
         """Copying or pickling an environment whose world is live is refused in one sentence: the copy would
         share the original's PyBullet client (stepping one moves the other, closing one kills both)."""
         if self.sim is not None:
-            raise TypeError(f"a {type(self).__name__} with a live PyBullet world cannot be copied or pickled (the "
-                            f"copy would share its physics client); make another with gymnasium.make, or copy it "
+            raise TypeError(f"a {type(self).__name__} with a live PyBullet "
+                            "world cannot be copied or pickled (the "
+                            "copy would share its physics client); make "
+                            "another with gymnasium.make, or copy it "
                             f"before reset() or after close()")
         return super().__reduce_ex__(protocol)
 
@@ -111,7 +115,8 @@ class RigEnv(gym.Env):
             value = np.asarray(action)
             if value.shape != () or value.dtype.kind not in "biuf" or not np.isfinite(value) \
                     or value != np.round(value) or not space.contains(int(value)):
-                raise ValueError(f"action must be a whole number from {space.start} to {space.start + space.n - 1}, "
+                raise ValueError("action must be a whole number from "
+                                 f"{space.start} to {space.start + space.n - 1}, "
                                  f"got {action!r}")
             return np.asarray(int(value))
         raw = np.asarray(action)

@@ -63,7 +63,8 @@ def run_episodes(env_id: str, episodes: int, seed: int, strategies=None, backend
     strategies = list(strategies or offered)
     unknown = [s for s in strategies if s not in offered]
     if unknown:
-        raise UsageError(f"no strategy {', '.join(map(repr, unknown))} for {env_id}; available: {', '.join(offered)}")
+        raise UsageError(f"no strategy {', '.join(map(repr, unknown))} "
+                         f"for {env_id}; available: {', '.join(offered)}")
     if scenario is not None:
         check_scenario(env_id, scenario)
     jobs = [(env_id, s, seed + k, max_time_s, scenario) for s in strategies for k in range(episodes)]

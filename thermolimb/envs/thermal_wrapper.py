@@ -89,7 +89,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             protect=protect, reset_heat=reset_heat, torque_constant_Nm_per_A=torque_constant_Nm_per_A)
         gym.Wrapper.__init__(self, env)
         if (models is None) == (plant is None):
-            raise UsageError("ThermalWrapper needs models (a model file) or plant (datasheet actuators), one of them")
+            raise UsageError("ThermalWrapper needs models (a model file) "
+                             "or plant (datasheet actuators), one of them")
         if observe not in OBSERVE:
             raise UsageError(f"observe must be one of {OBSERVE}, got {observe!r}")
         low, high = TEMPERATURE_RANGE_C
@@ -98,7 +99,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         penalty = _checked("penalty", penalty, 0.0, np.inf, "(a reward taken per K above warning_C)")
         if joints is not None and (isinstance(joints, str) or not all(isinstance(j, str) for j in joints)
                                    or len(set(joints)) != len(joints) or not joints):
-            raise UsageError(f"ThermalWrapper: joints must be a list of joint names, each once, got {joints!r}")
+            raise UsageError("ThermalWrapper: joints must be a list "
+                             f"of joint names, each once, got {joints!r}")
         self.reader = torque_reader(env, joints, torque)
         self.joints = self.reader.joints
         self.ambient_C, self.start_C = ambient_C, start_C
@@ -118,12 +120,15 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if below.size:  # every episode would end at its first step
             k = int(below[0])
             raise UsageError(f"{below.size} of {len(self.joints)} joints start at or above their limit "
-                             f"({self.joints[k]}: limit {self.limit_C[k]:g} degC, start {start_C:.1f} degC); expected "
-                             f"limits above where the joints start (limit_C and start_C; --limit-C, --ambient-C)")
+                             f"({self.joints[k]}: limit {self.limit_C[k]:g} "
+                             f"degC, start {start_C:.1f} degC); expected "
+                             "limits above where the joints start "
+                             "(limit_C and start_C; --limit-C, --ambient-C)")
         self.warning_C = self.limit_C - DEFAULT_MARGIN_K if warning_C is None else np.full(
             len(self.joints), _checked("warning_C", warning_C, low, high))
         if np.any(self.warning_C > self.limit_C):
-            raise UsageError(f"ThermalWrapper: warning_C ({np.max(self.warning_C):g} degC) must not lie above "
+            raise UsageError("ThermalWrapper: warning_C "
+                             f"({np.max(self.warning_C):g} degC) must not lie above "
                              f"limit_C ({np.min(self.limit_C):g} degC)")
         self.protection = ThermalProtection(margin_K=DEFAULT_MARGIN_K + 5.0)
         self.dt_s = step_seconds(env)
@@ -134,7 +139,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         space = env.observation_space
         if observe == "append":
             if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
-                raise UsageError(f"observe='append' needs a flat Box observation; this environment's is {space}; "
+                raise UsageError("observe='append' needs a flat Box "
+                                 f"observation; this environment's is {space}; "
                                  f"use observe='dict'")
             self.observation_space = gym.spaces.Box(np.concatenate([space.low.astype(np.float64), low]),
                                                     np.concatenate([space.high.astype(np.float64), high]),
@@ -153,7 +159,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
     def step(self, action):
         if not self._started:  # as Gymnasium's OrderEnforcing refuses it: the temperatures are set by reset
-            raise gym.error.ResetNeeded("ThermalWrapper: call reset() before step(): the windings' temperatures "
+            raise gym.error.ResetNeeded("ThermalWrapper: call reset() before "
+                                        "step(): the windings' temperatures "
                                         "start at reset")
         if self.protect:
             action = self.reader.derated(self.env, action, self._derating())
@@ -200,7 +207,8 @@ def step_seconds(env: gym.Env) -> float:
         value = getattr(u, name, None)
         if isinstance(value, (int, float)) and value > 0:
             return float(value)
-    raise UsageError(f"{type(u).__name__} does not say how long a step is (no dt); wrap an environment with one")
+    raise UsageError(f"{type(u).__name__} does not say how long a "
+                     "step is (no dt); wrap an environment with one")
 
 
 class TorqueReader:
@@ -223,7 +231,8 @@ class TorqueReader:
         torque, velocity = self.raw(env)
         torque = np.asarray(torque, float)
         if torque.shape != (len(self.joints),) or not np.isfinite(torque).all():
-            raise UsageError(f"the torque read for {len(self.joints)} joints is {torque!r}; expected that many finite "
+            raise UsageError(f"the torque read for {len(self.joints)} joints "
+                             f"is {torque!r}; expected that many finite "
                              f"numbers (N m)")
         return torque, velocity
 
@@ -274,7 +283,8 @@ def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable |
         chosen = list(joints) if joints else names
         missing = [j for j in chosen if j not in names]
         if missing:
-            raise UsageError(f"joints {missing} are not actuators of this MuJoCo model; it has {', '.join(names)}")
+            raise UsageError(f"joints {missing} are not actuators of this "
+                             f"MuJoCo model; it has {', '.join(names)}")
         idx = np.array([names.index(j) for j in chosen])
         gear = model.actuator_gear[idx, 0].copy()
         if np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):  # in order: a view, not a gather
@@ -287,7 +297,8 @@ def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable |
         if missing:
             raise UsageError(f"joints {missing} are not joints of this robot; it has {', '.join(names)}")
         return RigReader(chosen, np.array([names.index(j) for j in chosen]))
-    raise UsageError(f"{type(u).__name__}: the wrapper reads torques from MuJoCo environments and this suite's "
+    raise UsageError(f"{type(u).__name__}: the wrapper reads torques "
+                     "from MuJoCo environments and this suite's "
                      f"PyBullet robots; for another environment pass torque=f(env) and joints=[...]")
 
 
@@ -373,7 +384,8 @@ def effort_scale(saved: Sequence[SavedModel], torque_constant_Nm_per_A: float | 
     model whose effort unit was never given is taken as N m (its log did not say; the file says so too)."""
     units = {dict(s.channel_units).get("effort", NOT_GIVEN) for s in saved}
     if len(units) > 1:
-        raise UsageError(f"ThermalWrapper: the models heat from efforts in different units ({', '.join(sorted(units))}); "
+        raise UsageError("ThermalWrapper: the models heat from efforts in "
+                         f"different units ({', '.join(sorted(units))}); "
                          f"expected one unit for every joint")
     unit = units.pop()
     if unit in TORQUE_UNITS or unit == NOT_GIVEN:
@@ -381,13 +393,15 @@ def effort_scale(saved: Sequence[SavedModel], torque_constant_Nm_per_A: float | 
         return None if factor == 1.0 else factor
     if unit in CURRENT_UNITS:
         if torque_constant_Nm_per_A is None:
-            raise UsageError(f"the model heats from a current in {unit}; {env_name} gives torques in N m: pass "
+            raise UsageError(f"the model heats from a current in {unit}; "
+                             f"{env_name} gives torques in N m: pass "
                              f"torque_constant_Nm_per_A (--torque-constant) or a model fitted on torque")
         k = _checked("torque_constant_Nm_per_A", torque_constant_Nm_per_A, 0.0, np.inf)
         if k == 0.0:
             raise UsageError("ThermalWrapper: torque_constant_Nm_per_A must be above 0 N m/A")
         return CURRENT_UNITS[unit] / k
-    raise UsageError(f"the model heats from an effort in {unit}; {env_name} gives torques in N m, which the suite "
+    raise UsageError(f"the model heats from an effort in {unit}; "
+                     f"{env_name} gives torques in N m, which the suite "
                      f"cannot turn into {unit}: use a model fitted on torque (N m) or on a current (A, mA)")
 
 
@@ -399,7 +413,8 @@ def _checked(name: str, value, low: float, high: float, what: str = "") -> float
         number = np.nan
     if not (np.isfinite(number) and low <= number <= high) or isinstance(value, bool):
         bounds = f"between {low:g} and {high:g} degC" if np.isfinite(high) else f">= {low:g}"
-        raise UsageError(f"ThermalWrapper: {name} must be a finite number {bounds}{' ' + what if what else ''}, "
+        raise UsageError(f"ThermalWrapper: {name} must be a finite "
+                         f"number {bounds}{' ' + what if what else ''}, "
                          f"got {value!r}")
     return number
 

@@ -57,7 +57,8 @@ class ThermalEstimator:
             raise ValueError("fit needs at least one series")
         short = [s for s in series if s.n < MIN_FIT_SAMPLES]
         if short:
-            raise LogError(f"actuator {short[0].actuator}{short[0].run_label} has {short[0].n} sample(s); fitting "
+            raise LogError(f"actuator {short[0].actuator}{short[0].run_label} "
+                           f"has {short[0].n} sample(s); fitting "
                            f"needs at least {MIN_FIT_SAMPLES} per series")
         terms = parse_model(self.model)
         for ser in series:
@@ -75,7 +76,8 @@ class ThermalEstimator:
         names = [p.name for p in model_parameters(terms)]
         if not values[0] > 0:
             raise IdentifiabilityError(
-                f"{self.method} gives RC_s = {values[0]:.3g} s for actuator {series[0].actuator}: this log does not "
+                f"{self.method} gives RC_s = {values[0]:.3g} s for "
+                f"actuator {series[0].actuator}: this log does not "
                 f"determine the time constant of model {','.join(terms)}; a log needs "
                 f"{model_parameters(terms)[0].excitation}",
                 parameter="RC_s",

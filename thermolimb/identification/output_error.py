@@ -161,8 +161,10 @@ class FreeRunLeastSquares(ThermalEstimator):
         if fractions[weak] < DEGENERATE_FRACTION:
             p = params[weak]
             raise IdentifiabilityError(
-                f"cannot identify {p.name} ({p.description}) for actuator {series[0].actuator}: changing it changes "
-                f"the simulated temperature almost exactly as other parameters do ({fractions[weak]:.1e} independent); "
+                f"cannot identify {p.name} ({p.description}) for "
+                f"actuator {series[0].actuator}: changing it changes "
+                "the simulated temperature almost exactly as other "
+                f"parameters do ({fractions[weak]:.1e} independent); "
                 f"a log needs {p.excitation}",
                 parameter=p.name, partners=tuple(params[k].name for k in collinear_partners(J, weak)),
             )

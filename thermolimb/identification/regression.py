@@ -297,9 +297,11 @@ def check_identifiable(reg: Regression, actuator: str) -> None:
             levels = np.unique(np.round(reg.effort, 3)).size
             partners = tuple(reg.parameters[k].name for k in collinear_partners(reg.X, j))
             what = "constant" if np.ptp(col) == 0 else (
-                f"almost a combination of the regressors of {', '.join(partners)} ({fractions[j]:.1e} independent)")
+                "almost a combination of the regressors of "
+                f"{', '.join(partners)} ({fractions[j]:.1e} independent)")
             raise IdentifiabilityError(
-                f"cannot identify {p.name} ({p.description}) for actuator {actuator}: its regressor is {what} "
+                f"cannot identify {p.name} ({p.description}) for "
+                f"actuator {actuator}: its regressor is {what} "
                 f"in the training data, where effort takes {levels} distinct level(s) "
                 f"between {reg.effort.min():.3g} and {reg.effort.max():.3g}; a log needs {p.excitation}",
                 parameter=p.name, partners=partners,

@@ -83,11 +83,13 @@ def align(temperature: tuple[np.ndarray, np.ndarray], inputs: Mapping[str, tuple
                 f"{t[-1]:.6g} s) do not overlap in time; expected channels recorded over the same period")
         keep &= inside
     if keep.sum() < 2:
-        raise LogError(f"{source}: only {int(keep.sum())} temperature sample(s) fall where every input channel has "
+        raise LogError(f"{source}: only {int(keep.sum())} temperature "
+                       "sample(s) fall where every input channel has "
                        f"data; expected at least two")
     notes = []
     if not keep.all():
-        notes.append(f"{source}: {int((~keep).sum())} temperature sample(s) outside the inputs' time span left out "
+        notes.append(f"{source}: {int((~keep).sum())} temperature "
+                     "sample(s) outside the inputs' time span left out "
                      f"(aligned on the temperature's own samples, inputs averaged over each interval)")
     t = t_T[keep]
     out = {"time": t, "temperature": T[keep]}
@@ -112,13 +114,16 @@ def series_of(time_s, values, source: str, channel: str, drop_incomplete: bool =
     t, x = t[timed], x[timed]
     bad = ~np.isfinite(x)
     if bad.all():
-        raise LogError(f"{source}: {channel} has no finite reading ({x.size} sample(s), all missing or not finite); "
+        raise LogError(f"{source}: {channel} has no finite reading "
+                       f"({x.size} sample(s), all missing or not finite); "
                        f"expected numbers")
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
         if not drop_incomplete:
-            raise LogError(f"{source}: {channel} has {int(bad.sum())} missing or non-finite reading(s) of {x.size}, "
-                           f"first at its sample {k} (t = {t[k]:g} s); expected finite numbers (leave them out with "
+            raise LogError(f"{source}: {channel} has {int(bad.sum())} "
+                           f"missing or non-finite reading(s) of {x.size}, "
+                           f"first at its sample {k} (t = {t[k]:g} s); "
+                           "expected finite numbers (leave them out with "
                            f"--drop-incomplete)")
         if notes is not None:
             notes.append(f"{source}: {int(bad.sum())} missing or non-finite reading(s) of {channel} left out "

@@ -91,16 +91,19 @@ class PartialBag1:
             if compression == b"bz2":
                 body = bz2.decompress(body)
             elif compression != b"none":
-                raise LogError(f"{path}: a chunk is compressed with {compression.decode()}, which the reading of a "
+                raise LogError(f"{path}: a chunk is compressed with "
+                               f"{compression.decode()}, which the reading of a "
                                f"cut-off bag does not decompress (none and bz2 only)")
             self._chunk(body, by_id)
         if not self.records:
-            raise LogError(f"{path}: the bag ends before its index, at byte {len(data)}, and before any complete "
+            raise LogError(f"{path}: the bag ends before its index, at "
+                           f"byte {len(data)}, and before any complete "
                            f"chunk of messages (a recording cut off by a crash or power loss?)")
         self.connections = [c for c in by_id.values() if c.msgcount]
         self.start_time = min(ns for _, ns, _ in self.records)
         self.end_time = max(ns for _, ns, _ in self.records)
-        self.note = (f"{path}: the bag ends before its index, at byte {len(data)} (a recording cut off by a crash or "
+        self.note = (f"{path}: the bag ends before its index, at byte "
+                     f"{len(data)} (a recording cut off by a crash or "
                      f"power loss?): read up to its last complete chunk, "
                      f"{(self.end_time - self.start_time) / 1e9:g} s of messages")
 

@@ -67,7 +67,8 @@ def _open(path: Path):
     from rosbags.typesys import Stores, get_typestore
 
     if not path.exists():
-        raise LogError(f"{path}: no such file or folder; expected a ROS 1 bag (.bag) or a ROS 2 bag (.mcap, .db3 "
+        raise LogError(f"{path}: no such file or folder; expected a "
+                       "ROS 1 bag (.bag) or a ROS 2 bag (.mcap, .db3 "
                        f"or its folder)")
     bag = path.parent if path.suffix.lower() in (".mcap", ".db3") and (path.parent / "metadata.yaml").exists() \
         else path
@@ -85,7 +86,8 @@ def _open(path: Path):
         if partial is not None:  # read whole already: nothing to close
             yield partial
             return
-        raise LogError(f"{path}: cannot be read as a ROS bag ({type(err).__name__}: {err}); expected an intact "
+        raise LogError(f"{path}: cannot be read as a ROS bag "
+                       f"({type(err).__name__}: {err}); expected an intact "
                        f"ROS 1 bag or ROS 2 bag (SQLite or MCAP)") from None
     try:
         yield reader
@@ -93,7 +95,8 @@ def _open(path: Path):
         reader.close()
 
 
-SCHEMALESS = ("{path}: its channels carry no message schema (a schemaless MCAP); messages are decoded by their "
+SCHEMALESS = ("{path}: its channels carry no message schema (a "
+              "schemaless MCAP); messages are decoded by their "
               "definitions: record with schemas (ros2 bag record writes them)")
 
 
@@ -170,7 +173,8 @@ def suggest_mapping(infos: list[TopicInfo]) -> tuple[dict[str, str] | None, list
             temps = [(TopicInfo(pattern, temps[0][0].msgtype, 0, 0.0, (), ()), temps[0][1])]
     beside = _beside(*temps[0]) if not states and len(temps) == 1 else {}
     if len(states) != 1 and "effort" not in beside:
-        reasons.append(f"{len(states)} sensor_msgs/JointState topics ({', '.join(i.topic for i in states) or 'none'})")
+        reasons.append(f"{len(states)} sensor_msgs/JointState topics "
+                       f"({', '.join(i.topic for i in states) or 'none'})")
     if len(temps) != 1:
         reasons.append(f"{len(temps)} temperature fields ("
                        f"{', '.join(f'{i.topic}.{f}' for i, f in temps) or 'none'})")
@@ -234,7 +238,8 @@ def _collect(reader, path: Path, mapping: Mapping[str, str]):
     have = {c.topic: c.msgtype for c in reader.connections}
     for key, (topic, _) in wanted.items():
         if topic not in have:
-            raise LogError(f"{path}: --map {key} names topic {topic}, which the bag does not have; its topics are "
+            raise LogError(f"{path}: --map {key} names topic {topic}, "
+                           "which the bag does not have; its topics are "
                            + ", ".join(f"{t} ({m})" for t, m in sorted(have.items())))
     start = reader.start_time
     data = {key: ([], [], []) for key in wanted}
@@ -316,7 +321,8 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
             mapping, reasons = suggest_mapping(infos)
             if mapping is None:
                 raise LogError(f"{path}: no --map given and none can be chosen from the bag: "
-                               + "; ".join(reasons) + "; see `thermolimb inspect` and give --map channel=/topic.field")
+                               + "; ".join(reasons) + "; see `thermolimb inspect` and "
+                                                      "give --map channel=/topic.field")
             notes.append(f"{path}: mapping chosen from the bag's topics: --map "
                          + ",".join(f"{k}={v}" for k, v in mapping.items()))
         missing = [k for k in ("effort", "temperature") if k not in mapping]
@@ -327,7 +333,8 @@ def read_bag(path: str | Path, mapping: Mapping[str, str] | None = None, actuato
             more = auto_extras(infos, mapping)
             if more:
                 offered = ", ".join(f"{k[len(EXTRA):]}={v}" for k, v in more.items())
-                notes.append(f"{path}: the mapped topics' other numeric fields, offered as extra channels for "
+                notes.append(f"{path}: the mapped topics' other numeric "
+                             "fields, offered as extra channels for "
                              f"diagnose --discover (kept where they vary): {offered}")
             mapping = {**mapping, **more}
         if any(JOINT in target for target in mapping.values()):
@@ -359,13 +366,15 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     names = [n for key in shared for n in (data[key][2][0] or ()) if np.ndim(data[key][1][0]) > 0]
     joints = [actuator] if actuator is not None else list(dict.fromkeys(names))
     if not joints:
-        raise LogError(f"{path}: --map uses {{j}} in a topic name, but no mapped array topic names joints; name the "
+        raise LogError(f"{path}: --map uses {{j}} in a topic name, but "
+                       "no mapped array topic names joints; name the "
                        f"joint with --actuator")
     have = [j for j in joints if all(_split_target(k, v.replace(JOINT, j), path)[0] in topics
                                      for k, v in patterned.items())]
     if not have:
         example = next(iter(patterned.values())).replace(JOINT, joints[0])
-        raise LogError(f"{path}: no joint has the topics --map names with {{j}} (e.g. {example.partition('.')[0]} "
+        raise LogError(f"{path}: no joint has the topics --map names "
+                       f"with {{j}} (e.g. {example.partition('.')[0]} "
                        f"for {joints[0]}); the bag's topics are {', '.join(sorted(topics))}")
     if len(have) < len(joints):
         notes.append(f"{path}: joint(s) {', '.join(j for j in joints if j not in have)} have no "
@@ -411,11 +420,15 @@ def _in_joint_order(wanted, data, path: Path, notes: list[str]) -> None:
             data[key] = (times, values, [tuple(str(k) for k in range(len(values[0])))] * len(values))
         elif named is not None and all(len(v) == len(named[1]) for v in values):
             data[key] = (times, values, [named[1]] * len(values))
-            notes.append(f"{path}: {wanted[key][0]} names no joints: its {len(named[1])} values are read in the "
-                         f"order {wanted[named[0]][0]} names them ({', '.join(named[1])}); check that it is theirs")
+            notes.append(f"{path}: {wanted[key][0]} names no joints: "
+                         f"its {len(named[1])} values are read in the "
+                         f"order {wanted[named[0]][0]} names them "
+                         f"({', '.join(named[1])}); check that it is theirs")
         elif named is not None and not key.startswith(EXTRA):
-            raise LogError(f"{path}: {wanted[key][0]} names no joints and holds {len(values[0])} values a message, "
-                           f"where {wanted[named[0]][0]} names {len(named[1])} ({', '.join(named[1][:8])}): which "
+            raise LogError(f"{path}: {wanted[key][0]} names no joints "
+                           f"and holds {len(values[0])} values a message, "
+                           f"where {wanted[named[0]][0]} names {len(named[1])} "
+                           f"({', '.join(named[1][:8])}): which "
                            f"value is whose cannot be told; map a topic that names its joints")
 
 
@@ -448,12 +461,14 @@ def _joints(wanted, data, actuator: str | None, path: Path) -> list[str | None]:
     scalars = [k for k in mapped if k not in arrays and k != "ambient"]  # the ambient is every joint's
     if scalars:
         scalar = wanted[scalars[0]][0]
-        raise LogError(f"{path}: {scalar} holds one value per message while other topics hold one per joint; name "
+        raise LogError(f"{path}: {scalar} holds one value per message "
+                       "while other topics hold one per joint; name "
                        f"the joint it belongs to with --actuator")
     common = None
     for key, names in arrays.items():
         if not names:
-            raise LogError(f"{path}: {wanted[key][0]} holds an array without a name array; name the joint with "
+            raise LogError(f"{path}: {wanted[key][0]} holds an array "
+                           "without a name array; name the joint with "
                            f"--actuator")
         common = [n for n in names if common is None or n in common]
     if not common:

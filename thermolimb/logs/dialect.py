@@ -54,10 +54,12 @@ def check_names(names, columns: list[str], header, path) -> None:
     if len(set(names)) != len(names) or not all(names):
         raise LogError(f"--columns {','.join(names)}: expected a name for each column, each name once")
     if header is not None and [str(c) for c in header] != names:
-        raise LogError(f"{path}: --columns names the columns of a file without a header row, and this file has one "
+        raise LogError(f"{path}: --columns names the columns of a file "
+                       "without a header row, and this file has one "
                        f"({shown_names(header)}); leave --columns out for it, or give its header's names")
     if len(names) != len(columns):
-        raise LogError(f"{path}: --columns gives {len(names)} name(s) and the file has {len(columns)} column(s); "
+        raise LogError(f"{path}: --columns gives {len(names)} name(s) "
+                       f"and the file has {len(columns)} column(s); "
                        f"expected a name for each column, in the file's order")
 
 
@@ -161,7 +163,8 @@ def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
         head = f.read(sniff_bytes)
     control = sum(head.count(bytes([b])) for b in range(32) if b not in (9, 10, 12, 13))
     if b"\x00" in head or control > max(16, 0.05 * len(head)):
-        raise LogError(f"{path}: not a text file ({control} control bytes in its first {len(head)}); expected a "
+        raise LogError(f"{path}: not a text file ({control} control "
+                       f"bytes in its first {len(head)}); expected a "
                        "CSV log, or a .parquet, .bag or .mcap file named as such")
 
 

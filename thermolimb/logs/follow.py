@@ -107,7 +107,8 @@ class CsvFollower:
         except FileNotFoundError:
             return {}
         if self._inode is not None and (stat.st_ino != self._inode or stat.st_size < self.offset):
-            self.notes.append(f"{self.path}: the file was replaced under the same name (rotated, or cut short and "
+            self.notes.append(f"{self.path}: the file was replaced under "
+                              "the same name (rotated, or cut short and "
                               f"written again) after line "
                               f"{self.line}; following the new file from its start")
             self._restart()
@@ -220,11 +221,13 @@ class CsvFollower:
             if len(fields) == len(header) + 1 and not fields[-1]:  # a separator at the end of the line
                 fields.pop()
             if fields == header:
-                self.notes.append(f"{self.path}: line {number} repeats the header (the writer started again?); "
+                self.notes.append(f"{self.path}: line {number} repeats the "
+                                  "header (the writer started again?); "
                                   f"read on")
                 continue
             if _is_header(fields) and len(fields) > 2:
-                self.notes.append(f"{self.path}: line {number} is a new header ({text[:120]}); the log is read by it "
+                self.notes.append(f"{self.path}: line {number} is a new header "
+                                  f"({text[:120]}); the log is read by it "
                                   f"from here on")
                 self.dialect, self.reading, self.pending = None, Reading(), numbered[k:]
                 return good
@@ -306,7 +309,8 @@ class CsvFollower:
                 raise LogError(f"time {arrays['time'][0]:g} s of {name} does not come after {last.time_s:g} s")
             jump = arrays["temperature"][0] - last.temperature_C
             if KELVIN_JUMP[0] <= abs(jump) <= KELVIN_JUMP[1]:
-                raise LogError(f"the temperature of {name} jumps by {jump:+.1f} K from the reading before: part of "
+                raise LogError(f"the temperature of {name} jumps by "
+                               f"{jump:+.1f} K from the reading before: part of "
                                f"the log reads kelvin, part degC")
         return out, list(log.notes)
 
@@ -334,11 +338,13 @@ class CsvFollower:
             if last is not None and t[0] - last.time_s > limit:
                 pauses.insert(0, (last.time_s, t[0]))
             for a, b in pauses:
-                self.notes.append(f"{self.path}: {name} paused for {b - a:.0f} s (from t = {a:g} s): a new run, its "
+                self.notes.append(f"{self.path}: {name} paused for {b - a:.0f} "
+                                  f"s (from t = {a:g} s): a new run, its "
                                   f"estimate started again from the reading after the pause")
             back = last is not None and t[0] <= last.time_s  # a file written again from its start (truncated)
             if back:
-                self.notes.append(f"{self.path}: {name}'s time starts again at t = {t[0]:g} s after {last.time_s:g} "
+                self.notes.append(f"{self.path}: {name}'s time starts again "
+                                  f"at t = {t[0]:g} s after {last.time_s:g} "
                                   f"s: a new run, its estimate started again from its first reading")
             runs, lo = [], 0
             for k in cuts + [t.size]:

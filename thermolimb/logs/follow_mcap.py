@@ -64,8 +64,10 @@ class McapFollower:
             return "holds no complete chunk of messages (an MCAP cut off before its first chunk, or still empty)"
         wanted = ", ".join(sorted({t.topic for t in self.mapping.values()}))
         own = all(t.startswith("/thermolimb/") or t == "/diagnostics" for t in self.topics)
-        return (f"has the topics {', '.join(sorted(self.topics)[:3])}{' ...' if len(self.topics) > 3 else ''}, none "
-                f"of {wanted} that the mapping reads" + ("; it is a thermolimb monitor's own recording, not a robot's "
+        return ("has the topics "
+                f"{', '.join(sorted(self.topics)[:3])}{' ...' if len(self.topics) > 3 else ''}, none "
+                f"of {wanted} that the mapping reads" + ("; it is a thermolimb monitor's "
+                                                         "own recording, not a robot's "
                                                          "log" if own else "; give --map"))
 
     @property
@@ -150,8 +152,10 @@ class _Target:
         if not names:
             return {str(k): float(v) for k, v in enumerate(value)}
         if len(value) != len(names):
-            raise LogError(f"{source}: {topic} names no joints and holds {len(value)} values a message, where the "
-                           f"efforts name {len(names)} ({', '.join(names[:8])}): which value is whose cannot be told; "
+            raise LogError(f"{source}: {topic} names no joints and holds "
+                           f"{len(value)} values a message, where the "
+                           f"efforts name {len(names)} ({', '.join(names[:8])}): "
+                           "which value is whose cannot be told; "
                            f"map a topic that names its joints")
         said = f"{source}: {topic} names no joints: its {len(names)} values are read in the order the efforts name them"
         if not any(n.startswith(said) for n in notes):

@@ -109,8 +109,11 @@ def read_on_updates(rows, name: str, source: str, notes: list[str]):
         return rows
     period, row = found[0][:2]
     runs = "" if len(cuts) == 2 else f" (in {len(found)} of its {len(cuts) - 1} runs)"
-    notes.append(f"{source}: {name}'s temperature holds each reading for about {period / row:.0f} rows{runs}: it "
-                 f"changes only on a {period:.3g} s clock among rows {row:.3g} s apart, a reading repeated until the "
-                 f"next (read row by row it would be half an update late, which a model takes for a lagging sensor); "
+    notes.append(f"{source}: {name}'s temperature holds each reading "
+                 f"for about {period / row:.0f} rows{runs}: it "
+                 f"changes only on a {period:.3g} s clock among rows "
+                 f"{row:.3g} s apart, a reading repeated until the "
+                 "next (read row by row it would be half an update "
+                 "late, which a model takes for a lagging sensor); "
                  f"read on its {sum(n for *_, n in found)} updates, the inputs averaged over each interval")
     return pieces[0] if len(pieces) == 1 else pd.concat(pieces, ignore_index=True)

@@ -52,20 +52,24 @@ def parse_mapping(text: str | None) -> dict[str, str]:
             raise LogError(f"--map item {item!r} is not of the form canonical=column, e.g. effort=torque")
         key, value = (s.strip() for s in item.split("=", 1))
         if key not in REQUIRED + OPTIONAL and not (key.startswith(EXTRA) and len(key) > len(EXTRA)):
-            raise LogError(f"--map names {key!r}, which is not a log column; map any of: {', '.join(REQUIRED + OPTIONAL)}, "
+            raise LogError(f"--map names {key!r}, which is not a log column; "
+                           f"map any of: {', '.join(REQUIRED + OPTIONAL)}, "
                            f"or an extra channel as {EXTRA}NAME")
         if key in mapping:
-            raise LogError(f"--map names {key!r} twice ({mapping[key]!r} and {value!r}); give each channel one column")
+            raise LogError(f"--map names {key!r} twice ({mapping[key]!r} "
+                           f"and {value!r}); give each channel one column")
         if not value:
             raise LogError(f"--map {key}= names no column; expected {key}=COLUMN")
         if value.count(JOINT) > 1:
-            raise LogError(f"--map {key}={value} uses {JOINT} {value.count(JOINT)} times; a pattern names the joint "
+            raise LogError(f"--map {key}={value} uses {JOINT} "
+                           f"{value.count(JOINT)} times; a pattern names the joint "
                            f"number once (e.g. {key}=Current_J{JOINT})")
         # an input may be read twice (a power logged as effort is also the power), but the measured
         # temperature and the time are columns of their own
         twice = [k for k, v in mapping.items() if v == value and k != "actuator"]
         if twice and key != "actuator" and {"temperature", "time"} & {key, twice[0]}:
-            raise LogError(f"--map maps column {value!r} to both {twice[0]} and {key}; the measured temperature and "
+            raise LogError(f"--map maps column {value!r} to both {twice[0]} "
+                           f"and {key}; the measured temperature and "
                            f"the time each need a column of their own")
         mapping[key] = value
     return mapping
@@ -123,20 +127,23 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
             if m:
                 j = m.group("j") if named else int(m.group("j"))
                 if j in found:
-                    raise LogError(f"{source}: --map {key}={template} matches both {found[j]!r} and {c!r} for joint "
+                    raise LogError(f"{source}: --map {key}={template} matches "
+                                   f"both {found[j]!r} and {c!r} for joint "
                                    f"{j}; make the pattern specific to one column per joint")
                 found[j] = c
         per_key[key] = found
     common = set.intersection(*(set(v) for v in per_key.values()))
     joints = [j for j in next(iter(per_key.values())) if j in common] if named else sorted(common)
     if not joints:
-        raise LogError(f"{source}: no joint {'name' if named else 'number'} has a column for every pattern of "
+        raise LogError(f"{source}: no joint {'name' if named else 'number'} "
+                       "has a column for every pattern of "
                        "--map " + "; ".join(f"{k}: joints {list(v)}" for k, v in per_key.items()))
     partial = {k: [j for j in v if j not in common] for k, v in per_key.items()}
     partial = {k: v for k, v in partial.items() if v}
     heated = [j for j in per_key.get("temperature", {}) if j not in common]
     if named and heated and notes is not None:
-        notes.append(f"{source}: joint(s) {', '.join(heated)} not read: the map finds their temperature but not "
+        notes.append(f"{source}: joint(s) {', '.join(heated)} not "
+                     "read: the map finds their temperature but not "
                      + ", ".join(k for k in per_key if not set(heated) <= set(per_key[k])))
     if partial and not named:
         k, extra = next(iter(partial.items()))
@@ -147,11 +154,13 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
     if absent:  # a channel every joint shares (time, ambient) is one column of the file
         k, v = absent[0]
         hint = " (a column per joint needs {j} where its number stands)" if "*" in v else ""
-        raise LogError(f"{source}: --map {k}={v} names column {v!r}, which the file does not have{hint}; its columns "
+        raise LogError(f"{source}: --map {k}={v} names column {v!r}, "
+                       f"which the file does not have{hint}; its columns "
                        f"are {shown_names(columns)}")
     name = mapping.get("actuator", JOINT if named else DEFAULT_JOINT_NAME)
     if JOINT not in name:
-        raise LogError(f"{source}: with joint patterns, --map actuator= is a name pattern with {{j}}, e.g. actuator=J{{j}}")
+        raise LogError(f"{source}: with joint patterns, --map actuator= "
+                       f"is a name pattern with {{j}}, e.g. actuator=J{{j}}")
     out = []
     for j in joints:
         cols = {k: (per_key[k][j] if k in per_key else v) for k, v in mapping.items() if k != "actuator"}
@@ -275,7 +284,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
     named = _named_joints(several) if not is_pattern(mapping) else None
     if named is not None and "temperature" not in mapping and ("effort" in named[0] or "current" in named[0]):
         mapping.update(named[0])
-        reasons.append(f"the columns name their joints ({', '.join(named[1])}) rather than number them: {JOINT} in "
+        reasons.append(f"the columns name their joints ({', '.join(named[1])}) "
+                       f"rather than number them: {JOINT} in "
                        f"this map stands for a joint's name" + (f"; {', '.join(named[2])}, so it is not read"
                                                                 if named[2] else ""))
         several = {k: v for k, v in several.items() if k not in named[0]}
@@ -297,7 +307,8 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
         unit = named_unit(channel, column)
         if unit is not None:
             mapping[channel] = f"{column}:{unit}"
-            reasons.append(f"{channel}={column}: its name ends in a unit, so the suggestion states it ({unit}); "
+            reasons.append(f"{channel}={column}: its name ends in a "
+                           f"unit, so the suggestion states it ({unit}); "
                            f"change it if the name means otherwise")
     timed = _own_time_columns(mapping, several.get("time", []), values) if "time" not in mapping else None
     if timed is not None:

@@ -116,8 +116,10 @@ class McapStream:
             elif isinstance(record, Channel):
                 schema = self.schemas.get(record.schema_id)
                 if schema is None:
-                    raise LogError(f"{self.path}: its channels carry no message schema (a schemaless MCAP); messages "
-                                   f"are decoded by their definitions: record with schemas (ros2 bag record writes "
+                    raise LogError(f"{self.path}: its channels carry no message "
+                                   "schema (a schemaless MCAP); messages "
+                                   "are decoded by their definitions: record "
+                                   "with schemas (ros2 bag record writes "
                                    f"them)")
                 if schema.encoding == "ros2msg":
                     self._register(schema)
@@ -149,7 +151,8 @@ class PartialMcap:
         self.stream = McapStream(path)
         self.records = self.stream.read()
         if not self.records:
-            raise LogError(f"{path}: the MCAP ends before its summary, at byte {path.stat().st_size}, and before any "
+            raise LogError(f"{path}: the MCAP ends before its summary, at "
+                           f"byte {path.stat().st_size}, and before any "
                            f"complete chunk of messages (a recording cut off by a crash or power loss?)")
         counts: dict[str, _Connection] = {}
         for topic, msgtype, _, _ in self.records:
@@ -158,7 +161,8 @@ class PartialMcap:
         self.connections = list(counts.values())
         self.start_time = min(r[2] for r in self.records)
         self.end_time = max(r[2] for r in self.records)
-        self.note = (f"{path}: the MCAP ends before its summary, at byte {path.stat().st_size} (a recording cut off by "
+        self.note = (f"{path}: the MCAP ends before its summary, at byte "
+                     f"{path.stat().st_size} (a recording cut off by "
                      f"a crash or power loss?): read up to its last complete chunk, "
                      f"{(self.end_time - self.start_time) / 1e9:g} s of messages")
 

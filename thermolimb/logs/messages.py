@@ -168,9 +168,11 @@ def field_value(msg, field: str, topic: str, path: Path):
         if part not in fields:
             have = ", ".join(numeric_fields(msg)) or "no numeric field"
             kind = msg.msgtype if isinstance(msg, Interfaces) else msg.__msgtype__
-            raise LogError(f"{path}: topic {topic} ({kind}) has no field {field!r}; its numeric fields are {have}")
+            raise LogError(f"{path}: topic {topic} ({kind}) has no field "
+                           f"{field!r}; its numeric fields are {have}")
         value = fields[part]
     if not _numeric(value) and not (isinstance(value, (list, np.ndarray)) and len(value) == 0):
-        raise LogError(f"{path}: field {topic}.{field} holds {type(value).__name__} values, not numbers; expected "
+        raise LogError(f"{path}: field {topic}.{field} holds "
+                       f"{type(value).__name__} values, not numbers; expected "
                        f"a number or an array of numbers per joint")
     return value

@@ -53,7 +53,8 @@ def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, 
             continue
         if name == "time":
             if unit not in TIME_SCALES:
-                raise LogError(f"{source}: the time column's header gives the unit {unit!r}, which this suite does "
+                raise LogError(f"{source}: the time column's header gives "
+                               f"the unit {unit!r}, which this suite does "
                                f"not read; expected one of {', '.join(TIME_SCALES)}")
             if unit != "s" and pd.api.types.is_numeric_dtype(frame[name]):
                 frame[name] = frame[name] * TIME_SCALES[unit]
@@ -63,9 +64,11 @@ def convert_stated(frame: pd.DataFrame, stated: Mapping[str, str], source: str, 
             notes.append(f"{source}: {name} read in K (as stated), converted to degC")
         elif unit in FAHRENHEIT:
             frame[name] = (pd.to_numeric(frame[name], errors="coerce") - 32.0) * (5.0 / 9.0)
-            notes.append(f"{source}: {name} read in degrees Fahrenheit (as stated, {unit!r}), converted to degC")
+            notes.append(f"{source}: {name} read in degrees Fahrenheit "
+                         f"(as stated, {unit!r}), converted to degC")
         elif unit not in CELSIUS:
-            raise LogError(f"{source}: the {name} column's header gives the unit {unit!r}, which this suite does not "
+            raise LogError(f"{source}: the {name} column's header gives "
+                           f"the unit {unit!r}, which this suite does not "
                            f"read; expected degC, K or degF")
     return frame
 
@@ -87,8 +90,10 @@ def refuse_unstated_fahrenheit(mapping: Mapping[str, str], stated: Mapping[str, 
     for name, column in mapping.items():
         if UNITS.get(name) == "degC" and name not in stated and fahrenheit_named(column):
             bare = str(column).partition(TIME_OF)[0]
-            raise LogError(f"{source}: --map {name}={column}: the column's name may say degrees Fahrenheit, and "
-                           f"neither its header nor the mapping gives a unit; say which, {name}={bare}:degF or "
+            raise LogError(f"{source}: --map {name}={column}: the "
+                           "column's name may say degrees Fahrenheit, and "
+                           "neither its header nor the mapping gives "
+                           f"a unit; say which, {name}={bare}:degF or "
                            f"{name}={bare}:degC")
 
 
@@ -132,22 +137,28 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
                 day = pd.Timestamp(lo * scale, unit="s").strftime("%Y-%m-%d")
                 out["time"] = t * scale
                 decided["time_scale"] = scale
-                notes.append(f"{source}: time reads {lo:.13g} at its first sample, which is {day} counted in {unit} "
-                             f"since 1970: converted to s (to keep seconds, state them: a header 'time [s]' or --map "
+                notes.append(f"{source}: time reads {lo:.13g} at its first "
+                             f"sample, which is {day} counted in {unit} "
+                             "since 1970: converted to s (to keep seconds, "
+                             "state them: a header 'time [s]' or --map "
                              f"time=COLUMN:s)")
                 break
         else:
             if hi - lo >= 2 * 86400.0:  # only a log of days is looked at step by step
                 step = float(np.median(_distinct_steps(t)))
                 if step >= 100.0:
-                    notes.append(f"{source}: time steps of {step:g} s (median) over {(hi - lo) / 86400:.1f} days: if "
-                                 f"the time column counts milliseconds, state it: a header 'time [ms]' or --map "
+                    notes.append(f"{source}: time steps of {step:g} s (median) "
+                                 f"over {(hi - lo) / 86400:.1f} days: if "
+                                 "the time column counts milliseconds, "
+                                 "state it: a header 'time [ms]' or --map "
                                  f"time=COLUMN:ms")
             elif 0 < hi - lo < SHORT_S:
                 rate = slowest_rate(out)
                 if rate is not None and rate[0] > FASTEST_K_PER_S:
-                    notes.append(f"{source}: the temperature moves {rate[1]:.1f} K over the log's {hi - lo:.3g} s "
-                                 f"({rate[0]:.0f} K/s on average), faster than any winding heats for long: if the "
+                    notes.append(f"{source}: the temperature moves {rate[1]:.1f} "
+                                 f"K over the log's {hi - lo:.3g} s "
+                                 f"({rate[0]:.0f} K/s on average), faster "
+                                 "than any winding heats for long: if the "
                                  f"time column counts minutes or hours, state it: --map time=COLUMN:min or :h")
     for name in out:
         if UNITS.get(name) != "degC" or name in stated:
@@ -157,7 +168,8 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
         if KELVIN_READINGS[0] <= lo and hi <= KELVIN_READINGS[1]:
             out[name] = values - 273.15
             decided["stated"][name] = "K"
-            notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} throughout, which no actuator stays at in "
+            notes.append(f"{source}: {name} reads {lo:.1f} to {hi:.1f} "
+                         "throughout, which no actuator stays at in "
                          f"degC: taken as kelvin and converted to degC (to keep degC, state it: a header "
                          f"'{name} [degC]' or --map {name}=COLUMN:degC)")
         else:
@@ -183,6 +195,8 @@ def refuse_unit_switch(g: pd.DataFrame, name: str, source: str) -> None:
         if switch.any():
             k = int(np.flatnonzero(switch)[0])
             t = g["time"].to_numpy()
-            raise LogError(f"{source}: {column} of actuator {name!r} jumps by {values[k + 1] - values[k]:+.1f} K at "
-                           f"row {g.index[k + 1]} (t = {t[k]:g} s to {t[k + 1]:g} s): part of the log reads kelvin, "
+            raise LogError(f"{source}: {column} of actuator {name!r} jumps "
+                           f"by {values[k + 1] - values[k]:+.1f} K at "
+                           f"row {g.index[k + 1]} (t = {t[k]:g} s to "
+                           f"{t[k + 1]:g} s): part of the log reads kelvin, "
                            f"part degC; expected one unit throughout (convert one part)")

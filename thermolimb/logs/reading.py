@@ -146,7 +146,8 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
     if not order:
         raise LogError(f"{path}: the log has no rows with measurements")
     if blank and not request.drop_incomplete:
-        raise LogError(f"{path}: column {key!r} is blank in {blank} row(s); expected an actuator name in every row "
+        raise LogError(f"{path}: column {key!r} is blank in {blank} "
+                       "row(s); expected an actuator name in every row "
                        f"(or leave those rows out with --drop-incomplete)")
     notes = ((f"{path}: {blank} row(s) with a blank actuator name left out (--drop-incomplete)",) if blank
              else ())

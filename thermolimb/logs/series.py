@@ -87,8 +87,10 @@ class ActuatorSeries:
         cut = int(np.searchsorted(t, t[0] + fraction * (t[-1] - t[0]), side="right"))
         if cut < MIN_SAMPLES // 2 or self.n - cut < MIN_SAMPLES // 4:
             raise LogError(
-                f"actuator {self.actuator}{self.run_label}: {self.n} samples are too few to split at {fraction:.2f} "
-                f"(need at least {MIN_SAMPLES // 2} for training and {MIN_SAMPLES // 4} for validation); use a longer "
+                f"actuator {self.actuator}{self.run_label}: {self.n} "
+                f"samples are too few to split at {fraction:.2f} "
+                f"(need at least {MIN_SAMPLES // 2} for training and "
+                f"{MIN_SAMPLES // 4} for validation); use a longer "
                 f"log, several runs with --validate-on, or another --split"
             )
         return cut
@@ -216,7 +218,8 @@ class ThermalLog:
         pauses = ", ".join(f"{whole.time_s[c] - whole.time_s[c - 1]:.0f} s at t = {whole.time_s[c - 1]:.0f} s"
                            for c in cuts)
         tail = f"; {dropped} run(s) shorter than {MIN_SAMPLES} samples left out" if dropped else ""
-        return (f"{self.source}: actuator {actuator}: logging pauses ({pauses}) cut the log into {len(cuts) + 1} runs, "
+        return (f"{self.source}: actuator {actuator}: logging pauses "
+                f"({pauses}) cut the log into {len(cuts) + 1} runs, "
                 f"each simulated from its own first reading{tail}")
 
     def write(self, path: str | Path) -> Path:

@@ -61,7 +61,8 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
     for i in np.flatnonzero(pinned | (lengths >= max(STUCK_MIN_SAMPLES, STUCK_MIN_SHARE * n))):
         a, b = int(starts[i]), int(stops[i])
         if pinned[i]:
-            spans.append((a, b, f"pinned at its highest reading, {top:g} degC, while heat came in (a sensor at its "
+            spans.append((a, b, f"pinned at its highest reading, {top:g} "
+                                "degC, while heat came in (a sensor at its "
                                 f"ceiling)"))
         elif b < n and abs(temperature_C[b] - temperature_C[a]) <= ONE_STEP * step:
             continue  # left by one step: a slow change the sensor resolves no finer, not a hung sensor
@@ -73,7 +74,8 @@ def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndar
                                 f"{100 * np.ptp(effort[a:b]) / effort_range:.0f} % of its range"))
     spans += [(a, b, "a dropout (a reading far from both its neighbours, and back)") for a, b in
               dropouts(temperature_C, heat)]
-    spans += [(a, b, f"held at {temperature_C[a]:g} degC after a jump of more than {DROPOUT_K:g} K and back (a "
+    spans += [(a, b, f"held at {temperature_C[a]:g} degC after a "
+                     f"jump of more than {DROPOUT_K:g} K and back (a "
                      f"sensor open, shorted or not yet configured reads a fixed value)")
               for a, b in held_away(temperature_C, starts, stops)]
     return sorted(spans)
@@ -210,12 +212,15 @@ def leave_out(group, name: str, source: str, notes: list[str], min_samples: int)
         a, b = where[0]
         more = f" and {len(where) - 1} more stretches" if len(where) > 1 else ""
         notes.append(f"{source}: actuator {name!r}: the temperature reading is {why}, from {t[a]:g} s to "
-                     f"{t[b - 1]:g} s{more} ({sum(y - x for x, y in where)} samples): left out of fitting and "
+                     f"{t[b - 1]:g} s{more} ({sum(y - x for x, y in where)} "
+                     "samples): left out of fitting and "
                      f"validation")
     left = int(keep.sum())
     if left < min_samples:
-        raise LogError(f"{source}: actuator {name!r}: after leaving out the readings a sensor cannot have meant "
-                       f"({len(group) - left} of {len(group)} samples), {left} remain; at least {min_samples} are "
+        raise LogError(f"{source}: actuator {name!r}: after leaving "
+                       "out the readings a sensor cannot have meant "
+                       f"({len(group) - left} of {len(group)} samples), "
+                       f"{left} remain; at least {min_samples} are "
                        f"needed")
     return group[keep]
 

@@ -45,7 +45,8 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None, n
     try:
         frame = pd.read_csv(path, low_memory=False, **options)
     except (ValueError, OSError, pd.errors.ParserError) as exc:
-        raise LogError(f"{path}: cannot be read as a {separator_name(options['sep'])}-separated CSV file: {exc}") from None
+        raise LogError(f"{path}: cannot be read as a "
+                       f"{separator_name(options['sep'])}-separated CSV file: {exc}") from None
     frame.columns = [str(c).strip() for c in frame.columns]
     frame.attrs["duplicate_columns"] = dialect.duplicates
     frame.attrs["headerless"] = dialect.header_line if dialect.headerless else None
@@ -221,7 +222,8 @@ def _csv_chunks(path: Path, sep, decimal, columns, rows: int, names=None):
             chunk.attrs["headerless"] = dialect.header_line if dialect.headerless else None
             yield chunk
     except (ValueError, OSError, pd.errors.ParserError) as exc:
-        raise LogError(f"{path}: cannot be read as a {separator_name(options['sep'])}-separated CSV file: {exc}") from None
+        raise LogError(f"{path}: cannot be read as a "
+                       f"{separator_name(options['sep'])}-separated CSV file: {exc}") from None
 
 
 def _kind_checked(path: Path) -> str:
@@ -237,7 +239,8 @@ def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) 
     which one holds the reading cannot be known; other repeated names are said (read as ``NAME.1``, ...)."""
     for name, count in frame.attrs.get("duplicate_columns", {}).items():
         if name in used:
-            raise LogError(f"{source}: the header names column {name!r} {count} times; expected each column once "
+            raise LogError(f"{source}: the header names column {name!r} "
+                           f"{count} times; expected each column once "
                            f"(rename all but one, or --map to another column)")
         notes.append(f"{source}: the header names column {name!r} {count} times; read as {name!r}, "
                      + ", ".join(repr(f"{name}.{k}") for k in range(1, count)))
@@ -276,12 +279,15 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
         if good.size and bad.size:  # most rows are timestamps: the first that is not changes the format
             row = int(bad[0])
             before = int(good[good < row][-1]) if np.any(good < row) else int(good[0])
-            raise LogError(f"{source}: time column {column!r} changes format at row {row} ({values.iloc[row]!r}, "
-                           f"where row {before} reads {values.iloc[before]!r}); expected one format of time stamp "
+            raise LogError(f"{source}: time column {column!r} changes "
+                           f"format at row {row} ({values.iloc[row]!r}, "
+                           f"where row {before} reads {values.iloc[before]!r}); "
+                           "expected one format of time stamp "
                            f"throughout (ISO-8601, 2022-10-26T08:17:21.8Z)") from None
         row = int(np.flatnonzero((numeric.isna() & present).to_numpy())[0])
         raise LogError(
-            f"{source}: time column {column!r} is not a number of seconds, a timestamp or an elapsed time at row "
+            f"{source}: time column {column!r} is not a number "
+            "of seconds, a timestamp or an elapsed time at row "
             f"{row} ({values.iloc[row]!r}); expected seconds, ISO-8601 timestamps (2022-10-26T08:17:21.8Z) "
             f"or elapsed times (m:ss.s)"
         ) from None

@@ -90,13 +90,17 @@ def from_frame(
     refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
     first_line = frame.attrs.get("headerless")
     if first_line is not None and not later:
-        notes.append(f"{source}: the file has no header row (its first line, {first_line.strip()[:60]!r}, holds "
+        notes.append(f"{source}: the file has no header row (its "
+                     f"first line, {first_line.strip()[:60]!r}, holds "
                      + ("numbers): its columns are named by --columns" if frame.attrs.get("named") else
-                        f"numbers): its columns are read as column1 to column{len(frame.columns)}; name them with "
+                        "numbers): its columns are read as column1 to "
+                        f"column{len(frame.columns)}; name them with "
                         f"--columns NAME,NAME,... (in the file's order) to map them by name"))
     if channel["velocity"] not in VELOCITY_UNITS and channel["velocity"] != NOT_GIVEN:
-        notes.append(f"{source}: velocity unit {channel['velocity']!r} (from the column's header) is not one this "
-                     f"suite converts ({', '.join(VELOCITY_UNITS)}); taken as not given -- name it with --velocity-unit")
+        notes.append(f"{source}: velocity unit {channel['velocity']!r} "
+                     "(from the column's header) is not one this "
+                     f"suite converts ({', '.join(VELOCITY_UNITS)}); "
+                     "taken as not given -- name it with --velocity-unit")
         channel["velocity"] = NOT_GIVEN
     if mapping:
         frame = apply_mapping(frame, mapping, source, actuator_name, drop_incomplete)
@@ -122,7 +126,8 @@ def from_frame(
     measured = [c for c in keep if c not in ("time", "actuator")]
     empty = frame[measured].isna().all(axis=1).to_numpy()
     if empty.any():
-        notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times actuators) with no measured value, only a time stamp, left out")
+        notes.append(f"{source}: {int(empty.sum())} sample(s) (rows times "
+                     "actuators) with no measured value, only a time stamp, left out")
         frame = frame.loc[~empty].reset_index(drop=True)
     # a later piece of a followed log may be a row whose optional cell is blank
     if not frame.empty and not later:
@@ -134,7 +139,8 @@ def from_frame(
         if incomplete.any() and apart is not None and incomplete.all():
             raise LogError(f"{source}: no row holds every channel: {apart}")
         if incomplete.any():
-            notes.append(f"{source}: {int(incomplete.sum())} incomplete sample(s) left out (--drop-incomplete), first "
+            notes.append(f"{source}: {int(incomplete.sum())} incomplete "
+                         "sample(s) left out (--drop-incomplete), first "
                          f"at row {int(np.flatnonzero(incomplete)[0])}; the inputs before them are held"
                          + ("" if apart is None else f" ({apart})"))
             frame = frame.loc[~incomplete].reset_index(drop=True)
@@ -143,12 +149,14 @@ def from_frame(
     names = _as_text(frame["actuator"])
     blank = frame["actuator"].isna().to_numpy() | _blank(names)
     if blank.any() and drop_incomplete and not blank.all():
-        notes.append(f"{source}: {int(blank.sum())} row(s) with a blank actuator name left out (--drop-incomplete), "
+        notes.append(f"{source}: {int(blank.sum())} row(s) with a blank "
+                     "actuator name left out (--drop-incomplete), "
                      f"first at row {int(np.flatnonzero(blank)[0])}")
         frame, names = frame.loc[~blank].reset_index(drop=True), names[~blank].reset_index(drop=True)
     elif blank.any():
         row = int(np.flatnonzero(blank)[0])
-        raise LogError(f"{source}: column 'actuator' is blank at row {row}; expected an actuator name in every row "
+        raise LogError(f"{source}: column 'actuator' is blank at row "
+                       f"{row}; expected an actuator name in every row "
                        f"(or leave such rows out with --drop-incomplete)")
     # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
     origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
@@ -168,7 +176,8 @@ def from_frame(
             row = int(np.flatnonzero(bad.to_numpy())[0])
             value = str(frame[c].iloc[row]).strip()
             if _THOUSANDS.match(value):
-                raise LogError(f"{source}: column {c!r} writes numbers with thousands separators ({value!r} at row "
+                raise LogError(f"{source}: column {c!r} writes numbers with "
+                               f"thousands separators ({value!r} at row "
                                f"{row}); expected plain numbers in {UNITS[c]}: export without the separators")
             raise LogError(f"{source}: column {c!r} is not numeric at row {row} ({frame[c].iloc[row]!r}); "
                            f"expected {UNITS[c]} (or leave such samples out with --drop-incomplete)")
@@ -184,7 +193,8 @@ def from_frame(
             row = int(np.flatnonzero(nan)[0])
             fix = (f"; expected finite numbers in {UNITS[c]} (fill them, or leave those samples out with "
                    f"--drop-incomplete)" if apart is None else f": {apart}")
-            raise LogError(f"{source}: column {c!r} has {int(nan.sum())} missing or non-finite value(s), first at "
+            raise LogError(f"{source}: column {c!r} has {int(nan.sum())} "
+                           "missing or non-finite value(s), first at "
                            f"row {row}{fix}")
     if later:
         out["time"] = out["time"] * reading.time_scale if reading.time_scale != 1.0 else out["time"]
@@ -200,7 +210,8 @@ def from_frame(
             row = int(np.flatnonzero(outside)[0])
             raise LogError(
                 f"{source}: column {c!r} reads {values[row]:g} at row {row}; expected degC between "
-                f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} (a log in kelvin, in tenths of a degree "
+                f"{TEMPERATURE_RANGE_C[0]:g} and {TEMPERATURE_RANGE_C[1]:g} "
+                "(a log in kelvin, in tenths of a degree "
                 f"or in raw counts needs converting first)"
             )
     if "velocity" in out and channel["velocity"] in VELOCITY_UNITS and VELOCITY_UNITS[channel["velocity"]] != 1.0:
@@ -221,13 +232,16 @@ def from_frame(
                 hints.append("if the file holds rows of several actuators, map the column naming them "
                              "(--map actuator=COLUMN)")
             if t[k + 1] < t[k] - 10 * float(np.median(steps)):  # far back: a clock that restarts
-                hints.append("if it joins recordings whose clocks restart, give each as a file of its own (a run each)")
+                hints.append("if it joins recordings whose clocks restart, "
+                             "give each as a file of its own (a run each)")
             raise LogError(f"{source}: time does not increase for actuator {name!r} at row {g.index[k + 1]} "
-                           f"(t = {t[k]:g} s then {t[k + 1]:g} s); expected strictly increasing time in seconds"
+                           f"(t = {t[k]:g} s then {t[k + 1]:g} s); "
+                           "expected strictly increasing time in seconds"
                            + "".join(f"; {h}" for h in hints))
         try:  # one actuator's trouble stays its own: of several, it is set aside and said, the others read
             if len(g) < MIN_SAMPLES and not later:
-                raise LogError(f"{source}: actuator {name!r} has {len(g)} samples; at least {MIN_SAMPLES} are "
+                raise LogError(f"{source}: actuator {name!r} has {len(g)} "
+                               f"samples; at least {MIN_SAMPLES} are "
                                f"needed")
             refuse_unit_switch(g, name, source)
             if reading is None:  # a log followed piece by piece is read as its pieces come
@@ -273,7 +287,8 @@ def _as_numbers(frame: pd.DataFrame, measured: list[str], source: str, notes: li
         if mangled.any():
             row = int(np.flatnonzero(mangled)[0])
             notes.append(f"{source}: column {c!r} writes minus signs as {_UTF7_MINUS!r} (UTF-7) in "
-                         f"{int(mangled.sum())} cell(s), first at row {row} ({column.iloc[row]!r}): read as '-'")
+                         f"{int(mangled.sum())} cell(s), first at row "
+                         f"{row} ({column.iloc[row]!r}): read as '-'")
             column = text.str.replace(_UTF7_MINUS, "-", regex=False)
         values = pd.to_numeric(column, errors="coerce")
         bad = (values.isna() & column.notna() & (column.astype("string").str.strip() != "")).to_numpy(bool)
@@ -282,7 +297,8 @@ def _as_numbers(frame: pd.DataFrame, measured: list[str], source: str, notes: li
             if _THOUSANDS.match(str(column.iloc[row]).strip()):
                 changed[c] = column
                 continue
-            notes.append(f"{source}: column {c!r} holds {int(bad.sum())} cell(s) that are not numbers, first at row "
+            notes.append(f"{source}: column {c!r} holds {int(bad.sum())} "
+                         "cell(s) that are not numbers, first at row "
                          f"{row} ({column.iloc[row]!r}); their samples are left out (--drop-incomplete)")
             changed[c] = values
         elif mangled.any():
@@ -362,7 +378,8 @@ def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] 
         if frame[c].isna().all():
             named = f" (the file's {mapping[c]!r})" if mapping and c in mapping else ""
             fix = "" if c in REQUIRED else f", or leave {c} out" + (" of --map" if mapping else " of the file")
-            raise LogError(f"{source}: column {c!r}{named} holds no value in any of its {len(frame)} rows; expected "
+            raise LogError(f"{source}: column {c!r}{named} holds no value "
+                           f"in any of its {len(frame)} rows; expected "
                            f"numbers in {UNITS[c]}{fix}")
 
 

@@ -97,8 +97,10 @@ def _joint_name(column: pd.Series, header: str, source: str) -> str:
     """The one name a per-joint column holds (a ``rostopic echo -p`` export's ``field.name0``)."""
     names = column.dropna().astype(str).str.strip().unique()
     if len(names) != 1 or not names[0]:
-        raise LogError(f"{source}: --map actuator= reads the joint's name from column {header!r}, which holds "
-                       f"{len(names)} names ({', '.join(names[:3])}{', ...' if len(names) > 3 else ''}); expected "
+        raise LogError(f"{source}: --map actuator= reads the joint's "
+                       f"name from column {header!r}, which holds "
+                       f"{len(names)} names "
+                       f"({', '.join(names[:3])}{', ...' if len(names) > 3 else ''}); expected "
                        f"one name on every row")
     return names[0]
 
@@ -118,16 +120,20 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
         value = mapping[key]
         time_column = time_column or mapping.get("time")
         if time_column is None:
-            raise LogError(f"{source}: --map {key}={value} has no time column; write {key}={column}@TIME_COLUMN or "
+            raise LogError(f"{source}: --map {key}={value} has no time "
+                           f"column; write {key}={column}@TIME_COLUMN or "
                            f"give time=COLUMN")
         for c in (column, time_column):
             if c not in frame.columns:
-                raise LogError(f"{source}: --map {key}={value} names column {c!r}, which the file does not have; "
+                raise LogError(f"{source}: --map {key}={value} names column "
+                               f"{c!r}, which the file does not have; "
                                f"its columns are {shown_names(frame.columns)}")
         rows = frame[time_column].notna() & ~_others_message(frame, key, column, time_column, targets, mapping)
         if not rows.all() and (~rows & frame[time_column].notna()).any():
-            notes.append(f"{source}: {key} read on the {int(rows.sum())} rows of {time_column} that hold it (the "
-                         f"other {int((~rows & frame[time_column].notna()).sum())} hold other channels' messages)")
+            notes.append(f"{source}: {key} read on the {int(rows.sum())} "
+                         f"rows of {time_column} that hold it (the "
+                         f"other {int((~rows & frame[time_column].notna()).sum())} "
+                         "hold other channels' messages)")
         columns[key] = series_of(time_seconds(frame.loc[rows, time_column], source, time_column, origin),
                                  pd.to_numeric(frame.loc[rows, column], errors="coerce"),
                                  source, key, drop_incomplete, notes)

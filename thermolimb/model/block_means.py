@@ -50,7 +50,8 @@ class BlockSignals(Signals):
         return self.mean(rise), self.mean(gain)
 
     def map_arrays(self, fn):
-        raise TypeError("a block-averaged run is not sliced or mapped: do it to the full-rate signals and block them "
+        raise TypeError("a block-averaged run is not sliced or mapped: "
+                        "do it to the full-rate signals and block them "
                         "again (block_means.blocked)")
 
     def mean(self, values):

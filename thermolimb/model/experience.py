@@ -59,22 +59,26 @@ def beyond(ranges: Mapping | None, signals: Signals, start_C: float, reads_ambie
             notes.append(f"extrapolated: the ambient ({lo:.1f} to {hi:.1f} degC) leaves the {seen[0]:.1f} to "
                          f"{seen[1]:.1f} degC the model was identified in")
         if shift_K:
-            notes.append(f"the model does not read the ambient temperature: its offset follows this log's mean "
+            notes.append("the model does not read the ambient "
+                         "temperature: its offset follows this log's mean "
                          f"ambient beyond the calibration's, {shift_K:+.1f} K ({EQ5})")
         elif not reads_ambient:
-            notes.append("the model does not read the ambient temperature: the one here changes nothing (its offset "
+            notes.append("the model does not read the ambient temperature: "
+                         "the one here changes nothing (its offset "
                          "stands for the air it was identified in)")
     seen = ranges.get("temperature_C")
     if seen and not seen[0] - MARGIN_K <= start_C <= seen[1] + MARGIN_K:
         factor = max(factor, 2.0)
-        notes.append(f"extrapolated: the start, {start_C:.1f} degC, is outside the {seen[0]:.1f} to {seen[1]:.1f} "
+        notes.append(f"extrapolated: the start, {start_C:.1f} degC, "
+                     f"is outside the {seen[0]:.1f} to {seen[1]:.1f} "
                      f"degC the model's log read")
     dt = ranges.get("dt_s")
     if dt and signals.time_s.size > 1:
         own = float(np.median(np.diff(signals.time_s)))
         if own > RATE_RATIO * dt:  # a finer log only tells the model more
             factor = max(factor, 2.0)
-            notes.append(f"the log is sampled every {own:.3g} s, the model's calibration every {dt:.3g} s: the effort "
+            notes.append(f"the log is sampled every {own:.3g} s, the "
+                         f"model's calibration every {dt:.3g} s: the effort "
                          f"between its readings is taken as held, which the calibration never had to")
     return notes, factor
 
@@ -130,7 +134,8 @@ def air_words(series: list, reference_C: float | None) -> str:
         return ""
     each = ", ".join(f"{s.run or f'run {k + 1}'} {reference_C + s.signals.air_shift_K:.1f}"
                      for k, s in enumerate(series))
-    return (f"; the runs ran in different air (mean ambient {each} degC): each run's offset follows its own, the "
+    return ("; the runs ran in different air (mean ambient "
+            f"{each} degC): each run's offset follows its own, the "
             f"one fitted is at their mean, {reference_C:.1f} degC ({EQ5})")
 
 
@@ -175,7 +180,8 @@ def moved_words(moved: list[tuple[str, float]]) -> str:
     if not moved:
         return ""
     each = ", ".join(f"{label} {shift:+.1f} K" for label, shift in moved)
-    return (f"; the offset followed the ambient of {len(moved)} held-out run{'s' if len(moved) > 1 else ''} beyond "
+    return (f"; the offset followed the ambient of {len(moved)} "
+            f"held-out run{'s' if len(moved) > 1 else ''} beyond "
             f"the fitted runs' ({each}; {EQ5})")
 
 
@@ -187,5 +193,6 @@ def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[l
     hotter = np.asarray(predicted_C, float) > (seen[1] + MARGIN_K if seen else np.inf)
     if not hotter.any():
         return [], np.ones(hotter.shape)
-    return ([f"extrapolated: the forecast climbs to {float(np.max(predicted_C)):.1f} degC, above the hottest reading "
+    return (["extrapolated: the forecast climbs to "
+             f"{float(np.max(predicted_C)):.1f} degC, above the hottest reading "
              f"the model was identified on ({seen[1]:.1f} degC)"], np.where(np.maximum.accumulate(hotter), 2.0, 1.0))

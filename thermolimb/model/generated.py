@@ -136,7 +136,8 @@ class Spec:
                                   and not _is_number(f.reference) else [])
             bad = [i for i in inputs if i not in CANONICAL_INPUTS and not (i.startswith("extra.") and len(i) > 6)]
             if f.form not in FORMS or bad or not all(math.isfinite(v) for v in (f.power, f.threshold, f.sign)):
-                raise ModelSpecError(f"{where}: generated term {spec.name!r}: feature {f.param!r} is not one this "
+                raise ModelSpecError(f"{where}: generated term {spec.name!r}: "
+                                     f"feature {f.param!r} is not one this "
                                      f"suite writes (form {f.form!r}, inputs {inputs}); expected a form of "
                                      f"{', '.join(FORMS)} of a channel")
         if spec.airflow_on is not None and spec.airflow_on not in slow_masses():
@@ -184,7 +185,8 @@ class GeneratedTerm(Term):
             param, low, high = self.spec.conductance
             worst = min(1.0 + p[param] * low, 1.0 + p[param] * high)
             if worst <= 0.0:
-                return (f"the conductance {_of(self.spec)} would be negative ({worst:.2f} of its value at the "
+                return (f"the conductance {_of(self.spec)} would be "
+                        f"negative ({worst:.2f} of its value at the "
                         f"channel's zero)")
         return super().implausible(p, units)
 
@@ -251,7 +253,8 @@ def term_source(spec: Spec) -> str:
     """The Python source of the term of ``spec`` as a :class:`Term` class (for people; see
     :func:`module_source`)."""
     params = ",\n".join(
-        f"        Parameter({f.param!r}, {f.unit!r}, {_literal(f.lower)}, {_literal(f.upper)}, {f.typical!r},\n"
+        f"        Parameter({f.param!r}, {f.unit!r}, "
+        f"{_literal(f.lower)}, {_literal(f.upper)}, {f.typical!r},\n"
         f"                  {('coefficient of ' + f.words)!r},\n"
         f"                  {'the channels it reads, varying independently of the effort'!r}"
         + (f", plausible={f.plausible!r}" if f.plausible else "") + ")"
@@ -267,7 +270,8 @@ def term_source(spec: Spec) -> str:
         if f.gain:
             reference = ('p["T_offset_C"]' if f.reference == "T_offset_C" else f.reference if _is_number(f.reference)
                          else _variable(f.reference))
-            body += [f"        k = {coef} * ({expr})  # {f.symbol}", f"        rise, gain = rise - k * ({reference}), gain + k"]
+            body += [f"        k = {coef} * ({expr})  # {f.symbol}", "        rise, gain = rise - "
+                                                                     f"k * ({reference}), gain + k"]
         else:
             body.append(f"        rise = rise + {coef} * ({expr})  # {f.symbol}")
     body.append("        return rise, gain")
@@ -275,7 +279,8 @@ def term_source(spec: Spec) -> str:
     if spec.airflow_on:  # the features multiply a slow mass's conductance; the term adds no heat of its own
         method = "airflow_gain(self, p, s)"
         body = ["        return " + " + ".join(
-            f"p[{f.param!r}] * ({FORMS[f.form][1].format(x=_variable(f.input), power=f.power, threshold=f.threshold)})"
+            f"p[{f.param!r}] * "
+            f"({FORMS[f.form][1].format(x=_variable(f.input), power=f.power, threshold=f.threshold)})"
             for f in spec.features) + f"  # {', '.join(f.symbol for f in spec.features)}"]
     check = ""
     if spec.conductance is not None:
@@ -283,7 +288,8 @@ def term_source(spec: Spec) -> str:
         check = (f"\n    def implausible(self, p, units=None):\n"
                  f"        worst = min(1.0 + p[{param!r}] * {low!r}, 1.0 + p[{param!r}] * {high!r})\n"
                  f"        if worst <= 0.0:\n"
-                 f"            return f\"the conductance {_of(spec)} would be negative ({{worst:.2f}} of its value)\"\n"
+                 f"            return f\"the conductance {_of(spec)} "
+                 f"would be negative ({{worst:.2f}} of its value)\"\n"
                  f"        return super().implausible(p, units)\n")
     mass = f"    airflow_on = {spec.airflow_on!r}\n    requires = ({spec.airflow_on!r},)\n" if spec.airflow_on else ""
     summary = (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
@@ -319,7 +325,8 @@ def load_term_file(path) -> list[str]:
     if not path.is_file():
         raise ModelSpecError(f"--terms {path}: no such file; expected a Python file of terms")
     if path.suffix != ".py":  # refused before anything in it runs: a log or a table given by mistake
-        raise ModelSpecError(f"--terms {path}: not a Python file (.py); expected a Python file of terms, such as the "
+        raise ModelSpecError(f"--terms {path}: not a Python file (.py); "
+                             "expected a Python file of terms, such as the "
                              f"one diagnose --propose writes")
     before = {name: cls for name, cls in TERMS.items()}
     try:
@@ -345,6 +352,7 @@ def define_all(records: Mapping[str, dict], where: str) -> None:
         if spec.name != name:
             raise ModelSpecError(f"{where}: generated term {name!r} holds the spec of {spec.name!r}")
         if name in TERMS and not TERMS[name].generated:
-            raise ModelSpecError(f"{where}: generated term {name!r} would take the place of the suite's own term of "
+            raise ModelSpecError(f"{where}: generated term {name!r} would "
+                                 "take the place of the suite's own term of "
                                  f"that name; expected a name of its own")
         define(spec)

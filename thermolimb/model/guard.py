@@ -51,7 +51,8 @@ class Guarded:
         try:
             return getattr(self._term, method)(*args)
         except SystemExit as exc:
-            raise TermError(f"term {self.name!r} called sys.exit({exc.code!r}) in {method}; a term must return "
+            raise TermError(f"term {self.name!r} called sys.exit({exc.code!r}) "
+                            f"in {method}; a term must return "
                             f"its values, not end the program", self.name) from None
         except Exception as exc:  # noqa: BLE001 -- a user's code: whatever it raises is reported as what it is
             hint = ""
@@ -63,19 +64,23 @@ class Guarded:
 
     def _check_array(self, method: str, what: str, value, n: int):
         if value is None:
-            raise TermError(f"term {self.name!r}: {method} returned None for its {what}; expected a number or an "
+            raise TermError(f"term {self.name!r}: {method} returned None "
+                            f"for its {what}; expected a number or an "
                             f"array of {n} samples", self.name)
         arr = np.asarray(value, dtype=object if not np.isscalar(value) and not hasattr(value, "dtype") else None)
         try:
             arr = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
-            raise TermError(f"term {self.name!r}: {method} returned {_describe(value)} for its {what}; expected "
+            raise TermError(f"term {self.name!r}: {method} returned "
+                            f"{_describe(value)} for its {what}; expected "
                             f"numbers", self.name) from None
         if arr.ndim > 1 or (arr.ndim == 1 and arr.shape[0] != n):
-            raise TermError(f"term {self.name!r}: {method} returned {_describe(arr)} for its {what}; expected a "
+            raise TermError(f"term {self.name!r}: {method} returned "
+                            f"{_describe(arr)} for its {what}; expected a "
                             f"number or an array of {n} samples", self.name)
         if not np.all(np.isfinite(arr)):
-            raise TermError(f"term {self.name!r}: {method} returned {_describe(arr)} for its {what}; every value "
+            raise TermError(f"term {self.name!r}: {method} returned "
+                            f"{_describe(arr)} for its {what}; every value "
                             f"must be finite", self.name)
         return value
 
@@ -108,7 +113,8 @@ class Guarded:
             return None
         arr = np.asarray(out, dtype=float)
         if arr.ndim != 2 or arr.shape[0] != s.n or not np.all(np.isfinite(arr)):
-            raise TermError(f"term {self.name!r}: features returned {_describe(out)}; expected a finite array of "
+            raise TermError(f"term {self.name!r}: features returned "
+                            f"{_describe(out)}; expected a finite array of "
                             f"shape ({s.n}, {len(self._term.parameters)})", self.name)
         return out
 

@@ -78,14 +78,17 @@ class ThermalModel:
         values = {n: float(self.params[n]) for n in expected}
         bad = [n for n, v in values.items() if not np.isfinite(v)]
         if bad:
-            raise ValueError(f"parameters of model {','.join(terms)} must be finite numbers; {', '.join(bad)} "
-                             f"{'is' if len(bad) == 1 else 'are'} not ({', '.join(str(values[n]) for n in bad)})")
+            raise ValueError(f"parameters of model {','.join(terms)} "
+                             f"must be finite numbers; {', '.join(bad)} "
+                             f"{'is' if len(bad) == 1 else 'are'} not "
+                             f"({', '.join(str(values[n]) for n in bad)})")
         if not values["RC_s"] > 0:
             raise ValueError(f"RC_s must be positive, got {values['RC_s']}")
         for p in model_parameters(terms) if bounded else ():
             slack = 1e-9 * max(1.0, abs(values[p.name]))
             if not p.lower - slack <= values[p.name] <= p.upper + slack:
-                raise ValueError(f"{p.name} = {values[p.name]:g} is outside its bounds [{p.lower:g}, {p.upper:g}] "
+                raise ValueError(f"{p.name} = {values[p.name]:g} is outside "
+                                 f"its bounds [{p.lower:g}, {p.upper:g}] "
                                  f"({p.description})")
         # read-only and picklable (a fitted model crosses process boundaries in fleets and users' pools)
         object.__setattr__(self, "params", FrozenMapping(values))
@@ -185,7 +188,8 @@ class ThermalModel:
             raise ValueError(f"method must be 'exact' or 'euler', got {method!r}")
         if not np.isfinite(s.effort).all():
             k = int(np.flatnonzero(~np.isfinite(s.effort))[0])
-            raise ValueError(f"the effort is {s.effort[k]} at sample {k} (t = {s.time_s[k]:g} s); a simulation needs a "
+            raise ValueError(f"the effort is {s.effort[k]} at sample {k} (t "
+                             f"= {s.time_s[k]:g} s); a simulation needs a "
                              f"finite effort at every sample (drop or fill the missing ones)")
         terms = self._terms()
         if state is None:

@@ -242,7 +242,8 @@ def register_term(cls: type[Term]) -> type[Term]:
         raise ValueError(f"{cls.__name__} needs a 'name' to be registered")
     earlier = TERMS.get(cls.name)
     if earlier is not None and is_built_in(earlier) and not is_built_in(cls):
-        raise ValueError(f"term '{cls.name}' would replace the built-in term of that name ({earlier.description}); "
+        raise ValueError(f"term '{cls.name}' would replace the built-in "
+                         f"term of that name ({earlier.description}); "
                          f"give yours another name")
     clashes = {p.name for p in cls.parameters} & ({"RC_s", "T_offset_C"} | _parameter_names_except(cls.name))
     if clashes:
@@ -251,7 +252,8 @@ def register_term(cls: type[Term]) -> type[Term]:
         numbers = (p.lower, p.upper, p.typical)
         if any(isinstance(v, bool) or not isinstance(v, (int, float)) or v != v for v in numbers) \
                 or not p.lower < p.upper or not p.lower <= p.typical <= p.upper:
-            raise ValueError(f"term '{cls.name}': parameter {p.name} needs lower < upper and lower <= typical <= "
+            raise ValueError(f"term '{cls.name}': parameter {p.name} "
+                             "needs lower < upper and lower <= typical <= "
                              f"upper, got lower {p.lower!r}, upper {p.upper!r}, typical {p.typical!r}")
     TERMS[cls.name] = cls
     return cls

@@ -141,7 +141,8 @@ class ActuatorMonitor:
             return
         self.model = shifted(self.saved.model, shift)
         self.row = ModelArrays.row(self.model) if self.together else None
-        self.note = (f"{self.saved.actuator}: the ambient here lies beyond the {air[0]:.1f} to {air[1]:.1f} degC the "
+        self.note = (f"{self.saved.actuator}: the ambient here lies "
+                     f"beyond the {air[0]:.1f} to {air[1]:.1f} degC the "
                      f"model's offset stands for; its offset follows it, {shift:+.1f} K ({EQ5})")
 
 

@@ -139,7 +139,8 @@ class McapOutput:
                 self.file.close()
                 self.partial.unlink(missing_ok=True)
                 if self.path.exists():
-                    print(f"note: {self.path}: nothing was published; the earlier file there is left as it was",
+                    print(f"note: {self.path}: nothing was published; "
+                          "the earlier file there is left as it was",
                           file=sys.stderr)
                 return
             with self._room():
@@ -182,7 +183,8 @@ def _created_locked(partial: Path, target: Path):
 
 
 def _in_use(partial: Path, target: Path) -> UsageError:
-    return UsageError(f"--mcap {target}: another monitor is writing it now ({partial.name} is in use); give another "
+    return UsageError(f"--mcap {target}: another monitor is writing it "
+                      f"now ({partial.name} is in use); give another "
                       f"--mcap")
 
 

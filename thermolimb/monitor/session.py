@@ -53,8 +53,10 @@ class Session:
                 if name not in self.ignored:
                     self.ignored.add(name)
                     known = ", ".join(self.models.actuators)
-                    print(f"note: the followed log's actuator {name!r} is not in the model file (it holds {known}); "
-                          f"it is not watched (a file of one actuator is named after the file unless --actuator "
+                    print(f"note: the followed log's actuator {name!r} "
+                          f"is not in the model file (it holds {known}); "
+                          "it is not watched (a file of one actuator "
+                          "is named after the file unless --actuator "
                           f"NAME names it)", file=sys.stderr)
                 continue
             factor = self._effort_factor(name, units or {})
@@ -121,7 +123,8 @@ class Session:
         signals = Signals(arrays["time"], arrays["effort"], **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays})
         missing = [c for c in monitor.model.columns if not signals.has(c)]
         if missing:
-            raise UsageError(f"the model of {name} reads the log column {missing[0]!r}, which the followed log does "
+            raise UsageError(f"the model of {name} reads the log column "
+                             f"{missing[0]!r}, which the followed log does "
                              f"not have")
         estimate = monitor.update(signals, arrays["temperature"])
         if monitor.note:

@@ -58,8 +58,10 @@ class Program:
     def __post_init__(self):
         m, n = self.A.shape
         if self.cost.shape != (n,) or self.upper.shape != (m,) or self.lower.shape != (m,):
-            raise ValueError(f"{self.name}: cost {self.cost.shape}, A {self.A.shape}, upper {self.upper.shape} and "
-                             f"lower {self.lower.shape} do not fit together (n variables, m rows: (n,), (m, n), (m,))")
+            raise ValueError(f"{self.name}: cost {self.cost.shape}, A "
+                             f"{self.A.shape}, upper {self.upper.shape} and "
+                             f"lower {self.lower.shape} do not fit together "
+                             "(n variables, m rows: (n,), (m, n), (m,))")
 
     @property
     def n_bounded(self) -> int:

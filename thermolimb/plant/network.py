@@ -180,7 +180,8 @@ class ActuatorSpec:
                 raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
         check_range(f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0, "degC")
         if self.continuous_effort > self.effort_limit:
-            raise ValueError(f"ActuatorSpec({self.model}): continuous_effort = {self.continuous_effort:g} is above "
+            raise ValueError(f"ActuatorSpec({self.model}): continuous_effort "
+                             f"= {self.continuous_effort:g} is above "
                              f"effort_limit = {self.effort_limit:g}; an actuator holds at most its peak")
 
     def first_order(self, lumped_nodes: int = 1) -> tuple[float, float]:
@@ -195,7 +196,8 @@ class ActuatorSpec:
         """
         net = self.network
         if not 1 <= lumped_nodes <= net.n_nodes:
-            raise ValueError(f"ActuatorSpec({self.model}).first_order lumps 1 to {net.n_nodes} nodes, got {lumped_nodes}")
+            raise ValueError(f"ActuatorSpec({self.model}).first_order lumps "
+                             f"1 to {net.n_nodes} nodes, got {lumped_nodes}")
         resistance = float(np.sum(net.resistance_K_per_W[:lumped_nodes]))
         capacity = float(np.sum(net.capacity_J_per_K[:lumped_nodes]))
         return resistance * capacity, self.winding_resistance_ohm * resistance / self.effort_per_amp**2

@@ -62,12 +62,14 @@ class ThermalPlant:
         protection: ThermalProtection = ThermalProtection(),
     ):
         if len(names) != len(specs) or len(names) == 0:
-            raise ValueError(f"ThermalPlant needs one spec per actuator name, got {len(names)} names and {len(specs)} specs")
+            raise ValueError("ThermalPlant needs one spec per actuator name, "
+                             f"got {len(names)} names and {len(specs)} specs")
         if len(set(names)) != len(names):
             raise ValueError(f"actuator names must be unique, got {list(names)}")
         random = [fx.name for fx in effects.active if fx.draws_random]
         if random and rng is None:
-            raise ValueError(f"{', '.join(random)} {'is' if len(random) == 1 else 'are'} on and draw random numbers: "
+            raise ValueError(f"{', '.join(random)} {'is' if len(random) == 1 else 'are'} "
+                             "on and draw random numbers: "
                              f"pass rng=np.random.default_rng(seed)")
         for fx in effects.active:
             fx.check(specs)
@@ -218,7 +220,8 @@ class ThermalPlant:
         arr = np.broadcast_to(arr, (self.n,))
         bad = [i for i in range(self.n) if not TEMPERATURE_RANGE_C[0] <= arr[i] <= TEMPERATURE_RANGE_C[1]]
         if bad:
-            raise ValueError(f"set_temperatures: {name} of {self.names[bad[0]]} = {float(arr[bad[0]])!r} is outside the range "
+            raise ValueError(f"set_temperatures: {name} of {self.names[bad[0]]} "
+                             f"= {float(arr[bad[0]])!r} is outside the range "
                              f"expected, {TEMPERATURE_RANGE_C[0]:g} to {TEMPERATURE_RANGE_C[1]:g} degC")
         return arr
 
@@ -233,7 +236,8 @@ class ThermalPlant:
         from it."""
         state = np.asarray(state, float)
         if state.shape != self._x.shape or not np.all(np.isfinite(state)):
-            raise ValueError(f"a plant state needs {self._x.shape[0]} finite temperatures, got shape {state.shape}")
+            raise ValueError(f"a plant state needs {self._x.shape[0]} "
+                             f"finite temperatures, got shape {state.shape}")
         self._x = state.copy()
         self._measure()
         if self.observer is not None:
@@ -275,7 +279,8 @@ class ThermalPlant:
         value = np.asarray(value, float)
         if value.ndim and value.shape != (self.n,):
             raise ValueError(f"ThermalPlant.step: {value.size} {name} value(s) for {self.n} actuators "
-                             f"({', '.join(self.names)}); give one per actuator, in that order, or one for all")
+                             f"({', '.join(self.names)}); give one per "
+                             "actuator, in that order, or one for all")
         return np.array(np.broadcast_to(value, (self.n,)))
 
     def clear_faults(self) -> None:

@@ -38,7 +38,8 @@ class ThermalProtection:
 
     def __post_init__(self):
         if self.estimator not in ("observer", "measured"):
-            raise ValueError(f"ThermalProtection estimator must be 'observer' or 'measured', got {self.estimator!r}")
+            raise ValueError("ThermalProtection estimator must be 'observer' "
+                             f"or 'measured', got {self.estimator!r}")
         if not self.margin_K > 0:
             raise ValueError(f"ThermalProtection needs margin_K > 0, got {self.margin_K}")
         if not 0.0 <= self.min_fraction <= 1.0:

@@ -63,7 +63,8 @@ def run_profile_in_pieces(plant: ThermalPlant, profile: Profile, include_drivers
     if lacking:  # found before a row is written, not as a traceback once the first window is simulated
         name, spec = lacking[0]
         raise UsageError(f"a housing sensor needs a housing node, and actuator {name}'s network has "
-                         f"{', '.join(spec.network.node_names)}; use a network with a housing (x8, x5) or drop it")
+                         f"{', '.join(spec.network.node_names)}; use "
+                         "a network with a housing (x8, x5) or drop it")
     if profile.load.shape[1] != m:
         raise ValueError(f"profile has {profile.load.shape[1]} actuators, plant has {m}")
     continuous = np.array([s.continuous_effort for s in plant.specs])

@@ -28,8 +28,10 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
     err = fig.add_subplot(grid[1, :], sharex=top)
     overlay(d.base, top, err)
     v = d.base.validation
-    top.set_title(f"{d.actuator}: measured temperature and the free run of the model, {readable(','.join(d.model))}\n"
-                  + textwrap.fill(f"validation (shaded) RMSE {v['rmse_K']:.3f} K, largest error {v['max_abs_K']:.3f} K; "
+    top.set_title(f"{d.actuator}: measured temperature and the free "
+                  f"run of the model, {readable(','.join(d.model))}\n"
+                  + textwrap.fill(f"validation (shaded) RMSE {v['rmse_K']:.3f} "
+                                  f"K, largest error {v['max_abs_K']:.3f} K; "
                                   f"{d.base.scheme}", 140), fontsize=10)
     err.set_title("residual: where the model fails", fontsize=9)
     err.set_xlabel("time (s; runs one after another)")
@@ -76,7 +78,8 @@ def candidates_figure(d: Diagnosis):
     for y, c in enumerate(refitted[::-1]):
         mark = "  ← recommended" if c is d.recommended else ""
         why = f": {c.failure}" if c.failure else ""
-        taken = (f", taken {round(c.selection_frequency * d.stability['replicates'])}/{d.stability['replicates']}"
+        taken = (", taken "
+                 f"{round(c.selection_frequency * d.stability['replicates'])}/{d.stability['replicates']}"
                  if c.selection_frequency is not None else "")
         ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{taken}{mark}{why}", va="center",
                 fontsize=8)
@@ -87,13 +90,15 @@ def candidates_figure(d: Diagnosis):
     ax.set_xlabel(f"held-out gain: fall of validation RMSE from {d.base.validation['rmse_K']:.3f} K (%)")
     thin = ("" if d.base.evidence.rankable else " (evidence too thin)") or (" (at the sensor's floor)" if d.at_floor
                                                                           else "")
-    ax.set_title(textwrap.fill(f"{d.actuator}: changes to the model, {readable(','.join(d.model))}, tried; recommended: "
+    ax.set_title(textwrap.fill(f"{d.actuator}: changes to the model, "
+                               f"{readable(','.join(d.model))}, tried; recommended: "
                                f"{readable(d.recommended.label) if d.recommended else 'none'}{thin}", 95), fontsize=10)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
     ax.legend(handles + ax.get_legend_handles_labels()[0], list(STATUS_COLOURS) + ["10 % needed to add an effect"],
               fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     if others:
-        text = "\n".join(f"{readable(c.label)}: {c.status} ({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
+        text = "\n".join(f"{readable(c.label)}: {c.status} "
+                         f"({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"
                          for c in others)
         fig.text(0.01, 0.0, "not refitted:\n" + text, fontsize=7, va="top")
     return fig
@@ -115,7 +120,8 @@ def waterfall_bars(steps: list[dict]) -> tuple[list[str], list[float], list[str]
     if tail and tail.get("status") == "refuted":
         labels.append(f"{readable(tail['change'])} (refuted by the run's other part: not taken)")
     elif tail:
-        labels.append(f"{readable(tail['change'])} (taken {round(tail['selection_frequency'] * tail['replicates'])} of "
+        labels.append(f"{readable(tail['change'])} (taken "
+                      f"{round(tail['selection_frequency'] * tail['replicates'])} of "
                       f"{tail['replicates']}: not taken)")
     if tail:
         rmse.append(tail["rmse_K"])

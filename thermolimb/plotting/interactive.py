@@ -173,12 +173,15 @@ def add_diagnosis(page: InteractivePage, d, steps=()) -> None:
     """
     reports = [(",".join(s.model), s.base) for s in (steps or [d])]
     page.add(f"{d.actuator}: measured against the model", temperature_figure(reports, d.actuator),
-             "Measured temperature (black) and each model's free run from each run's first reading; dotted where it "
+             "Measured temperature (black) and each model's free "
+             "run from each run's first reading; dotted where it "
              "was fitted, solid on held-out data (shaded). Zoom on any panel: the three share the time axis."
              + thinning_note(d.base))
     page.add(f"{d.actuator}: what the diagnosis tried", candidates_figure(d),
-             "Each refitted change to the model and how much it lowers the held-out error; an effect is recommended "
-             "when it gains at least 10 % and is plausible and identifiable, the model is not yet at the sensor's "
+             "Each refitted change to the model and how much it "
+             "lowers the held-out error; an effect is recommended "
+             "when it gains at least 10 % and is plausible and "
+             "identifiable, the model is not yet at the sensor's "
              "floor, and the search takes it in enough of the perturbed replicates (taken k/K).")
     if d.auto:
         page.add(f"{d.actuator}: the search, step by step", waterfall_figure(d.auto, d.actuator),

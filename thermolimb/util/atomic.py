@@ -210,7 +210,8 @@ def replaces(path: str | Path, mine, flag: str) -> bool:
     except (OSError, ValueError):
         ours = False
     if not ours:
-        raise UsageError(f"{flag} {path} exists and was not written by thermolimb; the suite never replaces a file it "
+        raise UsageError(f"{flag} {path} exists and was not written by "
+                         "thermolimb; the suite never replaces a file it "
                          f"did not write: move it away or name another file (nothing was written)")
     return True
 

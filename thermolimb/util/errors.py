@@ -92,5 +92,6 @@ def check_range(owner: str, name: str, value, low: float, high: float, unit: str
         number = math.nan
     if isinstance(value, bool) or not (math.isfinite(number) and low <= number <= high):
         unit = f" {unit}" if unit else ""
-        raise ValueError(f"{owner}: {name} = {value!r} is outside the range expected, {low:g} to {high:g}{unit}")
+        raise ValueError(f"{owner}: {name} = {value!r} is outside the "
+                         f"range expected, {low:g} to {high:g}{unit}")
     return number

@@ -52,7 +52,8 @@ def worker_limit(requested: int) -> tuple[int, str | None]:
     if count == requested:
         return count, None
     held = f"{memory / 1e9:.1f} GB of memory available" if memory is not None else "memory not known"
-    return count, (f"--workers {requested} lowered to {count}: this machine gives the command {cores} core(s) and "
+    return count, (f"--workers {requested} lowered to {count}: this "
+                   f"machine gives the command {cores} core(s) and "
                    f"{held} (about {WORKER_MEMORY_BYTES / 1e6:.0f} MB per worker)")
 
 

@@ -53,8 +53,10 @@ def drift(rows: list[dict], params: tuple[str, ...] = DRIFT_PARAMS, alpha: float
             if moved:
                 k = int(np.argmax(np.abs(v - mean) / s))
                 record["flagged"] = True
-                record["why"].append(f"{p} moves {100 * change:.0f} % across runs (chi2 = {stat:.1f} on {len(v) - 1} "
-                                     f"dof, p = {p_value:.1e}); furthest from the mean in run {runs[k]['run']}")
+                record["why"].append(f"{p} moves {100 * change:.0f} % across "
+                                     f"runs (chi2 = {stat:.1f} on {len(v) - 1} "
+                                     f"dof, p = {p_value:.1e}); furthest "
+                                     f"from the mean in run {runs[k]['run']}")
         record["why"] = "; ".join(record["why"])
         out.append(record)
     return out

@@ -65,7 +65,8 @@ class Evidence:
         """``evidence: 6 validation samples over 31 s (1.2 time constants of RC_s = 25.7 s), 3 distinct
         readings: too thin to rank ...``"""
         head = (f"evidence: {self.samples} validation samples over {significant(self.span_s, 3)} s "
-                f"({self.time_constants:.1f} time constants of RC_s = {significant(self.time_constant_s, 3)} s), "
+                f"({self.time_constants:.1f} time constants of "
+                f"RC_s = {significant(self.time_constant_s, 3)} s), "
                 f"{self.distinct_readings} distinct readings")
         if not self.rankable:
             return (f"{head}: too thin to rank models or recommend a change (at least {MIN_SAMPLES_TO_RANK} "

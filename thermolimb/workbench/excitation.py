@@ -118,8 +118,10 @@ AWAY = 0.05  # away from rest: beyond this share of the channel's 99th percentil
 # ... or, for a temperature, this far from its median (the neighbours': from this actuator's own)
 MOVED_K = 0.5
 CHANNEL_WORDS = {"velocity": "the velocity is away from rest", "current": "the current is away from zero",
-                 "power": "the power is away from zero", "neighbors": "a neighbour's temperature differs by 0.5 K",
-                 "ambient": "the ambient moves by 0.5 K", "housing": "the housing's temperature moves by 0.5 K"}
+                 "power": "the power is away from zero", "neighbors": "a neighbour's temperature "
+                                                                      "differs by 0.5 K",
+                 "ambient": "the ambient moves by 0.5 K", "housing": "the housing's "
+                                                                     "temperature moves by 0.5 K"}
 
 
 @dataclass(frozen=True)
@@ -143,14 +145,18 @@ class ChannelExcitation:
     def sentence(self) -> str:
         """``the velocity is away from rest in 2 of 4395 samples (2 of 3076 fitted on, in 1 bout; 0 of 1319
         judged on, in 0 bouts); ...``"""
-        words = CHANNEL_WORDS.get(self.channel, f"the channel {self.channel.removeprefix('extra.')} is away from "
+        words = CHANNEL_WORDS.get(self.channel, f"the channel {self.channel.removeprefix('extra.')} "
+                                                "is away from "
                                                 f"its usual level")
         (a1, n1, b1), (a2, n2, b2) = self.fitted, self.judged
         if self.level is not None and self.enough(*self.fitted) and self.enough(*self.judged):
-            return (f"{words} in {a1 + a2} of {n1 + n2} samples, but at one level ({self.level:.4g} in magnitude, "
-                    f"within {100 * AWAY:g} % of its largest): a change riding on it acts as a constant there, which "
+            return (f"{words} in {a1 + a2} of {n1 + n2} samples, but "
+                    f"at one level ({self.level:.4g} in magnitude, "
+                    f"within {100 * AWAY:g} % of its largest): a change "
+                    "riding on it acts as a constant there, which "
                     f"the model's own terms already are; it needs the channel at two or more levels")
-        return (f"{words} in {a1 + a2} of {n1 + n2} samples ({a1} of {n1} fitted on, in {b1} bout{'s' * (b1 != 1)}; "
+        return (f"{words} in {a1 + a2} of {n1 + n2} samples ({a1} "
+                f"of {n1} fitted on, in {b1} bout{'s' * (b1 != 1)}; "
                 f"{a2} of {n2} judged on, in {b2} bout{'s' * (b2 != 1)}); at least {MIN_EXCITED} (and "
                 f"{100 * MIN_EXCITED_SHARE:g} %) in two bouts are needed in each")
 
@@ -228,7 +234,8 @@ def refuse_flat(runs: list, name: str) -> None:
     idle = not any(np.any(r.signals.effort) for r in runs)
     why = (" and its effort 0 throughout: a motor that is not connected, or a slot the logger fills in" if idle
            else "")
-    raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} degC on every one of its {values.size} "
+    raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} "
+                          f"degC on every one of its {values.size} "
                           f"samples{why}; a model needs a temperature that changes")
 
 
@@ -250,8 +257,10 @@ def refuse_disturbed(runs: list, name: str) -> None:
         f"the temperature of {name} reads low while it is driven: "
         + (f"it falls by {fall:.1f} K as the effort steps up at {t[a]:g} s and " if fall >= 1.0 else "it ")
         + f"jumps by {jump:.1f} K as the effort steps down at {t[b]:g} s, against the heat put in (a sensor "
-        f"disturbed by the drive, e.g. its electromagnetic noise); driven intervals read so: {where}. A model "
-        f"fitted through them would take heating for cooling, so none is fitted: log the sensor with the drive's "
+        "disturbed by the drive, e.g. its electromagnetic "
+        f"noise); driven intervals read so: {where}. A model "
+        "fitted through them would take heating for cooling, "
+        "so none is fitted: log the sensor with the drive's "
         f"noise filtered or shielded, or give runs whose readings are taken with the drive off")
 
 

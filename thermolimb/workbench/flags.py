@@ -55,20 +55,23 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
                 flags.append(f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or longer "
                              f"({duration:.0f} s): the log shows the start of a change, not its time constant")
             elif v < SHORT_TIME_CONSTANT * dt:
-                flags.append(f"{p.name} = {v:.3g} s is shorter than {SHORT_TIME_CONSTANT:g} sampling intervals "
+                flags.append(f"{p.name} = {v:.3g} s is shorter than "
+                             f"{SHORT_TIME_CONSTANT:g} sampling intervals "
                              f"({dt:.3g} s): the log cannot show it")
             else:
                 flags += [flag for flag in (_uncertain(p, v, stderr.get(p.name), units, cause),) if flag]
             continue
         if p.lower == 0.0 and v <= 1e-6 * scale and not p.nuisance:
-            flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): the log shows no effect of this term"
+            flags.append(f"{p.name} vanishes ({v:.2g} {p.unit_in(units)}): "
+                         "the log shows no effect of this term"
                          f"{cause.wanting(p)}")
             continue
         at_bound = False
         for bound in (p.lower, p.upper):
             if np.isfinite(bound) and bound != 0.0 and abs(v - bound) <= 1e-4 * max(abs(bound), scale):
                 at_bound = True
-                flags.append(f"{p.name} = {v:.3g} {p.unit_in(units)} is at its bound {bound:g}: the fit wants more than "
+                flags.append(f"{p.name} = {v:.3g} {p.unit_in(units)} is at "
+                             f"its bound {bound:g}: the fit wants more than "
                              f"this term can give; another effect is missing")
         flag = None if at_bound else _uncertain(p, v, stderr.get(p.name), units, cause)
         if flag:
@@ -115,13 +118,15 @@ class _Cause:
             return misfit
         partner = _partner(self.model, self.covariance, p.name)
         if partner is not None:
-            return (f"so the log does not pin it down: it trades with {partner[0]} (correlation {partner[1]:+.3f}), "
+            return ("so the log does not pin it down: it trades with "
+                    f"{partner[0]} (correlation {partner[1]:+.3f}), "
                     f"the log fixing a combination of the two rather than each")
         lacking = self._lacking(p)
         if lacking:
             return f"so the log does not pin it down: it lacks {', '.join(lacking)}"
         if lacking is not None and self._small(p):
-            return (f"too small an effect for this log to tell from none, though the log holds what identifying "
+            return ("too small an effect for this log to tell from "
+                    "none, though the log holds what identifying "
                     f"it needs ({counts})")
         return f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
 
@@ -205,7 +210,8 @@ def _uncertain(p, value: float, stderr: float | None, units, cause) -> str | Non
     relative = stderr / abs(value)
     if relative <= MAX_RELATIVE_STDERR:
         return None
-    return (f"{p.name} = {plus_minus(value, stderr)}{spaced(p.unit_in(units))}: its standard error is {100 * relative:.0f} % of "
+    return (f"{p.name} = {plus_minus(value, stderr)}{spaced(p.unit_in(units))}: "
+            f"its standard error is {100 * relative:.0f} % of "
             f"it, {cause(p)}")
 
 
@@ -219,7 +225,8 @@ def _offset_flag(offset_C: float, series: Sequence[ActuatorSeries]) -> str | Non
     margin = max(OFFSET_MARGIN_K, 0.5 * float(np.ptp(measured)))
     if abs(offset_C - reference) > margin:
         return (f"T_offset_C = {offset_C:.1f} degC is {abs(offset_C - reference):.0f} K from {what} "
-                f"({reference:.1f} degC): other terms stand in for the heat balance, or heat flows the model lacks")
+                f"({reference:.1f} degC): other terms stand in for "
+                "the heat balance, or heat flows the model lacks")
     return None
 
 

@@ -37,7 +37,8 @@ def expand_paths(items: Sequence[str | Path], notes: list[str] | None = None) ->
     notes = notes if notes is not None else []
     paths = _once(_expand(items, notes), notes)
     if not paths:
-        raise UsageError(f"{', '.join(map(str, items))}: nothing but fleet tables this suite wrote; expected logs")
+        raise UsageError(f"{', '.join(map(str, items))}: nothing but "
+                         "fleet tables this suite wrote; expected logs")
     return paths
 
 
@@ -51,7 +52,8 @@ def _once(paths: list[Path], notes: list[str]) -> list[Path]:
         else:
             again += 1
     if again:
-        notes.append(f"{again} path(s) led to a log already listed (named twice, matched twice, or through a link): "
+        notes.append(f"{again} path(s) led to a log already listed "
+                     "(named twice, matched twice, or through a link): "
                      f"each log read once")
     return out
 
@@ -179,7 +181,8 @@ def fleet_jobs(logs, actuators: Sequence[str] | None = None) -> list[FleetJob]:
 
 def _check(scheme: Scheme) -> None:
     if scheme.kind == RUNS:
-        raise UsageError("--cv runs leaves a run out, but a fleet fits each run on its own; use --cv K or --split")
+        raise UsageError("--cv runs leaves a run out, but a fleet fits "
+                         "each run on its own; use --cv K or --split")
 
 
 def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output_error", diagnose: bool = False,

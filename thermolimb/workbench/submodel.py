@@ -142,8 +142,10 @@ def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], asid
     levels = effort_levels(series)
     for term in [t for t in reversed(alone) if t != primary][:max(len(alone) - max(levels - 1, 1), 0)]:
         aside.append({"term": term, "reason": f"this log holds its effort at {levels} distinct level"
-                      f"{'s' if levels != 1 else ''}, which pin the offset and {max(levels - 1, 0)} coefficient"
-                      f"{'s' if levels != 2 else ''} of heat from the effort alone at most; identifying {term} needs "
+                      f"{'s' if levels != 1 else ''}, which pin the "
+                      f"offset and {max(levels - 1, 0)} coefficient"
+                      f"{'s' if levels != 2 else ''} of heat from the "
+                      f"effort alone at most; identifying {term} needs "
                       f"{_needs(term)}"})
         model = tuple(t for t in model if t != term)
     for term in [t for t in reversed(alone) if t != primary and t in model]:
@@ -151,10 +153,13 @@ def within_levels(model: tuple[str, ...], series: Sequence[ActuatorSeries], asid
         shares = own_shares(series, rest)
         if shares is not None and shares[term] < OWN_SHARE <= shares["T_offset_C"]:
             others = ", ".join(f"{t}'s" for t in rest if t != term)
-            aside.append({"term": term, "reason": f"this log's effort moves the input of {term} almost only as it "
-                          f"moves {others} and the offset's: {100 * shares[term]:.1f} % of its variation is its own, "
+            aside.append({"term": term, "reason": "this log's effort moves the "
+                                                  f"input of {term} almost only as it "
+                          f"moves {others} and the offset's: "
+                          f"{100 * shares[term]:.1f} % of its variation is its own, "
                           f"under the {100 * OWN_SHARE:g} % asked of a coefficient fitted beside theirs (the "
-                          f"offset's: {100 * shares['T_offset_C']:.0f} %); identifying {term} needs {_needs(term)}"})
+                          f"offset's: {100 * shares['T_offset_C']:.0f} "
+                          f"%); identifying {term} needs {_needs(term)}"})
             model = tuple(t for t in model if t != term)
     return model
 
@@ -179,7 +184,8 @@ def check_datasheet(datasheet: Mapping[str, float], *models: Sequence[str]) -> N
                            f"{', '.join(params)}")
         p = params[name]
         if not (np.isfinite(value) and p.lower <= value <= p.upper):
-            raise LogError(f"--datasheet {name}={value:g} is outside what {name} can be ({p.lower:g} to {p.upper:g} "
+            raise LogError(f"--datasheet {name}={value:g} is outside what "
+                           f"{name} can be ({p.lower:g} to {p.upper:g} "
                            f"{p.unit})")
 
 

@@ -116,11 +116,13 @@ class Scheme:
         if self.kind == RUNS:
             return "leave one run out: each run predicted from its first reading by the model fitted on the others"
         if self.kind == PARTS:
-            return (f"leave one part out: each run in {self.parts} parts, each predicted from its first reading by the "
+            return (f"leave one part out: each run in {self.parts} "
+                    "parts, each predicted from its first reading by the "
                     f"model fitted on the others")
         if self.kind == INTERLEAVED:
             held = ", ".join(str(b + 1) for b in held_blocks())
-            return (f"interleaved blocks: blocks {held} of {INTERLEAVED_BLOCKS} of each run held out, the free run "
+            return (f"interleaved blocks: blocks {held} of "
+                    f"{INTERLEAVED_BLOCKS} of each run held out, the free run "
                     f"carried from the run's start through them")
         if self.kind == AUTO:
             return "leave one run out with several runs, a split of one run otherwise"
@@ -311,15 +313,18 @@ def scheme_folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
             block = block_index(s, scheme.phase)
             held = np.isin(block, held_blocks())
             if np.count_nonzero(held) < MIN_SAMPLES // 4 or np.count_nonzero(~held) < MIN_SAMPLES // 2:
-                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few to hold blocks out "
-                               f"(at least {MIN_SAMPLES // 2} to fit and {MIN_SAMPLES // 4} to validate are needed); "
+                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} "
+                               "samples are too few to hold blocks out "
+                               f"(at least {MIN_SAMPLES // 2} to fit and "
+                               f"{MIN_SAMPLES // 4} to validate are needed); "
                                f"use a longer log, or several runs")
             fit_on.append(replace(s, fit_mask=~held))
             scored.append((s, _runs_of(held)))
         return [(fit_on, scored)]
     if scheme.kind == RUNS:
         if len(series) < 2:
-            raise LogError(f"actuator {series[0].actuator}: --cv runs needs at least two runs (several logs, or a log "
+            raise LogError(f"actuator {series[0].actuator}: --cv runs needs "
+                           "at least two runs (several logs, or a log "
                            f"with pauses); this one has {len(series)}")
         return [([o for o in series if o is not s], [(s, [(0, s.n)])]) for s in series]
     if scheme.kind == PARTS:
@@ -329,7 +334,8 @@ def scheme_folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
             edges = [0, *map(int, edges), s.n]
             if np.min(np.diff(edges)) < MIN_SAMPLES:
                 raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few to hold out "
-                               f"{scheme.parts} parts of it (each needs at least {MIN_SAMPLES}); use a longer log, or "
+                               f"{scheme.parts} parts of it (each needs at "
+                               f"least {MIN_SAMPLES}); use a longer log, or "
                                f"several runs")
             parts += [replace(s.slice(lo, hi), run=f"{s.run + ' ' if s.run else ''}part {k + 1}")
                       for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:]))]
@@ -339,8 +345,10 @@ def scheme_folds(series: list[ActuatorSeries], scheme: Scheme) -> list[Fold]:
         for s in series:
             edges = np.linspace(0, s.n, scheme.folds + 1).astype(int)
             if np.min(np.diff(edges)) < MIN_SAMPLES // 2:
-                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} samples are too few for {scheme.folds} "
-                               f"folds (each needs at least {MIN_SAMPLES // 2}); use fewer folds or a longer log")
+                raise LogError(f"actuator {s.actuator}{s.run_label}: {s.n} "
+                               f"samples are too few for {scheme.folds} "
+                               f"folds (each needs at least {MIN_SAMPLES // 2}); "
+                               "use fewer folds or a longer log")
             for lo, hi in zip(edges[:-1], edges[1:]):
                 pieces = [p for p in (s.slice(0, lo), s.slice(hi, s.n)) if p.n >= MIN_SAMPLES // 2]
                 folds.append((pieces + [o for o in series if o is not s], [(s, [(int(lo), int(hi))])]))

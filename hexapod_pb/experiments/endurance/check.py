@@ -52,7 +52,8 @@ def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str
     going with the thermal plant stepped every control period.
     """
     if strategy in THERMAL_STRATEGIES:
-        raise ValueError("check a strategy whose torques do not depend on the temperatures (one cycle propagated)")
+        raise ValueError("check a strategy whose torques do not depend "
+                         "on the temperatures (one cycle propagated)")
     cycle = measure_cycle(payload_kg, mode, strategy, ambient_C, seed=seed)
     if cycle.fell:
         raise ValueError(f"the robot cannot {mode} with {payload_kg} kg under {strategy}: nothing to check")

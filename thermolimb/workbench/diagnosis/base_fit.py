@@ -41,8 +41,10 @@ def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[Fit
     (won, won_K, won_word), (lost, lost_K, lost_word) = sorted(
         [(rival, c, "current"), (base, e, "effort")], key=lambda x: x[2] != ("current" if current_wins else "effort"))
     lower = units[0] if current_wins else units[1] - units[0]
-    sentence = (f"heat source: Joule heating from {won_word} squared ({','.join(won.model.terms)}), held-out RMSE "
-                f"{won_K:.3f} K, against {lost_K:.3f} K from {lost_word} squared ({','.join(lost.model.terms)}); "
+    sentence = (f"heat source: Joule heating from {won_word} squared "
+                f"({','.join(won.model.terms)}), held-out RMSE "
+                f"{won_K:.3f} K, against {lost_K:.3f} K from "
+                f"{lost_word} squared ({','.join(lost.model.terms)}); "
                 f"lower on {lower} of {units[1]} held-out {base.units}")
     # what the effort's model set aside is said even where the current's wins: the walk starts without it
     sentence += "".join(f"; from effort squared, {a['term']} set aside: {a['reason']}" for a in base.set_aside

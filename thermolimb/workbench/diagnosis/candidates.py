@@ -321,7 +321,8 @@ def confounded_swap(cand: Candidate, series: list[ActuatorSeries]) -> str | None
         return None
     r = float(np.corrcoef(xa, xb)[0, 1])
     if abs(r) >= COLLINEAR:
-        return (f"{cand.effect} and {cand.replaces} move together on this log (correlation {r:.4f}): it cannot tell "
+        return (f"{cand.effect} and {cand.replaces} move together "
+                f"on this log (correlation {r:.4f}): it cannot tell "
                 f"them apart; a log in which their inputs vary apart (e.g. current without torque) can")
     return None
 

@@ -103,7 +103,8 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
         # offered where the model has that mass (the term requires it)
         for mass, words in slow_masses().items():
             param = f"{ident}_{mass}_conductance_per_unit"
-            forms.append((f"{mass}_conductance", f"the conductance of {words} to ambient changes with {shown} (a fan "
+            forms.append((f"{mass}_conductance", f"the conductance of {words} to "
+                                                 f"ambient changes with {shown} (a fan "
                           f"on the housing)", [Feature(
                               param, f"1/({template})", column, "value", f"{channel} on {mass}",
                               f"{shown} on the conductance of {words}", lower=lower, upper=upper,

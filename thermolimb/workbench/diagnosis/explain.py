@@ -51,10 +51,12 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
         if corr.significant:
             parts.append(f"the residual correlates with {channel} ({peak})")
         elif c.helps:
-            parts.append(f"no sign of it in the residual's correlation with {channel} alone ({peak}); the score "
+            parts.append("no sign of it in the residual's correlation "
+                         f"with {channel} alone ({peak}); the score "
                          f"test and the held-out data carry it")
         elif c.p_value is not None and c.p_value < SCORE_P_VALUE:
-            parts.append(f"no sign of it in the residual's correlation with {channel} alone ({peak}); only the "
+            parts.append("no sign of it in the residual's correlation "
+                         f"with {channel} alone ({peak}); only the "
                          f"score test sees it")
         else:
             parts.append(f"the residual does not correlate significantly with {channel} ({peak})")
@@ -63,8 +65,10 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
                      f"(RMSE {ph['hot']:.2f} K hot vs {ph['cool']:.2f} K cool)")
     elif sign in PHASES and sign != HOT_AND_COOL:
         slow = analysis.autocorrelation.values[-1]
-        parts.append(f"looking for {sign}: residual autocorrelation {slow:+.2f} at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
-                     f"RMSE {ph.get('heating', float('nan')):.2f} K heating vs {ph.get('cool', float('nan')):.2f} K cool")
+        parts.append(f"looking for {sign}: residual autocorrelation {slow:+.2f} "
+                     f"at {analysis.autocorrelation.lags_s[-1]:.0f} s, "
+                     f"RMSE {ph.get('heating', float('nan')):.2f} K "
+                     f"heating vs {ph.get('cool', float('nan')):.2f} K cool")
     if c.kind == "drop":
         parts.append(f"without {c.effect}")
     elif c.kind == "swap":
@@ -74,15 +78,19 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
     if c.failure:
         parts.append(f"refit failed: {c.failure}")
         if getattr(TERMS.get(c.effect), "carries_state", False) and (c.improvement or 0.0) >= MIN_IMPROVEMENT:
-            parts.append(f"yet the held-out error falls from {base_rmse:.3f} K to {c.rmse_K:.3f} K by where it starts "
-                         f"its state on each run alone: a run that does not begin in a steady state, or a mass slower "
-                         f"than this log can size (runs from rest long enough to show it, or several duties, tell)")
+            parts.append(f"yet the held-out error falls from {base_rmse:.3f} "
+                         f"K to {c.rmse_K:.3f} K by where it starts "
+                         "its state on each run alone: a run that does "
+                         "not begin in a steady state, or a mass slower "
+                         "than this log can size (runs from rest long "
+                         "enough to show it, or several duties, tell)")
     elif c.refitted:
         if c.kind == "channel":
             parts.append(_fitted(c))
         parts.append(f"validation RMSE goes from {base_rmse:.3f} K to {c.rmse_K:.3f} K")
         if c.units is not None and c.units[1] + _still(c) > 1:
-            still = (f" ({_still(c)} more held out near steady state, its readings spanning under a tenth of the "
+            still = (f" ({_still(c)} more held out near steady state, "
+                     "its readings spanning under a tenth of the "
                      f"widest's: no dynamics to judge on)" if _still(c) else "")
             parts.append(f"lower on {c.units[0]} of {c.units[1]} held-out {c.unit_word}{still}"
                          + ("" if 2 * c.units[0] > c.units[1] else ", not most of them: not taken"))
@@ -92,7 +100,8 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
             parts.append("the simpler model is no worse on held-out data" if c.improvement < 0.05
                          else "the term extrapolated badly beyond the training data")
         if c.plausible is False:
-            parts.append(f"it fits, but is physically implausible ({c.implausible_because}): it stands in for "
+            parts.append("it fits, but is physically implausible "
+                         f"({c.implausible_because}): it stands in for "
                          f"something else")
         if c.identifiable is False:
             parts.append("but this log does not pin its value down")
@@ -106,7 +115,8 @@ def _fitted(c: Candidate) -> str:
 
 def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:
     """A discovered form's evidence: what it is, how it was chosen, what the refit and held-out data say."""
-    parts = [(f"a discovered form, not a known effect: heat = {proposal.formula} ({proposal.words}); chosen by "
+    parts = [("a discovered form, not a known effect: heat = "
+              f"{proposal.formula} ({proposal.words}); chosen by "
               f"sparse regression among {proposal.library_size} library features, it explains "
               f"{100 * proposal.partial_r2:.0f} % of the residual the model cannot")]
     if c.confounded:

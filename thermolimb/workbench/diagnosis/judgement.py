@@ -174,6 +174,7 @@ def held_out_support(base_segments, segments) -> tuple[tuple[int, int, int], flo
     robust = 1.0 - float(np.sqrt(np.sum(ec[rest] ** 2) / max(np.sum(eb[rest] ** 2), 1e-300)))
     fragile = None
     if robust < KEPT_GAIN * MIN_IMPROVEMENT:
-        fragile = (f"the held-out gain rests on its {k} most influential samples (of {eb.size}): without them the "
+        fragile = (f"the held-out gain rests on its {k} most influential "
+                   f"samples (of {eb.size}): without them the "
                    f"error falls by {100 * robust:.1f} %, short of {100 * KEPT_GAIN * MIN_IMPROVEMENT:.0f} %")
     return (lower, len(moving), len(units) - len(moving)), robust, fragile

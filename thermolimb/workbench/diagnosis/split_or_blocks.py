@@ -117,8 +117,10 @@ def placed(scheme: Scheme, series) -> Scheme:
     if count == 0:
         return scheme
     at = ", ".join(f"{t - t0:.0f} s" for t0, span, t in steps)
-    return replace(scheme, phase=float(best), why=f"{scheme.why}; the blocks moved by {best:+.2f} of a block so that "
-                   f"held-out ones hold {count} of the effort's {len(steps)} step(s) (at {at}) in their middle half, "
+    return replace(scheme, phase=float(best), why=f"{scheme.why}; the blocks moved "
+                                                  f"by {best:+.2f} of a block so that "
+                   f"held-out ones hold {count} of the effort's "
+                   f"{len(steps)} step(s) (at {at}) in their middle half, "
                    f"where they held none")
 
 
