@@ -86,22 +86,36 @@ class HexapodLoadCarryEnv(RigEnv):
     OUTCOME = "distance_m"
     JOINTS = JOINTS
 
-    def __init__(self, max_time_s: float = 60.0, decision_s: float = DECISION_S, render_mode: str | None = None,
-                 payload_range_kg: tuple[float, float] = (0.0, 5.0), ambient_range_C: tuple[float, float] = (20.0, 35.0),
-                 initial_temperature_range_C: tuple[float, float] = (40.0, 110.0), distance_weight_per_m: float = 1.0,
-                 overheat_weight_per_K: float = 0.05, overheat_from_C: float = LIMITS.warning_C,
-                 fall_penalty: float = 100.0, live: int | None = None):
+    def __init__(
+        self,
+        max_time_s: float = 60.0,
+        decision_s: float = DECISION_S,
+        render_mode: str | None = None,
+        payload_range_kg: tuple[float, float] = (0.0, 5.0),
+        ambient_range_C: tuple[float, float] = (20.0, 35.0),
+        initial_temperature_range_C: tuple[float, float] = (40.0, 110.0),
+        distance_weight_per_m: float = 1.0,
+        overheat_weight_per_K: float = 0.05,
+        overheat_from_C: float = LIMITS.warning_C,
+        fall_penalty: float = 100.0,
+        live: int | None = None,
+    ):
         super().__init__(max_time_s, decision_s, render_mode)
         self.live = checked_port(live)
         self.payload_range_kg = checked_range("payload_range_kg", payload_range_kg, 0.0, 50.0)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
-        self.initial_temperature_range_C = checked_range("initial_temperature_range_C", initial_temperature_range_C,
-                                                         -40.0, 150.0)
+        self.initial_temperature_range_C = checked_range(
+            "initial_temperature_range_C", initial_temperature_range_C, -40.0, 150.0
+        )
         self.distance_weight_per_m = float(distance_weight_per_m)
         self.overheat_weight_per_K = float(overheat_weight_per_K)
         self.overheat_from_C = float(overheat_from_C)
-        checked_finite(distance_weight_per_m=distance_weight_per_m, overheat_weight_per_K=overheat_weight_per_K,
-                       overheat_from_C=overheat_from_C, fall_penalty=fall_penalty)
+        checked_finite(
+            distance_weight_per_m=distance_weight_per_m,
+            overheat_weight_per_K=overheat_weight_per_K,
+            overheat_from_C=overheat_from_C,
+            fall_penalty=fall_penalty,
+        )
         self.fall_penalty = float(fall_penalty)
         self.action_space = spaces.Box(0.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(18, -50.0), np.zeros(18), np.full(3, -10.0), 0.0].astype(np.float32)
@@ -113,8 +127,10 @@ class HexapodLoadCarryEnv(RigEnv):
         rng = self.np_random
         self.payload_kg = float(rng.uniform(*self.payload_range_kg))
         ambient = float(rng.uniform(*self.ambient_range_C))
-        self.sim = HexapodSim(config=SimConfig(payload_kg=self.payload_kg, ambient_C=ambient, log_capacity=self.LOG_CAPACITY),
-                              seed=int(rng.integers(2**31)))
+        self.sim = HexapodSim(
+            config=SimConfig(payload_kg=self.payload_kg, ambient_C=ambient, log_capacity=self.LOG_CAPACITY),
+            seed=int(rng.integers(2**31)),
+        )
         self.sim.plant.set_temperatures(rng.uniform(*self.initial_temperature_range_C, 18))
         self.loop = ControlLoop(self.sim, DAISY, cpg.CPGParams(), self.payload_kg,
                                 thermal=ThermalContext(datasheet_bank(ambient_C=ambient)))
@@ -165,7 +181,14 @@ class HexapodLoadCarryEnv(RigEnv):
     def _info(self, terms: dict) -> dict:
         reading = self.loop.reading
         solution = self.loop.solution
-        return {"reward_terms": terms, "time_s": self.sim.time_s, "distance_m": float(reading.body_position_m[0]),
-                "max_temperature_C": float(reading.temperature_C.max()), "fell": self.fallen,
-                "payload_kg": self.payload_kg, "stance_solver": None if solution is None else solution.label,
-                "stance_fallbacks": self.loop.fallbacks, **self.sim.plant_faults()}
+        return {
+            "reward_terms": terms,
+            "time_s": self.sim.time_s,
+            "distance_m": float(reading.body_position_m[0]),
+            "max_temperature_C": float(reading.temperature_C.max()),
+            "fell": self.fallen,
+            "payload_kg": self.payload_kg,
+            "stance_solver": None if solution is None else solution.label,
+            "stance_fallbacks": self.loop.fallbacks,
+            **self.sim.plant_faults(),
+        }

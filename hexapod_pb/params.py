@@ -52,8 +52,18 @@ class DaisyParams:
             raise ValueError(f"DaisyParams needs one mount angle and radius per leg ({len(LEGS)})")
         if len(self.actuators) != len(JOINT_KINDS):
             raise ValueError(f"DaisyParams needs one actuator per joint kind ({', '.join(JOINT_KINDS)})")
-        positive = ("bracket_m", "upper_link_m", "lower_link_m", "foot_radius_m", "body_mass_kg", "x8_9_mass_kg",
-                    "x8_16_mass_kg", "foot_mass_kg", "nominal_body_height_m", "nominal_foot_reach_m")
+        positive = (
+            "bracket_m",
+            "upper_link_m",
+            "lower_link_m",
+            "foot_radius_m",
+            "body_mass_kg",
+            "x8_9_mass_kg",
+            "x8_16_mass_kg",
+            "foot_mass_kg",
+            "nominal_body_height_m",
+            "nominal_foot_reach_m",
+        )
         bad = [n for n in positive if not getattr(self, n) > 0]
         if bad:
             raise ValueError(f"DaisyParams: {', '.join(bad)} must be positive")

@@ -13,5 +13,9 @@ from thermolimb.envs.policies import constant_policy
 
 POLICIES = {
     name: constant_policy(np.array(action, dtype=np.float32))
-    for name, action in (("vertical_only", [1, 0, 0, 1]), ("minimax", [0, 1, 0, 1]), ("thermal_aware", [0, 0, 1, 1]))
+    for name, action in (
+        ("vertical_only", [1, 0, 0, 1]),
+        ("minimax", [0, 1, 0, 1]),
+        ("thermal_aware", [0, 0, 1, 1]),
+    )
 }

@@ -50,14 +50,29 @@ class HexapodSim(BulletRig):
                  protection: ThermalProtection = ThermalProtection()):
         self.params = params
         height = params.nominal_body_height_m + (0.3 if config.fixed_base else 0.0)
-        super().__init__(urdf_path(), JOINTS, FEET, JOINTS, params.joint_actuators, params.effort_limit_Nm, config, [0, 0, height],
-                         plant_effects=plant_effects, seed=seed, protection=protection)
-        self.client.changeDynamics(self.robot, self.link_index[PAYLOAD_LINK], mass=max(config.payload_kg, 1e-3))
+        super().__init__(
+            urdf_path(),
+            JOINTS,
+            FEET,
+            JOINTS,
+            params.joint_actuators,
+            params.effort_limit_Nm,
+            config,
+            [0, 0, height],
+            plant_effects=plant_effects,
+            seed=seed,
+            protection=protection,
+        )
+        self.client.changeDynamics(
+            self.robot, self.link_index[PAYLOAD_LINK], mass=max(config.payload_kg, 1e-3)
+        )
         self.reset_stance()
 
     def stance_angles(self, body_p_feet: np.ndarray | None = None) -> np.ndarray:
         """Joint angles (18,) putting each foot at ``body_p_feet`` (6 x 3), default the nominal stance."""
-        feet = [nominal_foot(self.params, i) for i in range(len(LEGS))] if body_p_feet is None else body_p_feet
+        feet = (
+            [nominal_foot(self.params, i) for i in range(len(LEGS))] if body_p_feet is None else body_p_feet
+        )
         return np.concatenate([inverse_kinematics(self.params, i, feet[i]) for i in range(len(LEGS))])
 
     def reset_stance(self, q: np.ndarray | None = None) -> None:

@@ -15,8 +15,14 @@ from .scenarios import DEFAULT, Scenario
 from .sim import HumanoidSim
 
 
-def calibrate(duration_s: float, seed: int = 0, *, quiet: bool = True, specs: Sequence[ActuatorSpec] | None = None,
-              scenario: str | Scenario = DEFAULT) -> Calibration:
+def calibrate(
+    duration_s: float,
+    seed: int = 0,
+    *,
+    quiet: bool = True,
+    specs: Sequence[ActuatorSpec] | None = None,
+    scenario: str | Scenario = DEFAULT,
+) -> Calibration:
     """A calibration run (double support, then each foot, in turn) and the models identified from its log.
 
     ``specs``: the robot's actuators if they are not the datasheet's (the calibration runs on the robot;
@@ -29,7 +35,9 @@ def calibrate(duration_s: float, seed: int = 0, *, quiet: bool = True, specs: Se
         schedule = ["right", "double", "left", "double"]
         phase_s = duration_s / len(schedule)
         k = 0
-        for step in progress(range(int(duration_s / sim.config.control_dt_s)), desc="calibration", disable=quiet):
+        for step in progress(
+            range(int(duration_s / sim.config.control_dt_s)), desc="calibration", disable=quiet
+        ):
             if sim.time_s >= k * phase_s and k < len(schedule) and not ex.moving:
                 ex.go(schedule[k])
                 k += 1

@@ -113,12 +113,23 @@ class HumanoidThermalRecoveryEnv(RigEnv):
     OUTCOME = "recovery_s"
     JOINTS = JOINTS
 
-    def __init__(self, action_type: str = "mode", max_time_s: float = 90.0, render_mode: str | None = None,
-                 actuator_specs: Sequence[ActuatorSpec] | None = None,
-                 ambient_range_C: tuple[float, float] = (20.0, 30.0), hot_range_C: tuple[float, float] = (72.0, 80.0),
-                 cool_range_C: tuple[float, float] = (35.0, 50.0), housing_warming_K: float = HOUSING_WARMING_K,
-                 cooling_weight_per_K: float = 1.0, warning_weight: float = 0.5, fall_penalty: float = 100.0,
-                 effort_weight: float = 0.01, scenario: str = DEFAULT, live: int | None = None):
+    def __init__(
+        self,
+        action_type: str = "mode",
+        max_time_s: float = 90.0,
+        render_mode: str | None = None,
+        actuator_specs: Sequence[ActuatorSpec] | None = None,
+        ambient_range_C: tuple[float, float] = (20.0, 30.0),
+        hot_range_C: tuple[float, float] = (72.0, 80.0),
+        cool_range_C: tuple[float, float] = (35.0, 50.0),
+        housing_warming_K: float = HOUSING_WARMING_K,
+        cooling_weight_per_K: float = 1.0,
+        warning_weight: float = 0.5,
+        fall_penalty: float = 100.0,
+        effort_weight: float = 0.01,
+        scenario: str = DEFAULT,
+        live: int | None = None,
+    ):
         super().__init__(max_time_s, DECISION_S, render_mode)
         self.live = checked_port(live)
         self.scenario = get_scenario(scenario)
@@ -140,9 +151,19 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         self.action_type = action_type
         self.limits = effort_limits(VALKYRIE)
         self.n_act = len(ACTUATORS)
-        self.action_space = spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
-        low = np.r_[np.full(23, -50.0), np.full(23, -10.0), np.zeros(3), 0.0, -np.pi, -np.pi, np.full(6, -50.0),
-                    np.full(2, -2.0)].astype(np.float32)
+        self.action_space = (
+            spaces.Discrete(3) if action_type == "mode" else spaces.Box(-1.0, 1.0, (4,), np.float32)
+        )
+        low = np.r_[
+            np.full(23, -50.0),
+            np.full(23, -10.0),
+            np.zeros(3),
+            0.0,
+            -np.pi,
+            -np.pi,
+            np.full(6, -50.0),
+            np.full(2, -2.0),
+        ].astype(np.float32)
         high = np.r_[np.full(23, 400.0), np.full(23, 10.0), np.ones(3), 3.0, np.pi, np.pi, np.full(6, 50.0),
                      np.full(2, 2.0)].astype(np.float32)
         self.observation_space = spaces.Box(low, high, dtype=np.float32)
@@ -163,7 +184,9 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(*self.hot_range_C)
         housings = ambient + rng.uniform(0.0, self.housing_warming_K, self.n_act)
-        config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY)
+        config = RigConfig(
+            physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY
+        )
         self.sim = HumanoidSim(config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs,
                                scenario=self.scenario)
         self.sim.plant.set_temperatures(temperatures, rest_C=housings)
@@ -183,7 +206,10 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for _ in range(steps):
             self.reading = self.executor.tick(self.reading)
             warning += np.sum(self.reading.temperature_C > LIMITS.warning_C) / steps
-            if self.hot_recovery_s is None and self.reading.temperature_C[self.hot_leg].max() < LIMITS.recovered_C:
+            if (
+                self.hot_recovery_s is None
+                and self.reading.temperature_C[self.hot_leg].max() < LIMITS.recovered_C
+            ):
                 self.hot_recovery_s = self.sim.time_s
             if self.reading.base_position_m[2] < FALLEN_PELVIS_HEIGHT_M:
                 self.fallen = True
@@ -198,7 +224,13 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         recovered = bool(self.reading.temperature_C.max() < LIMITS.recovered_C)
         terminated = recovered or self.fallen
         truncated = self._end_step(terminated)
-        return self._observation(), float(sum(terms.values())), terminated, truncated, self._info(terms, recovered)
+        return (
+            self._observation(),
+            float(sum(terms.values())),
+            terminated,
+            truncated,
+            self._info(terms, recovered),
+        )
 
     def render(self):
         if self.render_mode == "rgb_array" and self.sim is not None:

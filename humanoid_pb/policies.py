@@ -31,7 +31,9 @@ def _identified(env, specs, duration_s: float, seed: int):
 class HumanoidModePolicy:
     """Re-plans the contact mode every ``replan_s`` of simulated time with a :class:`ContactModePlanner`."""
 
-    def __init__(self, objective: str, replan_s: float = 6.0, calibration_s: float = CALIBRATION_S, seed: int = 0):
+    def __init__(
+        self, objective: str, replan_s: float = 6.0, calibration_s: float = CALIBRATION_S, seed: int = 0
+    ):
         self.objective = objective
         self.replan_s = replan_s
         self.calibration_s = calibration_s

@@ -51,11 +51,19 @@ from thermolimb.util.frozen import FrozenMapping
 from .constants import joint_kind
 
 # actuator type of each joint kind, from Valkyrie's published effort limits (facts.md); rods are "linear"
-ACTUATOR_TYPES = FrozenMapping({
-    "hip_roll": "rotary_350", "hip_pitch": "rotary_350", "knee": "rotary_350",
-    "hip_yaw": "rotary_190", "torso_yaw": "rotary_190", "shoulder_pitch": "rotary_190", "shoulder_roll": "rotary_190",
-    "shoulder_yaw": "rotary_65", "elbow": "rotary_65",
-})
+ACTUATOR_TYPES = FrozenMapping(
+    {
+        "hip_roll": "rotary_350",
+        "hip_pitch": "rotary_350",
+        "knee": "rotary_350",
+        "hip_yaw": "rotary_190",
+        "torso_yaw": "rotary_190",
+        "shoulder_pitch": "rotary_190",
+        "shoulder_roll": "rotary_190",
+        "shoulder_yaw": "rotary_65",
+        "elbow": "rotary_65",
+    }
+)
 TYPES = ("rotary_350", "rotary_190", "rotary_65", "linear")
 
 
@@ -83,7 +91,9 @@ class Scenario:
         if missing:
             raise ValueError(f"Scenario {self.name!r}: no continuous fraction "
                              f"for actuator type(s) {', '.join(missing)}")
-        if any(not 0.0 < f <= 1.0 for f in (*self.continuous_fraction.values(), *self.actuator_fraction.values())):
+        if any(
+            not 0.0 < f <= 1.0 for f in (*self.continuous_fraction.values(), *self.actuator_fraction.values())
+        ):
             raise ValueError(f"Scenario {self.name!r}: continuous fractions must be in (0, 1]")
         if not 0.0 < self.crouch_depth_rad < 1.0:
             raise ValueError(f"Scenario {self.name!r}: crouch depth "
@@ -101,15 +111,23 @@ class Scenario:
 COPPER_LOSS_AT_30_PCT_W = 40.0  # the uniform rule, derived in humanoid_pb.thermal from TIME_TO_WARNING_S
 UNIFORM = FrozenMapping(dict.fromkeys(TYPES, 0.3))
 SCENARIOS = {
-    "ankle": Scenario("ankle", 0.3, COPPER_LOSS_AT_30_PCT_W, UNIFORM,
-                      "the crouch (0.3 rad), one sizing for every "
-                      "actuator: the stance ankle's rods run hottest"),
+    "ankle": Scenario(
+        "ankle",
+        0.3,
+        COPPER_LOSS_AT_30_PCT_W,
+        UNIFORM,
+        "the crouch (0.3 rad), one sizing for every actuator: the stance ankle's rods run hottest",
+    ),
     # 27.25 W in the knee at 44.5 % of its limit on one leg: 27.25 * (0.30 / 0.445)^2 = 12.4 W at 30 %
-    "walking": Scenario("walking", 0.45, 12.4,
-                        FrozenMapping({"rotary_350": 0.30, "rotary_190": 0.30, "rotary_65": 0.30, "linear": 0.45}),
-                        "bent knees near walking height (0.45 rad), "
-                        "actuators sized by type: the stance knee runs "
-                        "hottest and stays loaded in double support"),
+    "walking": Scenario(
+        "walking",
+        0.45,
+        12.4,
+        FrozenMapping({"rotary_350": 0.30, "rotary_190": 0.30, "rotary_65": 0.30, "linear": 0.45}),
+        "bent knees near walking height (0.45 rad), "
+        "actuators sized by type: the stance knee runs "
+        "hottest and stays loaded in double support",
+    ),
 }
 DEFAULT = "ankle"
 

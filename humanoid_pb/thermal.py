@@ -47,7 +47,9 @@ VALKYRIE_NETWORK = ThermalNetwork(("winding", "housing"), (20.0, 2000.0), (2.0, 
 TIME_TO_WARNING_S = 100.0  # single-leg balancing: 25 -> 75 degC at the hottest actuator's static effort
 
 
-def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario = DEFAULT) -> list[ActuatorSpec]:
+def actuator_specs(
+    params: ValkyrieParams = VALKYRIE, scenario: str | Scenario = DEFAULT
+) -> list[ActuatorSpec]:
     """One spec per actuator (ACTUATORS order): 0.5 ohm windings sized by the ``scenario``
     (:mod:`humanoid_pb.scenarios`; the default is the rule above, ``COPPER_LOSS_AT_30_PCT_W`` at 30 % of the
     limit)."""
@@ -56,8 +58,19 @@ def actuator_specs(params: ValkyrieParams = VALKYRIE, scenario: str | Scenario =
     for name in ACTUATORS:
         limit = params.rod_force_limit_N if "_rod_" in name else params.effort_limit(name)
         per_amp = sizing.effort_per_amp(name, limit, 0.5)
-        specs.append(ActuatorSpec(name.split("_")[-1], per_amp, 0.5, limit, 0.4 * limit, 6.0, VALKYRIE_NETWORK,
-                                  winding_limit_C=LIMITS.winding_C[ACTUATORS.index(name)], driver=None))
+        specs.append(
+            ActuatorSpec(
+                name.split("_")[-1],
+                per_amp,
+                0.5,
+                limit,
+                0.4 * limit,
+                6.0,
+                VALKYRIE_NETWORK,
+                winding_limit_C=LIMITS.winding_C[ACTUATORS.index(name)],
+                driver=None,
+            )
+        )
     return specs
 
 

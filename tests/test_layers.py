@@ -275,7 +275,7 @@ def test_the_catalog_keeps_its_order():
                                 "third_node", "sensor_lag"]
 
 
-LONG_LINES_AT_MOST = 508  # lines over ruff's 110 characters in the three packages: the count only falls
+LONG_LINES_AT_MOST = 101  # lines over ruff's 110 characters in the three packages: the count only falls
 
 
 def test_lines_over_110_characters_only_fall():

@@ -74,7 +74,9 @@ class Forecast:
         if self.measured_crossing_s is None:
             return None
         low, high = self.interval_s
-        return (low is not None and low <= self.measured_crossing_s) and (high is None or self.measured_crossing_s <= high)
+        return (low is not None and low <= self.measured_crossing_s) and (
+            high is None or self.measured_crossing_s <= high
+        )
 
     @property
     def measured_error_K(self) -> tuple[float, float] | None:
@@ -87,13 +89,22 @@ class Forecast:
 
     def to_json(self) -> dict:
         error = self.measured_error_K
-        return {"actuator": self.actuator, "threshold_C": self.threshold_C, "start_C": self.start_C,
-                "level": self.level, "horizon_s": self.horizon_s, "time_to_threshold_s": self.time_to_threshold_s,
-                "interval_s": list(self.interval_s), "model_error_K": self.model_error_K,
-                "measured_rmse_K": None if error is None else error[0],
-                "measured_max_error_K": None if error is None else error[1],
-                "measured_crossing_s": self.measured_crossing_s, "covers_measured": self.covers_measured,
-                "peak_predicted_C": float(np.max(self.predicted_C)), "notes": list(self.notes)}
+        return {
+            "actuator": self.actuator,
+            "threshold_C": self.threshold_C,
+            "start_C": self.start_C,
+            "level": self.level,
+            "horizon_s": self.horizon_s,
+            "time_to_threshold_s": self.time_to_threshold_s,
+            "interval_s": list(self.interval_s),
+            "model_error_K": self.model_error_K,
+            "measured_rmse_K": None if error is None else error[0],
+            "measured_max_error_K": None if error is None else error[1],
+            "measured_crossing_s": self.measured_crossing_s,
+            "covers_measured": self.covers_measured,
+            "peak_predicted_C": float(np.max(self.predicted_C)),
+            "notes": list(self.notes),
+        }
 
     def sentence(self) -> str:
         """The answer in words, with the units and the level."""
@@ -114,11 +125,15 @@ def seconds(value: float) -> str:
     return f"{value:.1f}" if abs(value) < 10 else f"{value:.0f}"
 
 
-def parameter_draws(saved: SavedModel, draws: int, seed: int, spread: str = "jackknife") -> list[ThermalModel]:
+def parameter_draws(
+    saved: SavedModel, draws: int, seed: int, spread: str = "jackknife"
+) -> list[ThermalModel]:
     """``draws`` models with parameters from the blocked jackknife's covariance (``spread="fit"``: the fit's
     own), seeded, each clipped into its bounds."""
     model = saved.model
-    cov = np.asarray(saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife, float)
+    cov = np.asarray(
+        saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife, float
+    )
     if draws <= 0 or not np.any(cov):
         return []
     values, vectors = np.linalg.eigh((cov + cov.T) / 2.0)
@@ -173,8 +188,9 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    notes, widen = beyond(ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""),
-                          shift)
+    notes, widen = beyond(
+        ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""), shift
+    )
     hotter, widen_hot = hotter_than_seen(ranges, predicted)
     notes, widen = notes + hotter, np.maximum(widen, widen_hot)
     half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, shift)) ** 2)
@@ -186,11 +202,22 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
                  else "the prediction alone (nor does it hold a held-out residual)")
         notes = notes + [f"the model file holds no standard errors: the interval is {alone}"]
     measured_cross = None if measured_C is None else crossing_s(t, np.asarray(measured_C, float), threshold_C)
-    return Forecast(saved.actuator, t, predicted, low, high, float(threshold_C), float(level), float(start_C),
-                    crossing_s(t, predicted, threshold_C), (crossing_s(t, high, threshold_C),
-                                                            crossing_s(t, low, threshold_C)),
-                    model_error, None if measured_C is None else np.asarray(measured_C, float), measured_cross,
-                    tuple(notes))
+    return Forecast(
+        saved.actuator,
+        t,
+        predicted,
+        low,
+        high,
+        float(threshold_C),
+        float(level),
+        float(start_C),
+        crossing_s(t, predicted, threshold_C),
+        (crossing_s(t, high, threshold_C), crossing_s(t, low, threshold_C)),
+        model_error,
+        None if measured_C is None else np.asarray(measured_C, float),
+        measured_cross,
+        tuple(notes),
+    )
 
 
 def spread_of(run, models: list[ThermalModel], predicted: np.ndarray) -> np.ndarray:
@@ -242,8 +269,14 @@ def extrapolation(saved: SavedModel, predicted_C: np.ndarray, shift_K: float = 0
     return np.maximum(1.0, rise / seen)
 
 
-def hold_signals(duration_s: float, effort: float, velocity: float | None = None, ambient_C: float | None = None,
-                 columns: tuple[str, ...] = ("effort",), step_s: float | None = None) -> Signals:
+def hold_signals(
+    duration_s: float,
+    effort: float,
+    velocity: float | None = None,
+    ambient_C: float | None = None,
+    columns: tuple[str, ...] = ("effort",),
+    step_s: float | None = None,
+) -> Signals:
     """Inputs held constant for ``duration_s``: the plan ``predict --hold`` asks about."""
     if not duration_s > 0 or not np.isfinite(duration_s):
         raise ThermolimbError(f"--duration must be a positive number of seconds, got {duration_s}")

@@ -88,7 +88,14 @@ class DcMotorThermal:
     def thermal(self) -> tuple[float, ...]:
         """The six numbers of ``thermal=""`` (MuJoCo derives the capacitance from the other two: given as
         0)."""
-        return (self.resistance_K_per_W, 0.0, self.timeconst_s, self.tempcoef_per_K, self.reftemp_C, self.ambient_C)
+        return (
+            self.resistance_K_per_W,
+            0.0,
+            self.timeconst_s,
+            self.tempcoef_per_K,
+            self.reftemp_C,
+            self.ambient_C,
+        )
 
     def element(self, joint: str | None = None) -> str:
         """The ``<dcmotor>`` element, torque-commanded (``input="ff"``: the torque is delivered as
@@ -150,9 +157,20 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
                      "bound): MuJoCo's node will not heat this joint; "
                      "what warmed it on the log was another term "
                      f"or the log's drift")
-    return DcMotorThermal(saved.actuator, motor, float(r_th), float(p["RC_s"] / r_th), float(p["RC_s"]),
-                          float(tempcoef), COPPER_REFERENCE_C, float(p["T_offset_C"]), exported,
-                          tuple(t for t in model.terms if t not in kept), tuple(notes), current=unit in CURRENT_UNITS)
+    return DcMotorThermal(
+        saved.actuator,
+        motor,
+        float(r_th),
+        float(p["RC_s"] / r_th),
+        float(p["RC_s"]),
+        float(tempcoef),
+        COPPER_REFERENCE_C,
+        float(p["T_offset_C"]),
+        exported,
+        tuple(t for t in model.terms if t not in kept),
+        tuple(notes),
+        current=unit in CURRENT_UNITS,
+    )
 
 
 EXPORT_MARK = "thermolimb export"  # what the snippet's first comment says: a file export may replace

@@ -21,13 +21,15 @@ from .util.errors import UsageError
 
 # the column is as wide as the widest figure the demos draw (1.3k px at 110 dpi), so none is scaled down;
 # paragraphs keep a reading width
-STYLE = ("body{font-family:system-ui,sans-serif;max-width:1320px;margin:auto;padding:1em;line-height:1.45;color:#222}"
-         "p{max-width:1000px}h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
-         "table.headline{border-collapse:collapse;margin:0.6em 0 1em;font-size:14px}"
-         "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
-         "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
-         "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}"
-         "pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:13px}figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}")
+STYLE = (
+    "body{font-family:system-ui,sans-serif;max-width:1320px;margin:auto;padding:1em;line-height:1.45;color:#222}"
+    "p{max-width:1000px}h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
+    "table.headline{border-collapse:collapse;margin:0.6em 0 1em;font-size:14px}"
+    "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
+    "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
+    "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}"
+    "pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:13px}figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}"
+)
 
 
 def _load(path: Path):
@@ -120,19 +122,26 @@ def build_report(out: Path) -> Path:
                          "report; move it away (the report never "
                          f"replaces a page it did not write)")
     demos = load_demos()
-    parts = [f"<!doctype html><html><head><meta charset='utf-8'>{MARK}<title>thermolimb report</title>"
-             f"<style>{STYLE}</style></head><body>",
-             "<h1>thermolimb report</h1>",
-             "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
-             "Temperatures in °C, temperature errors in K, times in s. Every number is in the demo's "
-             "summary.json, linked under its figures.</p>",
-             "<p>These are the demos' results as they were run "
-             "into this folder: <code>make demo</code> runs every "
-             "demo in quick mode (shorter logs, fewer episodes and cells). A full run of one demo: "
-             "<code>thermolimb demo NAME --out DIR</code>, then <code>thermolimb report DIR</code>.</p>",
-             "<ul>" + "".join(f"<li><a href='#{html.escape(f.name)}'>{html.escape(f.name)}</a>"
-                              + (f" — {html.escape(demos[f.name].description)}" if f.name in demos else "") + "</li>"
-                              for f in folders) + "</ul>"]
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'>{MARK}<title>thermolimb report</title>"
+        f"<style>{STYLE}</style></head><body>",
+        "<h1>thermolimb report</h1>",
+        "<p>One section per demo: what it shows and what to look at, its headline numbers, its figures. "
+        "Temperatures in °C, temperature errors in K, times in s. Every number is in the demo's "
+        "summary.json, linked under its figures.</p>",
+        "<p>These are the demos' results as they were run "
+        "into this folder: <code>make demo</code> runs every "
+        "demo in quick mode (shorter logs, fewer episodes and cells). A full run of one demo: "
+        "<code>thermolimb demo NAME --out DIR</code>, then <code>thermolimb report DIR</code>.</p>",
+        "<ul>"
+        + "".join(
+            f"<li><a href='#{html.escape(f.name)}'>{html.escape(f.name)}</a>"
+            + (f" — {html.escape(demos[f.name].description)}" if f.name in demos else "")
+            + "</li>"
+            for f in folders
+        )
+        + "</ul>",
+    ]
     for folder in folders:
         parts += _section(folder, out, demos)
     for name in in_tour_order(n for n in demos if n not in by_name and demos[n].missing):

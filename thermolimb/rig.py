@@ -75,7 +75,9 @@ class RigConfig:
         check_range(owner, "torque_noise_Nm", self.torque_noise_Nm, 0.0, 100.0, "N m")
         check_range(owner, "ambient_C", self.ambient_C, -60.0, 150.0, "degC")
         if self.log_capacity is not None and self.log_capacity < 2:
-            raise ValueError(f"log_capacity must be None or at least 2 control steps, got {self.log_capacity}")
+            raise ValueError(
+                f"log_capacity must be None or at least 2 control steps, got {self.log_capacity}"
+            )
         ratio = self.physics_hz / self.control_hz
         if abs(ratio - round(ratio)) > 1e-9 or ratio < 1:
             raise ValueError(f"physics_hz ({self.physics_hz}) must be a whole "
@@ -166,7 +168,9 @@ class BulletRig:
 
     def _protection_fraction(self, q: np.ndarray, qd: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
         efforts = self.actuator_efforts(q, torques_Nm)
-        return self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd), self.config.control_dt_s)
+        return self.plant.protection_fraction(
+            efforts, self.actuator_velocities(q, qd), self.config.control_dt_s
+        )
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
@@ -197,7 +201,9 @@ class BulletRig:
                height: int = 240, fov_deg: float = 50.0) -> np.ndarray:
         """An offscreen RGB image (height x width x 3, uint8) from PyBullet's software renderer."""
         c = self.client
-        view = c.computeViewMatrixFromYawPitchRoll([float(v) for v in target_m], distance_m, yaw_deg, pitch_deg, 0.0, 2)
+        view = c.computeViewMatrixFromYawPitchRoll(
+            [float(v) for v in target_m], distance_m, yaw_deg, pitch_deg, 0.0, 2
+        )
         proj = c.computeProjectionMatrixFOV(fov_deg, width / height, 0.05, 10.0)
         _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
@@ -226,8 +232,11 @@ class BulletRig:
                 continue
             # PyBullet's normal on B points towards A: the ground pushes the foot along -n; the friction
             # force on A is fn n - (f1 d1 + f2 d2), so on B it is the opposite
-            out[self.foot_index.index(point[4])] += (-point[9] * np.array(point[7]) + point[10] * np.array(point[11])
-                                                     + point[12] * np.array(point[13]))
+            out[self.foot_index.index(point[4])] += (
+                -point[9] * np.array(point[7])
+                + point[10] * np.array(point[11])
+                + point[12] * np.array(point[13])
+            )
         return out
 
     def link_positions(self, links: Sequence[int]) -> np.ndarray:
@@ -308,10 +317,16 @@ class BulletRig:
         if len(self._log["time"]) < 2:
             raise ValueError("the simulation has not run long enough to make a log")
         faults = np.array(self._log["fault"])
-        return log_from_arrays(np.array(self._log["time"]), self.actuators, np.array(self._log["effort"]),
-                               np.array(self._log["temperature"]), velocity=np.array(self._log["velocity"]),
-                               ambient_C=np.array(self._log["ambient"]), source=f"{type(self).__name__} simulation",
-                               extra={"fault [1]": faults} if faults.any() else None)
+        return log_from_arrays(
+            np.array(self._log["time"]),
+            self.actuators,
+            np.array(self._log["effort"]),
+            np.array(self._log["temperature"]),
+            velocity=np.array(self._log["velocity"]),
+            ambient_C=np.array(self._log["ambient"]),
+            source=f"{type(self).__name__} simulation",
+            extra={"fault [1]": faults} if faults.any() else None,
+        )
 
     def close(self) -> None:
         if self.client is not None:

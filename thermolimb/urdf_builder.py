@@ -79,15 +79,28 @@ class UrdfBuilder:
         self.parts += [v.element("visual") for v in visuals] + [c.element("collision") for c in collisions]
         self.parts.append("  </link>\n")
 
-    def revolute(self, name: str, parent: str, child: str, origin: str, axis: str, lower_rad: float,
-                 upper_rad: float, effort: float, velocity: float, damping: float, rpy: str | None = None) -> None:
+    def revolute(
+        self,
+        name: str,
+        parent: str,
+        child: str,
+        origin: str,
+        axis: str,
+        lower_rad: float,
+        upper_rad: float,
+        effort: float,
+        velocity: float,
+        damping: float,
+        rpy: str | None = None,
+    ) -> None:
         """A revolute joint at ``origin`` ("x y z", m, parent frame), about ``axis``, with its limits."""
         at = f'<origin xyz="{origin}"' + (f' rpy="{rpy}"' if rpy is not None else "") + "/>"
         self.parts.append(
             f'  <joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
             f'{at}<axis xyz="{axis}"/>'
             f'<limit lower="{number(lower_rad)}" upper="{number(upper_rad)}" effort="{number(effort)}" '
-            f'velocity="{number(velocity)}"/><dynamics damping="{number(damping)}" friction="0.0"/></joint>\n')
+            f'velocity="{number(velocity)}"/><dynamics damping="{number(damping)}" friction="0.0"/></joint>\n'
+        )
 
     def fixed(self, name: str, parent: str, child: str, origin: str) -> None:
         self.parts.append(f'  <joint name="{name}" type="fixed"><parent '

@@ -74,8 +74,14 @@ class ControllerState:
     last: StanceSolution | None = None
 
 
-def body_wrench(params: DaisyParams, payload_kg: float, reading: Reading, gains: Gains, velocity_m_s: np.ndarray,
-                height_m: float) -> np.ndarray:
+def body_wrench(
+    params: DaisyParams,
+    payload_kg: float,
+    reading: Reading,
+    gains: Gains,
+    velocity_m_s: np.ndarray,
+    height_m: float,
+) -> np.ndarray:
     """Ground wrench ``(F, M)`` on the robot, body frame: weight plus posture and velocity feedback."""
     R = reading.world_R_body
     mass = params.robot_mass_kg + payload_kg
@@ -83,7 +89,9 @@ def body_wrench(params: DaisyParams, payload_kg: float, reading: Reading, gains:
     desired_v_world = R @ velocity_m_s
     accel = np.zeros(3)
     accel[:2] = gains.velocity_kv_1_s * (desired_v_world[:2] - v_world[:2])
-    accel[2] = gains.height_kp_1_s2 * (height_m - reading.body_position_m[2]) - gains.height_kd_1_s * v_world[2]
+    accel[2] = (
+        gains.height_kp_1_s2 * (height_m - reading.body_position_m[2]) - gains.height_kd_1_s * v_world[2]
+    )
     force_world = mass * (np.array([0.0, 0.0, GRAVITY_M_S2]) + accel)
     roll = np.arctan2(R[2, 1], R[2, 2])
     pitch = -np.arcsin(np.clip(R[2, 0], -1, 1))
@@ -93,15 +101,26 @@ def body_wrench(params: DaisyParams, payload_kg: float, reading: Reading, gains:
     return np.concatenate([R.T @ force_world, moment])
 
 
-def control_step(reading: Reading, state: ControllerState, params: DaisyParams, gait: cpg.CPGParams,
-                 strategy: str | dict[str, float], dt_s: float, payload_kg: float = 0.0, gains: Gains = Gains(),
-                 thermal: ThermalContext | None = None, walking: bool = True) -> tuple[np.ndarray, ControllerState, dict]:
+def control_step(
+    reading: Reading,
+    state: ControllerState,
+    params: DaisyParams,
+    gait: cpg.CPGParams,
+    strategy: str | dict[str, float],
+    dt_s: float,
+    payload_kg: float = 0.0,
+    gains: Gains = Gains(),
+    thermal: ThermalContext | None = None,
+    walking: bool = True,
+) -> tuple[np.ndarray, ControllerState, dict]:
     """Torques (18,) for one control step, the next controller state, and what was decided.
 
     ``strategy`` is a name, or ``{name: weight}`` to blend the strategies' stance forces (a convex
     combination of balanced distributions is balanced).
     """
-    weights = {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    weights = (
+        {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    )
     unknown = [k for k in weights if k not in STRATEGIES]
     if unknown or not weights:
         raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
@@ -123,12 +142,27 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
     wrench = body_wrench(params, payload_kg, reading, gains, velocity, params.nominal_body_height_m)
     legs = tuple(int(i) for i in np.flatnonzero(planned_stance))
     statics = [leg_statics(params, i, q[3 * i : 3 * i + 3], reading.world_R_body) for i in range(len(LEGS))]
-    problem = StanceProblem.from_statics(params, {i: statics[i] for i in legs}, payload_kg=payload_kg, wrench=wrench,
-                                         friction=gains.friction, min_normal_N=gains.min_normal_N,
-                                         world_R_body=reading.world_R_body)
+    problem = StanceProblem.from_statics(
+        params,
+        {i: statics[i] for i in legs},
+        payload_kg=payload_kg,
+        wrench=wrench,
+        friction=gains.friction,
+        min_normal_N=gains.min_normal_N,
+        world_R_body=reading.world_R_body,
+    )
     bank, horizon_s = (thermal.bank, thermal.horizon_s) if thermal is not None else (None, 0.0)
-    solution = distribute(problem, weights, state.last, bank, reading.temperature_C, horizon_s, gains.smoothing_1_N2,
-                          gains.solver, gains.fallback)
+    solution = distribute(
+        problem,
+        weights,
+        state.last,
+        bank,
+        reading.temperature_C,
+        horizon_s,
+        gains.smoothing_1_N2,
+        gains.solver,
+        gains.fallback,
+    )
 
     torques = np.zeros(18)
     # a stance leg's torques: its share of the wrench with its gravity (the problem's T f + g, computed once),
@@ -140,7 +174,10 @@ def control_step(reading: Reading, state: ControllerState, params: DaisyParams, 
         if i in stance_torques:
             J = np.vstack([statics[i].jacobian, joint_axes(params, i, q[sl]).T])
             Lam = np.linalg.pinv(J.T) @ M
-            torques[sl] = J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl])) + stance_torques[i]
+            torques[sl] = (
+                J.T @ (gains.stance_motion_scale * P_POINT_CONTACT @ (Lam @ stance_pd[sl]))
+                + stance_torques[i]
+            )
         else:
             torques[sl] = M @ swing_pid[sl] + g
     info = {"stance": planned_stance, "solution": solution, "wrench": wrench, "targets": targets}

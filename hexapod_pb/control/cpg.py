@@ -75,13 +75,17 @@ def initial_state(rng: np.random.Generator | None = None, params: CPGParams = CP
     return np.column_stack([r * np.cos(phase), r * np.sin(phase)])
 
 
-def step(state: np.ndarray, params: CPGParams, dt_s: float, K: np.ndarray | None = None, substeps: int = 4) -> np.ndarray:
+def step(
+    state: np.ndarray, params: CPGParams, dt_s: float, K: np.ndarray | None = None, substeps: int = 4
+) -> np.ndarray:
     """Advance the oscillators by ``dt_s`` (explicit Euler in ``substeps``)."""
     K = tripod_coupling() if K is None else K
     z = state[:, 0] + 1j * state[:, 1]
     h = dt_s / substeps
     for _ in range(substeps):
-        dz = (params.alpha * (params.radius_sq - np.abs(z) ** 2) + 1j * params.omega_rad_s) * z + params.coupling * (K @ z)
+        dz = (
+            params.alpha * (params.radius_sq - np.abs(z) ** 2) + 1j * params.omega_rad_s
+        ) * z + params.coupling * (K @ z)
         z = z + h * dz
     return np.column_stack([z.real, z.imag])
 

@@ -26,7 +26,9 @@ def lp_options(solver: str) -> dict:
 MOMENT_ARM_M = 0.3  # weights moment errors against force errors in the closest achievable wrench
 
 
-def closest_achievable(problem: StanceProblem, solver: str = "daqp", fallback: str | None = None) -> StanceProblem:
+def closest_achievable(
+    problem: StanceProblem, solver: str = "daqp", fallback: str | None = None
+) -> StanceProblem:
     """The same problem with its wrench replaced by the nearest one the contacts can supply.
 
     Minimises ``|E f - w|_1`` (moments divided by a 0.3 m arm) subject to the
@@ -95,8 +97,16 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
                                   fallback_from=f"daqp {stalled.args[1]} on the smoothed QP")
     active = warm.active if warm is not None else None
     found = solve(lp, solver, fallback=fallback, active=active, **lp_options(solver))
-    return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "minimax", found.solver, time.perf_counter() - start,
-                          found.iterations, found, found.fallback_from)
+    return StanceSolution(
+        problem,
+        found.x[:nf].reshape(-1, 3),
+        "minimax",
+        found.solver,
+        time.perf_counter() - start,
+        found.iterations,
+        found,
+        found.fallback_from,
+    )
 
 
 def minimax_lex(problem: StanceProblem, slack: float = 1e-6, first: StanceSolution | None = None,
@@ -121,7 +131,9 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6, first: StanceSoluti
     A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
     bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
     bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
-    found = solve(Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"), "daqp")
+    found = solve(
+        Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"), "daqp"
+    )
     return StanceSolution(p, found.x.reshape(-1, 3), "minimax_lex", found.solver,
                           first.solve_time_s + time.perf_counter() - start, found.iterations, found,
                           first.fallback_from)

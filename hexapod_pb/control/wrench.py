@@ -18,10 +18,17 @@ from .thermal_minimax import thermal_minimax
 STRATEGIES = ("vertical_only", "minimax", "minimax_lex", "thermal_aware")  # what distribute() can do
 
 
-def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm: StanceSolution | None = None,
-               bank: ModelArrays | None = None, temperature_C: np.ndarray | None = None,
-               horizon_s: float = 20.0, smoothing_1_N2: float = 0.0, solver: str = "daqp",
-               fallback: str | None = None) -> StanceSolution:
+def distribute(
+    problem: StanceProblem,
+    strategy: str | Mapping[str, float],
+    warm: StanceSolution | None = None,
+    bank: ModelArrays | None = None,
+    temperature_C: np.ndarray | None = None,
+    horizon_s: float = 20.0,
+    smoothing_1_N2: float = 0.0,
+    solver: str = "daqp",
+    fallback: str | None = None,
+) -> StanceSolution:
     """Stance forces by ``strategy`` (one of :data:`STRATEGIES`, or ``{name: weight}`` to blend them: a convex
     combination of balanced distributions is balanced), for the nearest wrench the contacts can supply.
 
@@ -34,14 +41,18 @@ def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm
     closest wrench once; the torque minimax once, shared by ``minimax``,
     ``minimax_lex`` and ``thermal_aware``'s first point).
     """
-    weights = {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    weights = (
+        {strategy: 1.0} if isinstance(strategy, str) else {k: float(v) for k, v in strategy.items() if v > 0}
+    )
     unknown = [k for k in weights if k not in STRATEGIES]
     if unknown or not weights:
         raise ValueError(f"unknown strategy {unknown or strategy!r}; expected one of {', '.join(STRATEGIES)}")
     if "thermal_aware" in weights and (bank is None or temperature_C is None):
         raise ValueError("the thermal_aware strategy needs identified "
                          "models (bank) and the joints' temperatures")
-    achievable = problem if set(weights) == {"vertical_only"} else closest_achievable(problem, solver, fallback)
+    achievable = (
+        problem if set(weights) == {"vertical_only"} else closest_achievable(problem, solver, fallback)
+    )
     plain: list[StanceSolution] = []  # the torque minimax of `achievable`, solved at most once
 
     def torque_minimax() -> StanceSolution:
@@ -59,7 +70,9 @@ def distribute(problem: StanceProblem, strategy: str | Mapping[str, float], warm
             if warm is not None:
                 last = dict(zip(warm.problem.legs, warm.forces_N))
                 previous = np.array([last.get(i, np.zeros(3)) for i in achievable.legs])
-            return minimax(achievable, solver, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback=fallback)
+            return minimax(
+                achievable, solver, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback=fallback
+            )
         if name == "minimax_lex":
             return minimax_lex(achievable, first=torque_minimax())
         joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in achievable.legs])

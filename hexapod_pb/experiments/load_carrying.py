@@ -77,8 +77,13 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
         reading = loop.settle(strategy)
         start = reading.body_position_m.copy()
         n = int(round(duration_s * config.control_hz))
-        t, cmd, sensed, measured, winding = (np.empty(n), np.empty((n, 18)), np.empty((n, 18)), np.empty((n, 18)),
-                                             np.empty((n, 18)))
+        t, cmd, sensed, measured, winding = (
+            np.empty(n),
+            np.empty((n, 18)),
+            np.empty((n, 18)),
+            np.empty((n, 18)),
+            np.empty((n, 18)),
+        )
         fell, time_to_limit = False, None
         for k in progress(range(n), desc=f"{scenario} {strategy}", disable=quiet, unit="step"):
             reading = loop.step(strategy, walking)
@@ -92,10 +97,29 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
                 time_to_limit = float(reading.time_s)
             if loop.fallen:
                 fell = True
-                t, cmd, sensed, measured, winding = t[: k + 1], cmd[: k + 1], sensed[: k + 1], measured[: k + 1], winding[: k + 1]
+                t, cmd, sensed, measured, winding = (
+                    t[: k + 1],
+                    cmd[: k + 1],
+                    sensed[: k + 1],
+                    measured[: k + 1],
+                    winding[: k + 1],
+                )
                 break
         distance = float(reading.body_position_m[0] - start[0])
         log = sim.thermal_log()
     log = replace(log, notes=log.notes + (loop.solver_note(),))
-    return ScenarioResult(scenario, strategy, t, cmd, sensed, measured, winding, distance, fell, time_to_limit,
-                          int(round(gait.period_s * config.control_hz)), log, dict(loop.solvers))
+    return ScenarioResult(
+        scenario,
+        strategy,
+        t,
+        cmd,
+        sensed,
+        measured,
+        winding,
+        distance,
+        fell,
+        time_to_limit,
+        int(round(gait.period_s * config.control_hz)),
+        log,
+        dict(loop.solvers),
+    )

@@ -33,7 +33,9 @@ def _mass_points(params: DaisyParams) -> tuple[tuple[float, float, float, float]
     return (m0, c0, 0.0, 0.0), (m1, b, c1, 0.0), (m2, b, L1, c2), (params.foot_mass_kg, b, L1, L2)
 
 
-def leg_statics(params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.ndarray | None = None) -> LegStatics:
+def leg_statics(
+    params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.ndarray | None = None
+) -> LegStatics:
     """Foot position and Jacobian, mass matrix and gravity torque of leg ``leg`` at ``q`` (3,), each once."""
     R = np.eye(3) if world_R_body is None else world_R_body
     up = R.T @ np.array([0.0, 0.0, GRAVITY_M_S2])  # minus gravity, body frame
@@ -59,6 +61,8 @@ def leg_mass_matrix(params: DaisyParams, leg: int, q: np.ndarray) -> np.ndarray:
     return leg_statics(params, leg, q).mass_matrix
 
 
-def leg_gravity_torque(params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.ndarray | None = None) -> np.ndarray:
+def leg_gravity_torque(
+    params: DaisyParams, leg: int, q: np.ndarray, world_R_body: np.ndarray | None = None
+) -> np.ndarray:
     """Joint torques (N m) that hold the leg's own weight in configuration ``q`` (Nair et al.'s ``g_i``)."""
     return leg_statics(params, leg, q, world_R_body).gravity_Nm

@@ -34,7 +34,9 @@ class Executor:
     def support_angles(self, side: str, lift_m: float) -> np.ndarray:
         return self.body.joint_angles(support_pose(self.body, self.q_nominal, side, lift_m))
 
-    def go(self, mode: str, goal_angles: np.ndarray | None = None, goal_torques: np.ndarray | None = None) -> None:
+    def go(
+        self, mode: str, goal_angles: np.ndarray | None = None, goal_torques: np.ndarray | None = None
+    ) -> None:
         """Plan the motion to ``mode`` (through the nominal crouch) ending in ``goal_angles``.
 
         ``goal_torques``: the balancing torques chosen with the goal (the IK's
@@ -48,7 +50,9 @@ class Executor:
         if self.mode != "double":  # place the lifted foot, then shift back to the middle
             side = self.mode
             plan.append((Motion(here, self.support_angles(side, 0.0), t, SHIFT_S), side))
-            plan.append((Motion(self.support_angles(side, 0.0), self.nominal_angles, t + SHIFT_S, SHIFT_S), "double"))
+            plan.append(
+                (Motion(self.support_angles(side, 0.0), self.nominal_angles, t + SHIFT_S, SHIFT_S), "double")
+            )
             here, t = self.nominal_angles, t + 2 * SHIFT_S
         if mode == "double":
             goal = self.nominal_angles if goal_angles is None else goal_angles

@@ -58,8 +58,13 @@ class RecoveryRun:
         return to_microsecond(t[after[0]] - self.warning_at_s) if after.size else None
 
     def summary(self) -> dict:
-        return {"recovery_s": self.recovery_s, "hot_leg_recovery_s": self.hot_leg_recovery_s, "fell": self.fell,
-                "warning_at_s": self.warning_at_s, "modes_chosen": [m for _, m in self.decisions]}
+        return {
+            "recovery_s": self.recovery_s,
+            "hot_leg_recovery_s": self.hot_leg_recovery_s,
+            "fell": self.fell,
+            "warning_at_s": self.warning_at_s,
+            "modes_chosen": [m for _, m in self.decisions],
+        }
 
 
 def run_recovery(strategy: str, bank: ModelArrays, seed: int = 0, heat_side: str = "right",
@@ -102,7 +107,11 @@ def run_recovery(strategy: str, bank: ModelArrays, seed: int = 0, heat_side: str
             if T.max() < LIMITS.recovered_C:
                 run.recovery_s = to_microsecond(t - run.warning_at_s)
                 break
-            if t >= next_decision and not ex.moving and t - ex.settled_since >= (DWELL_S if run.decisions else 0.0):
+            if (
+                t >= next_decision
+                and not ex.moving
+                and t - ex.settled_since >= (DWELL_S if run.decisions else 0.0)
+            ):
                 plan = planner.plan(ex.q_nominal, bank, T)
                 mode, results = plan.mode, plan.results
                 if not run.decisions or mode != run.decisions[-1][1]:
@@ -142,7 +151,12 @@ def cooling_bound(body, bank: ModelArrays, hot_actuator: str, configurations: di
     for name, (mode, q) in configurations.items():
         efforts = body.statics(q, mode).efforts
         steady = bank.equilibrium_C(efforts)
-        out[name] = {"mode": mode, "effort_fraction": float(abs(efforts[i]) / effort_limits(body.params)[i]),
-                     "steady_C": float(steady[i]),
-                     "warning_to_recovered_s": float(first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, steady[i], bank.RC_s[i]))}
+        out[name] = {
+            "mode": mode,
+            "effort_fraction": float(abs(efforts[i]) / effort_limits(body.params)[i]),
+            "steady_C": float(steady[i]),
+            "warning_to_recovered_s": float(
+                first_order_cooling_s(LIMITS.warning_C, LIMITS.recovered_C, steady[i], bank.RC_s[i])
+            ),
+        }
     return out

@@ -33,8 +33,14 @@ class ThermalPotential:
     weights: np.ndarray  # the diagonal of Q
 
     @classmethod
-    def from_measurement(cls, bank: ModelArrays, temperature_C: np.ndarray, horizon_s: float | None = None,
-                         hot_C: float = LIMITS.recovered_C, hot_weight: float = HOT_WEIGHT) -> "ThermalPotential":
+    def from_measurement(
+        cls,
+        bank: ModelArrays,
+        temperature_C: np.ndarray,
+        horizon_s: float | None = None,
+        hot_C: float = LIMITS.recovered_C,
+        hot_weight: float = HOT_WEIGHT,
+    ) -> "ThermalPotential":
         """Q = I, raised to ``hot_weight`` for actuators above ``hot_C``; horizon RC/2 (median over
         actuators)."""
         temperature_C = np.asarray(temperature_C, float)

@@ -56,7 +56,9 @@ def velocities(rods: dict[str, RodPair], angles: np.ndarray, qd: np.ndarray,
     for a, j in _MOTORS:
         out[_A[a]] = qd[j]
     for pair, (pitch, roll) in ROD_PAIRS.items():
-        out[[_A[rod] for rod in rod_actuators(pair)]] = jacobians[pair] @ np.array([qd[_J[pitch]], qd[_J[roll]]])
+        out[[_A[rod] for rod in rod_actuators(pair)]] = jacobians[pair] @ np.array(
+            [qd[_J[pitch]], qd[_J[roll]]]
+        )
     return out
 
 

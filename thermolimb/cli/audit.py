@@ -48,14 +48,25 @@ def add_parser(sub):
                       help="the suite's plant with this datasheet actuator at every joint (default x8-16)")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="with --models: the model file's actuator whose model serves every joint")
-    p.add_argument("--torque-constant", dest="torque_constant", type=number(0.0, 1e4, low_open=True, unit="N m/A"),
-                   default=None, metavar="NM_PER_A",
-                   help="for a model that heats from a current (A or "
-                        "mA): the motor's torque constant at the joint, "
-                        "N m per A, by which the environment's torques become currents")
+    p.add_argument(
+        "--torque-constant",
+        dest="torque_constant",
+        type=number(0.0, 1e4, low_open=True, unit="N m/A"),
+        default=None,
+        metavar="NM_PER_A",
+        help="for a model that heats from a current (A or "
+        "mA): the motor's torque constant at the joint, "
+        "N m per A, by which the environment's torques become currents",
+    )
     p.add_argument("--joints", default=None, metavar="A,B,...", help="the joints to heat (default every one)")
-    p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="every joint's limit (default: the models' stored limits, or the plant's)")
+    p.add_argument(
+        "--limit-C",
+        dest="limit_C",
+        type=number(-60.0, 400.0, unit="degC"),
+        default=None,
+        metavar="C",
+        help="every joint's limit (default: the models' stored limits, or the plant's)",
+    )
     p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=25.0,
                    metavar="C", help="the air's temperature, and the joints' at the start (default 25)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the environment and of a random policy")

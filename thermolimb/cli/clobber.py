@@ -16,8 +16,14 @@ from pathlib import Path
 from ..util.errors import UsageError
 
 INPUTS = ("logs", "validate_on", "terms", "model_file", "follow")
-OUTPUT_FILES = {"html": "--html", "table": "--table", "propose": "--propose", "save": "--save", "mcap": "--mcap",
-                "layout": "--layout"}
+OUTPUT_FILES = {
+    "html": "--html",
+    "table": "--table",
+    "propose": "--propose",
+    "save": "--save",
+    "mcap": "--mcap",
+    "layout": "--layout",
+}
 OUTPUT_FOLDERS = {"plot": "--plot"}
 
 
@@ -35,8 +41,14 @@ def inputs_of(args) -> list[Path]:
 
 
 def outputs_of(args) -> list[tuple[str, Path]]:
-    out = [(flag, Path(getattr(args, name))) for name, flag in OUTPUT_FILES.items() if getattr(args, name, None)]
-    out += [(flag, Path(getattr(args, name))) for name, flag in OUTPUT_FOLDERS.items() if getattr(args, name, None)]
+    out = [
+        (flag, Path(getattr(args, name))) for name, flag in OUTPUT_FILES.items() if getattr(args, name, None)
+    ]
+    out += [
+        (flag, Path(getattr(args, name)))
+        for name, flag in OUTPUT_FOLDERS.items()
+        if getattr(args, name, None)
+    ]
     if getattr(args, "out", None):  # simulate's log, export's snippet, demo's folder
         out.append(("--out", Path(args.out)))
     return out
@@ -55,7 +67,11 @@ def check_outputs(args) -> None:
     for flag, output in outputs_of(args):
         for source in inputs:
             if same_file(output, source):
-                what = "the model file" if source == Path(str(getattr(args, "model_file", "") or "")) else "the input"
+                what = (
+                    "the model file"
+                    if source == Path(str(getattr(args, "model_file", "") or ""))
+                    else "the input"
+                )
                 raise UsageError(f"{flag} {output} is {what} {source} this "
                                  "command reads; an output never replaces "
                                  f"an input: write it elsewhere (nothing was written)")

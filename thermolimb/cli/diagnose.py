@@ -69,12 +69,22 @@ class Diagnose(LogCommand):
                             "enough of them take it, K more where the "
                             "first K leave it within one replicate of that "
                             f"share (default {REPLICATES}; 0 turns the check off)")
-        g.add_argument("--min-frequency", type=number(0.0, 1.0, low_open=True), default=MIN_FREQUENCY, metavar="F",
-                       help="the share of replicates that must take a "
-                            "change for it to be recommended (default "
-                            f"{MIN_FREQUENCY})")
-        g.add_argument("--stability-seed", type=SEED, default=0, metavar="N",
-                       help="seed of the replicates' perturbations (the same seed gives the same frequencies)")
+        g.add_argument(
+            "--min-frequency",
+            type=number(0.0, 1.0, low_open=True),
+            default=MIN_FREQUENCY,
+            metavar="F",
+            help="the share of replicates that must take a "
+            "change for it to be recommended (default "
+            f"{MIN_FREQUENCY})",
+        )
+        g.add_argument(
+            "--stability-seed",
+            type=SEED,
+            default=0,
+            metavar="N",
+            help="seed of the replicates' perturbations (the same seed gives the same frequencies)",
+        )
         p.add_argument("--explain", action="store_true",
                        help="print every change's evidence, the start "
                             "model's flags and what would tell confounded "
@@ -175,7 +185,9 @@ def describe_diagnosis(d) -> str:
     if d.auto:
         lines.append("  steps:")
         for step in d.auto:
-            head = f"    {step.get('change', 'start'):28s} -> {','.join(step['model'])}: {step['rmse_K']:.3f} K"
+            head = (
+                f"    {step.get('change', 'start'):28s} -> {','.join(step['model'])}: {step['rmse_K']:.3f} K"
+            )
             lines.append(head + (f"  ({step['why']})" if "why" in step else ""))
             lines += [f"      ! {flag}" for flag in step["flags"]]
     return "\n".join(lines)

@@ -36,8 +36,13 @@ def add_parser(sub):
     p.add_argument("--mujoco", dest="to", action="store_const", const="mujoco", help=argparse.SUPPRESS)
     p.add_argument("--motor-const", dest="motor_const", type=number(0.0, 1e3, low_open=True, unit="N m/A"),
                    required=True, metavar="KT", help="the motor's torque constant (N m/A)")
-    p.add_argument("--resistance", type=number(0.0, 1e4, low_open=True, unit="ohm"), required=True, metavar="R",
-                   help="the winding's terminal resistance (ohm)")
+    p.add_argument(
+        "--resistance",
+        type=number(0.0, 1e4, low_open=True, unit="ohm"),
+        required=True,
+        metavar="R",
+        help="the winding's terminal resistance (ohm)",
+    )
     p.add_argument("--gear", type=number(0.0, 1e5, low_open=True), default=1.0, metavar="G",
                    help="the gear ratio from motor to joint (default "
                         "1): a joint torque is G times the motor's")
@@ -99,19 +104,31 @@ def _say(export, record) -> None:
         dropped = (f"{export.actuator}: {' and '.join(export.dropped)} "
                    "dropped (MuJoCo's dcmotor has one thermal "
                    f"node, heated by its current)")
-        exported = "the exported one's, refitted on the log without them," if refit and refit["exported"] else \
-            "the exported one's"
+        exported = (
+            "the exported one's, refitted on the log without them,"
+            if refit and refit["exported"]
+            else "the exported one's"
+        )
         if cost:
-            say(f"{dropped}: on the log the saved model's free run "
+            say(
+                f"{dropped}: on the log the saved model's free run "
                 f"is {cost['saved_rmse_K']:.3f} K RMSE from the "
                 f"readings, {exported} {cost['exported_rmse_K']:.3f} "
                 f"K ({cost['between_K']:.3f} K between the "
                 f"two, {cost['samples']} samples)"
-                + ("; refitted on the log without them, one node's "
-                   f"would be {refit['rmse_K']:.3f} K (--refit "
-                   f"exports it)" if refit and "rmse_K" in refit and not refit["exported"] else "")
-                + (f"; one node could not be fitted again on the log: {refit['error']}" if refit and "error" in refit
-                   else ""))
+                + (
+                    "; refitted on the log without them, one node's "
+                    f"would be {refit['rmse_K']:.3f} K (--refit "
+                    f"exports it)"
+                    if refit and "rmse_K" in refit and not refit["exported"]
+                    else ""
+                )
+                + (
+                    f"; one node could not be fitted again on the log: {refit['error']}"
+                    if refit and "error" in refit
+                    else ""
+                )
+            )
         else:
             say(f"{dropped}; give the calibration log to measure what that costs")
     for note in export.notes:

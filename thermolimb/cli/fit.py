@@ -40,7 +40,9 @@ class Fit(LogCommand):
 
     def analyse(self, run: Run, name, series, scheme):
         args, model = run.args, run.models[0]
-        report = validate_model(series, model, scheme, method=args.method, reduce=True, datasheet=run.datasheet)
+        report = validate_model(
+            series, model, scheme, method=args.method, reduce=True, datasheet=run.datasheet
+        )
         run.final[name] = report
         if args.plot:
             from ..plotting.fits import plot_fit
@@ -49,8 +51,12 @@ class Fit(LogCommand):
         if run.page is not None:
             from ..plotting.interactive import temperature_figure, thinning_note
 
-            run.page.add(f"{name}: measured against the model", temperature_figure([(args.model, report)], name),
-                         f"{report.scheme}; validation RMSE {report.validation['rmse_K']:.3f} K." + thinning_note(report))
+            run.page.add(
+                f"{name}: measured against the model",
+                temperature_figure([(args.model, report)], name),
+                f"{report.scheme}; validation RMSE {report.validation['rmse_K']:.3f} K."
+                + thinning_note(report),
+            )
         return report.to_json(), _describe(report)
 
 

@@ -128,7 +128,9 @@ def run(args) -> int:
             flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
         reasons += read_notes
     if args.json:
-        print_json({"rows": rows, "columns": columns, "suggested_map": mapping, "flags": flags, "notes": reasons})
+        print_json(
+            {"rows": rows, "columns": columns, "suggested_map": mapping, "flags": flags, "notes": reasons}
+        )
         return 0
     shown = [c for c in columns if c["values"] > 0]
     empty = len(columns) - len(shown)
@@ -151,7 +153,9 @@ def _as_it_is(mapping: dict) -> bool:
     header: ``temperature [K]``), as a log is read without a map."""
     def canonical(name, value):
         column, unit = split_unit(value)
-        return unit is None and (column == name or (header_unit(column) is not None and base_name(column) == name))
+        return unit is None and (
+            column == name or (header_unit(column) is not None and base_name(column) == name)
+        )
 
     return set(REQUIRED) - {"actuator"} <= set(mapping) and all(canonical(k, v) for k, v in mapping.items())
 
@@ -163,12 +167,17 @@ def _left_for(mapping: dict, columns: list[dict], flat: set) -> list[str]:
     if "effort" in mapping or "temperature" not in mapping:
         return []
     taken = {split_unit(v)[0].partition(TIME_OF)[0] for v in mapping.values()}
-    left = [c["column"] for c in columns if c["column"] not in taken and c["column"] not in flat and c["values"] > 0
-            and c.get("numeric")]
+    left = [
+        c["column"]
+        for c in columns
+        if c["column"] not in taken and c["column"] not in flat and c["values"] > 0 and c.get("numeric")
+    ]
     return left
 
 
-def _read_with(path: Path, mapping: dict, names=None, effort: str | None = None) -> tuple[list[str], list[str]]:
+def _read_with(
+    path: Path, mapping: dict, names=None, effort: str | None = None
+) -> tuple[list[str], list[str]]:
     """The file read with the suggested map, as ``fit`` would read it: the flags it needs
     (``--drop-incomplete`` where a channel misses readings: read so once, it says what it left out) and what
     reading it says (a temperature held between its updates, samples left out), or why it cannot be read

@@ -82,7 +82,10 @@ def refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[
     options = [o for action in sub._actions for o in action.option_strings if o.startswith("--")]
     meant = [f"{close[0]} (not {word})" for word in (u.split("=")[0] for u in unknown if u.startswith("--"))
              for close in [difflib.get_close_matches(word, options, n=1, cutoff=0.8)] if close]
-    sub.error(f"unrecognized arguments: {' '.join(unknown)}" + (f"; did you mean {', '.join(meant)}?" if meant else ""))
+    sub.error(
+        f"unrecognized arguments: {' '.join(unknown)}"
+        + (f"; did you mean {', '.join(meant)}?" if meant else "")
+    )
 
 
 def _main_thread() -> bool:

@@ -37,8 +37,14 @@ def add_parser(sub):
                         "folder) being recorded")
     add_log_input(p, positional=False)
     add_terms(p)
-    p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="the winding limit of every actuator (default: each model's stored limit)")
+    p.add_argument(
+        "--limit-C",
+        dest="limit_C",
+        type=number(-60.0, 400.0, unit="degC"),
+        default=None,
+        metavar="C",
+        help="the winding limit of every actuator (default: each model's stored limit)",
+    )
     p.add_argument("--measurement-std-K", dest="measurement_std_K", type=number(0.0, 10.0, low_open=True),
                    default=0.1, metavar="K", help="the thermistor's noise, 1 sigma, "
                                                   "quantisation included (default 0.1)")
@@ -102,7 +108,9 @@ def run(args) -> int:
         for out in outputs:
             out.close()
         raise
-    session = Session(models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz, only=args.actuator)
+    session = Session(
+        models, limits, outputs, args.measurement_std_K, 1.0 / args.publish_hz, only=args.actuator
+    )
     try:
         follow(session, follower, args.poll_s, args.idle_exit)
     # the monitor's usual end: its outputs are complete (a second signal changes nothing)
@@ -139,8 +147,12 @@ def _follower(args):
                          "whole, not row by row; monitor follows a CSV or "
                          f"an MCAP as it is written (predict reads a finished {kind} log)")
     options = read_options(args, path)
-    return CsvFollower(path, args.actuator, options["mapping"] or None,
-                       {k: options[k] for k in ("velocity_unit", "effort_unit", "sep", "decimal", "drop_incomplete")})
+    return CsvFollower(
+        path,
+        args.actuator,
+        options["mapping"] or None,
+        {k: options[k] for k in ("velocity_unit", "effort_unit", "sep", "decimal", "drop_incomplete")},
+    )
 
 
 def _layout() -> str:

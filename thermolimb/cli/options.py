@@ -166,10 +166,16 @@ def add_outputs(p, json_help: str, plot_help: str):
 def add_save(p, help_text: str):
     """``--save MODEL.json`` and the limit it stores, ``--limit-C``."""
     p.add_argument("--save", type=output_file, default=None, metavar="MODEL.json", help=help_text)
-    p.add_argument("--limit-C", dest="limit_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="with --save: the actuator's winding limit "
-                        "(degC), stored in the model file; predict and "
-                        "monitor use it when no --threshold is given")
+    p.add_argument(
+        "--limit-C",
+        dest="limit_C",
+        type=number(-60.0, 400.0, unit="degC"),
+        default=None,
+        metavar="C",
+        help="with --save: the actuator's winding limit "
+        "(degC), stored in the model file; predict and "
+        "monitor use it when no --threshold is given",
+    )
 
 
 def add_fleet(p):

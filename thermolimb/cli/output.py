@@ -60,7 +60,9 @@ def files_in(folder) -> dict:
     wrote is what changed."""
     if folder is None or not Path(folder).is_dir():
         return {}
-    return {p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()}
+    return {
+        p: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(Path(folder).iterdir()) if p.is_file()
+    }
 
 
 def say_written(before: dict, folder, also=(), existed=()) -> None:

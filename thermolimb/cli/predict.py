@@ -31,9 +31,14 @@ def add_parser(sub):
                    help="the temperature to reach (degC; default: the limit stored in the model file)")
     p.add_argument("--level", type=number(0.0, 1.0, low_open=True, high_open=True), default=0.9,
                    help="the interval's level (default 0.9)")
-    p.add_argument("--start-C", dest="start_C", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
-                   help="start from this temperature instead of the "
-                        "log's first reading (required with --hold)")
+    p.add_argument(
+        "--start-C",
+        dest="start_C",
+        type=number(-60.0, 400.0, unit="degC"),
+        default=None,
+        metavar="C",
+        help="start from this temperature instead of the log's first reading (required with --hold)",
+    )
     p.add_argument("--hold", default=None, metavar="EFFORT[,VELOCITY]",
                    help="a plan instead of a log: the effort (in the "
                         "model's unit) and velocity held for --duration")

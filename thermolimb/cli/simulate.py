@@ -62,7 +62,9 @@ def add_parser(sub):
     p.add_argument("--drivers", action="store_true", help="also log each driver board as '<actuator>/driver'")
     p.add_argument("--housing-sensor", action="store_true",
                    help="log a second thermistor on each actuator's housing (column 'housing', degC)")
-    p.add_argument("--seed", type=SEED, default=0, help="seed of the profile and the sensor noise (default 0)")
+    p.add_argument(
+        "--seed", type=SEED, default=0, help="seed of the profile and the sensor noise (default 0)"
+    )
     p.add_argument("--out", type=output_file, required=True, help="log file to write: .csv, "
                                                                   ".parquet, or .mcap (a ROS 2 MCAP "
                                                                   "file that opens in Foxglove)")
@@ -119,7 +121,9 @@ def run(args) -> int:
                                                **options)]))
         path = run.log.write(args.out)
     else:  # a table is written a piece at a time, so memory does not grow with the duration
-        pieces = simulate_profile_in_pieces(args.profile, args.duration, args.dt, names, specs, effects, **options)
+        pieces = simulate_profile_in_pieces(
+            args.profile, args.duration, args.dt, names, specs, effects, **options
+        )
         path = write_pieces((run.log for run in seen.each(pieces)), args.out)
     record = {
         "out": str(path), "profile": args.profile, "duration_s": args.duration, "dt_s": args.dt,

@@ -24,7 +24,13 @@ def add_parser(sub):
                    "of another installed robot package")
     p.add_argument("--episodes", type=integer(1, 10_000), default=4, help="episodes per strategy (default 4)")
     p.add_argument("--seed", type=SEED, default=0, help="first seed (default 0)")
-    p.add_argument("--strategies", type=names, default=None, metavar="NAME,...", help="subset of strategies (default all)")
+    p.add_argument(
+        "--strategies",
+        type=names,
+        default=None,
+        metavar="NAME,...",
+        help="subset of strategies (default all)",
+    )
     p.add_argument("--max-time", type=number(0.0, 1e7, low_open=True, unit="s"), default=None,
                    help="episode time limit in s (default the environment's)")
     p.add_argument("--scenario", default=None, metavar="NAME",
@@ -33,7 +39,9 @@ def add_parser(sub):
     p.add_argument("--backend", choices=("process", "ray"), default="process",
                    help="local process pool (default) or Ray tasks (optional extra 'ray')")
     p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
-    p.add_argument("--workers", type=integer(1, 1024), default=2, help="processes of the local pool (default 2)")
+    p.add_argument(
+        "--workers", type=integer(1, 1024), default=2, help="processes of the local pool (default 2)"
+    )
     p.add_argument("--plot", type=output_dir, default="strategies", metavar="DIR",
                    help="folder for the plot (default strategies/ here: "
                         "never the report's out/, which make demo writes)")
@@ -48,8 +56,17 @@ def run(args) -> int:
     from ..envs.tables import episodes_json, format_table, plot_table, table
 
     env_info(args.env)  # an unknown environment is said before anything else (a lowered --workers, say)
-    episodes = run_episodes(args.env, args.episodes, args.seed, args.strategies, backend=args.backend, workers=local_workers(args),
-                        address=args.address, max_time_s=args.max_time, scenario=args.scenario)
+    episodes = run_episodes(
+        args.env,
+        args.episodes,
+        args.seed,
+        args.strategies,
+        backend=args.backend,
+        workers=local_workers(args),
+        address=args.address,
+        max_time_s=args.max_time,
+        scenario=args.scenario,
+    )
     rows = table(episodes)
     path = plot_table(rows, args.env, Path(args.plot) / f"{args.env.split('/')[-1]}.png")
     if args.json:

@@ -141,12 +141,16 @@ class LogCommand:
                 named = [log for log in logs + held if log.actuators == (Path(log.source).stem,)]
                 # each file's one actuator named after it
                 if len(named) == len(logs + held) and not args.actuator:
-                    raise UsageError(f"{missing[0].source}: its actuator is "
-                                     f"named {missing[0].actuators[0]!r} after "
-                                     f"the file, as {logs[0].source}'s is {name!r} ("
-                                     f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
-                                     f"); to read the files as runs of one actuator, name it: --actuator NAME")
-                aside = next((n for n in missing[0].notes if f"actuator {name!r}" in n and SET_ASIDE in n), None)
+                    raise UsageError(
+                        f"{missing[0].source}: its actuator is "
+                        f"named {missing[0].actuators[0]!r} after "
+                        f"the file, as {logs[0].source}'s is {name!r} ("
+                        f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
+                        f"); to read the files as runs of one actuator, name it: --actuator NAME"
+                    )
+                aside = next(
+                    (n for n in missing[0].notes if f"actuator {name!r}" in n and SET_ASIDE in n), None
+                )
                 if aside is not None:
                     raise LogError(aside.replace(f"; {SET_ASIDE}", ""))
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "

@@ -8,7 +8,9 @@ from pathlib import Path
 
 from ..util.errors import UsageError
 
-PMSM_MAP = "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
+PMSM_MAP = (
+    "time=time,effort=torque,velocity=motor_speed,temperature=stator_winding,ambient=coolant,current=current"
+)
 # the columns' units as the dataset's README states them (its header has none); the velocity is converted to
 # rad/s
 PMSM_UNITS = {"effort_unit": "N m", "velocity_unit": "rpm"}
@@ -48,28 +50,57 @@ class RealLog:
                          drop_incomplete=self.drop_incomplete) for p in self.paths]
 
 
-REAL_LOGS = {log.name: log for log in (
-    RealLog("ur3", ("ur3-cobotops/dataset_02052023.csv",),
+REAL_LOGS = {
+    log.name: log
+    for log in (
+        RealLog(
+            "ur3",
+            ("ur3-cobotops/dataset_02052023.csv",),
             "time=Timestamp,effort=Current_J{j},temperature=Temperature_*{j},velocity=Speed_J{j}",
-            drop_incomplete=True, description="UR3 cobot, six joints, 1 Hz, two parts 5.2 h apart"),
-    RealLog("wx200", ("interbotix-wx200/wx200_ext_bearing.csv", "interbotix-wx200/wx200_home_bearing.csv"),
+            drop_incomplete=True,
+            description="UR3 cobot, six joints, 1 Hz, two parts 5.2 h apart",
+        ),
+        RealLog(
+            "wx200",
+            ("interbotix-wx200/wx200_ext_bearing.csv", "interbotix-wx200/wx200_home_bearing.csv"),
             "time=States Time [s],effort=Effort [mA],temperature=Temp [C],velocity=Velocity [rad/s]",
-            actuator="waist", description="WidowX-200 waist servo, two 600 s runs, whole degrees"),
-    RealLog("bldc", ("tass-bldc-bench/Run2-Throttle100_unified.csv", "tass-bldc-bench/Run13-Throttle8_unified.csv"),
+            actuator="waist",
+            description="WidowX-200 waist servo, two 600 s runs, whole degrees",
+        ),
+        RealLog(
+            "bldc",
+            ("tass-bldc-bench/Run2-Throttle100_unified.csv", "tass-bldc-bench/Run13-Throttle8_unified.csv"),
             "time=Time (s),effort=Power (W),power=Power (W),temperature=Winding Temp (°C)",
-            actuator="bldc", description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz"),
-)}
+            actuator="bldc",
+            description="BLDC bench, two heating runs of 2-2.5 min at 10 Hz",
+        ),
+    )
+}
 
 # A hobby motor's thermocouple logs as the lab's Arduino wrote them (the first day's without a header row):
 # ten runs whose sensor reads low while the motor is driven, which fit and diagnose refuse, naming the
 # intervals.
 # the first day's, unwritten
 GIMBALBOT_COLUMNS = ("timeSinceStart", "pwmOut", "tempCelsius", "tempRefCelsius")
-GIMBALBOT = RealLog("gimbalbot", tuple(f"gimbalbot-esc-motor/test01262015-0{k}-{kind}.csv" for k, kind in (
-    (1, "control"), (2, "control"), (3, "control"), (4, "justnozzles"), (5, "justnozzles"), (6, "justnozzles"),
-    (7, "3x8venturi"))), "time=timeSinceStart:ms,effort=pwmOut,temperature=tempCelsius,ambient=tempRefCelsius",
-    actuator="motor", drop_incomplete=True, description="hobby BLDC on an ESC, "
-                                                        "thermocouple disturbed while driven")
+GIMBALBOT = RealLog(
+    "gimbalbot",
+    tuple(
+        f"gimbalbot-esc-motor/test01262015-0{k}-{kind}.csv"
+        for k, kind in (
+            (1, "control"),
+            (2, "control"),
+            (3, "control"),
+            (4, "justnozzles"),
+            (5, "justnozzles"),
+            (6, "justnozzles"),
+            (7, "3x8venturi"),
+        )
+    ),
+    "time=timeSinceStart:ms,effort=pwmOut,temperature=tempCelsius,ambient=tempRefCelsius",
+    actuator="motor",
+    drop_incomplete=True,
+    description="hobby BLDC on an ESC, thermocouple disturbed while driven",
+)
 
 # The same 106 s WidowX-200 run twice: the ROS 1 bag as recorded, and the package's CSV export of it
 # (three time bases, each from zero at its own first sample).

@@ -11,9 +11,22 @@ from importlib import import_module
 
 # the catalog's order (the order changes are tried in, and the plant applies its effects in), then the plant's
 # effects that have no term; imported one by one in this order (an import sorter must not reorder them)
-MODULES = ("joule", "effort_bias", "current_heating", "power_heating", "housing_boundary", "winding_tempco",
-           "speed_losses", "neighbor_coupling", "ambient_variation", "motion_cooling", "slow_masses", "sensor_lag",
-           "readings", "logged_channels")
+MODULES = (
+    "joule",
+    "effort_bias",
+    "current_heating",
+    "power_heating",
+    "housing_boundary",
+    "winding_tempco",
+    "speed_losses",
+    "neighbor_coupling",
+    "ambient_variation",
+    "motion_cooling",
+    "slow_masses",
+    "sensor_lag",
+    "readings",
+    "logged_channels",
+)
 for _module in MODULES:
     import_module(f"{__name__}.{_module}")
 
@@ -41,7 +54,31 @@ from .sensor_lag import SensorLag  # noqa: E402
 from .speed_losses import SpeedLosses  # noqa: E402
 from .winding_tempco import WindingTempco  # noqa: E402
 
-__all__ = ["EFFECTS", "HOT_AND_COOL", "MODULES", "ONSETS", "PHASES", "PLANT_EFFECTS", "SLOW_DRIFT", "AmbientVariation",
-           "DecoyChannels", "DriverConduction", "Effect", "EffortBias", "FanCooling", "FieldWeakening", "Hidden",
-           "HoldingBrake", "MotionCooling", "NeighborCoupling", "PlantEffect", "PlantEffects", "Quantisation",
-           "Schedule", "SensorLag", "SensorNoise", "SpeedLosses", "WindingTempco"]
+__all__ = [
+    "EFFECTS",
+    "HOT_AND_COOL",
+    "MODULES",
+    "ONSETS",
+    "PHASES",
+    "PLANT_EFFECTS",
+    "SLOW_DRIFT",
+    "AmbientVariation",
+    "DecoyChannels",
+    "DriverConduction",
+    "Effect",
+    "EffortBias",
+    "FanCooling",
+    "FieldWeakening",
+    "Hidden",
+    "HoldingBrake",
+    "MotionCooling",
+    "NeighborCoupling",
+    "PlantEffect",
+    "PlantEffects",
+    "Quantisation",
+    "Schedule",
+    "SensorLag",
+    "SensorNoise",
+    "SpeedLosses",
+    "WindingTempco",
+]

@@ -169,7 +169,9 @@ class PlantEffects:
     def __getattr__(self, name: str):
         if name in PLANT_EFFECTS:
             return self._on.get(name)
-        raise AttributeError(f"PlantEffects has no effect {name!r}; known effects: {', '.join(PLANT_EFFECTS)}")
+        raise AttributeError(
+            f"PlantEffects has no effect {name!r}; known effects: {', '.join(PLANT_EFFECTS)}"
+        )
 
     def __setattr__(self, name, value):
         raise AttributeError("PlantEffects is read-only; make a changed copy with .replace(...)")

@@ -109,4 +109,6 @@ class DecoyChannels(PlantEffect):
 
 
 
-register(*(Effect(cls.name, plant=cls) for cls in (FanCooling, HoldingBrake, DriverConduction, DecoyChannels)))
+register(
+    *(Effect(cls.name, plant=cls) for cls in (FanCooling, HoldingBrake, DriverConduction, DecoyChannels))
+)

@@ -41,5 +41,13 @@ class MotionCooling(PlantEffect):
 
 
 # the plant's airflow cools its outer node; on the X8 the model may place it on the housing mass
-register(Effect("motion_cooling", MotionCoolingTerm, MotionCooling, residual="|velocity|",
-                hidden=Hidden("motion_cooling", "motion_cooling", also=("housing_motion_cooling",)), rides="velocity"))
+register(
+    Effect(
+        "motion_cooling",
+        MotionCoolingTerm,
+        MotionCooling,
+        residual="|velocity|",
+        hidden=Hidden("motion_cooling", "motion_cooling", also=("housing_motion_cooling",)),
+        rides="velocity",
+    )
+)

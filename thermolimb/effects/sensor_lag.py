@@ -56,4 +56,6 @@ class SensorLag(PlantEffect):
         net.A[net.sensor, net.winding] = rate
 
 
-register(Effect("sensor_lag", SensorLagTerm, SensorLag, residual=ONSETS, hidden=Hidden("sensor_lag", "sensor_lag")))
+register(
+    Effect("sensor_lag", SensorLagTerm, SensorLag, residual=ONSETS, hidden=Hidden("sensor_lag", "sensor_lag"))
+)

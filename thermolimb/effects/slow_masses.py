@@ -112,7 +112,9 @@ class HousingMotionCooling(Term):
     name = "housing_motion_cooling"
     label = "the housing cooled by motion"
     description = "cooling of the housing (the second mass) that improves with speed (airflow)"
-    parameters = (airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),)
+    parameters = (
+        airflow_parameter(HOUSING_AIRFLOW, "the housing's conductance to ambient", "the housing is warm"),
+    )
     columns = ("velocity",)
     requires = ("second_node",)
     airflow_on = "second_node"

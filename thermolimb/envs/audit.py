@@ -65,9 +65,16 @@ class AuditResult:
                  "time_to_limit_s": t} for k, (j, t) in enumerate(zip(self.joints, self.first_at_limit_s()))]
 
     def to_json(self) -> dict:
-        return {"env": self.env_id, "policy": self.policy, "duration_s": self.duration_s, "resets": self.resets,
-                "heat": self.heat, "limiting_joint": self.limiting_joint(), "joints": self.rows(),
-                "notes": list(self.notes)}
+        return {
+            "env": self.env_id,
+            "policy": self.policy,
+            "duration_s": self.duration_s,
+            "resets": self.resets,
+            "heat": self.heat,
+            "limiting_joint": self.limiting_joint(),
+            "joints": self.rows(),
+            "notes": list(self.notes),
+        }
 
     def lines(self) -> list[str]:
         """The report in words, one joint per line, hottest first."""
@@ -139,7 +146,11 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
         known_envs()  # the suite's robots register their environments
         env = _made(env, env_id, env_kwargs or {})
     wrapped = ThermalWrapper(env, observe=None, reset_heat=False, **wrapper)
-    heat = "the models given" if wrapper.get("models") is not None else "the suite's plant with datasheet actuators"
+    heat = (
+        "the models given"
+        if wrapper.get("models") is not None
+        else "the suite's plant with datasheet actuators"
+    )
     steps = int(math.ceil(duration_s / wrapped.dt_s))
     strongest = np.zeros(len(wrapped.joints))  # each joint's largest |torque|, N m
     resets = 0
@@ -177,7 +188,9 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
                      f"most, {wrapped.joints[k]}: {strongest[k]:.3g} "
                      f"N m against {peak[k]:.3g} N m); the plant heats "
                      f"them at the peak, as a drive that holds it would")
-    return AuditResult(env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes)
+    return AuditResult(
+        env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes
+    )
 
 
 def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
@@ -196,12 +209,15 @@ def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:
     except gym.error.Error as exc:
         raise UsageError(f"--env {shown}: {exc}") from None
     except TypeError as exc:  # an argument its constructor does not take
-        raise UsageError(f"--env {shown} does not take the arguments given ({exc}); see help(env.unwrapped)") \
-            from None
+        raise UsageError(
+            f"--env {shown} does not take the arguments given ({exc}); see help(env.unwrapped)"
+        ) from None
     except Exception as exc:  # noqa: BLE001 -- the user's arguments reach the environment's own code
         given = ", ".join(f"{k}={v!r}" for k, v in kwargs.items()) or "no arguments"
-        raise UsageError(f"--env {shown} could not be made with {given}: {type(exc).__name__}: "
-                         f"{str(exc).splitlines()[0] if str(exc) else 'no message'}") from None
+        raise UsageError(
+            f"--env {shown} could not be made with {given}: {type(exc).__name__}: "
+            f"{str(exc).splitlines()[0] if str(exc) else 'no message'}"
+        ) from None
 
 
 def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -> np.ndarray:
@@ -220,7 +236,11 @@ def _action(policy: Callable, name: str, env: gym.Env, observation, step: int) -
     except (TypeError, ValueError):
         values = None
     if action is None or values is None or values.shape != space.shape:
-        got = "None" if action is None else (f"shape {values.shape}" if values is not None else repr(action)[:60])
+        got = (
+            "None"
+            if action is None
+            else (f"shape {values.shape}" if values is not None else repr(action)[:60])
+        )
         raise UsageError(f"--policy {name} returned {got} at step {step}; {expected}")
     if not np.isfinite(values).all():
         raise UsageError(f"--policy {name} returned "

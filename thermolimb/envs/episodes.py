@@ -55,8 +55,17 @@ def run_episode(env_id: str, strategy: str, seed: int, max_time_s: float | None 
     return Episode(env_id, strategy, seed, total, length, info["time_s"], **outcome, fell=bool(info["fell"]))
 
 
-def run_episodes(env_id: str, episodes: int, seed: int, strategies=None, backend: str = "process", workers: int = 2,
-             address: str | None = None, max_time_s: float | None = None, scenario: str | None = None) -> list[Episode]:
+def run_episodes(
+    env_id: str,
+    episodes: int,
+    seed: int,
+    strategies=None,
+    backend: str = "process",
+    workers: int = 2,
+    address: str | None = None,
+    max_time_s: float | None = None,
+    scenario: str | None = None,
+) -> list[Episode]:
     """Every strategy over ``episodes`` seeds (``seed``, ``seed + 1``, ...), the same seeds for each strategy;
     ``scenario``: the environment's ``scenario`` argument, for an environment that takes one."""
     offered = env_strategies(env_id)

@@ -52,8 +52,11 @@ def _cell(stat, fmt="{:.2f}"):
 def format_table(rows, env_id) -> str:
     outcome = outcome_key(env_id)
     hot = any(r["hot_recovery_s"][2] for r in rows) or outcome == "recovery_s"
-    lines = [f"{'strategy':24s} {'return':>22s} {outcome:>22s} " + (f"{'hot_recovery_s':>22s} " if hot else "")
-             + f"{'time_to_limit_s':>22s} {'falls':>6s}"]
+    lines = [
+        f"{'strategy':24s} {'return':>22s} {outcome:>22s} "
+        + (f"{'hot_recovery_s':>22s} " if hot else "")
+        + f"{'time_to_limit_s':>22s} {'falls':>6s}"
+    ]
     for r in rows:
         lines.append(f"{r['strategy']:24s} {_cell(r['return']):>22s} {_cell(r[outcome]):>22s} "
                      + (f"{_cell(r['hot_recovery_s']):>22s} " if hot else "")
@@ -68,7 +71,10 @@ def plot_table(rows, env_id, path: Path) -> Path:
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     names = [r["strategy"] for r in rows]
     readable = {"recovery_s": "time to recover (s)", "distance_m": "distance (m)"}
-    for ax, key, title in ((axes[0], "return", "episode return"), (axes[1], outcome, readable.get(outcome, outcome))):
+    for ax, key, title in (
+        (axes[0], "return", "episode return"),
+        (axes[1], outcome, readable.get(outcome, outcome)),
+    ):
         ticks = []
         for k, r in enumerate(rows):
             mean, std, n = r[key]
@@ -85,7 +91,9 @@ def plot_table(rows, env_id, path: Path) -> Path:
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xticks(range(len(names)), ticks)
         spread = any(r[key][2] >= 2 for r in rows if r[key][0] is not None)
-        ax.set_title(f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"), fontsize=9)
+        ax.set_title(
+            f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"), fontsize=9
+        )
         ax.tick_params(axis="x", labelsize=8)
     fig.suptitle(env_id, fontsize=10)
     return save(fig, path)

@@ -13,5 +13,12 @@ ESTIMATORS = {
     "output_error": FreeRunLeastSquares,
 }
 
-__all__ = ["ESTIMATORS", "IdentifiabilityError", "LeastSquares", "FreeRunLeastSquares", "JorgensenGradientDescent",
-           "ThermalEstimator", "build_regression"]
+__all__ = [
+    "ESTIMATORS",
+    "IdentifiabilityError",
+    "LeastSquares",
+    "FreeRunLeastSquares",
+    "JorgensenGradientDescent",
+    "ThermalEstimator",
+    "build_regression",
+]

@@ -67,9 +67,16 @@ class FreeRunLeastSquares(ThermalEstimator):
 
     method = "output_error"
 
-    def __init__(self, model=DEFAULT_MODEL, initial: Mapping[str, float] | None = None,
-                 cutoff_hz: float | None = 0.015, max_nfev: int = 30, fixed: Mapping[str, float] | None = None,
-                 max_iterations: int | None = None, max_samples: int | None = None):
+    def __init__(
+        self,
+        model=DEFAULT_MODEL,
+        initial: Mapping[str, float] | None = None,
+        cutoff_hz: float | None = 0.015,
+        max_nfev: int = 30,
+        fixed: Mapping[str, float] | None = None,
+        max_iterations: int | None = None,
+        max_samples: int | None = None,
+    ):
         super().__init__(model)
         self.initial = initial
         self.cutoff_hz = cutoff_hz
@@ -85,7 +92,9 @@ class FreeRunLeastSquares(ThermalEstimator):
         given = {**(self.initial or {}), **(self.fixed or {})}
         if any(p.name not in given for p in params):
             first = series[0]
-            linear = tuple(n for n in terms if instance(n).features(first.signals, first.temperature_C) is not None)
+            linear = tuple(
+                n for n in terms if instance(n).features(first.signals, first.temperature_C) is not None
+            )
             if any(TERMS[n].is_heat_source for n in linear):
                 try:
                     start.update(LeastSquares(model=linear, cutoff_hz=self.cutoff_hz).fit(series).params_)
@@ -144,9 +153,17 @@ class FreeRunLeastSquares(ThermalEstimator):
         # time constants are not long against them (thinning.BLOCK_TIME_CONSTANTS); a short fit, which only
         # ranks starting points, keeps its blocks
         blocks = k > 1
-        shown, shown_rows = zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
-        result = least_squares(residual_on(shown, shown_rows), x0, bounds=(lower[free], upper[free]), x_scale=scale,
-                               method="trf", max_nfev=budget)
+        shown, shown_rows = (
+            zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
+        )
+        result = least_squares(
+            residual_on(shown, shown_rows),
+            x0,
+            bounds=(lower[free], upper[free]),
+            x_scale=scale,
+            method="trf",
+            max_nfev=budget,
+        )
         if blocks and not self.max_iterations and not blocks_allowed(model_at(result.x), shown):
             blocks = False
             result = least_squares(residual_on(series, rows), result.x, bounds=(lower[free], upper[free]),
@@ -174,7 +191,9 @@ class FreeRunLeastSquares(ThermalEstimator):
         cov[np.ix_(free, free)] = sigma2 * scaled_inverse(J.T @ J)
         values = _with(x_all, free, result.x)
         final = model_at(result.x)
-        self.offsets_ = [final.place_hidden(s, r, rate)[1] if hidden else {} for s, rate, r in zip(series, rates, rows)]
+        self.offsets_ = [
+            final.place_hidden(s, r, rate)[1] if hidden else {} for s, rate, r in zip(series, rates, rows)
+        ]
         return values, cov
 
 

@@ -81,7 +81,9 @@ def lowpass(x: np.ndarray, cutoff_hz: float | None, dt_s: float, axis: int = 0) 
     n, edge = moved.shape[0], PAD_SAMPLES
     if n <= edge:
         raise ValueError(f"a low-pass filter needs more than {edge} samples, got {n}")
-    extended = np.concatenate([2.0 * moved[:1] - moved[edge:0:-1], moved, 2.0 * moved[-1:] - moved[-2:-edge - 2:-1]])
+    extended = np.concatenate(
+        [2.0 * moved[:1] - moved[edge:0:-1], moved, 2.0 * moved[-1:] - moved[-2 : -edge - 2 : -1]]
+    )
     flat = extended.reshape(extended.shape[0], -1)
     forward = _section(b, a, flat)
     both = _section(b, a, forward[::-1])[::-1]
@@ -261,7 +263,9 @@ def independent_fractions(X: np.ndarray) -> np.ndarray:
     for j in range(p):
         others = [k for k in range(p) if k != j]
         g = G[others, j]
-        residual[j] = np.sqrt(max(G[j, j] - g @ np.linalg.pinv(G[np.ix_(others, others)], rcond=1e-12) @ g, 0.0))
+        residual[j] = np.sqrt(
+            max(G[j, j] - g @ np.linalg.pinv(G[np.ix_(others, others)], rcond=1e-12) @ g, 0.0)
+        )
     return _relative(X, norms, safe, residual)
 
 

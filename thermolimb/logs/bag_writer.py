@@ -94,8 +94,16 @@ def write_mcap(log, path: str | Path, layout: str = "thermal", temperature_every
                     "/thermal", THERMAL_TYPE, typestore=store, msgdef=THERMAL_DEFINITION)
                 dynamic = None if layout != "ros2_control" else writer.add_connection(
                     "/dynamic_joint_states", DYNAMIC_TYPE, typestore=store)
-                joints = [writer.add_connection(f"/{n}/temperature", TemperatureMsg.__msgtype__, typestore=store)
-                          for n in names] if layout == "per_joint" else []
+                joints = (
+                    [
+                        writer.add_connection(
+                            f"/{n}/temperature", TemperatureMsg.__msgtype__, typestore=store
+                        )
+                        for n in names
+                    ]
+                    if layout == "per_joint"
+                    else []
+                )
                 air = writer.add_connection("/ambient", TemperatureMsg.__msgtype__, typestore=store) \
                     if ambient is not None else None
                 for k, t in enumerate(time_s):
@@ -116,7 +124,9 @@ def write_mcap(log, path: str | Path, layout: str = "thermal", temperature_every
                         msg = Dynamic(header=header, joint_names=names, interface_values=values)
                         writer.write(dynamic, ns, store.serialize_cdr(msg, DYNAMIC_TYPE))
                     for j, conn in enumerate(joints if k % temperature_every == 0 else ()):
-                        msg = TemperatureMsg(header=header, temperature=float(temperature[k, j]), variance=0.0)
+                        msg = TemperatureMsg(
+                            header=header, temperature=float(temperature[k, j]), variance=0.0
+                        )
                         writer.write(conn, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))
                     if air is not None:
                         msg = TemperatureMsg(header=header, temperature=float(ambient[k, 0]), variance=0.0)

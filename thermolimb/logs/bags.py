@@ -70,8 +70,11 @@ def _open(path: Path):
         raise LogError(f"{path}: no such file or folder; expected a "
                        "ROS 1 bag (.bag) or a ROS 2 bag (.mcap, .db3 "
                        f"or its folder)")
-    bag = path.parent if path.suffix.lower() in (".mcap", ".db3") and (path.parent / "metadata.yaml").exists() \
+    bag = (
+        path.parent
+        if path.suffix.lower() in (".mcap", ".db3") and (path.parent / "metadata.yaml").exists()
         else path
+    )
     reader = AnyReader([bag], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
     try:
         reader.open()
@@ -200,7 +203,9 @@ def _beside(info: TopicInfo, field: str) -> dict[str, str]:
     named as a table's columns are read (``tau_est``, ``dq``): where no JointState gives them (a Unitree
     ``LowState``'s ``motor_state``, a driver's own per-motor message)."""
     prefix = field.rpartition(".")[0]
-    leaves = [f.rpartition(".")[2] for f in info.numeric_fields if f.rpartition(".")[0] == prefix and f != field]
+    leaves = [
+        f.rpartition(".")[2] for f in info.numeric_fields if f.rpartition(".")[0] == prefix and f != field
+    ]
     leaves = [f for f in leaves if not says_whole("raw", f)] or leaves  # dq beside its unfiltered dq_raw
     found, _ = suggest_table_mapping(leaves, dict.fromkeys(leaves, 1))
     return {k: f"{info.topic}.{prefix + '.' if prefix else ''}{found[k].partition(':')[0]}"
@@ -276,7 +281,9 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, dro
     if not carried.any():
         listed = ", ".join(names[0]) if names[0] else "no joint names (no name array)"
         raise LogError(f"{path}: joint {joint!r} is not in {topic}; its messages name {listed}")
-    return series_of(np.where(carried, times, np.nan), out, str(path), f"{key} of {joint}", drop_incomplete, notes)
+    return series_of(
+        np.where(carried, times, np.nan), out, str(path), f"{key} of {joint}", drop_incomplete, notes
+    )
 
 
 def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:
@@ -384,8 +391,20 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     frames = []
     for joint in have:
         series = _series_of_joint(wanted, data, joint, path, notes, drop_incomplete)
-        series.update({k: _joint_series(k, more_wanted[f"{k}|{joint}"][0], more_data[f"{k}|{joint}"], joint, path,
-                                        drop_incomplete, notes) for k in patterned})
+        series.update(
+            {
+                k: _joint_series(
+                    k,
+                    more_wanted[f"{k}|{joint}"][0],
+                    more_data[f"{k}|{joint}"],
+                    joint,
+                    path,
+                    drop_incomplete,
+                    notes,
+                )
+                for k in patterned
+            }
+        )
         temperature = series.pop("temperature")
         aligned, more = align(temperature, series, f"{path} ({joint})")
         aligned["actuator"] = joint
@@ -394,7 +413,9 @@ def _read_joint_topics(reader, path: Path, mapping: Mapping[str, str], actuator:
     return frames, notes
 
 
-def _series_of_joint(wanted, data, joint: str | None, path: Path, notes: list[str], drop_incomplete: bool) -> dict:
+def _series_of_joint(
+    wanted, data, joint: str | None, path: Path, notes: list[str], drop_incomplete: bool
+) -> dict:
     """Each mapped channel's series for ``joint``; an extra channel that has none for it is left out
     (noted)."""
     series = {}

@@ -91,8 +91,14 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     skip = comments | set(range(header_at))
     header_line = next(line for i, line in content if i == header_at)
     header = next(csv.reader([header_line], delimiter=sep), [])
-    options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace", skiprows=skip or None,
-                   skip_blank_lines=True)
+    options = dict(
+        sep=sep,
+        decimal=decimal,
+        encoding="utf-8-sig",
+        encoding_errors="replace",
+        skiprows=skip or None,
+        skip_blank_lines=True,
+    )
     after = next((line for i, line in content if i > header_at), None)
     following = None if after is None else next(csv.reader([after], delimiter=sep), [])
     if _holds_data(header, following):  # no header row: the first line is a sample (a logger's, a drive's)
@@ -100,13 +106,17 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
         options.update(header=None, names=names, index_col=False)
         return Dialect(options, {}, header_line, headerless=True)
     counts = Counter(name.strip() for name in header)
-    if sum(line.rstrip().endswith(sep) for line in data) * 2 > len(data) and not header_line.rstrip().endswith(sep):
+    if sum(line.rstrip().endswith(sep) for line in data) * 2 > len(
+        data
+    ) and not header_line.rstrip().endswith(sep):
         options["index_col"] = False  # data lines end with a separator the header lacks: not an index column
     names, units_line = [name.strip() for name in header], None
     units_at, units = _units_row(content, header_at, sep, names)
     if units and len(set(names)) == len(names):
         # a row of units under the header (a DAQ's export): read as the header's own "name [unit]"
-        names = [f"{n} [{u}]" if u and n != "actuator" and not header_unit(n) else n for n, u in zip(names, units)]
+        names = [
+            f"{n} [{u}]" if u and n != "actuator" and not header_unit(n) else n for n, u in zip(names, units)
+        ]
         options.update(names=names, header=0, skiprows=sorted(skip | {units_at}))
         units_line = next(line for i, line in content if i == units_at)
     if "actuator" in names:
@@ -116,7 +126,9 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
         options.update(keep_default_na=False, dtype={"actuator": str},
                        na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
                        | {"actuator": [""]})
-    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line, units_line)
+    return Dialect(
+        options, {name: k for name, k in counts.items() if k > 1 and name}, header_line, units_line
+    )
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")

@@ -146,7 +146,9 @@ class CsvFollower:
         probe = self._probe_rows()
         lines, self.pending = self.pending, []
         data = [k for k, (_, t) in enumerate(lines) if t.strip() and not t.lstrip().startswith("#")]
-        first, rest = (lines, []) if len(data) <= probe + 1 else (lines[:data[probe] + 1], lines[data[probe] + 1:])
+        first, rest = (
+            (lines, []) if len(data) <= probe + 1 else (lines[: data[probe] + 1], lines[data[probe] + 1 :])
+        )
         dialect = csv_dialect("\n".join(t for _, t in first) + "\n", self.path, self.read.get("sep"),
                               self.read.get("decimal"))
         self.dialect = dialect
@@ -154,7 +156,11 @@ class CsvFollower:
         first = first[:header_at + 1] + self._checked(first[header_at + 1:])
         text = "\n".join(t for _, t in first) + "\n"
         names = [h.strip() for h in dialect.header]
-        if self.mapping is None and "actuator" not in names and {"time", "effort", "temperature"} <= set(names):
+        if (
+            self.mapping is None
+            and "actuator" not in names
+            and {"time", "effort", "temperature"} <= set(names)
+        ):
             # a canonical log of one actuator: its columns by name, the actuator named by --actuator (or the
             # file)
             self.mapping = {c: c for c in REQUIRED + OPTIONAL if c in names}
@@ -306,7 +312,9 @@ class CsvFollower:
             if last is None:
                 continue
             if arrays["time"][0] <= last.time_s:
-                raise LogError(f"time {arrays['time'][0]:g} s of {name} does not come after {last.time_s:g} s")
+                raise LogError(
+                    f"time {arrays['time'][0]:g} s of {name} does not come after {last.time_s:g} s"
+                )
             jump = arrays["temperature"][0] - last.temperature_C
             if KELVIN_JUMP[0] <= abs(jump) <= KELVIN_JUMP[1]:
                 raise LogError(f"the temperature of {name} jumps by "

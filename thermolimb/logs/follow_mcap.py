@@ -61,7 +61,9 @@ class McapFollower:
         if self.stream is None:
             return None
         if not self.topics:
-            return "holds no complete chunk of messages (an MCAP cut off before its first chunk, or still empty)"
+            return (
+                "holds no complete chunk of messages (an MCAP cut off before its first chunk, or still empty)"
+            )
         wanted = ", ".join(sorted({t.topic for t in self.mapping.values()}))
         own = all(t.startswith("/thermolimb/") or t == "/diagnostics" for t in self.topics)
         return ("has the topics "
@@ -102,14 +104,20 @@ class McapFollower:
             if not values:
                 order = list(self.latest["effort"]) if key not in self.latest else []
                 values = target.in_order(msg, topic, self.source, order, self.notes)
-            elif key not in self.latest and self.latest["effort"] and not values.keys() & self.latest["effort"].keys():
+            elif (
+                key not in self.latest
+                and self.latest["effort"]
+                and not values.keys() & self.latest["effort"].keys()
+            ):
                 within = named_within(values, self.latest["effort"])  # a status per joint, named around it
                 values = {within[n]: v for n, v in values.items() if n in within}
             if key in self.latest:
                 self.latest[key].update(values)
                 continue
             for name, temperature in values.items():
-                if name not in self.latest["effort"] or (name in self.last_time and time_s <= self.last_time[name]):
+                if name not in self.latest["effort"] or (
+                    name in self.last_time and time_s <= self.last_time[name]
+                ):
                     continue  # no effort yet, or a reading no later than the last: not a new sample
                 if name not in self.last_time:
                     new.add(name)

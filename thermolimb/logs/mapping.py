@@ -171,18 +171,34 @@ def expand_joints(columns, mapping: Mapping[str, str], source: str,
 # words in a column's name that say which channel it is, most specific first (a column is matched once); then
 # short names that say it only as a whole word of the name ("joint_vel_rad_s", "tau_Nm"; "level" is no
 # velocity)
-CHANNEL_WORDS = (("time", ("timestamp", "time"), ("stamp", "seconds")),
-                 ("temperature", ("winding temp", "stator_winding", "temperature", "temp"), ()),
-                 ("effort", ("torque", "effort"), ("tau", "nm", "load")), ("current", ("current",), ("amps", "iq")),
-                 ("power", ("power",), ()), ("velocity", ("velocity", "speed"), ("vel", "omega", "qd", "dq", "rpm")),
-                 ("ambient", ("ambient",), ()))
+CHANNEL_WORDS = (
+    ("time", ("timestamp", "time"), ("stamp", "seconds")),
+    ("temperature", ("winding temp", "stator_winding", "temperature", "temp"), ()),
+    ("effort", ("torque", "effort"), ("tau", "nm", "load")),
+    ("current", ("current",), ("amps", "iq")),
+    ("power", ("power",), ()),
+    ("velocity", ("velocity", "speed"), ("vel", "omega", "qd", "dq", "rpm")),
+    ("ambient", ("ambient",), ()),
+)
 # a unit a column's name ends in (``tau_Nm``, ``speed_rpm``, ``current_A``), by channel: the suggestion states
 # it
-NAMED_UNITS = {"effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"}, "current": {"a": "A", "ma": "mA", "amps": "A"},
-               "velocity": {"rpm": "rpm", "rad_s": "rad/s", "rads": "rad/s", "deg_s": "deg/s", "dps": "deg/s",
-                            "rev_s": "rev/s", "rps": "rev/s", "turns_s": "turn/s", "m_s": "m/s"},
-               "power": {"w": "W", "mw": "mW", "kw": "kW"},
-               "time": {"ms": "ms", "us": "us", "ns": "ns", "min": "min"}}  # seconds need no saying
+NAMED_UNITS = {
+    "effort": {"nm": "Nm", "n": "N", "ma": "mA", "a": "A"},
+    "current": {"a": "A", "ma": "mA", "amps": "A"},
+    "velocity": {
+        "rpm": "rpm",
+        "rad_s": "rad/s",
+        "rads": "rad/s",
+        "deg_s": "deg/s",
+        "dps": "deg/s",
+        "rev_s": "rev/s",
+        "rps": "rev/s",
+        "turns_s": "turn/s",
+        "m_s": "m/s",
+    },
+    "power": {"w": "W", "mw": "mW", "kw": "kW"},
+    "time": {"ms": "ms", "us": "us", "ns": "ns", "min": "min"},
+}  # seconds need no saying
 # words that name a motor's temperature, and words that name its electronics' (a driver's FETs, a board)
 MOTOR_WORDS = ("motor", "winding", "stator", "coil")
 ELECTRONICS_WORDS = ("fet", "mosfet", "driver", "board", "pcb", "mcu", "cpu", "inverter", "esc", "controller",
@@ -248,8 +264,13 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
                 mapping[channel] = _pattern([n for n, _ in groups[key]])
                 used |= {n for n, _ in groups[key]}
                 if len(groups) > 1:
-                    reasons.append(_others_left(channel, mapping[channel], [_pattern([n for n, _ in g])
-                                                                            for k, g in groups.items() if k != key]))
+                    reasons.append(
+                        _others_left(
+                            channel,
+                            mapping[channel],
+                            [_pattern([n for n, _ in g]) for k, g in groups.items() if k != key],
+                        )
+                    )
                 break
             single = [n for n in names if says(word, n) and n not in used and n not in grouped
                       and (channel == "time" or "time" not in n.lower())]  # "Temperature Time [s]" is a time
@@ -351,8 +372,10 @@ def named_unit(channel: str, column: str) -> str | None:
     if header_unit(column) is not None:
         return None
     words, table = re.split(r"[^a-z0-9]+", str(column).lower()), NAMED_UNITS.get(channel, {})
-    return next((table[key] for n in (2, 1) for key in ["_".join(words[-n:])] if len(words) > n and key in table),
-                None)
+    return next(
+        (table[key] for n in (2, 1) for key in ["_".join(words[-n:])] if len(words) > n and key in table),
+        None,
+    )
 
 
 def _named_joints(several: dict[str, list[str]]) -> tuple[dict[str, str], list[str], list[str]] | None:
@@ -381,7 +404,12 @@ def _name_pattern(columns: list[str]) -> tuple[str, list[str]] | None:
         head = head[:max((head.rfind(s) + 1 for s in separators), default=0)]
         tail = tail[min((i for i, ch in enumerate(tail) if ch in separators), default=len(tail)):]
         names = [c[len(head):len(c) - len(tail)] for c in columns]
-        if (head or tail) and all(names) and len(set(names)) == len(names) and not any("/" in n for n in names):
+        if (
+            (head or tail)
+            and all(names)
+            and len(set(names)) == len(names)
+            and not any("/" in n for n in names)
+        ):
             return f"{head}{JOINT}{tail}", names
     return None
 
@@ -412,7 +440,9 @@ def _names_actuators(name: str) -> bool:
     """Whether a column's name says it names the actuator of each row (``actuator``, ``joint``, ``motor_id``,
     ``Joint Name``, ``axis``): a word for an actuator, and no other words than ``id``, ``name``, ``nr``."""
     words = [w for w in re.split(r"[^a-z0-9]+", name.lower()) if w]
-    return bool(words) and words[0] in ACTUATOR_WORDS and all(w in ("id", "name", "nr", "no") for w in words[1:])
+    return (
+        bool(words) and words[0] in ACTUATOR_WORDS and all(w in ("id", "name", "nr", "no") for w in words[1:])
+    )
 
 
 def _bare_time(name: str) -> bool:

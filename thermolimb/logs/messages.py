@@ -100,7 +100,11 @@ def _numeric(value) -> bool:
 
 def _message_array(value) -> bool:
     """An array of sub-messages, one per motor (a Unitree ``LowState``'s ``motor_state``)."""
-    return isinstance(value, (list, tuple)) and bool(value) and all(hasattr(v, "__dataclass_fields__") for v in value)
+    return (
+        isinstance(value, (list, tuple))
+        and bool(value)
+        and all(hasattr(v, "__dataclass_fields__") for v in value)
+    )
 
 
 def numeric_fields(msg, prefix: str = "", scalars: bool = False) -> list[str]:
@@ -144,7 +148,10 @@ def numbered(msg, field: str | None = None) -> tuple[str, ...]:
 
 def _array_on(msg, field: str | None):
     """The array of sub-messages on ``field``'s path (without a field, the message's first), or ``None``."""
-    value, path = msg, field.split(".") if field else [k for k, v in _fields(msg).items() if _message_array(v)][:1]
+    value, path = (
+        msg,
+        field.split(".") if field else [k for k, v in _fields(msg).items() if _message_array(v)][:1],
+    )
     for part in path:
         value = _fields(value).get(part) if hasattr(value, "__dataclass_fields__") else None
         if _message_array(value):

@@ -155,7 +155,9 @@ class ThermalLog:
         ``temperature``, each optional channel the log has, each extra as ``extra.NAME``): its rows as read,
         no neighbour looked up (what a follower hands on, piece by piece)."""
         if actuator not in self.actuators:
-            raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
+            raise LogError(
+                f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}"
+            )
         g = self._groups[actuator]
         return {c: g[c].to_numpy(float) for c in g.columns if c != "actuator"}
 
@@ -163,7 +165,9 @@ class ThermalLog:
         """The channel of one actuator; its neighbours are the actuators before and after it in the log's
         order."""
         if actuator not in self.actuators:
-            raise LogError(f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}")
+            raise LogError(
+                f"{self.source}: no actuator {actuator!r}; the log has {', '.join(self.actuators)}"
+            )
         groups = self._groups
         g = groups[actuator]
         t = g["time"].to_numpy(float)

@@ -37,7 +37,9 @@ def _plateaus(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([[0], change]), np.concatenate([change, [values.size]])
 
 
-def suspect_spans(time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndarray) -> list[tuple[int, int, str]]:
+def suspect_spans(
+    time_s: np.ndarray, temperature_C: np.ndarray, effort: np.ndarray
+) -> list[tuple[int, int, str]]:
     """``(start, stop, why)`` of the spans a sensor cannot have meant (module docstring)."""
     n = temperature_C.size
     effort_range = float(np.ptp(effort)) or 1.0

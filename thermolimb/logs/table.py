@@ -83,7 +83,9 @@ def table_chunks(path: Path, sep: str | None = None, decimal: str | None = None,
     yield from _csv_chunks(path, sep, decimal, columns, rows, names)
 
 
-def key_values(path: Path, key: str, sep: str | None = None, decimal: str | None = None) -> tuple[list[str], int]:
+def key_values(
+    path: Path, key: str, sep: str | None = None, decimal: str | None = None
+) -> tuple[list[str], int]:
     """The distinct values (as text) of the column named ``key``, in the order they first appear, and how many
     rows leave it blank; read in pieces."""
     order: dict[str, None] = {}
@@ -111,7 +113,9 @@ def key_values(path: Path, key: str, sep: str | None = None, decimal: str | None
     return list(order), blank
 
 
-def rows_where(path: Path, key: str, groups, sep: str | None = None, decimal: str | None = None) -> list[pd.DataFrame]:
+def rows_where(
+    path: Path, key: str, groups, sep: str | None = None, decimal: str | None = None
+) -> list[pd.DataFrame]:
     """For each group ``(values, columns)``: the rows whose column named ``key`` holds one of ``values``
     (compared as text), with the ``columns`` named (a set; ``None``: all), as one frame whose key column is
     categorical (its categories: ``values``).  Read in pieces (Parquet: a row group

@@ -25,8 +25,35 @@ from ..model.parameter_units import CANONICAL, NOT_GIVEN, SCALED
 
 # units a mapping may name after a colon (COLUMN:UNIT); anything else after a colon is part of the column's
 # name
-KNOWN = ("N m", "Nm", "N", "mN m", "kN", "A", "mA", "W", "mW", "kW", "V", "rad/s", "m/s", "rpm", "deg/s", "rev/s",
-         "turn/s", "%", "s", "ms", "us", "ns", "min", "h", "degC", "K", "degF")
+KNOWN = (
+    "N m",
+    "Nm",
+    "N",
+    "mN m",
+    "kN",
+    "A",
+    "mA",
+    "W",
+    "mW",
+    "kW",
+    "V",
+    "rad/s",
+    "m/s",
+    "rpm",
+    "deg/s",
+    "rev/s",
+    "turn/s",
+    "%",
+    "s",
+    "ms",
+    "us",
+    "ns",
+    "min",
+    "h",
+    "degC",
+    "K",
+    "degF",
+)
 CELSIUS = ("degC", "°C", "C", "deg C", "celsius", "Celsius")  # what a header may call degrees Celsius
 # ... and degrees Fahrenheit (a thrust stand's "Temp (ºF)": an ordinal sign, not a degree sign, is common)
 FAHRENHEIT = ("degF", "°F", "ºF", "F", "deg F", "fahrenheit", "Fahrenheit")

@@ -76,7 +76,9 @@ def from_frame(
     """
     mapping, from_map = split_units(mapping)
     if velocity_unit is not None and velocity_unit not in VELOCITY_UNITS:
-        raise LogError(f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}")
+        raise LogError(
+            f"unknown velocity unit {velocity_unit!r}; expected one of {', '.join(VELOCITY_UNITS)}"
+        )
     given = {**{k: v for k, v in (units or {}).items() if v}, **from_map}
     if velocity_unit is not None:
         given["velocity"] = velocity_unit
@@ -160,7 +162,10 @@ def from_frame(
                        f"(or leave such rows out with --drop-incomplete)")
     # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
     origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
-    out = {"time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy), "actuator": names}
+    out = {
+        "time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy),
+        "actuator": names,
+    }
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])
     if not numeric_time and not later and is_stamped(frame["time"]):  # numbers written as text are not stamps
         notes.append(f"{source}: time stamps turned into seconds from the first sample")
@@ -214,7 +219,11 @@ def from_frame(
                 "(a log in kelvin, in tenths of a degree "
                 f"or in raw counts needs converting first)"
             )
-    if "velocity" in out and channel["velocity"] in VELOCITY_UNITS and VELOCITY_UNITS[channel["velocity"]] != 1.0:
+    if (
+        "velocity" in out
+        and channel["velocity"] in VELOCITY_UNITS
+        and VELOCITY_UNITS[channel["velocity"]] != 1.0
+    ):
         out["velocity"] = out["velocity"] * VELOCITY_UNITS[channel["velocity"]]
         channel["velocity"] = "m/s" if channel["velocity"] == "m/s" else "rad/s"
     for name, values in extra_values.items():
@@ -377,7 +386,9 @@ def refuse_empty_columns(frame, measured: list[str], mapping: Mapping[str, str] 
     for c in measured:
         if frame[c].isna().all():
             named = f" (the file's {mapping[c]!r})" if mapping and c in mapping else ""
-            fix = "" if c in REQUIRED else f", or leave {c} out" + (" of --map" if mapping else " of the file")
+            fix = (
+                "" if c in REQUIRED else f", or leave {c} out" + (" of --map" if mapping else " of the file")
+            )
             raise LogError(f"{source}: column {c!r}{named} holds no value "
                            f"in any of its {len(frame)} rows; expected "
                            f"numbers in {UNITS[c]}{fix}")
@@ -396,7 +407,9 @@ def apart(held: Mapping[str, int]) -> str | None:
     return next((c for c, n in held.items() if c != "temperature" and n < 0.5 * held["temperature"]), None)
 
 
-def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units: Mapping[str, str]) -> str | None:
+def on_other_rows(
+    frame, measured: list[str], mapping: Mapping[str, str], units: Mapping[str, str]
+) -> str | None:
     """Where the temperature and an input share one time column but are logged on different rows
     (:func:`apart`), how to read each on its own samples (:mod:`.align`); else ``None``."""
     if "time" not in mapping or any(TIME_OF in str(v) for v in mapping.values()):
@@ -406,7 +419,9 @@ def on_other_rows(frame, measured: list[str], mapping: Mapping[str, str], units:
     if thin is None:
         return None
     stated = {c: f"{mapping[c]}:{units[c]}" if c in units else mapping[c] for c in ["time", *measured]}
-    spec = ",".join([f"time={stated['time']}"] + [f"{c}={on_time(stated[c], mapping['time'])}" for c in measured])
+    spec = ",".join(
+        [f"time={stated['time']}"] + [f"{c}={on_time(stated[c], mapping['time'])}" for c in measured]
+    )
     return (f"the temperature and the {thin} are logged on different rows ({held[thin]} of the temperature's "
             f"{held['temperature']} rows hold the {thin}): read each on its own samples with "
             f"--map \"{spec}\"")

@@ -39,8 +39,13 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
             if "actuator" in mapping and name in frame.columns:
                 name = _joint_name(frame[name], name, source)
             if timed:  # each joint's channels on time bases of their own (topics merged on one time column)
-                part = _aligned(frame, {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
-                                source, name, drop_incomplete)
+                part = _aligned(
+                    frame,
+                    {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
+                    source,
+                    name,
+                    drop_incomplete,
+                )
                 notes += [n for n in part.attrs["notes"] if n not in notes]
                 parts.append(part)
                 continue
@@ -56,7 +61,9 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
         return out
     if any(TIME_OF in v for v in mapping.values()):
         return _aligned(frame, mapping, source, actuator_name, drop_incomplete)
-    absent = {k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)}
+    absent = {
+        k: v for k, v in mapping.items() if v not in frame.columns and not (k == "actuator" and "{" in v)
+    }
     if absent:
         k, v = next(iter(absent.items()))
         column, sep, unit = str(v).rpartition(":")
@@ -112,7 +119,9 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
         raise LogError(f"{source}: with per-channel time columns, --map names temperature=COLUMN@TIME_COLUMN "
                        f"(or time=COLUMN for the channels without their own)")
     columns, notes = {}, []
-    targets = {key: value.partition(TIME_OF) for key, value in mapping.items() if key not in ("time", "actuator")}
+    targets = {
+        key: value.partition(TIME_OF) for key, value in mapping.items() if key not in ("time", "actuator")
+    }
     stamps = [first_stamp(frame[t or mapping["time"]]) for _, _, t in targets.values()
               if (t or mapping.get("time")) in frame.columns]
     origin = min((s for s in stamps if s is not None), default=None)
@@ -128,7 +137,9 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
                 raise LogError(f"{source}: --map {key}={value} names column "
                                f"{c!r}, which the file does not have; "
                                f"its columns are {shown_names(frame.columns)}")
-        rows = frame[time_column].notna() & ~_others_message(frame, key, column, time_column, targets, mapping)
+        rows = frame[time_column].notna() & ~_others_message(
+            frame, key, column, time_column, targets, mapping
+        )
         if not rows.all() and (~rows & frame[time_column].notna()).any():
             notes.append(f"{source}: {key} read on the {int(rows.sum())} "
                          f"rows of {time_column} that hold it (the "

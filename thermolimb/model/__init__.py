@@ -22,7 +22,21 @@ from .terms import (
 )
 
 __all__ = [
-    "BASE_PARAMETERS", "DEFAULT_MODEL", "ModelArrays", "LinearTerm", "ModelSpecError", "Parameter", "Signals",
-    "TERMS", "Term", "ThermalModel", "first_order_scan", "load_model", "model_parameters", "parse_model", "register_term", "save_model",
+    "BASE_PARAMETERS",
+    "DEFAULT_MODEL",
+    "ModelArrays",
+    "LinearTerm",
+    "ModelSpecError",
+    "Parameter",
+    "Signals",
+    "TERMS",
+    "Term",
+    "ThermalModel",
+    "first_order_scan",
+    "load_model",
+    "model_parameters",
+    "parse_model",
+    "register_term",
+    "save_model",
     "unregister_term",
 ]

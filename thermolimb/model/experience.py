@@ -89,7 +89,12 @@ def ambient_shift_K(model: ThermalModel, seen, ambient_C: np.ndarray | None) -> 
     that span, kelvin for kelvin, and 0 within it (the offset already holds that air: a run inside it keeps
     its model unchanged, and the shift grows from 0 as a run leaves it).  0 too for a model that reads the
     ambient itself or whose offset is no ambient (:func:`offset_is_ambient`), and without a logged ambient."""
-    if ambient_C is None or not seen or "T_offset_C" not in model.params or not offset_is_ambient(model.terms):
+    if (
+        ambient_C is None
+        or not seen
+        or "T_offset_C" not in model.params
+        or not offset_is_ambient(model.terms)
+    ):
         return 0.0
     values = np.asarray(ambient_C, float)
     values = values[np.isfinite(values)]
@@ -171,7 +176,10 @@ def ambient_span(series) -> list[float] | None:
     values = [s.signals.ambient_C for s in series]
     if not values or any(v is None for v in values):
         return None
-    return [float(np.nanmin([np.nanmin(v) for v in values])), float(np.nanmax([np.nanmax(v) for v in values]))]
+    return [
+        float(np.nanmin([np.nanmin(v) for v in values])),
+        float(np.nanmax([np.nanmax(v) for v in values])),
+    ]
 
 
 def moved_words(moved: list[tuple[str, float]]) -> str:
@@ -193,6 +201,11 @@ def hotter_than_seen(ranges: Mapping | None, predicted_C: np.ndarray) -> tuple[l
     hotter = np.asarray(predicted_C, float) > (seen[1] + MARGIN_K if seen else np.inf)
     if not hotter.any():
         return [], np.ones(hotter.shape)
-    return (["extrapolated: the forecast climbs to "
-             f"{float(np.max(predicted_C)):.1f} degC, above the hottest reading "
-             f"the model was identified on ({seen[1]:.1f} degC)"], np.where(np.maximum.accumulate(hotter), 2.0, 1.0))
+    return (
+        [
+            "extrapolated: the forecast climbs to "
+            f"{float(np.max(predicted_C)):.1f} degC, above the hottest reading "
+            f"the model was identified on ({seen[1]:.1f} degC)"
+        ],
+        np.where(np.maximum.accumulate(hotter), 2.0, 1.0),
+    )

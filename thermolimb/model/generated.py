@@ -111,11 +111,17 @@ class Spec:
     airflow_on: str | None = None
 
     def to_json(self) -> dict:
-        return {"name": self.name, "description": self.description, "columns": list(self.columns),
-                "features": [{k: (list(v) if isinstance(v, tuple) else _number_out(v)) for k, v in asdict(f).items()}
-                             for f in self.features],
-                "conductance": None if self.conductance is None else list(self.conductance),
-                **({"airflow_on": self.airflow_on} if self.airflow_on else {})}
+        return {
+            "name": self.name,
+            "description": self.description,
+            "columns": list(self.columns),
+            "features": [
+                {k: (list(v) if isinstance(v, tuple) else _number_out(v)) for k, v in asdict(f).items()}
+                for f in self.features
+            ],
+            "conductance": None if self.conductance is None else list(self.conductance),
+            **({"airflow_on": self.airflow_on} if self.airflow_on else {}),
+        }
 
     @classmethod
     def from_json(cls, record, where: str) -> "Spec":
@@ -134,8 +140,14 @@ class Spec:
         for f in spec.features:
             inputs = [f.input] + ([f.reference] if f.gain and f.reference != "T_offset_C"
                                   and not _is_number(f.reference) else [])
-            bad = [i for i in inputs if i not in CANONICAL_INPUTS and not (i.startswith("extra.") and len(i) > 6)]
-            if f.form not in FORMS or bad or not all(math.isfinite(v) for v in (f.power, f.threshold, f.sign)):
+            bad = [
+                i for i in inputs if i not in CANONICAL_INPUTS and not (i.startswith("extra.") and len(i) > 6)
+            ]
+            if (
+                f.form not in FORMS
+                or bad
+                or not all(math.isfinite(v) for v in (f.power, f.threshold, f.sign))
+            ):
                 raise ModelSpecError(f"{where}: generated term {spec.name!r}: "
                                      f"feature {f.param!r} is not one this "
                                      f"suite writes (form {f.form!r}, inputs {inputs}); expected a form of "
@@ -208,13 +220,34 @@ def _of(spec: Spec) -> str:
 def define(spec: Spec) -> type[Term]:
     """Register the term of ``spec`` (taking the place of an earlier generated term of its name; the catalog
     search does not offer generated terms of its own accord, only the diagnosis that generated them does)."""
-    parameters = tuple(Parameter(f.param, f.unit, f.lower, f.upper, f.typical, f"coefficient of {f.words}",
-                                 "the channels it reads, varying independently of the effort", plausible=f.plausible)
-                       for f in spec.features)
+    parameters = tuple(
+        Parameter(
+            f.param,
+            f.unit,
+            f.lower,
+            f.upper,
+            f.typical,
+            f"coefficient of {f.words}",
+            "the channels it reads, varying independently of the effort",
+            plausible=f.plausible,
+        )
+        for f in spec.features
+    )
     mass = {} if spec.airflow_on is None else {"airflow_on": spec.airflow_on, "requires": (spec.airflow_on,)}
-    cls = type(class_name(spec.name), (GeneratedTerm,),
-               {"name": spec.name, "description": spec.description, "parameters": parameters,
-                "columns": spec.columns, "spec": spec, "__doc__": spec.description, "__module__": __name__, **mass})
+    cls = type(
+        class_name(spec.name),
+        (GeneratedTerm,),
+        {
+            "name": spec.name,
+            "description": spec.description,
+            "parameters": parameters,
+            "columns": spec.columns,
+            "spec": spec,
+            "__doc__": spec.description,
+            "__module__": __name__,
+            **mass,
+        },
+    )
     cls.source = term_source(spec)
     return register_term(cls)
 
@@ -261,15 +294,23 @@ def term_source(spec: Spec) -> str:
         for f in spec.features)
     inputs = dict.fromkeys(i for f in spec.features for i in [f.input] + ([f.reference] if f.gain else [])
                            if i in CANONICAL_INPUTS or i.startswith("extra."))
-    reads = [f"        {_variable(i)} = " + ("s.neighbor_mean_C" if i == "neighbors" else
-                                             "s.effort" if i == "effort" else f"s.channel({i!r})") for i in inputs]
+    reads = [
+        f"        {_variable(i)} = "
+        + ("s.neighbor_mean_C" if i == "neighbors" else "s.effort" if i == "effort" else f"s.channel({i!r})")
+        for i in inputs
+    ]
     body = ["        rise, gain = 0.0, 0.0"]
     for f in spec.features:
         expr = FORMS[f.form][1].format(x=_variable(f.input), power=f.power, threshold=f.threshold)
         coef = f'p[{f.param!r}]' if f.sign == 1.0 else f'{f.sign!r} * p[{f.param!r}]'
         if f.gain:
-            reference = ('p["T_offset_C"]' if f.reference == "T_offset_C" else f.reference if _is_number(f.reference)
-                         else _variable(f.reference))
+            reference = (
+                'p["T_offset_C"]'
+                if f.reference == "T_offset_C"
+                else f.reference
+                if _is_number(f.reference)
+                else _variable(f.reference)
+            )
             body += [f"        k = {coef} * ({expr})  # {f.symbol}", "        rise, gain = rise - "
                                                                      f"k * ({reference}), gain + k"]
         else:
@@ -291,8 +332,14 @@ def term_source(spec: Spec) -> str:
                  f"            return f\"the conductance {_of(spec)} "
                  f"would be negative ({{worst:.2f}} of its value)\"\n"
                  f"        return super().implausible(p, units)\n")
-    mass = f"    airflow_on = {spec.airflow_on!r}\n    requires = ({spec.airflow_on!r},)\n" if spec.airflow_on else ""
-    summary = (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
+    mass = (
+        f"    airflow_on = {spec.airflow_on!r}\n    requires = ({spec.airflow_on!r},)\n"
+        if spec.airflow_on
+        else ""
+    )
+    summary = (
+        (spec.description[:1].upper() + spec.description[1:]).rstrip(".").replace('"', "'").replace("\\", "/")
+    )
     return f'''@register_term
 class {class_name(spec.name)}(Term):
     """{summary}."""
@@ -332,7 +379,9 @@ def load_term_file(path) -> list[str]:
     try:
         runpy.run_path(str(path), run_name=f"thermolimb_terms_{identifier(path.stem)}")
     except Exception as exc:  # noqa: BLE001 -- a user's file: whatever it raises is reported as what it is
-        raise ModelSpecError(f"--terms {path}: the file could not be loaded: {type(exc).__name__}: {exc}") from None
+        raise ModelSpecError(
+            f"--terms {path}: the file could not be loaded: {type(exc).__name__}: {exc}"
+        ) from None
     added = [name for name, cls in TERMS.items() if before.get(name) is not cls]
     if not added:
         raise ModelSpecError(f"--terms {path}: the file registers no term; expected classes decorated with "
@@ -342,7 +391,11 @@ def load_term_file(path) -> list[str]:
 
 def specs_of(terms) -> dict[str, dict]:
     """The specs of the generated terms among ``terms``, as a model file stores them."""
-    return {t: TERMS[t].spec.to_json() for t in terms if isinstance(TERMS[t], type) and issubclass(TERMS[t], GeneratedTerm)}
+    return {
+        t: TERMS[t].spec.to_json()
+        for t in terms
+        if isinstance(TERMS[t], type) and issubclass(TERMS[t], GeneratedTerm)
+    }
 
 
 def define_all(records: Mapping[str, dict], where: str) -> None:

@@ -51,23 +51,31 @@ class Guarded:
         try:
             return getattr(self._term, method)(*args)
         except SystemExit as exc:
-            raise TermError(f"term {self.name!r} called sys.exit({exc.code!r}) "
-                            f"in {method}; a term must return "
-                            f"its values, not end the program", self.name) from None
+            raise TermError(
+                f"term {self.name!r} called sys.exit({exc.code!r}) "
+                f"in {method}; a term must return "
+                f"its values, not end the program",
+                self.name,
+            ) from None
         except Exception as exc:  # noqa: BLE001 -- a user's code: whatever it raises is reported as what it is
             hint = ""
             if isinstance(exc, KeyError):
-                hint = (f" (a log column it reads and does not declare? it declares columns "
-                        f"{', '.join(self._term.columns)})")
-            raise TermError(f"term {self.name!r} failed in {method}: {type(exc).__name__}: {exc}{hint}",
-                            self.name) from None
+                hint = (
+                    f" (a log column it reads and does not declare? it declares columns "
+                    f"{', '.join(self._term.columns)})"
+                )
+            raise TermError(
+                f"term {self.name!r} failed in {method}: {type(exc).__name__}: {exc}{hint}", self.name
+            ) from None
 
     def _check_array(self, method: str, what: str, value, n: int):
         if value is None:
             raise TermError(f"term {self.name!r}: {method} returned None "
                             f"for its {what}; expected a number or an "
                             f"array of {n} samples", self.name)
-        arr = np.asarray(value, dtype=object if not np.isscalar(value) and not hasattr(value, "dtype") else None)
+        arr = np.asarray(
+            value, dtype=object if not np.isscalar(value) and not hasattr(value, "dtype") else None
+        )
         try:
             arr = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
@@ -101,8 +109,11 @@ class Guarded:
                                                                       measured_initial_C), s.n)
 
     def initial_winding(self, p, measured_C, rate_K_per_s):
-        return float(self._check_array("initial_winding", "start", self._call("initial_winding", p, measured_C,
-                                                                               rate_K_per_s), 1))
+        return float(
+            self._check_array(
+                "initial_winding", "start", self._call("initial_winding", p, measured_C, rate_K_per_s), 1
+            )
+        )
 
     def winding_share(self, p):
         return float(self._check_array("winding_share", "share", self._call("winding_share", p), 1))

@@ -205,7 +205,9 @@ class ThermalModel:
         winding = self._winding(s, shaped, lam, start, method)
         share = float(np.prod([term.winding_share(self.params) for term in terms]))
         if share < 1.0 and np.any(gain != 0.0):
-            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method, state, offsets)
+            winding = self._coupled(
+                s, terms, u, lam, boundary, gain, share, start, winding, method, state, offsets
+            )
         out = winding
         for term in terms:
             out = term.shape_output(self.params, s, out, output_start)
@@ -213,11 +215,19 @@ class ThermalModel:
             keep.clear()
             keep.update({"winding": float(winding[-1]), "output": float(out[-1]),
                          "steady_C": float(u[-1]), "rate_per_s": float(np.broadcast_to(lam, u.shape)[-1])})
-            keep.update({t.name: t.state for t in terms if t.carries_state and getattr(t, "state", None) is not None})
+            keep.update(
+                {t.name: t.state for t in terms if t.carries_state and getattr(t, "state", None) is not None}
+            )
         return out
 
-    def free_run(self, series, initial_rate_K_per_s: float | None = None, method: str = "exact",
-                 initial_temperature_C: float | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
+    def free_run(
+        self,
+        series,
+        initial_rate_K_per_s: float | None = None,
+        method: str = "exact",
+        initial_temperature_C: float | None = None,
+        offsets: Mapping[str, float] | None = None,
+    ) -> np.ndarray:
         """The free run of a measured run (an :class:`~thermolimb.logs.ActuatorSeries`) from its first
         reading.
 
@@ -266,11 +276,14 @@ class ThermalModel:
         in them and in its states; a user's term may subclass one and add a gain), unless another term reads
         them (``Term.reads``: copper's coefficient makes the Joule heat's a gain on the winding's
         temperature)."""
-        rise = {"T_offset_C"} | {p.name for t in map(TERMS.get, self.terms) if t.rise_only and is_built_in(t)
-                                 for p in t.parameters} - {name for t in self.terms for name in TERMS[t].reads}
+        rise = {"T_offset_C"} | {
+            p.name for t in map(TERMS.get, self.terms) if t.rise_only and is_built_in(t) for p in t.parameters
+        } - {name for t in self.terms for name in TERMS[t].reads}
         return (self.terms, *(v for k, v in self.params.items() if k not in rise))
 
-    def _winding(self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str) -> np.ndarray:
+    def _winding(
+        self, s: Signals, u: np.ndarray, lam: np.ndarray | float, start: float, method: str
+    ) -> np.ndarray:
         if method == "exact":
             recursion = s.recursion(lam)
             return recursion.run((1.0 - recursion.a) * u[:-1], start)
@@ -286,7 +299,9 @@ class ThermalModel:
             winding[k + 1] = a[k] * winding[k] + b[k]
         return winding
 
-    def _coupled(self, s, terms, u, lam, boundary, gain, share, start, winding, method, state=None, offsets=None):
+    def _coupled(
+        self, s, terms, u, lam, boundary, gain, share, start, winding, method, state=None, offsets=None
+    ):
         """Slow masses with a temperature-dependent heat (copper resistance, neighbours, airflow).
 
         The first pass fed the masses the heat of a winding already at its
@@ -301,14 +316,26 @@ class ThermalModel:
         rc = self.params["RC_s"]
         for _ in range(COUPLING_PASSES):
             heat = heat_at_rest + gain * winding
-            frames = self._shape(s, terms, boundary + heat, start, boundary, state, offsets) - boundary - share * heat
+            frames = (
+                self._shape(s, terms, boundary + heat, start, boundary, state, offsets)
+                - boundary
+                - share * heat
+            )
             restoring = np.maximum(1.0 - share * gain, _MIN_RESTORING)
             target = (boundary + frames + share * heat_at_rest) / restoring
             winding = self._winding(s, target, restoring / rc, start, method)
         return winding
 
-    def _shape(self, s: Signals, terms, u: np.ndarray, initial_C: float, boundary: np.ndarray,
-               state: Mapping[str, float] | None = None, offsets: Mapping[str, float] | None = None) -> np.ndarray:
+    def _shape(
+        self,
+        s: Signals,
+        terms,
+        u: np.ndarray,
+        initial_C: float,
+        boundary: np.ndarray,
+        state: Mapping[str, float] | None = None,
+        offsets: Mapping[str, float] | None = None,
+    ) -> np.ndarray:
         for term in terms:
             if state is not None and term.carries_state:
                 u = term.shape_equilibrium(self.params, s, u, initial_C, boundary, state=state.get(term.name))

@@ -23,7 +23,9 @@ def crossing_s(time_s: np.ndarray, curve_C: np.ndarray, threshold_C: float) -> f
     return float(t0 + (t1 - t0) * (threshold_C - y0) / (y1 - y0))
 
 
-def first_order_reach_s(temperature_C: float, steady_C: float, rate_per_s: float, limit_C: float) -> float | None:
+def first_order_reach_s(
+    temperature_C: float, steady_C: float, rate_per_s: float, limit_C: float
+) -> float | None:
     """Time for a first-order response from ``temperature_C`` heading for ``steady_C`` at ``rate_per_s`` (1/s)
     to reach ``limit_C``: 0 when already there, ``None`` when it never does."""
     if temperature_C >= limit_C:

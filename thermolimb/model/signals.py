@@ -123,7 +123,9 @@ class Signals:
             dt = self.interval_s
             log_a = -rate_per_s * dt
             levels = self.interval_levels if np.ndim(dt) else None
-            found = Recursion(np.exp(log_a) if levels is None else np.exp(-rate_per_s * levels[0])[levels[1]], log_a)
+            found = Recursion(
+                np.exp(log_a) if levels is None else np.exp(-rate_per_s * levels[0])[levels[1]], log_a
+            )
             while kept and (len(kept) >= RECURSIONS or sum(r.nbytes for r in kept.values()) + found.nbytes >
                             RECURSION_BYTES):
                 kept.pop(next(iter(kept)))  # the least recently used
@@ -165,8 +167,11 @@ class Signals:
 
     def map_arrays(self, fn) -> "Signals":
         """The same signals with ``fn`` applied to the time axis and every channel present."""
-        changed = {f.name: fn(getattr(self, f.name)) for f in fields(self)
-                   if f.name not in ("neighbor_names", "extra", "air_shift_K") and getattr(self, f.name) is not None}
+        changed = {
+            f.name: fn(getattr(self, f.name))
+            for f in fields(self)
+            if f.name not in ("neighbor_names", "extra", "air_shift_K") and getattr(self, f.name) is not None
+        }
         changed["extra"] = {k: fn(v) for k, v in self.extra.items()}
         return replace(self, **changed)
 

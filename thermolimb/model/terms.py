@@ -102,7 +102,9 @@ class Term:
     # that mass's term; :meth:`airflow_gain` is by how much, and the term adds no heat of its own
     airflow_on: ClassVar[str | None] = None
 
-    def contribution(self, p: Mapping[str, float], s: Signals) -> tuple[np.ndarray | float, np.ndarray | float]:
+    def contribution(
+        self, p: Mapping[str, float], s: Signals
+    ) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return ``(rise_K, gain)`` per sample for parameter values ``p`` (all of the model's); default:
         :meth:`combine` of :meth:`forms`, or none."""
         forms = self.forms(s)
@@ -223,8 +225,9 @@ def terms_in(p: Mapping[str, float]) -> list[type[Term]]:
     names = frozenset(p)
     found = _TERMS_IN[1].get(names)
     if found is None:
-        found = _TERMS_IN[1][names] = tuple(cls for cls in TERMS.values()
-                                            if cls.parameters and all(q.name in names for q in cls.parameters))
+        found = _TERMS_IN[1][names] = tuple(
+            cls for cls in TERMS.values() if cls.parameters and all(q.name in names for q in cls.parameters)
+        )
     return list(found)
 
 

@@ -83,8 +83,14 @@ class Estimate:
 class ActuatorMonitor:
     """One actuator's model state and filter, fed piece by piece (each piece starts at the last one's end)."""
 
-    def __init__(self, saved: SavedModel, limit_C: float, measurement_std_K: float = DEFAULT_MEASUREMENT_STD_K,
-                 protection: ThermalProtection = ThermalProtection(), sigmas: float = 2.0):
+    def __init__(
+        self,
+        saved: SavedModel,
+        limit_C: float,
+        measurement_std_K: float = DEFAULT_MEASUREMENT_STD_K,
+        protection: ThermalProtection = ThermalProtection(),
+        sigmas: float = 2.0,
+    ):
         if not np.isfinite(limit_C):
             raise ValueError(f"the limit of {saved.actuator} must be a finite degC, got {limit_C}")
         self.saved = saved
@@ -100,8 +106,11 @@ class ActuatorMonitor:
         # dT/dt, is uncertain by sigma_tau |dT/dt| (the jackknife's spread when the file has it)
         names = [p.name for p in saved.model.parameters]
         spread = saved.jackknife if saved.jackknife is not None else saved.covariance
-        self.sigma_tau_s = (float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
-                            if "sensor_tau_s" in names else 0.0)
+        self.sigma_tau_s = (
+            float(np.sqrt(max(spread[names.index("sensor_tau_s")][names.index("sensor_tau_s")], 0.0)))
+            if "sensor_tau_s" in names
+            else 0.0
+        )
         self.together = steps_together(self.model)  # can step with others (update_together)
         self.row = ModelArrays.row(self.model) if self.together else None
         self.columns = self.model.columns
@@ -130,9 +139,20 @@ class ActuatorMonitor:
         slope = (sim[-1] - sim[-2]) / (signals.time_s[-1] - signals.time_s[-2]) if signals.n > 1 else 0.0
         std = float(np.sqrt(self.P + (self.sigma_tau_s * slope) ** 2))
         ttl = first_order_reach_s(winding, keep["steady_C"], keep["rate_per_s"], self.limit_C)
-        derate = float(self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0])
-        self.last = Estimate(self.saved.actuator, float(signals.time_s[-1]), float(measured_C[-1]), float(winding),
-                             std, ttl, derate, level(winding, self.limit_C, derate, ttl), self.limit_C)
+        derate = float(
+            self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0]
+        )
+        self.last = Estimate(
+            self.saved.actuator,
+            float(signals.time_s[-1]),
+            float(measured_C[-1]),
+            float(winding),
+            std,
+            ttl,
+            derate,
+            level(winding, self.limit_C, derate, ttl),
+            self.limit_C,
+        )
         return self.last
 
     def _follow_ambient(self, signals: Signals) -> None:

@@ -19,26 +19,56 @@ def layout(actuators) -> dict:
     for i, a in enumerate(actuators):
         colour = COLOURS[i % len(COLOURS)]
         plot_paths += [
-            {"value": f"/thermolimb/{a}/winding_temperature.temperature", "enabled": True, "timestampMethod": "receiveTime",
-             "label": f"{a} winding (estimated, degC)", "color": colour},
-            {"value": f"/thermolimb/{a}/measured_temperature.temperature", "enabled": True, "timestampMethod": "receiveTime",
-             "label": f"{a} measured (degC)", "color": colour, "lineSize": 0.5},
+            {
+                "value": f"/thermolimb/{a}/winding_temperature.temperature",
+                "enabled": True,
+                "timestampMethod": "receiveTime",
+                "label": f"{a} winding (estimated, degC)",
+                "color": colour,
+            },
+            {
+                "value": f"/thermolimb/{a}/measured_temperature.temperature",
+                "enabled": True,
+                "timestampMethod": "receiveTime",
+                "label": f"{a} measured (degC)",
+                "color": colour,
+                "lineSize": 0.5,
+            },
         ]
     return {
         "configById": {
-            "Plot!temperatures": {"title": "winding temperature: estimated and measured (degC)", "paths": plot_paths,
-                                  "showXAxisLabels": True, "showYAxisLabels": True, "showLegend": True,
-                                  "legendDisplay": "floating", "isSynced": True, "xAxisVal": "timestamp"},
-            "DiagnosticSummary!thermal": {"minLevel": 0, "pinnedIds": [], "hardwareIdFilter": "",
-                                          "topicToRender": "/diagnostics", "sortByLevel": True},
+            "Plot!temperatures": {
+                "title": "winding temperature: estimated and measured (degC)",
+                "paths": plot_paths,
+                "showXAxisLabels": True,
+                "showYAxisLabels": True,
+                "showLegend": True,
+                "legendDisplay": "floating",
+                "isSynced": True,
+                "xAxisVal": "timestamp",
+            },
+            "DiagnosticSummary!thermal": {
+                "minLevel": 0,
+                "pinnedIds": [],
+                "hardwareIdFilter": "",
+                "topicToRender": "/diagnostics",
+                "sortByLevel": True,
+            },
             "DiagnosticStatusPanel!detail": {"topicToRender": "/diagnostics", "collapsedSections": []},
         },
         "globalVariables": {},
         "userNodes": {},
-        "layout": {"first": "Plot!temperatures", "second": {"first": "DiagnosticSummary!thermal",
-                                                            "second": "DiagnosticStatusPanel!detail",
-                                                            "direction": "column", "splitPercentage": 50},
-                   "direction": "row", "splitPercentage": 65},
+        "layout": {
+            "first": "Plot!temperatures",
+            "second": {
+                "first": "DiagnosticSummary!thermal",
+                "second": "DiagnosticStatusPanel!detail",
+                "direction": "column",
+                "splitPercentage": 50,
+            },
+            "direction": "row",
+            "splitPercentage": 65,
+        },
     }
 
 

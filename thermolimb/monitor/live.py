@@ -77,7 +77,18 @@ class RigStream:
         else:
             winding, std, ttl = measured, np.zeros_like(measured), [None] * plant.n
         derating = plant.derating()
-        estimates = [Estimate(name, float(rig.time_s), float(measured[i]), float(winding[i]), float(std[i]), ttl[i],
-                              float(derating[i]), level(winding[i], limits[i], derating[i], ttl[i]), float(limits[i]))
-                     for i, name in enumerate(plant.names)]
+        estimates = [
+            Estimate(
+                name,
+                float(rig.time_s),
+                float(measured[i]),
+                float(winding[i]),
+                float(std[i]),
+                ttl[i],
+                float(derating[i]),
+                level(winding[i], limits[i], derating[i], ttl[i]),
+                float(limits[i]),
+            )
+            for i, name in enumerate(plant.names)
+        ]
         self.view.publish(estimates, {name: "the rig's winding observer" for name in plant.names})

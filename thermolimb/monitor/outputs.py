@@ -49,7 +49,10 @@ class JsonLinesOutput:
         self.stream = stream or sys.stdout
 
     def publish(self, estimates: list[Estimate], models: dict[str, str]) -> None:
-        record = {"time_s": max(e.time_s for e in estimates), "actuators": {e.actuator: e.to_json() for e in estimates}}
+        record = {
+            "time_s": max(e.time_s for e in estimates),
+            "actuators": {e.actuator: e.to_json() for e in estimates},
+        }
         self.stream.write(json.dumps(record, allow_nan=False) + "\n")
         self.stream.flush()
 
@@ -58,20 +61,49 @@ class JsonLinesOutput:
 
 
 TEMPERATURE_SCHEMA = {
-    "type": "object", "title": "sensor_msgs/msg/Temperature",
-    "properties": {"header": {"type": "object", "properties": {
-        "stamp": {"type": "object", "properties": {"sec": {"type": "integer"}, "nanosec": {"type": "integer"}}},
-        "frame_id": {"type": "string"}}},
+    "type": "object",
+    "title": "sensor_msgs/msg/Temperature",
+    "properties": {
+        "header": {
+            "type": "object",
+            "properties": {
+                "stamp": {
+                    "type": "object",
+                    "properties": {"sec": {"type": "integer"}, "nanosec": {"type": "integer"}},
+                },
+                "frame_id": {"type": "string"},
+            },
+        },
         "temperature": {"type": "number", "description": "degC"},
-        "variance": {"type": "number", "description": "K^2"}}}
+        "variance": {"type": "number", "description": "K^2"},
+    },
+}
 DIAGNOSTICS_SCHEMA = {
-    "type": "object", "title": "diagnostic_msgs/msg/DiagnosticArray",
-    "properties": {"header": TEMPERATURE_SCHEMA["properties"]["header"],
-                   "status": {"type": "array", "items": {"type": "object", "properties": {
-                       "level": {"type": "integer"}, "name": {"type": "string"}, "message": {"type": "string"},
-                       "hardware_id": {"type": "string"},
-                       "values": {"type": "array", "items": {"type": "object", "properties": {
-                           "key": {"type": "string"}, "value": {"type": "string"}}}}}}}}}
+    "type": "object",
+    "title": "diagnostic_msgs/msg/DiagnosticArray",
+    "properties": {
+        "header": TEMPERATURE_SCHEMA["properties"]["header"],
+        "status": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "level": {"type": "integer"},
+                    "name": {"type": "string"},
+                    "message": {"type": "string"},
+                    "hardware_id": {"type": "string"},
+                    "values": {
+                        "type": "array",
+                        "items": {
+                            "type": "object",
+                            "properties": {"key": {"type": "string"}, "value": {"type": "string"}},
+                        },
+                    },
+                },
+            },
+        },
+    },
+}
 
 
 class FoxgloveOutput:
@@ -106,7 +138,9 @@ class FoxgloveOutput:
         if actuator not in self.winding:
             import foxglove
 
-            self.winding[actuator] = foxglove.Channel(topic(actuator, "winding_temperature"), schema=TEMPERATURE_SCHEMA)
+            self.winding[actuator] = foxglove.Channel(
+                topic(actuator, "winding_temperature"), schema=TEMPERATURE_SCHEMA
+            )
             self.measured[actuator] = foxglove.Channel(topic(actuator, "measured_temperature"),
                                                        schema=TEMPERATURE_SCHEMA)
 
@@ -124,12 +158,24 @@ class FoxgloveOutput:
             self.measured[e.actuator].log({"header": header, "temperature": e.measured_C, "variance": 0.0},
                                           log_time=ns)
         ns = stamp_ns(max(e.time_s for e in estimates))
-        self.diagnostics.log({"header": {"stamp": {"sec": ns // 10**9, "nanosec": ns % 10**9}, "frame_id": ""},
-                              "status": [{"level": e.level, "name": f"thermolimb/{e.actuator}",
-                                          "message": e.message(), "hardware_id": e.actuator,
-                                          "values": [{"key": k, "value": v}
-                                                     for k, v in diagnostic_values(e, models[e.actuator])]}
-                                         for e in estimates]}, log_time=ns)
+        self.diagnostics.log(
+            {
+                "header": {"stamp": {"sec": ns // 10**9, "nanosec": ns % 10**9}, "frame_id": ""},
+                "status": [
+                    {
+                        "level": e.level,
+                        "name": f"thermolimb/{e.actuator}",
+                        "message": e.message(),
+                        "hardware_id": e.actuator,
+                        "values": [
+                            {"key": k, "value": v} for k, v in diagnostic_values(e, models[e.actuator])
+                        ],
+                    }
+                    for e in estimates
+                ],
+            },
+            log_time=ns,
+        )
 
     def close(self) -> None:
         self.server.stop()

@@ -49,8 +49,11 @@ class McapOutput:
         self.clock, self.flushed_at, self.messages = clock, clock(), 0
         self.store = get_typestore(Stores.ROS2_HUMBLE)
         types = self.store.types
-        self.Temperature, self.Header, self.Time = (types["sensor_msgs/msg/Temperature"],
-                                                    types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"])
+        self.Temperature, self.Header, self.Time = (
+            types["sensor_msgs/msg/Temperature"],
+            types["std_msgs/msg/Header"],
+            types["builtin_interfaces/msg/Time"],
+        )
         self.Array, self.Status, self.KeyValue = (types["diagnostic_msgs/msg/DiagnosticArray"],
                                                   types["diagnostic_msgs/msg/DiagnosticStatus"],
                                                   types["diagnostic_msgs/msg/KeyValue"])
@@ -112,10 +115,16 @@ class McapOutput:
             self._write(self.measured[e.actuator], stamp,
                         self.Temperature(header=header, temperature=e.measured_C, variance=0.0), temperature)
         ns = stamp_ns(max(e.time_s for e in estimates))
-        statuses = [self.Status(level=e.level, name=f"thermolimb/{e.actuator}", message=e.message(),
-                                hardware_id=e.actuator,
-                                values=[self.KeyValue(key=k, value=v) for k, v in diagnostic_values(e, models[e.actuator])])
-                    for e in estimates]
+        statuses = [
+            self.Status(
+                level=e.level,
+                name=f"thermolimb/{e.actuator}",
+                message=e.message(),
+                hardware_id=e.actuator,
+                values=[self.KeyValue(key=k, value=v) for k, v in diagnostic_values(e, models[e.actuator])],
+            )
+            for e in estimates
+        ]
         self._write(self.diagnostics, ns, self.Array(header=self._header(ns, ""), status=statuses),
                     self.Array.__msgtype__)
         self.flush_if_due()
@@ -150,7 +159,10 @@ class McapOutput:
             self.file.close()
             existed = self.path.exists()
             os.replace(self.partial, self.path)
-            print(f"{'replaced' if existed else 'wrote'} {self.path} ({self.messages} messages)", file=sys.stderr)
+            print(
+                f"{'replaced' if existed else 'wrote'} {self.path} ({self.messages} messages)",
+                file=sys.stderr,
+            )
         finally:
             if not self.file.closed:
                 self.file.close()

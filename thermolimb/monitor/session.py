@@ -120,7 +120,9 @@ class Session:
 
     def _update(self, name: str, arrays: dict) -> Estimate:
         monitor = self.monitors.get(name) or self._monitor(name)
-        signals = Signals(arrays["time"], arrays["effort"], **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays})
+        signals = Signals(
+            arrays["time"], arrays["effort"], **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays}
+        )
         missing = [c for c in monitor.model.columns if not signals.has(c)]
         if missing:
             raise UsageError(f"the model of {name} reads the log column "
@@ -214,9 +216,12 @@ def follow(session: Session, follower, poll_s: float = 0.05, idle_exit_s: float 
                 session.idle()
                 if not waiting and not follower.path.exists():
                     waiting = True
-                    print(f"note: {follower.path} does not exist yet; waiting for it (Ctrl-C to stop"
-                          + (f", or {idle_exit_s:g} s of --idle-exit" if idle_exit_s is not None else "") + ")",
-                          file=sys.stderr)
+                    print(
+                        f"note: {follower.path} does not exist yet; waiting for it (Ctrl-C to stop"
+                        + (f", or {idle_exit_s:g} s of --idle-exit" if idle_exit_s is not None else "")
+                        + ")",
+                        file=sys.stderr,
+                    )
                 sleep(poll_s)
     finally:
         with held():  # a second Ctrl-C or SIGTERM waits until every output is complete

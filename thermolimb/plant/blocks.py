@@ -61,7 +61,9 @@ def free_block(plant, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> 
         x = Phi @ x + inputs[i]
         states[i + 1] = x
     sensed = np.concatenate([plant.layout.sensor, plant.layout.driver[plant._has_driver]])
-    noise = plant.sensors.standard_normal(k * len(sensed)).reshape(k, -1) if plant.effects.sensor_noise else None
+    noise = (
+        plant.sensors.standard_normal(k * len(sensed)).reshape(k, -1) if plant.effects.sensor_noise else None
+    )
     readings = plant.read(states[1:, sensed], noise)
     measured = np.vstack([plant._measured_core, readings[:, : plant.n]])
     if plant.observer is not None:
@@ -72,8 +74,9 @@ def free_block(plant, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> 
         def cap(below):
             return plant.observer.fraction_cap(est[:k], Phis, commanded, below, ambient[:k], dt_s)
 
-        fraction = plant.protection.share(est[:k, :, 0] + plant.protection.sigmas * std, plant.winding_limits_C,
-                                         std, cap)
+        fraction = plant.protection.share(
+            est[:k, :, 0] + plant.protection.sigmas * std, plant.winding_limits_C, std, cap
+        )
     else:
         fraction = plant.protection.share(measured[:k], plant.winding_limits_C)
     acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))

@@ -32,7 +32,9 @@ class ThermalNetwork:
                 f"ThermalNetwork needs one capacity and one resistance per node; got {n} names, "
                 f"{len(self.capacity_J_per_K)} capacities, {len(self.resistance_K_per_W)} resistances"
             )
-        bad = [v for v in (*self.capacity_J_per_K, *self.resistance_K_per_W) if not (np.isfinite(v) and v > 0)]
+        bad = [
+            v for v in (*self.capacity_J_per_K, *self.resistance_K_per_W) if not (np.isfinite(v) and v > 0)
+        ]
         if bad:
             raise ValueError(f"thermal capacities and resistances must be positive and finite, got {bad}")
 
@@ -139,8 +141,17 @@ class Layout:
                 A[d, d] = -g / spec.driver.capacity_J_per_K
                 b_amb[d] = g / spec.driver.capacity_J_per_K
                 inv_capacity[d] = 1.0 / spec.driver.capacity_J_per_K
-        net = cls(np.array(winding), np.array(housing), np.array(outer), np.array(sensor), np.array(driver), A,
-                  inv_capacity, b_amb, outer_conductance)
+        net = cls(
+            np.array(winding),
+            np.array(housing),
+            np.array(outer),
+            np.array(sensor),
+            np.array(driver),
+            A,
+            inv_capacity,
+            b_amb,
+            outer_conductance,
+        )
         for fx in effects.active:
             fx.wire(net)
         return net
@@ -174,11 +185,21 @@ class ActuatorSpec:
     driver: DriverSpec | None = DriverSpec()
 
     def __post_init__(self):
-        for name in ("effort_per_amp", "winding_resistance_ohm", "effort_limit", "continuous_effort", "velocity_limit"):
+        for name in (
+            "effort_per_amp",
+            "winding_resistance_ohm",
+            "effort_limit",
+            "continuous_effort",
+            "velocity_limit",
+        ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
-                raise ValueError(f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}")
-        check_range(f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0, "degC")
+                raise ValueError(
+                    f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}"
+                )
+        check_range(
+            f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0, "degC"
+        )
         if self.continuous_effort > self.effort_limit:
             raise ValueError(f"ActuatorSpec({self.model}): continuous_effort "
                              f"= {self.continuous_effort:g} is above "

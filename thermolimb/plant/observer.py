@@ -139,8 +139,12 @@ class WindingObserver:
             self._last_speed = (key, self.speed_transitions(Phi, v))
         return self._last_speed[1]
 
-    def _predict(self, Phi: np.ndarray, Gam: np.ndarray, Qd: np.ndarray, heat_W: np.ndarray, ambient_C: float):
-        self.x = (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat_W[:, None] + Gam[:, :, 1] * ambient_C
+    def _predict(
+        self, Phi: np.ndarray, Gam: np.ndarray, Qd: np.ndarray, heat_W: np.ndarray, ambient_C: float
+    ):
+        self.x = (
+            (Phi @ self.x[:, :, None])[:, :, 0] + Gam[:, :, 0] * heat_W[:, None] + Gam[:, :, 1] * ambient_C
+        )
         self.P = Phi @ self.P @ Phi.transpose(0, 2, 1) + Qd
 
     def _correct(self, measured_C: np.ndarray):
@@ -154,7 +158,9 @@ class WindingObserver:
                 speed_rad_s: np.ndarray | None = None) -> np.ndarray:
         """Advance the estimate over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held."""
         Phi, Gam, Qd = self._discrete(float(dt_s))
-        self._predict(self._with_speed(Phi, speed_rad_s), Gam, Qd, self.known_heat_W(current_A), float(ambient_C))
+        self._predict(
+            self._with_speed(Phi, speed_rad_s), Gam, Qd, self.known_heat_W(current_A), float(ambient_C)
+        )
         return self.winding_C
 
     def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
@@ -209,7 +215,9 @@ class WindingObserver:
         ``limit_C`` at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no
         current overshoots."""
         Phi, _, _ = self._discrete(float(dt_s))
-        return self.fraction_cap(self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C, dt_s)
+        return self.fraction_cap(
+            self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C, dt_s
+        )
 
     @property
     def winding_C(self) -> np.ndarray:

@@ -63,7 +63,12 @@ class CycleMap:
     def __init__(self, plant: ThermalPlant, efforts: np.ndarray, velocities: np.ndarray, dt_s: float):
         efforts = np.asarray(efforts, float)
         velocities = np.asarray(velocities, float)
-        if efforts.ndim != 2 or efforts.shape[1] != plant.n or velocities.shape != efforts.shape or len(efforts) == 0:
+        if (
+            efforts.ndim != 2
+            or efforts.shape[1] != plant.n
+            or velocities.shape != efforts.shape
+            or len(efforts) == 0
+        ):
             raise ValueError(f"a cycle needs efforts and velocities of shape (steps, {plant.n}), got "
                              f"{efforts.shape} and {velocities.shape}")
         if not (np.all(np.isfinite(efforts)) and np.all(np.isfinite(velocities))):
@@ -123,7 +128,9 @@ class CycleMap:
         it never gets there."""
         return self.within(self.steady_state()).max(axis=0)
 
-    def propagate(self, x0: np.ndarray, duration_s: float, threshold_C: float | np.ndarray = np.inf) -> Propagation:
+    def propagate(
+        self, x0: np.ndarray, duration_s: float, threshold_C: float | np.ndarray = np.inf
+    ) -> Propagation:
         """Whole cycles from state ``x0`` for ``duration_s`` (rounded up to whole cycles), stopping at the end
         of the cycle in which a winding first reaches ``threshold_C`` (per actuator or one for all)."""
         if not (np.isfinite(duration_s) and duration_s > 0):
@@ -145,5 +152,11 @@ class CycleMap:
                 x = self.M @ x + self.c
                 break
             x = self.M @ x + self.c
-        return Propagation(np.arange(len(starts)) * self.period_s, np.array(starts), np.array(peaks), np.array(means),
-                           x, crossing)
+        return Propagation(
+            np.arange(len(starts)) * self.period_s,
+            np.array(starts),
+            np.array(peaks),
+            np.array(means),
+            x,
+            crossing,
+        )

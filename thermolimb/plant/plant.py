@@ -318,7 +318,9 @@ class ThermalPlant:
         for i, spec in enumerate(self.specs):
             names = spec.network.node_names
             if node not in names:
-                raise KeyError(f"actuator {self.names[i]} ({spec.model}) has no node {node!r}; it has {names}")
+                raise KeyError(
+                    f"actuator {self.names[i]} ({spec.model}) has no node {node!r}; it has {names}"
+                )
             out.append(self._x[self.layout.winding[i] + names.index(node)])
         return np.array(out)
 
@@ -384,7 +386,9 @@ class ThermalPlant:
         """Efforts whose motor share (all of it, less a series-elastic bias) is scaled by ``fraction``."""
         return scale_efforts(effort, fraction, self.effects.bias_effort)
 
-    def derate(self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None) -> np.ndarray:
+    def derate(
+        self, effort: np.ndarray, velocity: np.ndarray | None = None, dt_s: float | None = None
+    ) -> np.ndarray:
         """Efforts after thermal protection (:meth:`protection_fraction` applied by :meth:`scale_efforts`)."""
         return self.scale_efforts(effort, self.protection_fraction(effort, velocity, dt_s))
 

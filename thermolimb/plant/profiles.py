@@ -115,8 +115,14 @@ def random_holds(duration_s: float, dt_s: float, n_actuators: int, rng: np.rando
     return Profile(t, load, velocity)
 
 
-def stairs(duration_s: float, dt_s: float, n_actuators: int, rng: np.random.Generator,
-           levels: tuple[float, ...] = (0.4, 0.9, 1.4, 0.0, 2.2, 0.6), stall_fraction: float = 0.5) -> Profile:
+def stairs(
+    duration_s: float,
+    dt_s: float,
+    n_actuators: int,
+    rng: np.random.Generator,
+    levels: tuple[float, ...] = (0.4, 0.9, 1.4, 0.0, 2.2, 0.6),
+    stall_fraction: float = 0.5,
+) -> Profile:
     """A dynamometer run: stair-step loads (a rest step among them), some held at stall (no motion), the rest
     turning at a load-dependent speed."""
     t = _grid(duration_s, dt_s)

@@ -67,7 +67,9 @@ def available_memory_bytes() -> float | None:
     for limit, usage in (("memory.max", "memory.current"),  # cgroup v2, then v1
                          ("memory/memory.limit_in_bytes", "memory/memory.usage_in_bytes")):
         with contextlib.suppress(OSError, ValueError):  # no such cgroup file, or "max": no limit there
-            room = float(open(f"/sys/fs/cgroup/{limit}").read()) - float(open(f"/sys/fs/cgroup/{usage}").read())
+            room = float(open(f"/sys/fs/cgroup/{limit}").read()) - float(
+                open(f"/sys/fs/cgroup/{usage}").read()
+            )
             if room < 2 ** 60:
                 found.append(max(room, 0.0))
     return min(found) if found else None
@@ -136,7 +138,9 @@ class Runner:
                 raise UsageError("the ray backend needs Ray: pip install 'thermolimb[ray]'") from None
             check_ray_address(self.address)
             self._started_ray = not ray.is_initialized()
-            ray.init(address=self.address, ignore_reinit_error=True, include_dashboard=False, log_to_driver=False)
+            ray.init(
+                address=self.address, ignore_reinit_error=True, include_dashboard=False, log_to_driver=False
+            )
             self._ray = ray
         return self
 

@@ -55,4 +55,9 @@ def rank_models(fitted: list[tuple[FitReport, dict]]) -> dict:
     else:
         sentence = f"lowest held-out RMSE: {name} ({rmse:.3f} K); {evidence.sentence()}"
         best_model = list(best.model.terms)
-    return {"best": best_model, "verdict": evidence.verdict, "evidence": evidence.to_json(), "sentence": sentence}
+    return {
+        "best": best_model,
+        "verdict": evidence.verdict,
+        "evidence": evidence.to_json(),
+        "sentence": sentence,
+    }

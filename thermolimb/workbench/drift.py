@@ -35,7 +35,13 @@ def drift(rows: list[dict], params: tuple[str, ...] = DRIFT_PARAMS, alpha: float
     for name, runs in by_actuator.items():
         if len(runs) < 2:
             continue
-        record = {"actuator": name, "runs": [r["run"] for r in runs], "params": {}, "flagged": False, "why": []}
+        record = {
+            "actuator": name,
+            "runs": [r["run"] for r in runs],
+            "params": {},
+            "flagged": False,
+            "why": [],
+        }
         for p in params:
             if not all(p in r["params"] for r in runs):
                 continue

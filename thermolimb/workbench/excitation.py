@@ -168,7 +168,9 @@ def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
     temperatures)."""
     fit_parts = [(s.signals, s.temperature_C, s.fit_mask) for s in fitted]
     judged_parts = [(signals, temperature_C, None) for signals, temperature_C in judged]
-    values = _moved(channel, [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts])
+    values = _moved(
+        channel, [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts]
+    )
     scale = _scale(channel, values)
     counts = []
     for parts, moved in ((fit_parts, values[:len(fit_parts)]), (judged_parts, values[len(fit_parts):])):
@@ -191,7 +193,11 @@ def _one_level(channel: str, moved: list[np.ndarray], scale: float) -> float | N
     samples; cut by a few rows at its start, motion cooling fitted there as a second conductance and was taken
     in 9 of 10 replicates, ``benchmarks/stability.py``); else ``None``.  Temperatures and extra channels are
     left to their counts."""
-    if channel in ("neighbors", "ambient", "housing") or channel.startswith("extra.") or not np.isfinite(scale):
+    if (
+        channel in ("neighbors", "ambient", "housing")
+        or channel.startswith("extra.")
+        or not np.isfinite(scale)
+    ):
         return None
     on = np.concatenate([x[x > scale] for x in moved]) if moved else np.zeros(0)
     if on.size == 0:
@@ -232,8 +238,11 @@ def refuse_flat(runs: list, name: str) -> None:
     if values.size == 0 or np.ptp(values) > 0:
         return
     idle = not any(np.any(r.signals.effort) for r in runs)
-    why = (" and its effort 0 throughout: a motor that is not connected, or a slot the logger fills in" if idle
-           else "")
+    why = (
+        " and its effort 0 throughout: a motor that is not connected, or a slot the logger fills in"
+        if idle
+        else ""
+    )
     raise ThermolimbError(f"the temperature of {name} reads {values[0]:g} "
                           f"degC on every one of its {values.size} "
                           f"samples{why}; a model needs a temperature that changes")
@@ -251,8 +260,10 @@ def refuse_disturbed(runs: list, name: str) -> None:
         return
     run, a, b, fall, jump = found[0]
     t = run.time_s
-    where = "; ".join(f"{r.run + ': ' if r.run else ''}{r.time_s[x]:g} s to {r.time_s[y - 1]:g} s"
-                      for r, x, y, _, _ in found[:4]) + (f" and {len(found) - 4} more" if len(found) > 4 else "")
+    where = "; ".join(
+        f"{r.run + ': ' if r.run else ''}{r.time_s[x]:g} s to {r.time_s[y - 1]:g} s"
+        for r, x, y, _, _ in found[:4]
+    ) + (f" and {len(found) - 4} more" if len(found) > 4 else "")
     raise ThermolimbError(
         f"the temperature of {name} reads low while it is driven: "
         + (f"it falls by {fall:.1f} K as the effort steps up at {t[a]:g} s and " if fall >= 1.0 else "it ")

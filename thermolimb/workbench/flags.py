@@ -52,8 +52,10 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         scale = abs(p.typical) if p.typical else 1.0
         if p.unit == "s":
             if v >= LONG_TIME_CONSTANT * duration * (1.0 - 1e-6):
-                flags.append(f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or longer "
-                             f"({duration:.0f} s): the log shows the start of a change, not its time constant")
+                flags.append(
+                    f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or longer "
+                    f"({duration:.0f} s): the log shows the start of a change, not its time constant"
+                )
             elif v < SHORT_TIME_CONSTANT * dt:
                 flags.append(f"{p.name} = {v:.3g} s is shorter than "
                              f"{SHORT_TIME_CONSTANT:g} sampling intervals "
@@ -128,7 +130,9 @@ class _Cause:
             return ("too small an effect for this log to tell from "
                     "none, though the log holds what identifying "
                     f"it needs ({counts})")
-        return f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
+        return (
+            f"so the log does not pin it down (identifying it needs {p.excitation}; the log holds {counts})"
+        )
 
     def wanting(self, p) -> str:
         """What identifying ``p`` needs, for a vanishing value's flag: for the first-order model's, what the
@@ -137,7 +141,9 @@ class _Cause:
         lacking = None if _UNREAD[0] else self._lacking(p)
         if lacking is None:
             return f" (identifying it needs {p.excitation})"
-        return f"; it lacks {', '.join(lacking)}" if lacking else ", though it holds what identifying it needs"
+        return (
+            f"; it lacks {', '.join(lacking)}" if lacking else ", though it holds what identifying it needs"
+        )
 
     def _lacking(self, p) -> list[str] | None:
         """What the log lacks of the counts the first-order model's values need (:data:`FIRST_ORDER`: the

@@ -138,8 +138,14 @@ UNREADABLE = "(file)"  # the actuator and run of a row that stands for a whole f
 
 def unreadable_row(path, err: Exception) -> dict:
     """A file that could not be read, as a row of the fleet's table: its source and why."""
-    return {"source": str(path), "actuator": UNREADABLE, "run": Path(path).name, "samples": 0, "duration_s": 0.0,
-            "error": f"not read: {err}"}
+    return {
+        "source": str(path),
+        "actuator": UNREADABLE,
+        "run": Path(path).name,
+        "samples": 0,
+        "duration_s": 0.0,
+        "error": f"not read: {err}",
+    }
 
 
 def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: bool,
@@ -162,10 +168,16 @@ def _analyse(job: FleetJob, model: str, scheme: Scheme, method: str, diagnose: b
     except ThermolimbError as err:
         return row | {"error": str(err)}
     record = report.to_json()
-    return row | {"model": record["model"], "params": record["params"],
-                  "train_rmse_K": record["train"]["rmse_K"], "validation_rmse_K": record["validation"]["rmse_K"],
-                  "flags": record["flags"], "set_aside": record["set_aside"],
-                  "evidence": record["evidence"]["verdict"], "error": None}
+    return row | {
+        "model": record["model"],
+        "params": record["params"],
+        "train_rmse_K": record["train"]["rmse_K"],
+        "validation_rmse_K": record["validation"]["rmse_K"],
+        "flags": record["flags"],
+        "set_aside": record["set_aside"],
+        "evidence": record["evidence"]["verdict"],
+        "error": None,
+    }
 
 
 def fleet_jobs(logs, actuators: Sequence[str] | None = None) -> list[FleetJob]:
@@ -185,9 +197,18 @@ def _check(scheme: Scheme) -> None:
                          "each run on its own; use --cv K or --split")
 
 
-def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output_error", diagnose: bool = False,
-              backend: str = "process", workers: int | None = None, address: str | None = None,
-              actuators: Sequence[str] | None = None, datasheet: dict | None = None) -> list[dict]:
+def fit_fleet(
+    logs,
+    model: str,
+    scheme: Scheme = Scheme(),
+    method: str = "output_error",
+    diagnose: bool = False,
+    backend: str = "process",
+    workers: int | None = None,
+    address: str | None = None,
+    actuators: Sequence[str] | None = None,
+    datasheet: dict | None = None,
+) -> list[dict]:
     """Rows for every actuator and run of logs in memory, computed on ``backend``; the same rows on every
     backend."""
     _check(scheme)
@@ -195,8 +216,13 @@ def fit_fleet(logs, model: str, scheme: Scheme = Scheme(), method: str = "output
     if not jobs:
         raise UsageError("the logs hold no run of the chosen actuators")
     workers = workers or os.cpu_count() or 1
-    return run_jobs(analyse_run, [(job, model, scheme, method, diagnose, datasheet) for job in jobs], backend, workers,
-                    address)
+    return run_jobs(
+        analyse_run,
+        [(job, model, scheme, method, diagnose, datasheet) for job in jobs],
+        backend,
+        workers,
+        address,
+    )
 
 
 def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str, scheme: Scheme, method: str,
@@ -214,11 +240,20 @@ def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str,
     return rows, list(log.notes)
 
 
-def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Scheme = Scheme(),
-                    method: str = "output_error", diagnose: bool = False, backend: str = "process",
-                    workers: int | None = None, address: str | None = None,
-                    actuators: Sequence[str] | None = None,
-                    runner: Runner | None = None, datasheet: dict | None = None) -> tuple[list[dict], list[str]]:
+def fit_fleet_files(
+    paths: Sequence[Path],
+    read: dict,
+    model: str,
+    scheme: Scheme = Scheme(),
+    method: str = "output_error",
+    diagnose: bool = False,
+    backend: str = "process",
+    workers: int | None = None,
+    address: str | None = None,
+    actuators: Sequence[str] | None = None,
+    runner: Runner | None = None,
+    datasheet: dict | None = None,
+) -> tuple[list[dict], list[str]]:
     """Rows for every actuator and run of the log files, each worker reading the files it analyses.
 
     Only file names and rows cross between processes, never the logs.  A
@@ -246,7 +281,9 @@ def fit_fleet_files(paths: Sequence[Path], read: dict, model: str, scheme: Schem
         else:
             groups = [names]
         jobs += [(str(path), read, group, model, scheme, method, diagnose, datasheet) for group in groups]
-    results = runner.map(analyse_file, jobs) if runner else run_jobs(analyse_file, jobs, backend, workers, address)
+    results = (
+        runner.map(analyse_file, jobs) if runner else run_jobs(analyse_file, jobs, backend, workers, address)
+    )
     rows = [row for part, _ in results for row in part]
     notes = list(dict.fromkeys(note for _, part in results for note in part))
     if not rows:

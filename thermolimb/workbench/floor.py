@@ -56,8 +56,11 @@ class SensorFloor:
 
     def sentence(self, rmse_K: float) -> str:
         floor = places3(self.floor_K)
-        what = (f"a {floor} K quantisation floor ({self.step_K:.3g} degC steps)" if self.kind == "quantisation"
-                else f"a {floor} K noise floor (the readings' sample-to-sample noise)")
+        what = (
+            f"a {floor} K quantisation floor ({self.step_K:.3g} degC steps)"
+            if self.kind == "quantisation"
+            else f"a {floor} K noise floor (the readings' sample-to-sample noise)"
+        )
         if self.reached(rmse_K):
             return f"validation RMSE {rmse_K:.3f} K against {what}: nothing more can be told apart here"
         return f"validation RMSE {rmse_K:.3f} K against {what}"

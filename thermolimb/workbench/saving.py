@@ -36,11 +36,22 @@ def saved_from_report(report, paths: Sequence[str | Path], limit_C: float | None
     rise = np.concatenate([s.simulated_C for s in segments]) - model.params["T_offset_C"]
     rise = float(np.sqrt(np.mean(rise * rise)))
     stats = replace(ResidualStats.of(residual, span, rise), **lead_profile(report))
-    return SavedModel(report.actuator, model, {n: float(report.stderr[n]) for n in names},
-                      np.asarray(covariance, float), jackknife_covariance(report), {p.name: report.unit(p) for p in model.parameters},
-                      dict(report.channel_units), dict(report.validation), stats,
-                      provenance(paths, report.train_series), limit_C, report.method, report.scheme,
-                      specs_of(model.terms))
+    return SavedModel(
+        report.actuator,
+        model,
+        {n: float(report.stderr[n]) for n in names},
+        np.asarray(covariance, float),
+        jackknife_covariance(report),
+        {p.name: report.unit(p) for p in model.parameters},
+        dict(report.channel_units),
+        dict(report.validation),
+        stats,
+        provenance(paths, report.train_series),
+        limit_C,
+        report.method,
+        report.scheme,
+        specs_of(model.terms),
+    )
 
 
 LEADS_S = (10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 900.0, 1800.0, 3600.0, 7200.0)
@@ -74,11 +85,18 @@ def lead_profile(report) -> dict:
             ends = np.searchsorted(t, t[starts] + lead)
             errors.append(np.abs(r[ends] - r[starts] * np.exp(-(t[ends] - t[starts]) / fade)))
         errors = np.concatenate(errors)
-        table.append(scale * np.quantile(errors, RESIDUAL_QUANTILES) if errors.size else np.zeros(len(RESIDUAL_QUANTILES)))
+        table.append(
+            scale * np.quantile(errors, RESIDUAL_QUANTILES)
+            if errors.size
+            else np.zeros(len(RESIDUAL_QUANTILES))
+        )
     table = np.array(table)
-    return {"leads_s": tuple(leads),
-            "lead_quantiles_K": {f"{q:g}": tuple(map(float, table[:, k])) for k, q in enumerate(RESIDUAL_QUANTILES)}}
-
+    return {
+        "leads_s": tuple(leads),
+        "lead_quantiles_K": {
+            f"{q:g}": tuple(map(float, table[:, k])) for k, q in enumerate(RESIDUAL_QUANTILES)
+        },
+    }
 
 
 def jackknife_covariance(report) -> np.ndarray | None:

@@ -25,8 +25,14 @@ from .excitation import effort_levels, own_shares
 OWN_SHARE = 0.1
 
 
-def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequence[ActuatorSeries], hold: bool = True,
-                          datasheet: Mapping[str, float] | None = None, levels: bool = True):
+def identifiable_submodel(
+    fit: Callable,
+    model: tuple[str, ...],
+    series: Sequence[ActuatorSeries],
+    hold: bool = True,
+    datasheet: Mapping[str, float] | None = None,
+    levels: bool = True,
+):
     """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while
     the log cannot identify a parameter; the report says how in ``set_aside``.
 
@@ -56,7 +62,9 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
     def hold_value(name: str, value: float, reason: str) -> None:
         held[name] = value
         parameter = next(p for p in model_parameters(model) if p.name == name)
-        aside.append({"parameter": name, "held_at": value, "unit": parameter.unit_in(units), "reason": reason})
+        aside.append(
+            {"parameter": name, "held_at": value, "unit": parameter.unit_in(units), "reason": reason}
+        )
 
     while True:
         try:
@@ -76,12 +84,19 @@ def identifiable_submodel(fit: Callable, model: tuple[str, ...], series: Sequenc
             own = exc.parameter in {p.name for p in TERMS[term].parameters}
             what = (f"cannot identify {exc.parameter}" if own else
                     f"cannot tell {', '.join(p.name for p in TERMS[term].parameters)} from {exc.parameter}")
-            aside.append({"term": term, "reason": f"this log {what}; identifying {term} needs {_needs(term)}"})
+            aside.append(
+                {"term": term, "reason": f"this log {what}; identifying {term} needs {_needs(term)}"}
+            )
             model = tuple(t for t in model if t != term)
             continue
-        loose = [(name, flag) for name in datasheet if name in report.model.params and name not in held and hold
-                 # uncertain, or a time constant unseen
-                 for flag in report.flags if flag.startswith(f"{name} = ")]
+        loose = [
+            (name, flag)
+            for name in datasheet
+            if name in report.model.params and name not in held and hold
+            # uncertain, or a time constant unseen
+            for flag in report.flags
+            if flag.startswith(f"{name} = ")
+        ]
         rest = resting_offset(series, report) if hold and "T_offset_C" not in held else None
         if rest is not None and not loose:
             hold_value("T_offset_C", *rest)

@@ -37,8 +37,15 @@ from .evidence import Evidence
 from .flags import parameter_flags, said_once
 from .submodel import identifiable_submodel
 
-AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = ("auto", "interleaved", "split", "blocks", "runs", "parts",
-                                                           "held_out")
+AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT = (
+    "auto",
+    "interleaved",
+    "split",
+    "blocks",
+    "runs",
+    "parts",
+    "held_out",
+)
 KINDS = (AUTO, INTERLEAVED, SPLIT, BLOCKS, RUNS, PARTS, HELD_OUT)
 # leave one part out: one run's time span in this many parts, each predicted from the others
 PARTS_OF_A_RUN = 3
@@ -422,8 +429,11 @@ def validate_model(
         final, train_series = fitted[0], folds[0][0]
     else:
         final, train_series = make().fit(series), series
-    train = tuple(seg for k, s in enumerate(train_series) for seg in _segments(final.model_, s,
-                                                                              offsets=_offsets(final, k), runs=runs))
+    train = tuple(
+        seg
+        for k, s in enumerate(train_series)
+        for seg in _segments(final.model_, s, offsets=_offsets(final, k), runs=runs)
+    )
     held = list(getattr(final, "fixed", None) or [])
     train_metrics = _metrics(train)
     carry = []

@@ -36,7 +36,24 @@ from .cycle import CYCLE_STRIDES, Cycle, cycle_steps, measure_cycle, pause_steps
 from .gait import GAIT_CHOICES, MODES, NOMINAL_GAIT, Gait
 from .planning import GaitPlan, plan_gait, predicted_peak_C
 
-__all__ = ["CYCLE_STRIDES", "GAIT_CHOICES", "MODES", "NOMINAL_GAIT", "STRATEGIES",
-           "THERMAL_STRATEGIES", "CellResult", "Cycle", "Gait", "GaitPlan", "PeriodicCheck",
-           "check_periodic", "cycle_steps", "derating_threshold_C", "endurance", "measure_cycle", "pause_steps",
-           "plan_gait", "predicted_peak_C"]
+__all__ = [
+    "CYCLE_STRIDES",
+    "GAIT_CHOICES",
+    "MODES",
+    "NOMINAL_GAIT",
+    "STRATEGIES",
+    "THERMAL_STRATEGIES",
+    "CellResult",
+    "Cycle",
+    "Gait",
+    "GaitPlan",
+    "PeriodicCheck",
+    "check_periodic",
+    "cycle_steps",
+    "derating_threshold_C",
+    "endurance",
+    "measure_cycle",
+    "pause_steps",
+    "plan_gait",
+    "predicted_peak_C",
+]

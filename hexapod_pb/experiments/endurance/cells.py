@@ -45,15 +45,26 @@ class CellResult:
         return self.yaw_drift_deg_per_min <= MAX_YAW_DRIFT_DEG_PER_MIN
 
     def row(self) -> dict:
-        return {"payload_kg": self.payload_kg, "ambient_C": self.ambient_C, "mode": self.mode,
-                "strategy": self.strategy, "time_to_derate_s": to_microsecond(self.time_to_derate_s),
-                "horizon_s": self.horizon_s,
-                "distance_per_s_m": self.distance_per_s_m, "fell": self.fell, "hottest": self.hottest,
-                "hottest_C": self.hottest_C, "steady_hottest_C": self.steady_hottest_C,
-                "yaw_drift_deg_per_min": self.yaw_drift_deg_per_min,
-                "holds_heading": self.holds_heading, "windows": self.windows, "duty_factor": self.gait.duty_factor,
-                "foot_reach_m": self.gait.foot_reach_m, "body_height_m": self.gait.body_height_m,
-                "pause_share": self.gait.pause_share}
+        return {
+            "payload_kg": self.payload_kg,
+            "ambient_C": self.ambient_C,
+            "mode": self.mode,
+            "strategy": self.strategy,
+            "time_to_derate_s": to_microsecond(self.time_to_derate_s),
+            "horizon_s": self.horizon_s,
+            "distance_per_s_m": self.distance_per_s_m,
+            "fell": self.fell,
+            "hottest": self.hottest,
+            "hottest_C": self.hottest_C,
+            "steady_hottest_C": self.steady_hottest_C,
+            "yaw_drift_deg_per_min": self.yaw_drift_deg_per_min,
+            "holds_heading": self.holds_heading,
+            "windows": self.windows,
+            "duty_factor": self.gait.duty_factor,
+            "foot_reach_m": self.gait.foot_reach_m,
+            "body_height_m": self.gait.body_height_m,
+            "pause_share": self.gait.pause_share,
+        }
 
 
 def derating_threshold_C() -> np.ndarray:
@@ -80,7 +91,11 @@ def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, hor
             raise ValueError(f"the {strategy} strategy needs models identified from the robot's log (bank=)")
         thermal = ThermalContext(bank)
     if gait is None:
-        gait = plan_gait(payload_kg, mode, ambient_C, bank, seed, choices).gait if strategy == "thermal_gait" else NOMINAL_GAIT
+        gait = (
+            plan_gait(payload_kg, mode, ambient_C, bank, seed, choices).gait
+            if strategy == "thermal_gait"
+            else NOMINAL_GAIT
+        )
     forces = "thermal_aware" if strategy in THERMAL_STRATEGIES else strategy
     window = window_s if thermal is not None else horizon_s
     threshold = derating_threshold_C()
@@ -109,5 +124,19 @@ def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, hor
         elapsed += len(prop.cycle_start_s) * cycle.map.period_s
         w = state[cycle.map.winding_index]
         winding = (JOINTS[int(np.argmax(w))], float(np.max(w)))
-    return CellResult(float(payload_kg), float(ambient_C), mode, strategy, crossing, float(horizon_s),
-                      0.0 if fell else float(np.mean(distances)), fell, winding[0], winding[1], steady, drift, windows, gait)
+    return CellResult(
+        float(payload_kg),
+        float(ambient_C),
+        mode,
+        strategy,
+        crossing,
+        float(horizon_s),
+        0.0 if fell else float(np.mean(distances)),
+        fell,
+        winding[0],
+        winding[1],
+        steady,
+        drift,
+        windows,
+        gait,
+    )

@@ -37,10 +37,13 @@ class PeriodicCheck:
         return float(self.propagated_hottest_C[-1] - self.pybullet_hottest_C[-1])
 
     def summary(self) -> dict:
-        return {"duration_s": to_microsecond(self.duration_s), "max_abs_difference_K": self.max_abs_difference_K,
-                "final_difference_K": self.final_difference_K,
-                "final_pybullet_C": float(self.pybullet_hottest_C[-1]),
-                "final_propagated_C": float(self.propagated_hottest_C[-1])}
+        return {
+            "duration_s": to_microsecond(self.duration_s),
+            "max_abs_difference_K": self.max_abs_difference_K,
+            "final_difference_K": self.final_difference_K,
+            "final_pybullet_C": float(self.pybullet_hottest_C[-1]),
+            "final_propagated_C": float(self.propagated_hottest_C[-1]),
+        }
 
 
 def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str, duration_s: float,
@@ -74,4 +77,6 @@ def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str
                     hottest[k // steps] = total.max() / steps
                     total[:] = 0.0
     prop = cycle.map.propagate(start, cycles * cycle.map.period_s)
-    return PeriodicCheck(cycles * cycle.map.period_s, prop.cycle_start_s, hottest, prop.mean_winding_C.max(axis=1))
+    return PeriodicCheck(
+        cycles * cycle.map.period_s, prop.cycle_start_s, hottest, prop.mean_winding_C.max(axis=1)
+    )

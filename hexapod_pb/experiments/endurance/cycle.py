@@ -45,8 +45,17 @@ def pause_steps(gait: Gait, control_hz: float) -> int:
     return int(round(cycle_steps(gait, control_hz) * gait.pause_share / (1.0 - gait.pause_share)))
 
 
-def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: float, config: SimConfig, walking: bool,
-              forces: str, thermal: ThermalContext | None, steps: int):
+def _run_duty(
+    sim: HexapodSim,
+    params: DaisyParams,
+    gait: Gait,
+    payload_kg: float,
+    config: SimConfig,
+    walking: bool,
+    forces: str,
+    thermal: ThermalContext | None,
+    steps: int,
+):
     """Settle, warm up for a few strides, then run ``steps`` control steps; yield ``(k, reading)`` after each
     step.
 
@@ -61,8 +70,16 @@ def _run_duty(sim: HexapodSim, params: DaisyParams, gait: Gait, payload_kg: floa
         yield k - warmup, loop.step(forces, walking)
 
 
-def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, gait: Gait = NOMINAL_GAIT,
-                  state: np.ndarray | None = None, thermal: ThermalContext | None = None, seed: int = 0) -> Cycle:
+def measure_cycle(
+    payload_kg: float,
+    mode: str,
+    forces: str,
+    ambient_C: float,
+    gait: Gait = NOMINAL_GAIT,
+    state: np.ndarray | None = None,
+    thermal: ThermalContext | None = None,
+    seed: int = 0,
+) -> Cycle:
     """Run the robot until its duty is periodic and record one cycle; the plant starts in ``state`` (or at
     ambient).
 
@@ -78,14 +95,29 @@ def measure_cycle(payload_kg: float, mode: str, forces: str, ambient_C: float, g
     if mode == "stand" or pause_steps(gait, hz) == 0 or strides.fell:
         return strides
     start = np.full(strides.map.M.shape[0], float(ambient_C)) if state is None else state
-    pause = _record(payload_kg, False, forces, ambient_C, moving, strides.map.M @ start + strides.map.c, thermal,
-                    seed, pause_steps(gait, hz))
+    pause = _record(
+        payload_kg,
+        False,
+        forces,
+        ambient_C,
+        moving,
+        strides.map.M @ start + strides.map.c,
+        thermal,
+        seed,
+        pause_steps(gait, hz),
+    )
     if pause.fell:
         return pause
     joined = strides.map.followed_by(pause.map)
     mean_sq, mean = _with_pause(strides, pause, pause.map.steps / joined.steps)
-    return Cycle(joined, strides.distance_per_s_m * strides.map.period_s / joined.period_s, False, mean_sq, mean,
-                 strides.yaw_drift_deg)
+    return Cycle(
+        joined,
+        strides.distance_per_s_m * strides.map.period_s / joined.period_s,
+        False,
+        mean_sq,
+        mean,
+        strides.yaw_drift_deg,
+    )
 
 
 def _with_pause(cycle: Cycle, pause: Cycle | None, share: float) -> tuple[np.ndarray, np.ndarray]:
@@ -96,19 +128,32 @@ def _with_pause(cycle: Cycle, pause: Cycle | None, share: float) -> tuple[np.nda
             (1 - share) * cycle.mean_effort + share * pause.mean_effort)
 
 
-def _record(payload_kg: float, walking: bool, forces: str, ambient_C: float, gait: Gait, state: np.ndarray | None,
-            thermal: ThermalContext | None, seed: int, steps: int) -> Cycle:
+def _record(
+    payload_kg: float,
+    walking: bool,
+    forces: str,
+    ambient_C: float,
+    gait: Gait,
+    state: np.ndarray | None,
+    thermal: ThermalContext | None,
+    seed: int,
+    steps: int,
+) -> Cycle:
     """Settle and warm up, then record ``steps`` control steps of walking (or standing) as a cycle."""
     config = SimConfig(payload_kg=payload_kg, ambient_C=ambient_C)
     params = gait.params()
     efforts, velocities = np.zeros((steps, len(JOINTS))), np.zeros((steps, len(JOINTS)))
-    with HexapodSim(params=params, config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION) as sim:
+    with HexapodSim(
+        params=params, config=config, plant_effects=EFFECTS, seed=seed, protection=PROTECTION
+    ) as sim:
         if state is not None:
             sim.plant.set_state(state)
         start, start_yaw, fell = sim.read().body_position_m.copy(), 0.0, False
         reading = None
         try:
-            for k, reading in _run_duty(sim, params, gait, payload_kg, config, walking, forces, thermal, steps):
+            for k, reading in _run_duty(
+                sim, params, gait, payload_kg, config, walking, forces, thermal, steps
+            ):
                 if reading.body_position_m[2] < FALLEN_BODY_HEIGHT_M:
                     fell = True
                     break
@@ -126,8 +171,9 @@ def _record(payload_kg: float, walking: bool, forces: str, ambient_C: float, gai
             distance = float(reading.body_position_m[0] - start[0])
         drift = 0.0 if fell else abs(_wrapped_deg(_yaw_deg(reading.world_R_body) - start_yaw))
         cycle_map = CycleMap(sim.plant, efforts, velocities, config.control_dt_s)
-    return Cycle(cycle_map, distance / cycle_map.period_s, fell, (efforts**2).mean(axis=0), efforts.mean(axis=0),
-                 drift)
+    return Cycle(
+        cycle_map, distance / cycle_map.period_s, fell, (efforts**2).mean(axis=0), efforts.mean(axis=0), drift
+    )
 
 
 def _yaw_deg(world_R_body: np.ndarray) -> float:

@@ -36,5 +36,9 @@ class Gait:
 
 
 NOMINAL_GAIT = Gait()
-GAIT_CHOICES = {"duty_factor": (0.55, 0.75), "foot_reach_m": (0.16, 0.19, 0.22), "body_height_m": (0.13, 0.16),
-                "pause_share": (0.0, 0.1, 0.2)}
+GAIT_CHOICES = {
+    "duty_factor": (0.55, 0.75),
+    "foot_reach_m": (0.16, 0.19, 0.22),
+    "body_height_m": (0.13, 0.16),
+    "pause_share": (0.0, 0.1, 0.2),
+}

@@ -22,7 +22,9 @@ def predicted_peak_C(bank: ModelArrays, cycle: Cycle, pause: Cycle | None = None
     """The hottest equilibrium the identified models predict for a cycle's mean heating (degC), with
     ``pause_share`` of the time spent in the ``pause`` cycle."""
     mean_sq, mean = _with_pause(cycle, pause, pause_share)
-    return float(np.max(bank.betaR_K_per_effort2 * mean_sq - bank.beta_biasR_K_per_effort * mean + bank.T_offset_C))
+    return float(
+        np.max(bank.betaR_K_per_effort2 * mean_sq - bank.beta_biasR_K_per_effort * mean + bank.T_offset_C)
+    )
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,9 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
     height and weighed in by its share of the time.
     """
     thermal = ThermalContext(bank)
-    nominal = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed)
+    nominal = measure_cycle(
+        payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed
+    )
     stock = measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed)
     # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if
     # faster
@@ -52,14 +56,20 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
     walking = mode == "walk"
     duties = choices["duty_factor"] if walking else (NOMINAL_GAIT.duty_factor,)
     pauses = choices.get("pause_share", (0.0,)) if walking else (0.0,)
-    best = (predicted_peak_C(bank, nominal) if not nominal.fell else np.inf, NOMINAL_GAIT, nominal.distance_per_s_m)
+    best = (
+        predicted_peak_C(bank, nominal) if not nominal.fell else np.inf,
+        NOMINAL_GAIT,
+        nominal.distance_per_s_m,
+    )
     count, standing = 1, {}
     for duty, reach, height in product(duties, choices["foot_reach_m"], choices["body_height_m"]):
         gait = Gait(duty, reach, height)
         if gait == NOMINAL_GAIT:
             cycle = nominal
         else:
-            cycle = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed)
+            cycle = measure_cycle(
+                payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed
+            )
             count += 1
         if cycle.fell:
             continue
@@ -70,8 +80,9 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
             pause = None
             if share > 0.0:
                 if (reach, height) not in standing:
-                    standing[reach, height] = measure_cycle(payload_kg, "stand", "thermal_aware", ambient_C, gait,
-                                                            thermal=thermal, seed=seed)
+                    standing[reach, height] = measure_cycle(
+                        payload_kg, "stand", "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed
+                    )
                 pause = standing[reach, height]
                 count += 1
                 if pause.fell:

@@ -4,4 +4,12 @@ from .candidates import Candidate
 from .diagnose import Diagnosis, Search, auto_diagnose, diagnose
 from .residuals import ResidualAnalysis, analyse_residuals
 
-__all__ = ["Candidate", "Diagnosis", "ResidualAnalysis", "Search", "analyse_residuals", "auto_diagnose", "diagnose"]
+__all__ = [
+    "Candidate",
+    "Diagnosis",
+    "ResidualAnalysis",
+    "Search",
+    "analyse_residuals",
+    "auto_diagnose",
+    "diagnose",
+]

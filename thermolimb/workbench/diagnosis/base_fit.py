@@ -39,7 +39,9 @@ def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[Fit
     units, _, _ = held_out_support(base.validation_segments, rival.validation_segments)
     current_wins = c < e and 2 * units[0] > units[1]
     (won, won_K, won_word), (lost, lost_K, lost_word) = sorted(
-        [(rival, c, "current"), (base, e, "effort")], key=lambda x: x[2] != ("current" if current_wins else "effort"))
+        [(rival, c, "current"), (base, e, "effort")],
+        key=lambda x: x[2] != ("current" if current_wins else "effort"),
+    )
     lower = units[0] if current_wins else units[1] - units[0]
     sentence = (f"heat source: Joule heating from {won_word} squared "
                 f"({','.join(won.model.terms)}), held-out RMSE "
@@ -49,9 +51,16 @@ def heat_source_contest(base: FitReport, series, scheme, datasheet) -> tuple[Fit
     # what the effort's model set aside is said even where the current's wins: the walk starts without it
     sentence += "".join(f"; from effort squared, {a['term']} set aside: {a['reason']}" for a in base.set_aside
                         if "term" in a)
-    return won, {"chosen": won_word, "effort_rmse_K": e, "current_rmse_K": c, "effort_model": list(base.model.terms),
-                 "current_model": list(rival.model.terms), "sentence": sentence,
-                 "effort_fit_percent": base.validation["fit_percent"], "effort_flags": list(base.flags)}
+    return won, {
+        "chosen": won_word,
+        "effort_rmse_K": e,
+        "current_rmse_K": c,
+        "effort_model": list(base.model.terms),
+        "current_model": list(rival.model.terms),
+        "sentence": sentence,
+        "effort_fit_percent": base.validation["fit_percent"],
+        "effort_flags": list(base.flags),
+    }
 
 
 def identifiable_base(series, model, scheme, initial, datasheet=None, levels=True) -> FitReport:

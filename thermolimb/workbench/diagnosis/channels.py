@@ -74,32 +74,104 @@ def channel_terms(channel: str, series: list[ActuatorSeries]) -> list[str]:
     forms: list[tuple] = []
     named, ranged = is_temperature(channel, unit), in_temperature_range(x, unit, series)
     if named or ranged:
-        forms.append(("boundary", f"the winding relaxes towards the logged temperature {shown}", [Feature(
-            f"{ident}_boundary_gain", "1", column, "minus", f"({channel} - 25 degC)", f"the logged temperature {shown}",
-            threshold=BOUNDARY_REFERENCE_C, lower=-1.0, upper=2.0, typical=0.3, plausible=(0.0, 1.0))], (), None))
+        forms.append(
+            (
+                "boundary",
+                f"the winding relaxes towards the logged temperature {shown}",
+                [
+                    Feature(
+                        f"{ident}_boundary_gain",
+                        "1",
+                        column,
+                        "minus",
+                        f"({channel} - 25 degC)",
+                        f"the logged temperature {shown}",
+                        threshold=BOUNDARY_REFERENCE_C,
+                        lower=-1.0,
+                        upper=2.0,
+                        typical=0.3,
+                        plausible=(0.0, 1.0),
+                    )
+                ],
+                (),
+                None,
+            )
+        )
     if not named:
         scale = float(np.max(np.abs(x))) or 1.0
         if not ranged:  # the boundary is this form, with a temperature's bounds
-            forms.append(("heat", f"heat in proportion to the logged channel {shown}", [Feature(
-                f"{ident}_heat_K", f"K/({template})", column, "value", channel, shown, typical=1.0 / scale)], (), None))
+            forms.append(
+                (
+                    "heat",
+                    f"heat in proportion to the logged channel {shown}",
+                    [
+                        Feature(
+                            f"{ident}_heat_K",
+                            f"K/({template})",
+                            column,
+                            "value",
+                            channel,
+                            shown,
+                            typical=1.0 / scale,
+                        )
+                    ],
+                    (),
+                    None,
+                )
+            )
         if x.min() < 0.0 < x.max():
             forms.append(("heat_abs", f"heat in proportion to the magnitude of {shown}", [Feature(
                 f"{ident}_heat_abs_K", f"K/({template})", column, "abs_power", f"|{channel}|", f"|{shown}|",
                 typical=1.0 / scale)], (), None))
         if not np.allclose(x**2, x):  # an on/off channel is its own square
-            forms.append(("heat_sq", f"heat in proportion to the square of {shown}", [Feature(
-                f"{ident}_heat_sq_K", f"K/({template})^2", column, "square", f"{channel}^2", f"{shown} squared",
-                typical=1.0 / scale**2)], (), None))
+            forms.append(
+                (
+                    "heat_sq",
+                    f"heat in proportion to the square of {shown}",
+                    [
+                        Feature(
+                            f"{ident}_heat_sq_K",
+                            f"K/({template})^2",
+                            column,
+                            "square",
+                            f"{channel}^2",
+                            f"{shown} squared",
+                            typical=1.0 / scale**2,
+                        )
+                    ],
+                    (),
+                    None,
+                )
+            )
         forms.append(("heat_effort", f"heat in proportion to {shown} times the effort's magnitude", [Feature(
             f"{ident}_heat_effort_K", f"K/({template} · {{effort}})", column, "times_abs_effort",
             f"{channel} |effort|", f"{shown} times |effort|", typical=1.0 / scale)], ("effort",), None))
         lower = -CONDUCTANCE_MARGIN / x.max() if x.max() > 0 else -np.inf
         upper = CONDUCTANCE_MARGIN / -x.min() if x.min() < 0 else np.inf
         param = f"{ident}_conductance_per_unit"
-        forms.append(("conductance", f"the conductance to ambient changes with {shown} (a fan, a coolant)", [Feature(
-            param, f"1/({template})", column, "value", f"{channel} (T - T_offset)",
-            f"{shown} times the rise above the offset", gain=True, sign=-1.0, lower=lower, upper=upper,
-            typical=0.1 / scale)], (), (param, float(x.min()), float(x.max()))))
+        forms.append(
+            (
+                "conductance",
+                f"the conductance to ambient changes with {shown} (a fan, a coolant)",
+                [
+                    Feature(
+                        param,
+                        f"1/({template})",
+                        column,
+                        "value",
+                        f"{channel} (T - T_offset)",
+                        f"{shown} times the rise above the offset",
+                        gain=True,
+                        sign=-1.0,
+                        lower=lower,
+                        upper=upper,
+                        typical=0.1 / scale,
+                    )
+                ],
+                (),
+                (param, float(x.min()), float(x.max())),
+            )
+        )
         # offered where the model has that mass (the term requires it)
         for mass, words in slow_masses().items():
             param = f"{ident}_{mass}_conductance_per_unit"

@@ -239,8 +239,16 @@ def _walk(series, model, search):
         waterfall[0].update(change="heat from current", from_rmse_K=h["effort_rmse_K"], improvement=gain,
                             why=f"validation RMSE {h['effort_rmse_K']:.3f} -> {h['current_rmse_K']:.3f} K "
                                 f"({-100 * gain:+.1f} %); {h['sentence']}")
-        waterfall.insert(0, {"model": h["effort_model"], "rmse_K": h["effort_rmse_K"],
-                             "fit_percent": h["effort_fit_percent"], "flags": h["effort_flags"], "floor_K": None})
+        waterfall.insert(
+            0,
+            {
+                "model": h["effort_model"],
+                "rmse_K": h["effort_rmse_K"],
+                "fit_percent": h["effort_fit_percent"],
+                "flags": h["effort_flags"],
+                "floor_K": None,
+            },
+        )
     steps[0] = replace(first, auto=waterfall)
     return steps[0], steps
 
@@ -254,13 +262,20 @@ def _step(d: Diagnosis, move: Candidate | None, before: Diagnosis | None) -> dic
         b = before.base.validation["rmse_K"]
         out.update(change=move.label, from_rmse_K=b, improvement=move.improvement, delta_bic=move.delta_bic,
                    selection_frequency=move.selection_frequency)
-        out["why"] = (f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
-                      f"BIC {move.delta_bic:+.1f}" + (f", {move.stability_sentence}" if move.stability_sentence else ""))
+        out["why"] = (
+            f"validation RMSE {b:.3f} -> {move.rmse_K:.3f} K ({-100 * move.improvement:+.1f} %), "
+            f"BIC {move.delta_bic:+.1f}" + (f", {move.stability_sentence}" if move.stability_sentence else "")
+        )
     if d.unstable is not None and d.recommended is None:  # where the walk stopped: it helps, held back
         c = d.unstable
-        out["unstable"] = {"change": c.label, "rmse_K": c.rmse_K, "selection_frequency": c.selection_frequency,
-                           "replicates": (d.stability or {}).get("replicates"), "why": c.held_back_because,
-                           "status": c.status}
+        out["unstable"] = {
+            "change": c.label,
+            "rmse_K": c.rmse_K,
+            "selection_frequency": c.selection_frequency,
+            "replicates": (d.stability or {}).get("replicates"),
+            "why": c.held_back_because,
+            "status": c.status,
+        }
     if d.at_floor:
         out["at_floor"] = d.floor.sentence(d.base.validation["rmse_K"])
     return out

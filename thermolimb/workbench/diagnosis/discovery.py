@@ -85,9 +85,21 @@ class Proposal:
 def _speed_features(speed: np.ndarray) -> list[LibraryFeature]:
     out = []
     for n in SPEED_POWERS:
-        out.append(LibraryFeature(f"speed_p{n:g}".replace(".", "_"), Feature(
-            "", f"K/({{velocity}})^{n:g}", "velocity", "abs_power", f"|v|^{n:g}", f"|velocity| to the power {n:g}",
-            power=n), ("velocity",)))
+        out.append(
+            LibraryFeature(
+                f"speed_p{n:g}".replace(".", "_"),
+                Feature(
+                    "",
+                    f"K/({{velocity}})^{n:g}",
+                    "velocity",
+                    "abs_power",
+                    f"|v|^{n:g}",
+                    f"|velocity| to the power {n:g}",
+                    power=n,
+                ),
+                ("velocity",),
+            )
+        )
     moving = speed[speed > 0.01 * speed.max()] if speed.max() > 0 else speed
     for q in SPEED_QUANTILES:
         v0 = float(f"{np.quantile(moving, q):.2g}")
@@ -96,31 +108,84 @@ def _speed_features(speed: np.ndarray) -> list[LibraryFeature]:
         out.append(LibraryFeature(f"speed_over_{v0:g}".replace(".", "_"), Feature(
             "", "K/({velocity})^2", "velocity", "above", f"max(0, |v| - {v0:g})^2",
             f"the square of |velocity| above {v0:g}", threshold=v0), ("velocity",)))
-    out.append(LibraryFeature("speed_cooling", Feature(
-        "", "1/({velocity})", "velocity", "abs_power", "|v| (T - T_offset)", "|velocity| times the rise above the "
-        "offset", gain=True), ("velocity",)))
+    out.append(
+        LibraryFeature(
+            "speed_cooling",
+            Feature(
+                "",
+                "1/({velocity})",
+                "velocity",
+                "abs_power",
+                "|v| (T - T_offset)",
+                "|velocity| times the rise above the offset",
+                gain=True,
+            ),
+            ("velocity",),
+        )
+    )
     return out
 
 
 def _effort_features(effort: np.ndarray) -> list[LibraryFeature]:
-    out = [LibraryFeature(f"effort_p{n:g}", Feature(
-        "", f"K/({{effort}})^{n:g}" if n != 1 else "K/({effort})", "effort", "abs_power",
-        f"|F|^{n:g}" if n != 1 else "|F|", f"|effort| to the power {n:g}", power=n), ("effort",)) for n in EFFORT_POWERS]
+    out = [
+        LibraryFeature(
+            f"effort_p{n:g}",
+            Feature(
+                "",
+                f"K/({{effort}})^{n:g}" if n != 1 else "K/({effort})",
+                "effort",
+                "abs_power",
+                f"|F|^{n:g}" if n != 1 else "|F|",
+                f"|effort| to the power {n:g}",
+                power=n,
+            ),
+            ("effort",),
+        )
+        for n in EFFORT_POWERS
+    ]
     f0 = float(f"{np.quantile(np.abs(effort), 0.75):.2g}")
     if f0 > 0:
-        out.append(LibraryFeature(f"effort_over_{f0:g}".replace(".", "_"), Feature(
-            "", "K/({effort})^2", "effort", "above", f"max(0, |F| - {f0:g})^2", f"the square of |effort| above {f0:g}",
-            threshold=f0), ("effort",)))
-    out.append(LibraryFeature("effort2_temperature", Feature(
-        "", "1/({effort})^2", "effort", "square", "F^2 (T - 25 degC)", "effort squared times the temperature above "
-        "25 degC", gain=True, reference="25.0"), ("effort",)))
+        out.append(
+            LibraryFeature(
+                f"effort_over_{f0:g}".replace(".", "_"),
+                Feature(
+                    "",
+                    "K/({effort})^2",
+                    "effort",
+                    "above",
+                    f"max(0, |F| - {f0:g})^2",
+                    f"the square of |effort| above {f0:g}",
+                    threshold=f0,
+                ),
+                ("effort",),
+            )
+        )
+    out.append(
+        LibraryFeature(
+            "effort2_temperature",
+            Feature(
+                "",
+                "1/({effort})^2",
+                "effort",
+                "square",
+                "F^2 (T - 25 degC)",
+                "effort squared times the temperature above 25 degC",
+                gain=True,
+                reference="25.0",
+            ),
+            ("effort",),
+        )
+    )
     return out
 
 
 def _pull(key: str, reference: str, symbol: str, words: str, columns=()) -> LibraryFeature:
     """``c (T_x - T)``: the pull of another temperature (a gain of ``-c`` with the reference ``T_x``)."""
-    return LibraryFeature(key, Feature("", "1", "effort", "one", symbol, words, gain=True, reference=reference,
-                                       sign=-1.0), columns)
+    return LibraryFeature(
+        key,
+        Feature("", "1", "effort", "one", symbol, words, gain=True, reference=reference, sign=-1.0),
+        columns,
+    )
 
 
 def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[LibraryFeature]:
@@ -132,39 +197,83 @@ def library(model: tuple[str, ...], series: list[ActuatorSeries]) -> list[Librar
     if s.current_A is not None:
         out.append(LibraryFeature("current_p2", Feature("", "K/({current})^2", "current", "square", "I^2",
                                                         "current squared"), ("current",)))
-        out.append(LibraryFeature("current2_temperature", Feature(
-            "", "1/({current})^2", "current", "square", "I^2 (T - 25 degC)", "current squared times the temperature "
-            "above 25 degC", gain=True, reference="25.0"), ("current",)))
+        out.append(
+            LibraryFeature(
+                "current2_temperature",
+                Feature(
+                    "",
+                    "1/({current})^2",
+                    "current",
+                    "square",
+                    "I^2 (T - 25 degC)",
+                    "current squared times the temperature above 25 degC",
+                    gain=True,
+                    reference="25.0",
+                ),
+                ("current",),
+            )
+        )
     for column, words in (("ambient", "the logged ambient"), ("housing", "the housing temperature"),
                           ("neighbors", "the neighbours' mean temperature")):
         if s.has(column):
-            out.append(_pull(f"{column}_pull", column, f"({column} - T)", f"the pull of {words}", columns=(column,)))
+            out.append(
+                _pull(f"{column}_pull", column, f"({column} - T)", f"the pull of {words}", columns=(column,))
+            )
     for channel in unused_channels(model, series):
         unit, column = series[0].units.get(f"extra.{channel}"), f"extra.{channel}"
         key = identifier(channel)
         values = np.concatenate([x.signals.extra[channel] for x in series])
         named = is_temperature(channel, unit)
         if named or in_temperature_range(values, unit, series):
-            out.append(_pull(f"{key}_pull", column, f"({channel} - T)", f"the pull of `{channel}`", (column,)))
+            out.append(
+                _pull(f"{key}_pull", column, f"({channel} - T)", f"the pull of `{channel}`", (column,))
+            )
         if named:
             continue
         template = f"{{extra.{channel}}}"
         out += [
-            LibraryFeature(f"{key}_heat", Feature("", f"K/({template})", column, "value", channel, f"`{channel}`"),
-                           (column,)),
-            LibraryFeature(f"{key}_sq", Feature("", f"K/({template})^2", column, "square", f"{channel}^2",
-                                                f"`{channel}` squared"), (column,)),
-            LibraryFeature(f"{key}_effort", Feature("", f"K/({template} · {{effort}})", column, "times_abs_effort",
-                                                    f"{channel} |F|", f"`{channel}` times |effort|"),
-                           (column, "effort")),
-            LibraryFeature(f"{key}_cooling", Feature("", f"1/({template})", column, "value", f"{channel} (T - T_offset)",
-                                                     f"`{channel}` times the rise above the offset", gain=True),
-                           (column,)),
+            LibraryFeature(
+                f"{key}_heat",
+                Feature("", f"K/({template})", column, "value", channel, f"`{channel}`"),
+                (column,),
+            ),
+            LibraryFeature(
+                f"{key}_sq",
+                Feature("", f"K/({template})^2", column, "square", f"{channel}^2", f"`{channel}` squared"),
+                (column,),
+            ),
+            LibraryFeature(
+                f"{key}_effort",
+                Feature(
+                    "",
+                    f"K/({template} · {{effort}})",
+                    column,
+                    "times_abs_effort",
+                    f"{channel} |F|",
+                    f"`{channel}` times |effort|",
+                ),
+                (column, "effort"),
+            ),
+            LibraryFeature(
+                f"{key}_cooling",
+                Feature(
+                    "",
+                    f"1/({template})",
+                    column,
+                    "value",
+                    f"{channel} (T - T_offset)",
+                    f"`{channel}` times the rise above the offset",
+                    gain=True,
+                ),
+                (column,),
+            ),
         ]
     return out
 
 
-def feature_values(feature: Feature, series: ActuatorSeries, offset_C: float) -> tuple[np.ndarray, np.ndarray | None]:
+def feature_values(
+    feature: Feature, series: ActuatorSeries, offset_C: float
+) -> tuple[np.ndarray, np.ndarray | None]:
     """The feature's values on a series, and its reference temperature (degC) for a gain feature."""
     values = feature.values(series.signals).copy()
     return values, (feature.reference_values(series.signals, offset_C).copy() if feature.gain else None)
@@ -210,7 +319,11 @@ def signatures(base: ThermalModel, train: list[ActuatorSeries], features: list[L
                 rows = fit_rows(s, stride)
                 runs.append((moved[rows] - at_null[rows]) / step)
             columns.append(np.concatenate(runs))
-        return np.column_stack(columns) if columns else np.empty((sum(fit_rows(s, stride).size for s in train), 0))
+        return (
+            np.column_stack(columns)
+            if columns
+            else np.empty((sum(fit_rows(s, stride).size for s in train), 0))
+        )
     finally:
         unregister_term(PROBE)
 
@@ -256,7 +369,9 @@ def propose(base: ThermalModel, train: list[ActuatorSeries], jacobian: np.ndarra
     return _proposal(picked, [float(b) for b in beta], r2_before, len(features), train, name_prefix)
 
 
-def _proposal(picked: list[LibraryFeature], beta: list[float], r2: float, size: int, train, prefix: str) -> Proposal:
+def _proposal(
+    picked: list[LibraryFeature], beta: list[float], r2: float, size: int, train, prefix: str
+) -> Proposal:
     name = f"{prefix}_" + "_".join(lf.key for lf in picked)
     features, columns = [], []
     for k, (lf, b) in enumerate(zip(picked, beta), start=1):

@@ -110,7 +110,9 @@ def describe(c: Candidate, analysis: ResidualAnalysis, base_rmse: float) -> str:
 
 def _fitted(c: Candidate) -> str:
     """The fitted sizes of a generated term, with their units and uncertainty."""
-    return ", ".join(f"{name} = {plus_minus(p['value'], p['stderr'])}{spaced(p['unit'])}" for name, p in c.params.items())
+    return ", ".join(
+        f"{name} = {plus_minus(p['value'], p['stderr'])}{spaced(p['unit'])}" for name, p in c.params.items()
+    )
 
 
 def describe_discovered(c: Candidate, proposal, base_rmse: float) -> str:

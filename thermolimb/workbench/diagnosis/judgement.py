@@ -118,7 +118,11 @@ def term_identified(term, report) -> bool:
     if not np.all(np.isfinite(cov)):
         return False
     for p in primary:
-        span = p.upper - p.lower if np.isfinite(p.upper - p.lower) else max(abs(report.model.params[p.name]), 1.0)
+        span = (
+            p.upper - p.lower
+            if np.isfinite(p.upper - p.lower)
+            else max(abs(report.model.params[p.name]), 1.0)
+        )
         value = report.model.params[p.name]
         if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
             return False

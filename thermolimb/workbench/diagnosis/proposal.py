@@ -27,7 +27,10 @@ def write_proposal(path: Path, finals: list[tuple[str, FitReport]]) -> str:
     doc = (f"Terms proposed by `thermolimb diagnose --discover`: {', '.join(classes)}. Load them with "
            f"`--terms {path.name}` and name them in --model; rename a class and its name to keep it.")
     text = module_source(doc, list(classes.values()))
-    text = text.replace("\nimport numpy", "\n# fitted values (validation scheme of that run):\n" + "\n".join(fitted)
-                        + "\n\nimport numpy", 1)
+    text = text.replace(
+        "\nimport numpy",
+        "\n# fitted values (validation scheme of that run):\n" + "\n".join(fitted) + "\n\nimport numpy",
+        1,
+    )
     write_text(path, text)
     return f"wrote {path}"

@@ -112,7 +112,9 @@ def profile_grid(param: Parameter, train) -> np.ndarray:
     return np.unique(values[values != param.null])
 
 
-def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool = True) -> list[tuple[float, dict]]:
+def ordered_starts(
+    cand: Candidate, base, train, param: Parameter | None | bool = True
+) -> list[tuple[float, dict]]:
     """Where the full refit may start, best first, each with its short fit's training cost (``inf`` when not
     screened): the profile's points, or for a term with nothing to profile, its starts screened the same way.
     ``param``: the profiled parameter when the caller has it (``True``: find it here)."""
@@ -145,8 +147,13 @@ def ordered_starts(cand: Candidate, base, train, param: Parameter | None | bool 
     screened = []
     for initial, fixed in points:
         try:
-            est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations, fixed=fixed or None,
-                                      max_samples=SCREEN_SAMPLES)
+            est = FreeRunLeastSquares(
+                model=cand.model,
+                initial=initial,
+                max_iterations=evaluations,
+                fixed=fixed or None,
+                max_samples=SCREEN_SAMPLES,
+            )
             est.fit(train)
         except IdentifiabilityError:
             continue
@@ -168,7 +175,11 @@ def refit(cand: Candidate, base, base_bic: float, evaluate, warm: dict | None = 
     ``settled_plausible``) lands implausible where the whole log's refit was plausible.
     """
     term = TERMS[cand.effect] if cand.adds else None
-    param = profiled_parameter(cand.searched, dict(base.model.params), base.train_series[0]) if cand.adds else None
+    param = (
+        profiled_parameter(cand.searched, dict(base.model.params), base.train_series[0])
+        if cand.adds
+        else None
+    )
     keep = {p.name for p in model_parameters(cand.model)}
     errors, collapsed, found = [], None, []
 
@@ -343,8 +354,16 @@ def refit_candidate(cand: Candidate, series, scheme, base: FitReport, base_bic: 
         return set_aside(cand, exc)
 
 
-def refit_all(cands: list[Candidate], warm: list, series, scheme, base: FitReport, base_bic: float, workers: int,
-              quiet: bool = True) -> list[Candidate]:
+def refit_all(
+    cands: list[Candidate],
+    warm: list,
+    series,
+    scheme,
+    base: FitReport,
+    base_bic: float,
+    workers: int,
+    quiet: bool = True,
+) -> list[Candidate]:
     """Every candidate in ``cands`` refitted (``warm``: each one's start, or ``None``), guarded, in the same
     order, on ``workers`` local processes when more than one, one places a hidden state and the log is short
     (:data:`POOLED_SAMPLES`), else here.  Each refit is independent of the others and runs with one BLAS
@@ -355,7 +374,9 @@ def refit_all(cands: list[Candidate], warm: list, series, scheme, base: FitRepor
     bar = progress(total=len(cands), desc="refits", disable=quiet)
     order = sorted(range(len(cands)), key=lambda i: -len(model_parameters(cands[i].model)))
     out = list(cands)
-    with Runner("process" if pooled else "serial", workers, shared=(series, scheme, base, base_bic)) as runner:
+    with Runner(
+        "process" if pooled else "serial", workers, shared=(series, scheme, base, base_bic)
+    ) as runner:
         for i, done in runner.as_completed(_refit_job, [(cands[i], warm[i]) for i in order]):
             out[order[i]] = done
             bar.update()

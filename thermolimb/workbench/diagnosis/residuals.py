@@ -60,7 +60,12 @@ class ResidualAnalysis:
             "rmse_K": float(np.sqrt(np.mean(self.residual_K**2))),
             "autocorrelation_significant": self.autocorrelation.significant,
             "cross_correlation": {
-                name: {"peak_lag_s": c.peak[0], "peak": c.peak[1], "band": c.band, "significant": c.significant}
+                name: {
+                    "peak_lag_s": c.peak[0],
+                    "peak": c.peak[1],
+                    "band": c.band,
+                    "significant": c.significant,
+                }
                 for name, c in self.cross.items()
             },
             "phase_rmse_K": self.phase_rmse_K,
@@ -142,7 +147,9 @@ def candidate_inputs(series: ActuatorSeries) -> dict[str, np.ndarray]:
     return {k: v for k, v in inputs.items() if np.ptp(v) > 0}
 
 
-def analyse_residuals(series: ActuatorSeries, simulated_C: np.ndarray, max_lag_s: float = 600.0) -> ResidualAnalysis:
+def analyse_residuals(
+    series: ActuatorSeries, simulated_C: np.ndarray, max_lag_s: float = 600.0
+) -> ResidualAnalysis:
     """Analyse ``measured - simulated`` of one series (uniformly sampled or nearly so)."""
     e = series.temperature_C - simulated_C
     dt = series.median_dt_s

@@ -54,8 +54,10 @@ def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
         split = channel_excitation(channel, *tail)
         if (ChannelExcitation.enough(*split.fitted) and not ChannelExcitation.enough(*split.judged)
                 and channel_excitation(channel, *blocks).excited):
-            why = f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % leaves a channel still: " \
-                  f"{split.sentence()}"
+            why = (
+                f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % leaves a channel still: "
+                f"{split.sentence()}"
+            )
             return placed(replace(blocked, why=why), series)
     still = still_tail(series, resolved.split)
     if still is not None:
@@ -150,7 +152,9 @@ def _parts(series, scheme: Scheme):
     """The one fold of ``scheme`` as :func:`channel_excitation` takes it: the series fitted on, the pieces
     judged."""
     [(fitted, scored)] = scheme_folds(series, scheme)
-    return fitted, [(s.signals.slice(lo, hi), s.temperature_C[lo:hi]) for s, pieces in scored for lo, hi in pieces]
+    return fitted, [
+        (s.signals.slice(lo, hi), s.temperature_C[lo:hi]) for s, pieces in scored for lo, hi in pieces
+    ]
 
 
 def _channels(series, discover: bool) -> list[str]:

@@ -145,13 +145,17 @@ class Perturbation:
         """The replicate's runs and scheme: each run trimmed, held-out runs too, the split or the blocks
         moved."""
         held = self.trimmed(scheme.held_out, self.held_trims)
-        return self.trimmed(series, self.trims), replace(scheme, split=self.split, phase=scheme.phase + self.phase,
-                                                         held_out=tuple(held))
+        return self.trimmed(series, self.trims), replace(
+            scheme, split=self.split, phase=scheme.phase + self.phase, held_out=tuple(held)
+        )
 
     def jitter(self, starts: list[dict]) -> list[dict]:
         """Each start's values scaled by one log-normal factor per value (sign kept)."""
         rng = np.random.default_rng(self.start_seed)
-        return [{k: float(v * np.exp(rng.normal(0.0, START_JITTER))) for k, v in start.items()} for start in starts]
+        return [
+            {k: float(v * np.exp(rng.normal(0.0, START_JITTER))) for k, v in start.items()}
+            for start in starts
+        ]
 
 
 def perturbations(stability: Stability, series, scheme, batch: int = 0) -> list[Perturbation]:
@@ -177,7 +181,9 @@ def perturbations(stability: Stability, series, scheme, batch: int = 0) -> list[
         if scheme.kind == SPLIT:
             split = float(np.clip(scheme.split + offset, 0.05, 0.95))
         phase = offset * INTERLEAVED_BLOCKS if scheme.kind == INTERLEAVED else 0.0
-        out.append(Perturbation(trims(series), trims(scheme.held_out), split, int(rng.integers(2**31)), phase))
+        out.append(
+            Perturbation(trims(series), trims(scheme.held_out), split, int(rng.integers(2**31)), phase)
+        )
     return out
 
 
@@ -195,9 +201,18 @@ def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Cand
     implausible, 1.155 K against the neighbour's 0.341 K: 0.35 s of each replicate's 0.45 s;
     benchmarks/diagnose.py's log, ``- effort_bias``, eligible at 4.77 K against speed losses' 0.058 K, taken
     by none of 10)."""
-    judged = [c for c in candidates if c.refitted and c.confounded is None and c.failure is None
-              and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT) and (c.eligible or not c.brings)]
-    best = min((c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None)
+    judged = [
+        c
+        for c in candidates
+        if c.refitted
+        and c.confounded is None
+        and c.failure is None
+        and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT)
+        and (c.eligible or not c.brings)
+    ]
+    best = min(
+        (c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None
+    )
     return [c for c in judged if best is None or c.rmse_K is None or c.rmse_K <= BEHIND * best.rmse_K
             or effect_key(c, model) == effect_key(best, model)]
 

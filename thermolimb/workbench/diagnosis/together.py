@@ -44,10 +44,23 @@ def pairs(candidates: list[Candidate], model: tuple[str, ...], series, scheme, b
           visited: frozenset, checked: bool = False) -> list[Candidate]:
     """The pairs of additions that help together and beat each member alone by the gate, refitted and judged
     (``checked``: their lines say what the stability check will ask of them)."""
-    members = sorted((c for c in candidates if c.kind == "add" and not c.brings and c.refitted and c.failure is None
-                      and c.confounded is None and c.unexcited is None and c.broken is None
-                      and c.plausible is not False and c.identifiable is not False and c.delta_bic < 0),
-                     key=lambda c: c.delta_bic)[:MEMBERS]
+    members = sorted(
+        (
+            c
+            for c in candidates
+            if c.kind == "add"
+            and not c.brings
+            and c.refitted
+            and c.failure is None
+            and c.confounded is None
+            and c.unexcited is None
+            and c.broken is None
+            and c.plausible is not False
+            and c.identifiable is not False
+            and c.delta_bic < 0
+        ),
+        key=lambda c: c.delta_bic,
+    )[:MEMBERS]
     kept = []
     for a, b in combinations(members, 2):
         # the better alone first: the pair starts where it ended
