@@ -7,7 +7,7 @@ import json
 import sys
 
 from ..util.errors import UsageError
-from .options import add_quiet, add_terms
+from .options import add_quiet, add_temperature, add_terms
 from .output import print_json, say
 from .types import SEED, number, output_dir
 
@@ -59,14 +59,8 @@ def add_parser(sub):
         "N m per A, by which the environment's torques become currents",
     )
     p.add_argument("--joints", default=None, metavar="A,B,...", help="the joints to heat (default every one)")
-    p.add_argument(
-        "--limit-C",
-        dest="limit_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="every joint's limit (default: the models' stored limits, or the plant's)",
-    )
+    add_temperature(p, "--limit-C",
+                    "every joint's limit (default: the models' stored limits, or the plant's)")
     p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=25.0,
                    metavar="C", help="the air's temperature, and the joints' at the start (default 25)")
     p.add_argument("--seed", type=SEED, default=0, help="seed of the environment and of a random policy")

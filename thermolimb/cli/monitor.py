@@ -6,7 +6,7 @@ import sys
 
 from ..util.errors import UsageError
 from ..util.interrupts import ignore_further
-from .options import add_log_input, add_quiet, add_terms
+from .options import add_log_input, add_quiet, add_temperature, add_terms
 from .output import say
 from .reading import load_model_file
 from .types import integer, number, output_file
@@ -37,14 +37,8 @@ def add_parser(sub):
                         "folder) being recorded")
     add_log_input(p, positional=False)
     add_terms(p)
-    p.add_argument(
-        "--limit-C",
-        dest="limit_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="the winding limit of every actuator (default: each model's stored limit)",
-    )
+    add_temperature(p, "--limit-C",
+                    "the winding limit of every actuator (default: each model's stored limit)")
     p.add_argument("--measurement-std-K", dest="measurement_std_K", type=number(0.0, 10.0, low_open=True),
                    default=0.1, metavar="K", help="the thermistor's noise, 1 sigma, "
                                                   "quantisation included (default 0.1)")

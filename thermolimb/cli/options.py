@@ -11,12 +11,12 @@ from ..util.errors import UsageError
 from ..util.parallel import BACKENDS
 from ..workbench.validation import PARTS, Scheme
 from .types import (
+    TEMPERATURE_C,
     assignments,
     folds,
     fraction,
     integer,
     names_list,
-    number,
     output_dir,
     output_file,
 )
@@ -163,19 +163,18 @@ def add_outputs(p, json_help: str, plot_help: str):
                         "linked in time; self-contained, works offline)")
 
 
+def add_temperature(p, flag: str, help_text: str) -> None:
+    """A winding's temperature option (``--limit-C``, ``--start-C``): degC within the model file's range,
+    default ``None``, stored under the flag's name (``limit_C``)."""
+    p.add_argument(flag, dest=flag[2:].replace("-", "_"), type=TEMPERATURE_C, default=None, metavar="C",
+                   help=help_text)
+
+
 def add_save(p, help_text: str):
     """``--save MODEL.json`` and the limit it stores, ``--limit-C``."""
     p.add_argument("--save", type=output_file, default=None, metavar="MODEL.json", help=help_text)
-    p.add_argument(
-        "--limit-C",
-        dest="limit_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="with --save: the actuator's winding limit "
-        "(degC), stored in the model file; predict and "
-        "monitor use it when no --threshold is given",
-    )
+    add_temperature(p, "--limit-C", "with --save: the actuator's winding limit (degC), stored in the model "
+                    "file; predict and monitor use it when no --threshold is given")
 
 
 def add_fleet(p):

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from ..util.errors import UsageError
-from .options import add_quiet, add_terms
+from .options import add_quiet, add_temperature, add_terms
 from .output import print_json
 from .reading import load_model_file
 from .types import SEED, names_list, number, output_dir, output_file
@@ -38,9 +38,7 @@ def add_parser(sub):
                                "parameters")
     p.add_argument("--actuator", default=None, metavar="NAME",
                    help="the model file's actuator (default: its one)")
-    temperature = number(-60.0, 400.0, unit="degC")
-    p.add_argument("--limit-C", dest="limit_C", type=temperature, default=None, metavar="C",
-                   help="the winding's limit (default: the model file's)")
+    add_temperature(p, "--limit-C", "the winding's limit (default: the model file's)")
     p.add_argument("--margin-K", dest="margin_K", type=number(0.0, 200.0, unit="K"), default=5.0, metavar="K",
                    help="kept between the forecast band's upper end and the limit (default 5 K)")
     p.add_argument("--max-effort", dest="max_effort", type=number(0.0, 1e9, low_open=True), required=True,
@@ -53,8 +51,7 @@ def add_parser(sub):
                    help="the sample period of the plan and of the readings its fit compares (default 1 s)")
     p.add_argument("--min-hold", dest="min_hold", type=seconds, default=None, metavar="S",
                    help="the shortest hold (default ten samples)")
-    p.add_argument("--start-C", dest="start_C", type=temperature, default=None, metavar="C",
-                   help="where the winding starts (default --ambient-C)")
+    add_temperature(p, "--start-C", "where the winding starts (default --ambient-C)")
     p.add_argument("--ambient-C", dest="ambient_C", type=number(-60.0, 150.0, unit="degC"), default=25.0,
                    metavar="C", help="the air the test runs in (default 25)")
     p.add_argument("--noise-K", dest="noise_K", type=number(0.0, 100.0, low_open=True, unit="K"),

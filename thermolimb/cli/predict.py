@@ -6,10 +6,10 @@ from pathlib import Path
 
 from ..util.atomic import file_stem
 from ..util.errors import UsageError
-from .options import add_log_input, add_quiet, add_terms
+from .options import add_log_input, add_quiet, add_temperature, add_terms
 from .output import files_in, print_json, say, say_written
 from .reading import in_model_units, load_model_file, read_logs, runs_of, say_notes
-from .types import SEED, integer, number, output_dir
+from .types import SEED, TEMPERATURE_C, integer, number, output_dir
 
 
 def add_parser(sub):
@@ -27,18 +27,12 @@ def add_parser(sub):
                                                             "fit or diagnose with --save")
     add_log_input(p, required=False)
     add_terms(p)
-    p.add_argument("--threshold", type=number(-60.0, 400.0, unit="degC"), default=None, metavar="C",
+    p.add_argument("--threshold", type=TEMPERATURE_C, default=None, metavar="C",
                    help="the temperature to reach (degC; default: the limit stored in the model file)")
     p.add_argument("--level", type=number(0.0, 1.0, low_open=True, high_open=True), default=0.9,
                    help="the interval's level (default 0.9)")
-    p.add_argument(
-        "--start-C",
-        dest="start_C",
-        type=number(-60.0, 400.0, unit="degC"),
-        default=None,
-        metavar="C",
-        help="start from this temperature instead of the log's first reading (required with --hold)",
-    )
+    add_temperature(p, "--start-C", "start from this temperature instead of the log's first reading "
+                    "(required with --hold)")
     p.add_argument("--hold", default=None, metavar="EFFORT[,VELOCITY]",
                    help="a plan instead of a log: the effort (in the "
                         "model's unit) and velocity held for --duration")

@@ -124,6 +124,7 @@ def output_dir(text: str):
 
 SEED = integer(0, 2**32 - 1)
 AMBIENT_C = number(-60.0, 150.0, unit="degC")
+TEMPERATURE_C = number(-60.0, 400.0, unit="degC")  # a winding's: a limit, a start, a threshold
 
 
 def names_list(text: str) -> tuple[str, ...]:
