@@ -6,17 +6,17 @@ combines the two ways the answer can be wrong:
 
 * **the parameters** are uncertain: ``draws`` parameter vectors are drawn (seeded) from the blocked
   jackknife's covariance the model file stores (the model refitted with each fifth of the log left out;
-  :func:`~thermolimb.workbench.saving.jackknife_covariance`), each simulated; their spread at each instant is one
-  part of the band.  The fit's own covariance assumes the model is true and is several times too narrow on a
-  plant richer than the model; the refits' spread is not;
+  :func:`~thermolimb.workbench.saving.jackknife_covariance`), each simulated; their spread at each instant is
+  one part of the band.  The fit's own covariance assumes the model is true and is several times too narrow on
+  a plant richer than the model; the refits' spread is not;
 * **the model** misses physics: a richer plant (a heavier housing, speed losses, copper's tempco) leaves an
   error the covariance knows nothing about, and which is far larger when the model is wrong (the covariance
   alone then gives a band a fraction of a kelvin wide around a curve several kelvin off).  The fit's held-out
-  free-run residual measures it: its ``level`` quantile of |residual| is the half-width the model error reaches
-  once the free run has forgotten its start.  A free run starts from a measured temperature, so the error
-  starts at zero and grows as a first-order process does, ``sqrt(1 - exp(-2 t / RC))``; held-out data tell
-  nothing about an input larger than the log's, so the error is also scaled by how far the forecast's rise
-  exceeds the largest rise the held-out data saw (never below one).
+  free-run residual measures it: its ``level`` quantile of |residual| is the half-width the model error
+  reaches once the free run has forgotten its start.  A free run starts from a measured temperature, so the
+  error starts at zero and grows as a first-order process does, ``sqrt(1 - exp(-2 t / RC))``; held-out data
+  tell nothing about an input larger than the log's, so the error is also scaled by how far the forecast's
+  rise exceeds the largest rise the held-out data saw (never below one).
 
 The two half-widths add in quadrature (independent sources); the band is ``predicted ± half-width``.  The
 time to the threshold is where the predicted curve first reaches it; its interval runs from where the upper

@@ -8,12 +8,12 @@ at the joint, so:
 
 * ``timeconst`` is ``RC_s``; ``ambient`` is ``T_offset_C``;
 * the heat gain maps through the motor: a joint torque ``F = G K i`` (gear ``G``, motor constant ``K``), so
-  ``R_th = beta R (G K)^2 / R_e``; where the logged effort is the current itself (unit ``A``), ``R_th = beta R / R_e``;
-  ``capacitance`` is ``timeconst / R_th``;
-* copper's coefficient (``winding_tempco``) is ``tempcoef`` at ``reftemp`` = 25 degC -- with a difference said in
-  the snippet: MuJoCo's dcmotor is driven by a voltage, so a warmer winding there draws less current and gives less
-  torque for the same command, where the identified model (a current-controlled drive) keeps the torque and heats
-  more.
+  ``R_th = beta R (G K)^2 / R_e``; where the logged effort is the current itself (unit ``A``), ``R_th = beta R
+  / R_e``; ``capacitance`` is ``timeconst / R_th``;
+* copper's coefficient (``winding_tempco``) is ``tempcoef`` at ``reftemp`` = 25 degC -- with a difference said
+  in the snippet: MuJoCo's dcmotor is driven by a voltage, so a warmer winding there draws less current and
+  gives less torque for the same command, where the identified model (a current-controlled drive) keeps the
+  torque and heats more.
 
 What MuJoCo's one-node state cannot hold -- a second mass, an effort bias, a lagging sensor, speed losses,
 anything else -- is dropped and said, with what dropping it costs on a log (:func:`cost_of_dropping`); on that

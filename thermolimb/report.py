@@ -22,13 +22,15 @@ from .util.errors import UsageError
 # the column is as wide as the widest figure the demos draw (1.3k px at 110 dpi), so none is scaled down;
 # paragraphs keep a reading width
 STYLE = (
-    "body{font-family:system-ui,sans-serif;max-width:1320px;margin:auto;padding:1em;line-height:1.45;color:#222}"
+    "body{font-family:system-ui,sans-serif;max-width:1320px;margin:auto;padding:1em;line-height:1.45;"
+    "color:#222}"
     "p{max-width:1000px}h2{border-top:1px solid #ddd;padding-top:1em;margin-top:2em}"
     "table.headline{border-collapse:collapse;margin:0.6em 0 1em;font-size:14px}"
     "table.headline th,table.headline td{border-bottom:1px solid #ddd;padding:4px 10px;text-align:left;"
     "vertical-align:top}table.headline td.value{font-weight:600;white-space:nowrap}"
     "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}"
-    "pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:13px}figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}"
+    "pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:13px}"
+    "figcaption{color:#555;font-size:14px}.links{font-size:14px}.missing{color:#a40}"
 )
 
 

@@ -258,7 +258,8 @@ def _epigraph(problem: StanceProblem) -> Program:
 
 
 def _contact_rows(p: StanceProblem):
-    """Friction pyramid ``|f_x|, |f_y| <= friction f_z`` and unilateral ``f_z >= f_min`` rows over ``x = (f, z)``."""
+    """Friction pyramid ``|f_x|, |f_y| <= friction f_z`` and unilateral ``f_z >= f_min`` rows over
+    ``x = (f, z)``."""
     nf = 3 * p.n
     blocks, bu, bl = [], [], []
     if p.friction is not None:

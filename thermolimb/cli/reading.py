@@ -119,7 +119,7 @@ def in_model_units(saved, series, source):
     kind, mA and A, and said; refused otherwise), its velocity in the model's."""
     from dataclasses import replace
 
-    from ..model.saved import effort_factor
+    from ..model.parameter_units import effort_factor
 
     unit, given = saved.channel_units.get("effort", ""), series.units.get("effort", "")
     factor = effort_factor(unit, given, f"the model in {source}")

@@ -6,12 +6,12 @@ Each step the wrapper reads the torque each named joint was given and advances i
   suite's PyBullet robots' applied joint torques (their rig's record: torque control applies exactly what was
   commanded), or ``torque=f(env) -> array`` for anything else; held over the step (an environment whose torque
   changes within a step should pass a function returning its mean);
-* **the heat**: the user's saved models (the file ``fit`` or ``diagnose --save`` writes; one model for every joint
-  when the file holds one actuator), run exactly (zero-order hold over the step) -- the first-order models of
-  Jorgensen et al. (Joule heating, an effort bias, copper's coefficient) in one vectorised update, any other model
-  through :meth:`~thermolimb.model.ThermalModel.simulate` carried from step to step; a model that does not read the
-  ambient has its offset moved by how far ``ambient_C`` lies beyond the air it was identified in -- or this suite's
-  plant with datasheet actuators (``plant=X8_9``: several masses, the lot).
+* **the heat**: the user's saved models (the file ``fit`` or ``diagnose --save`` writes; one model for every
+  joint when the file holds one actuator), run exactly (zero-order hold over the step) -- the first-order
+  models of Jorgensen et al. (Joule heating, an effort bias, copper's coefficient) in one vectorised update,
+  any other model through :meth:`~thermolimb.model.ThermalModel.simulate` carried from step to step; a model
+  that does not read the ambient has its offset moved by how far ``ambient_C`` lies beyond the air it was
+  identified in -- or this suite's plant with datasheet actuators (``plant=X8_9``: several masses, the lot).
 
 What the policy sees: ``observe="append"`` adds the joints' temperatures (degC, in ``joints`` order) at the
 end of a Box observation; ``"dict"`` makes the observation ``{"observation": ..., "temperature_C": ...}``;
@@ -39,6 +39,7 @@ from ..model.signals import Signals
 from ..plant.plant import TEMPERATURE_RANGE_C
 from ..plant.protection import ThermalProtection
 from ..util.errors import UsageError
+from .torque_readers import step_seconds, torque_reader
 
 DEFAULT_MARGIN_K = 10.0  # warning_C defaults to this far below the limit
 OBSERVE = ("append", "dict", None)
@@ -64,29 +65,56 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         Each joint's limit (default: the model file's, else 90 degC) and where the penalty starts (default
         10 K below the limit).
     reset_heat
-        Whether ``reset`` cools the joints to ``start_C`` (default); ``False`` carries the heat across episodes,
-        as a robot set up again after a fall is still warm.
+        Whether ``reset`` cools the joints to ``start_C`` (default); ``False`` carries the heat across
+        episodes, as a robot set up again after a fall is still warm.
     torque_constant_Nm_per_A
-        For models that heat from a current (their effort in A or mA): the motor's torque constant at the joint
-        (N m per A), by which the joints' torques become currents.  Without it such a model is refused: an
-        environment gives torques in N m.
+        For models that heat from a current (their effort in A or mA): the motor's torque constant at the
+        joint (N m per A), by which the joints' torques become currents.  Without it such a model is refused:
+        an environment gives torques in N m.
 
     Raises
     ------
     UsageError
-        A value out of its range (temperatures within -60 to 400 degC, a limit above the start, a penalty >= 0),
-        a model whose effort is not a torque in N m and cannot be made one, or ``step`` before ``reset``.
+        A value out of its range (temperatures within -60 to 400 degC, a limit above the start, a penalty of
+        zero or more), a model whose effort is not a torque in N m and cannot be made one, or ``step`` before
+        ``reset``.
     """
 
-    def __init__(self, env: gym.Env, models=None, plant=None, joints: Sequence[str] | None = None,
-                 torque: Callable[[gym.Env], np.ndarray] | None = None, ambient_C: float = 25.0,
-                 start_C: float | None = None, limit_C: float | None = None, warning_C: float | None = None,
-                 observe: str | None = "append", penalty: float = 0.0, terminate: bool = False,
-                 protect: bool = False, reset_heat: bool = True, torque_constant_Nm_per_A: float | None = None):
+    def __init__(
+        self,
+        env: gym.Env,
+        models=None,
+        plant=None,
+        joints: Sequence[str] | None = None,
+        torque: Callable[[gym.Env], np.ndarray] | None = None,
+        ambient_C: float = 25.0,
+        start_C: float | None = None,
+        limit_C: float | None = None,
+        warning_C: float | None = None,
+        observe: str | None = "append",
+        penalty: float = 0.0,
+        terminate: bool = False,
+        protect: bool = False,
+        reset_heat: bool = True,
+        torque_constant_Nm_per_A: float | None = None,
+    ):
         gym.utils.RecordConstructorArgs.__init__(
-            self, models=models, plant=plant, joints=joints, torque=torque, ambient_C=ambient_C, start_C=start_C,
-            limit_C=limit_C, warning_C=warning_C, observe=observe, penalty=penalty, terminate=terminate,
-            protect=protect, reset_heat=reset_heat, torque_constant_Nm_per_A=torque_constant_Nm_per_A)
+            self,
+            models=models,
+            plant=plant,
+            joints=joints,
+            torque=torque,
+            ambient_C=ambient_C,
+            start_C=start_C,
+            limit_C=limit_C,
+            warning_C=warning_C,
+            observe=observe,
+            penalty=penalty,
+            terminate=terminate,
+            protect=protect,
+            reset_heat=reset_heat,
+            torque_constant_Nm_per_A=torque_constant_Nm_per_A,
+        )
         gym.Wrapper.__init__(self, env)
         if (models is None) == (plant is None):
             raise UsageError("ThermalWrapper needs models (a model file) "
@@ -111,7 +139,9 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             self.heat = PlantHeat(plant, self.joints, self.ambient_C)
         else:
             saved = joint_models(models, self.joints)
-            self.reader.per_effort = effort_scale(saved, torque_constant_Nm_per_A, type(env.unwrapped).__name__)
+            self.reader.per_effort = effort_scale(
+                saved, torque_constant_Nm_per_A, type(env.unwrapped).__name__
+            )
             self.heat = ModelHeat(saved, self.ambient_C)
         limits = self.heat.limits_C if limit_C is None else np.full(len(self.joints),
                                                                    _checked("limit_C", limit_C, low, high))
@@ -199,122 +229,6 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         return info
 
 
-def step_seconds(env: gym.Env) -> float:
-    """The simulated time one ``step`` covers: ``env.unwrapped.dt`` (MuJoCo's and most environments'), or the
-    suite's robots' ``decision_s``."""
-    u = env.unwrapped
-    for name in ("dt", "decision_s"):
-        value = getattr(u, name, None)
-        if isinstance(value, (int, float)) and value > 0:
-            return float(value)
-    raise UsageError(f"{type(u).__name__} does not say how long a "
-                     "step is (no dt); wrap an environment with one")
-
-
-class TorqueReader:
-    """The joints' torques (and velocities, when known) after a step, from ``f(env) -> array`` (N m).
-
-    ``per_effort``: the factor turning a torque into the effort a model heats from (a current: 1 / the torque
-    constant), or ``None`` for torque.  Subclasses read a MuJoCo model's actuators or the suite's robots; each
-    is a plain object, so that a wrapped environment pickles (a subprocess vector environment)."""
-
-    per_effort: float | None = None
-
-    def __init__(self, joints: Sequence[str], torque: Callable | None = None):
-        self.joints = tuple(joints)
-        self.torque = torque
-
-    def raw(self, env) -> tuple[np.ndarray, np.ndarray | None]:
-        return self.torque(env), None
-
-    def read(self, env) -> tuple[np.ndarray, np.ndarray | None]:
-        torque, velocity = self.raw(env)
-        torque = np.asarray(torque, float)
-        if torque.shape != (len(self.joints),) or not np.isfinite(torque).all():
-            raise UsageError(f"the torque read for {len(self.joints)} joints "
-                             f"is {torque!r}; expected that many finite "
-                             f"numbers (N m)")
-        return torque, velocity
-
-    def derated(self, env, action, fraction: np.ndarray):
-        raise UsageError("protect=True scales each actuator's command: this environment's actuators are not "
-                         "known to the wrapper (give a MuJoCo environment, or scale the action yourself)")
-
-
-class MujocoReader(TorqueReader):
-    """A MuJoCo environment's actuator forces times their gears, and its actuator velocities over them."""
-
-    def __init__(self, joints: Sequence[str], idx, gear: np.ndarray):
-        super().__init__(joints)
-        self.idx, self.gear = idx, gear
-
-    def raw(self, env):
-        data = env.unwrapped.data
-        return data.actuator_force[self.idx] * self.gear, data.actuator_velocity[self.idx] / self.gear
-
-    def derated(self, env, action, fraction):
-        scaled = np.array(action, dtype=float, copy=True)
-        scaled[self.idx] = scaled[self.idx] * fraction
-        return scaled.astype(np.asarray(action).dtype)
-
-
-class RigReader(TorqueReader):
-    """The suite's PyBullet robots: the rig's applied torques and joint velocities (the world is rebuilt at
-    every reset, so it is looked up each step)."""
-
-    def __init__(self, joints: Sequence[str], idx: np.ndarray):
-        super().__init__(joints)
-        self.idx = idx
-
-    def raw(self, env):
-        rig = env.unwrapped.sim
-        return rig.applied_Nm[self.idx], rig.joint_states()[1][self.idx]
-
-
-def torque_reader(env: gym.Env, joints: Sequence[str] | None, torque: Callable | None) -> TorqueReader:
-    u = env.unwrapped
-    if torque is not None:
-        if not joints:
-            raise UsageError("torque=f(env) needs joints=[...]: the names of the torques it returns, in order")
-        return TorqueReader(joints, torque)
-    model = getattr(u, "model", None)
-    if model is not None and hasattr(model, "actuator_gear") and hasattr(u, "data"):
-        names = mujoco_actuator_names(model)
-        chosen = list(joints) if joints else names
-        missing = [j for j in chosen if j not in names]
-        if missing:
-            raise UsageError(f"joints {missing} are not actuators of this "
-                             f"MuJoCo model; it has {', '.join(names)}")
-        idx = np.array([names.index(j) for j in chosen])
-        gear = model.actuator_gear[idx, 0].copy()
-        if np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):  # in order: a view, not a gather
-            idx = slice(int(idx[0]), int(idx[0]) + idx.size)
-        return MujocoReader(chosen, idx, gear)
-    if getattr(u, "JOINTS", ()) and hasattr(u, "sim"):  # this suite's robots (their world is built at reset)
-        names = list(u.JOINTS)
-        chosen = list(joints) if joints else names
-        missing = [j for j in chosen if j not in names]
-        if missing:
-            raise UsageError(f"joints {missing} are not joints of this robot; it has {', '.join(names)}")
-        return RigReader(chosen, np.array([names.index(j) for j in chosen]))
-    raise UsageError(f"{type(u).__name__}: the wrapper reads torques "
-                     "from MuJoCo environments and this suite's "
-                     f"PyBullet robots; for another environment pass torque=f(env) and joints=[...]")
-
-
-def mujoco_actuator_names(model) -> list[str]:
-    """Each actuator's name, or for an unnamed one (Gymnasium's Ant) the name of the joint it drives."""
-    import mujoco
-
-    names = []
-    for i in range(model.nu):
-        name = model.actuator(i).name
-        if not name and model.actuator_trntype[i] == mujoco.mjtTrn.mjTRN_JOINT:
-            name = model.joint(int(model.actuator_trnid[i, 0])).name
-        names.append(name or f"actuator{i}")
-    return names
-
-
 def joint_models(models, joints: Sequence[str]) -> list[SavedModel]:
     """Each joint's saved model: by name, or one model (a ``SavedModel``, a file of one actuator) for every
     joint."""
@@ -355,7 +269,9 @@ class ModelHeat:
         self.T = np.full(len(self.models), start_C)
         self.states = [{} for _ in self.models]
 
-    def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def step(
+        self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         if self.fast:  # one node: each actuator's exact step over dt at the torque held, all at once
             speed = np.abs(velocity) if velocity is not None and self.arrays.reads_speed else None
             steady, rate = self.arrays.forcing(torque, speed)
@@ -377,7 +293,9 @@ TORQUE_UNITS = {"N m": 1.0, "Nm": 1.0, "N·m": 1.0, "mN m": 1e3}  # a torque in 
 CURRENT_UNITS = {"A": 1.0, "mA": 1e3}  # a current per A
 
 
-def effort_scale(saved: Sequence[SavedModel], torque_constant_Nm_per_A: float | None, env_name: str) -> float | None:
+def effort_scale(
+    saved: Sequence[SavedModel], torque_constant_Nm_per_A: float | None, env_name: str
+) -> float | None:
     """The factor turning the environment's torques (N m) into the effort the models heat from: ``None`` for
     models in N m, 1/k_t (times 1000 for mA) for models of a current given the torque constant; refused in one
     sentence otherwise (a current without a torque constant, a unit the suite cannot turn a torque into).  A
@@ -448,12 +366,16 @@ class PlantHeat:
     def make(self, start_C: float):
         from ..plant import PlantEffects, ThermalPlant
 
-        return ThermalPlant(self.joints, self.specs, PlantEffects(), ambient_C=self.ambient_C, initial_C=start_C)
+        return ThermalPlant(
+            self.joints, self.specs, PlantEffects(), ambient_C=self.ambient_C, initial_C=start_C
+        )
 
     def reset(self, start_C: float) -> None:
         self.plant = self.make(start_C)
 
-    def step(self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def step(
+        self, torque: np.ndarray, velocity, dt: float, limit_C: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         before = self.plant.winding_C.copy()
         self.plant.step(torque, velocity, dt)
         T = self.plant.winding_C.copy()

@@ -3,13 +3,14 @@
 Where a log cannot place a value, a fit wanders along a valley of equal error into physics that does not carry
 over to the next run. Two such valleys are closed here:
 
-* **A slow mass slower than the runs.** A time constant with ``within_runs`` (a slow mass's) stays within that many
-  times the longest run. Slower, a run shows only the start of the mass's rise, along which its share and time
-  constant trade, and the mass's start, placed per run, turns it into a free offset per run.
-* **An offset below the ambient.** ``T_offset = T_amb + P_bias R`` (Jorgensen et al., Eq. 5), and the bias heat is
-  not negative: where the log carries the ambient and no term redefines the offset (``offset_is_ambient``: nor a
-  logged temperature as a boundary, a generated form of a channel minus a reference), it stays at most
-  ``OFFSET_MARGIN_K`` (a sensor's calibration, not physics) below the coolest logged ambient.
+* **A slow mass slower than the runs.** A time constant with ``within_runs`` (a slow mass's) stays within that
+  many times the longest run. Slower, a run shows only the start of the mass's rise, along which its share and
+  time constant trade, and the mass's start, placed per run, turns it into a free offset per run.
+* **An offset below the ambient.** ``T_offset = T_amb + P_bias R`` (Jorgensen et al., Eq. 5), and the bias
+  heat is not negative: where the log carries the ambient and no term redefines the offset
+  (``offset_is_ambient``: nor a logged temperature as a boundary, a generated form of a channel minus a
+  reference), it stays at most ``OFFSET_MARGIN_K`` (a sensor's calibration, not physics) below the coolest
+  logged ambient.
 
 Measured on plant logs richer than the model (``python benchmarks/transfer.py --sources plant``: the X8's
 winding, housing and body, 1.4, 24.5 and 10,100 s, with speed losses and copper's coefficient), see

@@ -165,7 +165,8 @@ class _Target:
                            f"efforts name {len(names)} ({', '.join(names[:8])}): "
                            "which value is whose cannot be told; "
                            f"map a topic that names its joints")
-        said = f"{source}: {topic} names no joints: its {len(names)} values are read in the order the efforts name them"
+        said = (f"{source}: {topic} names no joints: its {len(names)} values are read in the order the "
+                "efforts name them")
         if not any(n.startswith(said) for n in notes):
             notes.append(f"{said} ({', '.join(names)}); check that it is theirs")
         return {n: float(v) for n, v in zip(names, value)}

@@ -1,12 +1,12 @@
 """Terms written by the suite itself: a channel the log carries, or a form found in the data -- as data.
 
-A generated term is a :class:`Spec`: its name, description, the log columns it reads and a few :class:`Feature`
-rows, each a regressor from a closed set of forms (:data:`FORMS`: ``|x|^n``, ``x^2``, a square above a threshold,
-``x |effort|``, ...) of one input (a canonical channel or an extra one) times a coefficient, the model parameter.
-:func:`define` registers a :class:`GeneratedTerm` built from the spec; nothing is compiled or executed, so a spec
-read from a model file someone shared (:mod:`.saved`) cannot run code.  For people, :func:`term_source` writes
-the same term as Python source -- ``thermolimb diagnose --propose FILE`` hands it over to read, rename, keep
-and load knowingly with ``--terms FILE``.
+A generated term is a :class:`Spec`: its name, description, the log columns it reads and a few
+:class:`Feature` rows, each a regressor from a closed set of forms (:data:`FORMS`: ``|x|^n``, ``x^2``, a
+square above a threshold, ``x |effort|``, ...) of one input (a canonical channel or an extra one) times a
+coefficient, the model parameter. :func:`define` registers a :class:`GeneratedTerm` built from the spec;
+nothing is compiled or executed, so a spec read from a model file someone shared (:mod:`.saved`) cannot run
+code.  For people, :func:`term_source` writes the same term as Python source -- ``thermolimb diagnose
+--propose FILE`` hands it over to read, rename, keep and load knowingly with ``--terms FILE``.
 
 Each feature adds ``c * f`` to the heat balance (a rise in kelvin per unit of ``f``), or, as a *gain* feature,
 ``c * f * (T - reference)``: heat that depends on the winding temperature itself (a conductance that changes

@@ -57,7 +57,8 @@ class Guarded:
                 f"its values, not end the program",
                 self.name,
             ) from None
-        except Exception as exc:  # noqa: BLE001 -- a user's code: whatever it raises is reported as what it is
+        # a user's code: whatever it raises is reported as what it is
+        except Exception as exc:  # noqa: BLE001
             hint = ""
             if isinstance(exc, KeyError):
                 hint = (

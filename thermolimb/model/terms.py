@@ -112,8 +112,8 @@ class Term:
 
     def forms(self, s: Signals) -> tuple[np.ndarray, ...] | None:
         """The per-sample arrays the contribution combines linearly, whatever the parameters (``effort**2``,
-        ``|velocity|``), or ``None`` for a term that defines :meth:`contribution` itself.  A block-averaged run
-        (:mod:`.block_means`) averages them once, not each contribution."""
+        ``|velocity|``), or ``None`` for a term that defines :meth:`contribution` itself.  A block-averaged
+        run (:mod:`.block_means`) averages them once, not each contribution."""
         return None
 
     def combine(self, p: Mapping[str, float], forms: tuple) -> tuple[np.ndarray | float, np.ndarray | float]:

@@ -1,15 +1,15 @@
 """The monitor's MCAP, written so that nothing is lost: ROS 2 messages (CDR, ``ros2msg`` schemas from
 ``rosbags``' type store) through the ``mcap`` package's writer, into ``OUT.mcap.partial`` beside the target.
 
-* Chunks are flushed to the disk at least every :data:`FLUSH_S` seconds of wall time, so a monitor killed without
-  a word (SIGKILL, a power cut) leaves a partial file that any stream reader reads up to its last chunk (Foxglove
-  opens it as it is).
+* Chunks are flushed to the disk at least every :data:`FLUSH_S` seconds of wall time, so a monitor killed
+  without a word (SIGKILL, a power cut) leaves a partial file that any stream reader reads up to its last
+  chunk (Foxglove opens it as it is).
 * A run that ends -- at ``--idle-exit``, on Ctrl-C, SIGTERM or SIGHUP -- finishes the file (its summary and
   footer) and renames it over the target; a run that published nothing (the followed log never appeared, its
   header was refused) removes its partial and leaves an earlier file at the target as it was.
 * The partial is locked while it is written (``flock``): a second monitor given the same ``--mcap`` is refused
-  in one sentence; a partial nobody holds is what a killed monitor left, and the next monitor given that target
-  first completes it into ``OUT.recovered.mcap`` (:func:`recover`), says so, then starts its own.
+  in one sentence; a partial nobody holds is what a killed monitor left, and the next monitor given that
+  target first completes it into ``OUT.recovered.mcap`` (:func:`recover`), says so, then starts its own.
 """
 
 from __future__ import annotations

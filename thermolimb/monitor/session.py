@@ -107,8 +107,8 @@ class Session:
 
     def _effort_factor(self, name: str, units: dict) -> float:
         """The factor from the log's effort unit to the model's
-        (:func:`~thermolimb.model.saved.effort_factor`), said once when it is not one."""
-        from ..model.saved import effort_factor
+        (:func:`~thermolimb.model.parameter_units.effort_factor`), said once when it is not one."""
+        from ..model.parameter_units import effort_factor
 
         model_unit = dict(self.models[name].channel_units).get("effort", "")
         factor = effort_factor(model_unit, units.get("effort", ""), f"the model of {name}")

@@ -87,8 +87,8 @@ class Program:
 
     def residuals(self, x: np.ndarray, duals: np.ndarray | None) -> dict[str, float]:
         """``bounds``: worst violation of a row's bounds; with multipliers (one per row of :meth:`all_rows`)
-        also ``stationarity`` (``|Hx + c + A'lam|``), ``complementarity`` (a multiplier times its row's distance
-        from its bound) and ``duality_gap`` (primal minus dual objective; 0 at an optimum)."""
+        also ``stationarity`` (``|Hx + c + A'lam|``), ``complementarity`` (a multiplier times its row's
+        distance from its bound) and ``duality_gap`` (primal minus dual objective; 0 at an optimum)."""
         A, upper, lower = self.all_rows()
         row = A @ x
         out = {"bounds": float(max(0.0, np.max(row - upper, initial=0.0), np.max(lower - row, initial=0.0)))}

@@ -18,8 +18,11 @@ WORD_LIMIT = 200  # characters of one word (a name, a path) a message shows: its
 def bounded(text: str, limit: int = WORD_LIMIT) -> str:
     """``text`` with every word longer than ``limit`` shown as its start and end around an ellipsis."""
     half = limit // 2
-    return re.sub(r"\S{%d,}" % (limit + 1),
-                  lambda m: f"{m.group(0)[:half]}…{m.group(0)[-half:]} ({len(m.group(0))} characters)", text)
+
+    def shortened(m):
+        return f"{m.group(0)[:half]}…{m.group(0)[-half:]} ({len(m.group(0))} characters)"
+
+    return re.sub(r"\S{%d,}" % (limit + 1), shortened, text)
 
 
 # the errors of a write the user can act on (free space, a quota, a read-only disk), in words

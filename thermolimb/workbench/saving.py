@@ -11,11 +11,10 @@ from typing import Sequence
 import numpy as np
 
 from ..model.generated import specs_of
+from ..model.residual_stats import RESIDUAL_QUANTILES, ResidualStats
 from ..model.saved import (
     JACKKNIFE_BLOCKS,
     MIN_JACKKNIFE_FITS,
-    RESIDUAL_QUANTILES,
-    ResidualStats,
     SavedModel,
     provenance,
 )

@@ -36,19 +36,19 @@ def identifiable_submodel(
     """``fit(model, held)`` (a :class:`~thermolimb.workbench.validation.FitReport`), narrowing the model while
     the log cannot identify a parameter; the report says how in ``set_aside``.
 
-    * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the fit
-      leaves uncertain (standard error over half of it, or a time constant over three log durations), is held
-      at that value.
+    * A parameter with a ``datasheet`` value (``{"RC_s": 600.0}``) that the log cannot identify, or that the
+      fit leaves uncertain (standard error over half of it, or a time constant over three log durations), is
+      held at that value.
     * An offset the log cannot tell from its heating (effort never low) is held at the logged ambient's mean,
       when the log has one and ``hold``.
     * Otherwise a term goes: the one owning the parameter the fit could not determine or one it cannot be
       told from, preferring a term other than the model's first heat source (on a two-level step test the
       effort bias goes, Joule heating stays).
-    * Before any fit, a log holding its effort at fewer distinct levels than the offset and the coefficients of
-      heat from the effort alone (:func:`within_levels`) loses such a term other than the first heat source: the
-      fit cannot pin them, however small the noise that lets it return values; and one whose input the effort moves
-      almost only as it moves the others' (``levels=False``: neither counted, as in a stability replicate, whose
-      model the whole log's count has narrowed already).
+    * Before any fit, a log holding its effort at fewer distinct levels than the offset and the coefficients
+      of heat from the effort alone (:func:`within_levels`) loses such a term other than the first heat
+      source: the fit cannot pin them, however small the noise that lets it return values; and one whose input
+      the effort moves almost only as it moves the others' (``levels=False``: neither counted, as in a
+      stability replicate, whose model the whole log's count has narrowed already).
 
     Raises the fit's error when none applies (the time constant without a datasheet value, an offset without
     a logged ambient, the last heat source): then nothing the model means can be identified.

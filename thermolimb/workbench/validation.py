@@ -4,13 +4,14 @@ Every command (``fit``, ``compare``, ``diagnose``) validates the same way, each 
 first reading, chosen by a :class:`Scheme`; the default is **leave one run out** with several runs, else the
 **split**:
 
-* a **split**: fit on the first ``split`` (70 %) of each run; the free run starts at the run's beginning and runs
-  through the training part into the held-out part, scored on the latter only, so hidden states (a slow mass, a
-  lagging sensor) arrive there as they really are (``restart``: from the measured temperature instead);
+* a **split**: fit on the first ``split`` (70 %) of each run; the free run starts at the run's beginning and
+  runs through the training part into the held-out part, scored on the latter only, so hidden states (a slow
+  mass, a lagging sensor) arrive there as they really are (``restart``: from the measured temperature
+  instead);
 * **interleaved blocks** (``interleaved``): every third of ten blocks held out, heating and cooling alike;
 * **leave one part out** (``parts``): each of three parts held out in turn;
-* **blocked cross-validation** over ``folds`` contiguous blocks; **leave one run out**: each run validated, whole,
-  by a model fitted on the other runs; **held-out runs**: fit on the runs given, validate on others.
+* **blocked cross-validation** over ``folds`` contiguous blocks; **leave one run out**: each run validated,
+  whole, by a model fitted on the other runs; **held-out runs**: fit on the runs given, validate on others.
 
 Why the split on one run: ``python benchmarks/transfer.py --sources ur3,wx200,bldc,pmsm`` fits the walk's
 model on one run and scores it on the joint's other runs (18 real cases).  The split made the model better
@@ -121,7 +122,8 @@ class Scheme:
         if self.kind == HELD_OUT:
             return "fitted on the given runs, validated on the held-out runs"
         if self.kind == RUNS:
-            return "leave one run out: each run predicted from its first reading by the model fitted on the others"
+            return ("leave one run out: each run predicted from its first reading by the model fitted on the "
+                    "others")
         if self.kind == PARTS:
             return (f"leave one part out: each run in {self.parts} "
                     "parts, each predicted from its first reading by the "

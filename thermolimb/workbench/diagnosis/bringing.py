@@ -5,16 +5,17 @@ Each costs more parameters at once, so each is refitted only where the simpler c
 to:
 
 * **a mass with a channel's form** only where no simpler change helps;
-* **two masses at once** only where the second mass alone helps but fits implausibly, its share of the rise past
-  what one mass can hold: it stands in for two.  On a plant richer than the model (the X8's winding, housing and
-  body, 1.4, 24.5 and 10,100 s), squatting for 2 h, `+ second_node` alone takes the held-out error from 8.53 to
-  2.24 K at a share of 0.957 (plausible up to 0.95), and the walk, one change at a time, could not reach the third
-  mass without it: with both, 0.81 K, and the walk's model predicts the plant's other duties at 12.3 K where
-  Jorgensen et al.'s misses by 40.1 K (``python benchmarks/transfer.py --sources plant``).  The pair starts where
-  the mass alone ended, the other at its typical values: one refit, not the profile's search (which reaches 0.797 K
-  there, at the cost of several), and one that finds no second mass is said as failed (``refit.py``).  On the
-  bundled real logs no walk's verdict moves (``--sources ur3,wx200,bldc,pmsm``); where a UR3 joint's mass alone is
-  implausible (J5's second part, a share of 0.98) the pair's one refit adds a third to its walk's time.
+* **two masses at once** only where the second mass alone helps but fits implausibly, its share of the rise
+  past what one mass can hold: it stands in for two.  On a plant richer than the model (the X8's winding,
+  housing and body, 1.4, 24.5 and 10,100 s), squatting for 2 h, `+ second_node` alone takes the held-out error
+  from 8.53 to 2.24 K at a share of 0.957 (plausible up to 0.95), and the walk, one change at a time, could
+  not reach the third mass without it: with both, 0.81 K, and the walk's model predicts the plant's other
+  duties at 12.3 K where Jorgensen et al.'s misses by 40.1 K (``python benchmarks/transfer.py --sources
+  plant``).  The pair starts where the mass alone ended, the other at its typical values: one refit, not the
+  profile's search (which reaches 0.797 K there, at the cost of several), and one that finds no second mass is
+  said as failed (``refit.py``).  On the bundled real logs no walk's verdict moves (``--sources
+  ur3,wx200,bldc,pmsm``); where a UR3 joint's mass alone is implausible (J5's second part, a share of 0.98)
+  the pair's one refit adds a third to its walk's time.
 """
 
 from __future__ import annotations

@@ -55,7 +55,8 @@ def judging_scheme(scheme: Scheme, series, discover: bool = False) -> Scheme:
         if (ChannelExcitation.enough(*split.fitted) and not ChannelExcitation.enough(*split.judged)
                 and channel_excitation(channel, *blocks).excited):
             why = (
-                f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % leaves a channel still: "
+                f"chosen over the split, whose last {100 * (1 - resolved.split):.0f} % leaves a channel "
+                "still: "
                 f"{split.sentence()}"
             )
             return placed(replace(blocked, why=why), series)
