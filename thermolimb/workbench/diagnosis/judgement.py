@@ -53,10 +53,21 @@ def judge(cand: Candidate, report, base, base_bic: float) -> Candidate:
     return replace(cand, **found, units=units, robust_improvement=robust, fragile=fragile,
                    unit_word=report.units, implausible_because=implausible,
                    params=FrozenMapping({**cand.params, **fitted}),
-                   # NumPy bools are not ``False``
-                   identifiable=all(bool(term_identified(t, report)) for t in terms),
+                   identifiable=identified(cand, terms, report, base),
                    plausible=implausible is None,
                    failure=next(filter(None, (refit_failure(t, params) for t in terms)), None))
+
+
+def identified(cand: Candidate, terms, report, base) -> bool:
+    """Whether the log determines the change's terms (:func:`term_identified`).  A heat source swapped for
+    another is held to what the log shows of the one it replaces: where the base's own source is no better
+    determined (on a run that only heats, each trades with the time constant alike), the swap is judged, as
+    the base is kept, by its held-out error.  On the BLDC bench's full-throttle run, whose effort is the
+    electrical power, heat from the power for Joule heating is such a swap."""
+    if all(bool(term_identified(t, report)) for t in terms):  # NumPy bools are not ``False``
+        return True
+    return (cand.kind == "swap" and cand.replaces in base.model.terms
+            and not term_identified(TERMS[cand.replaces], base))
 
 
 def displaced_offset(report, base) -> str | None:
