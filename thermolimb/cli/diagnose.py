@@ -69,22 +69,11 @@ class Diagnose(LogCommand):
                             "enough of them take it, K more where the "
                             "first K leave it within one replicate of that "
                             f"share (default {REPLICATES}; 0 turns the check off)")
-        g.add_argument(
-            "--min-frequency",
-            type=number(0.0, 1.0, low_open=True),
-            default=MIN_FREQUENCY,
-            metavar="F",
-            help="the share of replicates that must take a "
-            "change for it to be recommended (default "
-            f"{MIN_FREQUENCY})",
-        )
-        g.add_argument(
-            "--stability-seed",
-            type=SEED,
-            default=0,
-            metavar="N",
-            help="seed of the replicates' perturbations (the same seed gives the same frequencies)",
-        )
+        g.add_argument("--min-frequency", type=number(0.0, 1.0, low_open=True), default=MIN_FREQUENCY,
+                       metavar="F", help="the share of replicates that must take a "
+                       "change for it to be recommended (default " f"{MIN_FREQUENCY})")
+        g.add_argument("--stability-seed", type=SEED, default=0, metavar="N", help="seed of the replicates' "
+                       "perturbations (the same seed gives the same frequencies)")
         p.add_argument("--explain", action="store_true",
                        help="print every change's evidence, the start "
                             "model's flags and what would tell confounded "

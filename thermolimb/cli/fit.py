@@ -40,9 +40,8 @@ class Fit(LogCommand):
 
     def analyse(self, run: Run, name, series, scheme):
         args, model = run.args, run.models[0]
-        report = validate_model(
-            series, model, scheme, method=args.method, reduce=True, datasheet=run.datasheet
-        )
+        report = validate_model(series, model, scheme, method=args.method, reduce=True,
+                                datasheet=run.datasheet)
         run.final[name] = report
         if args.plot:
             from ..plotting.fits import plot_fit

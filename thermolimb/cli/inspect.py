@@ -24,128 +24,135 @@ from ..logs.units import base_name, header_unit, split_unit
 from ..logs.validate import apart, held_beside_temperature
 from ..util.errors import LogError, ThermolimbError
 from ..util.lazy import pandas as pd
-from .options import add_quiet
-from .output import print_json
+from .template import Command, Outcome
 from .types import names_list
 
 READ_ROWS = 2_000_000  # a table of at most these rows is read with the map suggested, as fit would read it
 
 
-def add_parser(sub):
-    p = sub.add_parser(
-        "inspect", help="list a log's topics (bags) or columns (CSV, Parquet) and suggest a --map",
-        description="For a ROS 1 or ROS 2 bag: every topic with its "
+class Inspect(Command):
+    name = "inspect"
+    help = "list a log's topics (bags) or columns (CSV, Parquet) and suggest a --map"
+    description = ("For a ROS 1 or ROS 2 bag: every topic with its "
                     "message type, message count, mean rate (Hz), "
         "numeric fields and joint names, then a suggested --map for fit, compare and diagnose. For a CSV or "
-        "Parquet file: its columns, how many values each holds, and its first values.",
-    )
-    p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a "
-                                              "ROS 2 bag folder), CSV or Parquet")
-    p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
-                   help="the column names of a CSV file written without a header row, in the file's order")
-    p.add_argument("--json", action="store_true", help="print the listing as JSON")
-    add_quiet(p)
-    p.set_defaults(func=run)
+        "Parquet file: its columns, how many values each holds, and its first values.")
 
+    def add_options(self, p):
+        p.add_argument("log", metavar="LOG", help="a ROS bag (.bag, .mcap, .db3 or a "
+                                                  "ROS 2 bag folder), CSV or Parquet")
+        p.add_argument("--columns", default=None, type=names_list, metavar="NAME,NAME,...",
+                       help="the column names of a CSV file written without a header row, in the file's "
+                       "order")
+        p.add_argument("--json", action="store_true", help="print the listing as JSON")
 
-def run(args) -> int:
-    path = Path(args.log)
-    if is_bag(path):
-        infos = inspect_bag(path)
-        mapping, reasons = suggest_mapping(infos)
-        if args.json:
-            print_json({"topics": [vars(i) for i in infos], "suggested_map": mapping, "ambiguous": reasons})
-            return 0
-        print(f"{path}: {len(infos)} topic(s)")
-        print(f"  {'topic':40s} {'type':46s} {'messages':>9s} {'rate Hz':>8s}")
-        for i in infos:
-            print(f"  {i.topic:40s} {i.msgtype:46s} {i.count:9d} {i.rate_hz:8.2f}")
-            if i.numeric_fields:
-                print(f"      numeric fields: {', '.join(i.numeric_fields)}")
-            if i.joint_names:
-                print(f"      joints: {', '.join(i.joint_names)}")
+    plots = None
+
+    def work(self, args) -> Outcome:
+        path = Path(args.log)
+        if is_bag(path):
+            infos = inspect_bag(path)
+            mapping, reasons = suggest_mapping(infos)
+            record = {"topics": [vars(i) for i in infos], "suggested_map": mapping, "ambiguous": reasons}
+            lines = []
+            lines.append(f"{path}: {len(infos)} topic(s)")
+            lines.append(f"  {'topic':40s} {'type':46s} {'messages':>9s} {'rate Hz':>8s}")
+            for i in infos:
+                lines.append(f"  {i.topic:40s} {i.msgtype:46s} {i.count:9d} {i.rate_hz:8.2f}")
+                if i.numeric_fields:
+                    lines.append(f"      numeric fields: {', '.join(i.numeric_fields)}")
+                if i.joint_names:
+                    lines.append(f"      joints: {', '.join(i.joint_names)}")
+            if mapping:
+                text = ",".join(f"{k}={v}" for k, v in mapping.items())
+                lines.append(f"suggested: --map {text}  (add --actuator NAME for one joint)")
+            else:
+                lines.append("no mapping suggested: " + "; ".join(reasons) + "; name the channels with "
+                                                                      "--map channel=/topic.field")
+            return Outcome(record, "\n".join(lines))
+        rows, columns, first_line = _listing(path, args.columns)
+        flat = {c["column"] for c in columns if c.get("flat")}
+        mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
+                                                 {c["column"]: c["values"] for c in columns}, flat)
+        if first_line is not None and not args.columns:
+            reasons.insert(0, "the file has no header row (its first line, "
+                           f"{first_line.strip()[:60]!r}, holds numbers): "
+                           "its columns are listed as column1 to "
+                           f"column{len(columns)}; name them with --columns "
+                           f"NAME,NAME,... (in the file's order), here and in fit, diagnose and the others")
+        left = _left_for(mapping, columns, flat)
+        if left:
+            reasons.append("effort: no column's name says torque, effort, "
+                           f"current or power; if {' or '.join(left[:3])} "
+                           "drives the heat (a torque, a current, a command "
+                           f"or duty), add effort={left[0]} to the map")
+        for name, column in list((mapping or {}).items()):
+            if UNITS.get(name) == "degC" and fahrenheit_named(column) and header_unit(column) is None:
+                mapping[name] = f"{column}:degF"
+                reasons.append(f"{name}={column}: its name says degrees "
+                               "Fahrenheit, so the suggestion reads it as such; "
+                               f"write {column}:degC if it is Celsius")
+        apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows, args.columns)
+        if apart:
+            time = split_unit(mapping["time"])[0]
+            mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
+            reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of "
+                           f"the " f"temperature's rows hold the {apart[0]}): each " f"channel is read on "
+                           f"its own samples (@{time}), " f"the inputs averaged over each temperature "
+                           f"sample's interval")
+        together = _times_agree(path, mapping, rows, args.columns)
+        if together is not None:
+            time, spread = together
+            mapping.update({k: on_time(v, None) for k, v in mapping.items() if k not in ("time", "actuator")})
+            mapping["time"] = time
+            reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
+            reasons.append("the channels' time columns agree on every "
+                           f"row (to {1e3 * spread:.2g} ms, under a tenth "
+                           f"of a step): the rows are samples of every channel, read on {time}")
+        if mapping and _as_it_is(mapping):
+            reasons.insert(0, "the columns carry the canonical names: fit, "
+                              "compare and diagnose read the file as it is, "
+                              "without --map")
+        flags = []
+        if mapping and rows <= READ_ROWS:
+            # read as it would be with the words to add
+            trial = {**mapping, "effort": left[0]} if left else mapping
+            flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
+            if "time" in mapping and split_unit(mapping["time"])[1] is None and any(
+                    "if the time column counts milliseconds" in note for note in read_notes):
+                mapping["time"] = trial["time"] = (
+                    f"{mapping['time']}:ms"  # steps of hundreds of s over days: ms
+                )
+                reasons.append(f"time={split_unit(mapping['time'])[0]}: read "
+                               "as seconds, its steps of hundreds span days; "
+                               f"the suggestion reads it in ms (change it if the log did run for days)")
+                flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
+            reasons += read_notes
+        record = {
+            "rows": rows,
+            "columns": columns,
+            "suggested_map": mapping,
+            "flags": flags,
+            "notes": reasons,
+        }
+        lines = []
+        shown = [c for c in columns if c["values"] > 0]
+        empty = len(columns) - len(shown)
+        lines.append(f"{path}: {rows} row(s), {len(columns)} column(s)"
+              + (f" ({empty} without any value, not shown)" if empty else ""))
+        for c in shown:
+            lines.append(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}"
+                  + ("  (never varies)" if c.get("flat") else ""))
         if mapping:
             text = ",".join(f"{k}={v}" for k, v in mapping.items())
-            print(f"suggested: --map {text}  (add --actuator NAME for one joint)")
-        else:
-            print("no mapping suggested: " + "; ".join(reasons) + "; name the channels with "
-                                                                  "--map channel=/topic.field")
-        return 0
-    rows, columns, first_line = _listing(path, args.columns)
-    flat = {c["column"] for c in columns if c.get("flat")}
-    mapping, reasons = suggest_table_mapping([c["column"] for c in columns],
-                                             {c["column"]: c["values"] for c in columns}, flat)
-    if first_line is not None and not args.columns:
-        reasons.insert(0, "the file has no header row (its first line, "
-                          f"{first_line.strip()[:60]!r}, holds numbers): "
-                          "its columns are listed as column1 to "
-                          f"column{len(columns)}; name them with --columns "
-                          f"NAME,NAME,... (in the file's order), here and in fit, diagnose and the others")
-    left = _left_for(mapping, columns, flat)
-    if left:
-        reasons.append("effort: no column's name says torque, effort, "
-                       f"current or power; if {' or '.join(left[:3])} "
-                       "drives the heat (a torque, a current, a command "
-                       f"or duty), add effort={left[0]} to the map")
-    for name, column in list((mapping or {}).items()):
-        if UNITS.get(name) == "degC" and fahrenheit_named(column) and header_unit(column) is None:
-            mapping[name] = f"{column}:degF"
-            reasons.append(f"{name}={column}: its name says degrees "
-                           "Fahrenheit, so the suggestion reads it as such; "
-                           f"write {column}:degC if it is Celsius")
-    apart = _on_other_rows(path, mapping, {c["column"]: c["values"] for c in columns}, rows, args.columns)
-    if apart:
-        time = split_unit(mapping["time"])[0]
-        mapping.update({k: on_time(v, time) for k, v in mapping.items() if k not in ("time", "actuator")})
-        reasons.append(f"the temperature and the {apart[0]} are logged on different rows ({apart[1]} of the "
-                       f"temperature's rows hold the {apart[0]}): each "
-                       f"channel is read on its own samples (@{time}), "
-                       f"the inputs averaged over each temperature sample's interval")
-    together = _times_agree(path, mapping, rows, args.columns)
-    if together is not None:
-        time, spread = together
-        mapping.update({k: on_time(v, None) for k, v in mapping.items() if k not in ("time", "actuator")})
-        mapping["time"] = time
-        reasons = [r for r in reasons if not r.startswith("each channel has a time column of its own")]
-        reasons.append("the channels' time columns agree on every "
-                       f"row (to {1e3 * spread:.2g} ms, under a tenth "
-                       f"of a step): the rows are samples of every channel, read on {time}")
-    if mapping and _as_it_is(mapping):
-        reasons.insert(0, "the columns carry the canonical names: fit, "
-                          "compare and diagnose read the file as it is, "
-                          "without --map")
-    flags = []
-    if mapping and rows <= READ_ROWS:
-        # read as it would be with the words to add
-        trial = {**mapping, "effort": left[0]} if left else mapping
-        flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
-        if "time" in mapping and split_unit(mapping["time"])[1] is None and any(
-                "if the time column counts milliseconds" in note for note in read_notes):
-            mapping["time"] = trial["time"] = f"{mapping['time']}:ms"  # steps of hundreds of s over days: ms
-            reasons.append(f"time={split_unit(mapping['time'])[0]}: read "
-                           "as seconds, its steps of hundreds span days; "
-                           f"the suggestion reads it in ms (change it if the log did run for days)")
-            flags, read_notes = _read_with(path, trial, args.columns, left[0] if left else None)
-        reasons += read_notes
-    if args.json:
-        print_json(
-            {"rows": rows, "columns": columns, "suggested_map": mapping, "flags": flags, "notes": reasons}
-        )
-        return 0
-    shown = [c for c in columns if c["values"] > 0]
-    empty = len(columns) - len(shown)
-    print(f"{path}: {rows} row(s), {len(columns)} column(s)"
-          + (f" ({empty} without any value, not shown)" if empty else ""))
-    for c in shown:
-        print(f"  {c['column']:40s} {c['values']:9d} values  first {c['first'][:30]}"
-              + ("  (never varies)" if c.get("flat") else ""))
-    if mapping:
-        text = ",".join(f"{k}={v}" for k, v in mapping.items())
-        print(f'suggested: --map "{text}"' + "".join(f" {f}" for f in flags)
-              + ("  (add --actuator NAME to read one joint)" if "{j}" in text else ""))
-    for reason in reasons:
-        print(f"note: {reason}")
-    return 0
+            lines.append(f'suggested: --map "{text}"' + "".join(f" {f}" for f in flags)
+                  + ("  (add --actuator NAME to read one joint)" if "{j}" in text else ""))
+        for reason in reasons:
+            lines.append(f"note: {reason}")
+        return Outcome(record, "\n".join(lines))
+
+
+add_parser = Inspect().add_parser
 
 
 def _as_it_is(mapping: dict) -> bool:

@@ -36,11 +36,9 @@ class Parser(argparse.ArgumentParser):
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The command line's parser: every command's, or (``only``, a command's name) that command's alone."""
-    parser = Parser(
-        prog="thermolimb",
-        description="Thermal models of robot actuators: simulate a thermal plant, identify models from "
-        "logs, validate them, and run the demos.  Units: SI, temperatures in degC.",
-    )
+    parser = Parser(prog="thermolimb", description="Thermal models of robot actuators: simulate a thermal "
+                    "plant, identify models from " "logs, validate them, and run the demos.  Units: SI, "
+                    "temperatures in degC.")
     parser.add_argument("--version", action="version", version=f"thermolimb {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     only = MODULE_OF.get(only, only)

@@ -1,11 +1,16 @@
-"""One template for a command that reads logs and analyses each actuator (``fit``, ``compare``, ``diagnose``).
+"""One template for every command: options, checks before anything is read, the work (reading included),
+printing, and the files written (:class:`Command`).
 
-The template owns what every such command does the same way: its shared options (logs and how to read them,
-terms files, models, validation, ``--json``/``--plot``/``--html``, ``--fleet`` where it has one, ``--quiet``),
-the checks made before any log is read (``--datasheet`` against the models, once), reading the logs and
-saying what reading changed, one analysis per actuator, printing, and saying which files it wrote.
-A command module subclasses :class:`LogCommand` and says only what it adds: its own options and checks,
-and :meth:`LogCommand.analyse`.
+Every command subclasses :class:`Command` and says only what it adds: its options (``--quiet`` comes last,
+from the template), its checks, and its work, which returns an :class:`Outcome` -- the JSON record ``--json``
+prints, the text printed otherwise, the files it wrote; the template prints one or the other and says each
+file written (``wrote PATH``, or ``replaced PATH`` for one that was there before).
+
+:class:`LogCommand` (``fit``, ``compare``, ``diagnose``) is the template for commands that read logs and
+analyse each actuator: their shared options (logs and how to read them, terms files, models, validation,
+``--json``/``--plot``/``--html``, ``--fleet`` where it has one), the checks made before any log is read
+(``--datasheet`` against the models, once), reading the logs and saying what reading changed, and one
+analysis per actuator (:meth:`LogCommand.analyse`).
 """
 
 from __future__ import annotations
@@ -35,6 +40,67 @@ from .output import existing, files_in, html_page, print_json, say, say_written
 from .reading import distinct_runs, load_terms, read_held, read_logs, say_notes
 
 
+@dataclass(frozen=True)
+class Outcome:
+    """What a command's work hands the template: ``record`` (printed with ``--json``), ``text`` (printed
+    otherwise; empty: nothing), the files it wrote beside its plots' folder (``written``), the exit status,
+    and where the record or text goes (``stream``: standard output unless the command's product goes there).
+    """
+
+    record: object = None
+    text: str = ""
+    written: tuple = ()
+    status: int = 0
+    stream: object = None
+
+
+class Command:
+    """A subcommand: fill in ``name``, ``help`` and ``description`` (and ``parser_options``: argparse's
+    ``formatter_class``, ``epilog``), and define :meth:`add_options` and :meth:`work`; :meth:`check` and
+    :meth:`outputs` where the command has checks or writes files."""
+
+    name = ""
+    help = ""
+    description = ""
+    parser_options: dict = {}
+    plots = "plot"  # the option naming the folder the command writes plots into: its new files are said
+
+    def add_parser(self, sub):
+        p = sub.add_parser(self.name, help=self.help, description=self.description, **self.parser_options)
+        self.add_options(p)
+        add_quiet(p)
+        p.set_defaults(func=self.run, discovers=False)
+        return p
+
+    def add_options(self, p) -> None:
+        """The command's options."""
+
+    def check(self, args) -> None:
+        """The command's checks of its options, before anything is read (raise :class:`UsageError`)."""
+
+    def outputs(self, args) -> tuple:
+        """The files this run will write (``None`` for one it will not): one already there is said as
+        replaced."""
+        return ()
+
+    def work(self, args) -> Outcome:
+        """Reading, and what the command is for."""
+        raise NotImplementedError  # abstract: every command defines it
+
+    def run(self, args) -> int:
+        self.check(args)
+        folder = getattr(args, self.plots, None) if self.plots else None
+        before, existed = files_in(folder), existing(*self.outputs(args))
+        outcome = self.work(args)
+        stream = outcome.stream or sys.stdout
+        if getattr(args, "json", False) and outcome.record is not None:
+            print_json(outcome.record, stream)
+        elif outcome.text:
+            print(outcome.text, file=stream)
+        say_written(before, folder, outcome.written, existed)
+        return outcome.status
+
+
 @dataclass
 class Run:
     """One invocation of a command: its arguments and what the template made of them before reading."""
@@ -48,7 +114,7 @@ class Run:
     final: dict = field(default_factory=dict)  # each actuator's final fit report, for --save
 
 
-class LogCommand:
+class LogCommand(Command):
     """A subcommand that reads logs and analyses each actuator; subclasses fill in the class attributes and
     :meth:`analyse`, and may add :meth:`add_options`, :meth:`check` and :meth:`finish`."""
 
@@ -148,9 +214,8 @@ class LogCommand:
                         f"{'the map names no actuator' if args.map else 'the file has no actuator column'}"
                         f"); to read the files as runs of one actuator, name it: --actuator NAME"
                     )
-                aside = next(
-                    (n for n in missing[0].notes if f"actuator {name!r}" in n and SET_ASIDE in n), None
-                )
+                aside = next((n for n in missing[0].notes if f"actuator {name!r}" in n and SET_ASIDE in n),
+                             None)
                 if aside is not None:
                     raise LogError(aside.replace(f"; {SET_ASIDE}", ""))
                 raise UsageError(f"{missing[0].source}: no actuator {name!r}; the log has "

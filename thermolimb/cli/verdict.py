@@ -21,27 +21,22 @@ def verdict_text(d, steps, questions, discover: bool = False) -> str:
     lines.append(f"  next: {_next(d, last, discover)}")
     unsized, pair = questions.identify, questions.separate
     if unsized:
-        lines.append(
-            f"  to size {', '.join(unsized)}, which this log leaves uncertain: save the model (--save "
-            f"MODEL.json) and design the test that sizes it: thermolimb plan MODEL.json --identify "
-            f"{','.join(unsized)} --max-effort E --duration S --out plan.csv"
-        )
+        lines.append(f"  to size {', '.join(unsized)}, which this log leaves uncertain: save the model "
+                     f"(--save " f"MODEL.json) and design the test that sizes it: thermolimb plan "
+                     f"MODEL.json --identify " f"{','.join(unsized)} --max-effort E --duration S --out "
+                     f"plan.csv")
     if pair:
-        lines.append(
-            f"  to tell {pair[1]} from {pair[0]}, which this log cannot: save the model (--save MODEL.json) "
-            f"and design the test that can: thermolimb plan MODEL.json --separate {','.join(pair)} "
-            f"--max-effort E --duration S --out plan.csv"
-        )
+        lines.append(f"  to tell {pair[1]} from {pair[0]}, which this log cannot: save the model (--save "
+                     f"MODEL.json) " f"and design the test that can: thermolimb plan MODEL.json --separate "
+                     f"{','.join(pair)} " f"--max-effort E --duration S --out plan.csv")
     if d.auto and len(d.auto) > 1:
         lines.append("  steps:")
         for step in d.auto:
             taken = step.get("selection_frequency")
             k = (d.stability or {}).get("replicates")
             share = f"  taken {round(taken * k)}/{k}" if taken is not None and k else ""
-            lines.append(
-                f"    {_cut(step.get('change', 'start')):{WIDEST}s} {step['rmse_K']:8.3f} K  "
-                f"{','.join(step['model'])}{share}"
-            )
+            lines.append(f"    {_cut(step.get('change', 'start')):{WIDEST}s} {step['rmse_K']:8.3f} K  "
+                         f"{','.join(step['model'])}{share}")
     lines.append(f"  model {','.join(last.model)}:")
     lines += format_params(last.base, indent="    ", evidence=False)
     lines += _table(d)
@@ -126,10 +121,8 @@ def _table(d) -> list[str]:
             taken = (
                 f"{round(c.selection_frequency * k)}/{k}" if c.selection_frequency is not None and k else ""
             )
-            rows.append(
-                f"  {_cut(c.label):{WIDEST + 2}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} "
-                f"{c.delta_bic:9.1f} {taken:>6s}  {c.status}"
-            )
+            rows.append(f"  {_cut(c.label):{WIDEST + 2}s} {c.rmse_K:8.3f} {100 * c.improvement:7.1f} "
+                        f"{c.delta_bic:9.1f} {taken:>6s}  {c.status}")
         else:
             others.setdefault(c.status, []).append(c.label)
     rows += [f"  {status}: {', '.join(labels)}" for status, labels in others.items()]
