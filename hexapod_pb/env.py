@@ -104,18 +104,14 @@ class HexapodLoadCarryEnv(RigEnv):
         self.live = checked_port(live)
         self.payload_range_kg = checked_range("payload_range_kg", payload_range_kg, 0.0, 50.0)
         self.ambient_range_C = checked_range("ambient_range_C", ambient_range_C, -40.0, 60.0)
-        self.initial_temperature_range_C = checked_range(
-            "initial_temperature_range_C", initial_temperature_range_C, -40.0, 150.0
-        )
+        self.initial_temperature_range_C = checked_range("initial_temperature_range_C",
+                                                         initial_temperature_range_C, -40.0, 150.0)
         self.distance_weight_per_m = float(distance_weight_per_m)
         self.overheat_weight_per_K = float(overheat_weight_per_K)
         self.overheat_from_C = float(overheat_from_C)
-        checked_finite(
-            distance_weight_per_m=distance_weight_per_m,
-            overheat_weight_per_K=overheat_weight_per_K,
-            overheat_from_C=overheat_from_C,
-            fall_penalty=fall_penalty,
-        )
+        checked_finite(distance_weight_per_m=distance_weight_per_m,
+                       overheat_weight_per_K=overheat_weight_per_K, overheat_from_C=overheat_from_C,
+                       fall_penalty=fall_penalty)
         self.fall_penalty = float(fall_penalty)
         self.action_space = spaces.Box(0.0, 1.0, (4,), np.float32)
         low = np.r_[np.full(18, -50.0), np.zeros(18), np.full(3, -10.0), 0.0].astype(np.float32)

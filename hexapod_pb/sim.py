@@ -50,22 +50,11 @@ class HexapodSim(BulletRig):
                  protection: ThermalProtection = ThermalProtection()):
         self.params = params
         height = params.nominal_body_height_m + (0.3 if config.fixed_base else 0.0)
-        super().__init__(
-            urdf_path(),
-            JOINTS,
-            FEET,
-            JOINTS,
-            params.joint_actuators,
-            params.effort_limit_Nm,
-            config,
-            [0, 0, height],
-            plant_effects=plant_effects,
-            seed=seed,
-            protection=protection,
-        )
-        self.client.changeDynamics(
-            self.robot, self.link_index[PAYLOAD_LINK], mass=max(config.payload_kg, 1e-3)
-        )
+        super().__init__(urdf_path(), JOINTS, FEET, JOINTS, params.joint_actuators, params.effort_limit_Nm,
+                         config, [0, 0, height], plant_effects=plant_effects, seed=seed,
+                         protection=protection)
+        self.client.changeDynamics(self.robot, self.link_index[PAYLOAD_LINK],
+                                   mass=max(config.payload_kg, 1e-3))
         self.reset_stance()
 
     def stance_angles(self, body_p_feet: np.ndarray | None = None) -> np.ndarray:
@@ -82,12 +71,10 @@ class HexapodSim(BulletRig):
     def read(self) -> Reading:
         q, qd = self.joint_states()
         pos, world_R_body, lin, ang = self.base_state()
-        return Reading(
-            time_s=self.time_s, q_rad=q, qd_rad_s=qd, torque_Nm=self.sensed_torques(),
-            temperature_C=self.plant.measured_C, world_R_body=world_R_body,
-            body_omega_rad_s=world_R_body.T @ ang, body_velocity_m_s=world_R_body.T @ lin,
-            body_position_m=pos, contact_force_N=self.contact_forces(),
-        )
+        return Reading(time_s=self.time_s, q_rad=q, qd_rad_s=qd, torque_Nm=self.sensed_torques(),
+                       temperature_C=self.plant.measured_C, world_R_body=world_R_body,
+                       body_omega_rad_s=world_R_body.T @ ang, body_velocity_m_s=world_R_body.T @ lin,
+                       body_position_m=pos, contact_force_N=self.contact_forces())
 
     def foot_positions_world(self) -> np.ndarray:
         return self.link_positions(self.foot_index)

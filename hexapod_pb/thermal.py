@@ -23,9 +23,8 @@ from .params import DAISY, DaisyParams
 # the plant of the hexapod's thermal studies (calibration, endurance): copper's temperature coefficient is
 # physics with a known value; the plant's speed losses are sized by choice, and on PyBullet's joint speeds
 # (touch-down spikes) they make within-stride bursts no X8 datasheet supports
-EFFECTS = PlantEffects(
-    winding_tempco=WindingTempco(), sensor_noise=SensorNoise(), quantisation=Quantisation()
-)
+EFFECTS = PlantEffects(winding_tempco=WindingTempco(), sensor_noise=SensorNoise(),
+                       quantisation=Quantisation())
 # the measured thermistor cannot lead the winding, so protection on it never starts before the propagated
 # crossing
 PROTECTION = ThermalProtection(estimator="measured")

@@ -184,9 +184,8 @@ class HumanoidThermalRecoveryEnv(RigEnv):
         for a in leg_actuators(self.hot_side):
             temperatures[ACTUATORS.index(a)] = rng.uniform(*self.hot_range_C)
         housings = ambient + rng.uniform(0.0, self.housing_warming_K, self.n_act)
-        config = RigConfig(
-            physics_hz=1000.0, control_hz=50.0, ambient_C=ambient, log_capacity=self.LOG_CAPACITY
-        )
+        config = RigConfig(physics_hz=1000.0, control_hz=50.0, ambient_C=ambient,
+                           log_capacity=self.LOG_CAPACITY)
         self.sim = HumanoidSim(config=config, seed=int(rng.integers(2**31)), specs=self.actuator_specs,
                                scenario=self.scenario)
         self.sim.plant.set_temperatures(temperatures, rest_C=housings)

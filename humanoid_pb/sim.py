@@ -88,18 +88,8 @@ class HumanoidSim(BulletRig):
     def read(self) -> Reading:
         q, qd = self.joint_states()
         pos, _, lin, ang = self.base_state()
-        return Reading(
-            self.time_s,
-            q,
-            qd,
-            self.sensed_torques(),
-            self.plant.measured_C,
-            pos,
-            self.base_quaternion(),
-            lin,
-            ang,
-            self.contact_forces(),
-        )
+        return Reading(self.time_s, q, qd, self.sensed_torques(), self.plant.measured_C, pos,
+                       self.base_quaternion(), lin, ang, self.contact_forces())
 
     def pinocchio_q(self, reading: Reading) -> np.ndarray:
         """The Pinocchio configuration of a reading."""

@@ -118,23 +118,18 @@ class Plan:
             now, after = self.stderr_now.get(name), self.stderr_after[name]
             unit = f" {self.units[name]}" if self.units.get(name) not in (None, "", "1") else ""
             was = f" (now ± {now:.3g}{unit})" if now is not None and np.isfinite(now) else ""
-            out.append(
-                f"  {name} = {self.values[name]:.4g}{unit}: expected ± {after:.3g}{unit} after the test{was}"
-            )
+            out.append(f"  {name} = {self.values[name]:.4g}{unit}: expected ± {after:.3g}{unit} after the "
+                       f"test{was}")
         if self.separate is not None:
             held, other = self.separate
             out.append(f"  {held} against {other}: the readings differ by {self.separation_K:.3g} K rms "
                        f"beyond what the model's parameters absorb, {self.separation_sigma:.3g} times the "
                        f"readings' noise over the fitted samples ({other} at its typical size: a guess)")
-        out.append(
-            f"  hottest winding: {self.hottest_C:.1f} degC at the upper end of the model's 90 % interval, "
-            f"kept {lim.margin_K:g} K under the {lim.limit_C:g} degC limit"
-        )
-        out.append(
-            f"  assumes: the model's structure right up to the question; readings whose noise weighs "
-            f"{self.noise_K:.3g} K in the fit (lag-1 correlation {self.lag1:.2f}, as the model's held-out "
-            f"residual's); fitted on the first {100 * SPLIT:.0f} % of the test"
-        )
+        out.append(f"  hottest winding: {self.hottest_C:.1f} degC at the upper end of the model's 90 % "
+                   f"interval, kept {lim.margin_K:g} K under the {lim.limit_C:g} degC limit")
+        out.append(f"  assumes: the model's structure right up to the question; readings whose noise weighs "
+                   f"{self.noise_K:.3g} K in the fit (lag-1 correlation {self.lag1:.2f}, as the model's "
+                   f"held-out residual's); fitted on the first {100 * SPLIT:.0f} % of the test")
         return out + [f"  note: {n}" for n in self.notes]
 
     def to_json(self) -> dict:
@@ -225,10 +220,8 @@ def posed(saved: SavedModel, identify: tuple[str, ...], limits: Limits,
     notes = []
     if noise_K is None:
         noise_K = float(saved.validation.get("rmse_K", 0.1)) if saved.validation else 0.1
-        notes.append(
-            f"the readings' noise taken as the model's held-out RMSE, {noise_K:.3g} K (give --noise-K: "
-            f"the sensor's floor diagnose reports)"
-        )
+        notes.append(f"the readings' noise taken as the model's held-out RMSE, {noise_K:.3g} K (give "
+                     f"--noise-K: the sensor's floor diagnose reports)")
     # the fit inflates its variance by the residual's serial correlation (identification.metrics): a right
     # structure's residual is the sensor's, whose lag-1 correlation the model file's held-out residual gives
     lag1 = float(np.clip(saved.residual.lag1, 0.0, 0.999)) if saved.residual is not None else 0.0
@@ -252,26 +245,12 @@ def planned(problem: "DesignProblem", best: np.ndarray, notes: list[str], **prom
     cov = problem.covariance(x)
     after = {n: float(np.sqrt(cov[names.index(n), names.index(n)])) for n in identify}
     stderr = dict(saved.stderr)
-    return Plan(
-        saved.actuator,
-        identify,
-        problem.t,
-        effort,
-        velocity if problem.moves else None,
-        float(limits.duration_s / problem.holds),
-        band.predicted_C,
-        band.high_C,
-        limits,
-        float(problem.noise),
-        problem.lag1,
-        {n: float(stderr.get(n, np.nan)) for n in identify},
-        after,
-        {n: float(saved.model.params[n]) for n in identify},
-        {n: saved.units.get(n, "") for n in identify},
-        dict(saved.channel_units).get("effort", ""),
-        tuple(notes),
-        **promise,
-    )
+    return Plan(saved.actuator, identify, problem.t, effort, velocity if problem.moves else None,
+                float(limits.duration_s / problem.holds), band.predicted_C, band.high_C, limits,
+                float(problem.noise), problem.lag1, {n: float(stderr.get(n, np.nan)) for n in identify},
+                after, {n: float(saved.model.params[n]) for n in identify},
+                {n: saved.units.get(n, "") for n in identify}, dict(saved.channel_units).get("effort", ""),
+                tuple(notes), **promise)
 
 
 def _inverse(information: np.ndarray) -> np.ndarray:
@@ -322,19 +301,8 @@ class DesignProblem:
             return self
         t = np.linspace(0.0, self.t[-1], per_hold * self.holds + 1)
         edges = np.minimum((t / self.t[-1] * self.holds).astype(int), self.holds - 1)
-        return DesignProblem(
-            self.saved,
-            t,
-            edges,
-            self.holds,
-            self.limits,
-            self.noise,
-            self.identify,
-            self.signed,
-            self.moves,
-            weight=self.t.size / t.size,
-            lag1=self.lag1,
-        )
+        return DesignProblem(self.saved, t, edges, self.holds, self.limits, self.noise, self.identify,
+                             self.signed, self.moves, weight=self.t.size / t.size, lag1=self.lag1)
 
     def inputs(self, x):
         levels = x[: self.holds] * self.limits.max_effort
@@ -399,9 +367,8 @@ class DesignProblem:
         starts += [rng.uniform([b[0] for b in bounds], [b[1] for b in bounds]) for _ in range(STARTS - 1)]
         best, best_cost = starts[0], np.inf
         for start in starts:
-            result = minimize(
-                self.cost, start, method="L-BFGS-B", bounds=bounds, options={"maxiter": 25, "eps": 1e-3}
-            )
+            result = minimize(self.cost, start, method="L-BFGS-B", bounds=bounds,
+                              options={"maxiter": 25, "eps": 1e-3})
             if result.fun < best_cost:
                 best, best_cost = result.x, result.fun
         return best

@@ -131,9 +131,8 @@ def parameter_draws(
     """``draws`` models with parameters from the blocked jackknife's covariance (``spread="fit"``: the fit's
     own), seeded, each clipped into its bounds."""
     model = saved.model
-    cov = np.asarray(
-        saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife, float
-    )
+    cov = np.asarray(saved.covariance if saved.jackknife is None or spread == "fit" else saved.jackknife,
+                     float)
     if draws <= 0 or not np.any(cov):
         return []
     values, vectors = np.linalg.eigh((cov + cov.T) / 2.0)
@@ -188,9 +187,8 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
     model_error = model_error_K(saved, level)
     if lead is None:
         lead = model_error * np.sqrt(1.0 - np.exp(-2.0 * t / model.params["RC_s"]))
-    notes, widen = beyond(
-        ranges, signals, start_C, "ambient" in model.columns, saved.channel_units.get("effort", ""), shift
-    )
+    notes, widen = beyond(ranges, signals, start_C, "ambient" in model.columns,
+                          saved.channel_units.get("effort", ""), shift)
     hotter, widen_hot = hotter_than_seen(ranges, predicted)
     notes, widen = notes + hotter, np.maximum(widen, widen_hot)
     half = np.sqrt((z * parameter_sd) ** 2 + (lead * widen * extrapolation(saved, predicted, shift)) ** 2)
@@ -202,22 +200,11 @@ def forecast(saved: SavedModel, signals: Signals, start_C: float, threshold_C: f
                  else "the prediction alone (nor does it hold a held-out residual)")
         notes = notes + [f"the model file holds no standard errors: the interval is {alone}"]
     measured_cross = None if measured_C is None else crossing_s(t, np.asarray(measured_C, float), threshold_C)
-    return Forecast(
-        saved.actuator,
-        t,
-        predicted,
-        low,
-        high,
-        float(threshold_C),
-        float(level),
-        float(start_C),
-        crossing_s(t, predicted, threshold_C),
-        (crossing_s(t, high, threshold_C), crossing_s(t, low, threshold_C)),
-        model_error,
-        None if measured_C is None else np.asarray(measured_C, float),
-        measured_cross,
-        tuple(notes),
-    )
+    return Forecast(saved.actuator, t, predicted, low, high, float(threshold_C), float(level), float(start_C),
+                    crossing_s(t, predicted, threshold_C),
+                    (crossing_s(t, high, threshold_C), crossing_s(t, low, threshold_C)), model_error,
+                    None if measured_C is None else np.asarray(measured_C, float), measured_cross,
+                    tuple(notes))
 
 
 def spread_of(run, models: list[ThermalModel], predicted: np.ndarray) -> np.ndarray:

@@ -157,20 +157,10 @@ def to_dcmotor(saved: SavedModel, motor: Motor) -> DcMotorThermal:
                      "bound): MuJoCo's node will not heat this joint; "
                      "what warmed it on the log was another term "
                      f"or the log's drift")
-    return DcMotorThermal(
-        saved.actuator,
-        motor,
-        float(r_th),
-        float(p["RC_s"] / r_th),
-        float(p["RC_s"]),
-        float(tempcoef),
-        COPPER_REFERENCE_C,
-        float(p["T_offset_C"]),
-        exported,
-        tuple(t for t in model.terms if t not in kept),
-        tuple(notes),
-        current=unit in CURRENT_UNITS,
-    )
+    return DcMotorThermal(saved.actuator, motor, float(r_th), float(p["RC_s"] / r_th), float(p["RC_s"]),
+                          float(tempcoef), COPPER_REFERENCE_C, float(p["T_offset_C"]), exported,
+                          tuple(t for t in model.terms if t not in kept), tuple(notes),
+                          current=unit in CURRENT_UNITS)
 
 
 EXPORT_MARK = "thermolimb export"  # what the snippet's first comment says: a file export may replace

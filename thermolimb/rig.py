@@ -168,9 +168,8 @@ class BulletRig:
 
     def _protection_fraction(self, q: np.ndarray, qd: np.ndarray, torques_Nm: np.ndarray) -> np.ndarray:
         efforts = self.actuator_efforts(q, torques_Nm)
-        return self.plant.protection_fraction(
-            efforts, self.actuator_velocities(q, qd), self.config.control_dt_s
-        )
+        return self.plant.protection_fraction(efforts, self.actuator_velocities(q, qd),
+                                              self.config.control_dt_s)
 
     # ----------------------------------------------------------------- sensing
     def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
@@ -201,9 +200,8 @@ class BulletRig:
                height: int = 240, fov_deg: float = 50.0) -> np.ndarray:
         """An offscreen RGB image (height x width x 3, uint8) from PyBullet's software renderer."""
         c = self.client
-        view = c.computeViewMatrixFromYawPitchRoll(
-            [float(v) for v in target_m], distance_m, yaw_deg, pitch_deg, 0.0, 2
-        )
+        view = c.computeViewMatrixFromYawPitchRoll([float(v) for v in target_m], distance_m, yaw_deg,
+                                                   pitch_deg, 0.0, 2)
         proj = c.computeProjectionMatrixFOV(fov_deg, width / height, 0.05, 10.0)
         _, _, rgba, _, _ = c.getCameraImage(width, height, view, proj, renderer=c.ER_TINY_RENDERER)
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
@@ -317,16 +315,10 @@ class BulletRig:
         if len(self._log["time"]) < 2:
             raise ValueError("the simulation has not run long enough to make a log")
         faults = np.array(self._log["fault"])
-        return log_from_arrays(
-            np.array(self._log["time"]),
-            self.actuators,
-            np.array(self._log["effort"]),
-            np.array(self._log["temperature"]),
-            velocity=np.array(self._log["velocity"]),
-            ambient_C=np.array(self._log["ambient"]),
-            source=f"{type(self).__name__} simulation",
-            extra={"fault [1]": faults} if faults.any() else None,
-        )
+        return log_from_arrays(np.array(self._log["time"]), self.actuators, np.array(self._log["effort"]),
+                               np.array(self._log["temperature"]), velocity=np.array(self._log["velocity"]),
+                               ambient_C=np.array(self._log["ambient"]), source=f"{type(self).__name__} "
+                               f"simulation", extra={"fault [1]": faults} if faults.any() else None)
 
     def close(self) -> None:
         if self.client is not None:

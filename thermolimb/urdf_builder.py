@@ -95,12 +95,11 @@ class UrdfBuilder:
     ) -> None:
         """A revolute joint at ``origin`` ("x y z", m, parent frame), about ``axis``, with its limits."""
         at = f'<origin xyz="{origin}"' + (f' rpy="{rpy}"' if rpy is not None else "") + "/>"
-        self.parts.append(
-            f'  <joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
-            f'{at}<axis xyz="{axis}"/>'
-            f'<limit lower="{number(lower_rad)}" upper="{number(upper_rad)}" effort="{number(effort)}" '
-            f'velocity="{number(velocity)}"/><dynamics damping="{number(damping)}" friction="0.0"/></joint>\n'
-        )
+        self.parts.append(f'  <joint name="{name}" type="revolute"><parent link="{parent}"/><child '
+                          f'link="{child}"/>' f'{at}<axis xyz="{axis}"/>' f'<limit '
+                          f'lower="{number(lower_rad)}" upper="{number(upper_rad)}" '
+                          f'effort="{number(effort)}" ' f'velocity="{number(velocity)}"/><dynamics '
+                          f'damping="{number(damping)}" friction="0.0"/></joint>\n')
 
     def fixed(self, name: str, parent: str, child: str, origin: str) -> None:
         self.parts.append(f'  <joint name="{name}" type="fixed"><parent '

@@ -142,27 +142,12 @@ def control_step(
     wrench = body_wrench(params, payload_kg, reading, gains, velocity, params.nominal_body_height_m)
     legs = tuple(int(i) for i in np.flatnonzero(planned_stance))
     statics = [leg_statics(params, i, q[3 * i : 3 * i + 3], reading.world_R_body) for i in range(len(LEGS))]
-    problem = StanceProblem.from_statics(
-        params,
-        {i: statics[i] for i in legs},
-        payload_kg=payload_kg,
-        wrench=wrench,
-        friction=gains.friction,
-        min_normal_N=gains.min_normal_N,
-        world_R_body=reading.world_R_body,
-    )
+    problem = StanceProblem.from_statics(params, {i: statics[i] for i in legs}, payload_kg=payload_kg,
+                                         wrench=wrench, friction=gains.friction,
+                                         min_normal_N=gains.min_normal_N, world_R_body=reading.world_R_body)
     bank, horizon_s = (thermal.bank, thermal.horizon_s) if thermal is not None else (None, 0.0)
-    solution = distribute(
-        problem,
-        weights,
-        state.last,
-        bank,
-        reading.temperature_C,
-        horizon_s,
-        gains.smoothing_1_N2,
-        gains.solver,
-        gains.fallback,
-    )
+    solution = distribute(problem, weights, state.last, bank, reading.temperature_C, horizon_s,
+                          gains.smoothing_1_N2, gains.solver, gains.fallback)
 
     torques = np.zeros(18)
     # a stance leg's torques: its share of the wrench with its gravity (the problem's T f + g, computed once),

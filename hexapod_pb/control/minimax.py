@@ -97,16 +97,8 @@ def minimax(problem: StanceProblem, solver: str = "daqp", warm: StanceSolution |
                                   fallback_from=f"daqp {stalled.args[1]} on the smoothed QP")
     active = warm.active if warm is not None else None
     found = solve(lp, solver, fallback=fallback, active=active, **lp_options(solver))
-    return StanceSolution(
-        problem,
-        found.x[:nf].reshape(-1, 3),
-        "minimax",
-        found.solver,
-        time.perf_counter() - start,
-        found.iterations,
-        found,
-        found.fallback_from,
-    )
+    return StanceSolution(problem, found.x[:nf].reshape(-1, 3), "minimax", found.solver,
+                          time.perf_counter() - start, found.iterations, found, found.fallback_from)
 
 
 def minimax_lex(problem: StanceProblem, slack: float = 1e-6, first: StanceSolution | None = None,
@@ -131,9 +123,8 @@ def minimax_lex(problem: StanceProblem, slack: float = 1e-6, first: StanceSoluti
     A = np.vstack([p.equilibrium, p.torque_map, contact_A[:, :nf]])
     bu = np.concatenate([p.wrench, cap - p.gravity_Nm, contact_bu])
     bl = np.concatenate([p.wrench, -cap - p.gravity_Nm, contact_bl])
-    found = solve(
-        Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"), "daqp"
-    )
+    found = solve(Program(f, A, bu, bl, n_eq=6, hessian=H, name="the stance problem's second stage (a QP)"),
+                  "daqp")
     return StanceSolution(p, found.x.reshape(-1, 3), "minimax_lex", found.solver,
                           first.solve_time_s + time.perf_counter() - start, found.iterations, found,
                           first.fallback_from)

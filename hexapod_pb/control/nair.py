@@ -45,14 +45,8 @@ def nair_trust_constr(problem: StanceProblem, zero_hessian: bool = True, x0: np.
         # the quasi-Newton update warns that the cost is piecewise linear: that is why Nair et al. zeroed the
         # Hessian
         warnings.simplefilter("ignore", UserWarning)
-        result = minimize(
-            cost,
-            np.zeros(6) if x0 is None else x0,
-            method="trust-constr",
-            constraints=[LinearConstraint(A, b, b)],
-            options={"maxiter": maxiter, "verbose": 0},
-            **kwargs,
-        )
-    return StanceSolution(
-        p, forces(result.x), "nair_trust_constr", "trust-constr", time.perf_counter() - start, int(result.nit)
-    )
+        result = minimize(cost, np.zeros(6) if x0 is None else x0, method="trust-constr",
+                          constraints=[LinearConstraint(A, b, b)], options={"maxiter": maxiter, "verbose": 0},
+                          **kwargs)
+    return StanceSolution(p, forces(result.x), "nair_trust_constr", "trust-constr",
+                          time.perf_counter() - start, int(result.nit))

@@ -104,9 +104,8 @@ class StanceProblem:
         statics = {
             int(i): leg_statics(params, int(i), q[3 * int(i) : 3 * int(i) + 3], world_R_body) for i in legs
         }
-        return cls.from_statics(
-            params, statics, payload_kg, wrench, include_leg_gravity, friction, min_normal_N, world_R_body
-        )
+        return cls.from_statics(params, statics, payload_kg, wrench, include_leg_gravity, friction,
+                                min_normal_N, world_R_body)
 
     @classmethod
     def from_statics(cls, params: DaisyParams, statics: dict, payload_kg: float = 0.0,
@@ -128,9 +127,8 @@ class StanceProblem:
         grav = [statics[i].gravity_Nm if include_leg_gravity else np.zeros(3) for i in legs]
         feet = np.array([statics[i].foot_m for i in legs])
         scale = np.concatenate([params.continuous_effort_Nm[3 * i : 3 * i + 3] for i in legs])
-        return cls(
-            legs, feet, T, np.concatenate(grav), scale, np.asarray(wrench, float), friction, min_normal_N
-        )
+        return cls(legs, feet, T, np.concatenate(grav), scale, np.asarray(wrench, float), friction,
+                   min_normal_N)
 
     def torques(self, f: np.ndarray) -> np.ndarray:
         return self.torque_map @ np.ravel(f) + self.gravity_Nm

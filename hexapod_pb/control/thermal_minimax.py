@@ -60,12 +60,8 @@ def thermal_minimax(problem: StanceProblem, bank: ModelArrays, temperature_C: np
         A = np.vstack([balance, *cuts_A, fixed_A])
         bu = np.concatenate([p.wrench, *cuts_b, fixed_bu])
         bl = np.concatenate([p.wrench, np.full(sum(len(r) for r in cuts_b), -INFINITE), fixed_bl])
-        found = solve(
-            Program(c, A, bu, bl, n_eq=6, name="the thermal minimax's cutting-plane LP"),
-            solver,
-            fallback,
-            **lp_options(solver),
-        )
+        found = solve(Program(c, A, bu, bl, n_eq=6, name="the thermal minimax's cutting-plane LP"), solver,
+                      fallback, **lp_options(solver))
         fell_back |= {found.fallback_from} - {None}
         x = found.x
         sol = StanceSolution(p, x[:nf].reshape(-1, 3), "thermal_aware", found.solver, 0.0, rounds, found)

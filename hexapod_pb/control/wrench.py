@@ -70,9 +70,8 @@ def distribute(
             if warm is not None:
                 last = dict(zip(warm.problem.legs, warm.forces_N))
                 previous = np.array([last.get(i, np.zeros(3)) for i in achievable.legs])
-            return minimax(
-                achievable, solver, smoothing_1_N2=smoothing_1_N2, previous_N=previous, fallback=fallback
-            )
+            return minimax(achievable, solver, smoothing_1_N2=smoothing_1_N2, previous_N=previous,
+                           fallback=fallback)
         if name == "minimax_lex":
             return minimax_lex(achievable, first=torque_minimax())
         joints = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in achievable.legs])

@@ -108,18 +108,6 @@ def run_scenario(scenario: str, strategy: str, duration_s: float, seed: int = 0,
         distance = float(reading.body_position_m[0] - start[0])
         log = sim.thermal_log()
     log = replace(log, notes=log.notes + (loop.solver_note(),))
-    return ScenarioResult(
-        scenario,
-        strategy,
-        t,
-        cmd,
-        sensed,
-        measured,
-        winding,
-        distance,
-        fell,
-        time_to_limit,
-        int(round(gait.period_s * config.control_hz)),
-        log,
-        dict(loop.solvers),
-    )
+    return ScenarioResult(scenario, strategy, t, cmd, sensed, measured, winding, distance, fell,
+                          time_to_limit, int(round(gait.period_s * config.control_hz)), log,
+                          dict(loop.solvers))

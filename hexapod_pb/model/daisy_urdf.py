@@ -45,33 +45,12 @@ def generate(params: DaisyParams = DAISY) -> str:
                       f"{number(mount[0])} {number(mount[1])} 0", "0 0 1", -1.2, 1.2, base.effort_limit,
                       base.velocity_limit, DAMPING, f"0 0 {number(p.mount_yaw_rad(i))}")
         urdf.link(f"{leg}_base_link", m0, (small, i0, i0), (c0, 0.0, 0.0), [tube(p.bracket_m, 0.03, "black")])
-        urdf.revolute(
-            joint_name(leg, "shoulder"),
-            f"{leg}_base_link",
-            f"{leg}_upper",
-            f"{number(p.bracket_m)} 0 0",
-            "0 -1 0",
-            -1.6,
-            1.6,
-            shoulder.effort_limit,
-            shoulder.velocity_limit,
-            DAMPING,
-            "0 0 0",
-        )
+        urdf.revolute(joint_name(leg, "shoulder"), f"{leg}_base_link", f"{leg}_upper",
+                      f"{number(p.bracket_m)} 0 0", "0 -1 0", -1.6, 1.6, shoulder.effort_limit,
+                      shoulder.velocity_limit, DAMPING, "0 0 0")
         urdf.link(f"{leg}_upper", m1, (small, i1, i1), (c1, 0.0, 0.0), [tube(p.upper_link_m, 0.02, "grey")])
-        urdf.revolute(
-            joint_name(leg, "elbow"),
-            f"{leg}_upper",
-            f"{leg}_lower",
-            f"{number(p.upper_link_m)} 0 0",
-            "0 -1 0",
-            -2.8,
-            0.5,
-            elbow.effort_limit,
-            elbow.velocity_limit,
-            DAMPING,
-            "0 0 0",
-        )
+        urdf.revolute(joint_name(leg, "elbow"), f"{leg}_upper", f"{leg}_lower", f"{number(p.upper_link_m)} "
+                      f"0 0", "0 -1 0", -2.8, 0.5, elbow.effort_limit, elbow.velocity_limit, DAMPING, "0 0 0")
         urdf.link(f"{leg}_lower", m2, (small, i2, i2), (c2, 0.0, 0.0), [tube(p.lower_link_m, 0.015, "grey")])
         urdf.fixed(f"{leg}_foot_mount", f"{leg}_lower", foot_link(leg), f"{number(p.lower_link_m)} 0 0")
         foot = sphere(p.foot_radius_m)

@@ -174,15 +174,8 @@ def predict_cell(group: str, depth_rad: float, body: WholeBody | None = None,
     heating = steady[None, :] + (AMBIENT_C - steady[None, :]) * np.exp(-t[:, None] / bank.RC_s[None, :])
     reached = np.flatnonzero(heating.max(axis=1) >= LIMITS.warning_C)
     if not reached.size:
-        return Cell(
-            group,
-            depth_rad,
-            "first order",
-            dict.fromkeys(STRATEGIES),
-            {},
-            dict.fromkeys(STRATEGIES, False),
-            None,
-        )
+        return Cell(group, depth_rad, "first order", dict.fromkeys(STRATEGIES), {},
+                    dict.fromkeys(STRATEGIES, False), None)
     at_warning = heating[reached[0]]
     watched = np.array([ACTUATORS.index(a) for a in hot_set(group)])
     safe, modes = {}, {}
@@ -190,15 +183,13 @@ def predict_cell(group: str, depth_rad: float, body: WholeBody | None = None,
         plan = ContactModePlanner(body, objective).plan(q_double, bank, at_warning)
         held = plan.results[plan.mode]
         steady_after = bank.equilibrium_C(body.efforts(held.q, held.torques_Nm))
-        times = first_order_cooling_s(
-            at_warning[watched], LIMITS.recovered_C, steady_after[watched], bank.RC_s[watched]
-        )
+        times = first_order_cooling_s(at_warning[watched], LIMITS.recovered_C, steady_after[watched],
+                                      bank.RC_s[watched])
         times = np.where(at_warning[watched] <= LIMITS.recovered_C, 0.0, times)
         safe[strategy] = float(times.max()) if np.isfinite(times.max()) else None
         modes[strategy] = [plan.mode]
-    return Cell(
-        group, depth_rad, "first order", safe, modes, dict.fromkeys(STRATEGIES, False), float(t[reached[0]])
-    )
+    return Cell(group, depth_rad, "first order", safe, modes, dict.fromkeys(STRATEGIES, False),
+                float(t[reached[0]]))
 
 
 def measure_cell(group: str, depth_rad: float, seed: int = 0, time_to_warning_s: float = 100.0,

@@ -260,19 +260,9 @@ class FastThermalIK:
         if like_for_like:
             q, history, iterations = gauss_newton(self, q0.copy(), mode, objective, targets)
             Gamma, F = min_norm_balance(body, q, mode)[:2]
-            return FastIKResult(
-                mode,
-                q,
-                history[-1],
-                Gamma,
-                F.reshape(-1, 6),
-                iterations,
-                time.perf_counter() - start,
-                history,
-                contact_drift(body, q0, q, mode),
-                self.solver,
-                tuple(self.failures),
-            )
+            return FastIKResult(mode, q, history[-1], Gamma, F.reshape(-1, 6), iterations,
+                                time.perf_counter() - start, history, contact_drift(body, q0, q, mode),
+                                self.solver, tuple(self.failures))
         q = q0.copy()
         # the Newton model's first point: the least-norm balance of gravity (not Eq. 23's Gamma(q), which
         # costs a mass-matrix inverse and two pseudo-inverses); one round from it is a balanced upper bound
@@ -313,16 +303,5 @@ class FastThermalIK:
         if polished is not None and polished[0] < f:
             f, Gamma, F = polished
             history.append(f)
-        return FastIKResult(
-            mode,
-            q,
-            f,
-            Gamma,
-            F.reshape(-1, 6),
-            iterations,
-            time.perf_counter() - start,
-            history,
-            contact_drift(body, q0, q, mode),
-            self.solver,
-            tuple(self.failures),
-        )
+        return FastIKResult(mode, q, f, Gamma, F.reshape(-1, 6), iterations, time.perf_counter() - start,
+                            history, contact_drift(body, q0, q, mode), self.solver, tuple(self.failures))

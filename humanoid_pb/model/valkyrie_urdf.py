@@ -45,9 +45,8 @@ def _box_link(
     color="grey",
 ) -> None:
     shape = Shape(box(size), com, material=color)
-    urdf.link(
-        name, mass, box_inertia(mass, size), com, [shape] if visual else [], [shape] if collision else []
-    )
+    urdf.link(name, mass, box_inertia(mass, size), com, [shape] if visual else [],
+              [shape] if collision else [])
 
 
 def _revolute(urdf: UrdfBuilder, name, parent, child, origin, params: ValkyrieParams) -> None:
@@ -75,9 +74,8 @@ def generate(params: ValkyrieParams = VALKYRIE) -> str:
         _revolute(urdf, names[1], f"{side}_shoulder_pitch_link", f"{side}_shoulder_roll_link", "0 0 0", p)
         _box_link(urdf, f"{side}_shoulder_roll_link", m[1], (0.1, 0.1, 0.1), visual=False)
         _revolute(urdf, names[2], f"{side}_shoulder_roll_link", f"{side}_upper_arm", "0 0 0", p)
-        _box_link(
-            urdf, f"{side}_upper_arm", m[2], (0.09, 0.09, p.upper_arm_m), com=(0, 0, -p.upper_arm_m / 2)
-        )
+        _box_link(urdf, f"{side}_upper_arm", m[2], (0.09, 0.09, p.upper_arm_m),
+                  com=(0, 0, -p.upper_arm_m / 2))
         _revolute(urdf, names[3], f"{side}_upper_arm", f"{side}_forearm", f"0 0 {number(-p.upper_arm_m)}", p)
         _box_link(urdf, f"{side}_forearm", m[3], (0.08, 0.08, p.forearm_m), com=(0, 0, -p.forearm_m / 2))
     sole_x, sole_y = p.sole_m

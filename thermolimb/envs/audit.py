@@ -188,9 +188,8 @@ def audit(env: gym.Env | str, policy: Callable | str, duration_s: float, seed: i
                      f"most, {wrapped.joints[k]}: {strongest[k]:.3g} "
                      f"N m against {peak[k]:.3g} N m); the plant heats "
                      f"them at the peak, as a drive that holds it would")
-    return AuditResult(
-        env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat, notes
-    )
+    return AuditResult(env_id, name, wrapped.joints, time_s, temperatures, wrapped.limit_C, resets, heat,
+                       notes)
 
 
 def _made(env_id: str, shown: str, kwargs: dict) -> gym.Env:

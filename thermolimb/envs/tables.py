@@ -91,9 +91,8 @@ def plot_table(rows, env_id, path: Path) -> Path:
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xticks(range(len(names)), ticks)
         spread = any(r[key][2] >= 2 for r in rows if r[key][0] is not None)
-        ax.set_title(
-            f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"), fontsize=9
-        )
+        ax.set_title(f"{title}, " + ("mean ± std over episodes" if spread else "one episode per strategy"),
+                     fontsize=9)
         ax.tick_params(axis="x", labelsize=8)
     fig.suptitle(env_id, fontsize=10)
     return save(fig, path)

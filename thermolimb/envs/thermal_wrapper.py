@@ -98,23 +98,12 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         reset_heat: bool = True,
         torque_constant_Nm_per_A: float | None = None,
     ):
-        gym.utils.RecordConstructorArgs.__init__(
-            self,
-            models=models,
-            plant=plant,
-            joints=joints,
-            torque=torque,
-            ambient_C=ambient_C,
-            start_C=start_C,
-            limit_C=limit_C,
-            warning_C=warning_C,
-            observe=observe,
-            penalty=penalty,
-            terminate=terminate,
-            protect=protect,
-            reset_heat=reset_heat,
-            torque_constant_Nm_per_A=torque_constant_Nm_per_A,
-        )
+        gym.utils.RecordConstructorArgs.__init__(self, models=models, plant=plant, joints=joints,
+                                                 torque=torque, ambient_C=ambient_C, start_C=start_C,
+                                                 limit_C=limit_C, warning_C=warning_C, observe=observe,
+                                                 penalty=penalty, terminate=terminate, protect=protect,
+                                                 reset_heat=reset_heat,
+                                                 torque_constant_Nm_per_A=torque_constant_Nm_per_A)
         gym.Wrapper.__init__(self, env)
         if (models is None) == (plant is None):
             raise UsageError("ThermalWrapper needs models (a model file) "
@@ -139,9 +128,8 @@ class ThermalWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             self.heat = PlantHeat(plant, self.joints, self.ambient_C)
         else:
             saved = joint_models(models, self.joints)
-            self.reader.per_effort = effort_scale(
-                saved, torque_constant_Nm_per_A, type(env.unwrapped).__name__
-            )
+            self.reader.per_effort = effort_scale(saved, torque_constant_Nm_per_A,
+                                                  type(env.unwrapped).__name__)
             self.heat = ModelHeat(saved, self.ambient_C)
         limits = self.heat.limits_C if limit_C is None else np.full(len(self.joints),
                                                                    _checked("limit_C", limit_C, low, high))
@@ -366,9 +354,8 @@ class PlantHeat:
     def make(self, start_C: float):
         from ..plant import PlantEffects, ThermalPlant
 
-        return ThermalPlant(
-            self.joints, self.specs, PlantEffects(), ambient_C=self.ambient_C, initial_C=start_C
-        )
+        return ThermalPlant(self.joints, self.specs, PlantEffects(), ambient_C=self.ambient_C,
+                            initial_C=start_C)
 
     def reset(self, start_C: float) -> None:
         self.plant = self.make(start_C)

@@ -156,14 +156,8 @@ class FreeRunLeastSquares(ThermalEstimator):
         shown, shown_rows = (
             zip(*(on_blocks(s, r, k) for s, r in zip(series, rows))) if blocks else (series, rows)
         )
-        result = least_squares(
-            residual_on(shown, shown_rows),
-            x0,
-            bounds=(lower[free], upper[free]),
-            x_scale=scale,
-            method="trf",
-            max_nfev=budget,
-        )
+        result = least_squares(residual_on(shown, shown_rows), x0, bounds=(lower[free], upper[free]),
+                               x_scale=scale, method="trf", max_nfev=budget)
         if blocks and not self.max_iterations and not blocks_allowed(model_at(result.x), shown):
             blocks = False
             result = least_squares(residual_on(series, rows), result.x, bounds=(lower[free], upper[free]),

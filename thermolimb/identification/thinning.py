@@ -59,12 +59,8 @@ def on_blocks(series, rows: np.ndarray, stride: int):
     ``stride`` times fewer steps, and compares it where the full rate would be compared."""
     grid = np.arange(0, series.n, stride)
     starts = grid if np.array_equal(grid, rows) else np.union1d(grid, rows)
-    shown = replace(
-        series,
-        signals=blocked(series.signals, starts),
-        temperature_C=series.temperature_C[starts],
-        fit_mask=None,
-    )
+    shown = replace(series, signals=blocked(series.signals, starts),
+                    temperature_C=series.temperature_C[starts], fit_mask=None)
     return shown, np.searchsorted(starts, rows)
 
 

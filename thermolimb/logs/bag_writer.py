@@ -124,9 +124,8 @@ def write_mcap(log, path: str | Path, layout: str = "thermal", temperature_every
                         msg = Dynamic(header=header, joint_names=names, interface_values=values)
                         writer.write(dynamic, ns, store.serialize_cdr(msg, DYNAMIC_TYPE))
                     for j, conn in enumerate(joints if k % temperature_every == 0 else ()):
-                        msg = TemperatureMsg(
-                            header=header, temperature=float(temperature[k, j]), variance=0.0
-                        )
+                        msg = TemperatureMsg(header=header, temperature=float(temperature[k, j]),
+                                             variance=0.0)
                         writer.write(conn, ns, store.serialize_cdr(msg, TemperatureMsg.__msgtype__))
                     if air is not None:
                         msg = TemperatureMsg(header=header, temperature=float(ambient[k, 0]), variance=0.0)

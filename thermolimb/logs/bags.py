@@ -281,9 +281,8 @@ def _joint_series(key: str, topic: str, data, joint: str | None, path: Path, dro
     if not carried.any():
         listed = ", ".join(names[0]) if names[0] else "no joint names (no name array)"
         raise LogError(f"{path}: joint {joint!r} is not in {topic}; its messages name {listed}")
-    return series_of(
-        np.where(carried, times, np.nan), out, str(path), f"{key} of {joint}", drop_incomplete, notes
-    )
+    return series_of(np.where(carried, times, np.nan), out, str(path), f"{key} of {joint}", drop_incomplete,
+                     notes)
 
 
 def auto_extras(infos: list[TopicInfo], mapping: Mapping[str, str]) -> dict[str, str]:

@@ -91,14 +91,8 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     skip = comments | set(range(header_at))
     header_line = next(line for i, line in content if i == header_at)
     header = next(csv.reader([header_line], delimiter=sep), [])
-    options = dict(
-        sep=sep,
-        decimal=decimal,
-        encoding="utf-8-sig",
-        encoding_errors="replace",
-        skiprows=skip or None,
-        skip_blank_lines=True,
-    )
+    options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace",
+                   skiprows=skip or None, skip_blank_lines=True)
     after = next((line for i, line in content if i > header_at), None)
     following = None if after is None else next(csv.reader([after], delimiter=sep), [])
     if _holds_data(header, following):  # no header row: the first line is a sample (a logger's, a drive's)
@@ -126,9 +120,8 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
         options.update(keep_default_na=False, dtype={"actuator": str},
                        na_values={name: sorted(STR_NA_VALUES) for name in names if name != "actuator"}
                        | {"actuator": [""]})
-    return Dialect(
-        options, {name: k for name, k in counts.items() if k > 1 and name}, header_line, units_line
-    )
+    return Dialect(options, {name: k for name, k in counts.items() if k > 1 and name}, header_line,
+                   units_line)
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?$")

@@ -76,9 +76,8 @@ def on_updates(time_s: np.ndarray, columns: dict[str, np.ndarray], period_s: flo
     each interval (effort, current and velocity as signed root mean squares, :mod:`.align`)."""
     t = np.asarray(time_s, float)
     slack = 1e-6  # of a period: an instant on the log's first or last row is within it
-    k = np.arange(
-        np.ceil((t[0] - phase_s) / period_s - slack), np.floor((t[-1] - phase_s) / period_s + slack) + 1
-    )
+    k = np.arange(np.ceil((t[0] - phase_s) / period_s - slack),
+                  np.floor((t[-1] - phase_s) / period_s + slack) + 1)
     grid = np.clip(phase_s + period_s * k, t[0], t[-1])
     after = np.clip(np.searchsorted(t, grid + 1.5 * row_s, side="right") - 1, 0, t.size - 1)
     out = {"time": grid, "temperature": np.asarray(columns["temperature"], float)[after]}

@@ -155,13 +155,10 @@ def plausible_units(out: dict[str, np.ndarray], stated: Mapping[str, str], numer
             elif 0 < hi - lo < SHORT_S:
                 rate = slowest_rate(out)
                 if rate is not None and rate[0] > FASTEST_K_PER_S:
-                    notes.append(
-                        f"{source}: the temperature moves {rate[1]:.1f} "
-                        f"K over the log's {hi - lo:.3g} s "
-                        f"({rate[0]:.0f} K/s on average), faster "
-                        "than any winding heats for long: if the "
-                        f"time column counts minutes or hours, state it: --map time=COLUMN:min or :h"
-                    )
+                    notes.append(f"{source}: the temperature moves {rate[1]:.1f} K over the log's "
+                                 f"{hi - lo:.3g} s ({rate[0]:.0f} K/s on average), faster "
+                                 "than any winding heats for long: if the " f"time column counts minutes or "
+                                 f"hours, state it: --map time=COLUMN:min or :h")
     for name in out:
         if UNITS.get(name) != "degC" or name in stated:
             continue

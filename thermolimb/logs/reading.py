@@ -84,18 +84,8 @@ def read_log(
         raise LogError(f"mapping must be a dict {{channel: column}} or a string 'channel=column,...', got "
                        f"{type(mapping).__name__}")
     path = Path(path)
-    request = _Request(
-        mapping or {},
-        velocity_unit,
-        actuator_name,
-        sep,
-        decimal,
-        drop_incomplete,
-        effort_unit,
-        tuple(actuators or ()),
-        neighbours,
-        tuple(columns or ()),
-    )
+    request = _Request(mapping or {}, velocity_unit, actuator_name, sep, decimal, drop_incomplete,
+                       effort_unit, tuple(actuators or ()), neighbours, tuple(columns or ()))
     return READERS[log_format(path)](path, request)
 
 
@@ -127,9 +117,8 @@ def _read_bag(path: Path, request: _Request) -> ThermalLog:
     units = channel_units({c: "" for c in SCALED},
                           {"effort": request.effort_unit, **from_map, "velocity": request.velocity_unit})
     units.update({k: v for k, v in from_map.items() if k.startswith(EXTRA) or k not in SCALED})
-    log = from_frame(
-        pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path), units=units
-    )
+    log = from_frame(pd.concat([pd.DataFrame(f) for f in frames], ignore_index=True), source=str(path),
+                     units=units)
     return replace(log, notes=tuple(notes) + log.notes)
 
 
@@ -137,12 +126,8 @@ def _read_table(path: Path, request: _Request) -> ThermalLog:
     if request.actuators and not request.mapping and not request.columns:
         return _read_selected(path, list(request.actuators), request)
     frame = read_table(path, sep=request.sep, decimal=request.decimal, names=request.columns)
-    return from_frame(
-        frame,
-        mapping=request.mapping or None,
-        actuator_name=request.actuator_name or path.stem,
-        **request.options(path),
-    )
+    return from_frame(frame, mapping=request.mapping or None,
+                      actuator_name=request.actuator_name or path.stem, **request.options(path))
 
 
 READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table}
@@ -186,6 +171,5 @@ def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLo
         del near
         near_temperatures = {n: around._temperature_of(n) for n in around.actuators}
     release_freed()  # the pieces' pages
-    return replace(
-        log, order=tuple(order), neighbours=FrozenMapping(near_temperatures), notes=notes + log.notes
-    )
+    return replace(log, order=tuple(order), neighbours=FrozenMapping(near_temperatures),
+                   notes=notes + log.notes)

@@ -185,12 +185,10 @@ class ThermalLog:
         neighbors = None
         if others:
             neighbors = np.column_stack([np.interp(t, *self._temperature_of(o)) for o in others])
-        signals = Signals(
-            time_s=t, effort=col("effort"), velocity=col("velocity"), current_A=col("current"),
-            ambient_C=col("ambient"), neighbor_temperature_C=neighbors, neighbor_names=tuple(others),
-            housing_C=col("housing"), power_W=col("power"),
-            extra={name: col(EXTRA + name) for name in self.extras},
-        )
+        signals = Signals(time_s=t, effort=col("effort"), velocity=col("velocity"), current_A=col("current"),
+                          ambient_C=col("ambient"), neighbor_temperature_C=neighbors,
+                          neighbor_names=tuple(others), housing_C=col("housing"), power_W=col("power"),
+                          extra={name: col(EXTRA + name) for name in self.extras})
         return ActuatorSeries(actuator, signals, col("temperature"), units=self.units)
 
     def _temperature_of(self, name: str) -> tuple[np.ndarray, np.ndarray]:

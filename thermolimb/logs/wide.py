@@ -39,13 +39,9 @@ def apply_mapping(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, 
             if "actuator" in mapping and name in frame.columns:
                 name = _joint_name(frame[name], name, source)
             if timed:  # each joint's channels on time bases of their own (topics merged on one time column)
-                part = _aligned(
-                    frame,
-                    {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
-                    source,
-                    name,
-                    drop_incomplete,
-                )
+                part = _aligned(frame,
+                                {k: v + (TIME_OF + timed[k] if k in timed else "") for k, v in cols.items()},
+                                source, name, drop_incomplete)
                 notes += [n for n in part.attrs["notes"] if n not in notes]
                 parts.append(part)
                 continue

@@ -86,6 +86,5 @@ def blocked(signals: Signals, starts: np.ndarray) -> BlockSignals:
     if starts.size == 0 or starts[0] != 0 or np.any(np.diff(starts) <= 0) or starts[-1] >= signals.n:
         raise ValueError(f"block starts must increase from sample 0 within the {signals.n} samples")
     kept = signals.map_arrays(lambda x: x[starts])
-    return BlockSignals(
-        **{f.name: getattr(kept, f.name) for f in fields(Signals)}, full=signals, starts=starts
-    )
+    return BlockSignals(**{f.name: getattr(kept, f.name) for f in fields(Signals)}, full=signals,
+                        starts=starts)

@@ -74,9 +74,8 @@ class Guarded:
             raise TermError(f"term {self.name!r}: {method} returned None "
                             f"for its {what}; expected a number or an "
                             f"array of {n} samples", self.name)
-        arr = np.asarray(
-            value, dtype=object if not np.isscalar(value) and not hasattr(value, "dtype") else None
-        )
+        arr = np.asarray(value,
+                         dtype=object if not np.isscalar(value) and not hasattr(value, "dtype") else None)
         try:
             arr = np.asarray(value, dtype=float)
         except (TypeError, ValueError):

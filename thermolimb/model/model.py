@@ -205,9 +205,8 @@ class ThermalModel:
         winding = self._winding(s, shaped, lam, start, method)
         share = float(np.prod([term.winding_share(self.params) for term in terms]))
         if share < 1.0 and np.any(gain != 0.0):
-            winding = self._coupled(
-                s, terms, u, lam, boundary, gain, share, start, winding, method, state, offsets
-            )
+            winding = self._coupled(s, terms, u, lam, boundary, gain, share, start, winding, method, state,
+                                    offsets)
         out = winding
         for term in terms:
             out = term.shape_output(self.params, s, out, output_start)

@@ -269,9 +269,8 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
                              f"error in K is zero or more")
     values, stderr, scale = {}, {}, np.ones(len(names))
     for k, p in enumerate(parameters):
-        values[p.name], stderr[p.name], scale[k] = checked_parameter(
-            p, params[p.name], channel_units, where, notes
-        )
+        values[p.name], stderr[p.name], scale[k] = checked_parameter(p, params[p.name], channel_units, where,
+                                                                     notes)
     try:
         model = ThermalModel(tuple(terms), values, bounded=False)
     except (ValueError, TypeError) as exc:
@@ -305,26 +304,13 @@ def _saved(entry, where: str, notes: list) -> SavedModel:
             f"fitted on (the coolest {coolest:g} degC); expected a winding limit above them"
         )
     if limit is not None and isinstance(hottest, (int, float)) and limit < hottest:
-        notes.append(
-            f"{where}: its limit, {limit:g} degC, is below the {hottest:g} degC the log it was fitted on "
-            f"read: the actuator was past its limit in its own calibration -- check the limit"
-        )
-    return SavedModel(
-        str(entry["actuator"]),
-        model,
-        stderr,
-        matrix,
-        jackknife,
-        {n: params[n]["unit"] for n in names},
-        dict(channel_units),
-        dict(validation),
-        stats,
-        dict(provenance),
-        None if limit is None else float(limit),
-        str(entry.get("method", "")),
-        str(entry.get("validation_scheme", "")),
-        dict(generated),
-    )
+        notes.append(f"{where}: its limit, {limit:g} degC, is below the {hottest:g} degC the log it was "
+                     f"fitted on read: the actuator was past its limit in its own calibration -- check "
+                     f"the limit")
+    return SavedModel(str(entry["actuator"]), model, stderr, matrix, jackknife,
+                      {n: params[n]["unit"] for n in names}, dict(channel_units), dict(validation), stats,
+                      dict(provenance), None if limit is None else float(limit), str(entry.get("method", "")),
+                      str(entry.get("validation_scheme", "")), dict(generated))
 
 
 def provenance(paths: Sequence[str | Path], series) -> dict:

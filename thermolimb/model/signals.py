@@ -123,9 +123,8 @@ class Signals:
             dt = self.interval_s
             log_a = -rate_per_s * dt
             levels = self.interval_levels if np.ndim(dt) else None
-            found = Recursion(
-                np.exp(log_a) if levels is None else np.exp(-rate_per_s * levels[0])[levels[1]], log_a
-            )
+            found = Recursion(np.exp(log_a) if levels is None else np.exp(-rate_per_s * levels[0])[levels[1]],
+                              log_a)
             while kept and (len(kept) >= RECURSIONS or sum(r.nbytes for r in kept.values()) + found.nbytes >
                             RECURSION_BYTES):
                 kept.pop(next(iter(kept)))  # the least recently used

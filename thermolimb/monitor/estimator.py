@@ -142,17 +142,9 @@ class ActuatorMonitor:
         derate = float(
             self.protection.fraction(np.array([winding + self.sigmas * std]), np.array([self.limit_C]))[0]
         )
-        self.last = Estimate(
-            self.saved.actuator,
-            float(signals.time_s[-1]),
-            float(measured_C[-1]),
-            float(winding),
-            std,
-            ttl,
-            derate,
-            level(winding, self.limit_C, derate, ttl),
-            self.limit_C,
-        )
+        self.last = Estimate(self.saved.actuator, float(signals.time_s[-1]), float(measured_C[-1]),
+                             float(winding), std, ttl, derate, level(winding, self.limit_C, derate, ttl),
+                             self.limit_C)
         return self.last
 
     def _follow_ambient(self, signals: Signals) -> None:

@@ -138,9 +138,8 @@ class FoxgloveOutput:
         if actuator not in self.winding:
             import foxglove
 
-            self.winding[actuator] = foxglove.Channel(
-                topic(actuator, "winding_temperature"), schema=TEMPERATURE_SCHEMA
-            )
+            self.winding[actuator] = foxglove.Channel(topic(actuator, "winding_temperature"),
+                                                      schema=TEMPERATURE_SCHEMA)
             self.measured[actuator] = foxglove.Channel(topic(actuator, "measured_temperature"),
                                                        schema=TEMPERATURE_SCHEMA)
 

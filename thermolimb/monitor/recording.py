@@ -159,10 +159,8 @@ class McapOutput:
             self.file.close()
             existed = self.path.exists()
             os.replace(self.partial, self.path)
-            print(
-                f"{'replaced' if existed else 'wrote'} {self.path} ({self.messages} messages)",
-                file=sys.stderr,
-            )
+            print(f"{'replaced' if existed else 'wrote'} {self.path} ({self.messages} messages)",
+                  file=sys.stderr)
         finally:
             if not self.file.closed:
                 self.file.close()

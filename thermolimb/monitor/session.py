@@ -120,9 +120,8 @@ class Session:
 
     def _update(self, name: str, arrays: dict) -> Estimate:
         monitor = self.monitors.get(name) or self._monitor(name)
-        signals = Signals(
-            arrays["time"], arrays["effort"], **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays}
-        )
+        signals = Signals(arrays["time"], arrays["effort"],
+                          **{CHANNELS[c]: arrays[c] for c in CHANNELS if c in arrays})
         missing = [c for c in monitor.model.columns if not signals.has(c)]
         if missing:
             raise UsageError(f"the model of {name} reads the log column "

@@ -183,9 +183,8 @@ def _daqp(program: Program, active, options) -> Solution:
     upper, lower = program.upper, program.lower
     if program.bounds is not None:
         upper, lower = np.concatenate([program.bounds[0], upper]), np.concatenate([program.bounds[1], lower])
-    x, _, flag, info = daqp.solve(
-        H, program.cost, program.A, upper, lower, senses(program, active), **options
-    )
+    x, _, flag, info = daqp.solve(H, program.cost, program.A, upper, lower, senses(program, active),
+                                  **options)
     if flag < 1:
         raise SolverError(
             f"daqp could not solve {program.name} (exit flag {flag})", f"stalled, exit flag {flag}"

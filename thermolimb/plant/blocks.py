@@ -74,9 +74,8 @@ def free_block(plant, effort: np.ndarray, velocity: np.ndarray, dt_s: float) -> 
         def cap(below):
             return plant.observer.fraction_cap(est[:k], Phis, commanded, below, ambient[:k], dt_s)
 
-        fraction = plant.protection.share(
-            est[:k, :, 0] + plant.protection.sigmas * std, plant.winding_limits_C, std, cap
-        )
+        fraction = plant.protection.share(est[:k, :, 0] + plant.protection.sigmas * std,
+                                          plant.winding_limits_C, std, cap)
     else:
         fraction = plant.protection.share(measured[:k], plant.winding_limits_C)
     acting = np.flatnonzero(np.any(fraction < 1.0, axis=1))

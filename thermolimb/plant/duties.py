@@ -57,11 +57,9 @@ def held_duty(
     history = None
     if len(readings) > 1:
         n = len(readings)
-        history = ActuatorSeries(
-            name,
-            Signals(np.arange(n) * dt_s, np.full(n, float(warm_effort)), np.zeros(n)),
-            np.array(readings),
-        )
+        history = ActuatorSeries(name,
+                                 Signals(np.arange(n) * dt_s, np.full(n, float(warm_effort)), np.zeros(n)),
+                                 np.array(readings))
     n = int(round(hold_s / dt_s)) + 1
     sensor, winding = np.empty(n), np.empty(n)
     sensor[0], winding[0] = plant.measured_C[0], plant.winding_C[0]
@@ -96,6 +94,5 @@ def step_test(
     frame = run_profile(plant, Profile(t, level[:, None], np.zeros((t.size, 1)))).log.frame
     frame = frame[frame["time"] >= warm_s].reset_index(drop=True)
     frame["time"] -= warm_s
-    return from_frame(
-        frame, source=f"step test at {load:g} x the continuous effort" + (", warm" if warm_s else "")
-    )
+    return from_frame(frame,
+                      source=f"step test at {load:g} x the continuous effort" + (", warm" if warm_s else ""))

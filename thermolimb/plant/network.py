@@ -141,17 +141,8 @@ class Layout:
                 A[d, d] = -g / spec.driver.capacity_J_per_K
                 b_amb[d] = g / spec.driver.capacity_J_per_K
                 inv_capacity[d] = 1.0 / spec.driver.capacity_J_per_K
-        net = cls(
-            np.array(winding),
-            np.array(housing),
-            np.array(outer),
-            np.array(sensor),
-            np.array(driver),
-            A,
-            inv_capacity,
-            b_amb,
-            outer_conductance,
-        )
+        net = cls(np.array(winding), np.array(housing), np.array(outer), np.array(sensor), np.array(driver),
+                  A, inv_capacity, b_amb, outer_conductance)
         for fx in effects.active:
             fx.wire(net)
         return net
@@ -197,9 +188,8 @@ class ActuatorSpec:
                 raise ValueError(
                     f"ActuatorSpec({self.model}).{name} must be positive and finite, got {value}"
                 )
-        check_range(
-            f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0, "degC"
-        )
+        check_range(f"ActuatorSpec({self.model})", "winding_limit_C", self.winding_limit_C, 20.0, 400.0,
+                    "degC")
         if self.continuous_effort > self.effort_limit:
             raise ValueError(f"ActuatorSpec({self.model}): continuous_effort "
                              f"= {self.continuous_effort:g} is above "

@@ -158,9 +158,8 @@ class WindingObserver:
                 speed_rad_s: np.ndarray | None = None) -> np.ndarray:
         """Advance the estimate over an interval of ``dt_s`` with ``current_A`` (and ``speed_rad_s``) held."""
         Phi, Gam, Qd = self._discrete(float(dt_s))
-        self._predict(
-            self._with_speed(Phi, speed_rad_s), Gam, Qd, self.known_heat_W(current_A), float(ambient_C)
-        )
+        self._predict(self._with_speed(Phi, speed_rad_s), Gam, Qd, self.known_heat_W(current_A),
+                      float(ambient_C))
         return self.winding_C
 
     def update(self, current_A: np.ndarray, measured_C: np.ndarray, ambient_C: float, dt_s: float,
@@ -215,9 +214,8 @@ class WindingObserver:
         ``limit_C`` at the end of the next ``dt_s`` (heat grows with the share squared); 0 where even no
         current overshoots."""
         Phi, _, _ = self._discrete(float(dt_s))
-        return self.fraction_cap(
-            self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C, dt_s
-        )
+        return self.fraction_cap(self.x, self._with_speed(Phi, speed_rad_s), current_A, limit_C, ambient_C,
+                                 dt_s)
 
     @property
     def winding_C(self) -> np.ndarray:

@@ -152,11 +152,5 @@ class CycleMap:
                 x = self.M @ x + self.c
                 break
             x = self.M @ x + self.c
-        return Propagation(
-            np.arange(len(starts)) * self.period_s,
-            np.array(starts),
-            np.array(peaks),
-            np.array(means),
-            x,
-            crossing,
-        )
+        return Propagation(np.arange(len(starts)) * self.period_s, np.array(starts), np.array(peaks),
+                           np.array(means), x, crossing)

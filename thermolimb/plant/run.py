@@ -108,19 +108,8 @@ def _run_window(
             steps = np.diff(t[k : min(k + size, steppable) + 1])
             uneven = np.flatnonzero(np.abs(steps - steps[0]) > 1e-9 * steps[0])
             end = k + (int(uneven[0]) if uneven.size else steps.size)
-            done = _record_block(
-                plant,
-                commanded[i : i + end - k],
-                velocity[i : i + end - k],
-                steps[0],
-                i,
-                effort,
-                winding,
-                measured,
-                estimated,
-                ambient,
-                current,
-            )
+            done = _record_block(plant, commanded[i : i + end - k], velocity[i : i + end - k], steps[0], i,
+                                 effort, winding, measured, estimated, ambient, current)
             bar.update(done)
             size = BLOCK_STEPS if k + done == end else max(MIN_BLOCK_STEPS, size // 4)
             k += done
@@ -156,17 +145,8 @@ def _run_window(
                               current_A=np.hstack([current, current[:, has]]), ambient_C=ambient,
                               extra={c: np.hstack([v, v[:, has]]) for c, v in channels.items()})
     else:
-        log = log_from_arrays(
-            t,
-            names,
-            effort,
-            measured,
-            velocity=velocity,
-            current_A=current,
-            ambient_C=ambient,
-            housing_C=housing,
-            extra=channels,
-        )
+        log = log_from_arrays(t, names, effort, measured, velocity=velocity, current_A=current,
+                              ambient_C=ambient, housing_C=housing, extra=channels)
     return PlantRun(log, t, effort, winding, measured, estimated)
 
 
@@ -204,12 +184,10 @@ def simulate_profile(
     ``load_scale`` multiplies every effort (a heavier payload), before the
     actuators' effort limits clip it.
     """
-    plant, prof = _plant_and_profile(
-        profile, duration_s, dt_s, names, specs, effects, seed, ambient_C, network, load_scale
-    )
-    return run_profile(
-        plant, prof, include_drivers=include_drivers, quiet=quiet, housing_sensor=housing_sensor
-    )
+    plant, prof = _plant_and_profile(profile, duration_s, dt_s, names, specs, effects, seed, ambient_C,
+                                     network, load_scale)
+    return run_profile(plant, prof, include_drivers=include_drivers, quiet=quiet,
+                       housing_sensor=housing_sensor)
 
 
 def simulate_profile_in_pieces(profile: str, duration_s: float, dt_s: float, names: Sequence[str],
@@ -220,12 +198,10 @@ def simulate_profile_in_pieces(profile: str, duration_s: float, dt_s: float, nam
                                piece_samples: int = PIECE_SAMPLES) -> Iterator[PlantRun]:
     """:func:`simulate_profile` one window of about ``piece_samples`` samples at a time
     (:func:`run_profile_in_pieces`): the same run, for writing a long one as it goes."""
-    plant, prof = _plant_and_profile(
-        profile, duration_s, dt_s, names, specs, effects, seed, ambient_C, network, load_scale
-    )
-    return run_profile_in_pieces(
-        plant, prof, include_drivers, quiet, housing_sensor, piece_samples=piece_samples
-    )
+    plant, prof = _plant_and_profile(profile, duration_s, dt_s, names, specs, effects, seed, ambient_C,
+                                     network, load_scale)
+    return run_profile_in_pieces(plant, prof, include_drivers, quiet, housing_sensor,
+                                 piece_samples=piece_samples)
 
 
 def _plant_and_profile(

@@ -56,6 +56,5 @@ class Thermistors:
         noise = fx.sensor_noise.std_K if fx.sensor_noise is not None else 0.0
         step = fx.quantisation.step_K if fx.quantisation is not None else 0.0
         alpha = fx.winding_tempco.alpha_per_K if fx.winding_tempco is not None else 0.0
-        return WindingObserver(
-            specs, lag, start_C, np.sqrt(noise**2 + step**2 / 12 + 0.01**2), copper_alpha_per_K=alpha
-        )
+        return WindingObserver(specs, lag, start_C, np.sqrt(noise**2 + step**2 / 12 + 0.01**2),
+                               copper_alpha_per_K=alpha)

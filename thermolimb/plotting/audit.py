@@ -21,15 +21,9 @@ def plot_audit(result, path: Path) -> Path:
     named = set(np.argsort(-result.temperature_C.max(axis=0))[:LABELLED])
     for k, joint in enumerate(result.joints):
         bold = joint == limiting
-        ax.plot(
-            minutes,
-            result.temperature_C[:, k],
-            lw=2.2 if bold else 0.9,
-            alpha=1.0 if bold else 0.7,
-            label=joint if k in named else None,
-            color=None if k in named else "0.7",
-            zorder=3 if bold else 2,
-        )
+        ax.plot(minutes, result.temperature_C[:, k], lw=2.2 if bold else 0.9, alpha=1.0 if bold else 0.7,
+                label=joint if k in named else None, color=None if k in named else "0.7",
+                zorder=3 if bold else 2)
     others = len(result.joints) - len(named)
     if others:  # the grey lines say what they are
         ax.plot([], [], color="0.7", lw=0.9, label=f"{others} other joint{'s' * (others > 1)}, lower peaks")

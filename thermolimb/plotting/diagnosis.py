@@ -50,9 +50,8 @@ def plot_residuals(d: Diagnosis, path: Path) -> Path:
         axc.plot(c.lags_s, c.values, color="tab:blue", lw=0.8)
         outside = np.abs(np.asarray(c.values)) > c.band
         axc.plot(np.asarray(c.lags_s)[outside], np.asarray(c.values)[outside], ".", color="tab:red", ms=2)
-        axc.set_title(
-            f"residual vs {name}: cross-correlation\n(red: lags outside Bartlett's band)", fontsize=9
-        )
+        axc.set_title(f"residual vs {name}: cross-correlation\n(red: lags outside Bartlett's band)",
+                      fontsize=9)
         axc.set_xlabel("lag (s)")
     fig.tight_layout()
     return save(fig, path)
@@ -83,13 +82,8 @@ def candidates_figure(d: Diagnosis):
         taken = (", taken "
                  f"{round(c.selection_frequency * d.stability['replicates'])}/{d.stability['replicates']}"
                  if c.selection_frequency is not None else "")
-        ax.text(
-            max(100 * c.improvement, 0),
-            y,
-            f"  {c.status}, {c.rmse_K:.3f} K{taken}{mark}{why}",
-            va="center",
-            fontsize=8,
-        )
+        ax.text(max(100 * c.improvement, 0), y, f"  {c.status}, {c.rmse_K:.3f} K{taken}{mark}{why}",
+                va="center", fontsize=8)
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(10, color="tab:green", ls=":", lw=0.8, label="10 % needed to add an effect")
     lo, hi = ax.get_xlim()
@@ -108,14 +102,9 @@ def candidates_figure(d: Diagnosis):
         fontsize=10,
     )
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in STATUS_COLOURS.values()]
-    ax.legend(
-        handles + ax.get_legend_handles_labels()[0],
-        list(STATUS_COLOURS) + ["10 % needed to add an effect"],
-        fontsize=7,
-        loc="upper left",
-        bbox_to_anchor=(1.01, 1.0),
-        borderaxespad=0.0,
-    )
+    ax.legend(handles + ax.get_legend_handles_labels()[0],
+              list(STATUS_COLOURS) + ["10 % needed to add an effect"], fontsize=7, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     if others:
         text = "\n".join(f"{readable(c.label)}: {c.status} "
                          f"({c.confounded.split(':')[0] if c.confounded else c.not_refitted_because})"

@@ -55,9 +55,8 @@ def plot_drift(records: list[dict], path: str | Path, effort_unit: str | None = 
         beyond = 0  # values written beside the edge's triangles, staggered so that neighbours' do not overlap
         for xk, vk, sk, color, label in points:
             if lo <= vk <= hi:
-                ax.errorbar(
-                    xk, vk, yerr=2.0 * sk, fmt="o", color=color, ms=4, capsize=2, lw=1, label=label or None
-                )
+                ax.errorbar(xk, vk, yerr=2.0 * sk, fmt="o", color=color, ms=4, capsize=2, lw=1,
+                            label=label or None)
             else:  # beyond the shown range: a triangle on the edge, with the value
                 edge = hi if vk > hi else lo
                 ax.plot(xk, edge, "^" if vk > hi else "v", color=color, ms=7, clip_on=False)

@@ -86,13 +86,8 @@ def overlay(report: FitReport, ax_temperature, ax_error=None, ax_effort=None) ->
                               ("validation", "tab:orange", report.validation_segments)):
         for i, seg in enumerate(segs):
             t = seg.time_s + shift[seg.run]
-            ax_temperature.plot(
-                t,
-                seg.measured_C,
-                color="0.2",
-                lw=1,
-                label="measured" if part == "training" and i == 0 else None,
-            )
+            ax_temperature.plot(t, seg.measured_C, color="0.2", lw=1,
+                                label="measured" if part == "training" and i == 0 else None)
             ax_temperature.plot(t, seg.simulated_C, color=color, lw=1.2,
                                 label=f"model free run, {part}" if i == 0 else None)
             if part == "validation":

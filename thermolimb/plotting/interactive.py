@@ -76,9 +76,8 @@ def temperature_figure(reports: list, actuator: str):
     """
     from plotly.subplots import make_subplots
 
-    fig = make_subplots(
-        rows=3, cols=1, shared_xaxes=True, vertical_spacing=0.04, row_heights=[0.55, 0.25, 0.2]
-    )
+    fig = make_subplots(rows=3, cols=1, shared_xaxes=True, vertical_spacing=0.04,
+                        row_heights=[0.55, 0.25, 0.2])
     first = reports[0][1]
     segments = sorted(list(first.train_segments) + list(first.validation_segments),
                       key=lambda s: (s.run, float(s.time_s[0])))
@@ -97,32 +96,19 @@ def temperature_figure(reports: list, actuator: str):
                 step = _thin(len(seg.time_s))
                 name = f"{label} ({part})"
                 t = seg.time_s + shift.get(seg.run, 0.0)
-                fig.add_scatter(
-                    x=t[::step],
-                    y=seg.simulated_C[::step],
-                    row=1,
-                    col=1,
-                    name=name,
-                    legendgroup=name,
-                    showlegend=k == 0,
-                    line={"color": color, "width": 1.4, "dash": dash},
-                )
+                fig.add_scatter(x=t[::step], y=seg.simulated_C[::step], row=1, col=1, name=name,
+                                legendgroup=name, showlegend=k == 0,
+                                line={"color": color, "width": 1.4, "dash": dash})
                 fig.add_scatter(x=t[::step], y=(seg.measured_C - seg.simulated_C)[::step], row=2, col=1,
                                 name=f"{name} residual", legendgroup=name, showlegend=False,
                                 line={"color": color, "width": 1, "dash": dash})
     for seg in first.validation_segments:
-        fig.add_vrect(
-            x0=float(seg.time_s[0]) + shift[seg.run],
-            x1=float(seg.time_s[-1]) + shift[seg.run],
-            fillcolor="orange",
-            opacity=0.08,
-            line_width=0,
-        )
+        fig.add_vrect(x0=float(seg.time_s[0]) + shift[seg.run], x1=float(seg.time_s[-1]) + shift[seg.run],
+                      fillcolor="orange", opacity=0.08, line_width=0)
     fig.update_yaxes(title_text="temperature (°C)", row=1, col=1)
     fig.update_yaxes(title_text="measured − model (K)", row=2, col=1)
-    fig.update_yaxes(
-        title_text=f"effort ({first.channel_units.get('effort', 'unit not given')})", row=3, col=1
-    )
+    fig.update_yaxes(title_text=f"effort ({first.channel_units.get('effort', 'unit not given')})", row=3,
+                     col=1)
     fig.update_xaxes(title_text="time (s; runs one after another)", row=3, col=1)
     fig.update_layout(height=720, title=f"{actuator}: measured and model temperature (validation shaded)",
                       hovermode="x unified", margin={"t": 60, "l": 70, "r": 20, "b": 50})
@@ -179,9 +165,8 @@ def waterfall_figure(steps: list[dict], actuator: str):
 
 
 def thinning_note(report) -> str:
-    n = max(
-        (len(s.time_s) for s in list(report.train_segments) + list(report.validation_segments)), default=0
-    )
+    n = max((len(s.time_s) for s in list(report.train_segments) + list(report.validation_segments)),
+            default=0)
     step = _thin(n)
     return f" Drawn at every {step}-th sample (runs of up to {n} samples)." if step > 1 else ""
 

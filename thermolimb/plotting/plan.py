@@ -23,22 +23,11 @@ def plot_plan(plan, folder: Path) -> Path:
     top.grid(alpha=0.3)
     lim = plan.limits
     bottom.plot(minutes, plan.predicted_C, color="tab:red", label="predicted winding")
-    bottom.fill_between(
-        minutes,
-        plan.predicted_C,
-        plan.high_C,
-        color="tab:red",
-        alpha=0.2,
-        label="up to the 90 % interval's upper end",
-    )
+    bottom.fill_between(minutes, plan.predicted_C, plan.high_C, color="tab:red", alpha=0.2,
+                        label="up to the 90 % interval's upper end")
     bottom.axhline(lim.limit_C, ls="--", color="black", lw=0.9, label=f"limit {lim.limit_C:g} degC")
-    bottom.axhline(
-        lim.limit_C - lim.margin_K,
-        ls=":",
-        color="black",
-        lw=0.9,
-        label=f"limit less the margin ({lim.margin_K:g} K)",
-    )
+    bottom.axhline(lim.limit_C - lim.margin_K, ls=":", color="black", lw=0.9, label=f"limit less the margin "
+                   f"({lim.margin_K:g} K)")
     bottom.set_xlabel("test time (min)")
     bottom.set_ylabel("winding temperature (degC)")
     bottom.legend(loc="lower right", fontsize=7, frameon=False)

@@ -138,9 +138,8 @@ class Runner:
                 raise UsageError("the ray backend needs Ray: pip install 'thermolimb[ray]'") from None
             check_ray_address(self.address)
             self._started_ray = not ray.is_initialized()
-            ray.init(
-                address=self.address, ignore_reinit_error=True, include_dashboard=False, log_to_driver=False
-            )
+            ray.init(address=self.address, ignore_reinit_error=True, include_dashboard=False,
+                     log_to_driver=False)
             self._ray = ray
         return self
 

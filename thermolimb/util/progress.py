@@ -20,13 +20,5 @@ def on_terminal() -> bool:
 def progress(iterable=None, desc: str = "", disable: bool = False, **kwargs):
     """A tqdm bar on standard error when it is a terminal; otherwise (or with ``disable=True``) a plain
     iterator."""
-    return tqdm(
-        iterable,
-        desc=desc,
-        disable=disable or not on_terminal(),
-        file=sys.stderr,
-        dynamic_ncols=True,
-        mininterval=0.5,
-        leave=False,
-        **kwargs,
-    )
+    return tqdm(iterable, desc=desc, disable=disable or not on_terminal(), file=sys.stderr,
+                dynamic_ncols=True, mininterval=0.5, leave=False, **kwargs)

@@ -168,9 +168,8 @@ def channel_excitation(channel: str, fitted, judged) -> ChannelExcitation:
     temperatures)."""
     fit_parts = [(s.signals, s.temperature_C, s.fit_mask) for s in fitted]
     judged_parts = [(signals, temperature_C, None) for signals, temperature_C in judged]
-    values = _moved(
-        channel, [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts]
-    )
+    values = _moved(channel,
+                    [(signals, temperature_C) for signals, temperature_C, _ in fit_parts + judged_parts])
     scale = _scale(channel, values)
     counts = []
     for parts, moved in ((fit_parts, values[:len(fit_parts)]), (judged_parts, values[len(fit_parts):])):

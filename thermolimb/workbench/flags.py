@@ -52,10 +52,9 @@ def parameter_flags(model: ThermalModel, stderr: Mapping[str, float], series: Se
         scale = abs(p.typical) if p.typical else 1.0
         if p.unit == "s":
             if v >= LONG_TIME_CONSTANT * duration * (1.0 - 1e-6):
-                flags.append(
-                    f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or longer "
-                    f"({duration:.0f} s): the log shows the start of a change, not its time constant"
-                )
+                flags.append(f"{p.name} = {significant(v, 3)} s is {LONG_TIME_CONSTANT:g}x the log or "
+                             f"longer ({duration:.0f} s): the log shows the start of a change, not its "
+                             f"time constant")
             elif v < SHORT_TIME_CONSTANT * dt:
                 flags.append(f"{p.name} = {v:.3g} s is shorter than "
                              f"{SHORT_TIME_CONSTANT:g} sampling intervals "

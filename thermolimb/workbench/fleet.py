@@ -216,13 +216,8 @@ def fit_fleet(
     if not jobs:
         raise UsageError("the logs hold no run of the chosen actuators")
     workers = workers or os.cpu_count() or 1
-    return run_jobs(
-        analyse_run,
-        [(job, model, scheme, method, diagnose, datasheet) for job in jobs],
-        backend,
-        workers,
-        address,
-    )
+    return run_jobs(analyse_run, [(job, model, scheme, method, diagnose, datasheet) for job in jobs], backend,
+                    workers, address)
 
 
 def analyse_file(path: str, read: dict, names: Sequence[str] | None, model: str, scheme: Scheme, method: str,

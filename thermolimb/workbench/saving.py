@@ -35,22 +35,11 @@ def saved_from_report(report, paths: Sequence[str | Path], limit_C: float | None
     rise = np.concatenate([s.simulated_C for s in segments]) - model.params["T_offset_C"]
     rise = float(np.sqrt(np.mean(rise * rise)))
     stats = replace(ResidualStats.of(residual, span, rise), **lead_profile(report))
-    return SavedModel(
-        report.actuator,
-        model,
-        {n: float(report.stderr[n]) for n in names},
-        np.asarray(covariance, float),
-        jackknife_covariance(report),
-        {p.name: report.unit(p) for p in model.parameters},
-        dict(report.channel_units),
-        dict(report.validation),
-        stats,
-        provenance(paths, report.train_series),
-        limit_C,
-        report.method,
-        report.scheme,
-        specs_of(model.terms),
-    )
+    return SavedModel(report.actuator, model, {n: float(report.stderr[n]) for n in names},
+                      np.asarray(covariance, float), jackknife_covariance(report),
+                      {p.name: report.unit(p) for p in model.parameters}, dict(report.channel_units),
+                      dict(report.validation), stats, provenance(paths, report.train_series), limit_C,
+                      report.method, report.scheme, specs_of(model.terms))
 
 
 LEADS_S = (10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 900.0, 1800.0, 3600.0, 7200.0)

@@ -124,19 +124,6 @@ def endurance(payload_kg: float, ambient_C: float, mode: str, strategy: str, hor
         elapsed += len(prop.cycle_start_s) * cycle.map.period_s
         w = state[cycle.map.winding_index]
         winding = (JOINTS[int(np.argmax(w))], float(np.max(w)))
-    return CellResult(
-        float(payload_kg),
-        float(ambient_C),
-        mode,
-        strategy,
-        crossing,
-        float(horizon_s),
-        0.0 if fell else float(np.mean(distances)),
-        fell,
-        winding[0],
-        winding[1],
-        steady,
-        drift,
-        windows,
-        gait,
-    )
+    return CellResult(float(payload_kg), float(ambient_C), mode, strategy, crossing, float(horizon_s),
+                      0.0 if fell else float(np.mean(distances)), fell, winding[0], winding[1], steady, drift,
+                      windows, gait)

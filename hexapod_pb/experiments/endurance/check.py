@@ -77,6 +77,5 @@ def check_periodic(payload_kg: float, ambient_C: float, mode: str, strategy: str
                     hottest[k // steps] = total.max() / steps
                     total[:] = 0.0
     prop = cycle.map.propagate(start, cycles * cycle.map.period_s)
-    return PeriodicCheck(
-        cycles * cycle.map.period_s, prop.cycle_start_s, hottest, prop.mean_winding_C.max(axis=1)
-    )
+    return PeriodicCheck(cycles * cycle.map.period_s, prop.cycle_start_s, hottest,
+                         prop.mean_winding_C.max(axis=1))

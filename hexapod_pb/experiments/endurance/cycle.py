@@ -97,29 +97,14 @@ def measure_cycle(
     if mode == "stand" or pause_steps(gait, hz) == 0 or strides.fell:
         return strides
     start = np.full(strides.map.M.shape[0], float(ambient_C)) if state is None else state
-    pause = _record(
-        payload_kg,
-        False,
-        forces,
-        ambient_C,
-        moving,
-        strides.map.M @ start + strides.map.c,
-        thermal,
-        seed,
-        pause_steps(gait, hz),
-    )
+    pause = _record(payload_kg, False, forces, ambient_C, moving, strides.map.M @ start + strides.map.c,
+                    thermal, seed, pause_steps(gait, hz))
     if pause.fell:
         return pause
     joined = strides.map.followed_by(pause.map)
     mean_sq, mean = _with_pause(strides, pause, pause.map.steps / joined.steps)
-    return Cycle(
-        joined,
-        strides.distance_per_s_m * strides.map.period_s / joined.period_s,
-        False,
-        mean_sq,
-        mean,
-        strides.yaw_drift_deg,
-    )
+    return Cycle(joined, strides.distance_per_s_m * strides.map.period_s / joined.period_s, False, mean_sq,
+                 mean, strides.yaw_drift_deg)
 
 
 def _with_pause(cycle: Cycle, pause: Cycle | None, share: float) -> tuple[np.ndarray, np.ndarray]:
@@ -189,9 +174,8 @@ def _measured(
             distance = float(reading.body_position_m[0] - start[0])
         drift = 0.0 if fell else abs(_wrapped_deg(_yaw_deg(reading.world_R_body) - start_yaw))
         cycle_map = CycleMap(sim.plant, efforts, velocities, config.control_dt_s)
-    return Cycle(
-        cycle_map, distance / cycle_map.period_s, fell, (efforts**2).mean(axis=0), efforts.mean(axis=0), drift
-    )
+    return Cycle(cycle_map, distance / cycle_map.period_s, fell, (efforts**2).mean(axis=0),
+                 efforts.mean(axis=0), drift)
 
 
 def _yaw_deg(world_R_body: np.ndarray) -> float:

@@ -46,9 +46,8 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
     height and weighed in by its share of the time.
     """
     thermal = ThermalContext(bank)
-    nominal = measure_cycle(
-        payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal, seed=seed
-    )
+    nominal = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, NOMINAL_GAIT, thermal=thermal,
+                            seed=seed)
     stock = measure_cycle(payload_kg, mode, "vertical_only", ambient_C, NOMINAL_GAIT, seed=seed)
     # the speed to keep is the stock controller's (vertical forces on the nominal gait), or this one's if
     # faster
@@ -67,9 +66,8 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
         if gait == NOMINAL_GAIT:
             cycle = nominal
         else:
-            cycle = measure_cycle(
-                payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed
-            )
+            cycle = measure_cycle(payload_kg, mode, "thermal_aware", ambient_C, gait, thermal=thermal,
+                                  seed=seed)
             count += 1
         if cycle.fell:
             continue
@@ -80,9 +78,8 @@ def plan_gait(payload_kg: float, mode: str, ambient_C: float, bank: ModelArrays,
             pause = None
             if share > 0.0:
                 if (reach, height) not in standing:
-                    standing[reach, height] = measure_cycle(
-                        payload_kg, "stand", "thermal_aware", ambient_C, gait, thermal=thermal, seed=seed
-                    )
+                    standing[reach, height] = measure_cycle(payload_kg, "stand", "thermal_aware", ambient_C,
+                                                            gait, thermal=thermal, seed=seed)
                 pause = standing[reach, height]
                 count += 1
                 if pause.fell:

@@ -206,18 +206,10 @@ class Candidate:
 
     @classmethod
     def from_spec(cls, spec: dict) -> "Candidate":
-        return cls(
-            spec["effect"],
-            tuple(spec["model"]),
-            kind=spec["kind"],
-            replaces=spec["replaces"],
-            also_drops=tuple(spec["also_drops"]),
-            channel=spec["channel"],
-            channel_unit=spec["channel_unit"],
-            formula=spec["formula"],
-            settled_plausible=spec.get("plausible"),
-            brings=tuple(spec["brings"]),
-        )
+        return cls(spec["effect"], tuple(spec["model"]), kind=spec["kind"], replaces=spec["replaces"],
+                   also_drops=tuple(spec["also_drops"]), channel=spec["channel"],
+                   channel_unit=spec["channel_unit"], formula=spec["formula"],
+                   settled_plausible=spec.get("plausible"), brings=tuple(spec["brings"]))
 
     def to_json(self) -> dict:
         out = {
@@ -361,9 +353,8 @@ def score_candidate(cand: Candidate, base: ThermalModel, train: list[ActuatorSer
     own_share = float("nan")
     at_null = simulate_all(base, train, stride) if base_run is None else base_run
     for fixed in _grid(term, train):
-        score, p_value, r2, step, share, partner = _score_at(
-            cand, term, base, train, jacobian, residual, fixed, stride, at_null
-        )
+        score, p_value, r2, step, share, partner = _score_at(cand, term, base, train, jacobian, residual,
+                                                             fixed, stride, at_null)
         own_share = np.fmax(own_share, share)
         scored.append((score, p_value, r2, {**dict(base.params), **step, **fixed}, partner))
     nuisance = [p.name for p in term.parameters if p.nuisance]

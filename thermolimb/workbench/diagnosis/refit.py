@@ -147,13 +147,8 @@ def ordered_starts(
     screened = []
     for initial, fixed in points:
         try:
-            est = FreeRunLeastSquares(
-                model=cand.model,
-                initial=initial,
-                max_iterations=evaluations,
-                fixed=fixed or None,
-                max_samples=SCREEN_SAMPLES,
-            )
+            est = FreeRunLeastSquares(model=cand.model, initial=initial, max_iterations=evaluations,
+                                      fixed=fixed or None, max_samples=SCREEN_SAMPLES)
             est.fit(train)
         except IdentifiabilityError:
             continue

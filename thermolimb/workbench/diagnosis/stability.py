@@ -210,9 +210,8 @@ def contenders(candidates: list[Candidate], model: tuple[str, ...]) -> list[Cand
         and (c.eligible or (c.improvement or 0.0) >= 0.5 * MIN_IMPROVEMENT)
         and (c.eligible or not c.brings)
     ]
-    best = min(
-        (c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K, default=None
-    )
+    best = min((c for c in judged if c.eligible and c.rmse_K is not None), key=lambda c: c.rmse_K,
+               default=None)
     return [c for c in judged if best is None or c.rmse_K is None or c.rmse_K <= BEHIND * best.rmse_K
             or effect_key(c, model) == effect_key(best, model)]
 
