@@ -4,7 +4,7 @@ under --drop-incomplete (refused with that option named otherwise); units spelt 
 unambiguous; a blank actuator name counted or refused, never dropped in silence; inspect never suggests a
 column that never varies over one that does; one actuator's trouble stays its own; a sensor that reads low while
 driven (the GimbalBot thermocouple) is refused with its intervals; a sensor held at a fixed value after a jump is
-set aside however long.  Tests of selection on real files (the GimbalBot runs) and on plant logs."""
+set aside however long; a Windows tool's encodings and columns aligned with spaces read as the file itself.  Tests of selection on real files (the GimbalBot runs) and on plant logs."""
 
 import json
 from dataclasses import replace
@@ -225,3 +225,28 @@ def test_a_long_format_log_without_its_header_row_is_detected_beside_its_actuato
     named = json.loads(capsys.readouterr().out)
     assert main(["fit", str(whole), "--json"]) == 0
     assert named["params"] == json.loads(capsys.readouterr().out)["params"]  # every sample read, the first too
+
+
+BLDC = REAL_DIR / "tass-bldc-bench" / "Run2-Throttle100_unified.csv"
+
+
+@pytest.mark.parametrize("kind", ["cp1252", "utf16", "aligned"])
+def test_windows_encodings_and_space_aligned_columns_are_read_as_the_file_itself(kind, tmp_path, capsys):
+    """The BLDC bench's log as Windows tools write it (Windows-1252: "°C" as one byte; UTF-16 with its
+    byte-order mark, Excel's "Unicode text") and as a program's aligned columns (``%10.3f``, spaces between):
+    inspect suggests the map, and the log read with it holds the original's numbers, the encoding said."""
+    original = pd.read_csv(BLDC)
+    path = tmp_path / f"bldc_{kind}.csv"
+    if kind == "aligned":
+        lines = ["    time_s   power_W     temp_C"]
+        lines += [f"{t:10.1f}{p:10.3f}{c:11.4f}" for t, p, c in original.itertuples(index=False)]
+        path.write_text("\n".join(lines) + "\n")
+    else:
+        path.write_text(BLDC.read_text(encoding="utf-8"), encoding="cp1252" if kind == "cp1252" else "utf-16")
+    assert main(["inspect", str(path), "--json"]) == 0
+    mapping = json.loads(capsys.readouterr().out)["suggested_map"]
+    log = read_log(path, mapping=",".join(f"{k}={v}" for k, v in mapping.items()))
+    temperature = log.frame["temperature"].to_numpy()
+    assert np.allclose(temperature, original.iloc[:, 2].to_numpy(), atol=1e-4)
+    assert np.allclose(log.frame["time"].to_numpy(), original.iloc[:, 0].to_numpy())
+    assert any("Windows-1252" in n for n in log.notes) == (kind == "cp1252")

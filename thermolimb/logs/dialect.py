@@ -1,20 +1,23 @@
-"""How a CSV file is written: its separator, decimal mark, header line (after a preamble, or none: a logger
-that writes numbers from the first line), a row of units under the header, and the names ``--columns`` gives a
-file without a header.  :func:`csv_dialect` finds it from the file's first lines, as every reader of a CSV log
-takes it."""
+"""How a CSV file is written: its text encoding (UTF-8, UTF-16 with its byte-order mark, or Windows-1252 as
+Windows tools write "°C"), its separator (a character, or runs of spaces in columns aligned by a program's
+``%10.3f``), decimal mark, header line (after a preamble, or none: a logger that writes numbers from the first
+line), a row of units under the header, and the names ``--columns`` gives a file without a header.
+:func:`csv_dialect` finds it from the file's first lines, as every reader of a CSV log takes it."""
 
 from __future__ import annotations
 
+import codecs
 import csv
 import re
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..util.errors import LogError
 from .units import header_unit
 
 SEPARATORS = (",", ";", "\t", "|")
+WHITESPACE = r"\s+"  # columns aligned with spaces: pandas' separator for runs of white space
 SNIFF_LINES = 200
 _DECIMAL_COMMA = re.compile(r"(^|[;\t|])\s*-?\d+,\d+\s*(?=[;\t|]|$)")
 
@@ -29,12 +32,13 @@ class Dialect:
     header_line: str
     units_line: str | None = None  # a row of units under the header, skipped by ``options``
     headerless: bool = False  # the first line holds data (numbers), not names: ``options`` name the columns
+    read_as: str | None = None  # how the file was read where it is not plain UTF-8, for a note
 
     @property
     def header(self) -> list[str]:
         if self.headerless:
             return list(self.options["names"])
-        return next(csv.reader([self.header_line], delimiter=self.options["sep"]), [])
+        return fields_of(self.header_line, self.options["sep"])
 
     def named(self, names, path) -> dict:
         """``options`` with the columns named ``names`` (``--columns``), checked against the file."""
@@ -63,11 +67,43 @@ def check_names(names, columns: list[str], header, path) -> None:
                        f"expected a name for each column, in the file's order")
 
 
+def fields_of(line: str, sep: str) -> list[str]:
+    """A line's fields: split at ``sep`` as the csv module does (quotes kept together), or at runs of white
+    space."""
+    if sep == WHITESPACE:
+        return line.split()
+    return next(csv.reader([line], delimiter=sep), [])
+
+
 def file_dialect(path: Path, sep: str | None, decimal: str | None) -> Dialect:
     """The file's dialect (guessed where not given)."""
-    _refuse_binary(path)
-    head, comments = _scan(path)
-    return _dialect(head, comments, path, sep, decimal)
+    encoding = text_encoding(path)
+    _refuse_binary(path, encoding)
+    head, comments = _scan(path, encoding)
+    dialect = _dialect(head, comments, path, sep, decimal)
+    dialect.options["encoding"] = encoding
+    if encoding == "cp1252":
+        return replace(dialect, read_as=f"{path}: not UTF-8 text: read as Windows-1252 (cp1252), as Windows "
+                                        "tools write it")
+    return dialect
+
+
+def text_encoding(path: Path) -> str:
+    """The file's text encoding: UTF-16 where it starts with that byte-order mark, UTF-8 where every byte of
+    it decodes so, else Windows-1252, which Windows tools write ("°C" as the one byte 0xB0)."""
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    with open(path, "rb") as f:
+        first = f.read(4)
+        if first.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+            return "utf-16"
+        f.seek(0)
+        try:
+            while chunk := f.read(1 << 20):
+                decoder.decode(chunk)
+            decoder.decode(b"", final=True)
+        except UnicodeDecodeError:
+            return "cp1252"
+    return "utf-8-sig"
 
 
 def csv_dialect(text: str, source, sep: str | None = None, decimal: str | None = None) -> Dialect:
@@ -87,14 +123,15 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     sep = sep or _guess_separator([line for _, line in content])
     header_at = _header_line(content, sep)
     data = [line for i, line in content if i > header_at]
-    decimal = decimal or ("," if sep != "," and any(_DECIMAL_COMMA.search(line) for line in data) else ".")
+    comma = sep not in (",", WHITESPACE) and any(_DECIMAL_COMMA.search(line) for line in data)
+    decimal = decimal or ("," if comma else ".")
     skip = comments | set(range(header_at))
     header_line = next(line for i, line in content if i == header_at)
-    header = next(csv.reader([header_line], delimiter=sep), [])
+    header = fields_of(header_line, sep)
     options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace",
                    skiprows=skip or None, skip_blank_lines=True)
     after = next((line for i, line in content if i > header_at), None)
-    following = None if after is None else next(csv.reader([after], delimiter=sep), [])
+    following = None if after is None else fields_of(after, sep)
     if _holds_data(header, following):  # no header row: the first line is a sample (a logger's, a drive's)
         names = [f"column{k + 1}" for k in range(_split(header_line, sep))]
         options.update(header=None, names=names, index_col=False)
@@ -150,8 +187,8 @@ def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,
     if len(after) < 2:
         return None, None
     (at, line), (_, data) = after
-    fields = [f.strip() for f in next(csv.reader([line], delimiter=sep), [])]
-    values = [v.strip() for v in next(csv.reader([data], delimiter=sep), [])]
+    fields = [f.strip() for f in fields_of(line, sep)]
+    values = [v.strip() for v in fields_of(data, sep)]
     if len(fields) != len(names) or not any(fields) or any(
             _NUMBER.match(f) or re.search(r"\d{2}", f) or len(f) > 16 for f in fields):
         return None, None
@@ -161,11 +198,13 @@ def _units_row(content: list[tuple[int, str]], header_at: int, sep: str,
     return at, ["" if u in ("", "-") else u for u in units]
 
 
-def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
-    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB is not a CSV
-    log."""
+def _refuse_binary(path: Path, encoding: str = "utf-8-sig", sniff_bytes: int = 65536) -> None:
+    """A file with NUL bytes, or more than 5 % (and 16) control bytes, in its first 64 KiB (as text, for
+    UTF-16) is not a CSV log."""
     with open(path, "rb") as f:
         head = f.read(sniff_bytes)
+    if encoding == "utf-16":
+        head = head.decode("utf-16", errors="replace").encode("utf-8", errors="replace")
     control = sum(head.count(bytes([b])) for b in range(32) if b not in (9, 10, 12, 13))
     if b"\x00" in head or control > max(16, 0.05 * len(head)):
         raise LogError(f"{path}: not a text file ({control} control "
@@ -173,10 +212,10 @@ def _refuse_binary(path: Path, sniff_bytes: int = 65536) -> None:
                        "CSV log, or a .parquet, .bag or .mcap file named as such")
 
 
-def _scan(path: Path) -> tuple[list[str], set[int]]:
+def _scan(path: Path, encoding: str) -> tuple[list[str], set[int]]:
     """The first ``SNIFF_LINES`` lines, and the indices of every ``#`` comment line in the file."""
     head, comments = [], set()
-    with open(path, encoding="utf-8-sig", errors="replace", newline="") as f:
+    with open(path, encoding=encoding, errors="replace", newline="") as f:
         for i, line in enumerate(f):
             if i < SNIFF_LINES:
                 head.append(line.rstrip("\r\n"))
@@ -186,9 +225,10 @@ def _scan(path: Path) -> tuple[list[str], set[int]]:
 
 
 def _guess_separator(lines: list[str]) -> str:
-    """The separator that splits the most lines into the same number (>1) of fields."""
+    """The separator that splits the most lines into the same number (>1) of fields; runs of white space only
+    where they split more lines so than any character does (columns aligned with spaces)."""
     best, best_score = ",", -1.0
-    for sep in SEPARATORS:
+    for sep in (*SEPARATORS, WHITESPACE):
         counts = [_split(line, sep) for line in lines]
         modal = max(set(counts), key=counts.count)
         if modal < 2:
@@ -213,11 +253,13 @@ def _header_line(content: list[tuple[int, str]], sep: str) -> int:
 def _split(line: str, sep: str) -> int:
     """Number of fields, ignoring separators inside double quotes and one at the end of the line (a logger
     that ends every line with a separator writes no field after it)."""
+    if sep == WHITESPACE:
+        return len(line.split())
     return len(re.sub(r'"[^"]*"', "", line.rstrip()).removesuffix(sep).split(sep))
 
 
 def separator_name(sep: str) -> str:
-    return {",": "comma", ";": "semicolon", "\t": "tab", "|": "bar"}.get(sep, repr(sep))
+    return {",": "comma", ";": "semicolon", "\t": "tab", "|": "bar", WHITESPACE: "space"}.get(sep, repr(sep))
 
 
 def shown_names(names, limit: int = 300) -> str:

@@ -50,6 +50,7 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None, n
     frame.columns = [str(c).strip() for c in frame.columns]
     frame.attrs["duplicate_columns"] = dialect.duplicates
     frame.attrs["headerless"] = dialect.header_line if dialect.headerless else None
+    frame.attrs["read_as"] = dialect.read_as
     frame.attrs["named"] = bool(names) and dialect.headerless
     return frame
 
@@ -224,6 +225,7 @@ def _csv_chunks(path: Path, sep, decimal, columns, rows: int, names=None):
             chunk.columns = [str(c).strip() for c in chunk.columns]
             chunk.attrs["duplicate_columns"] = duplicates
             chunk.attrs["headerless"] = dialect.header_line if dialect.headerless else None
+            chunk.attrs["read_as"] = dialect.read_as
             yield chunk
     except (ValueError, OSError, pd.errors.ParserError) as exc:
         raise LogError(f"{path}: cannot be read as a "

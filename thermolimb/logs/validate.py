@@ -90,6 +90,8 @@ def from_frame(
         refuse_unstated_fahrenheit(mapping, stated, source)
     later = reading is not None and reading.decided
     refuse_duplicates(frame, set(mapping.values()) if mapping else set(REQUIRED + OPTIONAL), source, notes)
+    if frame.attrs.get("read_as") and not later:
+        notes.append(frame.attrs["read_as"])
     first_line = frame.attrs.get("headerless")
     if first_line is not None and not later:
         notes.append(f"{source}: the file has no header row (its "
