@@ -250,3 +250,20 @@ def test_windows_encodings_and_space_aligned_columns_are_read_as_the_file_itself
     assert np.allclose(temperature, original.iloc[:, 2].to_numpy(), atol=1e-4)
     assert np.allclose(log.frame["time"].to_numpy(), original.iloc[:, 0].to_numpy())
     assert any("Windows-1252" in n for n in log.notes) == (kind == "cp1252")
+
+
+def test_times_of_day_that_pass_midnight_go_on_counting(tmp_path):
+    """A log with its date and its time of day in two columns, running overnight: 23:59:59.9 is followed by
+    00:00:00.0 and the read goes on (it was refused: time does not increase), the crossing said."""
+    original = pd.read_csv(BLDC)
+    start = 23 * 3600 + 59 * 60  # 23:59:00, so the run passes midnight after 60 s
+    of_day = (start + original.iloc[:, 0].to_numpy()) % 86400
+    clock = [f"{int(s // 3600):02d}:{int(s % 3600 // 60):02d}:{s % 60:06.3f}" for s in of_day]
+    frame = pd.DataFrame({"Date": ["2015-01-26" if s >= start else "2015-01-27" for s in of_day], "Time": clock,
+                          "Power (W)": original.iloc[:, 1], "Winding Temp (°C)": original.iloc[:, 2]})
+    path = tmp_path / "overnight.csv"
+    frame.to_csv(path, index=False)
+    log = read_log(path, mapping="time=Time,effort=Power (W),temperature=Winding Temp (°C)")
+    time = log.frame["time"].to_numpy()
+    assert np.allclose(time - time[0], original.iloc[:, 0].to_numpy(), atol=1e-6)
+    assert any("pass midnight 1 time(s)" in n for n in log.notes)

@@ -23,6 +23,7 @@ from .dialect import check_names, file_dialect, separator_name
 from .formats import kind_of
 
 CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
+DAY_S = 86400.0
 _CLOCK = re.compile(r"^\s*(?:(\d+):)?(\d+):(\d+(?:\.\d*)?)\s*$")
 
 
@@ -252,11 +253,11 @@ def refuse_duplicates(frame: pd.DataFrame, used, source: str, notes: list[str]) 
                      + ", ".join(repr(f"{name}.{k}") for k in range(1, count)))
 
 
-def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np.ndarray:
+def time_seconds(values: pd.Series, source: str, column: str, origin=None, notes=None) -> np.ndarray:
     """Seconds from the first sample, from numbers, datetimes, ISO timestamps or clock-style elapsed times.
 
     ``origin`` (a UTC timestamp) replaces the first sample as the zero of timestamps, so
-    that several time columns share one clock.
+    that several time columns share one clock.  A clock that passes midnight is said in ``notes``.
     """
     if pd.api.types.is_datetime64_any_dtype(values):
         stamps = pd.to_datetime(values, utc=True)
@@ -274,7 +275,12 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
     if clock.all():
         parts = text[present].str.extract(_CLOCK.pattern).astype(float).fillna(0.0)
         seconds = np.full(len(values), np.nan)
-        seconds[present.to_numpy()] = (parts[0] * 3600 + parts[1] * 60 + parts[2]).to_numpy()
+        of_day = (parts[0] * 3600 + parts[1] * 60 + parts[2]).to_numpy()
+        seconds[present.to_numpy()] = past_midnight(of_day)
+        days = int(round((seconds[present.to_numpy()][-1] - of_day[-1]) / DAY_S)) if of_day.size else 0
+        if days and notes is not None:
+            notes.append(f"{source}: time column {column!r} holds times of day that pass midnight "
+                         f"{days} time(s): a day added at each")
         return seconds
     try:
         stamps = pd.to_datetime(values, utc=True, format="ISO8601")
@@ -298,6 +304,13 @@ def time_seconds(values: pd.Series, source: str, column: str, origin=None) -> np
             f"or elapsed times (m:ss.s)"
         ) from None
     return _from_stamps(stamps, source, column, origin)
+
+
+def past_midnight(seconds: np.ndarray) -> np.ndarray:
+    """Times of day (s) carried past midnight: where the clock falls by more than half a day (23:59:59.9, then
+    00:00:00.0: a log running overnight beside its date column), a day is added to what follows."""
+    days = np.concatenate([[0.0], np.cumsum(np.diff(seconds) < -DAY_S / 2)]) * DAY_S
+    return seconds + days
 
 
 def is_stamped(values: pd.Series) -> bool:

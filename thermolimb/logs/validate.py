@@ -165,7 +165,7 @@ def from_frame(
     # the validated columns, as arrays (a float column of the frame is taken as it is, not copied)
     origin = reading.origin if later else (first_stamp(frame["time"]) if reading is not None else None)
     out = {
-        "time": np.array(time_seconds(frame["time"], source, "time", origin), copy=copy),
+        "time": np.array(time_seconds(frame["time"], source, "time", origin, notes), copy=copy),
         "actuator": names,
     }
     numeric_time = pd.api.types.is_numeric_dtype(frame["time"])

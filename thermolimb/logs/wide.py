@@ -141,8 +141,8 @@ def _aligned(frame: pd.DataFrame, mapping: Mapping[str, str], source: str, actua
                          f"rows of {time_column} that hold it (the "
                          f"other {int((~rows & frame[time_column].notna()).sum())} "
                          "hold other channels' messages)")
-        columns[key] = series_of(time_seconds(frame.loc[rows, time_column], source, time_column, origin),
-                                 pd.to_numeric(frame.loc[rows, column], errors="coerce"),
+        seconds = time_seconds(frame.loc[rows, time_column], source, time_column, origin, notes)
+        columns[key] = series_of(seconds, pd.to_numeric(frame.loc[rows, column], errors="coerce"),
                                  source, key, drop_incomplete, notes)
     aligned, more = align(columns.pop("temperature"), columns, source)
     notes += more
