@@ -267,3 +267,25 @@ def test_times_of_day_that_pass_midnight_go_on_counting(tmp_path):
     time = log.frame["time"].to_numpy()
     assert np.allclose(time - time[0], original.iloc[:, 0].to_numpy(), atol=1e-6)
     assert any("pass midnight 1 time(s)" in n for n in log.notes)
+
+
+@pytest.mark.parametrize("clock, unit, per_s", [("ms_today", "ms", 1e3), ("millis", "ms", 1e3),
+                                                ("micros", "us", 1e6)])
+def test_a_drive_s_log_is_mapped_by_its_clock_count_and_its_motor_current(clock, unit, per_s, tmp_path, capsys):
+    """A VESC's log (``;``-separated, ``ms_today``, the motor's current beside the battery's, the FETs' three
+    temperatures at zero) and an Arduino's (``millis()``, ``micros()``): inspect takes the clock's count in its
+    unit for the time and the motor's current over the battery's, and the log read with it holds the plant's
+    samples."""
+    frame = _plant_frame(600.0)
+    n = len(frame)
+    log = pd.DataFrame({clock: (45_000 + frame["time"].to_numpy()) * per_s, "input_voltage": 24.0,
+                        "temp_mos_1": 0.0, "temp_mos_2": 0.0, "temp_motor": frame["temperature"].round(2),
+                        "current_motor": (frame["effort"] / 0.08).round(3), "current_in": 0.3 * frame["effort"],
+                        "tachometer": np.arange(n)})
+    path = tmp_path / "drive.csv"
+    log.to_csv(path, sep=";", index=False)
+    assert main(["inspect", str(path), "--json"]) == 0
+    mapping = json.loads(capsys.readouterr().out)["suggested_map"]
+    assert mapping == {"temperature": "temp_motor", "effort": "current_motor", "time": f"{clock}:{unit}"}
+    read = read_log(path, mapping=",".join(f"{k}={v}" for k, v in mapping.items()))
+    assert np.allclose(np.diff(read.frame["time"].to_numpy()), np.diff(frame["time"].to_numpy()))

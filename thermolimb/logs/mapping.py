@@ -199,7 +199,11 @@ NAMED_UNITS = {
     "power": {"w": "W", "mw": "mW", "kw": "kW"},
     "time": {"ms": "ms", "us": "us", "ns": "ns", "min": "min"},
 }  # seconds need no saying
-# words that name a motor's temperature, and words that name its electronics' (a driver's FETs, a board)
+# columns that count a clock's ticks, by the unit they count in: Arduino's millis() and micros(), a VESC
+# log's milliseconds since midnight
+CLOCK_COUNTERS = {"millis": "ms", "micros": "us", "ms_today": "ms"}
+# words that name a motor's temperature or current, and words that name its electronics' (a driver's FETs, a
+# board)
 MOTOR_WORDS = ("motor", "winding", "stator", "coil")
 ELECTRONICS_WORDS = ("fet", "mosfet", "driver", "board", "pcb", "mcu", "cpu", "inverter", "esc", "controller",
                      "heatsink", "igbt")
@@ -288,7 +292,7 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
                 mapping[channel] = single[0]
                 used.add(single[0])
                 break
-            motor = the_motor_s(single) if channel == "temperature" else None
+            motor = the_motor_s(single) if channel in ("temperature", "current") else None
             if motor is not None:
                 mapping[channel] = motor
                 used.add(motor)
@@ -331,6 +335,12 @@ def suggest_table_mapping(columns, values: Mapping[str, int],
             reasons.append(f"{channel}={column}: its name ends in a "
                            f"unit, so the suggestion states it ({unit}); "
                            f"change it if the name means otherwise")
+    clocks = [n for n in names if n.lower() in CLOCK_COUNTERS]
+    if "time" not in mapping and len(clocks) == 1:  # an Arduino's millis(), a VESC's ms_today
+        unit = CLOCK_COUNTERS[clocks[0].lower()]
+        mapping["time"] = f"{clocks[0]}:{unit}"
+        reasons.append(f"time={clocks[0]}:{unit}: a clock's count of {unit} (an Arduino's millis(), a VESC "
+                       f"log's ms_today); change it if the column counts otherwise")
     timed = _own_time_columns(mapping, several.get("time", []), values) if "time" not in mapping else None
     if timed is not None:
         reasons = [r for r in reasons if not r.startswith("time: several")]
@@ -420,18 +430,18 @@ def _says(words, name: str) -> bool:
 
 
 def the_motor_s(columns: list[str]) -> str | None:
-    """Of several temperature columns, the one whose name says the motor's where no other does
+    """Of several temperature (or current) columns, the one whose name says the motor's where no other does
     (``motor_thermistor`` beside ``fet_thermistor``; moteus's ``servo1.motor_temperature`` beside its board's
-    ``servo1.temperature``), else ``None``."""
+    ``servo1.temperature``; a VESC's ``current_motor`` beside its battery's ``current_in``), else ``None``."""
     motor = [c for c in columns if _says(MOTOR_WORDS, c) and not _says(ELECTRONICS_WORDS, c)]
     return motor[0] if len(motor) == 1 else None
 
 
 def _others_left(channel: str, chosen: str, others: list[str]) -> str:
     """Why one of several columns that could be a channel was taken, and what the others are left as."""
-    if channel == "temperature" and _says(MOTOR_WORDS, chosen):
+    if channel in ("temperature", "current") and _says(MOTOR_WORDS, chosen):
         kind = "its electronics" if all(_says(ELECTRONICS_WORDS, c) for c in others) else "no motor"
-        return (f"temperature: {chosen} names the motor, {', '.join(others)} {kind}; those are left to "
+        return (f"{channel}: {chosen} names the motor, {', '.join(others)} {kind}; those are left to "
                 f"diagnose --discover as extra channels")
     return f"{channel}: {chosen} taken of several that could be it ({', '.join([chosen, *others])}); check it"
 
