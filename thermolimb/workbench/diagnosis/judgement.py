@@ -23,6 +23,8 @@ MIN_INFLUENTIAL = 3  # ... and at least this many of them
 KEPT_GAIN = 0.5  # ... keeping at least this share of the gate (a 10 % gate: 5 % without them)
 # a held-out unit whose readings span less than this share of the widest unit's holds no dynamics
 STILL_SPAN = 0.1
+# a swapped heat source counts as determined where its Wald statistic is this share of the one it replaces
+AS_WELL = 0.25
 
 
 def judge(cand: Candidate, report, base, base_bic: float) -> Candidate:
@@ -60,14 +62,35 @@ def judge(cand: Candidate, report, base, base_bic: float) -> Candidate:
 
 def identified(cand: Candidate, terms, report, base) -> bool:
     """Whether the log determines the change's terms (:func:`term_identified`).  A heat source swapped for
-    another is held to what the log shows of the one it replaces: where the base's own source is no better
-    determined (on a run that only heats, each trades with the time constant alike), the swap is judged, as
-    the base is kept, by its held-out error.  On the BLDC bench's full-throttle run, whose effort is the
-    electrical power, heat from the power for Joule heating is such a swap."""
+    another is held to what the log shows of the one it replaces: where its Wald statistic is at least
+    :data:`AS_WELL` of the base's source's (on a run that only heats, each trades with the time constant
+    alike), the swap is judged, as the base is kept, by its held-out error.  On the BLDC bench's full-throttle
+    run, whose effort is the electrical power, heat from the power for Joule heating is such a swap (its
+    statistic 0.6 of Joule heating's, neither past the test's threshold)."""
     if all(bool(term_identified(t, report)) for t in terms):  # NumPy bools are not ``False``
         return True
-    return (cand.kind == "swap" and cand.replaces in base.model.terms
-            and not term_identified(TERMS[cand.replaces], base))
+    if cand.kind != "swap" or cand.replaces not in base.model.terms:
+        return False
+    new, old = wald_statistic(TERMS[cand.effect], report), wald_statistic(TERMS[cand.replaces], base)
+    return new is not None and old is not None and new >= AS_WELL * old
+
+
+def wald_statistic(term, report) -> float | None:
+    """The Wald statistic of the term's size parameters against their nulls, on the fit's covariance; ``None``
+    where the covariance is not finite or a parameter sits on a bound (nothing is determined then)."""
+    names = [p.name for p in report.model.parameters]
+    primary = [p for p in term.parameters if not p.nuisance]
+    idx = [names.index(p.name) for p in primary]
+    theta = np.array([report.model.params[p.name] - p.null for p in primary])
+    cov = np.asarray(report.estimator.covariance_)[np.ix_(idx, idx)]
+    if not np.all(np.isfinite(cov)):
+        return None
+    for p in primary:
+        value = report.model.params[p.name]
+        span = p.upper - p.lower if np.isfinite(p.upper - p.lower) else max(abs(value), 1.0)
+        if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
+            return None
+    return float(theta @ scaled_inverse(cov) @ theta)
 
 
 def displaced_offset(report, base) -> str | None:
@@ -119,25 +142,12 @@ def term_identified(term, report) -> bool:
     """Whether the log determines the term: its size parameters are jointly non-zero (a Wald test on their
     covariance, so that two parameters that trade off against each other still count as one effect) and
     none of them sits on a bound."""
-    names = [p.name for p in report.model.parameters]
     primary = [p for p in term.parameters if not p.nuisance]
     if not primary:
         return True
-    idx = [names.index(p.name) for p in primary]
-    theta = np.array([report.model.params[p.name] - p.null for p in primary])
-    cov = np.asarray(report.estimator.covariance_)[np.ix_(idx, idx)]
-    if not np.all(np.isfinite(cov)):
+    wald = wald_statistic(term, report)
+    if wald is None:
         return False
-    for p in primary:
-        span = (
-            p.upper - p.lower
-            if np.isfinite(p.upper - p.lower)
-            else max(abs(report.model.params[p.name]), 1.0)
-        )
-        value = report.model.params[p.name]
-        if p.lower != p.null and min(abs(value - p.lower), abs(p.upper - value)) < 1e-6 * span:
-            return False
-    wald = float(theta @ scaled_inverse(cov) @ theta)
     if wald > chi2_isf(WALD_LEVEL, len(primary)):
         return True
     # a model that still fits far worse than the sensor's floor has standard errors inflated by what it
