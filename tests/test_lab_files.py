@@ -4,7 +4,7 @@ under --drop-incomplete (refused with that option named otherwise); units spelt 
 unambiguous; a blank actuator name counted or refused, never dropped in silence; inspect never suggests a
 column that never varies over one that does; one actuator's trouble stays its own; a sensor that reads low while
 driven (the GimbalBot thermocouple) is refused with its intervals; a sensor held at a fixed value after a jump is
-set aside however long; a Windows tool's encodings and columns aligned with spaces read as the file itself.  Tests of selection on real files (the GimbalBot runs) and on plant logs."""
+set aside however long; a Windows tool's encodings, columns aligned with spaces, a drive's or an Arduino's clock count, times of day past midnight and an Excel workbook read as the file itself.  Tests of selection on real files (the GimbalBot runs) and on plant logs."""
 
 import json
 from dataclasses import replace
@@ -289,3 +289,27 @@ def test_a_drive_s_log_is_mapped_by_its_clock_count_and_its_motor_current(clock,
     assert mapping == {"temperature": "temp_motor", "effort": "current_motor", "time": f"{clock}:{unit}"}
     read = read_log(path, mapping=",".join(f"{k}={v}" for k, v in mapping.items()))
     assert np.allclose(np.diff(read.frame["time"].to_numpy()), np.diff(frame["time"].to_numpy()))
+
+
+def test_an_excel_workbook_is_read_as_its_sheet_with_a_preamble_and_stamps(tmp_path, capsys):
+    """A lab's Excel export: a title and an operator's line above the header, the time as date-times: inspect
+    suggests the map, the log read with it holds the original's numbers; a file that is no workbook is one
+    sentence, and no log is written as one."""
+    original = pd.read_csv(BLDC)
+    stamps = pd.Timestamp("2015-01-26 14:03") + pd.to_timedelta(original.iloc[:, 0], unit="s")
+    path = tmp_path / "bench.xlsx"
+    with pd.ExcelWriter(path) as sheet:
+        pd.DataFrame([["Motor bench export"], ["Operator: A. Person"]]).to_excel(sheet, index=False, header=False)
+        pd.DataFrame({"Timestamp": stamps, "Power (W)": original.iloc[:, 1],
+                      "Winding Temp (°C)": original.iloc[:, 2]}).to_excel(sheet, index=False, startrow=3)
+    assert main(["inspect", str(path), "--json"]) == 0
+    mapping = json.loads(capsys.readouterr().out)["suggested_map"]
+    assert mapping["time"] == "Timestamp" and mapping["temperature"] == "Winding Temp (°C)"
+    log = read_log(path, mapping=",".join(f"{k}={v}" for k, v in mapping.items()))
+    assert np.allclose(log.frame["time"].to_numpy(), original.iloc[:, 0].to_numpy(), atol=1e-3)
+    assert np.allclose(log.frame["temperature"].to_numpy(), original.iloc[:, 2].to_numpy())
+    (tmp_path / "junk.xlsx").write_text("not a workbook")
+    assert main(["inspect", str(tmp_path / "junk.xlsx")]) == 2
+    assert "cannot be read as an Excel workbook" in capsys.readouterr().err
+    assert main(["simulate", "--duration", "10", "--out", str(tmp_path / "log.xlsx")]) == 2
+    assert "not as Excel workbooks" in capsys.readouterr().err and not (tmp_path / "log.xlsx").exists()

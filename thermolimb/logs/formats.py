@@ -16,7 +16,8 @@ from ..util.atomic import is_stream
 from ..util.errors import LogError
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
-TABLE_SUFFIXES = {".csv": "csv", ".tsv": "csv", ".txt": "csv", ".parquet": "parquet", ".pq": "parquet"}
+TABLE_SUFFIXES = {".csv": "csv", ".tsv": "csv", ".txt": "csv", ".parquet": "parquet", ".pq": "parquet",
+                  ".xlsx": "xlsx", ".xlsm": "xlsx"}
 LOG_SUFFIXES = tuple(TABLE_SUFFIXES) + BAG_SUFFIXES
 
 
@@ -34,8 +35,9 @@ def is_log(path: str | Path) -> bool:
 
 
 def kind_of(path: str | Path) -> str:
-    """``csv`` or ``parquet``, the table a path holds by its suffix; a device, a FIFO or standard output
-    without one takes CSV.  Anything else is one sentence (:class:`~thermolimb.util.errors.LogError`)."""
+    """``csv``, ``parquet`` or ``xlsx`` (an Excel workbook), the table a path holds by its suffix; a device, a
+    FIFO or standard output without one takes CSV.  Anything else is one sentence
+    (:class:`~thermolimb.util.errors.LogError`)."""
     suffix = Path(path).suffix.lower()
     if not suffix and is_stream(path):
         return "csv"
@@ -44,7 +46,7 @@ def kind_of(path: str | Path) -> str:
     if Path(path).is_dir():
         raise LogError(f"{path}: a folder that is not a ROS 2 bag (it has no metadata.yaml); "
                        f"expected a log file, or a ROS 2 bag's folder")
-    raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt or .parquet")
+    raise LogError(f"{path}: unknown log format {suffix!r}; expected .csv, .tsv, .txt, .xlsx or .parquet")
 
 
 def log_format(path: str | Path) -> str:
@@ -54,14 +56,24 @@ def log_format(path: str | Path) -> str:
 
 
 def written_as(path: str | Path) -> str:
-    """How a log is written: ``mcap`` (a ROS 2 bag in one file, written whole), ``csv`` or ``parquet``."""
-    return "mcap" if Path(path).suffix.lower() == ".mcap" else kind_of(path)
+    """How a log is written: ``mcap`` (a ROS 2 bag in one file, written whole), ``csv`` or ``parquet`` (an
+    Excel workbook is read, not written)."""
+    kind = "mcap" if Path(path).suffix.lower() == ".mcap" else kind_of(path)
+    if kind == "xlsx":
+        raise LogError(f"{path}: logs are written as .csv, .parquet or .mcap, not as Excel workbooks; "
+                       "expected one of those")
+    return kind
 
 
 def followed_as(path: str | Path) -> str:
-    """How a growing log is followed: ``mcap`` (a file, or a ROS 2 bag's folder), ``csv`` or ``parquet``."""
+    """How a growing log is followed: ``mcap`` (a file, or a ROS 2 bag's folder), ``csv`` or ``parquet`` (an
+    Excel workbook is not a log being written)."""
     path = Path(path)
-    return "mcap" if path.suffix.lower() == ".mcap" or path.is_dir() else kind_of(path)
+    kind = "mcap" if path.suffix.lower() == ".mcap" or path.is_dir() else kind_of(path)
+    if kind == "xlsx":
+        raise LogError(f"{path}: an Excel workbook is not a log being written; follow a .csv, .parquet or "
+                       ".mcap file")
+    return kind
 
 
 def asked_for(path: str | Path, actuator: str | None, mapping: Mapping[str, str] | None) -> dict:

@@ -130,7 +130,7 @@ def _read_table(path: Path, request: _Request) -> ThermalLog:
                       actuator_name=request.actuator_name or path.stem, **request.options(path))
 
 
-READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table}
+READERS = {"bag": _read_bag, "csv": _read_table, "parquet": _read_table, "xlsx": _read_table}
 
 
 def _read_selected(path: Path, names: list[str], request: _Request) -> ThermalLog:

@@ -3,8 +3,9 @@
 CSV files come with commas, semicolons or tabs, decimal points or decimal
 commas (``27,875`` in a ``;``-separated file), ``#`` comment lines, a byte-order
 mark, sometimes a preamble of metadata lines before the header (data
-loggers write one) and a row of units under it.  :func:`read_table` finds the header and the dialect
-from the file itself; ``sep`` and ``decimal`` override the guess.  Time
+loggers write one) and a row of units under it; an Excel workbook's sheet is read as the CSV text it holds.
+:func:`read_table` finds the header and the dialect from the file itself; ``sep`` and ``decimal`` override the
+guess.  Time
 columns may hold numbers (s), ISO-8601 timestamps or datetimes, or clock-style
 elapsed times (``1:02.5``, ``0:01:02.5``): :func:`time_seconds` turns each
 into seconds from the first sample.
@@ -12,14 +13,18 @@ into seconds from the first sample.
 
 from __future__ import annotations
 
+import csv
+import functools
+import io
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from ..util.errors import LogError
 from ..util.lazy import pandas as pd
-from .dialect import check_names, file_dialect, separator_name
+from .dialect import check_names, csv_dialect, file_dialect, separator_name
 from .formats import kind_of
 
 CHUNK_ROWS = 250_000  # rows per frame when a file is read in pieces
@@ -41,10 +46,10 @@ def read_table(path: Path, sep: str | None = None, decimal: str | None = None, n
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
         check_names(names, list(frame.columns), None, path)
         return frame
-    dialect = file_dialect(path, sep, decimal)
+    source, dialect = _csv_source(path, sep, decimal)
     options = dialect.named(names, path)
     try:
-        frame = pd.read_csv(path, low_memory=False, **options)
+        frame = pd.read_csv(source, low_memory=False, **options)
     except (ValueError, OSError, pd.errors.ParserError) as exc:
         raise LogError(f"{path}: cannot be read as a "
                        f"{separator_name(options['sep'])}-separated CSV file: {exc}") from None
@@ -66,10 +71,11 @@ def column_names(path: Path, sep: str | None = None, decimal: str | None = None,
             return list(pq.ParquetFile(path).schema_arrow.names)
         except (ValueError, OSError) as exc:
             raise LogError(f"{path}: cannot be read as Parquet: {exc}") from None
-    options = file_dialect(path, sep, decimal).named(names, path)
+    source, dialect = _csv_source(path, sep, decimal)
+    options = dialect.named(names, path)
     if "names" in options:
         return list(options["names"])
-    header = pd.read_csv(path, nrows=0, **options)
+    header = pd.read_csv(source, nrows=0, **options)
     return [str(c).strip() for c in header.columns]
 
 
@@ -218,11 +224,11 @@ def _parquet_batches(path: Path, columns, rows: int):
 
 
 def _csv_chunks(path: Path, sep, decimal, columns, rows: int, names=None):
-    dialect = file_dialect(path, sep, decimal)
+    source, dialect = _csv_source(path, sep, decimal)
     options, duplicates = dialect.named(names, path), dialect.duplicates
     usecols = (lambda c: str(c).strip() in columns) if columns is not None else None
     try:
-        for chunk in pd.read_csv(path, chunksize=rows, usecols=usecols, **options):
+        for chunk in pd.read_csv(source, chunksize=rows, usecols=usecols, **options):
             chunk.columns = [str(c).strip() for c in chunk.columns]
             chunk.attrs["duplicate_columns"] = duplicates
             chunk.attrs["headerless"] = dialect.header_line if dialect.headerless else None
@@ -231,6 +237,47 @@ def _csv_chunks(path: Path, sep, decimal, columns, rows: int, names=None):
     except (ValueError, OSError, pd.errors.ParserError) as exc:
         raise LogError(f"{path}: cannot be read as a "
                        f"{separator_name(options['sep'])}-separated CSV file: {exc}") from None
+
+
+def _csv_source(path: Path, sep, decimal):
+    """What pandas reads a CSV table from, and its dialect: the file itself, or an Excel workbook's sheet as
+    CSV text (:func:`sheet_text`), whose preamble, units row and header are found as a CSV file's are."""
+    if _kind_checked(path) == "xlsx":
+        text = sheet_text(Path(path))
+        dialect = csv_dialect(text, path, sep, decimal)
+        return io.StringIO(text), replace(dialect, options={k: v for k, v in dialect.options.items()
+                                                            if not k.startswith("encoding")})
+    return path, file_dialect(path, sep, decimal)
+
+
+def sheet_text(path: Path) -> str:
+    """An Excel workbook's first sheet that holds two rows or more, as CSV text: numbers as Python writes
+    them, dates and times in ISO-8601, empty cells empty (read with openpyxl, values as last computed)."""
+    stat = path.stat()
+    return _sheet_text(str(path), stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=2)
+def _sheet_text(path: str, mtime_ns: int, size: int) -> str:
+    import openpyxl
+
+    try:
+        book = openpyxl.load_workbook(path, read_only=True, data_only=True)
+    except Exception as exc:  # noqa: BLE001 -- a file that is no workbook, whatever openpyxl raises
+        raise LogError(f"{path}: cannot be read as an Excel workbook: {exc}") from None
+    try:
+        for sheet in book.worksheets:
+            rows = [row for row in sheet.iter_rows(values_only=True) if any(v is not None for v in row)]
+            if len(rows) >= 2:
+                out = io.StringIO()
+                writer = csv.writer(out, lineterminator="\n")
+                for row in rows:
+                    writer.writerow(["" if v is None else v.isoformat() if hasattr(v, "isoformat") else v
+                                     for v in row])
+                return out.getvalue()
+    finally:
+        book.close()
+    raise LogError(f"{path}: no sheet of the workbook holds two rows or more; expected a header and samples")
 
 
 def _kind_checked(path: Path) -> str:
