@@ -185,14 +185,19 @@ def test_one_place_decides_a_paths_format_for_reading_writing_following_and_find
     bag = tmp_path / "bag"
     bag.mkdir()
     (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
-    assert [log_format(p) for p in ("a.csv", "a.TSV", "a.pq", "a.bag", "a.mcap", "a.db3", bag)] == \
-        ["csv", "csv", "parquet", "bag", "bag", "bag", "bag"]
+    assert [log_format(p) for p in ("a.csv", "a.TSV", "a.pq", "a.xlsx", "a.bag", "a.mcap", "a.db3", bag)] == \
+        ["csv", "csv", "parquet", "xlsx", "bag", "bag", "bag", "bag"]
     assert [written_as(p) for p in ("a.csv", "a.parquet", "a.mcap")] == ["csv", "parquet", "mcap"]
     assert [followed_as(p) for p in ("a.txt", "a.mcap", bag)] == ["csv", "mcap", "mcap"]
-    assert is_log(tmp_path / "a.csv") and is_log(bag) and not is_log(tmp_path / "a.xlsx")
-    for refused in ("a.xlsx", "a.bag"):  # no writer for a spreadsheet or a ROS 1 bag: one sentence
-        with pytest.raises(LogError, match="unknown log format"):
-            written_as(refused)
+    assert is_log(tmp_path / "a.csv") and is_log(bag) and is_log(tmp_path / "a.xlsx")
+    assert not is_log(tmp_path / "a.docx")
+    # no writer for a ROS 1 bag, nor for a spreadsheet, which is not followed either: one sentence each
+    with pytest.raises(LogError, match="unknown log format"):
+        written_as("a.bag")
+    with pytest.raises(LogError, match="not as Excel workbooks"):
+        written_as("a.xlsx")
+    with pytest.raises(LogError, match="not a log being written"):
+        followed_as("a.xlsx")
     # one actuator asked for: a bag's joint, a wide table's name, a long table's rows
     assert asked_for("a.mcap", "knee", None) == {"actuator_name": "knee", "actuators": None}
     assert asked_for("a.csv", "knee", {"temperature": "T"}) == {"actuator_name": "knee", "actuators": None}
