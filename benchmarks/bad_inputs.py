@@ -420,7 +420,7 @@ def log_cases(section, refuse, word, partial) -> None:
             refuse(f"{command} {log}", command, log, "--quiet")
         if log in UNREADABLE:
             refuse(f"inspect {log}", "inspect", log)
-    word("inspect a space-separated .txt (one column shown)", r"1 column", "inspect", "log.txt")
+    word("inspect a space-separated .txt (its three columns)", r"3 column", "inspect", "log.txt")
     word("fit a log with a 1e7 s gap", r"segment|gap", "fit", "gap.csv", "--quiet")
     word("fit datetime times (parquet)", r"time stamps turned into seconds", "fit", "datetime_time.parquet", "--quiet", "--json")
     word("fit ISO timestamps (csv)", r"time stamps turned into seconds", "fit", "iso_time.csv", "--quiet", "--json")
