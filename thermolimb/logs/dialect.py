@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import codecs
 import csv
+import functools
 import re
 from collections import Counter
 from dataclasses import dataclass, replace
@@ -80,8 +81,7 @@ def file_dialect(path: Path, sep: str | None, decimal: str | None) -> Dialect:
     encoding = text_encoding(path)
     _refuse_binary(path, encoding)
     head, comments = _scan(path, encoding)
-    dialect = _dialect(head, comments, path, sep, decimal)
-    dialect.options["encoding"] = encoding
+    dialect = _dialect(head, comments, path, sep, decimal, encoding)
     if encoding == "cp1252":
         return replace(dialect, read_as=f"{path}: not UTF-8 text: read as Windows-1252 (cp1252), as Windows "
                                         "tools write it")
@@ -90,7 +90,14 @@ def file_dialect(path: Path, sep: str | None, decimal: str | None) -> Dialect:
 
 def text_encoding(path: Path) -> str:
     """The file's text encoding: UTF-16 where it starts with that byte-order mark, UTF-8 where every byte of
-    it decodes so, else Windows-1252, which Windows tools write ("°C" as the one byte 0xB0)."""
+    it decodes so, else Windows-1252, which Windows tools write ("°C" as the one byte 0xB0).  Read once for
+    each version of the file (a log is asked for its dialect by each of its readers)."""
+    stat = Path(path).stat()
+    return _encoding(str(path), stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=16)
+def _encoding(path: str, mtime_ns: int, size: int) -> str:
     decoder = codecs.getincrementaldecoder("utf-8")()
     with open(path, "rb") as f:
         first = f.read(4)
@@ -116,7 +123,8 @@ def csv_dialect(text: str, source, sep: str | None = None, decimal: str | None =
     return _dialect(lines[:SNIFF_LINES], comments, source, sep, decimal)
 
 
-def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal: str | None) -> Dialect:
+def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal: str | None,
+             encoding: str | None = None) -> Dialect:
     content = [(i, line) for i, line in enumerate(head) if i not in comments and line.strip()]
     if not content:
         raise LogError(f"{path}: the file has no header line and no data")
@@ -128,8 +136,9 @@ def _dialect(head: list[str], comments: set[int], path, sep: str | None, decimal
     skip = comments | set(range(header_at))
     header_line = next(line for i, line in content if i == header_at)
     header = fields_of(header_line, sep)
-    options = dict(sep=sep, decimal=decimal, encoding="utf-8-sig", encoding_errors="replace",
-                   skiprows=skip or None, skip_blank_lines=True)
+    options = dict(sep=sep, decimal=decimal, skiprows=skip or None, skip_blank_lines=True)
+    if encoding is not None:  # a file's (text already decoded has none)
+        options.update(encoding=encoding, encoding_errors="replace")
     after = next((line for i, line in content if i > header_at), None)
     following = None if after is None else fields_of(after, sep)
     if _holds_data(header, following):  # no header row: the first line is a sample (a logger's, a drive's)

@@ -17,7 +17,6 @@ import csv
 import functools
 import io
 import re
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -244,9 +243,7 @@ def _csv_source(path: Path, sep, decimal):
     CSV text (:func:`sheet_text`), whose preamble, units row and header are found as a CSV file's are."""
     if _kind_checked(path) == "xlsx":
         text = sheet_text(Path(path))
-        dialect = csv_dialect(text, path, sep, decimal)
-        return io.StringIO(text), replace(dialect, options={k: v for k, v in dialect.options.items()
-                                                            if not k.startswith("encoding")})
+        return io.StringIO(text), csv_dialect(text, path, sep, decimal)
     return path, file_dialect(path, sep, decimal)
 
 
